@@ -1,0 +1,42 @@
+# Hexapod gait adaptation workspace. Every target bootstraps what it needs (scripts/bootstrap.sh
+# is idempotent and a few seconds when nothing changed).
+SHELL := /bin/bash
+ENV := source scripts/env.sh
+PYTEST_ARGS ?=
+
+.PHONY: all bootstrap build demo test test-unit test-integration bench bench-gait bench-sim \
+        bench-map bench-adapt bench-bridge pictures clean
+
+all: build
+
+bootstrap:
+	@bash scripts/bootstrap.sh
+
+build:
+	@bash scripts/bootstrap.sh --force-build
+
+demo: bootstrap
+	@$(ENV) && python scripts/demo.py
+
+test: bootstrap
+	@$(ENV) && python -m pytest $(PYTEST_ARGS)
+
+test-unit: bootstrap
+	@$(ENV) && python -m pytest hexapod_description/test hexapod_gait/test hexapod_sim/test hexapod_bridge/test hexapod_adapt/test $(PYTEST_ARGS)
+
+test-integration: bootstrap
+	@$(ENV) && python -m pytest tests $(PYTEST_ARGS)
+
+bench: bootstrap
+	@$(ENV) && python scripts/bench.py all
+
+bench-%: bootstrap
+	@$(ENV) && python scripts/bench.py $*
+
+# Footfall diagrams of the presets (and, with the simulator, measured ones and a walk GIF).
+pictures: bootstrap
+	@$(ENV) && python scripts/pictures.py --out docs/img
+
+clean:
+	rm -rf build install log .pytest_cache
+	find . -name __pycache__ -type d -prune -exec rm -rf {} +

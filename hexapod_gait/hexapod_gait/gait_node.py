@@ -1,0 +1,118 @@
+"""``ros2 run hexapod_gait gait_node``: gait parameters in, one joint-trajectory cycle out.
+
+Subscribes  gait/parameters        hexapod_msgs/GaitParameters   (latched, depth 1)
+Publishes   gait/joint_trajectory  trajectory_msgs/JointTrajectory (latched): one full cycle
+            gait/status            diagnostic_msgs/DiagnosticStatus (latched): accepted/rejected
+An invalid or unreachable gait is rejected with its reason; the previous trajectory stays.
+The trajectory's header stamp echoes the stamp of the GaitParameters it was built from (or
+the current time if that was zero), so a consumer can tell which request it answers.
+"""
+from __future__ import annotations
+
+import sys
+
+import rclpy
+from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
+from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
+from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
+from rclpy.executors import ExternalShutdownException
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from trajectory_msgs.msg import JointTrajectory
+
+from hexapod_description import load_model
+from hexapod_gait.parameters import GaitParameterError, GaitParameters
+from hexapod_gait.presets import PRESETS, preset
+from hexapod_gait.ros_conversions import gait_from_msg, gait_to_msg, table_to_trajectory
+from hexapod_gait.trajectory import ReachabilityError, build_joint_table, samples_per_cycle
+
+LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                     reliability=ReliabilityPolicy.RELIABLE)
+
+
+class GaitNode(Node):
+    def __init__(self, **kwargs) -> None:
+        super().__init__("gait_node", **kwargs)
+        self.declare_parameter("control_rate", 240.0, ParameterDescriptor(
+            description="Trajectory sample rate [Hz]: 240 for the simulator, 120 for the robot. "
+                        "period x rate must be a whole number.",
+            read_only=True,
+            floating_point_range=[FloatingPointRange(from_value=10.0, to_value=2000.0)]))
+        self.declare_parameter("initial_preset", "tripod", ParameterDescriptor(
+            description=f"Gait published at start-up: one of {', '.join(PRESETS)}, or '' for none.",
+            read_only=True))
+        self.declare_parameter("frame_id", "base_link", ParameterDescriptor(
+            description="frame_id of the published trajectory header", read_only=True))
+        self.rate = float(self.get_parameter("control_rate").value)
+        self.frame_id = str(self.get_parameter("frame_id").value)
+        self.joint_names = load_model().joint_names
+        self.active: GaitParameters | None = None
+
+        self.trajectory_pub = self.create_publisher(JointTrajectory, "gait/joint_trajectory", LATCHED)
+        self.status_pub = self.create_publisher(DiagnosticStatus, "gait/status", LATCHED)
+        self.create_subscription(GaitParametersMsg, "gait/parameters", self.on_parameters, LATCHED)
+
+        name = str(self.get_parameter("initial_preset").value)
+        if name:
+            try:
+                self.apply(preset(name), source=f"preset '{name}'")
+            except ValueError as exc:
+                self.get_logger().error(f"initial_preset: {exc}; starting without a gait")
+
+    def on_parameters(self, msg: GaitParametersMsg) -> None:
+        try:
+            gait = gait_from_msg(msg)
+        except GaitParameterError as exc:
+            self.reject(f"invalid gait parameters: {exc}", msg.archive_index)
+            return
+        self.apply(gait, source=f"gait/parameters (archive index {msg.archive_index})", stamp=msg.header.stamp)
+
+    def apply(self, gait: GaitParameters, source: str, stamp=None) -> bool:
+        try:
+            samples_per_cycle(gait.period, self.rate)
+            table = build_joint_table(gait, rate=self.rate)
+        except (ReachabilityError, ValueError) as exc:
+            self.reject(f"gait from {source} rejected: {exc}", gait.archive_index)
+            return False
+        traj = table_to_trajectory(table, self.joint_names)
+        traj.header.frame_id = self.frame_id
+        has_stamp = stamp is not None and (stamp.sec != 0 or stamp.nanosec != 0)
+        traj.header.stamp = stamp if has_stamp else self.get_clock().now().to_msg()
+        self.trajectory_pub.publish(traj)
+        self.active = gait
+        self.publish_status(DiagnosticStatus.OK, f"active gait from {source}: "
+                            f"{len(table)} points at {self.rate:g} Hz", gait.archive_index)
+        self.get_logger().info(f"publishing {len(table)}-point cycle for gait from {source}")
+        return True
+
+    def reject(self, reason: str, archive_index: int) -> None:
+        kept = "previous trajectory kept" if self.active is not None else "no trajectory active"
+        self.get_logger().warning(f"{reason} ({kept})")
+        self.publish_status(DiagnosticStatus.ERROR, f"{reason} ({kept})", archive_index)
+
+    def publish_status(self, level: bytes, message: str, archive_index: int) -> None:
+        status = DiagnosticStatus(level=level, name=self.get_fully_qualified_name(),
+                                  message=message, hardware_id="hexapod")
+        status.values = [KeyValue(key="archive_index", value=str(archive_index))]
+        if self.active is not None:
+            status.values.append(KeyValue(key="active_archive_index", value=str(self.active.archive_index)))
+        self.status_pub.publish(status)
+
+
+def main(args: list[str] | None = None) -> int:
+    rclpy.init(args=args)
+    node = None
+    try:
+        node = GaitNode()
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,57 @@
+"""Reference gaits: tripod, wave, quadruped (thesis tables 3.11-3.13) and the control gait.
+
+The tables give the per-leg parameters only (radius 0.15 m, offset 0, step height 0.06 m,
+phase offsets and duty factors). Body speed and height are chosen here so that all three have
+the control gait's stride (v * T * beta = 0.15 m) at the control gait's body height (0.14 m):
+the same foot path, different footfall timing. The control gait (thesis 5.2.3) is the tripod
+at 0.3 m/s commanded and 140 mm body height, i.e. the tripod preset.
+
+Table 3.12 lists a duty factor of 1/6 for the wave gait; a wave gait swings one leg at a time
+(five legs in stance), which needs beta = 5/6 (as the thesis code uses), so 5/6 is used.
+All presets walk along DEFAULT_CRAB_ANGLE, the map gaits' direction, so speeds compare.
+"""
+from __future__ import annotations
+
+from hexapod_gait.parameters import GaitParameters
+
+STRIDE = 0.15        # m
+BODY_HEIGHT = 0.14   # m
+
+
+def _preset(phase: list[float], duty: float) -> GaitParameters:
+    return GaitParameters(
+        body_velocity=STRIDE / duty, body_height=BODY_HEIGHT,
+        radius=[0.15] * 6, angle_offset=[0.0] * 6, step_height=[0.06] * 6,
+        duty_factor=[duty] * 6, phase_offset=phase,
+    )
+
+
+def tripod() -> GaitParameters:
+    """Table 3.11: legs {1,3,5} and {2,4,6} alternate, beta = 1/2 (0.3 m/s)."""
+    return _preset([0.0, 0.5, 0.0, 0.5, 0.0, 0.5], 0.5)
+
+
+def wave() -> GaitParameters:
+    """Table 3.12: one leg swings at a time, in the order 1..6, beta = 5/6 (0.18 m/s)."""
+    return _preset([i / 6 for i in range(6)], 5 / 6)
+
+
+def quadruped() -> GaitParameters:
+    """Table 3.13: legs {1,4}, {2,5}, {3,6} swing in turn, beta = 2/3 (0.225 m/s)."""
+    return _preset([0.0, 1 / 3, 2 / 3, 0.0, 1 / 3, 2 / 3], 2 / 3)
+
+
+def control() -> GaitParameters:
+    """The thesis's control gait (5.2.3): tripod, 0.3 m/s commanded, 140 mm body height."""
+    return tripod()
+
+
+PRESETS = {"tripod": tripod, "wave": wave, "quadruped": quadruped, "control": control}
+
+
+def preset(name: str) -> GaitParameters:
+    """A preset by name; ValueError lists the known names."""
+    try:
+        return PRESETS[name]()
+    except KeyError:
+        raise ValueError(f"unknown gait preset {name!r}; known: {', '.join(PRESETS)}") from None
