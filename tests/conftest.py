@@ -1,0 +1,144 @@
+"""Shared fixtures for the cross-package integration tests: ROS 2 nodes started as separate
+processes from the install space, and an in-process rclpy harness on a private context and a
+unique DDS domain, talking over loopback."""
+from __future__ import annotations
+
+import itertools
+import os
+import signal
+import subprocess
+import threading
+import time
+from pathlib import Path
+from typing import Any, Callable
+
+import pytest
+
+WS = Path(__file__).resolve().parent.parent
+_domain_ids = itertools.count((os.getpid() % 40) + 1)
+
+
+def executable(pkg: str, exe: str) -> Path:
+    return WS / "install" / pkg / "lib" / pkg / exe
+
+
+def _param_text(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (list, tuple)):
+        return "[" + ",".join(_param_text(v) for v in value) + "]"
+    return str(value)
+
+
+class NodeProcess:
+    """A node started from install/<pkg>/lib/<pkg>/<exe> (what `ros2 run` executes)."""
+
+    def __init__(self, pkg: str, exe: str, domain_id: int, log_dir: Path,
+                 params: dict[str, Any] | None = None, args: list[str] | None = None,
+                 env: dict[str, str] | None = None):
+        self.log_path = log_dir / f"{exe}.log"
+        cmd = [str(executable(pkg, exe))] + list(args or [])
+        if params:
+            cmd.append("--ros-args")
+            for key, value in params.items():
+                cmd += ["-p", f"{key}:={_param_text(value)}"]
+        full_env = dict(os.environ, ROS_DOMAIN_ID=str(domain_id), PYTHONUNBUFFERED="1", **(env or {}))
+        self._log = open(self.log_path, "w")
+        self.proc = subprocess.Popen(cmd, stdout=self._log, stderr=subprocess.STDOUT, env=full_env,
+                                     start_new_session=True)
+
+    def alive(self) -> bool:
+        return self.proc.poll() is None
+
+    def log(self) -> str:
+        self._log.flush()
+        return self.log_path.read_text()
+
+    def stop(self, timeout: float = 10.0) -> int:
+        if self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGINT)
+            try:
+                self.proc.wait(timeout)
+            except subprocess.TimeoutExpired:
+                os.killpg(self.proc.pid, signal.SIGKILL)
+                self.proc.wait()
+        self._log.close()
+        return self.proc.returncode
+
+
+class RosHarness:
+    """An rclpy node on its own context, spun by a background executor thread."""
+
+    def __init__(self, domain_id: int):
+        import rclpy
+        from rclpy.executors import MultiThreadedExecutor
+
+        self.rclpy = rclpy
+        self.domain_id = domain_id
+        self.context = rclpy.Context()
+        rclpy.init(context=self.context, domain_id=domain_id)
+        self.node = rclpy.create_node("test_harness", context=self.context)
+        self.executor = MultiThreadedExecutor(num_threads=2, context=self.context)
+        self.executor.add_node(self.node)
+        self._thread = threading.Thread(target=self.executor.spin, daemon=True)
+        self._thread.start()
+
+    def collect(self, msg_type, topic: str, qos) -> list:
+        """Subscribe and return the (growing) list of received messages."""
+        received: list = []
+        self.node.create_subscription(msg_type, topic, received.append, qos)
+        return received
+
+    def call(self, srv_type, name: str, request, timeout: float = 20.0):
+        client = self.node.create_client(srv_type, name)
+        if not client.wait_for_service(timeout_sec=timeout):
+            raise TimeoutError(f"service {name} not available")
+        future = client.call_async(request)
+        wait_for(future.done, timeout, f"response from {name}")
+        return future.result()
+
+    def close(self) -> None:
+        self.executor.shutdown()
+        self.node.destroy_node()
+        self.rclpy.try_shutdown(context=self.context)
+
+
+def wait_for(predicate: Callable[[], Any], timeout: float, what: str = "condition", period: float = 0.02):
+    """Poll predicate until truthy; raise AssertionError naming what did not happen."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(period)
+    raise AssertionError(f"timed out after {timeout:g} s waiting for {what}")
+
+
+@pytest.fixture
+def domain_id(monkeypatch) -> int:
+    did = next(_domain_ids)
+    monkeypatch.setenv("ROS_DOMAIN_ID", str(did))
+    monkeypatch.setenv("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    return did
+
+
+@pytest.fixture
+def ros(domain_id):
+    harness = RosHarness(domain_id)
+    yield harness
+    harness.close()
+
+
+@pytest.fixture
+def launch(domain_id, tmp_path):
+    """launch(pkg, exe, params=..., args=...) -> NodeProcess; all stopped at teardown."""
+    started: list[NodeProcess] = []
+
+    def _launch(pkg: str, exe: str, **kwargs) -> NodeProcess:
+        node = NodeProcess(pkg, exe, domain_id, tmp_path, **kwargs)
+        started.append(node)
+        return node
+
+    yield _launch
+    for node in started:
+        node.stop()
