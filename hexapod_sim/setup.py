@@ -19,5 +19,5 @@ setup(
     maintainer_email="hexapod-dev@example.com",
     description="PyBullet simulator of the hexapod (ROS-free library), gait evaluation, failure scenarios, and the sim node.",
     license="MIT",
-    entry_points={"console_scripts": []},
+    entry_points={"console_scripts": ["sim_node = hexapod_sim.sim_node:main", "render_walk = hexapod_sim.render_cli:main", "fidelity_table = hexapod_sim.fidelity_cli:main"]},
 )

@@ -151,6 +151,24 @@ class GaitParameters:
         return cls(**dict(values))
 
 
+def genotype_fields(genotypes: np.ndarray) -> dict[str, np.ndarray]:
+    """Scale genotypes (G, 32) to gait fields: body_height and body_velocity (G, 1), the
+    per-leg fields (G, 6). The single definition of the mapping, used by from_genotype and by
+    batch computations (e.g. reachability prefilters). No validation."""
+    g = np.asarray(genotypes, dtype=float)
+    legs = g[:, 2:].reshape(-1, N_LEGS, 5)
+    lo_off, hi_off = RANGES["angle_offset"]
+    return {
+        "body_height": g[:, 0:1] * RANGES["body_height"][1],
+        "body_velocity": g[:, 1:2] * RANGES["body_velocity"][1],
+        "radius": legs[:, :, 0] * RANGES["radius"][1],
+        "angle_offset": lo_off + legs[:, :, 1] * (hi_off - lo_off),
+        "step_height": legs[:, :, 2] * RANGES["step_height"][1],
+        "phase_offset": legs[:, :, 3],
+        "duty_factor": legs[:, :, 4],
+    }
+
+
 def from_genotype(genotype: Sequence[float] | np.ndarray, archive_index: int = -1) -> GaitParameters:
     """Scale a 32-number genotype in [0, 1] to gait parameters (mapping GENOTYPE_MAPPING_VERSION).
 
@@ -166,17 +184,12 @@ def from_genotype(genotype: Sequence[float] | np.ndarray, archive_index: int = -
     if bad.any():
         i = int(np.argmax(bad))
         raise GaitParameterError(f"genotype[{i}]", f"{g[i]:g} is outside the allowed range [0, 1]")
-    legs = g[2:].reshape(N_LEGS, 5)
-    lo_off, hi_off = RANGES["angle_offset"]
+    fields = genotype_fields(g[None, :])
     return GaitParameters(
-        body_height=g[0] * RANGES["body_height"][1],
-        body_velocity=g[1] * RANGES["body_velocity"][1],
-        radius=legs[:, 0] * RANGES["radius"][1],
-        angle_offset=lo_off + legs[:, 1] * (hi_off - lo_off),
-        step_height=legs[:, 2] * RANGES["step_height"][1],
-        phase_offset=legs[:, 3],
-        duty_factor=legs[:, 4],
-        archive_index=archive_index,
+        body_height=fields["body_height"][0, 0], body_velocity=fields["body_velocity"][0, 0],
+        radius=fields["radius"][0], angle_offset=fields["angle_offset"][0],
+        step_height=fields["step_height"][0], phase_offset=fields["phase_offset"][0],
+        duty_factor=fields["duty_factor"][0], archive_index=archive_index,
     )
 
 

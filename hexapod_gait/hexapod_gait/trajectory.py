@@ -61,18 +61,39 @@ def default_geometry() -> LegGeometry:
 
 def key_points(params: GaitParameters, geometry: LegGeometry | None = None
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(p_start, p_mid, p_end), each (6, 3), in the leg frames (eqs. 3.14-3.18)."""
+    """(p_start, p_mid, p_end), each (6, 3), in the leg frames (eqs. 3.14-3.18).
+
+    Also works on batches: any object whose per-leg fields are (G, 6) and whose body fields
+    are (G, 1) gives (G, 6, 3) arrays.
+    """
     geo = geometry or default_geometry()
     stride = params.body_velocity * params.period * params.duty_factor          # l_s, eq. 3.17
     heading = params.crab_angle - geo.yaw                                        # -theta + alpha
-    centre = np.stack([params.radius * np.cos(params.angle_offset),
-                       params.radius * np.sin(params.angle_offset)], axis=1)
-    half = 0.5 * stride[:, None] * np.stack([np.cos(heading), np.sin(heading)], axis=1)
-    ground = -(params.body_height + geo.mount_z)                                 # -h_b + 0.014
-    start = np.column_stack([centre + half, ground])
-    end = np.column_stack([centre - half, ground])
-    mid = np.column_stack([centre, ground + params.step_height])
+    centre_x = params.radius * np.cos(params.angle_offset)
+    centre_y = params.radius * np.sin(params.angle_offset)
+    half_x = 0.5 * stride * np.cos(heading)
+    half_y = 0.5 * stride * np.sin(heading)
+    ground = -(params.body_height + geo.mount_z) + np.zeros_like(centre_x)      # -h_b + 0.014
+    start = np.stack([centre_x + half_x, centre_y + half_y, ground], axis=-1)
+    end = np.stack([centre_x - half_x, centre_y - half_y, ground], axis=-1)
+    mid = np.stack([centre_x, centre_y, ground + params.step_height], axis=-1)
     return start, mid, end
+
+
+def reachable_key_points(genotypes: np.ndarray, kinematics: LegKinematics | None = None,
+                         geometry: LegGeometry | None = None) -> np.ndarray:
+    """(G,) bool: every leg's three key points are reachable. A cheap necessary condition for
+    :func:`build_joint_table` to succeed, for filtering many random genotypes at once."""
+    from types import SimpleNamespace
+
+    from hexapod_gait.parameters import DEFAULT_CRAB_ANGLE, DEFAULT_PERIOD, genotype_fields
+
+    kin = kinematics or default_kinematics()
+    batch = SimpleNamespace(period=DEFAULT_PERIOD, crab_angle=DEFAULT_CRAB_ANGLE, **genotype_fields(genotypes))
+    points = np.stack(key_points(batch, geometry), axis=-2)                     # (G, 6, 3, 3)
+    angles = kin.inverse(points)
+    ok = (kin.reach_error(points, angles) <= REACH_TOLERANCE) & (kin.singularity_margin(angles) >= SINGULARITY_TOLERANCE)
+    return ok.all(axis=(-1, -2))
 
 
 def leg_cycle_time(params: GaitParameters, times: np.ndarray) -> np.ndarray:

@@ -1,0 +1,316 @@
+"""``ros2 run hexapod_sim sim_node``: the PyBullet hexapod in the ROS graph.
+
+Subscribes  gait/joint_trajectory  trajectory_msgs/JointTrajectory (latched): one gait cycle,
+                                   played cyclically from phase 0 as soon as it arrives
+Publishes   /clock                 rosgraph_msgs/Clock, every step
+            joint_states           sensor_msgs/JointState        (sensor-data QoS)
+            odom                   nav_msgs/Odometry, odom -> base_link, pose and twist (reliable)
+            imu/data               sensor_msgs/Imu               (sensor-data QoS)
+            foot_contacts          hexapod_msgs/FootContacts     (sensor-data QoS)
+            sim/active_trajectory  std_msgs/Header (latched): stamp of the trajectory being played
+            sim/last_reset         std_msgs/Header (latched): sim time of the last reset
+            sim/status             diagnostic_msgs/DiagnosticStatus (latched): last error/event
+Services    ~/set_leg_failure      hexapod_msgs/SetLegFailure
+            ~/reset                std_srvs/Trigger: robot back to the origin, damage kept,
+                                   gait restarted at phase 0
+State topics are published every ``publish_period_steps`` steps counted from the last reset,
+so the odometry of "reset + N steps" is always published: a trial reads it exactly.
+The physics runs in its own thread; callbacks hand work to it and wait until it is applied.
+"""
+from __future__ import annotations
+
+import math
+import queue
+import sys
+import threading
+import time
+from typing import Callable
+
+import numpy as np
+import rclpy
+from builtin_interfaces.msg import Time
+from diagnostic_msgs.msg import DiagnosticStatus
+from hexapod_msgs.msg import FootContacts
+from hexapod_msgs.srv import SetLegFailure
+from nav_msgs.msg import Odometry
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor, SetParametersResult
+from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import Imu, JointState
+from std_msgs.msg import Header
+from std_srvs.srv import Trigger
+from trajectory_msgs.msg import JointTrajectory
+
+from hexapod_gait import default_kinematics, preset
+from hexapod_gait.trajectory import build_joint_table, default_geometry
+from hexapod_sim.simulator import ACCURATE, FAST, HexapodSimulator, SimConfig, validate_failed_legs
+from hexapod_sim.trajectory_input import CycleTable, TrajectoryError, body_height_from_joints, cycle_from_points
+
+LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
+ODOM_QOS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
+
+
+def _stamp(seconds: float) -> Time:
+    ns = int(round(seconds * 1e9))
+    return Time(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000)
+
+
+class SimNode(Node):
+    def __init__(self, **kwargs) -> None:
+        super().__init__("sim_node", **kwargs)
+        ro = dict(read_only=True)
+        self.declare_parameter("real_time_factor", 1.0, ParameterDescriptor(
+            description="Simulated seconds per wall-clock second; 0 = as fast as possible.",
+            floating_point_range=[FloatingPointRange(from_value=0.0, to_value=100.0)]))
+        self.declare_parameter("gui", False, ParameterDescriptor(description="Open the PyBullet GUI window", **ro))
+        self.declare_parameter("friction", 1.0, ParameterDescriptor(
+            description="Lateral friction coefficient of the ground and the feet",
+            floating_point_range=[FloatingPointRange(from_value=0.0, to_value=10.0)], **ro))
+        self.declare_parameter("engine", "accurate", ParameterDescriptor(
+            description="Physics settings: 'accurate' (PyBullet defaults) or 'fast' (fewer solver iterations)", **ro))
+        self.declare_parameter("failed_legs", Parameter.Type.INTEGER_ARRAY, ParameterDescriptor(
+            description="Legs (1..6, at most two) failed at start-up", **ro))
+        self.declare_parameter("publish_period_steps", 4, ParameterDescriptor(
+            description="Publish joint_states/odom/imu/foot_contacts every N physics steps (1/240 s each)",
+            integer_range=[IntegerRange(from_value=1, to_value=240)], **ro))
+        self.declare_parameter("odom_frame", "odom", ParameterDescriptor(description="REP 105 odometry frame", **ro))
+        self.declare_parameter("base_frame", "base_link", ParameterDescriptor(description="Robot base frame", **ro))
+        self.add_on_set_parameters_callback(self._on_set_parameters)
+
+        engine = str(self.get_parameter("engine").value)
+        if engine not in ("accurate", "fast"):
+            self.get_logger().error(f"engine must be 'accurate' or 'fast', got {engine!r}; using 'accurate'")
+            engine = "accurate"
+        self.sim = HexapodSimulator(SimConfig(
+            friction=float(self.get_parameter("friction").value),
+            engine=ACCURATE if engine == "accurate" else FAST, gui=bool(self.get_parameter("gui").value)))
+        self.rtf = float(self.get_parameter("real_time_factor").value)
+        self.period_steps = int(self.get_parameter("publish_period_steps").value)
+        self.odom_frame = str(self.get_parameter("odom_frame").value)
+        self.base_frame = str(self.get_parameter("base_frame").value)
+        self.kin, self.geo = default_kinematics(), default_geometry()
+
+        group = ReentrantCallbackGroup()
+        self.clock_pub = self.create_publisher(Clock, "/clock", 10)
+        self.joint_pub = self.create_publisher(JointState, "joint_states", qos_profile_sensor_data)
+        self.odom_pub = self.create_publisher(Odometry, "odom", ODOM_QOS)
+        self.imu_pub = self.create_publisher(Imu, "imu/data", qos_profile_sensor_data)
+        self.contacts_pub = self.create_publisher(FootContacts, "foot_contacts", qos_profile_sensor_data)
+        self.active_pub = self.create_publisher(Header, "sim/active_trajectory", LATCHED)
+        self.reset_pub = self.create_publisher(Header, "sim/last_reset", LATCHED)
+        self.status_pub = self.create_publisher(DiagnosticStatus, "sim/status", LATCHED)
+        self.create_subscription(JointTrajectory, "gait/joint_trajectory", self._on_trajectory, LATCHED,
+                                 callback_group=group)
+        self.create_service(SetLegFailure, "~/set_leg_failure", self._on_set_leg_failure, callback_group=group)
+        self.create_service(Trigger, "~/reset", self._on_reset, callback_group=group)
+
+        # Until a trajectory arrives the robot stands in the first pose of the control gait.
+        stand = build_joint_table(preset("control"), rate=1.0 / self.sim.dt)
+        self.cycle = CycleTable(stand.positions[:1], np.zeros((1, 18)), self.sim.dt)
+        self.cycle_stamp = Header()
+        self._prepare_cycle()
+        initial = self.get_parameter_or("failed_legs", Parameter("failed_legs", value=[])).value or []
+        try:
+            self.sim.set_failed_legs(list(initial))
+        except ValueError as exc:
+            self.get_logger().error(f"failed_legs parameter ignored: {exc}")
+        self._work: queue.Queue[Callable[[], None]] = queue.Queue()
+        self._reset_now()
+        self._running = True
+        self._thread = threading.Thread(target=self._run, name="physics", daemon=True)
+        self._thread.start()
+        self.get_logger().info(f"simulating with the {engine} engine at real_time_factor {self.rtf:g}")
+
+    # -- parameters / callbacks (executor threads) ---------------------------------------------
+    def _on_set_parameters(self, params: list[Parameter]) -> SetParametersResult:
+        for param in params:
+            if param.name == "real_time_factor":
+                value = float(param.value)
+                if not math.isfinite(value) or value < 0:
+                    return SetParametersResult(successful=False, reason="real_time_factor must be >= 0")
+                self.rtf = value
+        return SetParametersResult(successful=True)
+
+    def _in_physics_thread(self, work: Callable[[], object], timeout: float = 10.0) -> object:
+        """Run work between two physics steps; return its result (or raise its exception)."""
+        done = threading.Event()
+        box: dict[str, object] = {}
+
+        def wrapped() -> None:
+            try:
+                box["result"] = work()
+            except Exception as exc:  # handed back to the caller
+                box["error"] = exc
+            finally:
+                done.set()
+
+        self._work.put(wrapped)
+        if not done.wait(timeout):
+            raise TimeoutError("the physics thread did not respond")
+        if "error" in box:
+            raise box["error"]  # type: ignore[misc]
+        return box.get("result")
+
+    def _on_trajectory(self, msg: JointTrajectory) -> None:
+        try:
+            cycle = cycle_from_points(
+                msg.joint_names, [pt.time_from_start.sec + pt.time_from_start.nanosec * 1e-9 for pt in msg.points],
+                [list(pt.positions) for pt in msg.points], [list(pt.velocities) for pt in msg.points],
+                self.sim.model.joint_names, self.sim.dt)
+        except TrajectoryError as exc:
+            self._status(DiagnosticStatus.ERROR, f"trajectory rejected: {exc}; previous gait kept")
+            return
+
+        def switch() -> None:
+            self.cycle, self.cycle_stamp = cycle, msg.header
+            self._prepare_cycle()
+            self.active_pub.publish(msg.header)
+
+        self._in_physics_thread(switch)
+        self._status(DiagnosticStatus.OK, f"playing a {len(cycle.positions)}-step cycle of {cycle.period:g} s")
+
+    def _on_set_leg_failure(self, request: SetLegFailure.Request, response: SetLegFailure.Response):
+        try:
+            legs = validate_failed_legs(list(request.failed_legs))
+            applied = self._in_physics_thread(lambda: self._apply_failure(legs))
+        except ValueError as exc:
+            response.success, response.message = False, f"refused: {exc}"
+            response.failed_legs = list(self.sim.failed_legs)
+            return response
+        response.success = True
+        response.failed_legs = list(applied)
+        response.message = f"failed legs: {list(applied) or 'none'}"
+        self._status(DiagnosticStatus.OK, response.message)
+        return response
+
+    def _on_reset(self, request: Trigger.Request, response: Trigger.Response):
+        t = self._in_physics_thread(self._reset_now)
+        response.success, response.message = True, f"reset at t={t:.9f} s; failed legs {list(self.sim.failed_legs) or 'none'}"
+        return response
+
+    def _status(self, level: bytes, message: str) -> None:
+        log = self.get_logger().error if level == DiagnosticStatus.ERROR else self.get_logger().info
+        log(message)
+        self.status_pub.publish(DiagnosticStatus(level=level, name=self.get_fully_qualified_name(),
+                                                 message=message, hardware_id="hexapod_sim"))
+
+    # -- physics thread ------------------------------------------------------------------------
+    def _apply_failure(self, legs: tuple[int, ...]) -> tuple[int, ...]:
+        applied = self.sim.set_failed_legs(legs)
+        self._prepare_cycle()
+        return applied
+
+    def _prepare_cycle(self) -> None:
+        slots = self.sim._active_joint_slots
+        self._rows_q = np.clip(self.cycle.positions, self.sim.lower, self.sim.upper)[:, slots].tolist()
+        self._rows_v = np.clip(self.cycle.velocities, -self.sim.max_velocity, self.sim.max_velocity)[:, slots].tolist()
+        self._row = 0
+
+    def _reset_now(self) -> float:
+        q0 = self.cycle.positions[0]
+        self.sim.reset(q0, body_height_from_joints(q0, self.kin, self.geo))
+        if not hasattr(self, "_sim_time"):
+            self._sim_time = 0.0
+        self._steps_since_reset = 0
+        self._row = 0
+        self._reset_stamp = self._sim_time
+        self.reset_pub.publish(Header(stamp=_stamp(self._sim_time), frame_id=self.odom_frame))
+        self._publish_state()
+        return self._sim_time
+
+    def _run(self) -> None:
+        import pybullet as p
+
+        wall_start, sim_start = time.monotonic(), self._sim_time
+        rtf_seen = self.rtf
+        while self._running:
+            while True:
+                try:
+                    self._work.get_nowait()()
+                except queue.Empty:
+                    break
+            sim = self.sim
+            p.setJointMotorControlArray(sim.body, sim._active_joint_indices, p.POSITION_CONTROL,
+                                        targetPositions=self._rows_q[self._row], targetVelocities=self._rows_v[self._row],
+                                        forces=sim._active_efforts, physicsClientId=sim.client)
+            sim.step()
+            sim.update_imu()
+            self._row = (self._row + 1) % len(self._rows_q)
+            self._steps_since_reset += 1
+            self._sim_time = self._reset_stamp + self._steps_since_reset * sim.dt
+            try:
+                self.clock_pub.publish(Clock(clock=_stamp(self._sim_time)))
+                if self._steps_since_reset % self.period_steps == 0:
+                    self._publish_state()
+            except Exception:
+                if not self._running or not rclpy.ok(context=self.context):
+                    return  # shutting down: the context is gone
+                raise
+            if self.rtf != rtf_seen:
+                wall_start, sim_start, rtf_seen = time.monotonic(), self._sim_time, self.rtf
+            if self.rtf > 0:
+                ahead = (self._sim_time - sim_start) / self.rtf - (time.monotonic() - wall_start)
+                if ahead > 0:
+                    time.sleep(ahead)
+
+    def _publish_state(self) -> None:
+        stamp = _stamp(self._sim_time)
+        sim = self.sim
+        pos, quat = sim.base_pose()
+        lin, ang = sim.base_velocity()
+        rot = np.array(__import__("pybullet").getMatrixFromQuaternion(quat.tolist())).reshape(3, 3)
+        lin_b, ang_b = rot.T @ lin, rot.T @ ang
+        odom = Odometry()
+        odom.header.stamp, odom.header.frame_id, odom.child_frame_id = stamp, self.odom_frame, self.base_frame
+        o = odom.pose.pose
+        o.position.x, o.position.y, o.position.z = (float(v) for v in pos)
+        o.orientation.x, o.orientation.y, o.orientation.z, o.orientation.w = (float(v) for v in quat)
+        t = odom.twist.twist  # REP: twist is expressed in the child frame
+        t.linear.x, t.linear.y, t.linear.z = (float(v) for v in lin_b)
+        t.angular.x, t.angular.y, t.angular.z = (float(v) for v in ang_b)
+        self.odom_pub.publish(odom)
+
+        q, qd, effort = sim.joint_states()
+        self.joint_pub.publish(JointState(header=Header(stamp=stamp, frame_id=self.base_frame),
+                                          name=list(sim.model.joint_names), position=q.tolist(),
+                                          velocity=qd.tolist(), effort=effort.tolist()))
+        iq, iw, ia = sim.imu()
+        imu = Imu(header=Header(stamp=stamp, frame_id=self.base_frame))
+        imu.orientation.x, imu.orientation.y, imu.orientation.z, imu.orientation.w = (float(v) for v in iq)
+        imu.angular_velocity.x, imu.angular_velocity.y, imu.angular_velocity.z = (float(v) for v in iw)
+        imu.linear_acceleration.x, imu.linear_acceleration.y, imu.linear_acceleration.z = (float(v) for v in ia)
+        self.imu_pub.publish(imu)
+        self.contacts_pub.publish(FootContacts(header=Header(stamp=stamp, frame_id=self.base_frame),
+                                               in_contact=[bool(c) for c in sim.report.contacts]))
+
+    def shutdown(self) -> None:
+        self._running = False
+        if self._thread.is_alive():
+            self._thread.join(timeout=5.0)
+        self.sim.close()
+
+
+def main(args: list[str] | None = None) -> int:
+    rclpy.init(args=args)
+    node = None
+    executor = MultiThreadedExecutor(num_threads=3)
+    try:
+        node = SimNode()
+        executor.add_node(node)
+        executor.spin()
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        if node is not None:
+            node.shutdown()
+            node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

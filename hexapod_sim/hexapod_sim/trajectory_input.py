@@ -1,0 +1,93 @@
+"""Turn an incoming joint trajectory (one gait cycle, any joint order) into the simulator's
+control table, with clear errors for anything malformed. ROS-free: takes plain arrays."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+from hexapod_gait import LegKinematics
+from hexapod_gait.trajectory import LegGeometry
+
+
+class TrajectoryError(ValueError):
+    """The trajectory cannot be played; the message says why."""
+
+
+@dataclass(frozen=True)
+class CycleTable:
+    positions: np.ndarray   # (N, 18) URDF joint order, at the simulator's time step
+    velocities: np.ndarray  # (N, 18)
+    period: float           # s
+
+
+def cycle_from_points(joint_names: Sequence[str], times: Sequence[float], positions: Sequence[Sequence[float]],
+                      velocities: Sequence[Sequence[float]], urdf_joint_names: Sequence[str], dt: float) -> CycleTable:
+    """Validate one cycle of a trajectory and resample it onto the simulator's step ``dt``.
+
+    The cycle repeats with period = last time + sample spacing (samples are uniform, as
+    gait_node publishes them). Samples already at ``dt`` are used exactly as given; other rates
+    are interpolated linearly (cyclically). Missing velocities are taken as finite differences.
+    """
+    names = list(joint_names)
+    expected = list(urdf_joint_names)
+    if len(set(names)) != len(names):
+        raise TrajectoryError("duplicate joint names in the trajectory")
+    if set(names) != set(expected):
+        missing = sorted(set(expected) - set(names))
+        unknown = sorted(set(names) - set(expected))
+        raise TrajectoryError(f"joint names must be the robot's {len(expected)} joints; "
+                              f"missing {missing}, unknown {unknown}")
+    n = len(times)
+    if n < 2:
+        raise TrajectoryError(f"a gait cycle needs at least 2 points, got {n}")
+    t = np.asarray(times, dtype=float)
+    try:
+        q = np.asarray(positions, dtype=float)
+    except ValueError:
+        raise TrajectoryError("every point needs one position per joint") from None
+    if q.shape != (n, len(names)):
+        raise TrajectoryError(f"every point needs {len(names)} positions")
+    if not np.isfinite(q).all():
+        raise TrajectoryError("positions must be finite")
+    if len(velocities) and any(len(v) for v in velocities):
+        try:
+            v = np.asarray(velocities, dtype=float)
+        except ValueError:
+            raise TrajectoryError("every point needs 0 or one velocity per joint") from None
+        if v.shape != q.shape or not np.isfinite(v).all():
+            raise TrajectoryError("velocities must be finite, one per joint for every point (or none)")
+    else:
+        v = None
+    spacing = np.diff(t)
+    if t[0] != 0.0 or np.any(spacing <= 0):
+        raise TrajectoryError("time_from_start must start at 0 and increase strictly")
+    step = float(spacing.mean())
+    if np.abs(spacing - step).max() > 1e-6:
+        raise TrajectoryError("points must be uniformly spaced in time (one sampled gait cycle)")
+    period = t[-1] + step
+    order = [names.index(name) for name in expected]
+    q = q[:, order]
+    if v is not None:
+        v = v[:, order]
+    else:
+        v = (np.roll(q, -1, axis=0) - np.roll(q, 1, axis=0)) / (2.0 * step)
+    if abs(step - dt) <= 1e-9:
+        return CycleTable(q, v, period)
+    steps = max(2, int(round(period / dt)))
+    grid = np.arange(steps) * (period / steps)
+    tt = np.concatenate([t, [period]])
+    qq = np.vstack([q, q[:1]])
+    vv = np.vstack([v, v[:1]])
+    resampled_q = np.column_stack([np.interp(grid, tt, qq[:, j]) for j in range(q.shape[1])])
+    resampled_v = np.column_stack([np.interp(grid, tt, vv[:, j]) for j in range(q.shape[1])])
+    return CycleTable(resampled_q, resampled_v, period)
+
+
+def body_height_from_joints(q: np.ndarray, kinematics: LegKinematics, geometry: LegGeometry) -> float:
+    """Base height that puts the lowest foot on the ground for joint angles q (18,): the
+    inverse of the controller's foot height -(h_b + mount_z), so a trajectory needs no
+    separate body-height field."""
+    feet = kinematics.forward(np.asarray(q, dtype=float).reshape(6, 3))
+    return float(np.max(-(feet[:, 2] + geometry.mount_z)))
