@@ -25,6 +25,8 @@ def executable(pkg: str, exe: str) -> Path:
 def _param_text(value: Any) -> str:
     if isinstance(value, bool):
         return "true" if value else "false"
+    if isinstance(value, str) and value == "":
+        return "''"                      # YAML empty string
     if isinstance(value, (list, tuple)):
         return "[" + ",".join(_param_text(v) for v in value) + "]"
     return str(value)
@@ -42,7 +44,8 @@ class NodeProcess:
             cmd.append("--ros-args")
             for key, value in params.items():
                 cmd += ["-p", f"{key}:={_param_text(value)}"]
-        full_env = dict(os.environ, ROS_DOMAIN_ID=str(domain_id), PYTHONUNBUFFERED="1", **(env or {}))
+        full_env = dict(os.environ, ROS_DOMAIN_ID=str(domain_id), PYTHONUNBUFFERED="1",
+                        RCUTILS_LOGGING_BUFFERED_STREAM="0", **(env or {}))
         self._log = open(self.log_path, "w")
         self.proc = subprocess.Popen(cmd, stdout=self._log, stderr=subprocess.STDOUT, env=full_env,
                                      start_new_session=True)
@@ -142,3 +145,6 @@ def launch(domain_id, tmp_path):
     yield _launch
     for node in started:
         node.stop()
+        # shown by pytest only when the test failed
+        tail = node.log_path.read_text().splitlines()[-25:]
+        print(f"----- {node.log_path.name} (last {len(tail)} lines) -----", *tail, sep="\n")

@@ -5,6 +5,7 @@ from hexapod_gait.parameters import (
     DEFAULT_PERIOD,
     GENOTYPE_MAPPING_VERSION,
     GENOTYPE_SIZE,
+    RANGES,
     GaitParameterError,
     GaitParameters,
     from_genotype,
@@ -24,7 +25,7 @@ from hexapod_gait.trajectory import (
 
 __all__ = [
     "DEFAULT_CRAB_ANGLE", "DEFAULT_PERIOD", "GENOTYPE_MAPPING_VERSION", "GENOTYPE_SIZE",
-    "GaitParameterError", "GaitParameters", "JointTable", "LegKinematics", "PRESETS",
+    "GaitParameterError", "GaitParameters", "JointTable", "RANGES", "LegKinematics", "PRESETS",
     "ROBOT_RATE", "ReachabilityError", "SIM_RATE", "build_joint_table", "default_kinematics",
     "foot_trajectory", "from_genotype", "key_points", "preset", "stance_mask", "to_genotype",
 ]

@@ -65,7 +65,7 @@ def evaluate_gait(gait: GaitParameters | Sequence[float] | np.ndarray, sim: Hexa
     positions = np.clip(table.positions, sim.lower, sim.upper)[:, slots].tolist()
     velocities = np.clip(table.velocities, -sim.max_velocity, sim.max_velocity)[:, slots].tolist()
     n_rows = len(positions)
-    sim.reset(table.positions[0], gait.body_height)
+    sim.reset(table.positions[0])
 
     # The hot loop: bound locals, one control call, one step, one contact query per step.
     cid, body, plane = sim.client, sim.body, sim.plane

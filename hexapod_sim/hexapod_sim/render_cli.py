@@ -25,7 +25,7 @@ def render_walk(gait_name: str, seconds: float, out: Path, failed_legs: list[int
     with HexapodSimulator(SimConfig()) as sim:
         sim.set_failed_legs(failed_legs)
         table = build_joint_table(gait, rate=1.0 / sim.dt)
-        sim.reset(table.positions[0], gait.body_height)
+        sim.reset(table.positions[0])
         steps = int(round(seconds / sim.dt))
         every = max(1, int(round(1.0 / (fps * sim.dt))))
         frames, contacts = [], np.zeros((steps, 6), dtype=bool)

@@ -45,10 +45,10 @@ from std_msgs.msg import Header
 from std_srvs.srv import Trigger
 from trajectory_msgs.msg import JointTrajectory
 
-from hexapod_gait import default_kinematics, preset
-from hexapod_gait.trajectory import build_joint_table, default_geometry
+from hexapod_gait import preset
+from hexapod_gait.trajectory import build_joint_table
 from hexapod_sim.simulator import ACCURATE, FAST, HexapodSimulator, SimConfig, validate_failed_legs
-from hexapod_sim.trajectory_input import CycleTable, TrajectoryError, body_height_from_joints, cycle_from_points
+from hexapod_sim.trajectory_input import CycleTable, TrajectoryError, cycle_from_points
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
 ODOM_QOS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
@@ -92,7 +92,6 @@ class SimNode(Node):
         self.period_steps = int(self.get_parameter("publish_period_steps").value)
         self.odom_frame = str(self.get_parameter("odom_frame").value)
         self.base_frame = str(self.get_parameter("base_frame").value)
-        self.kin, self.geo = default_kinematics(), default_geometry()
 
         group = ReentrantCallbackGroup()
         self.clock_pub = self.create_publisher(Clock, "/clock", 10)
@@ -115,7 +114,7 @@ class SimNode(Node):
         self._prepare_cycle()
         initial = self.get_parameter_or("failed_legs", Parameter("failed_legs", value=[])).value or []
         try:
-            self.sim.set_failed_legs(list(initial))
+            self._apply_failure(validate_failed_legs(list(initial)))
         except ValueError as exc:
             self.get_logger().error(f"failed_legs parameter ignored: {exc}")
         self._work: queue.Queue[Callable[[], None]] = queue.Queue()
@@ -193,8 +192,10 @@ class SimNode(Node):
         return response
 
     def _status(self, level: bytes, message: str) -> None:
-        log = self.get_logger().error if level == DiagnosticStatus.ERROR else self.get_logger().info
-        log(message)
+        if level == DiagnosticStatus.ERROR:  # rclpy: one severity per logging call site
+            self.get_logger().error(message)
+        else:
+            self.get_logger().info(message)
         self.status_pub.publish(DiagnosticStatus(level=level, name=self.get_fully_qualified_name(),
                                                  message=message, hardware_id="hexapod_sim"))
 
@@ -212,7 +213,7 @@ class SimNode(Node):
 
     def _reset_now(self) -> float:
         q0 = self.cycle.positions[0]
-        self.sim.reset(q0, body_height_from_joints(q0, self.kin, self.geo))
+        self.sim.reset(q0)
         if not hasattr(self, "_sim_time"):
             self._sim_time = 0.0
         self._steps_since_reset = 0

@@ -1,0 +1,142 @@
+"""``ros2 run hexapod_bridge robot_emulator``: the robot's side of the radio link (and an
+emulated Xsens MTi) on pseudo-terminals, for running bridge_node without hardware.
+
+    robot_emulator --radio-link /tmp/hexapod_radio --imu-link /tmp/hexapod_imu --sim
+
+Prints ``RADIO <path>`` and ``IMU <path>`` once the ports exist, and ``TRIAL {json}`` with the
+simulator's own measurement when a walk ends. SIGUSR1 makes the radio port vanish (the pty is
+closed and its link removed), SIGUSR2 brings a new one back at the same link path - the
+fault-injection handle the reliability tests use. SIGINT/SIGTERM end it.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import select
+import signal
+import sys
+import time
+import tty
+
+from hexapod_bridge.firmware import ImuNoise, RobotFirmware
+
+
+class PtyPort:
+    """The robot end of a pseudo-terminal, published at a stable symlink path."""
+
+    def __init__(self, link: str) -> None:
+        self.link = link
+        self.master: int | None = None
+        self.slave: int | None = None
+
+    def open(self) -> str:
+        self.master, self.slave = os.openpty()
+        tty.setraw(self.master)
+        tty.setraw(self.slave)
+        os.set_blocking(self.master, False)
+        path = os.ttyname(self.slave)
+        tmp = f"{self.link}.tmp{os.getpid()}"
+        if os.path.lexists(tmp):
+            os.unlink(tmp)
+        os.symlink(path, tmp)
+        os.replace(tmp, self.link)
+        return path
+
+    def close(self) -> None:
+        if os.path.lexists(self.link):
+            os.unlink(self.link)
+        for fd in (self.master, self.slave):
+            if fd is not None:
+                try:
+                    os.close(fd)
+                except OSError:
+                    pass
+        self.master = self.slave = None
+
+    def write(self, data: bytes) -> None:
+        if self.master is None or not data:
+            return
+        try:
+            os.write(self.master, data)
+        except (BlockingIOError, OSError):
+            pass   # nobody reading: bytes are lost, as on a radio with no receiver
+
+    def read(self) -> bytes:
+        if self.master is None:
+            return b""
+        try:
+            return os.read(self.master, 4096)
+        except (BlockingIOError, OSError):
+            return b""
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description="Emulate the hexapod's firmware on pseudo-terminals.")
+    parser.add_argument("--radio-link", default="/tmp/hexapod_radio", help="symlink path of the radio port")
+    parser.add_argument("--imu-link", default="", help="symlink path of an emulated Xsens port ('' = none)")
+    parser.add_argument("--sim", action="store_true", help="drive the PyBullet simulator (the robot walks)")
+    parser.add_argument("--imu-noise", action="store_true", help="add Xsens-like noise and bias to the IMU")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--walk-duration", type=float, default=5.0)
+    parser.add_argument("--failsafe-windows", type=int, default=11)
+    args = parser.parse_args(argv)
+
+    sim = None
+    if args.sim:
+        from hexapod_sim import HexapodSimulator
+
+        sim = HexapodSimulator()
+    start = time.monotonic()
+    firmware = RobotFirmware(sim=sim, walk_duration=args.walk_duration, failsafe_windows=args.failsafe_windows,
+                             imu_noise=ImuNoise() if args.imu_noise else None, seed=args.seed, now=0.0)
+    radio = PtyPort(args.radio_link)
+    imu = PtyPort(args.imu_link) if args.imu_link else None
+    print(f"RADIO {radio.open()}", flush=True)
+    if imu is not None:
+        print(f"IMU {imu.open()}", flush=True)
+
+    requests: list[str] = []
+    signal.signal(signal.SIGUSR1, lambda *_: requests.append("vanish"))
+    signal.signal(signal.SIGUSR2, lambda *_: requests.append("return"))
+    running = [True]
+    signal.signal(signal.SIGTERM, lambda *_: running.__setitem__(0, False))
+    reported = 0
+    try:
+        while running[0]:
+            while requests:
+                what = requests.pop(0)
+                if what == "vanish" and radio.master is not None:
+                    radio.close()
+                    print("RADIO gone", flush=True)
+                elif what == "return" and radio.master is None:
+                    print(f"RADIO {radio.open()}", flush=True)
+            fds = [radio.master] if radio.master is not None else []
+            ready = select.select(fds, [], [], 0.002)[0] if fds else (time.sleep(0.002) or [])
+            now = time.monotonic() - start
+            if ready:
+                firmware.receive(radio.read(), now)
+            if imu is not None:
+                imu.read()        # commands to the IMU are accepted and ignored
+            out_radio, out_imu = firmware.advance(now)
+            radio.write(out_radio)
+            if imu is not None:
+                imu.write(out_imu)
+            while reported < len(firmware.trials) and firmware.trials[reported].end_position is not None:
+                print("TRIAL " + json.dumps(firmware.trials[reported].summary()), flush=True)
+                reported += 1
+    except KeyboardInterrupt:
+        pass
+    finally:
+        radio.close()
+        if imu is not None:
+            imu.close()
+        stats = firmware.stats
+        print(f"STATS pings={stats.pings} failsafe_trips={stats.failsafe_trips} "
+              f"missed_windows={stats.missed_windows} frames={stats.frames} duplicates={stats.duplicates} "
+              f"resyncs={firmware.receiver.stats.resyncs}", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

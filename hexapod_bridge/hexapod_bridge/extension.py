@@ -1,0 +1,188 @@
+"""Gait-upload extension of the radio protocol, version 1 (specification: docs/radio-protocol.md).
+
+Every frame is 10 bytes, so PC -> robot frames fit the robot's fixed 10-byte receive path, and
+each carries a CRC-16/CCITT-FALSE (over bytes 0..7, big-endian in bytes 8..9) and a sequence
+number. The marker 0xE7 is not a legacy first byte (0x01 movement, 0x37 ping, 0xFF command).
+
+PC -> robot:   E7 type seq p0 p1 p2 p3 p4 crc_hi crc_lo
+  SET_PARAM    p0 = parameter index (PARAM_NAMES), p1..p4 = float32 LE value
+  COMMIT       p0 = parameter count, p1..p2 = CRC-16 of the staged values (index order,
+               float32 LE bytes), p3..p4 = gait id (uint16 BE): apply the staged set atomically
+  START_TRIAL  p0..p1 = duration [ms] (uint16 BE), p2..p3 = gait id, p4 = flags (bit 0: stand
+               first): walk the committed gait for the duration, then stop
+  STOP_TRIAL   stop walking now
+  ESTOP        stop walking and cut motor power until a new START_TRIAL after motor power on
+  HELLO        p0 = host protocol version; the robot answers VERSION
+Robot -> PC:   FF E7 type seq p0 p1 p2 p3 crc_hi crc_lo   (seq echoes the request's)
+  ACK          p0 = acknowledged type, p1 = status (Status), p2..p3 = gait id or parameter index
+  TRIAL        p0 = TrialState, p1..p3 = elapsed ms (uint24 BE); seq counts the robot's reports
+  VERSION      p0 = major, p1 = minor, p2..p3 = capability bits
+"""
+from __future__ import annotations
+
+import math
+import struct
+from dataclasses import dataclass
+from enum import IntEnum
+from typing import Sequence
+
+from hexapod_bridge.crc import crc16
+
+MARKER = 0xE7
+FRAME_LEN = 10
+PROTOCOL_MAJOR, PROTOCOL_MINOR = 1, 0
+
+PARAM_NAMES: tuple[str, ...] = (
+    ("body_velocity", "body_height", "period", "crab_angle")
+    + tuple(f"{field}[{leg}]" for field in ("radius", "angle_offset", "step_height", "duty_factor", "phase_offset")
+            for leg in range(1, 7))
+    + ("archive_index",)
+)
+N_PARAMS = len(PARAM_NAMES)  # 35
+
+
+class Cmd(IntEnum):
+    SET_PARAM = 0x10
+    COMMIT = 0x11
+    START_TRIAL = 0x12
+    STOP_TRIAL = 0x13
+    ESTOP = 0x14
+    HELLO = 0x15
+
+
+class Report(IntEnum):
+    ACK = 0x01
+    TRIAL = 0x02
+    VERSION = 0x03
+
+
+class Status(IntEnum):
+    OK = 0
+    BAD_INDEX = 1
+    OUT_OF_RANGE = 2
+    SET_INCOMPLETE = 3
+    SET_CRC_MISMATCH = 4
+    BUSY = 5
+    NO_GAIT = 6
+    ESTOPPED = 7
+    UNKNOWN_TYPE = 8
+    UNREACHABLE = 9
+
+
+class TrialState(IntEnum):
+    IDLE = 0
+    WALKING = 1
+    DONE = 2
+    STOPPED = 3
+    ESTOPPED = 4
+    FAILSAFE = 5
+
+
+@dataclass(frozen=True)
+class CommandFrame:
+    """A decoded PC -> robot extension frame."""
+
+    type: int
+    seq: int
+    payload: bytes  # 5 bytes
+
+
+@dataclass(frozen=True)
+class ReportFrame:
+    """A decoded robot -> PC extension frame."""
+
+    type: int
+    seq: int
+    payload: bytes  # 4 bytes
+
+
+class ExtensionError(ValueError):
+    pass
+
+
+def _seal(body: bytes) -> bytes:
+    return body + struct.pack(">H", crc16(body))
+
+
+def encode_command(kind: Cmd, seq: int, payload: bytes = b"") -> bytes:
+    if len(payload) > 5:
+        raise ExtensionError("command payload is at most 5 bytes")
+    return _seal(bytes([MARKER, int(kind), seq & 0xFF]) + payload.ljust(5, b"\0"))
+
+
+def encode_report(kind: Report, seq: int, payload: bytes = b"") -> bytes:
+    if len(payload) > 4:
+        raise ExtensionError("report payload is at most 4 bytes")
+    return _seal(bytes([0xFF, MARKER, int(kind), seq & 0xFF]) + payload.ljust(4, b"\0"))
+
+
+def crc_ok(frame: bytes | bytearray) -> bool:
+    return len(frame) == FRAME_LEN and struct.unpack(">H", bytes(frame[8:10]))[0] == crc16(frame[:8])
+
+
+def decode_command(frame: bytes | bytearray) -> CommandFrame:
+    if len(frame) != FRAME_LEN or frame[0] != MARKER:
+        raise ExtensionError("not an extension command frame")
+    if not crc_ok(frame):
+        raise ExtensionError("CRC mismatch")
+    return CommandFrame(frame[1], frame[2], bytes(frame[3:8]))
+
+
+def decode_report(frame: bytes | bytearray) -> ReportFrame:
+    if len(frame) != FRAME_LEN or frame[0] != 0xFF or frame[1] != MARKER:
+        raise ExtensionError("not an extension report frame")
+    if not crc_ok(frame):
+        raise ExtensionError("CRC mismatch")
+    return ReportFrame(frame[2], frame[3], bytes(frame[4:8]))
+
+
+# ---- gait values <-> parameter frames ------------------------------------------------------
+
+def gait_values(gait) -> list[float]:
+    """The N_PARAMS numbers of a hexapod_gait.GaitParameters in PARAM_NAMES order."""
+    values = [gait.body_velocity, gait.body_height, gait.period, gait.crab_angle]
+    for field in ("radius", "angle_offset", "step_height", "duty_factor", "phase_offset"):
+        values.extend(float(v) for v in getattr(gait, field))
+    values.append(float(gait.archive_index))
+    return values
+
+
+def values_crc(values: Sequence[float]) -> int:
+    """CRC-16 over the float32 LE encodings of the values, index order (COMMIT's check)."""
+    return crc16(b"".join(struct.pack("<f", v) for v in values))
+
+
+def quantise(values: Sequence[float]) -> list[float]:
+    """The values as the robot stores them (float32)."""
+    return [struct.unpack("<f", struct.pack("<f", v))[0] for v in values]
+
+
+def upload_frames(values: Sequence[float], gait_id: int, first_seq: int) -> list[bytes]:
+    """SET_PARAM for every value, then COMMIT; sequence numbers first_seq, first_seq + 1, ..."""
+    if len(values) != N_PARAMS:
+        raise ExtensionError(f"a gait has {N_PARAMS} parameters, got {len(values)}")
+    if not all(math.isfinite(v) for v in values):
+        raise ExtensionError("gait parameters must be finite")
+    frames = [encode_command(Cmd.SET_PARAM, first_seq + i, bytes([i]) + struct.pack("<f", v))
+              for i, v in enumerate(values)]
+    commit = bytes([N_PARAMS]) + struct.pack(">HH", values_crc(quantise(values)), gait_id & 0xFFFF)
+    frames.append(encode_command(Cmd.COMMIT, first_seq + N_PARAMS, commit))
+    return frames
+
+
+def gait_from_values(values: Sequence[float]):
+    """Robot side: a validated GaitParameters from the staged values (raises its errors)."""
+    from hexapod_gait import GaitParameters
+
+    v = list(values)
+    legs = {field: v[4 + 6 * k: 10 + 6 * k] for k, field in
+            enumerate(("radius", "angle_offset", "step_height", "duty_factor", "phase_offset"))}
+    return GaitParameters(body_velocity=v[0], body_height=v[1], period=v[2], crab_angle=v[3],
+                          archive_index=int(v[34]), **legs)
+
+
+def start_payload(duration_s: float, gait_id: int, stand_first: bool = False) -> bytes:
+    ms = int(round(duration_s * 1000))
+    if not 100 <= ms <= 60000:
+        raise ExtensionError(f"trial duration must be 0.1..60 s, got {duration_s:g}")
+    return struct.pack(">HHB", ms, gait_id & 0xFFFF, 1 if stand_first else 0)

@@ -1,0 +1,338 @@
+"""The robot's firmware side of the radio protocol (legacy frames + extension v1), for tests and
+the robot_emulator. Time is passed in explicitly, so it runs in real time over a pseudo-
+terminal or faster in unit tests. Optionally drives a HexapodSimulator so the emulated robot
+really walks the gait it was sent, and emulates the Xsens MTi (Xbus MTData at 100 Hz).
+
+Firmware behaviour reproduced from robot-facts.md: a ~50 ms timer tick; telemetry every 10
+ticks; a ping check every 50 ticks, and after ``failsafe_windows`` consecutive check windows
+without a ping the walk stops; a walk lasts ``walk_duration`` (5 s) after a reset (movement
+function 55) or START_TRIAL; valid movement frames are acknowledged with FF <checksum>.
+"""
+from __future__ import annotations
+
+import math
+import struct
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from hexapod_bridge import extension as ext
+from hexapod_bridge import legacy, xbus
+from hexapod_bridge.stream import LegacyCommand, PingFrame, RobotReceiver
+
+TICK = 0.05
+
+
+@dataclass(frozen=True)
+class ImuNoise:
+    """Xsens-like errors: white noise, a constant accelerometer bias, orientation noise."""
+
+    acc_sigma: float = 0.02       # m/s^2 per sample
+    acc_bias: float = 0.03        # m/s^2, constant per axis (random sign/size up to this)
+    gyro_sigma: float = 0.005     # rad/s
+    euler_sigma: float = 0.3      # deg
+
+
+@dataclass
+class FirmwareStats:
+    pings: int = 0
+    failsafe_trips: int = 0
+    missed_windows: int = 0
+    frames: int = 0
+    duplicates: int = 0
+
+
+@dataclass
+class TrialRecord:
+    gait_id: int
+    crab_angle: float
+    duration: float
+    start_position: np.ndarray
+    end_position: np.ndarray | None = None
+    state: str = "walking"
+
+    def summary(self) -> dict:
+        d = (self.end_position - self.start_position)[:2] if self.end_position is not None else np.zeros(2)
+        distance = float(d[0] * math.cos(self.crab_angle) + d[1] * math.sin(self.crab_angle))
+        return {"gait_id": self.gait_id, "state": self.state, "duration": self.duration,
+                "distance": distance, "speed": distance / self.duration}
+
+
+class RobotFirmware:
+    def __init__(self, sim=None, walk_duration: float = 5.0, failsafe_windows: int = 11,
+                 telemetry_ticks: int = 10, ping_check_ticks: int = 50, imu_rate: float = 100.0,
+                 imu_noise: ImuNoise | None = None, seed: int = 0, now: float = 0.0) -> None:
+        from hexapod_gait import preset
+
+        self.receiver = RobotReceiver()
+        self.sim = sim
+        self.walk_duration = walk_duration
+        self.failsafe_windows = failsafe_windows
+        self.telemetry_ticks = telemetry_ticks
+        self.ping_check_ticks = ping_check_ticks
+        self.stats = FirmwareStats()
+        self.rng = np.random.default_rng(seed)
+        self.imu_noise = imu_noise
+        self.acc_bias = (self.rng.uniform(-1, 1, 3) * imu_noise.acc_bias) if imu_noise else np.zeros(3)
+        self.imu_period = 1.0 / imu_rate
+        self.gait = preset("control")          # the firmware's hard-coded tripod
+        self.gait_id = 0
+        self.staged: list[float | None] = [None] * ext.N_PARAMS
+        self.motors_on = True
+        self.estopped = False
+        self.walking = False
+        self.walk_end = 0.0
+        self.trial_seq = 0
+        self.trials: list[TrialRecord] = []
+        self._recent: dict[tuple[int, int], bytes] = {}     # (type, seq) -> ack sent
+        self._tick_count = 0
+        self._next_tick = now
+        self._pings_in_window = 0
+        self._missed = 0
+        self._sim_time = now
+        self._next_imu = now
+        self._imu_counter = 0
+        self._imu_velocity = np.zeros(3)
+        self._walk_start = 0.0
+        self._table = None
+        self._row = 0
+        self._hold: list[float] | None = None
+        self.out_radio = bytearray()
+        self.out_imu = bytearray()
+        if sim is not None:
+            self._load_table()
+            sim.reset(self._table.positions[0])
+            self._hold = self._table.positions[0].tolist()
+
+    # -- receiving ---------------------------------------------------------------------------
+    def receive(self, data: bytes, now: float) -> None:
+        for frame in self.receiver.feed(data):
+            self.stats.frames += 1
+            if isinstance(frame, PingFrame):
+                self.stats.pings += 1
+                self._pings_in_window += 1
+                self.out_radio += bytes([0xFF, 0xFA])
+            elif isinstance(frame, legacy.Movement):
+                self.out_radio += legacy.encode_ack(self.receiver.last_checksum)
+                self._on_movement(frame, now)
+            elif isinstance(frame, LegacyCommand):
+                self._on_legacy_command(frame, now)
+            elif isinstance(frame, ext.CommandFrame):
+                self._on_extension(frame, now)
+
+    def _on_movement(self, m: legacy.Movement, now: float) -> None:
+        if m.function == legacy.Function.RESET:
+            self.out_radio += legacy.encode_text("RESET")
+            self._start_walk(now, self.walk_duration)
+        elif m.function == legacy.Function.STAND or m.direction == legacy.Direction.STOP:
+            self._stop_walk("stopped")
+        elif m.function == legacy.Function.WALK and m.direction in legacy.DIRECTION_ANGLE:
+            try:
+                self.gait = self.gait.replace(body_velocity=m.speed, body_height=m.height_mm / 1000.0,
+                                              crab_angle=legacy.DIRECTION_ANGLE[legacy.Direction(m.direction)])
+                self._load_table()
+            except ValueError:
+                self.out_radio += legacy.encode_text("BAD MOVEMENT")
+
+    def _on_legacy_command(self, cmd: LegacyCommand, now: float) -> None:
+        if cmd.code == 0xFA:
+            self.motors_on = bool(cmd.raw[2])
+            if self.motors_on:
+                self.estopped = False
+            else:
+                self._stop_walk("stopped")
+
+    def _ack(self, frame: ext.CommandFrame, status: ext.Status, value: int = 0) -> None:
+        ack = ext.encode_report(ext.Report.ACK, frame.seq, bytes([frame.type, int(status)]) + struct.pack(">H", value & 0xFFFF))
+        self._recent[(frame.type, frame.seq)] = ack
+        if len(self._recent) > 64:
+            self._recent.pop(next(iter(self._recent)))
+        self.out_radio += ack
+
+    def _on_extension(self, f: ext.CommandFrame, now: float) -> None:
+        repeat = self._recent.get((f.type, f.seq))
+        if repeat is not None and f.type != ext.Cmd.ESTOP:
+            self.stats.duplicates += 1        # a retransmission: answer again, apply once
+            self.out_radio += repeat
+            return
+        from hexapod_gait import RANGES
+
+        if f.type == ext.Cmd.SET_PARAM:
+            index = f.payload[0]
+            if index >= ext.N_PARAMS:
+                return self._ack(f, ext.Status.BAD_INDEX, index)
+            value = struct.unpack("<f", f.payload[1:5])[0]
+            name = ext.PARAM_NAMES[index].split("[")[0]
+            lo, hi = RANGES.get(name, (-1.0, 2.0 ** 24))
+            if not (math.isfinite(value) and lo <= value <= hi):
+                return self._ack(f, ext.Status.OUT_OF_RANGE, index)
+            self.staged[index] = value
+            return self._ack(f, ext.Status.OK, index)
+        if f.type == ext.Cmd.COMMIT:
+            count, set_crc, gait_id = f.payload[0], *struct.unpack(">HH", f.payload[1:5])
+            if count != ext.N_PARAMS or any(v is None for v in self.staged):
+                return self._ack(f, ext.Status.SET_INCOMPLETE, gait_id)
+            if ext.values_crc(self.staged) != set_crc:
+                return self._ack(f, ext.Status.SET_CRC_MISMATCH, gait_id)
+            if self.walking:
+                return self._ack(f, ext.Status.BUSY, gait_id)
+            try:
+                gait = ext.gait_from_values(self.staged)
+                self._check_reachable(gait)
+            except ValueError as exc:
+                self.out_radio += legacy.encode_text("GAIT REJECTED")
+                unreachable = "cannot follow" in str(exc)
+                return self._ack(f, ext.Status.UNREACHABLE if unreachable else ext.Status.OUT_OF_RANGE, gait_id)
+            self.gait, self.gait_id = gait, gait_id
+            self.staged = [None] * ext.N_PARAMS
+            self._load_table()
+            return self._ack(f, ext.Status.OK, gait_id)
+        if f.type == ext.Cmd.START_TRIAL:
+            ms, gait_id, _flags = struct.unpack(">HHB", f.payload)
+            if self.estopped or not self.motors_on:
+                return self._ack(f, ext.Status.ESTOPPED, gait_id)
+            if gait_id != self.gait_id:
+                return self._ack(f, ext.Status.NO_GAIT, gait_id)
+            if self.walking:
+                return self._ack(f, ext.Status.BUSY, gait_id)
+            self._ack(f, ext.Status.OK, gait_id)
+            self._start_walk(now, ms / 1000.0)
+            return None
+        if f.type == ext.Cmd.STOP_TRIAL:
+            self._ack(f, ext.Status.OK)
+            self._stop_walk("stopped")
+            return None
+        if f.type == ext.Cmd.ESTOP:
+            self.estopped, self.motors_on = True, False
+            self._stop_walk("estopped")
+            self._ack(f, ext.Status.OK)
+            return None
+        if f.type == ext.Cmd.HELLO:
+            self.out_radio += ext.encode_report(ext.Report.VERSION, f.seq,
+                                                bytes([ext.PROTOCOL_MAJOR, ext.PROTOCOL_MINOR, 0, 1]))
+            return None
+        return self._ack(f, ext.Status.UNKNOWN_TYPE)
+
+    def _check_reachable(self, gait) -> None:
+        from hexapod_gait import ROBOT_RATE, build_joint_table
+
+        build_joint_table(gait, rate=ROBOT_RATE)   # the firmware's own IK check, at its 120 Hz
+
+    # -- walking -----------------------------------------------------------------------------
+    def _load_table(self) -> None:
+        if self.sim is not None:
+            from hexapod_gait import build_joint_table
+
+            self._table = build_joint_table(self.gait, rate=1.0 / self.sim.dt)
+
+    def _start_walk(self, now: float, duration: float) -> None:
+        self.walking, self._walk_start, self.walk_end = True, now, now + duration
+        self._row = 0
+        position = self.sim.base_pose()[0] if self.sim is not None else np.zeros(3)
+        self.trials.append(TrialRecord(self.gait_id, self.gait.crab_angle, duration, position))
+        self._trial_report(ext.TrialState.WALKING, now)
+
+    def _stop_walk(self, state: str) -> None:
+        if not self.walking:
+            return
+        self.walking = False
+        if self.trials:
+            record = self.trials[-1]
+            record.state = state
+            record.end_position = self.sim.base_pose()[0] if self.sim is not None else np.zeros(3)
+        if self.sim is not None and self._table is not None:
+            self._hold = self._table.positions[self._row % len(self._table)].tolist()
+        state_code = {"done": ext.TrialState.DONE, "stopped": ext.TrialState.STOPPED,
+                      "estopped": ext.TrialState.ESTOPPED, "failsafe": ext.TrialState.FAILSAFE}[state]
+        self._trial_report(state_code, self.walk_end if state == "done" else self._sim_time)
+
+    def _trial_report(self, state: ext.TrialState, now: float) -> None:
+        elapsed = max(0, int(round((now - self._walk_start) * 1000)))
+        self.trial_seq = (self.trial_seq + 1) & 0xFF
+        self.out_radio += ext.encode_report(ext.Report.TRIAL, self.trial_seq,
+                                            bytes([int(state)]) + min(elapsed, 0xFFFFFF).to_bytes(3, "big"))
+
+    # -- time ----------------------------------------------------------------------------------
+    def advance(self, now: float) -> tuple[bytes, bytes]:
+        """Run timers, the walk and the simulation up to ``now``; return (radio, imu) bytes."""
+        while self._next_tick <= now:
+            self._timer_tick(self._next_tick)
+            self._next_tick += TICK
+        if self.sim is not None:
+            self._step_sim(now)
+        elif self.walking and now >= self.walk_end:
+            self._stop_walk("done")
+        radio, imu = bytes(self.out_radio), bytes(self.out_imu)
+        self.out_radio.clear()
+        self.out_imu.clear()
+        return radio, imu
+
+    def _timer_tick(self, t: float) -> None:
+        self._tick_count += 1
+        if self._tick_count % self.telemetry_ticks == 0:
+            pitch, roll, yaw = self._attitude()
+            self.out_radio += legacy.encode_telemetry(legacy.Telemetry(float(self._tick_count), pitch, roll, yaw, 0.0, 0.0))
+        if self._tick_count % self.ping_check_ticks == 0:
+            if self._pings_in_window == 0:
+                self._missed += 1
+                self.stats.missed_windows += 1
+            else:
+                self._missed = 0
+            self._pings_in_window = 0
+            if self._missed >= self.failsafe_windows and self.walking:
+                self.stats.failsafe_trips += 1
+                self._stop_walk("failsafe")
+
+    def _attitude(self) -> tuple[float, float, float]:
+        if self.sim is None:
+            return 0.0, 0.0, 0.0
+        import pybullet as p
+
+        roll, pitch, yaw = p.getEulerFromQuaternion(self.sim.base_pose()[1].tolist())
+        return pitch, roll, yaw
+
+    def _step_sim(self, now: float) -> None:
+        import pybullet as p
+
+        sim = self.sim
+        while self._sim_time + sim.dt <= now:
+            if self.walking and self._sim_time >= self.walk_end - 1e-9:
+                self._stop_walk("done")
+            if self.walking:
+                row = self._row % len(self._table)
+                sim.command(self._table.positions[row], self._table.velocities[row])
+                self._row += 1
+            elif self._hold is not None:
+                sim.command(self._hold, [0.0] * 18)
+            if not self.motors_on:
+                p.setJointMotorControlArray(sim.body, sim.joint_indices, p.VELOCITY_CONTROL,
+                                            forces=[0.0] * 18, physicsClientId=sim.client)
+            sim.step()
+            sim.update_imu()
+            self._sim_time += sim.dt
+            if self._sim_time >= self._next_imu - 1e-9:
+                self._next_imu += self.imu_period
+                self._emit_imu()
+
+    def _emit_imu(self) -> None:
+        import pybullet as p
+
+        quat, gyro, _ = self.sim.imu()
+        # An MTi filters internally: its output is the mean acceleration over the sample
+        # interval, i.e. the change of velocity over it (point samples of the 240 Hz
+        # finite difference would alias the foot-impact spikes).
+        velocity = self.sim.base_velocity()[0]
+        a_world = (velocity - self._imu_velocity) / self.imu_period
+        self._imu_velocity = velocity
+        rot = np.array(p.getMatrixFromQuaternion(quat.tolist())).reshape(3, 3)
+        acc = rot.T @ (a_world + np.array([0.0, 0.0, 9.81])) + self.acc_bias
+        roll, pitch, yaw = (math.degrees(a) for a in p.getEulerFromQuaternion(quat.tolist()))
+        euler = np.array([roll, pitch, yaw])
+        if self.imu_noise is not None:
+            acc = acc + self.rng.normal(0, self.imu_noise.acc_sigma, 3)
+            gyro = gyro + self.rng.normal(0, self.imu_noise.gyro_sigma, 3)
+            euler = euler + self.rng.normal(0, self.imu_noise.euler_sigma, 3)
+        euler[2] = (euler[2] + 180.0) % 360.0 - 180.0
+        self._imu_counter = (self._imu_counter + 1) & 0xFFFF
+        self.out_imu += xbus.encode_mtdata(xbus.MTData(tuple(acc), tuple(gyro), (0.0, 0.0, 0.0),
+                                                       tuple(float(v) for v in euler), self._imu_counter))

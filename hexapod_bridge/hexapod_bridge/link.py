@@ -1,0 +1,301 @@
+"""Host side of the radio link, without I/O: what to transmit when, and what received frames
+mean. bridge_node owns the serial port and threads and calls :meth:`RobotLink.receive` with
+bytes read and :meth:`RobotLink.poll` to get bytes to write.
+
+Transmission rules:
+  * nothing is sent unless armed, except an emergency stop (always sent, three times);
+  * the radio carries ~baud/10 bytes/s: a token bucket paces frames so the link is never
+    over-driven, and frames are chosen by priority: emergency stop > keep-alive ping >
+    trial start/stop > movement > gait upload;
+  * a ping goes out every ``ping_period`` s while armed, so however busy the link is the
+    robot's failsafe (about 11 missed 2.5 s check windows) never trips;
+  * extension commands are acknowledged by sequence number and re-sent after
+    ``ack_timeout`` up to ``max_retries`` times; an upload is a window of SET_PARAM frames and
+    a COMMIT, complete when the COMMIT is acknowledged OK.
+"""
+from __future__ import annotations
+
+import itertools
+import math
+import struct
+from collections import deque
+from dataclasses import dataclass, field
+from typing import Any
+
+from hexapod_bridge import extension as ext
+from hexapod_bridge import legacy
+from hexapod_bridge.stream import HostParser
+
+PRIORITY_ESTOP, PRIORITY_PING, PRIORITY_TRIAL, PRIORITY_MOVE, PRIORITY_UPLOAD = range(5)
+
+
+@dataclass
+class Outgoing:
+    frame: bytes
+    priority: int
+    seq: int | None = None          # extension frames wait for an ACK with this seq
+    kind: int | None = None
+    attempts: int = 0
+    sent_at: float = -math.inf
+    operation: "Operation | None" = None
+
+
+@dataclass
+class Operation:
+    """An upload, trial start/stop or movement the caller can wait on."""
+
+    name: str
+    pending: int = 0
+    done: bool = False
+    ok: bool = False
+    message: str = ""
+    result: dict = field(default_factory=dict)
+
+    def finish(self, ok: bool, message: str) -> None:
+        if not self.done:
+            self.done, self.ok, self.message = True, ok, message
+
+
+@dataclass
+class LinkStats:
+    frames_sent: int = 0
+    retries: int = 0
+    pings_sent: int = 0
+    acks: int = 0
+    unexpected_acks: int = 0
+
+
+class RobotLink:
+    def __init__(self, baud: int = 19200, ping_period: float = 1.0, ack_timeout: float = 0.25,
+                 max_retries: int = 6, upload_window: int = 4, firmware: str = "v2") -> None:
+        if firmware not in ("v2", "legacy"):
+            raise ValueError("firmware must be 'v2' (gait-upload extension) or 'legacy'")
+        self.parser = HostParser()
+        self.firmware = firmware
+        self.bytes_per_second = baud / 10.0
+        self.ping_period = ping_period
+        self.ack_timeout = ack_timeout
+        self.max_retries = max_retries
+        self.upload_window = upload_window
+        self.armed = False
+        self.stats = LinkStats()
+        self.last_heard = -math.inf
+        self.last_telemetry: legacy.Telemetry | None = None
+        self.trial_state: ext.TrialState = ext.TrialState.IDLE
+        self.trial_elapsed = 0.0
+        self.events: deque[tuple[str, Any]] = deque(maxlen=1000)
+        self._tokens = 20.0
+        self._last_poll: float | None = None
+        self._next_ping = -math.inf
+        self._seq = itertools.count(1)
+        self._queue: list[Outgoing] = []          # waiting to be sent for the first time
+        self._in_flight: dict[int, Outgoing] = {}  # seq -> sent, awaiting ACK
+        self._upload_backlog: deque[Outgoing] = deque()
+        self._movement_acks: dict[int, Operation] = {}
+        self._gait_ids = itertools.count(1)
+
+    # -- commands ----------------------------------------------------------------------------
+    def arm(self, on: bool, now: float) -> None:
+        self.armed = bool(on)
+        if self.armed:
+            self._next_ping = now
+        self.events.append(("armed", self.armed))
+
+    def _next_seq(self) -> int:
+        return next(self._seq) & 0xFF
+
+    def _command(self, kind: ext.Cmd, payload: bytes, priority: int, op: Operation) -> Outgoing:
+        seq = self._next_seq()
+        op.pending += 1
+        return Outgoing(ext.encode_command(kind, seq, payload), priority, seq, int(kind), operation=op)
+
+    def upload(self, gait) -> Operation:
+        """Queue an upload of a hexapod_gait.GaitParameters; the Operation completes when the
+        robot acknowledged the COMMIT (result: gait_id) or failed (message says why)."""
+        op = Operation("upload")
+        if self.firmware == "legacy":
+            op.finish(False, "the legacy firmware cannot receive gait parameters over the radio "
+                             "(paste them into the firmware and reflash; see docs/radio-protocol.md)")
+            return op
+        gait_id = next(self._gait_ids) & 0xFFFF
+        values = ext.gait_values(gait)
+        frames = ext.upload_frames(values, gait_id, 0)
+        for raw in frames:
+            seq = self._next_seq()
+            body = bytearray(raw[:8])
+            body[2] = seq
+            frame = bytes(body) + struct.pack(">H", ext.crc16(bytes(body)))
+            op.pending += 1
+            self._upload_backlog.append(Outgoing(frame, PRIORITY_UPLOAD, seq, raw[1], operation=op))
+        op.result["gait_id"] = gait_id
+        op.result["values"] = ext.quantise(values)
+        return op
+
+    def start_trial(self, duration: float, gait_id: int) -> Operation:
+        op = Operation("start_trial")
+        if self.firmware == "legacy":
+            # the only "start a trial" handle of today's firmware: reset restarts the 5 s walk
+            return self.move(legacy.Movement(function=legacy.Function.RESET), op)
+        try:
+            payload = ext.start_payload(duration, gait_id)
+        except ext.ExtensionError as exc:
+            op.finish(False, str(exc))
+            return op
+        self._queue.append(self._command(ext.Cmd.START_TRIAL, payload, PRIORITY_TRIAL, op))
+        return op
+
+    def stop_trial(self) -> Operation:
+        op = Operation("stop_trial")
+        if self.firmware == "legacy":
+            return self.move(legacy.Movement(direction=legacy.Direction.STOP, function=legacy.Function.STAND), op)
+        self._queue.append(self._command(ext.Cmd.STOP_TRIAL, b"", PRIORITY_TRIAL, op))
+        return op
+
+    def move(self, movement: legacy.Movement, op: Operation | None = None) -> Operation:
+        op = op or Operation("movement")
+        try:
+            frame = legacy.encode_movement(movement)
+        except legacy.ProtocolError as exc:
+            op.finish(False, str(exc))
+            return op
+        op.pending += 1
+        self._movement_acks[frame[9]] = op
+        self._queue.append(Outgoing(frame, PRIORITY_MOVE, operation=op))
+        return op
+
+    def emergency_stop(self) -> Operation:
+        """Sent at once, armed or not: three copies of ESTOP (v2) / motor power off (legacy)."""
+        op = Operation("emergency_stop")
+        for _ in range(3):
+            if self.firmware == "v2":
+                seq = self._next_seq()
+                frame = ext.encode_command(ext.Cmd.ESTOP, seq, b"")
+            else:
+                frame = legacy.encode_motor_power(False)
+            self._queue.insert(0, Outgoing(frame, PRIORITY_ESTOP))
+        op.finish(True, "emergency stop sent")
+        return op
+
+    # -- I/O ---------------------------------------------------------------------------------
+    def poll(self, now: float) -> list[bytes]:
+        """Frames to write now (paced to the radio's throughput, by priority)."""
+        if self._last_poll is not None:
+            self._tokens = min(20.0, self._tokens + (now - self._last_poll) * self.bytes_per_second)
+        self._last_poll = now
+        self._expire(now)
+        out: list[bytes] = []
+        while self._tokens >= legacy.FRAME_LEN:
+            item = self._pick(now)
+            if item is None:
+                break
+            out.append(item.frame)
+            self._tokens -= legacy.FRAME_LEN
+            self.stats.frames_sent += 1
+            if item.attempts:
+                self.stats.retries += 1
+            item.attempts += 1
+            item.sent_at = now
+            if item.seq is not None:
+                self._in_flight[item.seq] = item
+            elif item.operation is not None and item.operation.name != "emergency_stop":
+                pass  # movement frames wait for their FF <checksum> ack
+        return out
+
+    def _pick(self, now: float) -> Outgoing | None:
+        if self._queue and self._queue[0].priority == PRIORITY_ESTOP:
+            return self._queue.pop(0)
+        if not self.armed:
+            return None
+        if now >= self._next_ping:
+            self._next_ping = now + self.ping_period
+            self.stats.pings_sent += 1
+            return Outgoing(legacy.encode_ping(), PRIORITY_PING)
+        for i, item in enumerate(self._queue):
+            if item.priority <= PRIORITY_MOVE:
+                return self._queue.pop(i)
+        uploads_in_flight = sum(1 for o in self._in_flight.values() if o.priority == PRIORITY_UPLOAD)
+        if self._upload_backlog and uploads_in_flight < self.upload_window:
+            head = self._upload_backlog[0]
+            if head.kind == ext.Cmd.COMMIT and uploads_in_flight:
+                return None   # COMMIT only after every SET_PARAM of its set is acknowledged
+            return self._upload_backlog.popleft()
+        return None
+
+    def _expire(self, now: float) -> None:
+        for seq, item in list(self._in_flight.items()):
+            if now - item.sent_at < self.ack_timeout:
+                continue
+            del self._in_flight[seq]
+            if item.attempts > self.max_retries:
+                self._fail(item.operation, f"no acknowledgement after {item.attempts} attempts")
+            elif item.priority == PRIORITY_UPLOAD:
+                self._upload_backlog.appendleft(item)
+            else:
+                self._queue.append(item)
+
+    def _fail(self, op: Operation | None, message: str) -> None:
+        if op is None or op.done:
+            return
+        op.finish(False, message)
+        if op.name == "upload":
+            self._upload_backlog = deque(o for o in self._upload_backlog if o.operation is not op)
+            for seq in [s for s, o in self._in_flight.items() if o.operation is op]:
+                del self._in_flight[seq]
+
+    def receive(self, data: bytes, now: float) -> list:
+        frames = self.parser.feed(data)
+        for frame in frames:
+            self.last_heard = now
+            self._handle(frame)
+        return frames
+
+    def _handle(self, frame) -> None:
+        if isinstance(frame, ext.ReportFrame):
+            if frame.type == ext.Report.ACK:
+                self._on_ack(frame)
+            elif frame.type == ext.Report.TRIAL:
+                self.trial_state = ext.TrialState(frame.payload[0]) if frame.payload[0] < 6 else self.trial_state
+                self.trial_elapsed = int.from_bytes(frame.payload[1:4], "big") / 1000.0
+                self.events.append(("trial", (self.trial_state, self.trial_elapsed)))
+            elif frame.type == ext.Report.VERSION:
+                self.events.append(("version", (frame.payload[0], frame.payload[1])))
+        elif isinstance(frame, legacy.MovementAck):
+            op = self._movement_acks.pop(frame.checksum, None)
+            if op is None:
+                self.stats.unexpected_acks += 1
+            else:
+                self.stats.acks += 1
+                op.finish(True, "movement acknowledged")
+        elif isinstance(frame, legacy.Telemetry):
+            self.last_telemetry = frame
+            self.events.append(("telemetry", frame))
+        elif isinstance(frame, legacy.ErrorReport):
+            self.events.append(("error", frame.describe()))
+        elif isinstance(frame, legacy.Text):
+            self.events.append(("text", frame.text))
+        elif isinstance(frame, legacy.ChargerStatus):
+            self.events.append(("charger", frame))
+
+    def _on_ack(self, frame: ext.ReportFrame) -> None:
+        item = self._in_flight.pop(frame.seq, None)
+        if item is None or item.kind != frame.payload[0]:
+            self.stats.unexpected_acks += 1
+            return
+        self.stats.acks += 1
+        op = item.operation
+        status = frame.payload[1]
+        if status != ext.Status.OK:
+            name = ext.Status(status).name if status < len(ext.Status) else str(status)
+            detail = ""
+            if item.kind == ext.Cmd.SET_PARAM:
+                detail = f" for parameter {ext.PARAM_NAMES[item.frame[3]]}"
+            self._fail(op, f"robot refused {ext.Cmd(item.kind).name}{detail}: {name}")
+            return
+        if op is not None:
+            op.pending -= 1
+            if op.pending == 0:
+                op.finish(True, f"{op.name} acknowledged")
+
+    # -- status ------------------------------------------------------------------------------
+    def busy(self) -> bool:
+        return bool(self._queue or self._in_flight or self._upload_backlog)
