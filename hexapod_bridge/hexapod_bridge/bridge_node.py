@@ -82,6 +82,11 @@ class BridgeNode(Node):
         self.base_frame = param("base_frame", "base_link", "Robot base frame", **ro)
         self.imu_frame = param("imu_frame", "imu_link", "IMU frame", **ro)
         status_rate = param("status_rate", 5.0, "LinkStatus publish rate [Hz]", **ro)
+        self.telemetry_period = param("telemetry_period", 0.5, "Robot attitude telemetry period requested on "
+                                      "every (re)connect [s] (firmware default 0.5)",
+                                      floating_point_range=[FloatingPointRange(from_value=0.05, to_value=60.0)], **ro)
+        backoff = param("reconnect_max_backoff", 0.25, "Longest wait between attempts to reopen a lost port [s]",
+                        floating_point_range=[FloatingPointRange(from_value=0.01, to_value=5.0)], **ro)
         arm = param("arm_on_start", False, "Arm (allow transmission) at start-up", **ro)
 
         self.lock = threading.RLock()
@@ -90,8 +95,9 @@ class BridgeNode(Node):
         except ValueError as exc:
             self.get_logger().error(f"{exc}; using 'v2'")
             self.link = RobotLink(baud=int(baud), ping_period=float(ping_period))
-        self.radio = ReconnectingPort(str(self.port_path), int(baud))
-        self.imu_port = ReconnectingPort(str(self.imu_path), int(imu_baud)) if self.imu_path else None
+        self.radio = ReconnectingPort(str(self.port_path), int(baud), float(backoff))
+        self.imu_port = ReconnectingPort(str(self.imu_path), int(imu_baud), float(backoff)) if self.imu_path else None
+        self._configured_connects = 0
         self.xbus = xbus.XbusParser()
         self.gait_id: int | None = None
         self.gait_crab = 0.0
@@ -273,6 +279,9 @@ class BridgeNode(Node):
         data = self.radio.read(0.005)
         now = time.monotonic()
         with self.lock:
+            if self.radio.connects != self._configured_connects:
+                self._configured_connects = self.radio.connects
+                self.link.set_telemetry_period(float(self.telemetry_period))
             frames = self.link.receive(data, now) if data else []
             out = self.link.poll(now)
         for frame in out:

@@ -136,6 +136,11 @@ def decode_report(frame: bytes | bytearray) -> ReportFrame:
     return ReportFrame(frame[2], frame[3], bytes(frame[4:8]))
 
 
+def sequence_gap(previous: int | None, seq: int) -> int:
+    """Frames missed between two received sequence numbers (mod 256)."""
+    return 0 if previous is None else (seq - previous - 1) % 256
+
+
 # ---- gait values <-> parameter frames ------------------------------------------------------
 
 def gait_values(gait) -> list[float]:

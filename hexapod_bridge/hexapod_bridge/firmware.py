@@ -135,6 +135,10 @@ class RobotFirmware:
                 self.out_radio += legacy.encode_text("BAD MOVEMENT")
 
     def _on_legacy_command(self, cmd: LegacyCommand, now: float) -> None:
+        if cmd.code == 0xDD:
+            period = struct.unpack("<f", cmd.raw[2:6])[0]
+            if math.isfinite(period) and 0.05 <= period <= 60.0:
+                self.telemetry_ticks = max(1, int(round(period / TICK)))
         if cmd.code == 0xFA:
             self.motors_on = bool(cmd.raw[2])
             if self.motors_on:

@@ -19,12 +19,12 @@ import itertools
 import math
 import struct
 from collections import deque
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 from hexapod_bridge import extension as ext
 from hexapod_bridge import legacy
-from hexapod_bridge.stream import HostParser
+from hexapod_bridge.stream import AMBIGUOUS_ACKS, HostParser
 
 PRIORITY_ESTOP, PRIORITY_PING, PRIORITY_TRIAL, PRIORITY_MOVE, PRIORITY_UPLOAD = range(5)
 
@@ -63,6 +63,7 @@ class LinkStats:
     pings_sent: int = 0
     acks: int = 0
     unexpected_acks: int = 0
+    reports_missed: int = 0         # robot TRIAL reports lost (gaps in their sequence numbers)
 
 
 class RobotLink:
@@ -93,6 +94,7 @@ class RobotLink:
         self._upload_backlog: deque[Outgoing] = deque()
         self._movement_acks: dict[int, Operation] = {}
         self._gait_ids = itertools.count(1)
+        self._last_report_seq: int | None = None
 
     # -- commands ----------------------------------------------------------------------------
     def arm(self, on: bool, now: float) -> None:
@@ -155,6 +157,12 @@ class RobotLink:
         op = op or Operation("movement")
         try:
             frame = legacy.encode_movement(movement)
+            # The robot acknowledges with FF <checksum>; a checksum equal to a frame-type byte
+            # would be read as that frame's header, so nudge the twist by 0.01 rad instead.
+            nudge = 0.01
+            while frame[9] in AMBIGUOUS_ACKS:
+                frame = legacy.encode_movement(replace(movement, twist=movement.twist + nudge))
+                nudge = -nudge if nudge > 0 else -nudge + 0.01
         except legacy.ProtocolError as exc:
             op.finish(False, str(exc))
             return op
@@ -162,6 +170,10 @@ class RobotLink:
         self._movement_acks[frame[9]] = op
         self._queue.append(Outgoing(frame, PRIORITY_MOVE, operation=op))
         return op
+
+    def set_telemetry_period(self, seconds: float) -> None:
+        """Ask the robot for attitude telemetry every ``seconds`` (legacy FF DD, unacknowledged)."""
+        self._queue.append(Outgoing(legacy.encode_imu_period(seconds), PRIORITY_MOVE))
 
     def emergency_stop(self) -> Operation:
         """Sent at once, armed or not: three copies of ESTOP (v2) / motor power off (legacy)."""
@@ -254,6 +266,8 @@ class RobotLink:
             if frame.type == ext.Report.ACK:
                 self._on_ack(frame)
             elif frame.type == ext.Report.TRIAL:
+                self.stats.reports_missed += ext.sequence_gap(self._last_report_seq, frame.seq)
+                self._last_report_seq = frame.seq
                 self.trial_state = ext.TrialState(frame.payload[0]) if frame.payload[0] < 6 else self.trial_state
                 self.trial_elapsed = int.from_bytes(frame.payload[1:4], "big") / 1000.0
                 self.events.append(("trial", (self.trial_state, self.trial_elapsed)))

@@ -18,6 +18,8 @@ from hexapod_bridge import legacy
 MAX_TEXT = 64            # longest text frame accepted (robot messages are short, e.g. "LOW BATTERY")
 CHUNK = 256              # input is processed in slices of at most this many bytes
 TYPE_LENGTHS = {0xFE: legacy.TELEMETRY_LEN, 0xFA: 2, 0xFD: 4, 0xF9: 10, ext.MARKER: ext.FRAME_LEN}
+#: Movement-ack checksums a parser could not tell from a frame header ("FF FE" ...).
+AMBIGUOUS_ACKS = frozenset(TYPE_LENGTHS) | {0xFC, 0xFF}
 
 HostFrame = Union[legacy.Telemetry, legacy.PingReply, legacy.ErrorReport, legacy.Text,
                   legacy.ChargerStatus, legacy.MovementAck, ext.ReportFrame]
@@ -79,6 +81,11 @@ class HostParser:
             if len(buf) < 2:
                 return
             kind = buf[1]
+            if kind == 0xFF:
+                # "FF FF" is never read as an ack: the second FF may start a real frame (the
+                # link never sends a movement frame whose checksum would be ambiguous)
+                self._drop(1)
+                continue
             if kind == 0xFC:
                 if len(buf) < 3:
                     return

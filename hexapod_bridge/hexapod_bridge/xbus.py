@@ -15,6 +15,9 @@ PREAMBLE = 0xFA
 MID_MTDATA = 0x32
 MTDATA_LEN = 50
 MAX_DATA = 254            # extended-length messages (length byte 0xFF) are not used by the MTi-28
+#: In measurement mode the MTi sends MTData and short replies; a header announcing more than
+#: this (other than MTData's 50) is garbage, rejected at once instead of waiting for its bytes.
+MAX_OTHER_DATA = 64
 
 GO_TO_CONFIG = bytes([0xFA, 0xFF, 0x30, 0x00, 0xD1])
 GO_TO_MEASUREMENT = bytes([0xFA, 0xFF, 0x10, 0x00, 0xF1])
@@ -92,7 +95,7 @@ class XbusParser:
             if len(buf) < 4:
                 return
             length = buf[3]
-            if length > MAX_DATA:
+            if length > MAX_OTHER_DATA or (buf[2] == MID_MTDATA and length != MTDATA_LEN):
                 self.stats.implausible += 1
                 self._drop(1)
                 continue

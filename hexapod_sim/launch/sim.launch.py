@@ -1,0 +1,23 @@
+"""Simulated robot: gait_node + sim_node (full ROS 2 Jazzy install).
+
+    ros2 launch hexapod_sim sim.launch.py real_time_factor:=0.0 failed_legs:='[1]'
+In this workspace without `launch`: python scripts/launch.py sim
+"""
+from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument
+from launch.substitutions import LaunchConfiguration
+from launch_ros.actions import Node
+
+
+def generate_launch_description() -> LaunchDescription:
+    rtf = LaunchConfiguration("real_time_factor")
+    return LaunchDescription([
+        DeclareLaunchArgument("real_time_factor", default_value="1.0",
+                              description="simulated seconds per wall second; 0 = as fast as possible"),
+        DeclareLaunchArgument("initial_preset", default_value="tripod"),
+        DeclareLaunchArgument("gui", default_value="false"),
+        Node(package="hexapod_gait", executable="gait_node", output="screen",
+             parameters=[{"initial_preset": LaunchConfiguration("initial_preset"), "control_rate": 240.0}]),
+        Node(package="hexapod_sim", executable="sim_node", output="screen",
+             parameters=[{"real_time_factor": rtf, "gui": LaunchConfiguration("gui")}]),
+    ])

@@ -1,0 +1,96 @@
+#!/usr/bin/env python3
+"""Start a node graph from the install space - the equivalent of the launch files for this
+environment, which has no `ros2 launch`. Each node's output is prefixed with its name; Ctrl-C
+stops them all.
+
+    python scripts/launch.py sim [--rtf 0] [--failed-legs 1 4] [--preset wave]
+    python scripts/launch.py emulated-robot          # robot_emulator (PyBullet) + bridge_node
+    python scripts/launch.py robot --port /dev/ttyUSB0 [--imu-port /dev/ttyUSB1]
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+WS = Path(__file__).resolve().parent.parent
+
+
+def exe(pkg: str, name: str) -> str:
+    path = WS / "install" / pkg / "lib" / pkg / name
+    if not path.exists():
+        sys.exit(f"launch: {path} not found; run `make build` first")
+    return str(path)
+
+
+def ros_args(params: dict) -> list[str]:
+    out = ["--ros-args"]
+    for key, value in params.items():
+        text = str(value).lower() if isinstance(value, bool) else ("''" if value == "" else str(value))
+        out += ["-p", f"{key}:={text}"]
+    return out
+
+
+def pump(name: str, stream) -> None:
+    for line in iter(stream.readline, ""):
+        sys.stdout.write(f"[{name}] {line}")
+        sys.stdout.flush()
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description="Start the hexapod node graph (no `ros2 launch` needed).")
+    parser.add_argument("profile", choices=["sim", "emulated-robot", "robot"])
+    parser.add_argument("--rtf", type=float, default=1.0, help="sim real_time_factor (0 = as fast as possible)")
+    parser.add_argument("--preset", default="tripod", help="gait_node initial preset")
+    parser.add_argument("--failed-legs", type=int, nargs="*", default=[])
+    parser.add_argument("--port", default="/tmp/hexapod_radio")
+    parser.add_argument("--imu-port", default="")
+    args = parser.parse_args(argv)
+
+    commands: list[tuple[str, list[str]]] = []
+    if args.profile == "sim":
+        sim_params = {"real_time_factor": args.rtf}
+        if args.failed_legs:
+            sim_params["failed_legs"] = "[" + ",".join(map(str, args.failed_legs)) + "]"
+        commands = [("gait_node", [exe("hexapod_gait", "gait_node")] + ros_args({"initial_preset": args.preset})),
+                    ("sim_node", [exe("hexapod_sim", "sim_node")] + ros_args(sim_params))]
+    elif args.profile == "emulated-robot":
+        commands = [("robot_emulator", [exe("hexapod_bridge", "robot_emulator"), "--sim", "--imu-noise",
+                                        "--radio-link", "/tmp/hexapod_radio", "--imu-link", "/tmp/hexapod_imu"]),
+                    ("bridge_node", [exe("hexapod_bridge", "bridge_node")] +
+                     ros_args({"port": "/tmp/hexapod_radio", "imu_port": "/tmp/hexapod_imu"}))]
+    else:
+        commands = [("bridge_node", [exe("hexapod_bridge", "bridge_node")] +
+                     ros_args({"port": args.port, "imu_port": args.imu_port}))]
+
+    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    procs = []
+    for name, cmd in commands:
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+        threading.Thread(target=pump, args=(name, proc.stdout), daemon=True).start()
+        procs.append(proc)
+        time.sleep(1.0 if name == "robot_emulator" else 0.0)   # let the emulator create its ports
+    try:
+        while all(p.poll() is None for p in procs):
+            time.sleep(0.2)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        for p in procs:
+            if p.poll() is None:
+                p.send_signal(signal.SIGINT)
+        for p in procs:
+            try:
+                p.wait(10)
+            except subprocess.TimeoutExpired:
+                p.kill()
+    return max((p.returncode or 0) for p in procs)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,116 @@
+"""bridge_node against robot_emulator over pseudo-terminals, as separate processes."""
+from __future__ import annotations
+
+import json
+import math
+import os
+import signal
+import time
+
+import numpy as np
+import pytest
+from diagnostic_msgs.msg import DiagnosticStatus
+from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
+from hexapod_msgs.msg import LinkStatus
+from nav_msgs.msg import Odometry
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+from sensor_msgs.msg import Imu
+from std_srvs.srv import SetBool, Trigger
+
+from conftest import wait_for
+from hexapod_bridge.bridge_node import SPEED_ACCURACY
+from hexapod_gait import preset
+from hexapod_gait.ros_conversions import gait_to_msg
+
+pytestmark = pytest.mark.ros
+LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
+
+
+def _emulator(launch, tmp_path, *extra):
+    radio, imu = str(tmp_path / "radio"), str(tmp_path / "imu")
+    emu = launch("hexapod_bridge", "robot_emulator", args=["--radio-link", radio, "--imu-link", imu, *extra])
+    wait_for(lambda: os.path.exists(radio) and os.path.exists(imu), 60, "emulator ports")
+    return emu, radio, imu
+
+
+def test_upload_and_trial_end_to_end_over_pseudo_terminals(ros, launch, tmp_path):
+    emu, radio, imu = _emulator(launch, tmp_path, "--sim", "--imu-noise", "--seed", "7")
+    bridge = launch("hexapod_bridge", "bridge_node", params={"port": radio, "imu_port": imu})
+    status = ros.collect(DiagnosticStatus, "bridge/status", LATCHED)
+    odom = ros.collect(Odometry, "odom", QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE))
+    assert ros.call(SetBool, "bridge_node/arm", SetBool.Request(data=True)).success
+    pub = ros.node.create_publisher(GaitParametersMsg, "gait/parameters", LATCHED)
+    gait = preset("quadruped").replace(archive_index=31)
+    pub.publish(gait_to_msg(gait))
+    wait_for(lambda: any("gait uploaded (archive index 31)" in s.message for s in status), 30, "upload")
+    time.sleep(1.0)                                        # the robot stands still before the trial
+    response = ros.call(Trigger, "bridge_node/start_trial", Trigger.Request())
+    assert response.success, response.message
+    wait_for(lambda: odom, 30, "trial odometry")
+    o = odom[-1].pose.pose.position
+    bridge_speed = (o.x * math.cos(gait.crab_angle) + o.y * math.sin(gait.crab_angle)) / 5.0
+    wait_for(lambda: "TRIAL " in emu.log(), 10, "emulator trial report")
+    truth = json.loads(emu.log().split("TRIAL ", 1)[1].splitlines()[0])
+    print(f"bridge odom {bridge_speed:.4f} m/s vs simulator {truth['speed']:.4f} m/s")
+    assert truth["state"] == "done" and abs(bridge_speed - truth["speed"]) <= SPEED_ACCURACY
+    assert bridge.alive() and emu.alive()
+
+
+def test_bad_requests_are_refused_with_reasons(ros, launch, tmp_path):
+    _emu, radio, _imu = _emulator(launch, tmp_path)
+    bridge = launch("hexapod_bridge", "bridge_node", params={"port": radio})
+    status = ros.collect(DiagnosticStatus, "bridge/status", LATCHED)
+    start = ros.call(Trigger, "bridge_node/start_trial", Trigger.Request())
+    assert not start.success and "not armed" in start.message
+    assert ros.call(SetBool, "bridge_node/arm", SetBool.Request(data=True)).success
+    start = ros.call(Trigger, "bridge_node/start_trial", Trigger.Request())
+    assert not start.success and "no gait uploaded" in start.message
+    pub = ros.node.create_publisher(GaitParametersMsg, "gait/parameters", LATCHED)
+    bad = gait_to_msg(preset("tripod"))
+    bad.duty_factor[2] = 1.5
+    pub.publish(bad)
+    wait_for(lambda: status and "duty_factor[leg 3]" in status[-1].message, 20, "invalid gait refused")
+    far = gait_to_msg(preset("tripod").replace(radius=[0.29] * 6))
+    pub.publish(far)
+    wait_for(lambda: "UNREACHABLE" in status[-1].message, 20, "unreachable gait refused by the robot")
+    stop = ros.call(Trigger, "bridge_node/emergency_stop", Trigger.Request())
+    assert stop.success and "disarmed" in stop.message
+    assert bridge.alive()
+
+
+def _open_fds(pid: int) -> int:
+    return len(os.listdir(f"/proc/{pid}/fd"))
+
+
+@pytest.mark.slow
+def test_port_vanishing_twenty_times(ros, launch, tmp_path):
+    emu, radio, _imu = _emulator(launch, tmp_path)
+    bridge = launch("hexapod_bridge", "bridge_node", params={"port": radio, "arm_on_start": True,
+                                                             "telemetry_period": 0.2})
+    links = ros.collect(LinkStatus, "bridge_node/link_status", 10)
+    imu_times: list[float] = []
+    ros.node.create_subscription(Imu, "imu/data", lambda m: imu_times.append(time.monotonic()), qos_profile_sensor_data)
+    wait_for(lambda: imu_times, 30, "first attitude telemetry")
+    time.sleep(1.0)
+    fds_before = _open_fds(bridge.proc.pid)
+    rng = np.random.default_rng(20)
+    down_latency, up_latency = [], []
+    for cycle in range(20):
+        gone_for = float(rng.uniform(1.0, 10.0))
+        t_gone = time.monotonic()
+        emu.proc.send_signal(signal.SIGUSR1)
+        wait_for(lambda: links and not links[-1].connected and links[-1].header.stamp.sec > 0 and
+                 time.monotonic() > t_gone, 5, f"link-down report, cycle {cycle}")
+        down_latency.append(time.monotonic() - t_gone)
+        time.sleep(max(0.0, gone_for - (time.monotonic() - t_gone)))
+        t_back = time.monotonic()
+        emu.proc.send_signal(signal.SIGUSR2)
+        wait_for(lambda: imu_times and imu_times[-1] > t_back, 5, f"publishing after the port returned, cycle {cycle}")
+        up_latency.append(time.monotonic() - t_back)
+        assert bridge.alive(), f"bridge_node exited in cycle {cycle}"
+    time.sleep(0.5)
+    fds_after = _open_fds(bridge.proc.pid)
+    print(f"20 port losses: link-down reported after max {max(down_latency):.2f} s, publishing resumed after "
+          f"max {max(up_latency):.2f} s; open file descriptors {fds_before} -> {fds_after}")
+    assert max(down_latency) <= 1.0 and max(up_latency) <= 1.0
+    assert fds_after <= fds_before
