@@ -1,0 +1,44 @@
+"""The launch files (for full ROS installs) compile, and scripts/launch.py starts a working
+graph and stops it cleanly on Ctrl-C."""
+from __future__ import annotations
+
+import os
+import py_compile
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from nav_msgs.msg import Odometry
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+
+from conftest import WS, wait_for
+
+
+@pytest.mark.parametrize("path", sorted(WS.glob("hexapod_*/launch/*.launch.py")), ids=lambda p: p.name)
+def test_launch_files_compile(path: Path):
+    py_compile.compile(str(path), doraise=True)
+    assert "generate_launch_description" in path.read_text()
+
+
+@pytest.mark.ros
+def test_launcher_starts_the_sim_graph_and_stops_on_ctrl_c(ros, domain_id, tmp_path):
+    odom = ros.collect(Odometry, "odom", QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE))
+    log = open(tmp_path / "launch.log", "w")
+    proc = subprocess.Popen([sys.executable, str(WS / "scripts" / "launch.py"), "sim", "--rtf", "0", "--failed-legs", "2"],
+                            env=dict(os.environ, ROS_DOMAIN_ID=str(domain_id)), stdout=log, stderr=subprocess.STDOUT)
+    try:
+        # the tripod walks: odometry moves away from the origin
+        wait_for(lambda: odom and math_dist(odom[-1]) > 0.2, 60, "the simulated robot walking")
+    finally:
+        proc.send_signal(signal.SIGINT)
+        code = proc.wait(30)
+        log.close()
+    text = (tmp_path / "launch.log").read_text()
+    assert "[sim_node]" in text and "[gait_node]" in text
+    assert code == 0, text[-2000:]
+
+
+def math_dist(o: Odometry) -> float:
+    return (o.pose.pose.position.x ** 2 + o.pose.pose.position.y ** 2) ** 0.5
