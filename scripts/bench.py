@@ -70,6 +70,40 @@ def bench_sim() -> None:
     print(f"BENCH sim_feasible_gaits {n} gaits")
 
 
+def bench_bridge() -> None:
+    """bridge_parse_frames_per_s: robot->PC frames (extension reports) the host parser decodes
+    per second; bridge_upload_ms: one gait upload (35 SET_PARAM + COMMIT, acknowledged) over an
+    emulated clean 19200-baud link, emulated time."""
+    from hexapod_bridge import extension as ext
+    from hexapod_bridge.firmware import RobotFirmware
+    from hexapod_bridge.link import RobotLink
+    from hexapod_bridge.stream import HostParser
+    from hexapod_gait import preset
+
+    stream = b"".join(ext.encode_report(ext.Report.TRIAL, i, bytes([1, 0, 0, i & 0xFF])) for i in range(50_000))
+    parser = HostParser()
+    t0 = time.perf_counter()
+    for k in range(0, len(stream), 4096):
+        parser.feed(stream[k:k + 4096])
+    rate = parser.stats.frames_ok / (time.perf_counter() - t0)
+    print(f"BENCH bridge_parse_frames_per_s {rate:.0f} frames/s")
+    durations = []
+    for archive_index in range(20):
+        link, fw = RobotLink(), RobotFirmware()
+        link.arm(True, 0.0)
+        op, t, wire_free = link.upload(preset("tripod").replace(archive_index=archive_index)), 0.0, 0.0
+        while not op.done and t < 10.0:
+            t += 0.0005
+            for frame in link.poll(t):
+                wire_free = max(wire_free, t) + len(frame) / 1920.0
+                fw.receive(frame, wire_free)
+            radio, _ = fw.advance(t)
+            link.receive(radio, t + len(radio) / 1920.0)
+        assert op.ok, op.message
+        durations.append(t)
+    print(f"BENCH bridge_upload_ms {np.median(durations) * 1e3:.0f} ms")
+
+
 def _not_yet(area: str):
     def run() -> None:
         print(f"# no {area} benchmarks yet", file=sys.stderr)
@@ -77,7 +111,7 @@ def _not_yet(area: str):
 
 
 AREAS = {"gait": bench_gait, "sim": bench_sim, "map": _not_yet("map"),
-         "adapt": _not_yet("adapt"), "bridge": _not_yet("bridge")}
+         "adapt": _not_yet("adapt"), "bridge": bench_bridge}
 
 
 def main(argv: list[str]) -> int:
