@@ -31,7 +31,7 @@ def graph_trial(gait) -> float:
     import rclpy
     from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
     from nav_msgs.msg import Odometry
-    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+    from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
     from std_msgs.msg import Header
     from std_srvs.srv import Trigger
 
@@ -42,12 +42,12 @@ def graph_trial(gait) -> float:
     procs = [subprocess.Popen([str(WS / "install/hexapod_gait/lib/hexapod_gait/gait_node"), "--ros-args", "-p",
                                "initial_preset:=''"], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL),
              subprocess.Popen([str(WS / "install/hexapod_sim/lib/hexapod_sim/sim_node"), "--ros-args", "-p",
-                               "real_time_factor:=0.0"], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+                               "real_time_factor:=0.0", "-p", "publish_period_steps:=24"], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
     rclpy.init()
     node = rclpy.create_node("demo")
     latched = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
     odom, active, resets = [], [], []
-    node.create_subscription(Odometry, "odom", odom.append, QoSProfile(depth=200, reliability=ReliabilityPolicy.RELIABLE))
+    node.create_subscription(Odometry, "odom", odom.append, QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE))
     node.create_subscription(Header, "sim/active_trajectory", active.append, latched)
     node.create_subscription(Header, "sim/last_reset", resets.append, latched)
     pub = node.create_publisher(GaitParametersMsg, "gait/parameters", latched)

@@ -55,6 +55,8 @@ def main(argv: list[str] | None = None) -> int:
     commands: list[tuple[str, list[str]]] = []
     if args.profile == "sim":
         sim_params = {"real_time_factor": args.rtf}
+        if args.rtf == 0:
+            sim_params["publish_period_steps"] = 24    # 10 Hz of sim time: consumers keep up at ~18x
         if args.failed_legs:
             sim_params["failed_legs"] = "[" + ",".join(map(str, args.failed_legs)) + "]"
         commands = [("gait_node", [exe("hexapod_gait", "gait_node")] + ros_args({"initial_preset": args.preset})),

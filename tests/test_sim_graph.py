@@ -10,7 +10,7 @@ from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.srv import SetLegFailure
 from nav_msgs.msg import Odometry
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Header
 from std_srvs.srv import Trigger
@@ -24,7 +24,7 @@ from hexapod_sim.sampling import random_reachable_genotypes
 
 pytestmark = pytest.mark.ros
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
-ODOM_QOS = QoSProfile(depth=200, reliability=ReliabilityPolicy.RELIABLE)
+ODOM_QOS = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE)
 TRIAL = 5.0
 
 
@@ -53,7 +53,7 @@ def _gaits_with_library_speeds(n_random: int) -> list[tuple[object, float]]:
 def test_graph_trials_match_library_speeds(ros, launch):
     gaits = _gaits_with_library_speeds(n_random=18)
     assert len(gaits) >= 20
-    sim = launch("hexapod_sim", "sim_node", params={"real_time_factor": 0.0})
+    sim = launch("hexapod_sim", "sim_node", params={"real_time_factor": 0.0, "publish_period_steps": 24})
     gait_node = launch("hexapod_gait", "gait_node", params={"initial_preset": ""})
     odom = ros.collect(Odometry, "odom", ODOM_QOS)
     active = ros.collect(Header, "sim/active_trajectory", LATCHED)
@@ -62,8 +62,10 @@ def test_graph_trials_match_library_speeds(ros, launch):
     wait_for(lambda: pub.get_subscription_count() > 0, 30, "gait_node subscription")
     wait_for(lambda: resets, 30, "sim_node start-up")
 
-    worst = 0.0
-    for i, (gait, library_speed) in enumerate(gaits):
+    worst, repeats = 0.0, 0
+
+    def graph_trial(i: int, gait) -> float | None:
+        """One trial through the graph; None if an odometry sample it needs was lost."""
         msg = gait_to_msg(gait)
         msg.header.stamp.sec, msg.header.stamp.nanosec = 1000 + i, 0
         pub.publish(msg)
@@ -71,23 +73,32 @@ def test_graph_trials_match_library_speeds(ros, launch):
         wait_for(lambda: active and active[-1].stamp.sec == 1000 + i, 30, f"gait {i} active in sim_node")
         previous_reset = _ns(resets[-1].stamp)
         # 2. reset: origin, phase 0
-        response = ros.call(Trigger, "sim_node/reset", Trigger.Request())
-        assert response.success
+        assert ros.call(Trigger, "sim_node/reset", Trigger.Request()).success
         wait_for(lambda: _ns(resets[-1].stamp) > previous_reset, 10, "reset stamp")
         t0 = _ns(resets[-1].stamp)
         # 3. odometry over exactly TRIAL seconds of sim time
         end = t0 + int(TRIAL * 1e9)
         wait_for(lambda: odom and _ns(odom[-1].header.stamp) >= end, 60, f"{TRIAL} s of odometry for gait {i}")
         by_stamp = {_ns(o.header.stamp): o for o in list(odom)}
-        start_msg = by_stamp[t0]
-        end_msg = min((o for s, o in by_stamp.items() if abs(s - end) < 1000), key=lambda o: _ns(o.header.stamp))
+        start_msg = by_stamp.get(t0)
+        end_msg = next((o for s, o in by_stamp.items() if abs(s - end) < 1000), None)
+        if start_msg is None or end_msg is None:
+            return None        # a sample was lost in transport: the trial must be repeated
         dx = end_msg.pose.pose.position.x - start_msg.pose.pose.position.x
         dy = end_msg.pose.pose.position.y - start_msg.pose.pose.position.y
-        graph_speed = (dx * math.cos(gait.crab_angle) + dy * math.sin(gait.crab_angle)) / TRIAL
+        return (dx * math.cos(gait.crab_angle) + dy * math.sin(gait.crab_angle)) / TRIAL
+
+    for i, (gait, library_speed) in enumerate(gaits):
+        graph_speed = graph_trial(i, gait)
+        while graph_speed is None and repeats < 5:
+            repeats += 1
+            graph_speed = graph_trial(100 + i + repeats, gait)
+        assert graph_speed is not None, "odometry samples kept getting lost"
         error = abs(graph_speed - library_speed) / abs(library_speed)
         worst = max(worst, error)
         assert error <= 0.02, f"gait {i}: graph {graph_speed:.5f} m/s vs library {library_speed:.5f} m/s"
-    print(f"{len(gaits)} gaits through the graph: worst relative speed error {worst:.2e}")
+    print(f"{len(gaits)} gaits through the graph: worst relative speed error {worst:.2e}; "
+          f"trials repeated for lost odometry samples: {repeats}")
     assert sim.alive() and gait_node.alive()
 
 

@@ -38,7 +38,7 @@ from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, JointState
 from std_msgs.msg import Header
@@ -51,7 +51,11 @@ from hexapod_sim.simulator import ACCURATE, FAST, HexapodSimulator, SimConfig, v
 from hexapod_sim.trajectory_input import CycleTable, TrajectoryError, cycle_from_points
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
-ODOM_QOS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
+# Trials read odometry at exact instants (reset, reset + 5 s). In fast mode the node publishes
+# ~1000 odometry messages per wall second and a loaded subscriber can lag hundreds behind; a
+# reliable writer only re-sends what is still in its history, so keep ~5 s of it. (KEEP_ALL
+# would make publish block and then fail when a subscriber stalls.)
+ODOM_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000, reliability=ReliabilityPolicy.RELIABLE)
 
 
 def _stamp(seconds: float) -> Time:
@@ -75,7 +79,9 @@ class SimNode(Node):
         self.declare_parameter("failed_legs", Parameter.Type.INTEGER_ARRAY, ParameterDescriptor(
             description="Legs (1..6, at most two) failed at start-up", **ro))
         self.declare_parameter("publish_period_steps", 4, ParameterDescriptor(
-            description="Publish joint_states/odom/imu/foot_contacts every N physics steps (1/240 s each)",
+            description="Publish joint_states/odom/imu/foot_contacts every N physics steps (1/240 s each). "
+                        "With real_time_factor 0 the node runs ~18x real time; use 24 (10 Hz of sim time) "
+                        "so Python consumers keep up. Trials read odometry at reset + N steps exactly.",
             integer_range=[IntegerRange(from_value=1, to_value=240)], **ro))
         self.declare_parameter("odom_frame", "odom", ParameterDescriptor(description="REP 105 odometry frame", **ro))
         self.declare_parameter("base_frame", "base_link", ParameterDescriptor(description="Robot base frame", **ro))
@@ -120,6 +126,7 @@ class SimNode(Node):
         self._work: queue.Queue[Callable[[], None]] = queue.Queue()
         self._reset_now()
         self._running = True
+        self._publish_errors: set[str] = set()
         self._thread = threading.Thread(target=self._run, name="physics", daemon=True)
         self._thread.start()
         self.get_logger().info(f"simulating with the {engine} engine at real_time_factor {self.rtf:g}")
@@ -247,10 +254,13 @@ class SimNode(Node):
                 self.clock_pub.publish(Clock(clock=_stamp(self._sim_time)))
                 if self._steps_since_reset % self.period_steps == 0:
                     self._publish_state()
-            except Exception:
+            except Exception as exc:
                 if not self._running or not rclpy.ok(context=self.context):
                     return  # shutting down: the context is gone
-                raise
+                # a failed publish must not stop the physics: report once per kind, go on
+                if type(exc).__name__ not in self._publish_errors:
+                    self._publish_errors.add(type(exc).__name__)
+                    self.get_logger().error(f"publishing failed: {exc} (simulation continues)")
             if self.rtf != rtf_seen:
                 wall_start, sim_start, rtf_seen = time.monotonic(), self._sim_time, self.rtf
             if self.rtf > 0:
