@@ -207,10 +207,8 @@ class RobotLink:
                 self.stats.retries += 1
             item.attempts += 1
             item.sent_at = now
-            if item.seq is not None:
+            if item.seq is not None:          # movement frames wait for their FF <sum> ack instead
                 self._in_flight[item.seq] = item
-            elif item.operation is not None and item.operation.name != "emergency_stop":
-                pass  # movement frames wait for their FF <checksum> ack
         return out
 
     def _pick(self, now: float) -> Outgoing | None:
