@@ -88,12 +88,15 @@ class BridgeNode(Node):
         backoff = param("reconnect_max_backoff", 0.25, "Longest wait between attempts to reopen a lost port [s]",
                         floating_point_range=[FloatingPointRange(from_value=0.01, to_value=5.0)], **ro)
         arm = param("arm_on_start", False, "Arm (allow transmission) at start-up", **ro)
+        leg_map = param("leg_map", [1, 2, 3, 4, 5, 6], "Robot's leg number for URDF legs 1..6 (a permutation); "
+                        "[1, 6, 5, 4, 3, 2] if the firmware keeps its clockwise numbering (unverified)", **ro)
 
         self.lock = threading.RLock()
         try:
-            self.link = RobotLink(baud=int(baud), ping_period=float(ping_period), firmware=str(firmware))
+            self.link = RobotLink(baud=int(baud), ping_period=float(ping_period), firmware=str(firmware),
+                                  leg_map=leg_map)
         except ValueError as exc:
-            self.get_logger().error(f"{exc}; using 'v2'")
+            self.get_logger().error(f"{exc}; using firmware 'v2' and the identity leg map")
             self.link = RobotLink(baud=int(baud), ping_period=float(ping_period))
         self.radio = ReconnectingPort(str(self.port_path), int(baud), float(backoff))
         self.imu_port = ReconnectingPort(str(self.imu_path), int(imu_baud), float(backoff)) if self.imu_path else None

@@ -143,11 +143,33 @@ def sequence_gap(previous: int | None, seq: int) -> int:
 
 # ---- gait values <-> parameter frames ------------------------------------------------------
 
-def gait_values(gait) -> list[float]:
-    """The N_PARAMS numbers of a hexapod_gait.GaitParameters in PARAM_NAMES order."""
+IDENTITY_LEG_MAP = (1, 2, 3, 4, 5, 6)
+#: The firmware numbers legs clockwise from +x, the thesis/URDF counter-clockwise: the same
+#: physical leg is URDF leg k and firmware leg ((1 - k) mod 6) + 1. Unverified on hardware.
+MIRRORED_LEG_MAP = (1, 6, 5, 4, 3, 2)
+
+
+def validate_leg_map(leg_map) -> tuple[int, ...]:
+    """A permutation of 1..6: entry k-1 is the robot's number for URDF leg k."""
+    try:
+        mapping = tuple(int(v) for v in leg_map)
+    except (TypeError, ValueError):
+        raise ExtensionError(f"leg map must be six leg numbers, got {leg_map!r}") from None
+    if sorted(mapping) != [1, 2, 3, 4, 5, 6]:
+        raise ExtensionError(f"leg map must be a permutation of 1..6, got {list(mapping)}")
+    return mapping
+
+
+def gait_values(gait, leg_map=IDENTITY_LEG_MAP) -> list[float]:
+    """The N_PARAMS numbers of a hexapod_gait.GaitParameters in PARAM_NAMES order, each leg's
+    values placed in the robot's slot for it (``leg_map``, see validate_leg_map)."""
+    mapping = validate_leg_map(leg_map)
     values = [gait.body_velocity, gait.body_height, gait.period, gait.crab_angle]
     for field in ("radius", "angle_offset", "step_height", "duty_factor", "phase_offset"):
-        values.extend(float(v) for v in getattr(gait, field))
+        per_leg = [0.0] * 6
+        for urdf_leg, robot_leg in enumerate(mapping):
+            per_leg[robot_leg - 1] = float(getattr(gait, field)[urdf_leg])
+        values.extend(per_leg)
     values.append(float(gait.archive_index))
     return values
 

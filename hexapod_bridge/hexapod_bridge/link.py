@@ -68,11 +68,13 @@ class LinkStats:
 
 class RobotLink:
     def __init__(self, baud: int = 19200, ping_period: float = 1.0, ack_timeout: float = 0.25,
-                 max_retries: int = 6, upload_window: int = 4, firmware: str = "v2") -> None:
+                 max_retries: int = 6, upload_window: int = 4, firmware: str = "v2",
+                 leg_map=ext.IDENTITY_LEG_MAP) -> None:
         if firmware not in ("v2", "legacy"):
             raise ValueError("firmware must be 'v2' (gait-upload extension) or 'legacy'")
         self.parser = HostParser()
         self.firmware = firmware
+        self.leg_map = ext.validate_leg_map(leg_map)
         self.bytes_per_second = baud / 10.0
         self.ping_period = ping_period
         self.ack_timeout = ack_timeout
@@ -120,7 +122,7 @@ class RobotLink:
                              "(paste them into the firmware and reflash; see docs/radio-protocol.md)")
             return op
         gait_id = next(self._gait_ids) & 0xFFFF
-        values = ext.gait_values(gait)
+        values = ext.gait_values(gait, self.leg_map)
         frames = ext.upload_frames(values, gait_id, 0)
         for raw in frames:
             seq = self._next_seq()

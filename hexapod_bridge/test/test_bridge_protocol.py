@@ -269,3 +269,19 @@ def test_movement_acks_are_never_ambiguous():
     frames = [item.frame for item in link._queue]
     assert len(frames) == 900 and not any(f[9] in AMBIGUOUS_ACKS for f in frames)
     assert all(abs(legacy.decode_movement(f).twist) <= 0.05 for f in frames)
+
+
+def test_leg_map_places_each_legs_values_in_the_robots_slot():
+    gait = preset("tripod").replace(radius=[0.11, 0.12, 0.13, 0.14, 0.15, 0.16])
+    values = ext.gait_values(gait, ext.MIRRORED_LEG_MAP)
+    radius = values[4:10]
+    assert radius == pytest.approx([0.11, 0.16, 0.15, 0.14, 0.13, 0.12])   # URDF leg 2 is firmware leg 6
+    assert ext.gait_values(gait)[4:10] == pytest.approx([0.11, 0.12, 0.13, 0.14, 0.15, 0.16])
+    for bad in ([1, 2, 3], [1, 1, 2, 3, 4, 5], ["a"] * 6, [0, 1, 2, 3, 4, 5]):
+        with pytest.raises(ext.ExtensionError, match="leg map"):
+            ext.validate_leg_map(bad)
+    link, fw = RobotLink(leg_map=ext.MIRRORED_LEG_MAP), RobotFirmware()
+    link.arm(True, 0.0)
+    op = link.upload(gait)
+    _run(link, fw, 1.0)
+    assert op.ok and fw.gait.radius[5] == pytest.approx(0.12)
