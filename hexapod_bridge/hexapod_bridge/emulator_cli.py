@@ -109,6 +109,7 @@ def main(argv: list[str] | None = None) -> int:
                 if what == "vanish" and radio.master is not None:
                     radio.close()
                     print("RADIO gone", flush=True)
+                    print_stats(firmware)
                 elif what == "return" and radio.master is None:
                     print(f"RADIO {radio.open()}", flush=True)
             fds = [radio.master] if radio.master is not None else []
@@ -131,11 +132,15 @@ def main(argv: list[str] | None = None) -> int:
         radio.close()
         if imu is not None:
             imu.close()
-        stats = firmware.stats
-        print(f"STATS pings={stats.pings} failsafe_trips={stats.failsafe_trips} "
-              f"missed_windows={stats.missed_windows} frames={stats.frames} duplicates={stats.duplicates} "
-              f"resyncs={firmware.receiver.stats.resyncs}", flush=True)
+        print_stats(firmware)
     return 0
+
+
+def print_stats(firmware: RobotFirmware) -> None:
+    stats = firmware.stats
+    print(f"STATS pings={stats.pings} failsafe_trips={stats.failsafe_trips} "
+          f"missed_windows={stats.missed_windows} frames={stats.frames} duplicates={stats.duplicates} "
+          f"resyncs={firmware.receiver.stats.resyncs}", flush=True)
 
 
 if __name__ == "__main__":

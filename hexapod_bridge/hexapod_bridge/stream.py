@@ -165,6 +165,8 @@ class LegacyCommand:
 
 RobotFrame = Union[legacy.Movement, PingFrame, LegacyCommand, ext.CommandFrame]
 _FF_CODES = {0xFA, 0xFB, 0xDE, 0xDD, 0xF8}
+#: First padding byte of each FF command (everything from there to byte 9 is zero).
+_FF_PADDING = {0xFA: 3, 0xFB: 4, 0xDE: 8, 0xDD: 6, 0xF8: 4}
 
 
 class RobotReceiver:
@@ -215,12 +217,14 @@ class RobotReceiver:
                 return None
             self.last_checksum = raw[9]
             return movement
-        if self._skipping:
-            # Unchecked legacy frames (ping, FF commands) are only trusted when aligned:
-            # while resynchronising, garbage could look like them.
-            return None
+        # Legacy frames without a checksum. Aligned, they are taken as today's firmware takes
+        # them. While resynchronising, garbage could look like them, so only the exact form the
+        # bridge sends is accepted: a ping with nine zero bytes, an FF command with zero padding.
+        # (Without this a receiver that lost sync while only pings flow would never recover.)
         if b0 == legacy.PING_BYTE:
-            return PingFrame()
+            return PingFrame() if not self._skipping or not any(raw[1:]) else None
         if b0 == 0xFF and raw[1] in _FF_CODES:
+            if self._skipping and any(raw[_FF_PADDING[raw[1]]:]):
+                return None
             return LegacyCommand(raw[1], raw)
         return None

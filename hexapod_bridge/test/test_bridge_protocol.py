@@ -285,3 +285,15 @@ def test_leg_map_places_each_legs_values_in_the_robots_slot():
     op = link.upload(gait)
     _run(link, fw, 1.0)
     assert op.ok and fw.gait.radius[5] == pytest.approx(0.12)
+
+
+def test_robot_receiver_recovers_from_a_partial_frame_with_pings_alone():
+    # a port that vanished mid-frame leaves bytes behind; afterwards only keep-alives flow
+    rx = RobotReceiver()
+    rx.feed(legacy.encode_ping()[:4])
+    frames = rx.feed(legacy.encode_ping() * 5 + legacy.encode_motor_power(True))
+    assert sum(isinstance(f, PingFrame) for f in frames) >= 4 and isinstance(frames[-1], LegacyCommand)
+    # while resynchronising, a ping-looking window with non-zero padding is not trusted
+    rx2 = RobotReceiver()
+    frames = rx2.feed(b"\x99" + bytes([0x37, 1, 2, 3, 4, 5, 6, 7, 8, 9]))
+    assert frames == [] and rx2.stats.resyncs == 1
