@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -82,9 +83,13 @@ def graph_trial(gait) -> float:
         node.destroy_node()
         rclpy.try_shutdown()
         for p in procs:
-            p.terminate()
+            p.send_signal(signal.SIGINT)
         for p in procs:
-            p.wait(10)
+            try:
+                p.wait(10)
+            except subprocess.TimeoutExpired:
+                p.kill()
+                p.wait()
 
 
 def main() -> int:

@@ -11,6 +11,7 @@ import zlib
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # PYTHONSAFEPATH drops it
 
 import rclpy  # noqa: E402
+from rclpy.executors import ExternalShutdownException  # noqa: E402
 from rclpy.serialization import serialize_message  # noqa: E402
 
 from interface_fill import fill  # noqa: E402
@@ -29,9 +30,10 @@ def main() -> None:
         node.create_service(srv_type, f"rt/{srv_type.__name__}", handle)
     try:
         rclpy.spin(node)
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
+        node.destroy_node()
         rclpy.try_shutdown()
 
 
