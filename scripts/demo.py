@@ -74,7 +74,8 @@ def graph_trial(gait) -> float:
         t0 = resets[-1].stamp.sec * 10**9 + resets[-1].stamp.nanosec
         ns = lambda o: o.header.stamp.sec * 10**9 + o.header.stamp.nanosec  # noqa: E731
         spin_until(lambda: odom and ns(odom[-1]) >= t0 + 5 * 10**9, 60)
-        first = next(o for o in odom if ns(o) == t0)
+        # the last message stamped t0 is the pose after the reset (a scheduled one may precede it)
+        first = [o for o in odom if ns(o) == t0][-1]
         last = next(o for o in odom if abs(ns(o) - (t0 + 5 * 10**9)) < 1000)
         dx = last.pose.pose.position.x - first.pose.pose.position.x
         dy = last.pose.pose.position.y - first.pose.pose.position.y

@@ -14,7 +14,9 @@ Services    ~/set_leg_failure      hexapod_msgs/SetLegFailure
             ~/reset                std_srvs/Trigger: robot back to the origin, damage kept,
                                    gait restarted at phase 0
 State topics are published every ``publish_period_steps`` steps counted from the last reset,
-so the odometry of "reset + N steps" is always published: a trial reads it exactly.
+so the odometry of "reset + N steps" is always published: a trial reads it exactly. A reset also
+publishes the pose at the origin stamped with the reset time; when a scheduled message was just
+published with that same stamp, the later one (messages arrive in order) is the post-reset pose.
 The physics runs in its own thread; callbacks hand work to it and wait until it is applied.
 """
 from __future__ import annotations
