@@ -101,6 +101,7 @@ class BridgeNode(Node):
         self.radio = ReconnectingPort(str(self.port_path), int(baud), float(backoff))
         self.imu_port = ReconnectingPort(str(self.imu_path), int(imu_baud), float(backoff)) if self.imu_path else None
         self._configured_connects = 0
+        self._was_connected = False
         self.xbus = xbus.XbusParser()
         self.gait_id: int | None = None
         self.gait_crab = 0.0
@@ -228,8 +229,7 @@ class BridgeNode(Node):
         response.success, response.message = True, "emergency stop sent; bridge disarmed"
         return response
 
-    def _publish_link_status(self) -> None:
-        now = time.monotonic()
+    def _link_status(self, now: float) -> LinkStatus:
         with self.lock:
             s, p = self.link.stats, self.link.parser.stats
             msg = LinkStatus(connected=self.radio.connected, armed=self.link.armed,
@@ -237,11 +237,16 @@ class BridgeNode(Node):
                              frames_ok=p.frames_ok, checksum_errors=p.checksum_errors + p.implausible,
                              resyncs=p.resyncs, bytes_dropped=p.bytes_dropped, frames_sent=s.frames_sent,
                              retries=s.retries, port=str(self.port_path), last_error=self.radio.last_error)
+        msg.header.stamp = self.get_clock().now().to_msg()
+        return msg
+
+    def _publish_link_status(self) -> None:
+        now = time.monotonic()
+        self.link_pub.publish(self._link_status(now))
+        with self.lock:
             events = []
             while self.link.events:
                 events.append(self.link.events.popleft())
-        msg.header.stamp = self.get_clock().now().to_msg()
-        self.link_pub.publish(msg)
         for kind, value in events:
             if kind == "error":
                 self._status(DiagnosticStatus.ERROR, f"robot reports: {value}")
@@ -276,9 +281,11 @@ class BridgeNode(Node):
         """One turn of the radio thread: (re)open, read, hand bytes to the link, write what it
         schedules."""
         now = time.monotonic()
+        self._report_connection_change()
         if not self.radio.ensure_open(now):
             time.sleep(0.02)
             return
+        self._report_connection_change()
         data = self.radio.read(0.005)
         now = time.monotonic()
         with self.lock:
@@ -293,6 +300,18 @@ class BridgeNode(Node):
         for frame in frames:
             if type(frame).__name__ == "Telemetry" and self.imu_port is None:
                 self._publish_attitude(frame)
+
+    def _report_connection_change(self) -> None:
+        """Publish LinkStatus at once (not at the next 5 Hz tick) when the port goes or comes."""
+        connected = self.radio.connected
+        if connected == self._was_connected:
+            return
+        self._was_connected = connected
+        self.link_pub.publish(self._link_status(time.monotonic()))
+        if connected:
+            self.get_logger().info(f"radio port {self.port_path} open")
+        else:
+            self.get_logger().warning(f"radio link down: {self.radio.last_error}")
 
     def _imu_once(self) -> None:
         assert self.imu_port is not None
