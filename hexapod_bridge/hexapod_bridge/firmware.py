@@ -96,13 +96,13 @@ class RobotFirmware:
         self._walk_start = 0.0
         self._table = None
         self._row = 0
-        self._hold: list[float] | None = None
+        self._hold_row: tuple[list, list] | None = None
         self.out_radio = bytearray()
         self.out_imu = bytearray()
         if sim is not None:
             self._load_table()
             sim.reset(self._table.positions[0])
-            self._hold = self._table.positions[0].tolist()
+            self._hold_row = sim.prepare_rows(self._table.positions[0], [0.0] * 18)
 
     # -- receiving ---------------------------------------------------------------------------
     def receive(self, data: bytes, now: float) -> None:
@@ -228,6 +228,7 @@ class RobotFirmware:
             from hexapod_gait import build_joint_table
 
             self._table = build_joint_table(self.gait, rate=1.0 / self.sim.dt)
+            self._rows = self.sim.prepare_rows(self._table.positions, self._table.velocities)
 
     def _start_walk(self, now: float, duration: float) -> None:
         self.walking, self._walk_start, self.walk_end = True, now, now + duration
@@ -245,7 +246,8 @@ class RobotFirmware:
             record.state = state
             record.end_position = self.sim.base_pose()[0] if self.sim is not None else np.zeros(3)
         if self.sim is not None and self._table is not None:
-            self._hold = self._table.positions[self._row % len(self._table)].tolist()
+            # stand still in the pose the walk stopped in
+            self._hold_row = self.sim.prepare_rows(self._table.positions[self._row % len(self._table)], [0.0] * 18)
         state_code = {"done": ext.TrialState.DONE, "stopped": ext.TrialState.STOPPED,
                       "estopped": ext.TrialState.ESTOPPED, "failsafe": ext.TrialState.FAILSAFE}[state]
         self._trial_report(state_code, self.walk_end if state == "done" else self._sim_time)
@@ -304,10 +306,10 @@ class RobotFirmware:
                 self._stop_walk("done")
             if self.walking:
                 row = self._row % len(self._table)
-                sim.command(self._table.positions[row], self._table.velocities[row])
+                sim.apply_row(self._rows[0][row], self._rows[1][row])
                 self._row += 1
-            elif self._hold is not None:
-                sim.command(self._hold, [0.0] * 18)
+            elif self._hold_row is not None:
+                sim.apply_row(self._hold_row[0][0], self._hold_row[1][0])
             if not self.motors_on:
                 p.setJointMotorControlArray(sim.body, sim.joint_indices, p.VELOCITY_CONTROL,
                                             forces=[0.0] * 18, physicsClientId=sim.client)

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import itertools
 import math
-import struct
 from collections import deque
 from dataclasses import dataclass, field, replace
 from typing import Any
@@ -90,7 +89,7 @@ class RobotLink:
         self._tokens = 20.0
         self._last_poll: float | None = None
         self._next_ping = -math.inf
-        self._seq = itertools.count(1)
+        self._seq = 0                              # last sequence number used
         self._queue: list[Outgoing] = []          # waiting to be sent for the first time
         self._in_flight: dict[int, Outgoing] = {}  # seq -> sent, awaiting ACK
         self._upload_backlog: deque[Outgoing] = deque()
@@ -105,8 +104,11 @@ class RobotLink:
             self._next_ping = now
         self.events.append(("armed", self.armed))
 
-    def _next_seq(self) -> int:
-        return next(self._seq) & 0xFF
+    def _next_seq(self, count: int = 1) -> int:
+        """Reserve ``count`` consecutive sequence numbers (mod 256); return the first."""
+        first = (self._seq + 1) & 0xFF
+        self._seq = (self._seq + count) & 0xFF
+        return first
 
     def _command(self, kind: ext.Cmd, payload: bytes, priority: int, op: Operation) -> Outgoing:
         seq = self._next_seq()
@@ -123,14 +125,10 @@ class RobotLink:
             return op
         gait_id = next(self._gait_ids) & 0xFFFF
         values = ext.gait_values(gait, self.leg_map)
-        frames = ext.upload_frames(values, gait_id, 0)
-        for raw in frames:
-            seq = self._next_seq()
-            body = bytearray(raw[:8])
-            body[2] = seq
-            frame = bytes(body) + struct.pack(">H", ext.crc16(bytes(body)))
+        frames = ext.upload_frames(values, gait_id, self._next_seq(ext.N_PARAMS + 1))
+        for frame in frames:
             op.pending += 1
-            self._upload_backlog.append(Outgoing(frame, PRIORITY_UPLOAD, seq, raw[1], operation=op))
+            self._upload_backlog.append(Outgoing(frame, PRIORITY_UPLOAD, frame[2], frame[1], operation=op))
         op.result["gait_id"] = gait_id
         op.result["values"] = ext.quantise(values)
         return op

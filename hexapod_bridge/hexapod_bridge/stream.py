@@ -36,6 +36,44 @@ class ParserStats:
     by_type: dict = field(default_factory=dict)
 
 
+class ResyncBuffer:
+    """What every stream parser shares: a buffer fed in slices of at most CHUNK bytes (so it
+    stays bounded), statistics, and counting a run of skipped bytes as one resync. Subclasses
+    implement ``_drain`` (take frames off the front of the buffer) and never raise on input."""
+
+    def __init__(self) -> None:
+        self.buffer = bytearray()
+        self.stats = ParserStats()
+        self._skipping = False
+
+    def feed(self, data: bytes) -> list:
+        out: list = []
+        for start in range(0, len(data), CHUNK):
+            self.buffer += data[start:start + CHUNK]
+            self.stats.max_buffer = max(self.stats.max_buffer, len(self.buffer))
+            self._drain(out)
+        return out
+
+    def _drain(self, out: list) -> None:
+        raise NotImplementedError
+
+    def _drop(self, n: int) -> None:
+        """Skip n bytes while looking for the next frame."""
+        if n <= 0:
+            return
+        if not self._skipping:
+            self.stats.resyncs += 1
+            self._skipping = True
+        self.stats.bytes_dropped += n
+        del self.buffer[:n]
+
+    def _take(self, n: int) -> None:
+        """A valid frame of n bytes was taken off the front: in sync again."""
+        del self.buffer[:n]
+        self._skipping = False
+        self.stats.frames_ok += 1
+
+
 def _telemetry_plausible(t: legacy.Telemetry) -> bool:
     values = (t.counter, t.pitch, t.roll, t.yaw, t.slope_pitch, t.slope_roll)
     if not all(math.isfinite(v) for v in values):
@@ -49,30 +87,8 @@ def _error_plausible(loc: int, code: int) -> bool:
     return (loc in (1, 2, 3) and 1 <= code <= 0x1F) or (loc == 11 and 2 <= code <= 19)
 
 
-class HostParser:
+class HostParser(ResyncBuffer):
     """Robot -> PC byte stream to frames."""
-
-    def __init__(self) -> None:
-        self.buffer = bytearray()
-        self.stats = ParserStats()
-        self._skipping = False
-
-    def feed(self, data: bytes) -> list[HostFrame]:
-        frames: list[HostFrame] = []
-        for start in range(0, len(data), CHUNK):
-            self.buffer += data[start:start + CHUNK]
-            self.stats.max_buffer = max(self.stats.max_buffer, len(self.buffer))
-            self._drain(frames)
-        return frames
-
-    def _drop(self, n: int) -> None:
-        if n <= 0:
-            return
-        if not self._skipping:
-            self.stats.resyncs += 1
-            self._skipping = True
-        self.stats.bytes_dropped += n
-        del self.buffer[:n]
 
     def _drain(self, out: list[HostFrame]) -> None:
         buf = self.buffer
@@ -102,9 +118,7 @@ class HostParser:
             if frame is None:
                 self._drop(1)
                 continue
-            del buf[:length]
-            self._skipping = False
-            self.stats.frames_ok += 1
+            self._take(length)
             name = type(frame).__name__
             self.stats.by_type[name] = self.stats.by_type.get(name, 0) + 1
             out.append(frame)
@@ -169,35 +183,21 @@ _FF_CODES = {0xFA, 0xFB, 0xDE, 0xDD, 0xF8}
 _FF_PADDING = {0xFA: 3, 0xFB: 4, 0xDE: 8, 0xDD: 6, 0xF8: 4}
 
 
-class RobotReceiver:
+class RobotReceiver(ResyncBuffer):
     """PC -> robot byte stream to frames (firmware v2 receive path)."""
 
     def __init__(self) -> None:
-        self.buffer = bytearray()
-        self.stats = ParserStats()
+        super().__init__()
         self.last_checksum: int | None = None   # of the last movement frame (for its ack)
-        self._skipping = False
 
-    def feed(self, data: bytes) -> list[RobotFrame]:
-        frames: list[RobotFrame] = []
-        for start in range(0, len(data), CHUNK):
-            self.buffer += data[start:start + CHUNK]
-            self.stats.max_buffer = max(self.stats.max_buffer, len(self.buffer))
-            while len(self.buffer) >= legacy.FRAME_LEN:
-                raw = bytes(self.buffer[:legacy.FRAME_LEN])
-                frame = self._decode(raw)
-                if frame is None:
-                    if not self._skipping:
-                        self.stats.resyncs += 1
-                        self._skipping = True
-                    self.stats.bytes_dropped += 1
-                    del self.buffer[:1]
-                    continue
-                self._skipping = False
-                del self.buffer[:legacy.FRAME_LEN]
-                self.stats.frames_ok += 1
-                frames.append(frame)
-        return frames
+    def _drain(self, out: list) -> None:
+        while len(self.buffer) >= legacy.FRAME_LEN:
+            frame = self._decode(bytes(self.buffer[:legacy.FRAME_LEN]))
+            if frame is None:
+                self._drop(1)
+                continue
+            self._take(legacy.FRAME_LEN)
+            out.append(frame)
 
     def _decode(self, raw: bytes) -> RobotFrame | None:
         b0 = raw[0]

@@ -11,6 +11,8 @@ import math
 import struct
 from dataclasses import dataclass
 
+from hexapod_bridge.stream import ResyncBuffer
+
 PREAMBLE = 0xFA
 MID_MTDATA = 0x32
 MTDATA_LEN = 50
@@ -54,39 +56,8 @@ def _plausible(m: MTData) -> bool:
             and abs(m.euler[0]) <= 180.0 and abs(m.euler[1]) <= 90.0 and abs(m.euler[2]) <= 180.0)
 
 
-@dataclass
-class XbusStats:
-    messages_ok: int = 0
-    checksum_errors: int = 0
-    implausible: int = 0
-    resyncs: int = 0
-    bytes_dropped: int = 0
-    max_buffer: int = 0
-
-
-class XbusParser:
+class XbusParser(ResyncBuffer):
     """Bytes from the IMU to MTData (and other messages as (mid, data)); never raises."""
-
-    def __init__(self) -> None:
-        self.buffer = bytearray()
-        self.stats = XbusStats()
-        self._skipping = False
-
-    def feed(self, data: bytes) -> list[MTData | tuple[int, bytes]]:
-        out: list[MTData | tuple[int, bytes]] = []
-        for start in range(0, len(data), 256):
-            self.buffer += data[start:start + 256]
-            self.stats.max_buffer = max(self.stats.max_buffer, len(self.buffer))
-            self._drain(out)
-        return out
-
-    def _drop(self, n: int) -> None:
-        if n > 0:
-            if not self._skipping:
-                self.stats.resyncs += 1
-                self._skipping = True
-            self.stats.bytes_dropped += n
-            del self.buffer[:n]
 
     def _drain(self, out: list) -> None:
         buf = self.buffer
@@ -107,11 +78,7 @@ class XbusParser:
                 self._drop(1)
                 continue
             mid, data = buf[2], bytes(buf[4:4 + length])
-            if mid == MID_MTDATA:
-                if length != MTDATA_LEN:
-                    self.stats.implausible += 1
-                    self._drop(1)
-                    continue
+            if mid == MID_MTDATA:                    # length checked above
                 v = struct.unpack(">12fH", data)
                 msg = MTData(tuple(v[0:3]), tuple(v[3:6]), tuple(v[6:9]), tuple(v[9:12]), v[12])
                 if not _plausible(msg):
@@ -121,6 +88,4 @@ class XbusParser:
                 out.append(msg)
             else:
                 out.append((mid, data))
-            del buf[:total]
-            self._skipping = False
-            self.stats.messages_ok += 1
+            self._take(total)

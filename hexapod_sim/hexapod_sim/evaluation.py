@@ -61,9 +61,7 @@ def evaluate_gait(gait: GaitParameters | Sequence[float] | np.ndarray, sim: Hexa
     except ValueError as exc:
         return _failure(f"invalid: {exc}", duration)
 
-    slots = sim._active_joint_slots
-    positions = np.clip(table.positions, sim.lower, sim.upper)[:, slots].tolist()
-    velocities = np.clip(table.velocities, -sim.max_velocity, sim.max_velocity)[:, slots].tolist()
+    positions, velocities = sim.prepare_rows(table.positions, table.velocities)
     n_rows = len(positions)
     sim.reset(table.positions[0])
 

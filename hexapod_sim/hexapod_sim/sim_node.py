@@ -215,9 +215,7 @@ class SimNode(Node):
         return applied
 
     def _prepare_cycle(self) -> None:
-        slots = self.sim._active_joint_slots
-        self._rows_q = np.clip(self.cycle.positions, self.sim.lower, self.sim.upper)[:, slots].tolist()
-        self._rows_v = np.clip(self.cycle.velocities, -self.sim.max_velocity, self.sim.max_velocity)[:, slots].tolist()
+        self._rows_q, self._rows_v = self.sim.prepare_rows(self.cycle.positions, self.cycle.velocities)
         self._row = 0
 
     def _reset_now(self) -> float:
@@ -233,8 +231,6 @@ class SimNode(Node):
         return self._sim_time
 
     def _run(self) -> None:
-        import pybullet as p
-
         wall_start, sim_start = time.monotonic(), self._sim_time
         rtf_seen = self.rtf
         while self._running:
@@ -244,9 +240,7 @@ class SimNode(Node):
                 except queue.Empty:
                     break
             sim = self.sim
-            p.setJointMotorControlArray(sim.body, sim._active_joint_indices, p.POSITION_CONTROL,
-                                        targetPositions=self._rows_q[self._row], targetVelocities=self._rows_v[self._row],
-                                        forces=sim._active_efforts, physicsClientId=sim.client)
+            sim.apply_row(self._rows_q[self._row], self._rows_v[self._row])
             sim.step()
             sim.update_imu()
             self._row = (self._row + 1) % len(self._rows_q)
@@ -274,9 +268,7 @@ class SimNode(Node):
         stamp = _stamp(self._sim_time)
         sim = self.sim
         pos, quat = sim.base_pose()
-        lin, ang = sim.base_velocity()
-        rot = np.array(__import__("pybullet").getMatrixFromQuaternion(quat.tolist())).reshape(3, 3)
-        lin_b, ang_b = rot.T @ lin, rot.T @ ang
+        lin_b, ang_b = sim.base_twist_body()
         odom = Odometry()
         odom.header.stamp, odom.header.frame_id, odom.child_frame_id = stamp, self.odom_frame, self.base_frame
         o = odom.pose.pose

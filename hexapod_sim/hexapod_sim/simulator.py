@@ -234,15 +234,26 @@ class HexapodSimulator:
         self._prev_velocity = np.zeros(3)
         self._accel = np.zeros(3)
 
-    def command(self, positions: Sequence[float], velocities: Sequence[float]) -> None:
-        """Position-control targets (18 each, URDF order) for the healthy legs; positions are
-        clipped to the joint limits, velocities to the velocity limits."""
-        q = np.clip(np.asarray(positions, dtype=float), self.lower, self.upper)
-        v = np.clip(np.asarray(velocities, dtype=float), -self.max_velocity, self.max_velocity)
+    def prepare_rows(self, positions: np.ndarray, velocities: np.ndarray) -> tuple[list, list]:
+        """Joint tables (N, 18) as the rows :meth:`apply_row` sends: positions clipped to the
+        joint limits, velocities to the velocity limits, only the healthy legs' joints. Done once
+        per table (and again after the failed legs change), never per step."""
         slots = self._active_joint_slots
+        q = np.clip(np.atleast_2d(positions), self.lower, self.upper)[:, slots]
+        v = np.clip(np.atleast_2d(velocities), -self.max_velocity, self.max_velocity)[:, slots]
+        return q.tolist(), v.tolist()
+
+    def apply_row(self, q_row: list, v_row: list) -> None:
+        """Send one prepared row as position-control targets (one call for all joints)."""
         p.setJointMotorControlArray(self.body, self._active_joint_indices, p.POSITION_CONTROL,
-                                    targetPositions=q[slots].tolist(), targetVelocities=v[slots].tolist(),
+                                    targetPositions=q_row, targetVelocities=v_row,
                                     forces=self._active_efforts, physicsClientId=self.client)
+
+    def command(self, positions: Sequence[float], velocities: Sequence[float]) -> None:
+        """Position-control targets (18 each, URDF order) for the healthy legs (convenience for
+        occasional commands; loops prepare their table once with :meth:`prepare_rows`)."""
+        q, v = self.prepare_rows(np.asarray(positions, dtype=float), np.asarray(velocities, dtype=float))
+        self.apply_row(q[0], v[0])
 
     def step(self) -> StepReport:
         """Advance one time step and report foot contacts and collisions."""
@@ -287,15 +298,25 @@ class HexapodSimulator:
         lin, ang = p.getBaseVelocity(self.body, physicsClientId=self.client)
         return np.array(lin), np.array(ang)
 
+    def base_rotation(self) -> np.ndarray:
+        """Base-to-world rotation matrix (3, 3)."""
+        return np.array(p.getMatrixFromQuaternion(self.base_pose()[1].tolist())).reshape(3, 3)
+
+    def base_twist_body(self) -> tuple[np.ndarray, np.ndarray]:
+        """Base linear [m/s] and angular [rad/s] velocity expressed in the base frame."""
+        rot = self.base_rotation()
+        lin, ang = self.base_velocity()
+        return rot.T @ lin, rot.T @ ang
+
     def imu(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """IMU-like readings in the base frame: orientation quaternion (x, y, z, w), angular
         velocity [rad/s], and specific force [m/s^2] (acceleration minus gravity, what an
         accelerometer measures: +9.81 on z at rest)."""
         _, quat = self.base_pose()
-        _, ang = self.base_velocity()
-        rot = np.array(p.getMatrixFromQuaternion(quat.tolist())).reshape(3, 3)
+        rot = self.base_rotation()
+        _, ang_body = self.base_twist_body()
         specific_force = self._accel + np.array([0.0, 0.0, GRAVITY])
-        return quat, rot.T @ ang, rot.T @ specific_force
+        return quat, ang_body, rot.T @ specific_force
 
     def joint_states(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Joint positions [rad], velocities [rad/s], applied motor torques [N m] (URDF order)."""
