@@ -30,7 +30,9 @@ test-integration: bootstrap
 bench: bootstrap
 	@$(ENV) && python scripts/bench.py all
 
-bench-%: bootstrap
+# Explicit targets: make applies no pattern rule to a .PHONY target.
+BENCH_AREAS := gait sim map adapt bridge
+$(addprefix bench-,$(BENCH_AREAS)): bench-%: bootstrap
 	@$(ENV) && python scripts/bench.py $*
 
 # Footfall diagrams of the presets (and, with the simulator, measured ones and a walk GIF).
