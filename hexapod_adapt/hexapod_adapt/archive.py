@@ -1,0 +1,286 @@
+"""The behaviour-performance map (archive) file: one self-describing ``.npz`` (ROS-free).
+
+An archive has one row per niche (a CVT centroid in the 6-D duty-factor space):
+
+    centroids   (n, 6)   niche centres, 0..1
+    fitness     (n,)     metres walked along the walking direction in ``trial_duration``
+                         seconds (thesis 4.1.1); NaN where the niche is empty
+    descriptors (n, 6)   measured duty factor per leg of the elite (eq. 4.2); NaN if empty
+    genotypes   (n, 32)  the elite's genes, 0..1 (mapping ``genotype_mapping``); NaN if empty
+
+plus a JSON metadata record (format version, evaluations, seed, centroid hash, genotype
+mapping version, URDF and simulator fingerprints, creation time, tool version, ...).
+Files are written atomically: a temporary file in the same directory, fsync, rename, fsync of
+the directory, so a crash or a full disk leaves the previous file intact.
+
+The thesis / pymap_elites text format (``fitness, descriptor(6), centroid(6), genotype(32)``
+per row, filled niches only) and ``centroids_<n>_<dim>.dat`` files import and export.
+"""
+from __future__ import annotations
+
+import contextlib
+import datetime as _dt
+import hashlib
+import io
+import json
+import os
+import tempfile
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+
+from hexapod_gait import GENOTYPE_MAPPING_VERSION, GENOTYPE_SIZE
+
+FORMAT = "hexapod-archive"
+FORMAT_VERSION = 1
+DESCRIPTOR_DIM = 6
+TOOL_VERSION = "hexapod_adapt 0.1.0"
+_ARRAYS = ("centroids", "fitness", "descriptors", "genotypes")
+
+
+class ArchiveError(ValueError):
+    """An archive file or its contents is unusable; the message says which file and why."""
+
+
+def centroid_hash(centroids: np.ndarray) -> str:
+    """sha256 of the centroids as little-endian float64 (identifies a CVT)."""
+    return hashlib.sha256(np.ascontiguousarray(centroids, dtype="<f8").tobytes()).hexdigest()
+
+
+@dataclass
+class Archive:
+    centroids: np.ndarray
+    fitness: np.ndarray
+    descriptors: np.ndarray
+    genotypes: np.ndarray
+    metadata: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self.centroids = np.asarray(self.centroids, dtype=float)
+        self.fitness = np.asarray(self.fitness, dtype=float)
+        self.descriptors = np.asarray(self.descriptors, dtype=float)
+        self.genotypes = np.asarray(self.genotypes, dtype=float)
+        _check_arrays(self.centroids, self.fitness, self.descriptors, self.genotypes)
+        self.metadata.setdefault("format", FORMAT)
+        self.metadata.setdefault("format_version", FORMAT_VERSION)
+        self.metadata["niches"] = int(len(self.centroids))
+        self.metadata["centroid_hash"] = centroid_hash(self.centroids)
+        self.metadata.setdefault("genotype_mapping", GENOTYPE_MAPPING_VERSION)
+        self.metadata.setdefault("trial_duration", 5.0)
+
+    @classmethod
+    def empty(cls, centroids: np.ndarray, metadata: Mapping[str, Any] | None = None) -> "Archive":
+        n = len(centroids)
+        return cls(np.asarray(centroids, dtype=float), np.full(n, np.nan), np.full((n, DESCRIPTOR_DIM), np.nan),
+                   np.full((n, GENOTYPE_SIZE), np.nan), dict(metadata or {}))
+
+    # -- views ------------------------------------------------------------------------------
+    @property
+    def n_niches(self) -> int:
+        return len(self.centroids)
+
+    @property
+    def filled(self) -> np.ndarray:
+        """Boolean mask of niches holding an elite."""
+        return ~np.isnan(self.fitness)
+
+    @property
+    def n_filled(self) -> int:
+        return int(self.filled.sum())
+
+    @property
+    def trial_duration(self) -> float:
+        return float(self.metadata["trial_duration"])
+
+    def speeds(self) -> np.ndarray:
+        """Fitness as average speed [m/s] (NaN for empty niches)."""
+        return self.fitness / self.trial_duration
+
+    def elite_indices(self) -> np.ndarray:
+        """Indices of the filled niches, ascending."""
+        return np.flatnonzero(self.filled)
+
+    def stats(self) -> dict[str, float]:
+        """Filled niches, coverage, max/mean/median/5th-percentile fitness and QD-score (the sum
+        of the elites' fitness clipped at 0, so it never decreases as the map improves)."""
+        f = self.fitness[self.filled]
+        if f.size == 0:
+            return {"filled": 0, "coverage": 0.0, "max": float("nan"), "mean": float("nan"),
+                    "median": float("nan"), "p5": float("nan"), "qd_score": 0.0}
+        return {"filled": int(f.size), "coverage": f.size / self.n_niches, "max": float(f.max()),
+                "mean": float(f.mean()), "median": float(np.median(f)), "p5": float(np.percentile(f, 5)),
+                "qd_score": float(np.sum(np.maximum(f, 0.0)))}
+
+    # -- files ------------------------------------------------------------------------------
+    def save(self, path: str | os.PathLike) -> Path:
+        """Write atomically (temp file + fsync + rename); returns the path."""
+        path = Path(path)
+        meta = dict(self.metadata)
+        meta.setdefault("created", _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
+        meta.setdefault("tool_version", TOOL_VERSION)
+        self.metadata = meta
+        buf = io.BytesIO()
+        np.savez(buf, centroids=self.centroids, fitness=self.fitness, descriptors=self.descriptors,
+                 genotypes=self.genotypes, metadata=np.array(json.dumps(meta, sort_keys=True)))
+        atomic_write_bytes(path, buf.getvalue())
+        return path
+
+
+def _check_arrays(centroids: np.ndarray, fitness: np.ndarray, descriptors: np.ndarray, genotypes: np.ndarray,
+                  where: str = "archive") -> None:
+    if centroids.ndim != 2 or centroids.shape[1] != DESCRIPTOR_DIM or len(centroids) == 0:
+        raise ArchiveError(f"{where}: centroids must be (n, {DESCRIPTOR_DIM}) with n >= 1, got {centroids.shape}")
+    n = len(centroids)
+    for name, arr, shape in (("fitness", fitness, (n,)), ("descriptors", descriptors, (n, DESCRIPTOR_DIM)),
+                             ("genotypes", genotypes, (n, GENOTYPE_SIZE))):
+        if arr.shape != shape:
+            raise ArchiveError(f"{where}: {name} must have shape {shape} (one row per niche), got {arr.shape}")
+    if not np.all(np.isfinite(centroids)):
+        raise ArchiveError(f"{where}: centroids contain NaN or infinity")
+    filled = ~np.isnan(fitness)
+    if np.any(np.isinf(fitness)):
+        raise ArchiveError(f"{where}: fitness contains infinity")
+    for name, arr in (("descriptors", descriptors), ("genotypes", genotypes)):
+        rows = arr[filled]
+        if not np.all(np.isfinite(rows)):
+            bad = int(np.flatnonzero(filled)[np.flatnonzero(~np.all(np.isfinite(rows), axis=1))[0]])
+            raise ArchiveError(f"{where}: niche {bad} has a fitness but its {name} are not finite")
+        if rows.size and (rows.min() < 0.0 or rows.max() > 1.0):
+            raise ArchiveError(f"{where}: {name} of filled niches must lie in [0, 1], "
+                               f"found [{rows.min():.6g}, {rows.max():.6g}]")
+
+
+def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> None:
+    """Write ``data`` to ``path`` so that readers see the old file or the new one, never a part."""
+    path = Path(path)
+    directory = path.parent if str(path.parent) else Path(".")
+    directory.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+    with contextlib.suppress(OSError):   # directory fsync: not possible on every filesystem
+        dfd = os.open(directory, os.O_RDONLY)
+        try:
+            os.fsync(dfd)
+        finally:
+            os.close(dfd)
+
+
+def load_archive(path: str | os.PathLike) -> Archive:
+    """Read an archive; ArchiveError names the file and what is wrong with it."""
+    path = Path(path)
+    if not path.is_file():
+        raise ArchiveError(f"{path}: no such archive file")
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            missing = [k for k in (*_ARRAYS, "metadata") if k not in data.files]
+            if missing:
+                raise ArchiveError(f"{path}: not a hexapod archive (missing {', '.join(missing)})")
+            arrays = {k: np.array(data[k]) for k in _ARRAYS}
+            meta_text = str(data["metadata"])
+    except ArchiveError:
+        raise
+    except (zipfile.BadZipFile, EOFError, OSError, ValueError) as exc:
+        raise ArchiveError(f"{path}: truncated or corrupted archive file ({exc})") from exc
+    try:
+        meta = json.loads(meta_text)
+    except json.JSONDecodeError as exc:
+        raise ArchiveError(f"{path}: metadata is not valid JSON ({exc})") from exc
+    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
+        raise ArchiveError(f"{path}: not a hexapod archive (metadata format {meta.get('format') if isinstance(meta, dict) else meta!r})")
+    if meta.get("format_version") != FORMAT_VERSION:
+        raise ArchiveError(f"{path}: archive format version {meta.get('format_version')!r}; this tool reads "
+                           f"version {FORMAT_VERSION}")
+    _check_arrays(arrays["centroids"].astype(float), arrays["fitness"].astype(float),
+                  arrays["descriptors"].astype(float), arrays["genotypes"].astype(float), where=str(path))
+    if meta.get("centroid_hash") != centroid_hash(arrays["centroids"]):
+        raise ArchiveError(f"{path}: centroids do not match the centroid hash in the metadata (file altered?)")
+    return Archive(arrays["centroids"], arrays["fitness"], arrays["descriptors"], arrays["genotypes"], meta)
+
+
+def compatibility_problems(archive: Archive, expected: Mapping[str, Any]) -> list[str]:
+    """Metadata entries that differ from what the caller runs against, as readable sentences
+    (empty if compatible). Keys compared: any of ``expected``'s keys present in it."""
+    problems = []
+    for key, want in expected.items():
+        have = archive.metadata.get(key)
+        if have != want:
+            problems.append(f"{key} is {have!r} in the archive but {want!r} here")
+    return problems
+
+
+# -- thesis / pymap_elites text files -----------------------------------------------------------
+def load_centroids(path: str | os.PathLike) -> np.ndarray:
+    """A ``centroids_<n>_<dim>.dat`` file: one centroid per row, whitespace separated."""
+    path = Path(path)
+    try:
+        c = np.loadtxt(path, ndmin=2)
+    except (OSError, ValueError) as exc:
+        raise ArchiveError(f"{path}: cannot read centroids ({exc})") from exc
+    if c.shape[1] != DESCRIPTOR_DIM:
+        raise ArchiveError(f"{path}: centroids must have {DESCRIPTOR_DIM} columns, got {c.shape[1]}")
+    return c
+
+
+def save_centroids(path: str | os.PathLike, centroids: np.ndarray) -> None:
+    buf = io.StringIO()
+    np.savetxt(buf, centroids, fmt="%.17g")
+    atomic_write_bytes(path, buf.getvalue().encode())
+
+
+def import_thesis_map(path: str | os.PathLike, centroids: np.ndarray | None = None,
+                      metadata: Mapping[str, Any] | None = None) -> Archive:
+    """Read a thesis/pymap_elites map (``archive_<n>.dat``): rows of fitness, descriptor (6),
+    centroid (6), genotype (32). With ``centroids`` (e.g. from :func:`load_centroids`) rows are
+    placed in the niche whose centroid is nearest to the row's; without, the rows' centroids
+    are the niches. Fitness is taken as metres in 5 s, as the thesis code computed it."""
+    path = Path(path)
+    width = 1 + 2 * DESCRIPTOR_DIM + GENOTYPE_SIZE
+    try:
+        rows = np.loadtxt(path, ndmin=2)
+    except (OSError, ValueError) as exc:
+        raise ArchiveError(f"{path}: cannot read a thesis map ({exc})") from exc
+    if rows.size == 0:
+        raise ArchiveError(f"{path}: the map has no rows")
+    if rows.shape[1] != width:
+        raise ArchiveError(f"{path}: a thesis map row has {width} numbers (fitness, 6 descriptor, 6 centroid, "
+                           f"{GENOTYPE_SIZE} genes); found {rows.shape[1]}")
+    fit, desc = rows[:, 0], rows[:, 1:7]
+    cent, genes = rows[:, 7:13], rows[:, 13:]
+    meta = {"source": f"thesis map {path.name}", "evaluations": None, "seed": None}
+    meta.update(metadata or {})
+    if centroids is None:
+        return Archive(cent, fit, desc, genes, meta)
+    from scipy.spatial import cKDTree
+
+    archive = Archive.empty(centroids, meta)
+    dist, idx = cKDTree(archive.centroids).query(cent)
+    if np.max(dist) > 1e-6:
+        raise ArchiveError(f"{path}: row {int(np.argmax(dist))}'s centroid is {np.max(dist):.3g} from every "
+                           "centroid in the given CVT (a different centroids file?)")
+    if len(np.unique(idx)) != len(idx):
+        raise ArchiveError(f"{path}: two rows claim the same niche")
+    archive.fitness[idx], archive.descriptors[idx], archive.genotypes[idx] = fit, desc, genes
+    _check_arrays(archive.centroids, archive.fitness, archive.descriptors, archive.genotypes, where=str(path))
+    return archive
+
+
+def export_thesis_map(archive: Archive, path: str | os.PathLike) -> None:
+    """Write the filled niches in the thesis/pymap_elites text format (atomically)."""
+    idx = archive.elite_indices()
+    rows = np.hstack([archive.fitness[idx, None], archive.descriptors[idx], archive.centroids[idx],
+                      archive.genotypes[idx]])
+    buf = io.StringIO()
+    np.savetxt(buf, rows, fmt="%.17g")
+    atomic_write_bytes(path, buf.getvalue().encode())
