@@ -19,5 +19,5 @@ setup(
     maintainer_email="hexapod-dev@example.com",
     description="MAP-Elites map generation and map-based Bayesian optimisation (M-BOA) adaptation for the hexapod.",
     license="MIT",
-    entry_points={"console_scripts": []},
+    entry_points={"console_scripts": ["generate_map = hexapod_adapt.generate_cli:main"]},
 )

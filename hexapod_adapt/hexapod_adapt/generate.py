@@ -1,0 +1,154 @@
+"""Offline map generation: CVT + MAP-Elites + the PyBullet evaluation, on a local process pool,
+a Dask cluster or MPI (ROS-free API behind the ``generate_map`` command).
+
+Writes the archive atomically to ``out``; while running, a checkpoint ``<out>.ckpt.npz`` (the
+archive plus the candidates in flight) every ``checkpoint_every`` seconds, and one JSON line per
+``log_every`` seconds to the log file. ``resume=True`` continues from the checkpoint exactly:
+the map is a function of (seed, configuration) only, whatever the backend or worker count.
+"""
+from __future__ import annotations
+
+import concurrent.futures as cf
+import contextlib
+import os
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Callable, Iterator
+
+from hexapod_adapt.archive import Archive, ArchiveError
+from hexapod_adapt.cvt import cached_cvt, cvt_cache_path
+from hexapod_adapt.map_elites import (MapElitesConfig, Progress, load_checkpoint, reachable_random_genes,
+                                      run_map_elites, simulate_genotypes, simulation_fingerprint)
+
+BACKENDS = ("local", "dask", "mpi", "inline")
+
+
+@dataclass(frozen=True)
+class GenerateConfig:
+    out: Path
+    niches: int = 10000
+    evaluations: int = 1_000_000
+    seed: int = 0
+    backend: str = "local"
+    workers: int = 0                  # local: processes (0 = all cores); dask/mpi: for the figures
+    scheduler: str | None = None      # dask scheduler address (None: a local Dask cluster)
+    lag: int = 0                      # candidates in flight (0: 4 x workers, at least 64)
+    chunk: int = 1
+    random_init: float = 0.01
+    cvt_samples: int | None = None
+    cvt_dir: Path | None = None       # cache centroids_<n>_6.dat here (default: next to out)
+    checkpoint_every: float = 600.0
+    log_every: float = 30.0
+    log: Path | None = None           # default: <out>.log.jsonl
+    resume: bool = False
+
+    def __post_init__(self) -> None:
+        if self.backend not in BACKENDS:
+            raise ValueError(f"backend must be one of {', '.join(BACKENDS)}, got {self.backend!r}")
+        if self.niches < 2:
+            raise ValueError(f"niches must be >= 2, got {self.niches}")
+        if self.workers < 0:
+            raise ValueError(f"workers must be >= 0, got {self.workers}")
+
+    @property
+    def checkpoint_path(self) -> Path:
+        return Path(f"{self.out}.ckpt.npz")
+
+    @property
+    def log_path(self) -> Path:
+        return self.log or Path(f"{self.out}.log.jsonl")
+
+    def worker_count(self) -> int:
+        if self.workers:
+            return self.workers
+        if hasattr(os, "sched_getaffinity"):
+            return len(os.sched_getaffinity(0))
+        return os.cpu_count() or 1
+
+    def engine_config(self) -> MapElitesConfig:
+        lag = self.lag or max(64, 4 * self.worker_count())
+        return MapElitesConfig(evaluations=self.evaluations, seed=self.seed, lag=lag, random_init=self.random_init,
+                               chunk=self.chunk)
+
+
+@contextlib.contextmanager
+def open_executor(config: GenerateConfig) -> Iterator[tuple[cf.Executor | None, int]]:
+    """(executor, worker count) for the configured backend."""
+    if config.backend == "inline":
+        yield None, 1
+    elif config.backend == "local":
+        n = config.worker_count()
+        with cf.ProcessPoolExecutor(n) as pool:
+            yield pool, n
+    elif config.backend == "dask":
+        try:
+            from distributed import Client, LocalCluster
+        except ImportError as exc:  # pragma: no cover - dask is in requirements.txt
+            raise RuntimeError("the dask backend needs the 'distributed' package") from exc
+        if config.scheduler:
+            client = Client(config.scheduler)
+            cluster = None
+        else:
+            cluster = LocalCluster(n_workers=config.worker_count(), threads_per_worker=1, processes=True,
+                                   dashboard_address=None)
+            client = Client(cluster)
+        try:
+            n = len(client.scheduler_info()["workers"]) or config.worker_count()
+            yield client.get_executor(pure=False), n
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+    else:  # mpi: run as  mpiexec -n N python -m mpi4py.futures -m hexapod_adapt.generate_cli ...
+        try:
+            from mpi4py.futures import MPIPoolExecutor
+        except ImportError as exc:
+            raise RuntimeError("the mpi backend needs mpi4py and an MPI library (e.g. Debian's openmpi-bin "
+                               "libopenmpi-dev, then pip install mpi4py)") from exc
+        with MPIPoolExecutor() as pool:
+            n = config.workers or max(1, (pool.num_workers if hasattr(pool, "num_workers") else 1))
+            yield pool, n
+
+
+def generate_map(config: GenerateConfig, on_progress: Callable[[Progress], None] | None = None) -> Archive:
+    """Run (or resume) a map generation; returns the final archive (also written to config.out)."""
+    out = Path(config.out)
+    fingerprint = simulation_fingerprint()
+    engine = config.engine_config()
+    pending = None
+    if config.resume and config.checkpoint_path.is_file():
+        archive, pending = load_checkpoint(config.checkpoint_path)
+        saved = archive.metadata.get("map_elites", {})
+        if saved and saved != asdict(engine):
+            raise ArchiveError(f"{config.checkpoint_path}: written with MAP-Elites settings {saved}, not {asdict(engine)}: "
+                               "resume with the same --seed/--evaluations/--lag/--chunk/--random-init")
+        for key, want in fingerprint.items():
+            if archive.metadata.get(key) != want:
+                raise ArchiveError(f"{config.checkpoint_path}: {key} differs from this installation's; "
+                                   "cannot resume a map made with another simulator or URDF")
+    else:
+        # one CVT per study, as in the thesis: reused from centroids_<n>_6.dat when present
+        cvt_dir = Path(config.cvt_dir or out.parent)
+        cvt_file = cvt_cache_path(cvt_dir, config.niches)
+        reused = cvt_file.is_file()
+        centroids = cached_cvt(cvt_dir, config.niches, samples=config.cvt_samples, seed=config.seed)
+        cvt_info = {"file": cvt_file.name, "reused": reused}
+        if not reused:
+            cvt_info.update(samples=config.cvt_samples or 25 * config.niches, seed=config.seed)
+        archive = Archive.empty(centroids, {"seed": config.seed, "evaluations": 0, **fingerprint, "cvt": cvt_info})
+    log_path = config.log_path
+    log_path.parent.mkdir(parents=True, exist_ok=True)
+    with open(log_path, "a", encoding="utf-8") as log, open_executor(config) as (executor, workers):
+        def progress(p: Progress) -> None:
+            log.write(p.log_row() + "\n")
+            log.flush()
+            if on_progress:
+                on_progress(p)
+
+        archive = run_map_elites(archive, engine, simulate_genotypes, executor=executor, workers=workers,
+                                 checkpoint=config.checkpoint_path, checkpoint_every=config.checkpoint_every,
+                                 pending=pending, on_progress=progress, progress_every=config.log_every,
+                                 random_genes=reachable_random_genes)
+    archive.metadata.pop("created", None)
+    archive.save(out)
+    return archive

@@ -1,0 +1,78 @@
+"""``generate_map``: build a behaviour-performance map offline (thin front end of
+hexapod_adapt.generate).
+
+    ros2 run hexapod_adapt generate_map --out maps/map_s1.npz --niches 10000 \\
+        --evaluations 1000000 --seed 1                         # all local cores
+    generate_map ... --backend dask --scheduler tcp://head:8786  # a Dask cluster (dask-jobqueue)
+    mpiexec -n 64 python -m mpi4py.futures -m hexapod_adapt.generate_cli ... --backend mpi
+    generate_map ... --resume                                    # continue after a queue limit
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from hexapod_adapt.generate import BACKENDS, GenerateConfig, generate_map
+
+
+def build_parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(prog="generate_map", description=__doc__.split("\n\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--out", type=Path, required=True, help="archive file to write (.npz)")
+    ap.add_argument("--niches", type=int, default=10000, help="CVT niches (thesis: 40000)")
+    ap.add_argument("--evaluations", type=int, default=1_000_000, help="total evaluations (thesis: 4e7)")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--backend", choices=BACKENDS, default="local")
+    ap.add_argument("--workers", type=int, default=0, help="local worker processes (0 = every core)")
+    ap.add_argument("--scheduler", help="Dask scheduler address (default: a local Dask cluster)")
+    ap.add_argument("--lag", type=int, default=0,
+                    help="candidates in flight; part of the map's identity (0 = max(64, 4 x workers))")
+    ap.add_argument("--chunk", type=int, default=1, help="candidates per task (raise over a network)")
+    ap.add_argument("--random-init", type=float, default=0.01, help="fraction of niches filled at random first")
+    ap.add_argument("--cvt-samples", type=int, default=None, help="K-means samples (default 25 per niche)")
+    ap.add_argument("--cvt-dir", type=Path, default=None, help="where centroids_<n>_6.dat is cached (default: next to --out)")
+    ap.add_argument("--checkpoint-every", type=float, default=600.0, help="seconds between checkpoints")
+    ap.add_argument("--log-every", type=float, default=30.0, help="seconds between log lines")
+    ap.add_argument("--log", type=Path, default=None, help="JSON-lines progress log (default <out>.log.jsonl)")
+    ap.add_argument("--resume", action="store_true", help="continue from <out>.ckpt.npz if present")
+    ap.add_argument("--quiet", action="store_true")
+    return ap
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        config = GenerateConfig(out=args.out, niches=args.niches, evaluations=args.evaluations, seed=args.seed,
+                                backend=args.backend, workers=args.workers, scheduler=args.scheduler, lag=args.lag,
+                                chunk=args.chunk, random_init=args.random_init, cvt_samples=args.cvt_samples,
+                                cvt_dir=args.cvt_dir, checkpoint_every=args.checkpoint_every,
+                                log_every=args.log_every, log=args.log, resume=args.resume)
+        config.engine_config()
+    except ValueError as exc:
+        print(f"generate_map: {exc}", file=sys.stderr)
+        return 2
+
+    def show(p) -> None:
+        if not args.quiet:
+            print(f"{p.evaluations:>10d} evals  {p.filled:>6d} niches ({100 * p.coverage:5.1f} %)  "
+                  f"max {p.max:7.3f}  mean {p.mean:7.3f} m  {p.evals_per_s:7.1f} evals/s  "
+                  f"utilisation {100 * p.utilisation:5.1f} %", flush=True)
+
+    try:
+        archive = generate_map(config, on_progress=show)
+    except KeyboardInterrupt:
+        print(f"generate_map: interrupted; continue with --resume (checkpoint {config.checkpoint_path})",
+              file=sys.stderr)
+        return 130
+    except (ValueError, RuntimeError) as exc:
+        print(f"generate_map: {exc}", file=sys.stderr)
+        return 1
+    s = archive.stats()
+    print(f"wrote {config.out}: {s['filled']} of {archive.n_niches} niches, max {s['max']:.3f} m "
+          f"({s['max'] / archive.trial_duration:.3f} m/s), {archive.metadata['evaluations']} evaluations")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,56 @@
+"""generate_map: the command, its files, backends that agree, resume, refusals."""
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from hexapod_adapt.archive import load_archive
+from hexapod_adapt.generate import GenerateConfig, generate_map
+from hexapod_adapt.map_elites import simulation_fingerprint
+
+SMALL = dict(niches=30, evaluations=120, seed=4, lag=16, checkpoint_every=1.0, log_every=0.5)
+
+
+def _run_cli(*args):
+    return subprocess.run([sys.executable, "-m", "hexapod_adapt.generate_cli", *args], capture_output=True,
+                          text=True, timeout=300)
+
+
+@pytest.mark.slow
+def test_command_writes_archive_log_and_cvt_and_refuses_a_changed_resume(tmp_path):
+    out = tmp_path / "map.npz"
+    r = _run_cli("--out", str(out), "--niches", "30", "--evaluations", "120", "--seed", "4", "--lag", "16",
+                 "--workers", "2", "--log-every", "0.5", "--quiet")
+    assert r.returncode == 0, r.stderr
+    assert "wrote" in r.stdout and "of 30 niches" in r.stdout
+    a = load_archive(out)
+    assert a.metadata["evaluations"] == 120 and a.n_filled >= 1 and a.metadata["seed"] == 4
+    for key, value in simulation_fingerprint().items():
+        assert a.metadata[key] == value
+    assert (tmp_path / "centroids_30_6.dat").is_file()
+    rows = [json.loads(line) for line in (tmp_path / "map.npz.log.jsonl").read_text().splitlines()]
+    assert rows[-1]["evaluations"] == 120
+    for key in ("filled", "max", "mean", "median", "p5", "qd_score", "coverage", "evals_per_s", "utilisation"):
+        assert key in rows[-1]
+    bad = _run_cli("--out", str(out), "--niches", "30", "--evaluations", "120", "--seed", "5", "--lag", "16",
+                   "--resume")
+    assert bad.returncode == 1 and "resume with the same" in bad.stderr
+    assert load_archive(out).metadata["seed"] == 4          # the good map is untouched
+
+
+def test_bad_arguments_are_refused_with_reasons(tmp_path):
+    r = _run_cli("--out", str(tmp_path / "m.npz"), "--niches", "1")
+    assert r.returncode == 2 and "niches must be >= 2" in r.stderr
+    r = _run_cli("--out", str(tmp_path / "m.npz"), "--random-init", "2")
+    assert r.returncode == 2 and "random_init" in r.stderr
+    assert not (tmp_path / "m.npz").exists()
+
+
+@pytest.mark.slow
+def test_local_pool_and_dask_cluster_make_the_same_map(tmp_path):
+    local = generate_map(GenerateConfig(out=tmp_path / "a" / "map.npz", backend="local", workers=2, **SMALL))
+    dask = generate_map(GenerateConfig(out=tmp_path / "b" / "map.npz", backend="dask", workers=2, **SMALL))
+    np.testing.assert_array_equal(local.fitness, dask.fitness)
+    np.testing.assert_array_equal(local.genotypes, dask.genotypes)
