@@ -19,5 +19,6 @@ setup(
     maintainer_email="hexapod-dev@example.com",
     description="MAP-Elites map generation and map-based Bayesian optimisation (M-BOA) adaptation for the hexapod.",
     license="MIT",
-    entry_points={"console_scripts": ["generate_map = hexapod_adapt.generate_cli:main"]},
+    entry_points={"console_scripts": ["generate_map = hexapod_adapt.generate_cli:main",
+                                      "adapt_node = hexapod_adapt.adapt_node:main"]},
 )

@@ -119,6 +119,7 @@ class Archive:
         """Write atomically (temp file + fsync + rename); returns the path."""
         path = Path(path)
         meta = dict(self.metadata)
+        meta["niches"], meta["centroid_hash"] = self.n_niches, centroid_hash(self.centroids)
         meta.setdefault("created", _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
         meta.setdefault("tool_version", TOOL_VERSION)
         self.metadata = meta

@@ -1,0 +1,410 @@
+"""``ros2 run hexapod_adapt adapt_node``: Intelligent Trial & Error on the simulator or the robot.
+
+Loads an archive (``archive`` parameter; refused, with the reason, if its genotype mapping --
+and in ``sim`` mode its URDF and simulator fingerprint -- differ from this installation's) and
+runs M-BOA when its ``adapt`` service is called. Each trial publishes the gait on
+``gait/parameters`` and measures its speed along the walking direction:
+
+  mode ``sim``     through gait_node + sim_node: wait until sim_node plays the gait
+                   (``sim/active_trajectory`` carries the gait's stamp), call ``<sim>/reset``,
+                   then take ``odom`` at exactly reset + trial_duration of sim time;
+  mode ``robot``   through bridge_node: wait for "gait uploaded" on ``bridge/status``, call
+                   ``<bridge>/start_trial``, take the trial's ``odom`` message (IMU estimate);
+  mode ``manual``  the robot walks (uploaded by bridge_node) and the operator reports the
+                   tape-measured distance with ``~/report_distance``.
+
+Publishes ``adapt/trials`` (AdaptationTrial) per trial and records each run (trials, gaits,
+odometry) to an MCAP file in ``record_dir``. Services: ``adapt`` (hexapod_msgs/Adapt),
+``~/report_distance`` (hexapod_msgs/ReportDistance), ``~/cancel`` (std_srvs/Trigger).
+"""
+from __future__ import annotations
+
+import math
+import os
+import sys
+import threading
+import time
+from collections import deque
+from pathlib import Path
+
+import numpy as np
+import rclpy
+from diagnostic_msgs.msg import DiagnosticStatus
+from hexapod_msgs.msg import AdaptationTrial
+from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
+from hexapod_msgs.srv import Adapt, ReportDistance
+from nav_msgs.msg import Odometry
+from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
+from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from std_msgs.msg import Header
+from std_srvs.srv import Trigger
+
+from hexapod_adapt.adaptation import TrialAborted, adapt
+from hexapod_adapt.archive import Archive, ArchiveError, compatibility_problems, load_archive
+from hexapod_adapt.mboa import MboaConfig
+from hexapod_adapt.recording import McapRecorder
+from hexapod_gait import from_genotype
+from hexapod_gait.ros_conversions import gait_to_msg
+
+LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
+ODOM_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000, reliability=ReliabilityPolicy.RELIABLE)
+MODES = ("sim", "robot", "manual")
+
+
+def _ns(stamp) -> int:
+    return stamp.sec * 1_000_000_000 + stamp.nanosec
+
+
+def expected_metadata(mode: str) -> dict:
+    """What an archive must match to be used in ``mode`` (the gait mapping always; the
+    simulator too when trials run on the simulator)."""
+    from hexapod_adapt.map_elites import simulation_fingerprint
+
+    fp = simulation_fingerprint()
+    return fp if mode == "sim" else {"genotype_mapping": fp["genotype_mapping"]}
+
+
+class AdaptNode(Node):
+    def __init__(self) -> None:
+        super().__init__("adapt_node")
+        ro = {"read_only": True}
+        d = self.declare_parameter
+        d("archive", "", ParameterDescriptor(description="Archive file (.npz from generate_map); may be changed at "
+                                                         "run time, a file that fails to load is refused"))
+        d("mode", "sim", ParameterDescriptor(description="Trials on: sim | robot | manual", **ro))
+        d("max_trials", 20, ParameterDescriptor(description="Default maximum trials per run"))
+        d("trial_duration", 5.0, ParameterDescriptor(description="Default trial duration [s]"))
+        d("alpha", 0.9, ParameterDescriptor(description="Default stop ratio (0, 1]"))
+        d("kappa", 0.05, ParameterDescriptor(description="Default UCB weight on the posterior std"))
+        d("length_scale", 0.4, ParameterDescriptor(description="Default Matern length scale rho"))
+        d("noise", 0.001, ParameterDescriptor(description="Default observation noise variance [(m/s)^2]"))
+        d("record_dir", "adaptation_runs", ParameterDescriptor(description="MCAP files go here ('' = no recording)"))
+        d("sim_node", "sim_node", ParameterDescriptor(description="Name of the simulator node (mode sim)", **ro))
+        d("bridge_node", "bridge_node", ParameterDescriptor(description="Name of the bridge node (mode robot)", **ro))
+        d("trial_timeout", 120.0, ParameterDescriptor(description="Wall-clock limit for one trial [s]"))
+        self.mode = self.get_parameter("mode").value
+        if self.mode not in MODES:
+            self.get_logger().error(f"mode must be one of {', '.join(MODES)}, got {self.mode!r}; using 'sim'")
+            self.mode = "sim"
+        self.archive: Archive | None = None
+        self.archive_problem = "no archive loaded: set the 'archive' parameter"
+        self._load_archive(self.get_parameter("archive").value)
+        self.add_on_set_parameters_callback(self._on_set_parameters)
+
+        self.busy = threading.Lock()
+        self.cancel_requested = False
+        self.data_lock = threading.Lock()
+        self.odom: deque = deque(maxlen=20000)      # (stamp ns, x, y, twist x, twist y, received monotonic)
+        self.active_stamp = None
+        self.reset_stamp = None
+        self.bridge_status: deque = deque(maxlen=100)
+        self.reported: list[float] = []
+        self.recorder: McapRecorder | None = None
+
+        sensors = MutuallyExclusiveCallbackGroup()
+        work = ReentrantCallbackGroup()
+        self.gait_pub = self.create_publisher(GaitParametersMsg, "gait/parameters", LATCHED)
+        self.trial_pub = self.create_publisher(AdaptationTrial, "adapt/trials", 10)
+        self.create_subscription(Odometry, "odom", self._on_odom, ODOM_QOS, callback_group=sensors)
+        self.create_subscription(Header, "sim/active_trajectory", self._on_active, LATCHED, callback_group=sensors)
+        self.create_subscription(Header, "sim/last_reset", self._on_reset, LATCHED, callback_group=sensors)
+        self.create_subscription(DiagnosticStatus, "bridge/status", self._on_bridge_status, LATCHED,
+                                 callback_group=sensors)
+        sim_name = self.get_parameter("sim_node").value
+        bridge_name = self.get_parameter("bridge_node").value
+        self.reset_client = self.create_client(Trigger, f"{sim_name}/reset", callback_group=work)
+        self.start_client = self.create_client(Trigger, f"{bridge_name}/start_trial", callback_group=work)
+        self.create_service(Adapt, "adapt", self._on_adapt, callback_group=work)
+        self.create_service(ReportDistance, "~/report_distance", self._on_report, callback_group=work)
+        self.create_service(Trigger, "~/cancel", self._on_cancel, callback_group=work)
+        self.get_logger().info(f"adapt_node ready: mode {self.mode}; " +
+                               (f"archive {self.archive.n_filled} gaits" if self.archive else self.archive_problem))
+
+    # -- archive ----------------------------------------------------------------------------
+    def _try_load(self, path: str) -> tuple[Archive | None, str]:
+        if not path:
+            return None, "no archive loaded: set the 'archive' parameter"
+        try:
+            archive = load_archive(os.path.expanduser(path))
+        except ArchiveError as exc:
+            return None, str(exc)
+        problems = compatibility_problems(archive, expected_metadata(self.mode))
+        if problems:
+            return None, f"{path} does not fit this installation: " + "; ".join(problems)
+        if archive.n_filled == 0:
+            return None, f"{path} has no gaits"
+        return archive, ""
+
+    def _load_archive(self, path: str) -> None:
+        archive, problem = self._try_load(path)
+        if archive is None:
+            self.archive_problem = problem
+            if path:
+                self.get_logger().error(problem)
+        else:
+            self.archive, self.archive_problem = archive, ""
+            self.get_logger().info(f"archive {path}: {archive.n_filled} gaits in {archive.n_niches} niches")
+
+    def _on_set_parameters(self, params) -> SetParametersResult:
+        for param in params:
+            if param.name == "archive":
+                if self.busy.locked():
+                    return SetParametersResult(successful=False, reason="an adaptation is running")
+                archive, problem = self._try_load(param.value)
+                if archive is None:
+                    return SetParametersResult(successful=False, reason=problem)   # the old archive stays
+                self.archive, self.archive_problem = archive, ""
+            elif param.name in ("max_trials",) and param.value < 1:
+                return SetParametersResult(successful=False, reason="max_trials must be >= 1")
+            elif param.name in ("trial_duration", "length_scale", "noise", "trial_timeout") and param.value <= 0:
+                return SetParametersResult(successful=False, reason=f"{param.name} must be > 0")
+            elif param.name == "alpha" and not 0 < param.value <= 1:
+                return SetParametersResult(successful=False, reason="alpha must be in (0, 1]")
+            elif param.name == "kappa" and param.value < 0:
+                return SetParametersResult(successful=False, reason="kappa must be >= 0")
+        return SetParametersResult(successful=True)
+
+    # -- inputs -----------------------------------------------------------------------------
+    def _on_odom(self, msg: Odometry) -> None:
+        p, t = msg.pose.pose.position, msg.twist.twist.linear
+        with self.data_lock:
+            self.odom.append((_ns(msg.header.stamp), p.x, p.y, t.x, t.y, time.monotonic()))
+        if self.recorder is not None:
+            self._record("odom", msg)
+
+    def _on_active(self, msg: Header) -> None:
+        self.active_stamp = _ns(msg.stamp)
+
+    def _on_reset(self, msg: Header) -> None:
+        self.reset_stamp = _ns(msg.stamp)
+
+    def _on_bridge_status(self, msg: DiagnosticStatus) -> None:
+        self.bridge_status.append((time.monotonic(), msg))
+
+    def _on_report(self, request: ReportDistance.Request, response: ReportDistance.Response):
+        if not math.isfinite(request.distance) or abs(request.distance) > 50.0:
+            response.accepted, response.message = False, f"distance {request.distance!r} m is not a plausible trial distance"
+        elif self.mode != "manual" or not self.busy.locked():
+            response.accepted, response.message = False, "no manual trial is waiting for a distance"
+        else:
+            self.reported.append(float(request.distance))
+            response.accepted, response.message = True, f"{request.distance:.3f} m recorded"
+        return response
+
+    def _on_cancel(self, request, response):
+        running = self.busy.locked()
+        self.cancel_requested = running
+        response.success = running
+        response.message = "cancelling after the current trial" if running else "no adaptation is running"
+        return response
+
+    # -- helpers ----------------------------------------------------------------------------
+    def _record(self, topic: str, msg) -> None:
+        recorder = self.recorder
+        if recorder is not None:
+            try:
+                recorder.record(topic, msg)
+            except (OSError, RuntimeError) as exc:
+                self.get_logger().error(f"recording to {recorder.path} failed: {exc}; recording stopped")
+                self.recorder = None
+
+    def _wait(self, predicate, timeout: float, what: str):
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            if not rclpy.ok(context=self.context):
+                raise TrialAborted("shutting down")
+            value = predicate()
+            if value:
+                return value
+            time.sleep(0.005)
+        raise TrialAborted(f"timed out after {timeout:g} s waiting for {what}")
+
+    def _call(self, client, what: str, timeout: float = 10.0) -> Trigger.Response:
+        if not client.wait_for_service(timeout_sec=timeout):
+            raise TrialAborted(f"service {client.srv_name} is not available ({what})")
+        future = client.call_async(Trigger.Request())
+        self._wait(future.done, timeout, f"{client.srv_name} to answer")
+        return future.result()
+
+    # -- trials -----------------------------------------------------------------------------
+    def _publish_gait(self, niche: int) -> GaitParametersMsg:
+        gait = from_genotype(self.archive.genotypes[niche]).replace(archive_index=int(niche))
+        msg = gait_to_msg(gait)
+        stamp = time.time_ns()                  # unique: sim_node echoes it when it plays the gait
+        msg.header.stamp.sec, msg.header.stamp.nanosec = stamp // 1_000_000_000, stamp % 1_000_000_000
+        self.gait_pub.publish(msg)
+        self._record("gait/parameters", msg)
+        return msg
+
+    def _sim_trial(self, niche: int, duration: float, timeout: float) -> float:
+        for attempt in range(3):
+            msg = self._publish_gait(niche)
+            stamp = _ns(msg.header.stamp)
+            self._wait(lambda: self.active_stamp == stamp, timeout,
+                       "sim_node to play the gait (are gait_node and sim_node running?)")
+            before = self.reset_stamp or -1
+            answer = self._call(self.reset_client, "reset the simulation")
+            if not answer.success:
+                raise TrialAborted(f"sim_node refused the reset: {answer.message}")
+            t0 = self._wait(lambda: self.reset_stamp if (self.reset_stamp or -1) > before else None, timeout,
+                            "the reset to take effect")
+            end = t0 + int(round(duration * 1e9))
+            self._wait(lambda: self.odom and self.odom[-1][0] >= end, timeout,
+                       f"{duration:g} s of simulated odometry")
+            with self.data_lock:
+                samples = list(self.odom)
+            start = [s for s in samples if s[0] == t0]
+            finish = [s for s in samples if abs(s[0] - end) < 1000]
+            if start and finish:
+                crab = from_genotype(self.archive.genotypes[niche]).crab_angle
+                dx, dy = finish[-1][1] - start[-1][1], finish[-1][2] - start[-1][2]
+                return (dx * math.cos(crab) + dy * math.sin(crab)) / duration
+            self.get_logger().warning(f"odometry sample lost in transport; repeating the trial (attempt {attempt + 2})")
+        raise TrialAborted("odometry samples kept getting lost (is sim_node's publish_period_steps a divisor "
+                           "of the trial length in steps?)")
+
+    def _robot_trial(self, niche: int, duration: float, timeout: float) -> float:
+        sent = time.monotonic()
+        self._publish_gait(niche)
+
+        def upload_outcome():
+            for t, status in list(self.bridge_status):
+                if t < sent:
+                    continue
+                if status.level == DiagnosticStatus.OK and f"archive index {niche})" in status.message:
+                    return "ok"
+                if "not uploaded" in status.message or "upload failed" in status.message:
+                    return status.message
+            return None
+
+        outcome = self._wait(upload_outcome, timeout, "bridge_node to upload the gait")
+        if outcome != "ok":
+            raise TrialAborted(outcome)
+        if self.mode == "manual":
+            self.reported.clear()
+            self.get_logger().warning(f"trial with archive gait {niche}: start the robot, then report the distance "
+                                      "walked with ~/report_distance")
+            distance = self._wait(lambda: self.reported[-1] if self.reported else None, max(timeout, 600.0),
+                                  "the operator's distance (~/report_distance)")
+            return float(distance) / duration
+        with self.data_lock:
+            seen = len(self.odom)
+        answer = self._call(self.start_client, "start the trial")
+        if not answer.success:
+            raise TrialAborted(f"bridge_node did not start the trial: {answer.message}")
+        started = time.monotonic()
+        sample = self._wait(lambda: next((s for s in list(self.odom)[seen:] if s[5] > started), None),
+                            duration + timeout, "the trial's odometry from bridge_node")
+        crab = from_genotype(self.archive.genotypes[niche]).crab_angle
+        return sample[3] * math.cos(crab) + sample[4] * math.sin(crab)
+
+    # -- the service --------------------------------------------------------------------------
+    def _request_config(self, request: Adapt.Request) -> tuple[MboaConfig, float]:
+        def pick(value, name):
+            return value if value else self.get_parameter(name).value
+
+        duration = float(pick(request.trial_duration, "trial_duration"))
+        if not (math.isfinite(duration) and 0 < duration <= 120):
+            raise ValueError(f"trial_duration must be in (0, 120] s, got {duration!r}")
+        config = MboaConfig(max_trials=int(pick(request.max_trials, "max_trials")),
+                            alpha=float(pick(request.alpha, "alpha")), kappa=float(pick(request.kappa, "kappa")),
+                            length_scale=float(pick(request.length_scale, "length_scale")),
+                            noise=float(pick(request.noise, "noise")))
+        return config, duration
+
+    def _on_adapt(self, request: Adapt.Request, response: Adapt.Response):
+        response.best_archive_index = -1
+        if self.archive is None:
+            response.success, response.message = False, self.archive_problem
+            return response
+        try:
+            config, duration = self._request_config(request)
+        except ValueError as exc:
+            response.success, response.message = False, f"bad request: {exc}"
+            return response
+        if not self.busy.acquire(blocking=False):
+            response.success, response.message = False, "an adaptation is already running"
+            return response
+        try:
+            return self._run(config, duration, response)
+        finally:
+            self.cancel_requested = False
+            self.busy.release()
+
+    def _run(self, config: MboaConfig, duration: float, response: Adapt.Response) -> Adapt.Response:
+        archive = self.archive
+        record_dir = self.get_parameter("record_dir").value
+        timeout = float(self.get_parameter("trial_timeout").value)
+        if record_dir:
+            path = Path(record_dir).expanduser() / time.strftime("adapt_%Y%m%d_%H%M%S.mcap")
+            try:
+                self.recorder = McapRecorder(path)
+                response.mcap_path = str(path.resolve())
+            except OSError as exc:
+                self.get_logger().error(f"cannot record to {path}: {exc}; running without a recording")
+        trial_fn = self._sim_trial if self.mode == "sim" else self._robot_trial
+        self.get_logger().info(f"adaptation started: {archive.n_filled} gaits, at most {config.max_trials} trials "
+                               f"of {duration:g} s, alpha {config.alpha:g}, kappa {config.kappa:g}")
+
+        def on_trial(trial, niche, opt) -> None:
+            best = opt.best()
+            best_niche = self._niches[best.index]
+            msg = AdaptationTrial()
+            msg.header.stamp = self.get_clock().now().to_msg()
+            msg.trial, msg.archive_index = trial.number, int(niche)
+            msg.map_speed, msg.predicted_speed, msg.predicted_speed_std = trial.predicted, trial.gp_mean, trial.gp_std
+            msg.measured_speed, msg.best_speed, msg.best_archive_index = trial.measured, best.measured, int(best_niche)
+            msg.descriptor = [float(x) for x in archive.descriptors[niche]]
+            msg.gait = gait_to_msg(from_genotype(archive.genotypes[niche]).replace(archive_index=int(niche)))
+            self.trial_pub.publish(msg)
+            self._record("adapt/trials", msg)
+            self.get_logger().info(f"trial {trial.number}: gait {niche} walked {trial.measured:.3f} m/s "
+                                   f"(map {trial.predicted:.3f}, GP {trial.gp_mean:.3f} +/- {trial.gp_std:.3f})")
+
+        self._niches = archive.elite_indices()
+        try:
+            result = adapt(archive, lambda niche: trial_fn(niche, duration, timeout), config, on_trial,
+                           should_cancel=lambda: self.cancel_requested)
+        finally:
+            recorder, self.recorder = self.recorder, None
+            if recorder is not None:
+                recorder.close()
+        response.success, response.message = result.success, result.message
+        response.trials = len(result.trials)
+        response.elapsed = result.elapsed
+        if result.best_niche >= 0:
+            response.best_archive_index = result.best_niche
+            response.best_speed = result.best_speed
+            response.best_gait = gait_to_msg(from_genotype(archive.genotypes[result.best_niche])
+                                             .replace(archive_index=result.best_niche))
+            self.gait_pub.publish(response.best_gait)     # leave the robot on the best gait found
+        self.get_logger().info(f"adaptation finished: {result.message}; {len(result.trials)} trials, best gait "
+                               f"{result.best_niche} at {result.best_speed:.3f} m/s")
+        return response
+
+
+def main(args: list[str] | None = None) -> int:
+    rclpy.init(args=args)
+    node = None
+    try:
+        node = AdaptNode()
+        executor = MultiThreadedExecutor(num_threads=4)
+        executor.add_node(node)
+        executor.spin()
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        if node is not None:
+            recorder = node.recorder
+            if recorder is not None:
+                recorder.close()      # Ctrl-C / SIGTERM mid-run: finish the MCAP file
+            node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

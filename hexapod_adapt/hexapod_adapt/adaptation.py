@@ -1,0 +1,95 @@
+"""An adaptation run: M-BOA over an archive's elites with a trial function (ROS-free).
+
+``adapt(archive, trial, config)`` asks ``trial(niche)`` for the measured speed [m/s] of the
+elite in ``niche`` until M-BOA's stopping rule holds. The trial function is where the world
+comes in: the simulator with damage (:func:`simulated_trial`, the thesis's experiment 5.2),
+or, in ``adapt_node``, a trial through the ROS graph on the simulator or the robot.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+
+from hexapod_adapt.archive import Archive
+from hexapod_adapt.mboa import Mboa, MboaConfig, Trial
+
+
+@dataclass
+class AdaptationResult:
+    success: bool                 # the stopping criterion (alpha) was met
+    message: str
+    trials: list[Trial] = field(default_factory=list)
+    niches: list[int] = field(default_factory=list)      # archive niche of each trial
+    best_niche: int = -1
+    best_speed: float = float("nan")
+    elapsed: float = 0.0
+
+
+class TrialAborted(RuntimeError):
+    """A trial could not be completed (timeout, lost robot link, cancelled); the run stops and
+    reports what it has."""
+
+
+def candidates(archive: Archive) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(niches, descriptors, prior speeds) of the archive's elites."""
+    niches = archive.elite_indices()
+    if len(niches) == 0:
+        raise ValueError("the archive has no elites to try")
+    return niches, archive.descriptors[niches], archive.speeds()[niches]
+
+
+def adapt(archive: Archive, trial: Callable[[int], float], config: MboaConfig | None = None,
+          on_trial: Callable[[Trial, int, Mboa], None] | None = None,
+          should_cancel: Callable[[], bool] | None = None) -> AdaptationResult:
+    """Run M-BOA until it stops (never more than ``config.max_trials`` trials)."""
+    config = config or MboaConfig()
+    niches, descriptors, prior = candidates(archive)
+    opt = Mboa(descriptors, prior, config)
+    t0 = time.monotonic()
+    result = AdaptationResult(False, "")
+    while True:
+        stop, why = opt.should_stop()
+        if stop:
+            result.success = why.startswith("best measured")
+            result.message = why
+            break
+        if should_cancel and should_cancel():
+            result.message = "cancelled"
+            break
+        index = opt.next_index()
+        niche = int(niches[index])
+        try:
+            measured = float(trial(niche))
+        except TrialAborted as exc:
+            result.message = f"trial {len(opt.trials) + 1} aborted: {exc}"
+            break
+        t = opt.observe(index, measured)
+        result.niches.append(niche)
+        if on_trial:
+            on_trial(t, niche, opt)
+    result.trials = list(opt.trials)
+    best = opt.best()
+    if best is not None:
+        result.best_niche = int(niches[best.index])
+        result.best_speed = best.measured
+    result.elapsed = time.monotonic() - t0
+    return result
+
+
+def simulated_trial(archive: Archive, failed_legs: Sequence[int], sim=None,
+                    duration: float | None = None) -> Callable[[int], float]:
+    """Trial function on the PyBullet simulator with ``failed_legs``; collisions are not fatal
+    (thesis 5.2.2: the robot cannot detect them)."""
+    from hexapod_sim import HexapodSimulator, evaluate_gait
+
+    sim = sim or HexapodSimulator()
+    duration = duration or archive.trial_duration
+
+    def trial(niche: int) -> float:
+        return evaluate_gait(archive.genotypes[niche], sim, duration=duration, collisions_fatal=False,
+                             failed_legs=failed_legs).speed
+
+    return trial

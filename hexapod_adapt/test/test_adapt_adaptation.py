@@ -1,0 +1,69 @@
+"""An adaptation run over an archive: stopping, aborted trials, cancellation, simulated trials."""
+import numpy as np
+import pytest
+
+from hexapod_adapt.adaptation import TrialAborted, adapt, simulated_trial
+from hexapod_adapt.archive import Archive
+from hexapod_adapt.mboa import MboaConfig
+
+
+def _archive(n=400, seed=0):
+    rng = np.random.default_rng(seed)
+    a = Archive.empty(rng.random((n, 6)))
+    a.fitness[:] = rng.uniform(0.5, 2.0, n)          # metres in 5 s -> 0.1 .. 0.4 m/s
+    a.descriptors[:] = a.centroids
+    a.genotypes[:] = rng.random((n, 32))
+    return a
+
+
+def test_finds_a_gait_that_works_despite_the_damage():
+    a = _archive()
+
+    def reality(niche):   # "leg 1 broken": gaits that lean on leg 1 (high duty factor) lose 80 %
+        return a.speeds()[niche] * (0.2 if a.descriptors[niche, 0] > 0.3 else 1.0)
+
+    result = adapt(a, reality, MboaConfig(max_trials=20))
+    assert result.success and 1 <= len(result.trials) <= 20 and "alpha" in result.message
+    assert a.descriptors[result.best_niche, 0] <= 0.3
+    assert result.best_speed == max(t.measured for t in result.trials)
+
+
+def test_never_more_than_max_trials_and_aborts_keep_what_was_measured():
+    a = _archive(seed=1)
+    result = adapt(a, lambda niche: 0.0, MboaConfig(max_trials=3))
+    assert not result.success and len(result.trials) == 3 and "maximum of 3" in result.message
+    calls = []
+
+    def dies_on_third(niche):
+        calls.append(niche)
+        if len(calls) == 3:
+            raise TrialAborted("robot link lost")
+        return 0.01
+
+    result = adapt(a, dies_on_third, MboaConfig(max_trials=10))
+    assert len(result.trials) == 2 and "trial 3 aborted: robot link lost" in result.message
+    assert result.best_niche == result.niches[0]
+    stop_after = adapt(a, lambda n: 0.0, MboaConfig(max_trials=10), should_cancel=lambda: True)
+    assert stop_after.message == "cancelled" and not stop_after.trials
+
+
+def test_an_empty_archive_is_refused():
+    a = Archive.empty(np.random.default_rng(0).random((5, 6)))
+    with pytest.raises(ValueError, match="no elites"):
+        adapt(a, lambda n: 0.0)
+
+
+@pytest.mark.slow
+def test_simulated_trial_is_the_damaged_evaluation():
+    from hexapod_gait import preset
+    from hexapod_gait.parameters import to_genotype
+    from hexapod_sim import HexapodSimulator, evaluate_gait
+
+    genes = to_genotype(preset("control"))
+    a = Archive.empty(np.full((1, 6), 0.5))
+    a.fitness[0], a.descriptors[0], a.genotypes[0] = 1.0, 0.5, genes
+    with HexapodSimulator() as sim:
+        trial = simulated_trial(a, failed_legs=[1], sim=sim)
+        expected = evaluate_gait(genes, sim, collisions_fatal=False, failed_legs=[1]).speed
+        assert trial(0) == expected
+        assert trial(0) < 0.2      # the intact control gait walks 0.29 m/s; one failed leg costs it

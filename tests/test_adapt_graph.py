@@ -1,0 +1,91 @@
+"""adapt_node + gait_node + sim_node in separate processes (fast mode): an adaptation run through
+the ROS graph measures the library's damaged-robot speeds, publishes its trials, records an MCAP
+file that reads back, and refuses bad requests and bad archives while keeping the good one."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hexapod_msgs.msg import AdaptationTrial
+from hexapod_msgs.srv import Adapt
+from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
+from rcl_interfaces.srv import SetParameters
+
+from conftest import wait_for
+from hexapod_adapt.archive import Archive
+from hexapod_adapt.map_elites import simulation_fingerprint
+from hexapod_adapt.recording import read_messages
+from hexapod_sim import HexapodSimulator, evaluate_gait
+from hexapod_sim.sampling import random_feasible_genotypes
+
+pytestmark = pytest.mark.ros
+FAILED = [2]
+
+
+@pytest.fixture(scope="module")
+def small_archive(tmp_path_factory):
+    """12 feasible gaits, each its own niche, with their map-generation evaluations."""
+    with HexapodSimulator() as sim:
+        genes, results = random_feasible_genotypes(12, seed=77, sim=sim)
+        damaged = [evaluate_gait(g, sim, collisions_fatal=False, failed_legs=FAILED).speed for g in genes]
+    desc = np.array([r.descriptor for r in results])
+    archive = Archive(desc, np.array([r.fitness for r in results]), desc, genes,
+                      {"seed": 77, "evaluations": 12, **simulation_fingerprint()})
+    path = archive.save(tmp_path_factory.mktemp("archive") / "map.npz")
+    return path, archive, np.array(damaged)
+
+
+def _set_archive(ros, value: str):
+    req = SetParameters.Request(parameters=[Parameter(
+        name="archive", value=ParameterValue(type=ParameterType.PARAMETER_STRING, string_value=value))])
+    return ros.call(SetParameters, "adapt_node/set_parameters", req).results[0]
+
+
+def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive):
+    path, archive, damaged_speeds = small_archive
+    sim = launch("hexapod_sim", "sim_node", params={"real_time_factor": 0.0, "publish_period_steps": 24,
+                                                    "failed_legs": FAILED})
+    gait = launch("hexapod_gait", "gait_node", params={"initial_preset": ""})
+    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "record_dir": str(tmp_path / "runs")})
+    trials = ros.collect(AdaptationTrial, "adapt/trials", 10)
+
+    refused = ros.call(Adapt, "adapt", Adapt.Request(alpha=1.5), timeout=60)
+    assert not refused.success and "alpha" in refused.message and refused.trials == 0
+
+    response = ros.call(Adapt, "adapt", Adapt.Request(max_trials=4, alpha=1.0), timeout=300)
+    assert 1 <= response.trials <= 4, response.message
+    wait_for(lambda: len(trials) == response.trials, 10, "one AdaptationTrial per trial")
+    niches = archive.elite_indices()
+    for t in trials:
+        expected = damaged_speeds[list(niches).index(t.archive_index)]
+        assert abs(t.measured_speed - expected) <= 0.02 * abs(expected) + 1e-9, (t.archive_index, t.measured_speed, expected)
+        assert t.map_speed == pytest.approx(archive.speeds()[t.archive_index])
+    best = max(trials, key=lambda t: t.measured_speed)
+    assert response.best_archive_index == best.archive_index and response.best_speed == best.measured_speed
+    assert [t.trial for t in trials] == list(range(1, response.trials + 1))
+
+    recorded = list(read_messages(response.mcap_path))
+    topics = [topic for topic, _, _ in recorded]
+    assert topics.count("adapt/trials") == response.trials and topics.count("gait/parameters") >= response.trials
+    assert "odom" in topics
+    assert [m.measured_speed for topic, m, _ in recorded if topic == "adapt/trials"] == [t.measured_speed for t in trials]
+
+    # a truncated archive is refused with the reason; the loaded one stays in use
+    broken = tmp_path / "broken.npz"
+    broken.write_bytes(path.read_bytes()[:1000])
+    result = _set_archive(ros, str(broken))
+    assert not result.successful and "truncated" in result.reason
+    again = ros.call(Adapt, "adapt", Adapt.Request(max_trials=1), timeout=120)
+    assert again.trials == 1
+    assert node.alive() and sim.alive() and gait.alive()
+
+
+def test_archive_for_another_simulator_is_refused(ros, launch, tmp_path, small_archive):
+    path, archive, _ = small_archive
+    foreign = Archive(archive.centroids, archive.fitness, archive.descriptors, archive.genotypes,
+                      {**archive.metadata, "urdf_sha256": "0" * 64})
+    foreign_path = foreign.save(tmp_path / "foreign.npz")
+    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(foreign_path), "record_dir": ""})
+    answer = ros.call(Adapt, "adapt", Adapt.Request(max_trials=1), timeout=60)
+    assert not answer.success and "urdf_sha256" in answer.message and "does not fit" in answer.message
+    assert _set_archive(ros, str(path)).successful
+    assert node.alive()
