@@ -12,6 +12,7 @@ setup(
         ("share/ament_index/resource_index/packages", [f"resource/{package_name}"]),
         (f"share/{package_name}", ["package.xml"]),
         (f"share/{package_name}/launch", glob("launch/*.py")),
+        (f"share/{package_name}/maps", glob("maps/*.npz")),
     ],
     install_requires=["setuptools"],
     zip_safe=True,
@@ -20,5 +21,6 @@ setup(
     description="MAP-Elites map generation and map-based Bayesian optimisation (M-BOA) adaptation for the hexapod.",
     license="MIT",
     entry_points={"console_scripts": ["generate_map = hexapod_adapt.generate_cli:main",
-                                      "adapt_node = hexapod_adapt.adapt_node:main"]},
+                                      "adapt_node = hexapod_adapt.adapt_node:main",
+                                      "adapt_client = hexapod_adapt.adapt_client:main"]},
 )

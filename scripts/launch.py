@@ -4,8 +4,10 @@ environment, which has no `ros2 launch`. Each node's output is prefixed with its
 stops them all.
 
     python scripts/launch.py sim [--rtf 0] [--failed-legs 1 4] [--preset wave]
-    python scripts/launch.py emulated-robot          # robot_emulator (PyBullet) + bridge_node
-    python scripts/launch.py robot --port /dev/ttyUSB0 [--imu-port /dev/ttyUSB1]
+    python scripts/launch.py adapt-sim --archive MAP [--failed-legs 1]   # + adapt_node, fast mode
+    python scripts/launch.py emulated-robot [--archive MAP]   # robot_emulator (PyBullet) + bridge_node
+    python scripts/launch.py robot --port /dev/ttyUSB0 [--imu-port /dev/ttyUSB1] [--archive MAP [--manual]]
+With --archive the robot profiles also start adapt_node (mode robot, or manual with --manual).
 """
 from __future__ import annotations
 
@@ -44,7 +46,9 @@ def pump(name: str, stream) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description="Start the hexapod node graph (no `ros2 launch` needed).")
-    parser.add_argument("profile", choices=["sim", "emulated-robot", "robot"])
+    parser.add_argument("profile", choices=["sim", "adapt-sim", "emulated-robot", "robot"])
+    parser.add_argument("--archive", default="", help="archive for adapt_node (adapt-sim, robot profiles)")
+    parser.add_argument("--manual", action="store_true", help="adapt_node takes tape-measured distances")
     parser.add_argument("--rtf", type=float, default=1.0, help="sim real_time_factor (0 = as fast as possible)")
     parser.add_argument("--preset", default="tripod", help="gait_node initial preset")
     parser.add_argument("--failed-legs", type=int, nargs="*", default=[])
@@ -53,7 +57,11 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
 
     commands: list[tuple[str, list[str]]] = []
-    if args.profile == "sim":
+    if args.profile == "adapt-sim":
+        if not args.archive:
+            parser.error("adapt-sim needs --archive (a map written by generate_map)")
+        args.rtf, args.preset = 0.0, ""
+    if args.profile in ("sim", "adapt-sim"):
         sim_params = {"real_time_factor": args.rtf}
         if args.rtf == 0:
             sim_params["publish_period_steps"] = 24    # 10 Hz of sim time: consumers keep up at ~18x
@@ -69,6 +77,10 @@ def main(argv: list[str] | None = None) -> int:
     else:
         commands = [("bridge_node", [exe("hexapod_bridge", "bridge_node")] +
                      ros_args({"port": args.port, "imu_port": args.imu_port}))]
+    if args.archive:
+        mode = "sim" if args.profile in ("sim", "adapt-sim") else ("manual" if args.manual else "robot")
+        commands.append(("adapt_node", [exe("hexapod_adapt", "adapt_node")] +
+                         ros_args({"archive": str(Path(args.archive).resolve()), "mode": mode})))
 
     env = dict(os.environ, PYTHONUNBUFFERED="1")
     procs = []

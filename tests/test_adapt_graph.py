@@ -89,3 +89,99 @@ def test_archive_for_another_simulator_is_refused(ros, launch, tmp_path, small_a
     assert not answer.success and "urdf_sha256" in answer.message and "does not fit" in answer.message
     assert _set_archive(ros, str(path)).successful
     assert node.alive()
+
+
+def _preset_archive(tmp_path):
+    from hexapod_gait import preset
+    from hexapod_gait.parameters import to_genotype
+
+    with HexapodSimulator() as sim:
+        genes = np.array([to_genotype(preset(name)) for name in ("tripod", "wave", "quadruped")])
+        results = [evaluate_gait(g, sim) for g in genes]
+    desc = np.array([r.descriptor for r in results])
+    return Archive(desc, np.array([r.fitness for r in results]), desc, genes,
+                   {"seed": 0, "evaluations": 3, **simulation_fingerprint()}).save(tmp_path / "presets.npz")
+
+
+def _emulated_robot(launch, tmp_path, *extra):
+    import os
+
+    radio, imu = str(tmp_path / "radio"), str(tmp_path / "imu")
+    emu = launch("hexapod_bridge", "robot_emulator", args=["--radio-link", radio, "--imu-link", imu, *extra])
+    wait_for(lambda: os.path.exists(radio) and os.path.exists(imu), 60, "emulator ports")
+    return emu, radio, imu
+
+
+@pytest.mark.slow
+def test_adaptation_on_the_emulated_robot_uses_the_bridge_odometry(ros, launch, tmp_path, small_archive):
+    import json
+
+    from std_srvs.srv import SetBool
+
+    from hexapod_bridge.bridge_node import SPEED_ACCURACY
+
+    # the preset gaits: the IMU estimate's stated accuracy was measured on such calm gaits (a random
+    # map gait can walk very differently on the emulated firmware; see docs/adaptation.md)
+    path = _preset_archive(tmp_path)
+    emu, radio, imu = _emulated_robot(launch, tmp_path, "--sim", "--imu-noise", "--seed", "3")
+    bridge = launch("hexapod_bridge", "bridge_node", params={"port": radio, "imu_port": imu})
+    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "mode": "robot", "record_dir": ""})
+    trials = ros.collect(AdaptationTrial, "adapt/trials", 10)
+    assert ros.call(SetBool, "bridge_node/arm", SetBool.Request(data=True)).success
+    response = ros.call(Adapt, "adapt", Adapt.Request(max_trials=2, alpha=1.0), timeout=120)
+    assert response.trials == 2, response.message
+    wait_for(lambda: len(trials) == 2 and emu.log().count("TRIAL ") >= 2, 20, "both trials reported")
+    truths = [json.loads(line.split("TRIAL ", 1)[1]) for line in emu.log().splitlines() if "TRIAL " in line]
+    for t, truth in zip(trials, truths):
+        assert truth["state"] == "done"
+        assert abs(t.measured_speed - truth["speed"]) <= SPEED_ACCURACY, (t.measured_speed, truth["speed"])
+    assert node.alive() and bridge.alive() and emu.alive()
+
+
+def test_manual_mode_takes_the_operators_distance(ros, launch, tmp_path, small_archive):
+    from hexapod_msgs.srv import ReportDistance
+    from std_srvs.srv import SetBool
+
+    path, archive, _ = small_archive
+    _emu, radio, _imu = _emulated_robot(launch, tmp_path)
+    launch("hexapod_bridge", "bridge_node", params={"port": radio})
+    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "mode": "manual", "record_dir": ""})
+    trials = ros.collect(AdaptationTrial, "adapt/trials", 10)
+    early = ros.call(ReportDistance, "adapt_node/report_distance", ReportDistance.Request(distance=1.0))
+    assert not early.accepted and "no manual trial" in early.message
+    assert ros.call(SetBool, "bridge_node/arm", SetBool.Request(data=True)).success
+    client = ros.node.create_client(Adapt, "adapt")
+    assert client.wait_for_service(timeout_sec=20)
+    future = client.call_async(Adapt.Request(max_trials=1))
+    wait_for(lambda: "report the distance" in node.log(), 30, "adapt_node asking for the distance")
+    silly = ros.call(ReportDistance, "adapt_node/report_distance", ReportDistance.Request(distance=float("nan")))
+    assert not silly.accepted and "not a plausible" in silly.message
+    assert ros.call(ReportDistance, "adapt_node/report_distance", ReportDistance.Request(distance=0.62)).accepted
+    wait_for(future.done, 30, "the adaptation to finish")
+    assert future.result().trials == 1
+    wait_for(lambda: trials, 10, "the trial message")
+    assert trials[0].measured_speed == pytest.approx(0.62 / 5.0)
+
+
+def test_second_request_refused_and_ctrl_c_mid_run_finishes_the_recording(ros, launch, tmp_path, small_archive):
+    from mcap.reader import make_reader
+    from std_srvs.srv import SetBool
+
+    path, _archive, _ = small_archive
+    _emu, radio, _imu = _emulated_robot(launch, tmp_path)
+    launch("hexapod_bridge", "bridge_node", params={"port": radio})
+    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "mode": "manual",
+                                                         "record_dir": str(tmp_path / "runs")})
+    assert ros.call(SetBool, "bridge_node/arm", SetBool.Request(data=True)).success
+    client = ros.node.create_client(Adapt, "adapt")
+    assert client.wait_for_service(timeout_sec=20)
+    client.call_async(Adapt.Request(max_trials=3))
+    wait_for(lambda: "report the distance" in node.log(), 30, "a trial waiting for the operator")
+    busy = ros.call(Adapt, "adapt", Adapt.Request(max_trials=1))
+    assert not busy.success and "already running" in busy.message
+    assert node.stop() == 0
+    files = list((tmp_path / "runs").glob("*.mcap"))
+    assert len(files) == 1
+    with open(files[0], "rb") as f:
+        assert make_reader(f).get_summary() is not None      # finished cleanly: index and footer
+    assert [t for t, _, _ in read_messages(files[0])] == ["gait/parameters"]

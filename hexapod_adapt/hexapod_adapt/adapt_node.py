@@ -85,6 +85,8 @@ class AdaptNode(Node):
         d("sim_node", "sim_node", ParameterDescriptor(description="Name of the simulator node (mode sim)", **ro))
         d("bridge_node", "bridge_node", ParameterDescriptor(description="Name of the bridge node (mode robot)", **ro))
         d("trial_timeout", 120.0, ParameterDescriptor(description="Wall-clock limit for one trial [s]"))
+        d("stand_still", 1.0, ParameterDescriptor(description="Robot modes: seconds the robot stands still before "
+                                                              "each trial (clean zero-velocity IMU window) [s]"))
         self.mode = self.get_parameter("mode").value
         if self.mode not in MODES:
             self.get_logger().error(f"mode must be one of {', '.join(MODES)}, got {self.mode!r}; using 'sim'")
@@ -290,6 +292,7 @@ class AdaptNode(Node):
             distance = self._wait(lambda: self.reported[-1] if self.reported else None, max(timeout, 600.0),
                                   "the operator's distance (~/report_distance)")
             return float(distance) / duration
+        time.sleep(max(0.0, float(self.get_parameter("stand_still").value)))
         with self.data_lock:
             seen = len(self.odom)
         answer = self._call(self.start_client, "start the trial")

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import contextlib
+import json
 import os
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -41,6 +42,7 @@ class GenerateConfig:
     log_every: float = 30.0
     log: Path | None = None           # default: <out>.log.jsonl
     resume: bool = False
+    with_presets: bool = False        # try the preset gaits (control, tripod, wave, quadruped) first
 
     def __post_init__(self) -> None:
         if self.backend not in BACKENDS:
@@ -67,8 +69,14 @@ class GenerateConfig:
 
     def engine_config(self) -> MapElitesConfig:
         lag = self.lag or max(64, 4 * self.worker_count())
+        initial: tuple = ()
+        if self.with_presets:
+            from hexapod_gait import PRESETS, preset
+            from hexapod_gait.parameters import to_genotype
+
+            initial = tuple(tuple(float(g) for g in to_genotype(preset(name))) for name in PRESETS)
         return MapElitesConfig(evaluations=self.evaluations, seed=self.seed, lag=lag, random_init=self.random_init,
-                               chunk=self.chunk)
+                               chunk=self.chunk, initial=initial)
 
 
 @contextlib.contextmanager
@@ -119,7 +127,7 @@ def generate_map(config: GenerateConfig, on_progress: Callable[[Progress], None]
     if config.resume and config.checkpoint_path.is_file():
         archive, pending = load_checkpoint(config.checkpoint_path)
         saved = archive.metadata.get("map_elites", {})
-        if saved and saved != asdict(engine):
+        if saved and saved != json.loads(json.dumps(asdict(engine))):   # as stored: tuples became lists
             raise ArchiveError(f"{config.checkpoint_path}: written with MAP-Elites settings {saved}, not {asdict(engine)}: "
                                "resume with the same --seed/--evaluations/--lag/--chunk/--random-init")
         for key, want in fingerprint.items():

@@ -36,6 +36,8 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--log-every", type=float, default=30.0, help="seconds between log lines")
     ap.add_argument("--log", type=Path, default=None, help="JSON-lines progress log (default <out>.log.jsonl)")
     ap.add_argument("--resume", action="store_true", help="continue from <out>.ckpt.npz if present")
+    ap.add_argument("--with-presets", action="store_true",
+                    help="try the preset gaits (control, tripod, wave, quadruped) before anything else")
     ap.add_argument("--quiet", action="store_true")
     return ap
 
@@ -47,7 +49,8 @@ def main(argv: list[str] | None = None) -> int:
                                 backend=args.backend, workers=args.workers, scheduler=args.scheduler, lag=args.lag,
                                 chunk=args.chunk, random_init=args.random_init, cvt_samples=args.cvt_samples,
                                 cvt_dir=args.cvt_dir, checkpoint_every=args.checkpoint_every,
-                                log_every=args.log_every, log=args.log, resume=args.resume)
+                                log_every=args.log_every, log=args.log, resume=args.resume,
+                                with_presets=args.with_presets)
         config.engine_config()
     except ValueError as exc:
         print(f"generate_map: {exc}", file=sys.stderr)

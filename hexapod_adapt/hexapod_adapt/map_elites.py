@@ -10,7 +10,8 @@ archive plus the candidates in flight, so a resumed run continues exactly.
 
 Variation is pymap_elites' iso+line operator: x = x1 + sigma_iso * N(0, I) + sigma_line *
 N(0, 1) * (x2 - x1), clipped to [0, 1], with x1, x2 two random elites. Until ``random_init`` of
-the niches are filled, candidates are uniform random genotypes (thesis 4.2.4: 1 %).
+the niches are filled, candidates are random genotypes (thesis 4.2.4: 1 %). Optional
+``initial`` genotypes (e.g. the hand-designed preset gaits) are the first candidates.
 Invalid gaits (unreachable, colliding, body on the ground: the thesis's fitness 0, empty
 descriptor) are counted as evaluations and not inserted.
 """
@@ -41,6 +42,7 @@ class MapElitesConfig:
     sigma_iso: float = 0.01          # pymap_elites defaults
     sigma_line: float = 0.2
     chunk: int = 1                   # candidates per task sent to a worker (larger over a network)
+    initial: tuple[tuple[float, ...], ...] = ()   # genotypes tried first (e.g. the preset gaits)
 
     def __post_init__(self) -> None:
         if self.evaluations < 1:
@@ -51,6 +53,9 @@ class MapElitesConfig:
             raise ValueError(f"random_init must be a fraction in [0, 1], got {self.random_init}")
         if self.sigma_iso < 0 or self.sigma_line < 0:
             raise ValueError("sigma_iso and sigma_line must be >= 0")
+        for genes in self.initial:
+            if len(genes) != GENOTYPE_SIZE or not all(0.0 <= g <= 1.0 for g in genes):
+                raise ValueError(f"initial genotypes must have {GENOTYPE_SIZE} genes in [0, 1]")
 
 
 @dataclass(frozen=True)
@@ -84,6 +89,8 @@ class MapElites:
 
     def candidate(self, k: int) -> np.ndarray:
         """Genes of candidate k (call when exactly results 0 .. k - lag - 1 are told)."""
+        if k < len(self.config.initial):
+            return np.array(self.config.initial[k], dtype=float)
         rng = np.random.default_rng([self.config.seed, k])
         elites = self.archive.elite_indices()
         if len(elites) < max(1, math.ceil(self.config.random_init * self.archive.n_niches)):

@@ -11,6 +11,7 @@ from __future__ import annotations
 import os
 import re
 import struct
+import threading
 import time
 from pathlib import Path
 from typing import Any, Iterator
@@ -84,11 +85,17 @@ class McapRecorder:
         self._schemas: dict[str, int] = {}
         self._channels: dict[str, int] = {}
         self._closed = False
+        self._lock = threading.Lock()     # a node records from several threads and closes on shutdown
         self._file.flush()
 
     def record(self, topic: str, msg: Any, log_time_ns: int | None = None) -> None:
         from rclpy.serialization import serialize_message
 
+        data = serialize_message(msg)
+        with self._lock:
+            self._record(topic, msg, data, log_time_ns)
+
+    def _record(self, topic: str, msg: Any, data: bytes, log_time_ns: int | None) -> None:
         if self._closed:
             raise RuntimeError(f"{self.path} is closed")
         type_name = _type_name(msg)
@@ -98,11 +105,13 @@ class McapRecorder:
         if topic not in self._channels:
             self._channels[topic] = self._writer.register_channel(topic, "cdr", self._schemas[type_name])
         now = log_time_ns if log_time_ns is not None else time.time_ns()
-        self._writer.add_message(self._channels[topic], log_time=now, data=serialize_message(msg), publish_time=now)
+        self._writer.add_message(self._channels[topic], log_time=now, data=data, publish_time=now)
         self._file.flush()
 
     def close(self) -> None:
-        if not self._closed:
+        with self._lock:
+            if self._closed:
+                return
             self._closed = True
             self._writer.finish()
             self._file.flush()

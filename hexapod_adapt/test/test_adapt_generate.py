@@ -34,6 +34,10 @@ def test_command_writes_archive_log_and_cvt_and_refuses_a_changed_resume(tmp_pat
     assert rows[-1]["evaluations"] == 120
     for key in ("filled", "max", "mean", "median", "p5", "qd_score", "coverage", "evals_per_s", "utilisation"):
         assert key in rows[-1]
+    same = _run_cli("--out", str(out), "--niches", "30", "--evaluations", "120", "--seed", "4", "--lag", "16",
+                    "--resume", "--quiet")          # a finished run resumes to the same map
+    assert same.returncode == 0, same.stderr
+    np.testing.assert_array_equal(load_archive(out).fitness, a.fitness)
     bad = _run_cli("--out", str(out), "--niches", "30", "--evaluations", "120", "--seed", "5", "--lag", "16",
                    "--resume")
     assert bad.returncode == 1 and "resume with the same" in bad.stderr

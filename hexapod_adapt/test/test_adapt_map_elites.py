@@ -115,3 +115,18 @@ def test_real_simulator_map_is_reproducible_by_re_evaluation():
         r = simulate_genotypes(a.genotypes[i])[0]
         assert r.valid and r.fitness == a.fitness[i]
         np.testing.assert_array_equal(r.descriptor, a.descriptors[i])
+
+
+def test_initial_genotypes_are_the_first_candidates():
+    start = tuple(tuple(float(x) for x in np.linspace(0, 1, 32) * f) for f in (0.5, 1.0))
+    cfg = MapElitesConfig(evaluations=50, seed=2, lag=4, random_init=0.1, initial=start)
+    tried = []
+
+    def record(genes):
+        tried.extend(np.atleast_2d(genes).tolist())
+        return toy_evaluate(genes)
+
+    run_map_elites(_fresh(), cfg, record)
+    assert [tuple(g) for g in tried[:2]] == list(start)
+    with pytest.raises(ValueError, match="initial genotypes"):
+        MapElitesConfig(evaluations=5, initial=((2.0,) * 32,))

@@ -1,0 +1,70 @@
+"""``ros2 run hexapod_adapt adapt_client``: call the ``adapt`` service from a base-station PC and
+print each trial as it completes (the same as ``ros2 service call /adapt hexapod_msgs/srv/Adapt``
+plus ``ros2 topic echo /adapt/trials`` on a full ROS install).
+
+    adapt_client --max-trials 20 [--alpha 0.9 --kappa 0.05 --length-scale 0.4 --noise 0.001]
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+
+import rclpy
+from hexapod_msgs.msg import AdaptationTrial
+from hexapod_msgs.srv import Adapt
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="adapt_client", description="Run one adaptation and print its trials.")
+    ap.add_argument("--max-trials", type=int, default=0, help="0 = the node's default")
+    ap.add_argument("--trial-duration", type=float, default=0.0)
+    ap.add_argument("--alpha", type=float, default=0.0)
+    ap.add_argument("--kappa", type=float, default=0.0)
+    ap.add_argument("--length-scale", type=float, default=0.0)
+    ap.add_argument("--noise", type=float, default=0.0)
+    ap.add_argument("--service", default="adapt")
+    ap.add_argument("--timeout", type=float, default=3600.0, help="give up after this many seconds")
+    args, ros_args = ap.parse_known_args(argv)
+    if args.max_trials < 0:
+        print("adapt_client: --max-trials must be >= 0", file=sys.stderr)
+        return 2
+    rclpy.init(args=ros_args)
+    node = rclpy.create_node("adapt_client")
+    try:
+        node.create_subscription(AdaptationTrial, "adapt/trials", lambda m: print(
+            f"trial {m.trial:>3d}: gait {m.archive_index:>6d}  measured {m.measured_speed:+.3f} m/s  "
+            f"(map {m.map_speed:.3f}, GP {m.predicted_speed:.3f} +/- {m.predicted_speed_std:.3f})  "
+            f"best {m.best_speed:+.3f} m/s", flush=True), 10)
+        client = node.create_client(Adapt, args.service)
+        if not client.wait_for_service(timeout_sec=30.0):
+            print(f"adapt_client: service {args.service} not available (is adapt_node running?)", file=sys.stderr)
+            return 1
+        request = Adapt.Request(max_trials=args.max_trials, trial_duration=args.trial_duration, alpha=args.alpha,
+                                kappa=args.kappa, length_scale=args.length_scale, noise=args.noise)
+        future = client.call_async(request)
+        deadline = time.monotonic() + args.timeout
+        while not future.done() and time.monotonic() < deadline:
+            rclpy.spin_once(node, timeout_sec=0.1)
+        if not future.done():
+            print("adapt_client: no answer in time", file=sys.stderr)
+            return 1
+        for _ in range(5):                      # let the last trial message arrive
+            rclpy.spin_once(node, timeout_sec=0.05)
+        r = future.result()
+        print(f"{'success' if r.success else 'stopped'}: {r.message}")
+        if r.best_archive_index >= 0:
+            print(f"best gait {r.best_archive_index}: {r.best_speed:.3f} m/s after {r.trials} trials "
+                  f"({r.elapsed:.1f} s)")
+        if r.mcap_path:
+            print(f"recording: {r.mcap_path}")
+        return 0 if r.success else 3
+    except KeyboardInterrupt:
+        return 130
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

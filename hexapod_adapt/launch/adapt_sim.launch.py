@@ -1,0 +1,25 @@
+"""Adaptation on the simulated robot: gait_node + sim_node + adapt_node (full ROS 2 Jazzy install).
+
+    ros2 launch hexapod_adapt adapt_sim.launch.py archive:=/path/map.npz failed_legs:='[1]'
+    ros2 service call /adapt hexapod_msgs/srv/Adapt "{max_trials: 20}"
+In this workspace without `launch`: python scripts/launch.py adapt-sim --archive MAP --failed-legs 1
+"""
+from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument
+from launch.substitutions import LaunchConfiguration
+from launch_ros.actions import Node
+
+
+def generate_launch_description() -> LaunchDescription:
+    return LaunchDescription([
+        DeclareLaunchArgument("archive", description="archive file written by generate_map"),
+        DeclareLaunchArgument("failed_legs", default_value="[]", description="legs (1-6) failed in the simulator"),
+        DeclareLaunchArgument("record_dir", default_value="adaptation_runs"),
+        Node(package="hexapod_gait", executable="gait_node", output="screen", parameters=[{"initial_preset": ""}]),
+        Node(package="hexapod_sim", executable="sim_node", output="screen",
+             parameters=[{"real_time_factor": 0.0, "publish_period_steps": 24,
+                          "failed_legs": LaunchConfiguration("failed_legs")}]),
+        Node(package="hexapod_adapt", executable="adapt_node", output="screen",
+             parameters=[{"archive": LaunchConfiguration("archive"), "mode": "sim",
+                          "record_dir": LaunchConfiguration("record_dir")}]),
+    ])
