@@ -22,5 +22,6 @@ setup(
     license="MIT",
     entry_points={"console_scripts": ["generate_map = hexapod_adapt.generate_cli:main",
                                       "adapt_node = hexapod_adapt.adapt_node:main",
-                                      "adapt_client = hexapod_adapt.adapt_client:main"]},
+                                      "adapt_client = hexapod_adapt.adapt_client:main",
+                                      "run_experiment = hexapod_adapt.experiment_cli:main"]},
 )

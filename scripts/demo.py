@@ -19,6 +19,7 @@ import sys
 import time
 from pathlib import Path
 
+T0 = time.perf_counter()
 WS = Path(__file__).resolve().parent.parent
 MAP = WS / "hexapod_adapt" / "maps" / "demo_map.npz"
 FAILED_LEGS = [1, 4]     # scenario S2: two opposite legs, where the tripod gait stops walking
@@ -39,7 +40,6 @@ def main() -> int:
     from hexapod_gait import preset
     from hexapod_sim import HexapodSimulator, evaluate_gait
 
-    t_start = time.perf_counter()
     out = WS / "out" / "demo"
     out.mkdir(parents=True, exist_ok=True)
     section("robot model (hexapod_description)")
@@ -113,7 +113,7 @@ def main() -> int:
         if best is not None:
             print(f"adapted gait {best.best_archive_index}: {best.best_speed:.3f} m/s with legs {legs} failed, "
                   f"vs {damaged:.3f} m/s for the control tripod gait")
-    print(f"\ndemo finished in {time.perf_counter() - t_start:.0f} s. Next: docs/adaptation.md "
+    print(f"\ndemo finished in {time.perf_counter() - T0:.0f} s. Next: docs/adaptation.md "
           "(generate your own map, adapt on the real robot).")
     return 0
 

@@ -93,3 +93,38 @@ def simulated_trial(archive: Archive, failed_legs: Sequence[int], sim=None,
                              failed_legs=failed_legs).speed
 
     return trial
+
+
+@dataclass
+class ExperimentRow:
+    scenario: str
+    failed_legs: tuple[int, ...]
+    trials: int
+    success: bool
+    best_niche: int
+    best_speed: float            # adapted gait [m/s]
+    control_speed: float         # the control tripod with the same damage [m/s]
+    elapsed: float               # wall-clock seconds of the run (simulated trials)
+
+
+def run_experiment(archive: Archive, scenarios: Sequence[str] = ("S1", "S2", "S3", "S4"),
+                   config: MboaConfig | None = None,
+                   on_row: Callable[[ExperimentRow], None] | None = None) -> list[ExperimentRow]:
+    """Thesis experiment 5.2 on one map: adapt in every orientation of each failure scenario
+    (library trials in the simulator, collisions not fatal), next to the control tripod gait."""
+    from hexapod_gait import preset
+    from hexapod_sim import HexapodSimulator, evaluate_gait
+    from hexapod_sim.scenarios import scenario as orientations_of
+
+    rows = []
+    with HexapodSimulator() as sim:
+        for name in scenarios:
+            for legs in orientations_of(name):
+                result = adapt(archive, simulated_trial(archive, legs, sim), config)
+                control = evaluate_gait(preset("control"), sim, collisions_fatal=False, failed_legs=legs).speed
+                row = ExperimentRow(name, tuple(legs), len(result.trials), result.success, result.best_niche,
+                                    result.best_speed, control, result.elapsed)
+                rows.append(row)
+                if on_row:
+                    on_row(row)
+    return rows
