@@ -185,3 +185,23 @@ def test_second_request_refused_and_ctrl_c_mid_run_finishes_the_recording(ros, l
     with open(files[0], "rb") as f:
         assert make_reader(f).get_summary() is not None      # finished cleanly: index and footer
     assert [t for t, _, _ in read_messages(files[0])] == ["gait/parameters"]
+
+
+def test_a_gait_the_robot_refuses_stops_the_run_with_the_robots_reason(ros, launch, tmp_path):
+    from std_srvs.srv import SetBool
+
+    from hexapod_gait.trajectory import reachable_key_points
+
+    rng = np.random.default_rng(5)
+    genes = next(g for g in rng.random((1000, 32)) if not reachable_key_points(g[None])[0])
+    unreachable = Archive(np.full((1, 6), 0.5), np.array([1.0]), np.full((1, 6), 0.5), genes[None],
+                          {"seed": 0, "evaluations": 1, **simulation_fingerprint()}).save(tmp_path / "bad.npz")
+    _emu, radio, _imu = _emulated_robot(launch, tmp_path)
+    launch("hexapod_bridge", "bridge_node", params={"port": radio})
+    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(unreachable), "mode": "robot",
+                                                         "record_dir": ""})
+    assert ros.call(SetBool, "bridge_node/arm", SetBool.Request(data=True)).success
+    response = ros.call(Adapt, "adapt", Adapt.Request(max_trials=3), timeout=120)
+    assert not response.success and response.trials == 0
+    assert "trial 1 aborted" in response.message and "UNREACHABLE" in response.message
+    assert node.alive()

@@ -127,9 +127,16 @@ def generate_map(config: GenerateConfig, on_progress: Callable[[Progress], None]
     if config.resume and config.checkpoint_path.is_file():
         archive, pending = load_checkpoint(config.checkpoint_path)
         saved = archive.metadata.get("map_elites", {})
-        if saved and saved != json.loads(json.dumps(asdict(engine))):   # as stored: tuples became lists
-            raise ArchiveError(f"{config.checkpoint_path}: written with MAP-Elites settings {saved}, not {asdict(engine)}: "
-                               "resume with the same --seed/--evaluations/--lag/--chunk/--random-init")
+        # Candidate k depends on (seed, k, lag, settings) and the results before it, never on the
+        # total: a run may be resumed with MORE evaluations and equals a run made that long at once.
+        wanted = json.loads(json.dumps(asdict(engine)))          # as stored: tuples became lists
+        if saved and {k: v for k, v in saved.items() if k != "evaluations"} != \
+                {k: v for k, v in wanted.items() if k != "evaluations"}:
+            raise ArchiveError(f"{config.checkpoint_path}: written with MAP-Elites settings {saved}, not {wanted}: "
+                               "resume with the same --seed/--lag/--chunk/--random-init/--with-presets")
+        if saved and engine.evaluations < archive.metadata.get("evaluations", 0):
+            raise ArchiveError(f"{config.checkpoint_path}: already has {archive.metadata['evaluations']} evaluations, "
+                               f"more than the {engine.evaluations} asked for")
         for key, want in fingerprint.items():
             if archive.metadata.get(key) != want:
                 raise ArchiveError(f"{config.checkpoint_path}: {key} differs from this installation's; "

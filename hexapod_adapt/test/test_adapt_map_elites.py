@@ -130,3 +130,14 @@ def test_initial_genotypes_are_the_first_candidates():
     assert [tuple(g) for g in tried[:2]] == list(start)
     with pytest.raises(ValueError, match="initial genotypes"):
         MapElitesConfig(evaluations=5, initial=((2.0,) * 32,))
+
+
+def test_a_finished_run_extended_to_more_evaluations_equals_one_long_run(tmp_path):
+    long = run_map_elites(_fresh(), MapElitesConfig(evaluations=400, seed=9, lag=5, random_init=0.1), toy_evaluate)
+    ckpt = tmp_path / "c.npz"
+    run_map_elites(_fresh(), MapElitesConfig(evaluations=250, seed=9, lag=5, random_init=0.1), toy_evaluate,
+                   checkpoint=ckpt)
+    archive, pending = load_checkpoint(ckpt)
+    assert pending == {}
+    extended = run_map_elites(archive, MapElitesConfig(evaluations=400, seed=9, lag=5, random_init=0.1), toy_evaluate)
+    _same(long, extended)
