@@ -205,3 +205,11 @@ def test_a_gait_the_robot_refuses_stops_the_run_with_the_robots_reason(ros, laun
     assert not response.success and response.trials == 0
     assert "trial 1 aborted" in response.message and "UNREACHABLE" in response.message
     assert node.alive()
+
+
+def test_an_unknown_mode_is_reported_not_replaced(ros, launch, small_archive):
+    path, _archive, _ = small_archive
+    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "mode": "warp", "record_dir": ""})
+    answer = ros.call(Adapt, "adapt", Adapt.Request(max_trials=1), timeout=60)
+    assert not answer.success and "mode must be one of sim, robot, manual" in answer.message
+    assert node.alive()

@@ -88,12 +88,14 @@ class AdaptNode(Node):
         d("stand_still", 1.0, ParameterDescriptor(description="Robot modes: seconds the robot stands still before "
                                                               "each trial (clean zero-velocity IMU window) [s]"))
         self.mode = self.get_parameter("mode").value
-        if self.mode not in MODES:
-            self.get_logger().error(f"mode must be one of {', '.join(MODES)}, got {self.mode!r}; using 'sim'")
-            self.mode = "sim"
         self.archive: Archive | None = None
         self.archive_problem = "no archive loaded: set the 'archive' parameter"
-        self._load_archive(self.get_parameter("archive").value)
+        if self.mode not in MODES:
+            # read-only parameter: the node runs, refusing every request with the reason
+            self.archive_problem = f"parameter mode must be one of {', '.join(MODES)}, got {self.mode!r}; restart the node"
+            self.get_logger().error(self.archive_problem)
+        else:
+            self._load_archive(self.get_parameter("archive").value)
         self.add_on_set_parameters_callback(self._on_set_parameters)
 
         self.busy = threading.Lock()
@@ -153,6 +155,8 @@ class AdaptNode(Node):
     def _on_set_parameters(self, params) -> SetParametersResult:
         for param in params:
             if param.name == "archive":
+                if self.mode not in MODES:
+                    return SetParametersResult(successful=False, reason=self.archive_problem)
                 if self.busy.locked():
                     return SetParametersResult(successful=False, reason="an adaptation is running")
                 archive, problem = self._try_load(param.value)
