@@ -15,6 +15,15 @@ from typing import Any, Callable
 import pytest
 
 WS = Path(__file__).resolve().parent.parent
+def status_log_qos():
+    """Subscriber QoS for a latched status topic read as a log. The publishers keep depth 1
+    (TRANSIENT_LOCAL); a depth-1 *reader* would let a status be overwritten by the next one
+    before the executor takes it (two statuses 20 ms apart were lost that way in CI)."""
+    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+
+    return QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
+
+
 _domain_ids = itertools.count((os.getpid() % 40) + 1)
 
 

@@ -17,7 +17,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profi
 from sensor_msgs.msg import Imu
 from std_srvs.srv import SetBool, Trigger
 
-from conftest import wait_for
+from conftest import status_log_qos, wait_for
 from hexapod_bridge.bridge_node import SPEED_ACCURACY
 from hexapod_gait import preset
 from hexapod_gait.ros_conversions import gait_to_msg
@@ -36,7 +36,7 @@ def _emulator(launch, tmp_path, *extra):
 def test_upload_and_trial_end_to_end_over_pseudo_terminals(ros, launch, tmp_path):
     emu, radio, imu = _emulator(launch, tmp_path, "--sim", "--imu-noise", "--seed", "7")
     bridge = launch("hexapod_bridge", "bridge_node", params={"port": radio, "imu_port": imu})
-    status = ros.collect(DiagnosticStatus, "bridge/status", LATCHED)
+    status = ros.collect(DiagnosticStatus, "bridge/status", status_log_qos())
     odom = ros.collect(Odometry, "odom", QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE))
     assert ros.call(SetBool, "bridge_node/arm", SetBool.Request(data=True)).success
     pub = ros.node.create_publisher(GaitParametersMsg, "gait/parameters", LATCHED)
@@ -59,7 +59,7 @@ def test_upload_and_trial_end_to_end_over_pseudo_terminals(ros, launch, tmp_path
 def test_bad_requests_are_refused_with_reasons(ros, launch, tmp_path):
     _emu, radio, _imu = _emulator(launch, tmp_path)
     bridge = launch("hexapod_bridge", "bridge_node", params={"port": radio})
-    status = ros.collect(DiagnosticStatus, "bridge/status", LATCHED)
+    status = ros.collect(DiagnosticStatus, "bridge/status", status_log_qos())
     start = ros.call(Trigger, "bridge_node/start_trial", Trigger.Request())
     assert not start.success and "not armed" in start.message
     assert ros.call(SetBool, "bridge_node/arm", SetBool.Request(data=True)).success

@@ -9,7 +9,7 @@ from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from trajectory_msgs.msg import JointTrajectory
 
-from conftest import wait_for
+from conftest import status_log_qos, wait_for
 from hexapod_gait import build_joint_table, preset
 from hexapod_gait.ros_conversions import gait_to_msg
 
@@ -22,7 +22,7 @@ pytestmark = pytest.mark.ros
 def test_publishes_cycles_and_rejects_bad_gaits(ros, launch):
     node = launch("hexapod_gait", "gait_node", params={"initial_preset": "tripod"})
     trajectories = ros.collect(JointTrajectory, "gait/joint_trajectory", LATCHED)
-    statuses = ros.collect(DiagnosticStatus, "gait/status", LATCHED)
+    statuses = ros.collect(DiagnosticStatus, "gait/status", status_log_qos())
     pub = ros.node.create_publisher(GaitParametersMsg, "gait/parameters", LATCHED)
 
     # late joiner gets the latched initial preset
@@ -74,7 +74,7 @@ def test_robot_rate_gives_120_points(ros, launch):
 
 def test_bad_initial_preset_logs_and_keeps_running(ros, launch):
     node = launch("hexapod_gait", "gait_node", params={"initial_preset": "gallop"})
-    statuses = ros.collect(DiagnosticStatus, "gait/status", LATCHED)
+    statuses = ros.collect(DiagnosticStatus, "gait/status", status_log_qos())
     wait_for(lambda: "unknown gait preset 'gallop'" in node.log(), 30, "error in the log")
     pub = ros.node.create_publisher(GaitParametersMsg, "gait/parameters", LATCHED)
     pub.publish(gait_to_msg(preset("tripod")))

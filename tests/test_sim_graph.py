@@ -16,7 +16,7 @@ from std_msgs.msg import Header
 from std_srvs.srv import Trigger
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
-from conftest import wait_for
+from conftest import status_log_qos, wait_for
 from hexapod_gait import from_genotype, preset
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_sim import FAILURE_POSE, HexapodSimulator, SimConfig, evaluate_gait
@@ -104,7 +104,7 @@ def test_graph_trials_match_library_speeds(ros, launch):
 
 def test_sim_node_refuses_bad_requests_and_keeps_running(ros, launch):
     sim = launch("hexapod_sim", "sim_node", params={"real_time_factor": 0.0, "failed_legs": [3]})
-    status = ros.collect(DiagnosticStatus, "sim/status", LATCHED)
+    status = ros.collect(DiagnosticStatus, "sim/status", status_log_qos())
     joints = ros.collect(JointState, "joint_states", qos_profile_sensor_data)
     wait_for(lambda: joints, 30, "joint_states")
     # initially failed leg 3 is held in the failure pose

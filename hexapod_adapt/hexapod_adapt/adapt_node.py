@@ -50,6 +50,7 @@ from hexapod_gait import from_genotype
 from hexapod_gait.ros_conversions import gait_to_msg
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
+STATUS_LOG = QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
 ODOM_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000, reliability=ReliabilityPolicy.RELIABLE)
 MODES = ("sim", "robot", "manual")
 
@@ -115,7 +116,9 @@ class AdaptNode(Node):
         self.create_subscription(Odometry, "odom", self._on_odom, ODOM_QOS, callback_group=sensors)
         self.create_subscription(Header, "sim/active_trajectory", self._on_active, LATCHED, callback_group=sensors)
         self.create_subscription(Header, "sim/last_reset", self._on_reset, LATCHED, callback_group=sensors)
-        self.create_subscription(DiagnosticStatus, "bridge/status", self._on_bridge_status, LATCHED,
+        # every status counts (an upload result may be followed at once by the robot's own text):
+        # a depth-1 reader would let the newer overwrite the older before it is taken
+        self.create_subscription(DiagnosticStatus, "bridge/status", self._on_bridge_status, STATUS_LOG,
                                  callback_group=sensors)
         sim_name = self.get_parameter("sim_node").value
         bridge_name = self.get_parameter("bridge_node").value
