@@ -27,7 +27,6 @@ import time
 from collections import deque
 from pathlib import Path
 
-import numpy as np
 import rclpy
 from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_msgs.msg import AdaptationTrial
@@ -36,7 +35,6 @@ from hexapod_msgs.srv import Adapt, ReportDistance
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
-from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import Header
@@ -48,6 +46,7 @@ from hexapod_adapt.mboa import MboaConfig
 from hexapod_adapt.recording import McapRecorder
 from hexapod_gait import from_genotype
 from hexapod_gait.ros_conversions import gait_to_msg
+from hexapod_gait.ros_main import run_node
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
 STATUS_LOG = QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
@@ -57,6 +56,21 @@ MODES = ("sim", "robot", "manual")
 
 def _ns(stamp) -> int:
     return stamp.sec * 1_000_000_000 + stamp.nanosec
+
+
+RUN_SETTINGS = ("max_trials", "trial_duration", "alpha", "kappa", "length_scale", "noise")
+
+
+def run_settings(values: dict) -> tuple[MboaConfig, float]:
+    """(M-BOA configuration, trial duration [s]) from the six run settings; ValueError says
+    which is out of range."""
+    duration = float(values["trial_duration"])
+    if not (math.isfinite(duration) and 0 < duration <= 120):
+        raise ValueError(f"trial_duration must be in (0, 120] s, got {duration!r}")
+    config = MboaConfig(max_trials=int(values["max_trials"]), alpha=float(values["alpha"]),
+                        kappa=float(values["kappa"]), length_scale=float(values["length_scale"]),
+                        noise=float(values["noise"]))
+    return config, duration
 
 
 def expected_metadata(mode: str) -> dict:
@@ -130,6 +144,12 @@ class AdaptNode(Node):
         self.get_logger().info(f"adapt_node ready: mode {self.mode}; " +
                                (f"archive {self.archive.n_filled} gaits" if self.archive else self.archive_problem))
 
+    def shutdown(self) -> None:
+        """Ctrl-C / SIGTERM mid-run: finish the MCAP file (called by run_node)."""
+        recorder = self.recorder
+        if recorder is not None:
+            recorder.close()
+
     # -- archive ----------------------------------------------------------------------------
     def _try_load(self, path: str) -> tuple[Archive | None, str]:
         if not path:
@@ -166,14 +186,15 @@ class AdaptNode(Node):
                 if archive is None:
                     return SetParametersResult(successful=False, reason=problem)   # the old archive stays
                 self.archive, self.archive_problem = archive, ""
-            elif param.name in ("max_trials",) and param.value < 1:
-                return SetParametersResult(successful=False, reason="max_trials must be >= 1")
-            elif param.name in ("trial_duration", "length_scale", "noise", "trial_timeout") and param.value <= 0:
-                return SetParametersResult(successful=False, reason=f"{param.name} must be > 0")
-            elif param.name == "alpha" and not 0 < param.value <= 1:
-                return SetParametersResult(successful=False, reason="alpha must be in (0, 1]")
-            elif param.name == "kappa" and param.value < 0:
-                return SetParametersResult(successful=False, reason="kappa must be >= 0")
+            elif param.name == "trial_timeout" and param.value <= 0:
+                return SetParametersResult(successful=False, reason="trial_timeout must be > 0")
+        # the run defaults are checked by the same rules as a request's fields
+        values = {name: self.get_parameter(name).value for name in RUN_SETTINGS}
+        values.update({param.name: param.value for param in params if param.name in RUN_SETTINGS})
+        try:
+            run_settings(values)
+        except (TypeError, ValueError) as exc:
+            return SetParametersResult(successful=False, reason=str(exc))
         return SetParametersResult(successful=True)
 
     # -- inputs -----------------------------------------------------------------------------
@@ -251,7 +272,7 @@ class AdaptNode(Node):
     def _sim_trial(self, niche: int, duration: float, timeout: float) -> float:
         for attempt in range(3):
             msg = self._publish_gait(niche)
-            stamp = _ns(msg.header.stamp)
+            stamp, crab = _ns(msg.header.stamp), msg.crab_angle
             self._wait(lambda: self.active_stamp == stamp, timeout,
                        "sim_node to play the gait (are gait_node and sim_node running?)")
             before = self.reset_stamp or -1
@@ -268,7 +289,6 @@ class AdaptNode(Node):
             start = [s for s in samples if s[0] == t0]
             finish = [s for s in samples if abs(s[0] - end) < 1000]
             if start and finish:
-                crab = from_genotype(self.archive.genotypes[niche]).crab_angle
                 dx, dy = finish[-1][1] - start[-1][1], finish[-1][2] - start[-1][2]
                 return (dx * math.cos(crab) + dy * math.sin(crab)) / duration
             self.get_logger().warning(f"odometry sample lost in transport; repeating the trial (attempt {attempt + 2})")
@@ -277,7 +297,7 @@ class AdaptNode(Node):
 
     def _robot_trial(self, niche: int, duration: float, timeout: float) -> float:
         sent = time.monotonic()
-        self._publish_gait(niche)
+        crab = self._publish_gait(niche).crab_angle
 
         def upload_outcome():
             for t, status in list(self.bridge_status):
@@ -308,22 +328,13 @@ class AdaptNode(Node):
         started = time.monotonic()
         sample = self._wait(lambda: next((s for s in list(self.odom)[seen:] if s[5] > started), None),
                             duration + timeout, "the trial's odometry from bridge_node")
-        crab = from_genotype(self.archive.genotypes[niche]).crab_angle
         return sample[3] * math.cos(crab) + sample[4] * math.sin(crab)
 
     # -- the service --------------------------------------------------------------------------
     def _request_config(self, request: Adapt.Request) -> tuple[MboaConfig, float]:
-        def pick(value, name):
-            return value if value else self.get_parameter(name).value
-
-        duration = float(pick(request.trial_duration, "trial_duration"))
-        if not (math.isfinite(duration) and 0 < duration <= 120):
-            raise ValueError(f"trial_duration must be in (0, 120] s, got {duration!r}")
-        config = MboaConfig(max_trials=int(pick(request.max_trials, "max_trials")),
-                            alpha=float(pick(request.alpha, "alpha")), kappa=float(pick(request.kappa, "kappa")),
-                            length_scale=float(pick(request.length_scale, "length_scale")),
-                            noise=float(pick(request.noise, "noise")))
-        return config, duration
+        # a zero field means "the node's parameter"
+        return run_settings({name: getattr(request, name) or self.get_parameter(name).value
+                             for name in RUN_SETTINGS})
 
     def _on_adapt(self, request: Adapt.Request, response: Adapt.Response):
         response.best_archive_index = -1
@@ -359,9 +370,11 @@ class AdaptNode(Node):
         self.get_logger().info(f"adaptation started: {archive.n_filled} gaits, at most {config.max_trials} trials "
                                f"of {duration:g} s, alpha {config.alpha:g}, kappa {config.kappa:g}")
 
+        niches = archive.elite_indices()      # M-BOA's candidate index -> niche
+
         def on_trial(trial, niche, opt) -> None:
             best = opt.best()
-            best_niche = self._niches[best.index]
+            best_niche = niches[best.index]
             msg = AdaptationTrial()
             msg.header.stamp = self.get_clock().now().to_msg()
             msg.trial, msg.archive_index = trial.number, int(niche)
@@ -374,7 +387,6 @@ class AdaptNode(Node):
             self.get_logger().info(f"trial {trial.number}: gait {niche} walked {trial.measured:.3f} m/s "
                                    f"(map {trial.predicted:.3f}, GP {trial.gp_mean:.3f} +/- {trial.gp_std:.3f})")
 
-        self._niches = archive.elite_indices()
         try:
             result = adapt(archive, lambda niche: trial_fn(niche, duration, timeout), config, on_trial,
                            should_cancel=lambda: self.cancel_requested)
@@ -397,23 +409,7 @@ class AdaptNode(Node):
 
 
 def main(args: list[str] | None = None) -> int:
-    rclpy.init(args=args)
-    node = None
-    try:
-        node = AdaptNode()
-        executor = MultiThreadedExecutor(num_threads=4)
-        executor.add_node(node)
-        executor.spin()
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        if node is not None:
-            recorder = node.recorder
-            if recorder is not None:
-                recorder.close()      # Ctrl-C / SIGTERM mid-run: finish the MCAP file
-            node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+    return run_node(AdaptNode, args, num_threads=4)
 
 
 if __name__ == "__main__":

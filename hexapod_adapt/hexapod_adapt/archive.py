@@ -115,8 +115,9 @@ class Archive:
                 "qd_score": float(np.sum(np.maximum(f, 0.0)))}
 
     # -- files ------------------------------------------------------------------------------
-    def save(self, path: str | os.PathLike) -> Path:
-        """Write atomically (temp file + fsync + rename); returns the path."""
+    def save(self, path: str | os.PathLike, extra_arrays: Mapping[str, np.ndarray] | None = None) -> Path:
+        """Write atomically (temp file + fsync + rename); returns the path. ``extra_arrays`` are
+        stored beside the archive's (a map-generation checkpoint's candidates in flight)."""
         path = Path(path)
         meta = dict(self.metadata)
         meta["niches"], meta["centroid_hash"] = self.n_niches, centroid_hash(self.centroids)
@@ -125,7 +126,8 @@ class Archive:
         self.metadata = meta
         buf = io.BytesIO()
         np.savez(buf, centroids=self.centroids, fitness=self.fitness, descriptors=self.descriptors,
-                 genotypes=self.genotypes, metadata=np.array(json.dumps(meta, sort_keys=True)))
+                 genotypes=self.genotypes, metadata=np.array(json.dumps(meta, sort_keys=True)),
+                 **dict(extra_arrays or {}))
         atomic_write_bytes(path, buf.getvalue())
         return path
 

@@ -114,8 +114,7 @@ def open_executor(config: GenerateConfig) -> Iterator[tuple[cf.Executor | None, 
             raise RuntimeError("the mpi backend needs mpi4py and an MPI library (e.g. Debian's openmpi-bin "
                                "libopenmpi-dev, then pip install mpi4py)") from exc
         with MPIPoolExecutor() as pool:
-            n = config.workers or max(1, (pool.num_workers if hasattr(pool, "num_workers") else 1))
-            yield pool, n
+            yield pool, config.workers or pool.num_workers
 
 
 def generate_map(config: GenerateConfig, on_progress: Callable[[Progress], None] | None = None) -> Archive:

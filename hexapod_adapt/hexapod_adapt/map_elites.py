@@ -18,7 +18,6 @@ descriptor) are counted as evaluations and not inserted.
 from __future__ import annotations
 
 import concurrent.futures as cf
-import io
 import json
 import math
 import os
@@ -29,7 +28,7 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from hexapod_adapt.archive import Archive, ArchiveError, atomic_write_bytes, load_archive
+from hexapod_adapt.archive import Archive, ArchiveError, load_archive
 from hexapod_gait import GENOTYPE_SIZE
 
 
@@ -100,6 +99,11 @@ class MapElites:
                  + self.config.sigma_line * rng.standard_normal() * (x2 - x1))
         return np.clip(child, 0.0, 1.0)
 
+    def sync_metadata(self) -> None:
+        """Record the evaluations done and the settings in the archive's metadata."""
+        self.archive.metadata["evaluations"] = self.told
+        self.archive.metadata["map_elites"] = asdict(self.config)
+
     def tell(self, genes: np.ndarray, result: Evaluation) -> bool:
         """Insert one result (in candidate order); True if it became an elite."""
         self.told += 1
@@ -119,16 +123,10 @@ class MapElites:
 def save_checkpoint(path: str | os.PathLike, engine: MapElites, pending: dict[int, np.ndarray]) -> None:
     """Archive + the candidates in flight, atomically, in one file (an archive file with two
     extra arrays: any archive reader can open it)."""
-    engine.archive.metadata["evaluations"] = engine.told
-    engine.archive.metadata["map_elites"] = asdict(engine.config)
+    engine.sync_metadata()
     ks = np.array(sorted(pending), dtype=np.int64)
     genes = np.array([pending[k] for k in ks]).reshape(len(ks), GENOTYPE_SIZE)
-    a = engine.archive
-    buf = io.BytesIO()
-    a.metadata.setdefault("created", time.strftime("%Y-%m-%dT%H:%M:%S%z"))
-    np.savez(buf, centroids=a.centroids, fitness=a.fitness, descriptors=a.descriptors, genotypes=a.genotypes,
-             metadata=np.array(json.dumps(a.metadata, sort_keys=True)), pending_index=ks, pending_genes=genes)
-    atomic_write_bytes(path, buf.getvalue())
+    engine.archive.save(path, {"pending_index": ks, "pending_genes": genes})
 
 
 def load_checkpoint(path: str | os.PathLike) -> tuple[Archive, dict[int, np.ndarray]]:
@@ -242,8 +240,7 @@ def run_map_elites(archive: Archive, config: MapElitesConfig, evaluate: Evaluate
         if checkpoint and now - last_ckpt >= checkpoint_every:
             save_checkpoint(checkpoint, engine, pending)
             last_ckpt = now
-    engine.archive.metadata["evaluations"] = engine.told
-    engine.archive.metadata["map_elites"] = asdict(config)
+    engine.sync_metadata()
     if checkpoint:
         save_checkpoint(checkpoint, engine, {})
     if on_progress:

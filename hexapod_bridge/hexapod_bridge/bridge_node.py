@@ -30,7 +30,6 @@ from hexapod_msgs.msg import LinkStatus
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from rclpy.callback_groups import ReentrantCallbackGroup
-from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from sensor_msgs.msg import Imu
@@ -43,6 +42,7 @@ from hexapod_bridge.odometry import TrialOdometry
 from hexapod_bridge.serial_port import ReconnectingPort
 from hexapod_gait.parameters import GaitParameterError
 from hexapod_gait.ros_conversions import gait_from_msg
+from hexapod_gait.ros_main import run_node
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
 #: Accuracy of the IMU trial-speed estimate, measured in test_bridge_odometry.py (docs/bridge.md).
@@ -411,21 +411,7 @@ class BridgeNode(Node):
 
 
 def main(args: list[str] | None = None) -> int:
-    rclpy.init(args=args)
-    node = None
-    executor = MultiThreadedExecutor(num_threads=4)
-    try:
-        node = BridgeNode()
-        executor.add_node(node)
-        executor.spin()
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        if node is not None:
-            node.shutdown()
-            node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+    return run_node(BridgeNode, args, num_threads=4)
 
 
 if __name__ == "__main__":

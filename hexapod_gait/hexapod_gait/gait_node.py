@@ -11,11 +11,9 @@ from __future__ import annotations
 
 import sys
 
-import rclpy
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from trajectory_msgs.msg import JointTrajectory
@@ -23,7 +21,8 @@ from trajectory_msgs.msg import JointTrajectory
 from hexapod_description import load_model
 from hexapod_gait.parameters import GaitParameterError, GaitParameters
 from hexapod_gait.presets import PRESETS, preset
-from hexapod_gait.ros_conversions import gait_from_msg, gait_to_msg, table_to_trajectory
+from hexapod_gait.ros_conversions import gait_from_msg, table_to_trajectory
+from hexapod_gait.ros_main import run_node
 from hexapod_gait.trajectory import ReachabilityError, build_joint_table, samples_per_cycle
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
@@ -100,18 +99,7 @@ class GaitNode(Node):
 
 
 def main(args: list[str] | None = None) -> int:
-    rclpy.init(args=args)
-    node = None
-    try:
-        node = GaitNode()
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+    return run_node(GaitNode, args, num_threads=1)
 
 
 if __name__ == "__main__":

@@ -37,7 +37,6 @@ from hexapod_msgs.srv import SetLegFailure
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor, SetParametersResult
 from rclpy.callback_groups import ReentrantCallbackGroup
-from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
@@ -48,6 +47,7 @@ from std_srvs.srv import Trigger
 from trajectory_msgs.msg import JointTrajectory
 
 from hexapod_gait import preset
+from hexapod_gait.ros_main import run_node
 from hexapod_gait.trajectory import build_joint_table
 from hexapod_sim.simulator import ACCURATE, FAST, HexapodSimulator, SimConfig, validate_failed_legs
 from hexapod_sim.trajectory_input import CycleTable, TrajectoryError, cycle_from_points
@@ -300,21 +300,7 @@ class SimNode(Node):
 
 
 def main(args: list[str] | None = None) -> int:
-    rclpy.init(args=args)
-    node = None
-    executor = MultiThreadedExecutor(num_threads=3)
-    try:
-        node = SimNode()
-        executor.add_node(node)
-        executor.spin()
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        if node is not None:
-            node.shutdown()
-            node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+    return run_node(SimNode, args, num_threads=3)
 
 
 if __name__ == "__main__":
