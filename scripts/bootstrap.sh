@@ -47,7 +47,7 @@ if [ "$(cat "$stamp" 2>/dev/null || true)" != "$want" ]; then
   "$VENV/bin/python" -m pip install -q --disable-pip-version-check -r requirements.txt 2>&1 \
     | grep -v -E "is ignored: it is neither a file nor a directory" || true
   # pip's exit status is hidden by the filter above: verify the key imports instead.
-  "$VENV/bin/python" -c 'import rclpy, pybullet, numpy, colcon_core, serial, mcap' \
+  "$VENV/bin/python" -c 'import rclpy, pybullet, mujoco, numpy, colcon_core, serial, mcap, tqdm' \
     || { log "dependency installation failed"; exit 1; }
   echo "$want" > "$stamp"
 fi

@@ -38,7 +38,7 @@ def main() -> int:
     from hexapod_adapt.recording import read_messages
     from hexapod_description import load_model, summary
     from hexapod_gait import preset
-    from hexapod_sim import HexapodSimulator, evaluate_gait
+    from hexapod_sim import create_simulator, evaluate_gait
 
     out = WS / "out" / "demo"
     out.mkdir(parents=True, exist_ok=True)
@@ -55,7 +55,7 @@ def main() -> int:
 
     legs = " and ".join(map(str, FAILED_LEGS))
     section(f"damage: legs {legs} fail")
-    with HexapodSimulator() as sim:
+    with create_simulator() as sim:
         intact = evaluate_gait(preset("control"), sim, collisions_fatal=False).speed
         damaged = evaluate_gait(preset("control"), sim, collisions_fatal=False, failed_legs=FAILED_LEGS).speed
     print(f"control tripod gait (the robot's original gait): {intact:.3f} m/s intact, "

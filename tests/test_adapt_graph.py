@@ -14,7 +14,7 @@ from conftest import wait_for
 from hexapod_adapt.archive import Archive
 from hexapod_adapt.map_elites import simulation_fingerprint
 from hexapod_adapt.recording import read_messages
-from hexapod_sim import HexapodSimulator, evaluate_gait
+from hexapod_sim import create_simulator, evaluate_gait
 from hexapod_sim.sampling import random_feasible_genotypes
 
 pytestmark = pytest.mark.ros
@@ -24,7 +24,7 @@ FAILED = [2]
 @pytest.fixture(scope="module")
 def small_archive(tmp_path_factory):
     """12 feasible gaits, each its own niche, with their map-generation evaluations."""
-    with HexapodSimulator() as sim:
+    with create_simulator() as sim:
         genes, results = random_feasible_genotypes(12, seed=77, sim=sim)
         damaged = [evaluate_gait(g, sim, collisions_fatal=False, failed_legs=FAILED).speed for g in genes]
     desc = np.array([r.descriptor for r in results])
@@ -95,7 +95,7 @@ def _preset_archive(tmp_path):
     from hexapod_gait import preset
     from hexapod_gait.parameters import to_genotype
 
-    with HexapodSimulator() as sim:
+    with create_simulator() as sim:
         genes = np.array([to_genotype(preset(name)) for name in ("tripod", "wave", "quadruped")])
         results = [evaluate_gait(g, sim) for g in genes]
     desc = np.array([r.descriptor for r in results])

@@ -19,7 +19,7 @@ from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 from conftest import status_log_qos, wait_for
 from hexapod_gait import from_genotype, preset
 from hexapod_gait.ros_conversions import gait_to_msg
-from hexapod_sim import FAILURE_POSE, HexapodSimulator, SimConfig, evaluate_gait
+from hexapod_sim import FAILURE_POSE, create_simulator, SimConfig, evaluate_gait
 from hexapod_sim.sampling import random_reachable_genotypes
 
 pytestmark = pytest.mark.ros
@@ -36,7 +36,7 @@ def _gaits_with_library_speeds(n_random: int) -> list[tuple[object, float]]:
     """Presets plus random reachable gaits that move (|speed| >= 0.03 m/s), with the library's
     speed for each (same engine as sim_node's default, collisions not fatal like the node)."""
     chosen = []
-    with HexapodSimulator(SimConfig()) as sim:
+    with create_simulator(SimConfig()) as sim:
         for name in ("tripod", "wave", "quadruped"):
             gait = preset(name)
             chosen.append((gait, evaluate_gait(gait, sim, collisions_fatal=False).speed))

@@ -14,7 +14,11 @@ from typing import Callable, Sequence
 import numpy as np
 
 from hexapod_adapt.archive import Archive
-from hexapod_adapt.mboa import Mboa, MboaConfig, Trial
+from hexapod_adapt.mboa import Mboa, MboaConfig, StopReason, Trial
+from hexapod_adapt.simulation import archive_engine
+from hexapod_gait import preset
+from hexapod_sim import SimConfig, Simulator, create_simulator, evaluate_gait
+from hexapod_sim.scenarios import scenario as orientations_of
 
 
 @dataclass
@@ -51,10 +55,10 @@ def adapt(archive: Archive, trial: Callable[[int], float], config: MboaConfig | 
     t0 = time.monotonic()
     result = AdaptationResult(False, "")
     while True:
-        stop, why = opt.should_stop()
-        if stop:
-            result.success = why.startswith("best measured")
-            result.message = why
+        reason = opt.stop_reason()
+        if reason is not StopReason.CONTINUE:
+            result.success = reason is StopReason.ALPHA_REACHED
+            result.message = opt.should_stop()[1]
             break
         if should_cancel and should_cancel():
             result.message = "cancelled"
@@ -79,13 +83,10 @@ def adapt(archive: Archive, trial: Callable[[int], float], config: MboaConfig | 
     return result
 
 
-def simulated_trial(archive: Archive, failed_legs: Sequence[int], sim=None,
+def simulated_trial(archive: Archive, failed_legs: Sequence[int], sim: Simulator,
                     duration: float | None = None) -> Callable[[int], float]:
-    """Trial function on the PyBullet simulator with ``failed_legs``; collisions are not fatal
+    """Trial function on ``sim`` (either engine) with ``failed_legs``; collisions are not fatal
     (thesis 5.2.2: the robot cannot detect them)."""
-    from hexapod_sim import HexapodSimulator, evaluate_gait
-
-    sim = sim or HexapodSimulator()
     duration = duration or archive.trial_duration
 
     def trial(niche: int) -> float:
@@ -104,26 +105,30 @@ class ExperimentRow:
     best_niche: int
     best_speed: float            # adapted gait [m/s]
     control_speed: float         # the control tripod with the same damage [m/s]
+    intact_control_speed: float  # the control tripod without damage, same engine [m/s]
     elapsed: float               # wall-clock seconds of the run (simulated trials)
+    map_engine: str              # engine that made the map
+    trial_engine: str            # engine the trials ran on (another one: a stand-in for the reality gap)
 
 
 def run_experiment(archive: Archive, scenarios: Sequence[str] = ("S1", "S2", "S3", "S4"),
                    config: MboaConfig | None = None,
-                   on_row: Callable[[ExperimentRow], None] | None = None) -> list[ExperimentRow]:
+                   on_row: Callable[[ExperimentRow], None] | None = None,
+                   trial_engine: str | None = None) -> list[ExperimentRow]:
     """Thesis experiment 5.2 on one map: adapt in every orientation of each failure scenario
-    (library trials in the simulator, collisions not fatal), next to the control tripod gait."""
-    from hexapod_gait import preset
-    from hexapod_sim import HexapodSimulator, evaluate_gait
-    from hexapod_sim.scenarios import scenario as orientations_of
-
+    (library trials in the simulator, collisions not fatal), next to the control tripod gait.
+    Trials run on ``trial_engine`` (default: the engine that made the map)."""
+    map_engine = archive_engine(archive.metadata) or "pybullet"
+    trial_engine = trial_engine or map_engine
     rows = []
-    with HexapodSimulator() as sim:
+    with create_simulator(SimConfig(engine=trial_engine)) as sim:
+        intact = evaluate_gait(preset("control"), sim, collisions_fatal=False, failed_legs=()).speed
         for name in scenarios:
             for legs in orientations_of(name):
                 result = adapt(archive, simulated_trial(archive, legs, sim), config)
                 control = evaluate_gait(preset("control"), sim, collisions_fatal=False, failed_legs=legs).speed
                 row = ExperimentRow(name, tuple(legs), len(result.trials), result.success, result.best_niche,
-                                    result.best_speed, control, result.elapsed)
+                                    result.best_speed, control, intact, result.elapsed, map_engine, trial_engine)
                 rows.append(row)
                 if on_row:
                     on_row(row)

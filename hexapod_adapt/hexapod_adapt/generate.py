@@ -1,5 +1,5 @@
-"""Offline map generation: CVT + MAP-Elites + the PyBullet evaluation, on a local process pool,
-a Dask cluster or MPI (ROS-free API behind the ``generate_map`` command).
+"""Offline map generation: CVT + MAP-Elites + the simulated evaluation (MuJoCo by default, or
+PyBullet), on a local process pool, a Dask cluster or MPI (ROS-free API behind ``generate_map``).
 
 Writes the archive atomically to ``out``; while running, a checkpoint ``<out>.ckpt.npz`` (the
 archive plus the candidates in flight) every ``checkpoint_every`` seconds, and one JSON line per
@@ -16,10 +16,13 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Callable, Iterator
 
-from hexapod_adapt.archive import Archive, ArchiveError
+from hexapod_adapt.archive import Archive, ArchiveError, compatibility_problems
 from hexapod_adapt.cvt import cached_cvt, cvt_cache_path
-from hexapod_adapt.map_elites import (MapElitesConfig, Progress, load_checkpoint, reachable_random_genes,
-                                      run_map_elites, simulate_genotypes, simulation_fingerprint)
+from hexapod_adapt.map_elites import MapElitesConfig, Progress, load_checkpoint, run_map_elites
+from hexapod_adapt.simulation import DEFAULT_MAP_ENGINE, SimulateGenotypes, simulation_fingerprint
+from hexapod_gait import PRESETS, preset, to_genotype
+from hexapod_sim import validate_engine
+from hexapod_sim.sampling import random_reachable_genes
 
 BACKENDS = ("local", "dask", "mpi", "inline")
 
@@ -34,7 +37,8 @@ class GenerateConfig:
     workers: int = 0                  # local: processes (0 = all cores); dask/mpi: for the figures
     scheduler: str | None = None      # dask scheduler address (None: a local Dask cluster)
     lag: int = 0                      # candidates in flight (0: 4 x workers, at least 64)
-    chunk: int = 1
+    chunk: int = 0                    # candidates per worker call (0: 8 for MuJoCo, 1 for PyBullet)
+    engine: str = DEFAULT_MAP_ENGINE
     random_init: float = 0.01
     cvt_samples: int | None = None
     cvt_dir: Path | None = None       # cache centroids_<n>_6.dat here (default: next to out)
@@ -51,6 +55,9 @@ class GenerateConfig:
             raise ValueError(f"niches must be >= 2, got {self.niches}")
         if self.workers < 0:
             raise ValueError(f"workers must be >= 0, got {self.workers}")
+        if self.chunk < 0:
+            raise ValueError(f"chunk must be >= 0, got {self.chunk}")
+        validate_engine(self.engine)
 
     @property
     def checkpoint_path(self) -> Path:
@@ -68,15 +75,14 @@ class GenerateConfig:
         return os.cpu_count() or 1
 
     def engine_config(self) -> MapElitesConfig:
-        lag = self.lag or max(64, 4 * self.worker_count())
+        # MuJoCo evaluates a chunk as one native batch; PyBullet gains nothing from batches.
+        chunk = self.chunk or (8 if self.engine == "mujoco" else 1)
+        lag = self.lag or max(64, 4 * chunk * self.worker_count())
         initial: tuple = ()
         if self.with_presets:
-            from hexapod_gait import PRESETS, preset
-            from hexapod_gait.parameters import to_genotype
-
             initial = tuple(tuple(float(g) for g in to_genotype(preset(name))) for name in PRESETS)
         return MapElitesConfig(evaluations=self.evaluations, seed=self.seed, lag=lag, random_init=self.random_init,
-                               chunk=self.chunk, initial=initial)
+                               chunk=chunk, initial=initial)
 
 
 @contextlib.contextmanager
@@ -117,10 +123,29 @@ def open_executor(config: GenerateConfig) -> Iterator[tuple[cf.Executor | None, 
             yield pool, config.workers or pool.num_workers
 
 
+def remove_orphaned_temporaries(out: Path) -> list[Path]:
+    """Delete temporary files that an interrupted atomic write of ``out`` or of its checkpoint
+    left behind (``.<name>.*.tmp`` beside them); returns what was removed."""
+    removed = []
+    for name in (out.name, f"{out.name}.ckpt.npz"):
+        for tmp in out.parent.glob(f".{name}.*.tmp"):
+            with contextlib.suppress(FileNotFoundError):
+                tmp.unlink()
+                removed.append(tmp)
+    return removed
+
+
+class EmptyMapError(RuntimeError):
+    """The run finished without a single valid gait: no map was written."""
+
+
 def generate_map(config: GenerateConfig, on_progress: Callable[[Progress], None] | None = None) -> Archive:
-    """Run (or resume) a map generation; returns the final archive (also written to config.out)."""
+    """Run (or resume) a map generation; returns the final archive (also written to config.out).
+    Raises EmptyMapError if no evaluated gait was valid (nothing is written then)."""
     out = Path(config.out)
-    fingerprint = simulation_fingerprint()
+    out.parent.mkdir(parents=True, exist_ok=True)
+    remove_orphaned_temporaries(out)
+    fingerprint = simulation_fingerprint(config.engine)
     engine = config.engine_config()
     pending = None
     if config.resume and config.checkpoint_path.is_file():
@@ -132,14 +157,14 @@ def generate_map(config: GenerateConfig, on_progress: Callable[[Progress], None]
         if saved and {k: v for k, v in saved.items() if k != "evaluations"} != \
                 {k: v for k, v in wanted.items() if k != "evaluations"}:
             raise ArchiveError(f"{config.checkpoint_path}: written with MAP-Elites settings {saved}, not {wanted}: "
-                               "resume with the same --seed/--lag/--chunk/--random-init/--with-presets")
+                               "resume with the same --seed/--lag/--chunk/--random-init/--with-presets/--engine")
         if saved and engine.evaluations < archive.metadata.get("evaluations", 0):
             raise ArchiveError(f"{config.checkpoint_path}: already has {archive.metadata['evaluations']} evaluations, "
                                f"more than the {engine.evaluations} asked for")
-        for key, want in fingerprint.items():
-            if archive.metadata.get(key) != want:
-                raise ArchiveError(f"{config.checkpoint_path}: {key} differs from this installation's; "
-                                   "cannot resume a map made with another simulator or URDF")
+        problems = compatibility_problems(archive, fingerprint)
+        if problems:
+            raise ArchiveError(f"{config.checkpoint_path}: cannot resume a map made with another simulator, engine "
+                               "or URDF: " + "; ".join(problems))
     else:
         # one CVT per study, as in the thesis: reused from centroids_<n>_6.dat when present
         cvt_dir = Path(config.cvt_dir or out.parent)
@@ -159,10 +184,13 @@ def generate_map(config: GenerateConfig, on_progress: Callable[[Progress], None]
             if on_progress:
                 on_progress(p)
 
-        archive = run_map_elites(archive, engine, simulate_genotypes, executor=executor, workers=workers,
-                                 checkpoint=config.checkpoint_path, checkpoint_every=config.checkpoint_every,
-                                 pending=pending, on_progress=progress, progress_every=config.log_every,
-                                 random_genes=reachable_random_genes)
+        archive = run_map_elites(archive, engine, SimulateGenotypes(config.engine), executor=executor,
+                                 workers=workers, checkpoint=config.checkpoint_path,
+                                 checkpoint_every=config.checkpoint_every, pending=pending, on_progress=progress,
+                                 progress_every=config.log_every, random_genes=random_reachable_genes)
+    if archive.n_filled == 0:
+        raise EmptyMapError(f"no valid gait in {archive.metadata.get('evaluations')} evaluations: no map written "
+                            f"(the checkpoint {config.checkpoint_path} holds the run)")
     archive.metadata.pop("created", None)
     archive.save(out)
     return archive

@@ -13,7 +13,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from hexapod_adapt.generate import BACKENDS, GenerateConfig, generate_map
+from hexapod_adapt.generate import BACKENDS, EmptyMapError, GenerateConfig, generate_map
+from hexapod_sim import ENGINES
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -22,13 +23,17 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--out", type=Path, required=True, help="archive file to write (.npz)")
     ap.add_argument("--niches", type=int, default=10000, help="CVT niches (thesis: 40000)")
     ap.add_argument("--evaluations", type=int, default=1_000_000, help="total evaluations (thesis: 4e7)")
-    ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--backend", choices=BACKENDS, default="local")
+    ap.add_argument("--seed", type=int, default=0, help="seed of the CVT and of every candidate (the map's identity)")
+    ap.add_argument("--engine", choices=ENGINES, default="mujoco",
+                    help="physics engine of the evaluations (mujoco: ~7x faster per core; pybullet: the thesis's)")
+    ap.add_argument("--backend", choices=BACKENDS, default="local",
+                    help="local process pool, a Dask cluster, MPI, or inline in this process")
     ap.add_argument("--workers", type=int, default=0, help="local worker processes (0 = every core)")
     ap.add_argument("--scheduler", help="Dask scheduler address (default: a local Dask cluster)")
     ap.add_argument("--lag", type=int, default=0,
                     help="candidates in flight; part of the map's identity (0 = max(64, 4 x workers))")
-    ap.add_argument("--chunk", type=int, default=1, help="candidates per task (raise over a network)")
+    ap.add_argument("--chunk", type=int, default=0,
+                    help="candidates per worker call; part of the map's identity (0 = 8 for mujoco, 1 for pybullet)")
     ap.add_argument("--random-init", type=float, default=0.01, help="fraction of niches filled at random first")
     ap.add_argument("--cvt-samples", type=int, default=None, help="K-means samples (default 25 per niche)")
     ap.add_argument("--cvt-dir", type=Path, default=None, help="where centroids_<n>_6.dat is cached (default: next to --out)")
@@ -38,7 +43,8 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--resume", action="store_true", help="continue from <out>.ckpt.npz if present")
     ap.add_argument("--with-presets", action="store_true",
                     help="try the preset gaits (control, tripod, wave, quadruped) before anything else")
-    ap.add_argument("--quiet", action="store_true")
+    ap.add_argument("--quiet", action="store_true", help="no progress bar or progress lines")
+    ap.add_argument("--no-bar", action="store_true", help="progress lines instead of a progress bar (logs, CI)")
     return ap
 
 
@@ -50,20 +56,35 @@ def main(argv: list[str] | None = None) -> int:
                                 chunk=args.chunk, random_init=args.random_init, cvt_samples=args.cvt_samples,
                                 cvt_dir=args.cvt_dir, checkpoint_every=args.checkpoint_every,
                                 log_every=args.log_every, log=args.log, resume=args.resume,
-                                with_presets=args.with_presets)
+                                with_presets=args.with_presets, engine=args.engine)
         config.engine_config()
     except ValueError as exc:
         print(f"generate_map: {exc}", file=sys.stderr)
         return 2
 
+    bar = None
+    use_bar = not args.quiet and not args.no_bar
+
     def show(p) -> None:
-        if not args.quiet:
+        nonlocal bar
+        if use_bar:
+            if bar is None:   # made at the first report, so a resumed run's rate and ETA count this run only
+                from tqdm import tqdm
+
+                bar = tqdm(total=args.evaluations, initial=p.evaluations, unit="eval", dynamic_ncols=True,
+                           smoothing=0.1)
+            bar.update(p.evaluations - bar.n)
+            bar.set_postfix(niches=p.filled, max=f"{p.max:.3f}", util=f"{100 * p.utilisation:.0f}%", refresh=False)
+        elif not args.quiet:
             print(f"{p.evaluations:>10d} evals  {p.filled:>6d} niches ({100 * p.coverage:5.1f} %)  "
                   f"max {p.max:7.3f}  mean {p.mean:7.3f} m  {p.evals_per_s:7.1f} evals/s  "
                   f"utilisation {100 * p.utilisation:5.1f} %", flush=True)
 
     try:
         archive = generate_map(config, on_progress=show)
+    except EmptyMapError as exc:
+        print(f"generate_map: {exc}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         print(f"generate_map: interrupted; continue with --resume (checkpoint {config.checkpoint_path})",
               file=sys.stderr)
@@ -71,6 +92,8 @@ def main(argv: list[str] | None = None) -> int:
     except (ValueError, RuntimeError) as exc:
         print(f"generate_map: {exc}", file=sys.stderr)
         return 1
+    if bar is not None:
+        bar.close()
     s = archive.stats()
     print(f"wrote {config.out}: {s['filled']} of {archive.n_niches} niches, max {s['max']:.3f} m "
           f"({s['max'] / archive.trial_duration:.3f} m/s), {archive.metadata['evaluations']} evaluations")

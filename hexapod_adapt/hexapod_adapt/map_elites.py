@@ -24,7 +24,7 @@ import os
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import Callable, Protocol, Sequence
 
 import numpy as np
 
@@ -57,9 +57,8 @@ class MapElitesConfig:
                 raise ValueError(f"initial genotypes must have {GENOTYPE_SIZE} genes in [0, 1]")
 
 
-@dataclass(frozen=True)
-class Evaluation:
-    """What a worker returns for one candidate."""
+class Evaluation(Protocol):
+    """What MAP-Elites needs of one candidate's result (hexapod_sim's EvaluationResult is one)."""
 
     fitness: float
     descriptor: np.ndarray   # (6,)
@@ -246,54 +245,3 @@ def run_map_elites(archive: Archive, config: MapElitesConfig, evaluate: Evaluate
     if on_progress:
         on_progress(progress())
     return engine.archive
-
-
-# -- the simulator as the evaluation function -----------------------------------------------------
-_WORKER_SIM = None
-
-
-def reachable_random_genes(rng: np.random.Generator, max_draws: int = 100_000) -> np.ndarray:
-    """A uniform random genotype whose key points the legs can reach. About 2.4 % of uniform
-    genotypes pass this vectorised check (microseconds), and only ~0.03 % are feasible gaits,
-    so drawing random-initialisation gaits from this subset saves ~97 % of the wasted
-    evaluations of thesis-style uniform initialisation without biasing among feasible gaits."""
-    from hexapod_gait.trajectory import reachable_key_points
-
-    for _ in range(max_draws // 256):
-        batch = rng.random((256, GENOTYPE_SIZE))
-        ok = np.flatnonzero(reachable_key_points(batch))
-        if ok.size:
-            return batch[ok[0]]
-    raise RuntimeError(f"no reachable genotype in {max_draws} draws")
-
-
-def simulate_genotypes(genes: np.ndarray) -> list[Evaluation]:
-    """Evaluate genotypes in this process's simulator (created on first use), collisions fatal."""
-    global _WORKER_SIM
-    from hexapod_sim import HexapodSimulator, evaluate_gait
-
-    if _WORKER_SIM is None:
-        _WORKER_SIM = HexapodSimulator()
-    out = []
-    for g in np.atleast_2d(genes):
-        t = time.perf_counter()
-        r = evaluate_gait(g, _WORKER_SIM, collisions_fatal=True)
-        out.append(Evaluation(r.fitness, r.descriptor, r.valid, time.perf_counter() - t))
-    return out
-
-
-def simulation_fingerprint() -> dict[str, Any]:
-    """What a map's fitness depends on besides the genes: the URDF, the simulator settings and
-    the genotype mapping. An adapt node compares these with the archive's metadata."""
-    import hashlib
-
-    from hexapod_description import urdf_path
-    from hexapod_gait import GENOTYPE_MAPPING_VERSION
-    from hexapod_sim import ACCURATE, SimConfig
-    from hexapod_sim.evaluation import TRIAL_DURATION
-
-    cfg = SimConfig()
-    return {"genotype_mapping": GENOTYPE_MAPPING_VERSION,
-            "urdf_sha256": hashlib.sha256(Path(urdf_path()).read_bytes()).hexdigest(),
-            "simulator": {"engine": asdict(ACCURATE), "friction": cfg.friction, "collisions_fatal": True},
-            "trial_duration": TRIAL_DURATION}

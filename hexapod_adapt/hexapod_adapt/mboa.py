@@ -14,10 +14,21 @@ Speeds are in m/s throughout.
 """
 from __future__ import annotations
 
+import enum
+
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
+
+
+class StopReason(enum.Enum):
+    """Why an M-BOA run stops (thesis 5.2.2's stopping rule, the trial budget, or a used-up map)."""
+
+    CONTINUE = "continue"
+    ALPHA_REACHED = "alpha_reached"   # best measured >= alpha x highest posterior mean: success
+    MAX_TRIALS = "max_trials"
+    MAP_EXHAUSTED = "map_exhausted"
 
 
 @dataclass(frozen=True)
@@ -110,16 +121,28 @@ class Mboa:
     def best(self) -> Trial | None:
         return max(self.trials, key=lambda t: t.measured) if self.trials else None
 
-    def should_stop(self) -> tuple[bool, str]:
-        """(stop, why)."""
+    def stop_reason(self) -> StopReason:
+        """Why the run should stop now (``StopReason.CONTINUE`` if it should not)."""
         if len(self.trials) >= self.config.max_trials:
-            return True, f"reached the maximum of {self.config.max_trials} trials"
+            return StopReason.MAX_TRIALS
         best = self.best()
-        target = self.config.alpha * float(np.max(self._mu))
-        if best is not None and best.measured >= target:
+        if best is not None and best.measured >= self.config.alpha * float(np.max(self._mu)):
+            return StopReason.ALPHA_REACHED
+        if self.config.exclude_tested and len(self.tested()) == len(self.prior):
+            return StopReason.MAP_EXHAUSTED
+        return StopReason.CONTINUE
+
+    def should_stop(self) -> tuple[bool, str]:
+        """(stop, why) with ``why`` a sentence for people (decide on :meth:`stop_reason`)."""
+        reason = self.stop_reason()
+        if reason is StopReason.MAX_TRIALS:
+            return True, f"reached the maximum of {self.config.max_trials} trials"
+        if reason is StopReason.ALPHA_REACHED:
+            best = self.best()
+            assert best is not None
             return True, (f"best measured {best.measured:.3f} m/s >= alpha x max predicted "
                           f"({self.config.alpha:g} x {np.max(self._mu):.3f} m/s)")
-        if self.config.exclude_tested and len(self.tested()) == len(self.prior):
+        if reason is StopReason.MAP_EXHAUSTED:
             return True, "every gait in the map has been tried"
         return False, ""
 

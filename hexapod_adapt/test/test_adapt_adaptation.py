@@ -57,12 +57,12 @@ def test_an_empty_archive_is_refused():
 def test_simulated_trial_is_the_damaged_evaluation():
     from hexapod_gait import preset
     from hexapod_gait.parameters import to_genotype
-    from hexapod_sim import HexapodSimulator, evaluate_gait
+    from hexapod_sim import create_simulator, evaluate_gait
 
     genes = to_genotype(preset("control"))
     a = Archive.empty(np.full((1, 6), 0.5))
     a.fitness[0], a.descriptors[0], a.genotypes[0] = 1.0, 0.5, genes
-    with HexapodSimulator() as sim:
+    with create_simulator() as sim:
         trial = simulated_trial(a, failed_legs=[1], sim=sim)
         expected = evaluate_gait(genes, sim, collisions_fatal=False, failed_legs=[1]).speed
         assert trial(0) == expected

@@ -20,6 +20,7 @@ import time
 import tty
 
 from hexapod_bridge.firmware import ImuNoise, RobotFirmware
+from hexapod_sim import ENGINES, SimConfig, create_simulator
 
 
 class PtyPort:
@@ -75,7 +76,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description="Emulate the hexapod's firmware on pseudo-terminals.")
     parser.add_argument("--radio-link", default="/tmp/hexapod_radio", help="symlink path of the radio port")
     parser.add_argument("--imu-link", default="", help="symlink path of an emulated Xsens port ('' = none)")
-    parser.add_argument("--sim", action="store_true", help="drive the PyBullet simulator (the robot walks)")
+    parser.add_argument("--sim", action="store_true", help="drive a simulator (the robot walks)")
+    parser.add_argument("--engine", choices=ENGINES, default="pybullet",
+                        help="physics engine of the emulated robot with --sim")
     parser.add_argument("--imu-noise", action="store_true", help="add Xsens-like noise and bias to the IMU")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--walk-duration", type=float, default=5.0)
@@ -84,9 +87,7 @@ def main(argv: list[str] | None = None) -> int:
 
     sim = None
     if args.sim:
-        from hexapod_sim import HexapodSimulator
-
-        sim = HexapodSimulator()
+        sim = create_simulator(SimConfig(engine=args.engine))
     start = time.monotonic()
     firmware = RobotFirmware(sim=sim, walk_duration=args.walk_duration, failsafe_windows=args.failsafe_windows,
                              imu_noise=ImuNoise() if args.imu_noise else None, seed=args.seed, now=0.0)

@@ -1,6 +1,7 @@
 """The robot's firmware side of the radio protocol (legacy frames + extension v1), for tests and
 the robot_emulator. Time is passed in explicitly, so it runs in real time over a pseudo-
-terminal or faster in unit tests. Optionally drives a HexapodSimulator so the emulated robot
+terminal or faster in unit tests. Optionally drives a simulator (hexapod_sim's Simulator
+interface, either engine) so the emulated robot
 really walks the gait it was sent, and emulates the Xsens MTi (Xbus MTData at 100 Hz).
 
 Firmware behaviour reproduced from robot-facts.md: a ~50 ms timer tick; telemetry every 10
@@ -19,6 +20,7 @@ import numpy as np
 from hexapod_bridge import extension as ext
 from hexapod_bridge import legacy, xbus
 from hexapod_bridge.stream import LegacyCommand, PingFrame, RobotReceiver
+from hexapod_sim.simulator import quat_to_euler, quat_to_matrix
 
 TICK = 0.05
 
@@ -96,13 +98,13 @@ class RobotFirmware:
         self._walk_start = 0.0
         self._table = None
         self._row = 0
-        self._hold_row: tuple[list, list] | None = None
+        self._hold_row = None     # prepared rows of the pose to stand in
         self.out_radio = bytearray()
         self.out_imu = bytearray()
         if sim is not None:
             self._load_table()
             sim.reset(self._table.positions[0])
-            self._hold_row = sim.prepare_rows(self._table.positions[0], [0.0] * 18)
+            self._hold_row = sim.prepare_rows(self._table.positions[:1], np.zeros((1, 18)))
 
     # -- receiving ---------------------------------------------------------------------------
     def receive(self, data: bytes, now: float) -> None:
@@ -247,7 +249,8 @@ class RobotFirmware:
             record.end_position = self.sim.base_pose()[0] if self.sim is not None else np.zeros(3)
         if self.sim is not None and self._table is not None:
             # stand still in the pose the walk stopped in
-            self._hold_row = self.sim.prepare_rows(self._table.positions[self._row % len(self._table)], [0.0] * 18)
+            row = self._row % len(self._table)
+            self._hold_row = self.sim.prepare_rows(self._table.positions[row:row + 1], np.zeros((1, 18)))
         state_code = {"done": ext.TrialState.DONE, "stopped": ext.TrialState.STOPPED,
                       "estopped": ext.TrialState.ESTOPPED, "failsafe": ext.TrialState.FAILSAFE}[state]
         self._trial_report(state_code, self.walk_end if state == "done" else self._sim_time)
@@ -292,27 +295,21 @@ class RobotFirmware:
     def _attitude(self) -> tuple[float, float, float]:
         if self.sim is None:
             return 0.0, 0.0, 0.0
-        import pybullet as p
-
-        roll, pitch, yaw = p.getEulerFromQuaternion(self.sim.base_pose()[1].tolist())
+        roll, pitch, yaw = self.sim.base_euler()
         return pitch, roll, yaw
 
     def _step_sim(self, now: float) -> None:
-        import pybullet as p
-
         sim = self.sim
         while self._sim_time + sim.dt <= now:
             if self.walking and self._sim_time >= self.walk_end - 1e-9:
                 self._stop_walk("done")
             if self.walking:
                 row = self._row % len(self._table)
-                sim.apply_row(self._rows[0][row], self._rows[1][row])
+                sim.apply_row(self._rows, row)
                 self._row += 1
             elif self._hold_row is not None:
-                sim.apply_row(self._hold_row[0][0], self._hold_row[1][0])
-            if not self.motors_on:
-                p.setJointMotorControlArray(sim.body, sim.joint_indices, p.VELOCITY_CONTROL,
-                                            forces=[0.0] * 18, physicsClientId=sim.client)
+                sim.apply_row(self._hold_row, 0)
+            sim.set_motor_power(self.motors_on)
             sim.step()
             sim.update_imu()
             self._sim_time += sim.dt
@@ -321,8 +318,6 @@ class RobotFirmware:
                 self._emit_imu()
 
     def _emit_imu(self) -> None:
-        import pybullet as p
-
         quat, gyro, _ = self.sim.imu()
         # An MTi filters internally: its output is the mean acceleration over the sample
         # interval, i.e. the change of velocity over it (point samples of the 240 Hz
@@ -330,9 +325,9 @@ class RobotFirmware:
         velocity = self.sim.base_velocity()[0]
         a_world = (velocity - self._imu_velocity) / self.imu_period
         self._imu_velocity = velocity
-        rot = np.array(p.getMatrixFromQuaternion(quat.tolist())).reshape(3, 3)
+        rot = quat_to_matrix(quat)
         acc = rot.T @ (a_world + np.array([0.0, 0.0, 9.81])) + self.acc_bias
-        roll, pitch, yaw = (math.degrees(a) for a in p.getEulerFromQuaternion(quat.tolist()))
+        roll, pitch, yaw = (math.degrees(a) for a in quat_to_euler(quat))
         euler = np.array([roll, pitch, yaw])
         if self.imu_noise is not None:
             acc = acc + self.rng.normal(0, self.imu_noise.acc_sigma, 3)

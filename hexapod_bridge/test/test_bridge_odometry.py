@@ -15,11 +15,11 @@ from hexapod_bridge.link import RobotLink
 from hexapod_bridge.odometry import TrialOdometry
 from hexapod_bridge.xbus import MTData, XbusParser
 from hexapod_gait import from_genotype, preset
-from hexapod_sim import HexapodSimulator
+from hexapod_sim import create_simulator, Simulator
 from hexapod_sim.sampling import random_reachable_genotypes
 
 
-def run_trial(sim: HexapodSimulator, gait, seed: int, noise: ImuNoise | None) -> tuple[float, float]:
+def run_trial(sim: Simulator, gait, seed: int, noise: ImuNoise | None) -> tuple[float, float]:
     fw = RobotFirmware(sim=sim, imu_noise=noise, seed=seed)
     link, xp, history = RobotLink(), XbusParser(), deque(maxlen=31)
     t, odometry, start, done_at = 0.0, None, None, None
@@ -55,7 +55,7 @@ def test_imu_speed_estimate_accuracy():
     gaits = [preset("tripod"), preset("wave"), preset("quadruped")]
     gaits += [from_genotype(g) for g in random_reachable_genotypes(5, seed=8)]
     errors_clean, errors_noisy = [], []
-    with HexapodSimulator() as sim:
+    with create_simulator() as sim:
         for i, gait in enumerate(gaits):
             truth, estimate = run_trial(sim, gait, seed=0, noise=None)
             errors_clean.append(estimate - truth)

@@ -33,7 +33,7 @@ def urdf_path() -> Path:
             candidate = Path(get_package_share_directory(PACKAGE)) / "urdf" / "hexapod.urdf"
             if candidate.is_file():
                 return candidate
-        except PackageNotFoundError:
+        except (PackageNotFoundError, OSError):  # OSError: no AMENT_PREFIX_PATH at all
             pass
     except ImportError:  # plain Python without the ROS wheels
         pass

@@ -8,6 +8,9 @@ With ``collisions_fatal`` (map generation) a self-collision or a non-foot link t
 ground ends the evaluation with the failure value; without it (adaptation, 5.2.2) they are
 only counted. An unreachable gait also gets the failure value. The failure value is the
 thesis's: fitness 0, descriptor all zeros, with ``valid`` False and a reason.
+
+Works on any engine through :class:`~hexapod_sim.simulator.Simulator`; :func:`evaluate_gaits`
+hands a whole batch to the engine at once (MuJoCo runs it natively in C).
 """
 from __future__ import annotations
 
@@ -16,17 +19,21 @@ from dataclasses import dataclass
 from typing import Sequence
 
 import numpy as np
-import pybullet as p
 
+from hexapod_description import N_LEGS
 from hexapod_gait import GaitParameters, ReachabilityError, build_joint_table, from_genotype
-from hexapod_sim.simulator import N_LEGS, HexapodSimulator
+from hexapod_sim.simulator import JointRows, Simulator
 
 TRIAL_DURATION = 5.0   # s (thesis 4.1.1)
 FAILURE_FITNESS = 0.0
 
+GaitLike = GaitParameters | Sequence[float] | np.ndarray
+
 
 @dataclass(frozen=True)
 class EvaluationResult:
+    """The outcome of one evaluation; the one result type from the simulator to the archive."""
+
     fitness: float                # m along the walking direction (FAILURE_FITNESS if invalid)
     descriptor: np.ndarray        # (6,) duty factor per leg, 0..1 (zeros if invalid)
     valid: bool
@@ -34,6 +41,7 @@ class EvaluationResult:
     duration: float               # simulated seconds
     collision_steps: int = 0      # steps with a collision (collisions not fatal)
     contacts: np.ndarray | None = None   # (steps, 6) measured foot contacts, if recorded
+    seconds: float = 0.0          # compute time of this evaluation [s] (for utilisation figures)
 
     @property
     def speed(self) -> float:
@@ -41,68 +49,52 @@ class EvaluationResult:
         return self.fitness / self.duration if self.duration > 0 else 0.0
 
 
-def _failure(reason: str, duration: float) -> EvaluationResult:
+def failure(reason: str, duration: float) -> EvaluationResult:
+    """The thesis's failure value with a reason."""
     return EvaluationResult(FAILURE_FITNESS, np.zeros(N_LEGS), False, reason, duration)
 
 
-def evaluate_gait(gait: GaitParameters | Sequence[float] | np.ndarray, sim: HexapodSimulator,
-                  duration: float = TRIAL_DURATION, collisions_fatal: bool = True,
-                  failed_legs: Sequence[int] | None = None,
-                  record_contacts: bool = False) -> EvaluationResult:
-    """Evaluate one gait (or 32-gene genotype) on ``sim``; deterministic for a given input."""
-    if not isinstance(gait, GaitParameters):
-        gait = from_genotype(gait)
+def evaluate_gaits(gaits: Sequence[GaitLike], sim: Simulator, duration: float = TRIAL_DURATION,
+                   collisions_fatal: bool = True, failed_legs: Sequence[int] | None = None,
+                   record_contacts: bool = False) -> list[EvaluationResult]:
+    """Evaluate gaits (or 32-gene genotypes) on ``sim``, one result each, in order;
+    deterministic for a given input. ``failed_legs`` (if given) is applied first and kept."""
+    if not math.isfinite(duration) or duration <= 0:
+        raise ValueError(f"duration must be a positive number of seconds, got {duration!r}")
     if failed_legs is not None:
         sim.set_failed_legs(failed_legs)
-    try:
-        table = build_joint_table(gait, rate=1.0 / sim.dt)
-    except ReachabilityError as exc:
-        return _failure(f"unreachable: {exc}", duration)
-    except ValueError as exc:
-        return _failure(f"invalid: {exc}", duration)
-
-    positions, velocities = sim.prepare_rows(table.positions, table.velocities)
-    n_rows = len(positions)
-    sim.reset(table.positions[0])
-
-    # The hot loop: bound locals, one control call, one step, one contact query per step.
-    cid, body, plane = sim.client, sim.body, sim.plane
-    joints, efforts = sim._active_joint_indices, sim._active_efforts
-    control, step, contacts_of = p.setJointMotorControlArray, p.stepSimulation, p.getContactPoints
-    position_control = p.POSITION_CONTROL
-    foot_leg = sim._foot_leg
     n_steps = int(round(duration / sim.dt))
-    counts = [0] * N_LEGS
-    record = np.zeros((n_steps, N_LEGS), dtype=bool) if record_contacts else None
-    collision_steps = 0
-    for k in range(n_steps):
-        row = k % n_rows
-        control(body, joints, position_control, targetPositions=positions[row],
-                targetVelocities=velocities[row], forces=efforts, physicsClientId=cid)
-        step(physicsClientId=cid)
-        touching = [False] * N_LEGS
-        collided = None
-        for c in contacts_of(bodyA=body, physicsClientId=cid):
-            if c[2] == plane:
-                leg = foot_leg.get(c[3])
-                if leg is not None:
-                    touching[leg] = True
-                    continue
-                collided = collided or f"{sim.link_name(c[3])} touched the ground"
-            else:
-                collided = collided or f"self-collision {sim.link_name(c[3])} / {sim.link_name(c[4])}"
-        if collided is not None:
-            if collisions_fatal:
-                return _failure(f"{collided} at t = {(k + 1) * sim.dt:.3f} s", duration)
-            collision_steps += 1
-        for leg in range(N_LEGS):
-            if touching[leg]:
-                counts[leg] += 1
-        if record is not None:
-            record[k] = touching
-    sim.time = n_steps * sim.dt
-    pos, _ = sim.base_pose()
-    direction = (math.cos(gait.crab_angle), math.sin(gait.crab_angle))
-    fitness = float(pos[0] * direction[0] + pos[1] * direction[1])
-    return EvaluationResult(fitness, np.array(counts, dtype=float) / n_steps, True, "", duration,
-                            collision_steps, record)
+    results: list[EvaluationResult | None] = [None] * len(gaits)
+    params: list[GaitParameters] = []
+    tables: list[JointRows] = []
+    slots: list[int] = []
+    for i, gait in enumerate(gaits):
+        try:
+            g = gait if isinstance(gait, GaitParameters) else from_genotype(gait)
+            table = build_joint_table(g, rate=1.0 / sim.dt)
+        except ReachabilityError as exc:
+            results[i] = failure(f"unreachable: {exc}", duration)
+            continue
+        except ValueError as exc:
+            results[i] = failure(f"invalid: {exc}", duration)
+            continue
+        params.append(g)
+        tables.append(JointRows(table.positions, table.velocities))
+        slots.append(i)
+    played = sim.rollout(tables, n_steps, stop_on_collision=collisions_fatal, record_contacts=record_contacts)
+    for i, g, r in zip(slots, params, played):
+        if collisions_fatal and r.first_collision is not None:
+            results[i] = failure(r.first_collision, duration)
+            continue
+        direction = (math.cos(g.crab_angle), math.sin(g.crab_angle))
+        fitness = float(r.final_position[0] * direction[0] + r.final_position[1] * direction[1])
+        results[i] = EvaluationResult(fitness, r.contact_steps.astype(float) / n_steps, True, "", duration,
+                                      r.collision_steps, r.contacts)
+    return [r for r in results if r is not None]
+
+
+def evaluate_gait(gait: GaitLike, sim: Simulator, duration: float = TRIAL_DURATION,
+                  collisions_fatal: bool = True, failed_legs: Sequence[int] | None = None,
+                  record_contacts: bool = False) -> EvaluationResult:
+    """Evaluate one gait (or 32-gene genotype) on ``sim``; deterministic for a given input."""
+    return evaluate_gaits([gait], sim, duration, collisions_fatal, failed_legs, record_contacts)[0]

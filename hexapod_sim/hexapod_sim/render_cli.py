@@ -1,5 +1,6 @@
-"""``ros2 run hexapod_sim render_walk``: render a simulated walk with PyBullet's headless
-renderer to an animated GIF, and draw its measured footfall diagram (PNG).
+"""``ros2 run hexapod_sim render_walk``: render a simulated walk to an animated GIF (PyBullet's
+headless TinyRenderer, or MuJoCo's OpenGL renderer with ``--engine mujoco``, which needs
+MUJOCO_GL=egl or osmesa on a machine without a display), and draw its measured footfall (PNG).
 
     render_walk --preset tripod --seconds 3 --out docs/img/walk_tripod.gif
     render_walk --preset wave --failed-legs 1 --out /tmp/wave_s1.gif
@@ -14,30 +15,32 @@ import numpy as np
 
 from hexapod_gait import PRESETS, build_joint_table, preset
 from hexapod_gait.footfall import plot_footfall
-from hexapod_sim.simulator import HexapodSimulator, SimConfig
+from hexapod_sim.simulator import ENGINES, SimConfig, create_simulator
 
 
 def render_walk(gait_name: str, seconds: float, out: Path, failed_legs: list[int], fps: int = 20,
-                size: tuple[int, int] = (400, 300)) -> tuple[Path, Path]:
-    from PIL import Image
+                size: tuple[int, int] = (400, 300), engine: str = "pybullet") -> tuple[Path, Path]:
+    """Write ``out`` (GIF) and ``<out>_footfall.png``; returns both paths."""
+    from PIL import Image  # matplotlib's dependency; only this tool needs it
 
     gait = preset(gait_name)
-    with HexapodSimulator(SimConfig()) as sim:
+    with create_simulator(SimConfig(engine=engine)) as sim:
         sim.set_failed_legs(failed_legs)
         table = build_joint_table(gait, rate=1.0 / sim.dt)
+        rows = sim.prepare_rows(table.positions, table.velocities)
         sim.reset(table.positions[0])
         steps = int(round(seconds / sim.dt))
         every = max(1, int(round(1.0 / (fps * sim.dt))))
         frames, contacts = [], np.zeros((steps, 6), dtype=bool)
         for k in range(steps):
             row = k % len(table)
-            sim.command(table.positions[row], table.velocities[row])
+            sim.apply_row(rows, row)
             contacts[k] = sim.step().contacts
             if k % every == 0:
                 frames.append(Image.fromarray(sim.render(*size)))
     out.parent.mkdir(parents=True, exist_ok=True)
     frames[0].save(out, save_all=True, append_images=frames[1:], duration=int(1000 / fps), loop=0)
-    times = np.arange(steps) * (1.0 / 240.0)
+    times = np.arange(steps) * sim.dt
     failed = f", legs {failed_legs} failed" if failed_legs else ""
     footfall = plot_footfall(contacts, times, out.with_name(out.stem + "_footfall.png"),
                              title=f"{gait_name} gait, measured foot contacts in simulation{failed}")
@@ -46,17 +49,18 @@ def render_walk(gait_name: str, seconds: float, out: Path, failed_legs: list[int
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description="Render a simulated walk to GIF + measured footfall PNG.")
-    parser.add_argument("--preset", choices=sorted(PRESETS), default="tripod")
-    parser.add_argument("--seconds", type=float, default=3.0)
-    parser.add_argument("--failed-legs", type=int, nargs="*", default=[])
-    parser.add_argument("--fps", type=int, default=20)
-    parser.add_argument("--out", type=Path, default=Path("walk.gif"))
+    parser.add_argument("--preset", choices=sorted(PRESETS), default="tripod", help="gait to walk")
+    parser.add_argument("--seconds", type=float, default=3.0, help="simulated seconds, (0, 60]")
+    parser.add_argument("--failed-legs", type=int, nargs="*", default=[], help="legs 1..6 to fail (at most two)")
+    parser.add_argument("--fps", type=int, default=20, help="GIF frames per second, 1..60")
+    parser.add_argument("--engine", choices=ENGINES, default="pybullet", help="physics engine")
+    parser.add_argument("--out", type=Path, default=Path("walk.gif"), help="GIF to write")
     args = parser.parse_args(argv)
     if not 0 < args.seconds <= 60 or not 1 <= args.fps <= 60:
         parser.error("--seconds must be in (0, 60] and --fps in [1, 60]")
     try:
-        gif, png = render_walk(args.preset, args.seconds, args.out, args.failed_legs, args.fps)
-    except ValueError as exc:
+        gif, png = render_walk(args.preset, args.seconds, args.out, args.failed_legs, args.fps, engine=args.engine)
+    except (ValueError, RuntimeError) as exc:
         print(f"render_walk: {exc}", file=sys.stderr)
         return 2
     print(gif)

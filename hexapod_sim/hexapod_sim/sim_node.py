@@ -1,4 +1,5 @@
-"""``ros2 run hexapod_sim sim_node``: the PyBullet hexapod in the ROS graph.
+"""``ros2 run hexapod_sim sim_node``: the simulated hexapod in the ROS graph (PyBullet by default,
+or MuJoCo with ``engine:=mujoco``).
 
 Subscribes  gait/joint_trajectory  trajectory_msgs/JointTrajectory (latched): one gait cycle,
                                    played cyclically from phase 0 as soon as it arrives
@@ -49,7 +50,7 @@ from trajectory_msgs.msg import JointTrajectory
 from hexapod_gait import preset
 from hexapod_gait.ros_main import run_node
 from hexapod_gait.trajectory import build_joint_table
-from hexapod_sim.simulator import ACCURATE, FAST, HexapodSimulator, SimConfig, validate_failed_legs
+from hexapod_sim.simulator import SimConfig, create_simulator, validate_failed_legs
 from hexapod_sim.trajectory_input import CycleTable, TrajectoryError, cycle_from_points
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
@@ -72,12 +73,13 @@ class SimNode(Node):
         self.declare_parameter("real_time_factor", 1.0, ParameterDescriptor(
             description="Simulated seconds per wall-clock second; 0 = as fast as possible.",
             floating_point_range=[FloatingPointRange(from_value=0.0, to_value=100.0)]))
-        self.declare_parameter("gui", False, ParameterDescriptor(description="Open the PyBullet GUI window", **ro))
+        self.declare_parameter("gui", False, ParameterDescriptor(description="Open the PyBullet GUI window "
+                                                                          "(engine pybullet only)", **ro))
         self.declare_parameter("friction", 1.0, ParameterDescriptor(
             description="Lateral friction coefficient of the ground and the feet",
             floating_point_range=[FloatingPointRange(from_value=0.0, to_value=10.0)], **ro))
-        self.declare_parameter("engine", "accurate", ParameterDescriptor(
-            description="Physics settings: 'accurate' (PyBullet defaults) or 'fast' (fewer solver iterations)", **ro))
+        self.declare_parameter("engine", "pybullet", ParameterDescriptor(
+            description="Physics engine: 'pybullet' (the thesis's, the reference) or 'mujoco' (fast)", **ro))
         self.declare_parameter("failed_legs", Parameter.Type.INTEGER_ARRAY, ParameterDescriptor(
             description="Legs (1..6, at most two) failed at start-up", **ro))
         self.declare_parameter("publish_period_steps", 4, ParameterDescriptor(
@@ -89,14 +91,13 @@ class SimNode(Node):
         self.declare_parameter("base_frame", "base_link", ParameterDescriptor(description="Robot base frame", **ro))
         self.add_on_set_parameters_callback(self._on_set_parameters)
 
-        engine = str(self.get_parameter("engine").value)
-        if engine not in ("accurate", "fast"):
-            self.get_logger().error(f"engine must be 'accurate' or 'fast', got {engine!r}; using 'accurate'")
-            engine = "accurate"
-        self.sim = HexapodSimulator(SimConfig(
-            friction=float(self.get_parameter("friction").value),
-            engine=ACCURATE if engine == "accurate" else FAST, gui=bool(self.get_parameter("gui").value)))
         self.rtf = float(self.get_parameter("real_time_factor").value)
+        if not (math.isfinite(self.rtf) and 0.0 <= self.rtf <= 100.0):
+            raise ValueError(f"parameter real_time_factor must be in [0, 100], got {self.rtf}")
+        engine = str(self.get_parameter("engine").value)
+        self.sim = create_simulator(SimConfig(
+            engine=engine, friction=float(self.get_parameter("friction").value),
+            gui=bool(self.get_parameter("gui").value)))
         self.period_steps = int(self.get_parameter("publish_period_steps").value)
         self.odom_frame = str(self.get_parameter("odom_frame").value)
         self.base_frame = str(self.get_parameter("base_frame").value)
@@ -117,14 +118,14 @@ class SimNode(Node):
 
         # Until a trajectory arrives the robot stands in the first pose of the control gait.
         stand = build_joint_table(preset("control"), rate=1.0 / self.sim.dt)
-        self.cycle = CycleTable(stand.positions[:1], np.zeros((1, 18)), self.sim.dt)
+        self.cycle = CycleTable(stand.positions[:1], np.zeros_like(stand.positions[:1]), self.sim.dt)
         self.cycle_stamp = Header()
         self._prepare_cycle()
         initial = self.get_parameter_or("failed_legs", Parameter("failed_legs", value=[])).value or []
         try:
             self._apply_failure(validate_failed_legs(list(initial)))
-        except ValueError as exc:
-            self.get_logger().error(f"failed_legs parameter ignored: {exc}")
+        except ValueError as exc:   # never start an intact robot when a damaged one was asked for
+            raise ValueError(f"parameter failed_legs: {exc}") from None
         self._work: queue.Queue[Callable[[], None]] = queue.Queue()
         self._reset_now()
         self._running = True
@@ -215,7 +216,8 @@ class SimNode(Node):
         return applied
 
     def _prepare_cycle(self) -> None:
-        self._rows_q, self._rows_v = self.sim.prepare_rows(self.cycle.positions, self.cycle.velocities)
+        self._rows = self.sim.prepare_rows(self.cycle.positions, self.cycle.velocities)
+        self._n_rows = len(self.cycle.positions)
         self._row = 0
 
     def _reset_now(self) -> float:
@@ -240,10 +242,10 @@ class SimNode(Node):
                 except queue.Empty:
                     break
             sim = self.sim
-            sim.apply_row(self._rows_q[self._row], self._rows_v[self._row])
+            sim.apply_row(self._rows, self._row)
             sim.step()
             sim.update_imu()
-            self._row = (self._row + 1) % len(self._rows_q)
+            self._row = (self._row + 1) % self._n_rows
             self._steps_since_reset += 1
             self._sim_time = self._reset_stamp + self._steps_since_reset * sim.dt
             try:

@@ -1,72 +1,37 @@
-"""PyBullet simulator of the hexapod (thesis section 3.5); ROS-free.
+"""The engine-neutral simulator interface (thesis section 3.5); ROS-free.
 
-One physics client is created per simulator and reused. A reset rebuilds the world in that
-client (resetSimulation + loading the primitive-shape URDF: 4.4 ms measured) rather than
-restoring a saved state: restoreState leaves Bullet's persistent contact manifolds, whose
-warm-start impulses made a reused simulator diverge from a fresh one; a rebuilt world is bit
-for bit a fresh one. The 18 joint commands go out in one call per step and the step loop
-allocates no NumPy arrays. Collision geometry comes from hexapod_description's
-URDF (primitives), loaded with its inertias, self-collision on, the massless foot frames
-merged into the tibias, and the femur-base collision filter of section 3.5.3.
+Every loop that steps physics (gait evaluation, ``sim_node``, ``render_walk``, the robot
+emulator) talks to a :class:`Simulator`. Two engines implement it:
+
+* ``pybullet`` (:mod:`hexapod_sim.pybullet_engine`): the thesis's engine, the reference and the
+  default of ``sim_node``;
+* ``mujoco`` (:mod:`hexapod_sim.mujoco_engine`): the fast engine for maps and large experiments.
+
+Both load ``hexapod_description``'s URDF. Engine internals (clients, bodies, ``MjData``) stay in
+the engine modules; nothing else touches them. :func:`create_simulator` picks the engine named in
+:class:`SimConfig`.
 """
 from __future__ import annotations
 
-import contextlib
+import abc
+import hashlib
+import json
 import math
-import os
-from dataclasses import dataclass, field
-from typing import Iterable, Sequence
+from dataclasses import asdict, dataclass, field
+from typing import Any, Iterable, Sequence
 
 import numpy as np
-import pybullet as p
-import pybullet_data
 
-from hexapod_description import load_model, urdf_path
+from hexapod_description import N_LEGS, load_model
+from hexapod_description.model import HexapodModel
+from hexapod_gait import default_kinematics
+from hexapod_gait.trajectory import default_geometry
 
-N_LEGS = 6
 #: Failure pose of a leg (thesis table 5.1): coxa 0, femur 90, tibia -165 degrees.
 FAILURE_POSE = (0.0, math.radians(90.0), math.radians(-165.0))
 MAX_FAILED_LEGS = 2
 GRAVITY = 9.81
-
-
-@dataclass(frozen=True)
-class EngineSettings:
-    """Physics-engine settings. ``ACCURATE`` is PyBullet's default and the default everywhere.
-    ``FAST`` trades solver iterations for speed; ``make bench-sim`` measures its ranking
-    fidelity against ACCURATE, which does not reach Spearman 0.95 (see docs/simulator.md), so
-    nothing uses it unless asked to."""
-
-    solver_iterations: int = 50
-    time_step: float = 1.0 / 240.0
-    cone_friction: bool = True
-    #: PyBullet's default world also runs deformable-body machinery; the plain discrete
-    #: multibody world skips it (no effect on rigid-body results).
-    discrete_world: bool = False
-    #: Solver stops iterating early once the squared residual is below this (PyBullet: 1e-7).
-    residual_threshold: float = 1e-7
-
-    def __post_init__(self) -> None:
-        if self.solver_iterations < 1:
-            raise ValueError(f"solver_iterations must be >= 1, got {self.solver_iterations}")
-        if not 0 < self.time_step <= 0.01:
-            raise ValueError(f"time_step must be in (0, 0.01] s, got {self.time_step}")
-
-
-ACCURATE = EngineSettings()
-FAST = EngineSettings(solver_iterations=20)
-
-
-@dataclass(frozen=True)
-class SimConfig:
-    friction: float = 1.0                 # lateral friction of the ground and the feet
-    engine: EngineSettings = ACCURATE
-    gui: bool = False
-    urdf: str | None = None               # default: hexapod_description's URDF
-
-    def __post_init__(self) -> None:
-        if not (math.isfinite(self.friction) and 0.0 <= self.friction <= 10.0):
-            raise ValueError(f"friction must be in [0, 10], got {self.friction}")
+ENGINES = ("pybullet", "mujoco")
 
 
 def validate_failed_legs(legs: Iterable[int]) -> tuple[int, ...]:
@@ -85,22 +50,54 @@ def validate_failed_legs(legs: Iterable[int]) -> tuple[int, ...]:
     return legs_t
 
 
-@contextlib.contextmanager
-def _quiet_stdout():
-    """PyBullet's URDF loader prints link merging to C stdout; silence it while loading."""
-    try:
-        saved = os.dup(1)
-    except OSError:
-        yield
-        return
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    try:
-        os.dup2(devnull, 1)
-        yield
-    finally:
-        os.dup2(saved, 1)
-        os.close(saved)
-        os.close(devnull)
+def validate_engine(name: str) -> str:
+    """The engine name, or ValueError listing the known engines."""
+    if name not in ENGINES:
+        raise ValueError(f"unknown physics engine {name!r}; choose one of: {', '.join(ENGINES)}")
+    return name
+
+
+def body_height_from_joints(q: np.ndarray) -> float:
+    """Base height that puts the lowest foot on the ground for joint angles q (18,): the
+    inverse of the controller's foot height -(h_b + mount_z). One definition for every engine,
+    ``sim_node`` and the emulator, so they all start from identical states."""
+    feet = default_kinematics().forward(np.asarray(q, dtype=float).reshape(N_LEGS, 3))
+    return float(np.max(-(feet[:, 2] + default_geometry().mount_z)))
+
+
+@dataclass(frozen=True)
+class SimConfig:
+    """Which engine, with which settings. ``friction`` (ground and feet) is shared by both
+    engines; each engine's own choices live in its settings object."""
+
+    engine: str = "pybullet"
+    friction: float = 1.0
+    pybullet: Any = None        # PyBulletSettings (default: pybullet_engine.ACCURATE)
+    mujoco: Any = None          # MujocoSettings (default: mujoco_engine.DEFAULT_SETTINGS)
+    gui: bool = False           # PyBullet only: open its GUI window
+    urdf: str | None = None     # default: hexapod_description's URDF
+
+    def __post_init__(self) -> None:
+        validate_engine(self.engine)
+        if not (math.isfinite(self.friction) and 0.0 <= self.friction <= 10.0):
+            raise ValueError(f"friction must be in [0, 10], got {self.friction}")
+
+    def engine_settings(self) -> Any:
+        """The settings object of the selected engine (its default if none was given)."""
+        if self.engine == "pybullet":
+            from hexapod_sim.pybullet_engine import ACCURATE
+            return self.pybullet or ACCURATE
+        from hexapod_sim.mujoco_engine import DEFAULT_SETTINGS
+        return self.mujoco or DEFAULT_SETTINGS
+
+    def fingerprint(self) -> dict[str, Any]:
+        """What a simulated result depends on besides the gait: engine, its settings (and their
+        hash), friction. Recorded in archive metadata."""
+        settings = asdict(self.engine_settings())
+        blob = json.dumps({"engine": self.engine, "settings": settings, "friction": self.friction},
+                          sort_keys=True).encode()
+        return {"engine": self.engine, "settings": settings, "friction": self.friction,
+                "settings_sha256": hashlib.sha256(blob).hexdigest()}
 
 
 @dataclass
@@ -108,199 +105,184 @@ class StepReport:
     """What happened in the last step (reused object; copy what you keep)."""
 
     contacts: list = field(default_factory=lambda: [False] * N_LEGS)   # per leg, foot on ground
-    body_ground: int | None = None      # link index (-1 base) of a non-foot link on the ground
-    self_collision: tuple[int, int] | None = None                   # colliding link pair
+    body_ground: str | None = None        # name of a non-foot link on the ground
+    self_collision: str | None = None     # description of a self-collision
+
+    @property
+    def collision(self) -> str | None:
+        """A description of the first collision of this step, or None."""
+        if self.self_collision is not None:
+            return f"self-collision {self.self_collision}"
+        if self.body_ground is not None:
+            return f"{self.body_ground} touched the ground"
+        return None
 
 
-class HexapodSimulator:
-    """The hexapod on a flat plane, stepped at ``config.engine.time_step``."""
+@dataclass(frozen=True)
+class JointRows:
+    """A joint table to play cyclically: positions and velocities (N, 18), URDF order, one row
+    per simulator step."""
 
-    def __init__(self, config: SimConfig | None = None):
-        self.config = config or SimConfig()
+    positions: np.ndarray
+    velocities: np.ndarray
+
+
+@dataclass(frozen=True)
+class PlayResult:
+    """The outcome of playing a joint table from a reset (:meth:`Simulator.rollout`)."""
+
+    steps: int                        # steps simulated (fewer than asked if stopped on a collision)
+    contact_steps: np.ndarray         # (6,) steps with each foot on the ground
+    collision_steps: int              # steps with a collision
+    first_collision: str | None       # "<what> at t = <s> s", or None
+    final_position: np.ndarray        # (3,) base position at the end [m]
+    contacts: np.ndarray | None = None   # (steps, 6) bool, if recorded
+
+
+def quat_to_matrix(quat: Sequence[float]) -> np.ndarray:
+    """Rotation matrix (3, 3) of a unit quaternion (x, y, z, w)."""
+    x, y, z, w = (float(v) for v in quat)
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+    ])
+
+
+def quat_to_euler(quat: Sequence[float]) -> tuple[float, float, float]:
+    """(roll, pitch, yaw) [rad] of a quaternion (x, y, z, w): rotations about fixed x, y, z
+    applied in that order (the convention of PyBullet's getEulerFromQuaternion and REP 103)."""
+    x, y, z, w = (float(v) for v in quat)
+    roll = math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
+    pitch = math.asin(max(-1.0, min(1.0, 2 * (w * y - z * x))))
+    yaw = math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+    return roll, pitch, yaw
+
+
+class Simulator(abc.ABC):
+    """The hexapod on a flat plane, stepped at ``dt``: one interface, two engines.
+
+    Joint vectors are 18 long in URDF order (``model.joint_names``). Failed legs (1..6, at most
+    two) are held by their servos in the pose of table 5.1 as dead weight; a reset keeps them.
+    """
+
+    engine: str
+    dt: float
+    model: HexapodModel
+    failed_legs: tuple[int, ...]
+    report: StepReport
+
+    def __init__(self, config: SimConfig | None) -> None:
+        self.config = config or SimConfig(engine=self.engine)
+        if self.config.engine != self.engine:
+            raise ValueError(f"{type(self).__name__} runs the {self.engine} engine, not {self.config.engine}")
         self.model = load_model(self.config.urdf) if self.config.urdf else load_model()
-        eng = self.config.engine
-        self.dt = eng.time_step
-        self._urdf = str(self.model.path if self.config.urdf else urdf_path())
-        self.client = p.connect(p.GUI if self.config.gui else p.DIRECT)
-        if self.client < 0:
-            raise RuntimeError("could not connect to a PyBullet physics server")
-        self.failed_legs: tuple[int, ...] = ()
-        self._build_world()
-        cid = self.client
-        by_name = {p.getJointInfo(self.body, i, physicsClientId=cid)[1].decode(): i
-                   for i in range(p.getNumJoints(self.body, physicsClientId=cid))}
-        self.joint_indices = [by_name[name] for name in self.model.joint_names]
-        self.link_names = {i: p.getJointInfo(self.body, i, physicsClientId=cid)[12].decode() for i in by_name.values()}
-        self.link_names[-1] = "base_link"
-        self.foot_links = [self.joint_indices[3 * leg + 2] for leg in range(N_LEGS)]
-        self._foot_leg = {link: leg for leg, link in enumerate(self.foot_links)}
-        self.efforts = [lim.effort for lim in self.model.limits]
         self.lower = np.array([lim.lower for lim in self.model.limits])
         self.upper = np.array([lim.upper for lim in self.model.limits])
         self.max_velocity = np.array([lim.velocity for lim in self.model.limits])
-        self._configure_world()
-        self._active_joint_slots = list(range(3 * N_LEGS))
-        self._active_joint_indices = list(self.joint_indices)
-        self._active_efforts = list(self.efforts)
+        self.failed_legs = ()
         self.report = StepReport()
-        self.time = 0.0
-        self._prev_velocity = np.zeros(3)
-        self._accel = np.array([0.0, 0.0, 0.0])
-
-    def _build_world(self) -> None:
-        """(Re)create gravity, engine settings, the ground and the robot in this client."""
-        cid, eng = self.client, self.config.engine
-        p.resetSimulation(p.RESET_USE_DISCRETE_DYNAMICS_WORLD if eng.discrete_world else 0, physicsClientId=cid)
-        p.setGravity(0.0, 0.0, -GRAVITY, physicsClientId=cid)
-        p.setTimeStep(eng.time_step, physicsClientId=cid)
-        p.setPhysicsEngineParameter(numSolverIterations=eng.solver_iterations,
-                                    enableConeFriction=int(eng.cone_friction),
-                                    solverResidualThreshold=eng.residual_threshold,
-                                    deterministicOverlappingPairs=1, physicsClientId=cid)
-        with _quiet_stdout():
-            self.plane = p.loadURDF(os.path.join(pybullet_data.getDataPath(), "plane.urdf"), physicsClientId=cid)
-            flags = p.URDF_USE_INERTIA_FROM_FILE | p.URDF_USE_SELF_COLLISION | p.URDF_MERGE_FIXED_LINKS
-            self.body = p.loadURDF(self._urdf, [0.0, 0.0, 0.3], flags=flags, physicsClientId=cid)
-
-    def _configure_world(self) -> None:
-        """Joint velocity limits, friction, collision filters (after every rebuild)."""
-        cid = self.client
-        for index, lim in zip(self.joint_indices, self.model.limits):
-            p.changeDynamics(self.body, index, maxJointVelocity=lim.velocity, physicsClientId=cid)
-        for leg in range(N_LEGS):
-            p.changeDynamics(self.body, self.foot_links[leg], lateralFriction=self.config.friction, physicsClientId=cid)
-            # Section 3.5.3: the femurs would hit the (convex) base before their joint limits.
-            p.setCollisionFilterPair(self.body, self.body, -1, self.joint_indices[3 * leg + 1], 0, physicsClientId=cid)
-        p.changeDynamics(self.plane, -1, lateralFriction=self.config.friction, physicsClientId=cid)
-        self._apply_failure_filters()
-
-    def _apply_failure_filters(self) -> None:
-        for leg in range(1, N_LEGS + 1):
-            coxa, tibia = self.joint_indices[3 * (leg - 1)], self.joint_indices[3 * (leg - 1) + 2]
-            # In the folded failure pose the tibia's bounding box overlaps its own coxa's (the
-            # real servo clamps near -150 deg there). A failed leg is a rigid dead weight, so
-            # that pair is exempt from collision while the leg is failed.
-            p.setCollisionFilterPair(self.body, self.body, coxa, tibia, int(leg not in self.failed_legs),
-                                     physicsClientId=self.client)
-
-    # -- configuration ----------------------------------------------------------------------
-    def set_failed_legs(self, legs: Iterable[int]) -> tuple[int, ...]:
-        """Hold these legs (1..6, at most two) in the failure pose (table 5.1), from now on:
-        their motors drive them to the pose; a reset places them there directly."""
-        new = validate_failed_legs(legs)
-        self.failed_legs = new
-        self._apply_failure_filters()
-        failed_slots = {3 * (leg - 1) + k for leg in self.failed_legs for k in range(3)}
-        self._active_joint_slots = [s for s in range(3 * N_LEGS) if s not in failed_slots]
-        self._active_joint_indices = [self.joint_indices[s] for s in self._active_joint_slots]
-        self._active_efforts = [self.efforts[s] for s in self._active_joint_slots]
-        self._command_failure_pose()
-        return self.failed_legs
-
-    def _command_failure_pose(self) -> None:
-        if not self.failed_legs:
-            return
-        slots = [3 * (leg - 1) + k for leg in self.failed_legs for k in range(3)]
-        p.setJointMotorControlArray(self.body, [self.joint_indices[s] for s in slots], p.POSITION_CONTROL,
-                                    targetPositions=[FAILURE_POSE[s % 3] for s in slots],
-                                    targetVelocities=[0.0] * len(slots), forces=[self.efforts[s] for s in slots],
-                                    physicsClientId=self.client)
-
-    # -- state ------------------------------------------------------------------------------
-    def reset(self, joint_positions: Sequence[float], body_height: float | None = None) -> None:
-        """Robot back at the origin (yaw 0) with the given joint angles (18, URDF order); failed
-        legs in the failure pose; everything at rest. The base is placed at ``body_height``, by
-        default the height that puts the lowest foot on the ground (the gait's body height for
-        a gait-controller pose), so every caller starts from bit-identical states."""
-        if body_height is None:
-            from hexapod_gait import default_kinematics
-            from hexapod_gait.trajectory import default_geometry
-            from hexapod_sim.trajectory_input import body_height_from_joints
-
-            body_height = body_height_from_joints(joint_positions, default_kinematics(), default_geometry())
-        cid = self.client
-        self._build_world()
-        self._configure_world()
-        p.resetBasePositionAndOrientation(self.body, [0.0, 0.0, float(body_height)], [0.0, 0.0, 0.0, 1.0],
-                                          physicsClientId=cid)
-        p.resetBaseVelocity(self.body, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], physicsClientId=cid)
-        q = np.clip(np.asarray(joint_positions, dtype=float), self.lower, self.upper)
-        for leg in self.failed_legs:
-            q[3 * (leg - 1): 3 * leg] = FAILURE_POSE
-        for index, value in zip(self.joint_indices, q.tolist()):
-            p.resetJointState(self.body, index, value, 0.0, physicsClientId=cid)
-        self._command_failure_pose()
         self.time = 0.0
         self._prev_velocity = np.zeros(3)
         self._accel = np.zeros(3)
 
-    def prepare_rows(self, positions: np.ndarray, velocities: np.ndarray) -> tuple[list, list]:
-        """Joint tables (N, 18) as the rows :meth:`apply_row` sends: positions clipped to the
-        joint limits, velocities to the velocity limits, only the healthy legs' joints. Done once
-        per table (and again after the failed legs change), never per step."""
-        slots = self._active_joint_slots
-        q = np.clip(np.atleast_2d(positions), self.lower, self.upper)[:, slots]
-        v = np.clip(np.atleast_2d(velocities), -self.max_velocity, self.max_velocity)[:, slots]
-        return q.tolist(), v.tolist()
+    # -- what each engine implements -------------------------------------------------------------
+    @abc.abstractmethod
+    def _apply_failed_legs(self) -> None:
+        """Make the engine hold ``self.failed_legs`` in the failure pose from now on."""
 
-    def apply_row(self, q_row: list, v_row: list) -> None:
-        """Send one prepared row as position-control targets (one call for all joints)."""
-        p.setJointMotorControlArray(self.body, self._active_joint_indices, p.POSITION_CONTROL,
-                                    targetPositions=q_row, targetVelocities=v_row,
-                                    forces=self._active_efforts, physicsClientId=self.client)
+    @abc.abstractmethod
+    def _reset_state(self, q: np.ndarray, body_height: float) -> None:
+        """Robot at (0, 0, body_height), yaw 0, joints q (failed legs already posed), at rest."""
+
+    @abc.abstractmethod
+    def prepare_rows(self, positions: np.ndarray, velocities: np.ndarray) -> Any:
+        """A joint table (N, 18) in the engine's own form for :meth:`apply_row`: positions
+        clipped to the joint limits, velocities to the velocity limits, the failed legs' joints
+        left to the failure pose. Done once per table, never per step."""
+
+    @abc.abstractmethod
+    def apply_row(self, rows: Any, index: int) -> None:
+        """Command row ``index`` of prepared rows (one call for all joints)."""
+
+    @abc.abstractmethod
+    def step(self) -> StepReport:
+        """Advance one time step; report foot contacts and collisions of that step."""
+
+    @abc.abstractmethod
+    def set_motor_power(self, on: bool) -> None:
+        """Servo power on or off (off: no servo torque, as after the firmware's e-stop)."""
+
+    @abc.abstractmethod
+    def base_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        """Base position [m] and orientation quaternion (x, y, z, w) in the world frame."""
+
+    @abc.abstractmethod
+    def base_velocity(self) -> tuple[np.ndarray, np.ndarray]:
+        """Base linear [m/s] and angular [rad/s] velocity in the world frame."""
+
+    @abc.abstractmethod
+    def joint_states(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Joint positions [rad], velocities [rad/s], servo torques [N m] (URDF order)."""
+
+    @abc.abstractmethod
+    def render(self, width: int = 480, height: int = 360, distance: float = 0.9,
+               yaw: float = 30.0, pitch: float = -25.0) -> np.ndarray:
+        """An RGB image (height, width, 3) from a camera following the robot."""
+
+    @abc.abstractmethod
+    def close(self) -> None:
+        """Release the engine's resources (idempotent)."""
+
+    def rollout(self, tables: Sequence[JointRows], n_steps: int, stop_on_collision: bool = False,
+                record_contacts: bool = False) -> list[PlayResult]:
+        """Play each table cyclically for ``n_steps`` from a reset to its first row (damage
+        kept). The default steps in Python; an engine may run the batch natively. Afterwards
+        the simulator is in the final state of the last table."""
+        return [self._play(t, n_steps, stop_on_collision, record_contacts) for t in tables]
+
+    # -- shared behaviour ------------------------------------------------------------------------
+    def set_failed_legs(self, legs: Iterable[int]) -> tuple[int, ...]:
+        """Hold these legs (1..6, at most two) in the failure pose (table 5.1), from now on:
+        their servos drive them to the pose; a reset places them there directly."""
+        self.failed_legs = validate_failed_legs(legs)
+        self._apply_failed_legs()
+        return self.failed_legs
+
+    def reset(self, joint_positions: Sequence[float], body_height: float | None = None) -> None:
+        """Robot back at the origin (yaw 0) with the given joint angles (clipped to the limits),
+        failed legs in the failure pose, everything at rest. The base is placed at
+        ``body_height``, by default the height that puts the lowest foot on the ground."""
+        if body_height is None:
+            body_height = body_height_from_joints(joint_positions)
+        q = np.clip(np.asarray(joint_positions, dtype=float), self.lower, self.upper)
+        for leg in self.failed_legs:
+            q[3 * (leg - 1): 3 * leg] = FAILURE_POSE
+        self._reset_state(q, float(body_height))
+        self.time = 0.0
+        self._prev_velocity = np.zeros(3)
+        self._accel = np.zeros(3)
 
     def command(self, positions: Sequence[float], velocities: Sequence[float]) -> None:
-        """Position-control targets (18 each, URDF order) for the healthy legs (convenience for
-        occasional commands; loops prepare their table once with :meth:`prepare_rows`)."""
-        q, v = self.prepare_rows(np.asarray(positions, dtype=float), np.asarray(velocities, dtype=float))
-        self.apply_row(q[0], v[0])
-
-    def step(self) -> StepReport:
-        """Advance one time step and report foot contacts and collisions."""
-        p.stepSimulation(physicsClientId=self.client)
-        self.time += self.dt
-        return self._read_contacts()
-
-    def _read_contacts(self) -> StepReport:
-        r = self.report
-        r.contacts = [False] * N_LEGS
-        r.body_ground = None
-        r.self_collision = None
-        foot_leg = self._foot_leg
-        for c in p.getContactPoints(bodyA=self.body, physicsClientId=self.client):
-            if c[2] == self.body:
-                if r.self_collision is None:
-                    r.self_collision = (c[3], c[4])
-            else:
-                leg = foot_leg.get(c[3])
-                if leg is None:
-                    if r.body_ground is None:
-                        r.body_ground = c[3]
-                else:
-                    r.contacts[leg] = True
-        return r
+        """Servo targets (18 each) for the healthy legs (occasional commands; loops prepare their
+        table once with :meth:`prepare_rows`)."""
+        self.apply_row(self.prepare_rows(np.atleast_2d(np.asarray(positions, dtype=float)),
+                                         np.atleast_2d(np.asarray(velocities, dtype=float))), 0)
 
     def update_imu(self) -> None:
-        """Update the finite-difference base acceleration (call once per step if IMU
-        readings are wanted)."""
-        v = np.array(p.getBaseVelocity(self.body, physicsClientId=self.client)[0])
+        """Update the finite-difference base acceleration (call once per step if IMU readings
+        are wanted)."""
+        v = self.base_velocity()[0]
         self._accel = (v - self._prev_velocity) / self.dt
         self._prev_velocity = v
 
-    # -- readings ---------------------------------------------------------------------------
-    def base_pose(self) -> tuple[np.ndarray, np.ndarray]:
-        """Base position [m] and orientation quaternion (x, y, z, w) in the world frame."""
-        pos, quat = p.getBasePositionAndOrientation(self.body, physicsClientId=self.client)
-        return np.array(pos), np.array(quat)
-
-    def base_velocity(self) -> tuple[np.ndarray, np.ndarray]:
-        """Base linear [m/s] and angular [rad/s] velocity in the world frame."""
-        lin, ang = p.getBaseVelocity(self.body, physicsClientId=self.client)
-        return np.array(lin), np.array(ang)
-
     def base_rotation(self) -> np.ndarray:
         """Base-to-world rotation matrix (3, 3)."""
-        return np.array(p.getMatrixFromQuaternion(self.base_pose()[1].tolist())).reshape(3, 3)
+        return quat_to_matrix(self.base_pose()[1])
+
+    def base_euler(self) -> tuple[float, float, float]:
+        """Base (roll, pitch, yaw) [rad] in the world frame."""
+        return quat_to_euler(self.base_pose()[1])
 
     def base_twist_body(self) -> tuple[np.ndarray, np.ndarray]:
         """Base linear [m/s] and angular [rad/s] velocity expressed in the base frame."""
@@ -313,42 +295,55 @@ class HexapodSimulator:
         velocity [rad/s], and specific force [m/s^2] (acceleration minus gravity, what an
         accelerometer measures: +9.81 on z at rest)."""
         _, quat = self.base_pose()
-        rot = self.base_rotation()
+        rot = quat_to_matrix(quat)
         _, ang_body = self.base_twist_body()
-        specific_force = self._accel + np.array([0.0, 0.0, GRAVITY])
-        return quat, ang_body, rot.T @ specific_force
+        return quat, ang_body, rot.T @ (self._accel + np.array([0.0, 0.0, GRAVITY]))
 
-    def joint_states(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Joint positions [rad], velocities [rad/s], applied motor torques [N m] (URDF order)."""
-        states = p.getJointStates(self.body, self.joint_indices, physicsClientId=self.client)
-        return (np.array([s[0] for s in states]), np.array([s[1] for s in states]),
-                np.array([s[3] for s in states]))
+    def _play(self, table: JointRows, n_steps: int, stop_on_collision: bool,
+              record_contacts: bool) -> PlayResult:
+        """The per-step loop behind the default :meth:`rollout`."""
+        rows = self.prepare_rows(table.positions, table.velocities)
+        n_rows = len(table.positions)
+        self.reset(table.positions[0])
+        counts = np.zeros(N_LEGS, dtype=np.int64)
+        record = np.zeros((n_steps, N_LEGS), dtype=bool) if record_contacts else None
+        collision_steps, first = 0, None
+        steps = n_steps
+        for k in range(n_steps):
+            self.apply_row(rows, k % n_rows)
+            report = self.step()
+            collided = report.collision
+            if collided is not None:
+                collision_steps += 1
+                if first is None:
+                    first = f"{collided} at t = {(k + 1) * self.dt:.3f} s"
+                if stop_on_collision:
+                    steps = k + 1
+                    break
+            counts += report.contacts
+            if record is not None:
+                record[k] = report.contacts
+        return PlayResult(steps, counts, collision_steps, first, self.base_pose()[0],
+                          None if record is None else record[:steps])
 
-    def link_name(self, index: int) -> str:
-        return self.link_names.get(index, str(index))
-
-    def render(self, width: int = 480, height: int = 360, distance: float = 0.9,
-               yaw: float = 30.0, pitch: float = -25.0) -> np.ndarray:
-        """An RGB image (height, width, 3) from the headless renderer, following the robot."""
-        pos, _ = self.base_pose()
-        view = p.computeViewMatrixFromYawPitchRoll(pos.tolist(), distance, yaw, pitch, 0.0, 2)
-        proj = p.computeProjectionMatrixFOV(50.0, width / height, 0.01, 20.0)
-        img = p.getCameraImage(width, height, view, proj, renderer=p.ER_TINY_RENDERER,
-                               physicsClientId=self.client)
-        return np.reshape(np.asarray(img[2], dtype=np.uint8), (height, width, 4))[:, :, :3]
-
-    def close(self) -> None:
-        if self.client >= 0:
-            with contextlib.suppress(p.error):
-                p.disconnect(physicsClientId=self.client)
-            self.client = -1
-
-    def __enter__(self) -> "HexapodSimulator":
+    def __enter__(self) -> "Simulator":
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
     def __del__(self) -> None:
-        with contextlib.suppress(Exception):
+        try:
             self.close()
+        except Exception:  # noqa: BLE001 - interpreter shutdown: nothing left to release into
+            pass
+
+
+def create_simulator(config: SimConfig | None = None) -> Simulator:
+    """A simulator running the engine named in ``config`` (default: PyBullet)."""
+    config = config or SimConfig()
+    if config.engine == "mujoco":
+        from hexapod_sim.mujoco_engine import MujocoSimulator  # optional dependency: imported on use
+        return MujocoSimulator(config)
+    from hexapod_sim.pybullet_engine import PyBulletSimulator
+    return PyBulletSimulator(config)

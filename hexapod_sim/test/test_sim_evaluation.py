@@ -10,14 +10,14 @@ import numpy as np
 import pytest
 
 from hexapod_gait import preset
-from hexapod_sim import (FAILURE_POSE, HexapodSimulator, SimConfig, all_scenarios, evaluate_gait, scenario,
+from hexapod_sim import (FAILURE_POSE, SimConfig, create_simulator, all_scenarios, evaluate_gait, scenario,
                          validate_failed_legs)
 from hexapod_sim.sampling import random_reachable_genotypes
 
 
 @pytest.fixture(scope="module")
 def sim():
-    with HexapodSimulator(SimConfig()) as s:
+    with create_simulator(SimConfig()) as s:
         yield s
 
 
@@ -29,9 +29,9 @@ def _fingerprint(result) -> dict:
 FRESH_PROCESS = """
 import json, sys
 import numpy as np
-from hexapod_sim import HexapodSimulator, SimConfig, evaluate_gait
+from hexapod_sim import SimConfig, create_simulator, evaluate_gait
 genes = np.array(json.loads(sys.argv[1]))
-with HexapodSimulator(SimConfig()) as sim:
+with create_simulator(SimConfig()) as sim:
     r = evaluate_gait(genes, sim, collisions_fatal=False)
 print(json.dumps({"fitness": r.fitness.hex(), "descriptor": [float(v).hex() for v in r.descriptor],
                   "valid": r.valid, "reason": r.reason}))
@@ -124,9 +124,9 @@ def test_unreachable_gait_returns_the_failure_value(sim):
 
 
 def test_friction_is_configurable():
-    with HexapodSimulator(SimConfig(friction=0.05)) as slippery:
+    with create_simulator(SimConfig(friction=0.05)) as slippery:
         slow = evaluate_gait(preset("tripod"), slippery, collisions_fatal=False).speed
-    with HexapodSimulator(SimConfig()) as normal:
+    with create_simulator(SimConfig()) as normal:
         fast = evaluate_gait(preset("tripod"), normal, collisions_fatal=False).speed
     assert slow < 0.5 * fast
     with pytest.raises(ValueError, match="friction"):

@@ -1,0 +1,334 @@
+"""The MuJoCo engine: the fast engine for map generation and large experiments.
+
+The model is built at load time from hexapod_description's URDF with ``MjSpec``, so geometry,
+masses, inertias, joint limits and the effort and velocity limits have one source of truth.
+The URDF importer makes the root link the world; a ``floating`` joint from a massless root link
+is added to the URDF text first, so ``base_link`` keeps its inertia and moves freely. The
+massless foot frames are fused into the tibias, as in PyBullet.
+
+What every step must know (foot contacts, a non-foot link on the ground, self-collision) is
+measured by MuJoCo ``contact`` sensors, so :meth:`MujocoSimulator.rollout` lets C run all the
+steps of a batch of gaits (``mujoco.rollout``) with no Python per step.
+
+Servos (Dynamixel RX-28 on coxa and tibia, RX-64 on femur; see :class:`MujocoSettings`):
+torque = clip(kp (q_target - q), -effort, effort) - (effort / velocity) q_dot, i.e. a
+proportional position servo saturating at the URDF effort limit, plus the motor's back-EMF,
+which makes the URDF velocity limit the no-load speed. The RX firmware has no velocity
+feed-forward, so the table's velocities are not used by this engine.
+"""
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from typing import Any, Sequence
+
+import mujoco
+import numpy as np
+from mujoco import rollout as mj_rollout
+
+from hexapod_description import N_LEGS
+from hexapod_sim.simulator import (FAILURE_POSE, JointRows, PlayResult, SimConfig, Simulator, StepReport,
+                                   body_height_from_joints)
+
+#: Dynamixel RX position units: 1024 over 300 degrees (both RX-28 and RX-64).
+DYNAMIXEL_RAD_PER_UNIT = math.radians(300.0) / 1024.0
+INTEGRATORS = {"implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
+               "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
+               "euler": mujoco.mjtIntegrator.mjINT_EULER}
+CONES = {"pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL, "elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC}
+SOLVERS = {"newton": mujoco.mjtSolver.mjSOL_NEWTON, "cg": mujoco.mjtSolver.mjSOL_CG,
+           "pgs": mujoco.mjtSolver.mjSOL_PGS}
+
+
+def _in_range(name: str, value: float, low: float, high: float) -> None:
+    if not (isinstance(value, (int, float)) and math.isfinite(value) and low <= value <= high):
+        raise ValueError(f"MuJoCo setting {name} must be in [{low:g}, {high:g}], got {value!r}")
+
+
+def _choice(name: str, value: str, options: dict) -> None:
+    if value not in options:
+        raise ValueError(f"MuJoCo setting {name} must be one of {', '.join(options)}, got {value!r}")
+
+
+@dataclass(frozen=True)
+class MujocoSettings:
+    """Every engine-specific choice of the MuJoCo model, each with its reason
+    (docs/simulator.md shows how the results move when they change)."""
+
+    #: 240 Hz: the thesis's step, PyBullet's, and the rate of the gait tables (one row per step).
+    time_step: float = 1.0 / 240.0
+    #: implicit in the servo damping and back-EMF terms: stiff servos stay stable at 240 Hz.
+    integrator: str = "implicitfast"
+    #: Newton converges in a few iterations on this small model; 20 is a cap it rarely reaches.
+    solver: str = "newton"
+    iterations: int = 20
+    tolerance: float = 1e-8
+    #: MuJoCo's default friction cone; elliptic gave the same ranking (Spearman within 0.03) at
+    #: 1.6x the cost (docs/simulator.md).
+    cone: str = "pyramidal"
+    #: Dynamixel compliance slope in position units: the error over which the servo's torque
+    #: ramps from 0 to its maximum. 32 is the RX-28/RX-64 factory default (the robot's firmware
+    #: does not change it). kp = effort / (slope x 300 deg / 1024) = 21.2 (RX-28) and
+    #: 31.7 N m/rad (RX-64) with the URDF's effort limits.
+    compliance_slope: float = 32.0
+    #: Back-EMF: damping = effort / velocity limit, so the servo's torque falls linearly to 0 at
+    #: the URDF's no-load speed. Without it the soft servos oscillated and the model blew up.
+    back_emf: bool = True
+    #: Reflected rotor inertia [kg m^2]; the URDF has none and the RX data sheets give none.
+    armature: float = 0.0
+    #: Contact softness (MuJoCo's defaults): time constant 0.02 s (>= 2 time steps, MuJoCo's
+    #: stability rule) and damping ratio 1; impedance 0.9..0.95 over 1 mm.
+    contact_timeconst: float = 0.02
+    contact_dampratio: float = 1.0
+    #: Torsional and rolling friction of every contact (MuJoCo's defaults); sliding friction
+    #: is the shared ``SimConfig.friction``.
+    torsional_friction: float = 0.005
+    rolling_friction: float = 0.0001
+
+    def __post_init__(self) -> None:
+        _in_range("time_step", self.time_step, 1e-4, 0.01)
+        _choice("integrator", self.integrator, INTEGRATORS)
+        _choice("solver", self.solver, SOLVERS)
+        _choice("cone", self.cone, CONES)
+        if isinstance(self.iterations, bool) or not isinstance(self.iterations, int):
+            raise ValueError(f"MuJoCo setting iterations must be an integer, got {self.iterations!r}")
+        _in_range("iterations", self.iterations, 1, 1000)
+        _in_range("tolerance", self.tolerance, 0.0, 1e-2)
+        _in_range("compliance_slope", self.compliance_slope, 1.0, 256.0)
+        _in_range("armature", self.armature, 0.0, 1.0)
+        _in_range("contact_timeconst", self.contact_timeconst, 2 * self.time_step, 1.0)
+        _in_range("contact_dampratio", self.contact_dampratio, 0.1, 10.0)
+        _in_range("torsional_friction", self.torsional_friction, 0.0, 1.0)
+        _in_range("rolling_friction", self.rolling_friction, 0.0, 1.0)
+
+    def servo_kp(self, effort: float) -> float:
+        """Proportional gain [N m/rad] of a servo with this stall torque [N m]."""
+        return effort / (self.compliance_slope * DYNAMIXEL_RAD_PER_UNIT)
+
+
+DEFAULT_SETTINGS = MujocoSettings()
+
+# Collision bits. Every geom collides with every other (contype 1, conaffinity all) unless a
+# leg is failed: then its coxa and tibia get their own bits, which each other's affinity lacks.
+_ALL = 0x7FFFFFFF
+
+
+def _urdf_with_free_base(path: str) -> str:
+    root = ET.parse(path).getroot()
+    ET.SubElement(root, "link", name="hexapod_world_root")
+    joint = ET.SubElement(root, "joint", name="base_free", type="floating")
+    ET.SubElement(joint, "parent", link="hexapod_world_root")
+    ET.SubElement(joint, "child", link="base_link")
+    return ET.tostring(root, encoding="unicode")
+
+
+class MujocoSimulator(Simulator):
+    """The hexapod in MuJoCo."""
+
+    engine = "mujoco"
+
+    def __init__(self, config: SimConfig | None = None):
+        super().__init__(config)
+        self.settings: MujocoSettings = self.config.engine_settings()
+        self.dt = self.settings.time_step
+        self.m = self._build_model()
+        self.d = mujoco.MjData(self.m)
+        m = self.m
+        self._qadr = np.array([m.jnt_qposadr[m.joint(name).id] for name in self.model.joint_names])
+        self._dadr = np.array([m.jnt_dofadr[m.joint(name).id] for name in self.model.joint_names])
+        self._act = np.array([m.actuator(name).id for name in self.model.joint_names])
+        sensor = {m.sensor(i).name: int(m.sensor_adr[i]) for i in range(m.nsensor)}
+        self._foot_adr = np.array([sensor[f"foot_{leg}"] for leg in range(1, N_LEGS + 1)])
+        self._ground_links = [name for name in self._link_bodies() if not name.endswith("_3")]
+        self._ground_adr = np.array([sensor[f"ground_{name}"] for name in self._ground_links])
+        self._self_adr = sensor["self_collision"]
+        self._coxa_geoms = [self._geoms_of(f"link_{leg}_1") for leg in range(1, N_LEGS + 1)]
+        self._tibia_geoms = [self._geoms_of(f"link_{leg}_3") for leg in range(1, N_LEGS + 1)]
+        self._state_spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
+        self._nstate = mujoco.mj_stateSize(m, self._state_spec)
+        self._renderer: Any = None
+        self._apply_failed_legs()
+        self.reset(np.zeros(3 * N_LEGS))
+
+    # -- the model -------------------------------------------------------------------------------
+    def _link_bodies(self) -> list[str]:
+        return ["base_link"] + [f"link_{leg}_{k}" for leg in range(1, N_LEGS + 1) for k in (1, 2, 3)]
+
+    def _geoms_of(self, body: str) -> np.ndarray:
+        return np.flatnonzero(self.m.geom_bodyid == self.m.body(body).id)
+
+    def _build_model(self) -> mujoco.MjModel:
+        s, cfg = self.settings, self.config
+        spec = mujoco.MjSpec.from_string(_urdf_with_free_base(str(self.model.path)))
+        spec.option.timestep = s.time_step
+        spec.option.integrator = INTEGRATORS[s.integrator]
+        spec.option.solver = SOLVERS[s.solver]
+        spec.option.cone = CONES[s.cone]
+        spec.option.iterations = s.iterations
+        spec.option.tolerance = s.tolerance
+        spec.option.gravity = [0.0, 0.0, -9.81]
+        friction = [cfg.friction, s.torsional_friction, s.rolling_friction]
+        spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0.0, 0.0, 1.0])
+        for geom in spec.geoms:
+            geom.friction = friction
+            geom.contype, geom.conaffinity = 1, _ALL
+            geom.solref = [s.contact_timeconst, s.contact_dampratio]
+        # Section 3.5.3: the femurs would hit the base before their joint limits.
+        for leg in range(1, N_LEGS + 1):
+            spec.add_exclude(bodyname1="base_link", bodyname2=f"link_{leg}_2")
+        for lim in self.model.limits:
+            joint = spec.joint(lim.name)
+            joint.damping = [lim.effort / lim.velocity if s.back_emf else 0.0, 0.0, 0.0]
+            joint.armature = s.armature
+            kp = s.servo_kp(lim.effort)
+            act = spec.add_actuator(name=lim.name, target=lim.name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
+            act.gaintype, act.biastype = mujoco.mjtGain.mjGAIN_FIXED, mujoco.mjtBias.mjBIAS_AFFINE
+            act.gainprm[0] = kp
+            act.biasprm[0], act.biasprm[1], act.biasprm[2] = 0.0, -kp, 0.0
+            act.forcelimited = True
+            act.forcerange = [-lim.effort, lim.effort]
+
+        def contact_sensor(name: str, obj: tuple, ref: tuple) -> None:
+            sensor = spec.add_sensor(name=name, type=mujoco.mjtSensor.mjSENS_CONTACT,
+                                     objtype=obj[0], objname=obj[1], reftype=ref[0], refname=ref[1])
+            sensor.intprm[0] = 1   # data: "found", the number of matching contacts
+            sensor.intprm[1] = 0   # no reduction
+            sensor.intprm[2] = 1   # one slot
+
+        floor = (mujoco.mjtObj.mjOBJ_GEOM, "floor")
+        for leg in range(1, N_LEGS + 1):
+            contact_sensor(f"foot_{leg}", (mujoco.mjtObj.mjOBJ_BODY, f"link_{leg}_3"), floor)
+        for name in self._link_bodies():
+            if not name.endswith("_3"):
+                contact_sensor(f"ground_{name}", (mujoco.mjtObj.mjOBJ_BODY, name), floor)
+        robot = (mujoco.mjtObj.mjOBJ_XBODY, "base_link")   # subtree: the whole robot
+        contact_sensor("self_collision", robot, robot)
+        return spec.compile()
+
+    # -- configuration -----------------------------------------------------------------------------
+    def _apply_failed_legs(self) -> None:
+        m = self.m
+        for leg in range(1, N_LEGS + 1):
+            coxa, tibia = self._coxa_geoms[leg - 1], self._tibia_geoms[leg - 1]
+            if leg in self.failed_legs:
+                # In the folded failure pose the tibia overlaps its own coxa (the real servo
+                # clamps near -150 deg there): that one pair does not collide while failed.
+                m.geom_contype[coxa], m.geom_conaffinity[coxa] = 1 << leg, _ALL & ~(1 << (leg + 8))
+                m.geom_contype[tibia], m.geom_conaffinity[tibia] = 1 << (leg + 8), _ALL & ~(1 << leg)
+            else:
+                m.geom_contype[coxa] = m.geom_contype[tibia] = 1
+                m.geom_conaffinity[coxa] = m.geom_conaffinity[tibia] = _ALL
+        self._failed_slots = np.array([3 * (leg - 1) + k for leg in self.failed_legs for k in range(3)], dtype=int)
+        if self._failed_slots.size:
+            self.d.ctrl[self._act[self._failed_slots]] = np.tile(FAILURE_POSE, len(self.failed_legs))
+
+    def _reset_state(self, q: np.ndarray, body_height: float) -> None:
+        m, d = self.m, self.d
+        mujoco.mj_resetData(m, d)   # zeroes velocities, warm start and time: bit for bit a fresh start
+        d.qpos[:7] = [0.0, 0.0, body_height, 1.0, 0.0, 0.0, 0.0]
+        d.qpos[self._qadr] = q
+        d.ctrl[self._act] = q
+        mujoco.mj_forward(m, d)
+
+    def prepare_rows(self, positions: np.ndarray, velocities: np.ndarray) -> np.ndarray:
+        q = np.clip(np.atleast_2d(np.asarray(positions, dtype=float)), self.lower, self.upper)
+        if self._failed_slots.size:
+            q[:, self._failed_slots] = np.tile(FAILURE_POSE, len(self.failed_legs))
+        return np.ascontiguousarray(q)
+
+    def apply_row(self, rows: Any, index: int) -> None:
+        self.d.ctrl[self._act] = rows[index]
+
+    def set_motor_power(self, on: bool) -> None:
+        if on:
+            self.m.opt.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_ACTUATION)
+        else:
+            self.m.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_ACTUATION)
+
+    def step(self) -> StepReport:
+        mujoco.mj_step(self.m, self.d)
+        self.time += self.dt
+        return self._report(self.d.sensordata)
+
+    def _report(self, sensordata: np.ndarray) -> StepReport:
+        r = self.report
+        r.contacts = (sensordata[self._foot_adr] > 0).tolist()
+        ground = np.flatnonzero(sensordata[self._ground_adr] > 0)
+        r.body_ground = self._ground_links[ground[0]] if ground.size else None
+        r.self_collision = "between robot links" if sensordata[self._self_adr] > 0 else None
+        return r
+
+    # -- the native batch ----------------------------------------------------------------------------
+    def rollout(self, tables: Sequence[JointRows], n_steps: int, stop_on_collision: bool = False,
+                record_contacts: bool = False) -> list[PlayResult]:
+        if not tables:
+            return []
+        m, d = self.m, self.d
+        n = len(tables)
+        initial = np.empty((n, self._nstate))
+        control = np.empty((n, n_steps, m.nu))
+        steps = np.arange(n_steps)
+        for i, table in enumerate(tables):
+            rows = self.prepare_rows(table.positions, table.velocities)
+            self.reset(table.positions[0], body_height_from_joints(table.positions[0]))
+            mujoco.mj_getState(m, d, initial[i], self._state_spec)
+            control[i][:, self._act] = rows[steps % len(rows)]
+        state, sensordata = mj_rollout.rollout(m, d, initial, control, initial_warmstart=np.zeros((n, m.nv)))
+        results = []
+        for i in range(n):
+            sd = sensordata[i]
+            feet = sd[:, self._foot_adr] > 0
+            ground = (sd[:, self._ground_adr] > 0).any(axis=1)
+            collided = ground | (sd[:, self._self_adr] > 0)
+            hits = np.flatnonzero(collided)
+            first = None
+            used = n_steps
+            if hits.size:
+                k = int(hits[0])
+                first = f"{self._report(sd[k]).collision} at t = {(k + 1) * self.dt:.3f} s"
+                if stop_on_collision:
+                    used = k + 1
+            last = used - 1
+            counts = feet[:used].sum(axis=0) if not (stop_on_collision and hits.size) else feet[:last].sum(axis=0)
+            results.append(PlayResult(used, counts.astype(np.int64), int(collided[:used].sum()), first,
+                                      state[i, last, 1:4].copy(), feet[:used].copy() if record_contacts else None))
+        # leave the simulator in the final state of the last table
+        mujoco.mj_setState(m, d, state[n - 1, results[-1].steps - 1], self._state_spec)
+        mujoco.mj_forward(m, d)
+        self.time = results[-1].steps * self.dt
+        return results
+
+    # -- readings --------------------------------------------------------------------------------------
+    def base_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        qpos = self.d.qpos
+        return qpos[0:3].copy(), np.array([qpos[4], qpos[5], qpos[6], qpos[3]])
+
+    def base_velocity(self) -> tuple[np.ndarray, np.ndarray]:
+        # free joint: linear velocity in the world frame, angular velocity in the body frame
+        qvel = self.d.qvel
+        return qvel[0:3].copy(), self.d.xmat[self.m.body("base_link").id].reshape(3, 3) @ qvel[3:6]
+
+    def joint_states(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        d = self.d
+        return d.qpos[self._qadr].copy(), d.qvel[self._dadr].copy(), d.actuator_force[self._act].copy()
+
+    def render(self, width: int = 480, height: int = 360, distance: float = 0.9,
+               yaw: float = 30.0, pitch: float = -25.0) -> np.ndarray:
+        if self._renderer is None or (self._renderer.height, self._renderer.width) != (height, width):
+            try:
+                self._renderer = mujoco.Renderer(self.m, height=height, width=width)
+            except Exception as exc:  # no OpenGL context (set MUJOCO_GL=egl or osmesa)
+                raise RuntimeError(f"MuJoCo cannot render here: {exc}. Set MUJOCO_GL=egl (GPU) or "
+                                   "MUJOCO_GL=osmesa (Debian: libosmesa6), or render with --engine pybullet") from exc
+        camera = mujoco.MjvCamera()
+        camera.lookat[:] = self.d.qpos[0:3]
+        camera.distance, camera.azimuth, camera.elevation = distance, yaw, pitch
+        self._renderer.update_scene(self.d, camera)
+        return self._renderer.render().copy()
+
+    def close(self) -> None:
+        renderer = getattr(self, "_renderer", None)
+        if renderer is not None:
+            renderer.close()
+            self._renderer = None

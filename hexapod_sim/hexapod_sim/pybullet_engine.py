@@ -1,0 +1,247 @@
+"""The PyBullet engine (thesis section 3.5): the reference engine and ``sim_node``'s default.
+
+One physics client per simulator, reused. A reset rebuilds the world in that client
+(resetSimulation + loading the primitive-shape URDF: 4.4 ms measured) rather than restoring a
+saved state: restoreState leaves Bullet's persistent contact manifolds, whose warm-start
+impulses made a reused simulator diverge from a fresh one; a rebuilt world is bit for bit a
+fresh one. The 18 joint commands go out in one call per step. Collision geometry comes from
+hexapod_description's URDF (primitives), loaded with its inertias, self-collision on, the
+massless foot frames merged into the tibias, and the femur-base collision filter of 3.5.3.
+"""
+from __future__ import annotations
+
+import contextlib
+import os
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pybullet as p
+import pybullet_data
+
+from hexapod_description import N_LEGS, urdf_path
+from hexapod_sim.simulator import FAILURE_POSE, GRAVITY, SimConfig, Simulator, StepReport
+
+
+@dataclass(frozen=True)
+class PyBulletSettings:
+    """PyBullet settings. ``ACCURATE`` is PyBullet's default and the default everywhere.
+    ``FAST`` trades solver iterations for speed; ``make bench-sim`` measured its ranking
+    fidelity against ACCURATE below Spearman 0.95 (docs/simulator.md), so nothing uses it
+    unless asked to."""
+
+    solver_iterations: int = 50
+    time_step: float = 1.0 / 240.0
+    cone_friction: bool = True
+    #: PyBullet's default world also runs deformable-body machinery; the plain discrete
+    #: multibody world skips it (no effect on rigid-body results).
+    discrete_world: bool = False
+    #: Solver stops iterating early once the squared residual is below this (PyBullet: 1e-7).
+    residual_threshold: float = 1e-7
+
+    def __post_init__(self) -> None:
+        if self.solver_iterations < 1:
+            raise ValueError(f"solver_iterations must be >= 1, got {self.solver_iterations}")
+        if not 0 < self.time_step <= 0.01:
+            raise ValueError(f"time_step must be in (0, 0.01] s, got {self.time_step}")
+
+
+ACCURATE = PyBulletSettings()
+FAST = PyBulletSettings(solver_iterations=20)
+
+
+@contextlib.contextmanager
+def _quiet_stdout():
+    """PyBullet's URDF loader prints link merging to C stdout; silence it while loading."""
+    try:
+        saved = os.dup(1)
+    except OSError:
+        yield
+        return
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, 1)
+        yield
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(devnull)
+
+
+@dataclass(frozen=True)
+class _Rows:
+    """Prepared rows: the healthy legs' targets as Python lists (what PyBullet takes fastest)."""
+
+    q: list
+    v: list
+
+
+class PyBulletSimulator(Simulator):
+    """The hexapod in PyBullet."""
+
+    engine = "pybullet"
+
+    def __init__(self, config: SimConfig | None = None):
+        super().__init__(config)
+        self.settings: PyBulletSettings = self.config.engine_settings()
+        self.dt = self.settings.time_step
+        self._urdf = str(self.model.path if self.config.urdf else urdf_path())
+        self.client = p.connect(p.GUI if self.config.gui else p.DIRECT)
+        if self.client < 0:
+            raise RuntimeError("could not connect to a PyBullet physics server")
+        self._build_world()
+        cid = self.client
+        by_name = {p.getJointInfo(self.body, i, physicsClientId=cid)[1].decode(): i
+                   for i in range(p.getNumJoints(self.body, physicsClientId=cid))}
+        self.joint_indices = [by_name[name] for name in self.model.joint_names]
+        self._link_names = {i: p.getJointInfo(self.body, i, physicsClientId=cid)[12].decode()
+                            for i in by_name.values()}
+        self._link_names[-1] = "base_link"
+        self._foot_links = [self.joint_indices[3 * leg + 2] for leg in range(N_LEGS)]
+        self._foot_leg = {link: leg for leg, link in enumerate(self._foot_links)}
+        self.efforts = [lim.effort for lim in self.model.limits]
+        self._configure_world()
+        self._set_active_slots()
+        self._motors_on = True
+
+    # -- world -------------------------------------------------------------------------------
+    def _build_world(self) -> None:
+        """(Re)create gravity, engine settings, the ground and the robot in this client."""
+        cid, eng = self.client, self.settings
+        p.resetSimulation(p.RESET_USE_DISCRETE_DYNAMICS_WORLD if eng.discrete_world else 0, physicsClientId=cid)
+        p.setGravity(0.0, 0.0, -GRAVITY, physicsClientId=cid)
+        p.setTimeStep(eng.time_step, physicsClientId=cid)
+        p.setPhysicsEngineParameter(numSolverIterations=eng.solver_iterations,
+                                    enableConeFriction=int(eng.cone_friction),
+                                    solverResidualThreshold=eng.residual_threshold,
+                                    deterministicOverlappingPairs=1, physicsClientId=cid)
+        with _quiet_stdout():
+            self.plane = p.loadURDF(os.path.join(pybullet_data.getDataPath(), "plane.urdf"), physicsClientId=cid)
+            flags = p.URDF_USE_INERTIA_FROM_FILE | p.URDF_USE_SELF_COLLISION | p.URDF_MERGE_FIXED_LINKS
+            self.body = p.loadURDF(self._urdf, [0.0, 0.0, 0.3], flags=flags, physicsClientId=cid)
+
+    def _configure_world(self) -> None:
+        """Joint velocity limits, friction, collision filters (after every rebuild)."""
+        cid = self.client
+        for index, lim in zip(self.joint_indices, self.model.limits):
+            p.changeDynamics(self.body, index, maxJointVelocity=lim.velocity, physicsClientId=cid)
+        for leg in range(N_LEGS):
+            p.changeDynamics(self.body, self._foot_links[leg], lateralFriction=self.config.friction,
+                             physicsClientId=cid)
+            # Section 3.5.3: the femurs would hit the (convex) base before their joint limits.
+            p.setCollisionFilterPair(self.body, self.body, -1, self.joint_indices[3 * leg + 1], 0, physicsClientId=cid)
+        p.changeDynamics(self.plane, -1, lateralFriction=self.config.friction, physicsClientId=cid)
+        self._apply_failure_filters()
+
+    def _apply_failure_filters(self) -> None:
+        for leg in range(1, N_LEGS + 1):
+            coxa, tibia = self.joint_indices[3 * (leg - 1)], self.joint_indices[3 * (leg - 1) + 2]
+            # In the folded failure pose the tibia's bounding box overlaps its own coxa's (the
+            # real servo clamps near -150 deg there). A failed leg is a rigid dead weight, so
+            # that pair is exempt from collision while the leg is failed.
+            p.setCollisionFilterPair(self.body, self.body, coxa, tibia, int(leg not in self.failed_legs),
+                                     physicsClientId=self.client)
+
+    def _set_active_slots(self) -> None:
+        failed_slots = {3 * (leg - 1) + k for leg in self.failed_legs for k in range(3)}
+        self._active_slots = [s for s in range(3 * N_LEGS) if s not in failed_slots]
+        self._active_joints = [self.joint_indices[s] for s in self._active_slots]
+        self._active_efforts = [self.efforts[s] for s in self._active_slots]
+
+    def _apply_failed_legs(self) -> None:
+        self._apply_failure_filters()
+        self._set_active_slots()
+        self._command_failure_pose()
+
+    def _command_failure_pose(self) -> None:
+        if not self.failed_legs:
+            return
+        slots = [3 * (leg - 1) + k for leg in self.failed_legs for k in range(3)]
+        p.setJointMotorControlArray(self.body, [self.joint_indices[s] for s in slots], p.POSITION_CONTROL,
+                                    targetPositions=[FAILURE_POSE[s % 3] for s in slots],
+                                    targetVelocities=[0.0] * len(slots), forces=[self.efforts[s] for s in slots],
+                                    physicsClientId=self.client)
+
+    def _reset_state(self, q: np.ndarray, body_height: float) -> None:
+        cid = self.client
+        self._build_world()
+        self._configure_world()
+        p.resetBasePositionAndOrientation(self.body, [0.0, 0.0, body_height], [0.0, 0.0, 0.0, 1.0],
+                                          physicsClientId=cid)
+        p.resetBaseVelocity(self.body, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], physicsClientId=cid)
+        for index, value in zip(self.joint_indices, q.tolist()):
+            p.resetJointState(self.body, index, value, 0.0, physicsClientId=cid)
+        self._command_failure_pose()
+
+    # -- commands and steps --------------------------------------------------------------------
+    def prepare_rows(self, positions: np.ndarray, velocities: np.ndarray) -> _Rows:
+        slots = self._active_slots
+        q = np.clip(np.atleast_2d(positions), self.lower, self.upper)[:, slots]
+        v = np.clip(np.atleast_2d(velocities), -self.max_velocity, self.max_velocity)[:, slots]
+        return _Rows(q.tolist(), v.tolist())
+
+    def apply_row(self, rows: Any, index: int) -> None:
+        p.setJointMotorControlArray(self.body, self._active_joints, p.POSITION_CONTROL,
+                                    targetPositions=rows.q[index], targetVelocities=rows.v[index],
+                                    forces=self._active_efforts, physicsClientId=self.client)
+
+    def set_motor_power(self, on: bool) -> None:
+        if on and not self._motors_on:
+            self._command_failure_pose()   # power back: the failed legs' servos hold their pose again
+        self._motors_on = bool(on)
+
+    def step(self) -> StepReport:
+        if not self._motors_on:   # servo power off: no motor torque on any joint this step
+            p.setJointMotorControlArray(self.body, self.joint_indices, p.VELOCITY_CONTROL,
+                                        forces=[0.0] * len(self.joint_indices), physicsClientId=self.client)
+        p.stepSimulation(physicsClientId=self.client)
+        self.time += self.dt
+        return self._read_contacts()
+
+    def _read_contacts(self) -> StepReport:
+        r = self.report
+        r.contacts = [False] * N_LEGS
+        r.body_ground = None
+        r.self_collision = None
+        foot_leg, names = self._foot_leg, self._link_names
+        for c in p.getContactPoints(bodyA=self.body, physicsClientId=self.client):
+            if c[2] == self.body:
+                if r.self_collision is None:
+                    r.self_collision = f"{names.get(c[3], c[3])} / {names.get(c[4], c[4])}"
+            else:
+                leg = foot_leg.get(c[3])
+                if leg is None:
+                    if r.body_ground is None:
+                        r.body_ground = names.get(c[3], str(c[3]))
+                else:
+                    r.contacts[leg] = True
+        return r
+
+    # -- readings -------------------------------------------------------------------------------
+    def base_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        pos, quat = p.getBasePositionAndOrientation(self.body, physicsClientId=self.client)
+        return np.array(pos), np.array(quat)
+
+    def base_velocity(self) -> tuple[np.ndarray, np.ndarray]:
+        lin, ang = p.getBaseVelocity(self.body, physicsClientId=self.client)
+        return np.array(lin), np.array(ang)
+
+    def joint_states(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        states = p.getJointStates(self.body, self.joint_indices, physicsClientId=self.client)
+        return (np.array([s[0] for s in states]), np.array([s[1] for s in states]),
+                np.array([s[3] for s in states]))
+
+    def render(self, width: int = 480, height: int = 360, distance: float = 0.9,
+               yaw: float = 30.0, pitch: float = -25.0) -> np.ndarray:
+        pos, _ = self.base_pose()
+        view = p.computeViewMatrixFromYawPitchRoll(pos.tolist(), distance, yaw, pitch, 0.0, 2)
+        proj = p.computeProjectionMatrixFOV(50.0, width / height, 0.01, 20.0)
+        img = p.getCameraImage(width, height, view, proj, renderer=p.ER_TINY_RENDERER,
+                               physicsClientId=self.client)
+        return np.reshape(np.asarray(img[2], dtype=np.uint8), (height, width, 4))[:, :, :3]
+
+    def close(self) -> None:
+        if getattr(self, "client", -1) >= 0:
+            with contextlib.suppress(p.error):
+                p.disconnect(physicsClientId=self.client)
+            self.client = -1
