@@ -36,47 +36,62 @@ def bench_gait() -> None:
 
 
 def bench_sim() -> None:
-    """sim_eval_ms: one 5 s evaluation (reset included) of a feasible gait with the production
-    engine (ACCURATE), median over 200 seeded random feasible gaits, process pinned to one core.
-    sim_rank_spearman: Spearman rank correlation of the FAST engine's fitness with ACCURATE's
-    over the same 200 gaits; sim_eval_fast_ms: FAST's median time.
-    Two figures say why the 110 ms / 0.95 target is out of reach (docs/simulator.md):
-    sim_eval_floor_ms, the median full 5 s evaluation with ONE solver iteration (what stepping,
-    collision detection and constraint setup cost before any solving), and sim_rank_spearman_100it, the
-    default engine's ranking against itself at 100 solver iterations (its own convergence)."""
+    """Both engines in one run, on one pinned core, interleaved gait by gait.
+    sim_eval_ms (PyBullet) and sim_eval_mujoco_ms: median time of one whole 5 s evaluation
+    (reset, contacts and collision checks included; one gait per call) over seeded random
+    feasible gaits; sim_eval_mujoco_batch8_ms: the same gaits in MuJoCo batches of 8 (what a
+    map-generation worker does); sim_engine_speedup: PyBullet ms / MuJoCo ms.
+    sim_engine_spearman: rank correlation of the two engines' fitness over the shipped demo
+    map's gaits (walking gaits of all speeds), collisions not fatal; sim_engine_descriptor_mad:
+    their mean absolute duty-factor difference. sim_engine_tripod_ratio: intact control tripod
+    speed, MuJoCo / PyBullet."""
     import os
+    from pathlib import Path
 
-    from scipy.stats import spearmanr
-
-    from hexapod_sim import ACCURATE, FAST, EngineSettings, HexapodSimulator, SimConfig, evaluate_gait
+    from hexapod_gait import preset
+    from hexapod_sim import SimConfig, create_simulator, evaluate_gait, evaluate_gaits
+    from hexapod_sim.fidelity import agreement
+    from hexapod_sim.fidelity_cli import map_genotypes
     from hexapod_sim.sampling import random_feasible_genotypes
 
     if hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
-    n = int(os.environ.get("BENCH_SIM_GAITS", "200"))
-    accurate = HexapodSimulator(SimConfig(engine=ACCURATE))
-    fast = HexapodSimulator(SimConfig(engine=FAST))
-    genotypes, _ = random_feasible_genotypes(n, seed=2024, sim=accurate)
+    n = int(os.environ.get("BENCH_SIM_GAITS", "100"))
+    bullet = create_simulator(SimConfig(engine="pybullet"))
+    mujoco = create_simulator(SimConfig(engine="mujoco"))
+    genotypes, _ = random_feasible_genotypes(n, seed=2024, sim=bullet)
 
-    def timed(sim, gaits=genotypes, collisions_fatal=True):
-        times, fitness = [], []
-        for genes in gaits:
-            t0 = time.perf_counter()
-            fitness.append(evaluate_gait(genes, sim, collisions_fatal=collisions_fatal).fitness)
-            times.append(time.perf_counter() - t0)
-        return np.median(times) * 1e3, np.array(fitness)
+    def timed(sim, genes) -> float:
+        t0 = time.perf_counter()
+        evaluate_gait(genes, sim, collisions_fatal=True)
+        return time.perf_counter() - t0
 
-    ms_accurate, f_accurate = timed(accurate)
-    ms_fast, f_fast = timed(fast)
-    print(f"BENCH sim_eval_ms {ms_accurate:.1f} ms")
-    print(f"BENCH sim_eval_fast_ms {ms_fast:.1f} ms")
-    print(f"BENCH sim_rank_spearman {spearmanr(f_accurate, f_fast)[0]:.4f} 1")
+    evaluate_gait(genotypes[0], mujoco)   # warm-up
+    t_bullet, t_mujoco = [], []
+    for genes in genotypes:               # interleaved: both engines see the same machine state
+        t_bullet.append(timed(bullet, genes))
+        t_mujoco.append(timed(mujoco, genes))
+    batch = []
+    for i in range(0, n - 7, 8):
+        t0 = time.perf_counter()
+        evaluate_gaits(list(genotypes[i:i + 8]), mujoco, collisions_fatal=True)
+        batch.append((time.perf_counter() - t0) / 8)
+    ms_bullet, ms_mujoco = np.median(t_bullet) * 1e3, np.median(t_mujoco) * 1e3
     print(f"BENCH sim_feasible_gaits {n} gaits")
-    ms_floor, _ = timed(HexapodSimulator(SimConfig(engine=EngineSettings(solver_iterations=1))), genotypes[:50],
-                        collisions_fatal=False)   # all 1200 steps: a 1-iteration robot soon collides
-    print(f"BENCH sim_eval_floor_ms {ms_floor:.1f} ms")
-    _, f_100 = timed(HexapodSimulator(SimConfig(engine=EngineSettings(solver_iterations=100))))
-    print(f"BENCH sim_rank_spearman_100it {spearmanr(f_accurate, f_100)[0]:.4f} 1")
+    print(f"BENCH sim_eval_ms {ms_bullet:.1f} ms")
+    print(f"BENCH sim_eval_mujoco_ms {ms_mujoco:.1f} ms")
+    print(f"BENCH sim_eval_mujoco_batch8_ms {np.median(batch) * 1e3:.1f} ms")
+    print(f"BENCH sim_engine_speedup {ms_bullet / ms_mujoco:.2f} x")
+    demo = Path(__file__).resolve().parent.parent / "hexapod_adapt" / "maps" / "demo_map.npz"
+    a = agreement(map_genotypes(demo), bullet, mujoco)
+    print(f"BENCH sim_engine_agreement_gaits {a.gaits} gaits")
+    print(f"BENCH sim_engine_spearman {a.spearman:.4f} 1")
+    print(f"BENCH sim_engine_descriptor_mad {a.mean_abs_descriptor:.4f} 1")
+    tripod = [evaluate_gait(preset("control"), sim, collisions_fatal=False, failed_legs=()).speed
+              for sim in (bullet, mujoco)]
+    print(f"BENCH sim_tripod_speed_pybullet {tripod[0]:.4f} m/s")
+    print(f"BENCH sim_tripod_speed_mujoco {tripod[1]:.4f} m/s")
+    print(f"BENCH sim_engine_tripod_ratio {tripod[1] / tripod[0]:.4f} 1")
 
 
 def bench_bridge() -> None:
@@ -114,9 +129,10 @@ def bench_bridge() -> None:
 
 
 def bench_map() -> None:
-    """map_evals_per_s: evaluations per second of a generate_map run on every local core
-    (process pool, asynchronous), 1000 evaluations into a 500-niche map from scratch;
-    map_worker_utilisation: worker compute time / (workers x wall time) of that run;
+    """map_evals_per_s_mujoco and map_worker_utilisation_mujoco: a generate_map run from scratch
+    on 2 local worker processes with the MuJoCo engine (batches of 8), 3000 evaluations into a
+    500-niche map: evaluations per second and worker compute time / (workers x wall time).
+    map_evals_per_s (PyBullet, 2 workers, 600 evaluations) for comparison.
     map_archive_save_ms: writing a 40 000-niche archive atomically."""
     import tempfile
     from pathlib import Path
@@ -124,14 +140,16 @@ def bench_map() -> None:
     from hexapod_adapt.archive import Archive
     from hexapod_adapt.generate import GenerateConfig, generate_map
 
-    last = []
     with tempfile.TemporaryDirectory() as tmp:
-        cfg = GenerateConfig(out=Path(tmp) / "map.npz", niches=500, evaluations=1000, seed=1, log_every=1.0)
-        generate_map(cfg, on_progress=last.append)
-        p = last[-1]
-        print(f"BENCH map_workers {cfg.worker_count()} processes")
-        print(f"BENCH map_evals_per_s {p.evals_per_s:.1f} evals/s")
-        print(f"BENCH map_worker_utilisation {100 * p.utilisation:.1f} %")
+        for engine, evaluations, suffix in (("mujoco", 3000, "_mujoco"), ("pybullet", 600, "")):
+            last = []
+            cfg = GenerateConfig(out=Path(tmp) / engine / "map.npz", niches=500, evaluations=evaluations, seed=1,
+                                 workers=2, engine=engine, log_every=1.0)
+            generate_map(cfg, on_progress=last.append)
+            p = last[-1]
+            print(f"BENCH map_workers{suffix} {cfg.worker_count()} processes")
+            print(f"BENCH map_evals_per_s{suffix} {p.evals_per_s:.1f} evals/s")
+            print(f"BENCH map_worker_utilisation{suffix} {100 * p.utilisation:.1f} %")
         rng = np.random.default_rng(0)
         big = Archive(rng.random((40000, 6)), rng.random(40000), rng.random((40000, 6)), rng.random((40000, 32)))
         t0 = time.perf_counter()

@@ -12,7 +12,7 @@ from rcl_interfaces.srv import SetParameters
 
 from conftest import wait_for
 from hexapod_adapt.archive import Archive
-from hexapod_adapt.map_elites import simulation_fingerprint
+from hexapod_adapt.simulation import simulation_fingerprint
 from hexapod_adapt.recording import read_messages
 from hexapod_sim import create_simulator, evaluate_gait
 from hexapod_sim.sampling import random_feasible_genotypes
@@ -29,7 +29,7 @@ def small_archive(tmp_path_factory):
         damaged = [evaluate_gait(g, sim, collisions_fatal=False, failed_legs=FAILED).speed for g in genes]
     desc = np.array([r.descriptor for r in results])
     archive = Archive(desc, np.array([r.fitness for r in results]), desc, genes,
-                      {"seed": 77, "evaluations": 12, **simulation_fingerprint()})
+                      {"seed": 77, "evaluations": 12, **simulation_fingerprint("pybullet")})
     path = archive.save(tmp_path_factory.mktemp("archive") / "map.npz")
     return path, archive, np.array(damaged)
 
@@ -100,7 +100,7 @@ def _preset_archive(tmp_path):
         results = [evaluate_gait(g, sim) for g in genes]
     desc = np.array([r.descriptor for r in results])
     return Archive(desc, np.array([r.fitness for r in results]), desc, genes,
-                   {"seed": 0, "evaluations": 3, **simulation_fingerprint()}).save(tmp_path / "presets.npz")
+                   {"seed": 0, "evaluations": 3, **simulation_fingerprint("pybullet")}).save(tmp_path / "presets.npz")
 
 
 def _emulated_robot(launch, tmp_path, *extra):
@@ -197,7 +197,7 @@ def test_a_gait_the_robot_refuses_stops_the_run_with_the_robots_reason(ros, laun
     rng = np.random.default_rng(5)
     genes = next(g for g in rng.random((1000, 32)) if not reachable_key_points(g[None])[0])
     unreachable = Archive(np.full((1, 6), 0.5), np.array([1.0]), np.full((1, 6), 0.5), genes[None],
-                          {"seed": 0, "evaluations": 1, **simulation_fingerprint()}).save(tmp_path / "bad.npz")
+                          {"seed": 0, "evaluations": 1, **simulation_fingerprint("pybullet")}).save(tmp_path / "bad.npz")
     _emu, radio, _imu = _emulated_robot(launch, tmp_path)
     launch("hexapod_bridge", "bridge_node", params={"port": radio})
     node = launch("hexapod_adapt", "adapt_node", params={"archive": str(unreachable), "mode": "robot",

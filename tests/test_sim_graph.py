@@ -32,11 +32,11 @@ def _ns(stamp) -> int:
     return stamp.sec * 1_000_000_000 + stamp.nanosec
 
 
-def _gaits_with_library_speeds(n_random: int) -> list[tuple[object, float]]:
+def _gaits_with_library_speeds(n_random: int, engine: str) -> list[tuple[object, float]]:
     """Presets plus random reachable gaits that move (|speed| >= 0.03 m/s), with the library's
-    speed for each (same engine as sim_node's default, collisions not fatal like the node)."""
+    speed for each (same engine as sim_node's, collisions not fatal like the node)."""
     chosen = []
-    with create_simulator(SimConfig()) as sim:
+    with create_simulator(SimConfig(engine=engine)) as sim:
         for name in ("tripod", "wave", "quadruped"):
             gait = preset(name)
             chosen.append((gait, evaluate_gait(gait, sim, collisions_fatal=False).speed))
@@ -50,10 +50,12 @@ def _gaits_with_library_speeds(n_random: int) -> list[tuple[object, float]]:
     return chosen
 
 
-def test_graph_trials_match_library_speeds(ros, launch):
-    gaits = _gaits_with_library_speeds(n_random=18)
-    assert len(gaits) >= 20
-    sim = launch("hexapod_sim", "sim_node", params={"real_time_factor": 0.0, "publish_period_steps": 24})
+@pytest.mark.parametrize("engine,n_random", [("pybullet", 18), ("mujoco", 10)])
+def test_graph_trials_match_library_speeds(ros, launch, engine, n_random):
+    gaits = _gaits_with_library_speeds(n_random, engine)
+    assert len(gaits) == 3 + n_random
+    sim = launch("hexapod_sim", "sim_node", params={"real_time_factor": 0.0, "publish_period_steps": 24,
+                                                    "engine": engine})
     gait_node = launch("hexapod_gait", "gait_node", params={"initial_preset": ""})
     odom = ros.collect(Odometry, "odom", ODOM_QOS)
     active = ros.collect(Header, "sim/active_trajectory", LATCHED)
@@ -97,7 +99,7 @@ def test_graph_trials_match_library_speeds(ros, launch):
         error = abs(graph_speed - library_speed) / abs(library_speed)
         worst = max(worst, error)
         assert error <= 0.02, f"gait {i}: graph {graph_speed:.5f} m/s vs library {library_speed:.5f} m/s"
-    print(f"{len(gaits)} gaits through the graph: worst relative speed error {worst:.2e}; "
+    print(f"{engine}: {len(gaits)} gaits through the graph: worst relative speed error {worst:.2e}; "
           f"trials repeated for lost odometry samples: {repeats}")
     assert sim.alive() and gait_node.alive()
 

@@ -1,7 +1,7 @@
 """``ros2 run hexapod_adapt adapt_node``: Intelligent Trial & Error on the simulator or the robot.
 
 Loads an archive (``archive`` parameter; refused, with the reason, if its genotype mapping --
-and in ``sim`` mode its URDF and simulator fingerprint -- differ from this installation's) and
+and in ``sim`` mode its URDF and trial duration -- differ from this installation's) and
 runs M-BOA when its ``adapt`` service is called. Each trial publishes the gait on
 ``gait/parameters`` and measures its speed along the walking direction:
 
@@ -33,7 +33,8 @@ from hexapod_msgs.msg import AdaptationTrial
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.srv import Adapt, ReportDistance
 from nav_msgs.msg import Odometry
-from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
+from rcl_interfaces.msg import ParameterDescriptor, ParameterType, SetParametersResult
+from rcl_interfaces.srv import GetParameters
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
@@ -44,6 +45,7 @@ from hexapod_adapt.adaptation import TrialAborted, adapt
 from hexapod_adapt.archive import Archive, ArchiveError, compatibility_problems, load_archive
 from hexapod_adapt.mboa import MboaConfig
 from hexapod_adapt.recording import McapRecorder
+from hexapod_adapt.simulation import archive_engine, simulation_fingerprint
 from hexapod_gait import from_genotype
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_gait.ros_main import run_node
@@ -74,12 +76,22 @@ def run_settings(values: dict) -> tuple[MboaConfig, float]:
 
 
 def expected_metadata(mode: str) -> dict:
-    """What an archive must match to be used in ``mode`` (the gait mapping always; the
-    simulator too when trials run on the simulator)."""
-    from hexapod_adapt.map_elites import simulation_fingerprint
-
+    """What an archive must match to be used in ``mode``: the gait mapping always; the URDF and
+    trial duration too when trials run on the simulator. The engine that made the map need not
+    be the trials' engine: that is a reality gap, which M-BOA exists to cross (see
+    :func:`engine_note`)."""
     fp = simulation_fingerprint()
-    return fp if mode == "sim" else {"genotype_mapping": fp["genotype_mapping"]}
+    if mode != "sim":
+        return {"genotype_mapping": fp["genotype_mapping"]}
+    return {key: fp[key] for key in ("genotype_mapping", "urdf_sha256", "trial_duration")}
+
+
+def engine_note(archive: Archive, trial_engine: str | None) -> str:
+    """A sentence when the map was made on another engine than the trials run on ('' if not)."""
+    made_on = archive_engine(archive.metadata) or "an unrecorded engine"
+    if trial_engine is None or made_on == trial_engine:
+        return ""
+    return f"map made on {made_on}, trials on {trial_engine}: adapting across that gap"
 
 
 class AdaptNode(Node):
@@ -138,6 +150,7 @@ class AdaptNode(Node):
         bridge_name = self.get_parameter("bridge_node").value
         self.reset_client = self.create_client(Trigger, f"{sim_name}/reset", callback_group=work)
         self.start_client = self.create_client(Trigger, f"{bridge_name}/start_trial", callback_group=work)
+        self.sim_params_client = self.create_client(GetParameters, f"{sim_name}/get_parameters", callback_group=work)
         self.create_service(Adapt, "adapt", self._on_adapt, callback_group=work)
         self.create_service(ReportDistance, "~/report_distance", self._on_report, callback_group=work)
         self.create_service(Trigger, "~/cancel", self._on_cancel, callback_group=work)
@@ -259,6 +272,23 @@ class AdaptNode(Node):
         self._wait(future.done, timeout, f"{client.srv_name} to answer")
         return future.result()
 
+    def _trial_engine(self) -> str | None:
+        """What the trials run on: sim_node's ``engine`` parameter in sim mode (None if it does
+        not answer), the real robot otherwise."""
+        if self.mode != "sim":
+            return "the real robot"
+        if not self.sim_params_client.wait_for_service(timeout_sec=2.0):
+            return None
+        future = self.sim_params_client.call_async(GetParameters.Request(names=["engine"]))
+        try:
+            self._wait(future.done, 5.0, "sim_node's parameters")
+        except TrialAborted:
+            return None
+        values = future.result().values
+        if values and values[0].type == ParameterType.PARAMETER_STRING:
+            return values[0].string_value
+        return None
+
     # -- trials -----------------------------------------------------------------------------
     def _publish_gait(self, niche: int) -> GaitParametersMsg:
         gait = from_genotype(self.archive.genotypes[niche]).replace(archive_index=int(niche))
@@ -367,8 +397,10 @@ class AdaptNode(Node):
             except OSError as exc:
                 self.get_logger().error(f"cannot record to {path}: {exc}; running without a recording")
         trial_fn = self._sim_trial if self.mode == "sim" else self._robot_trial
+        note = engine_note(archive, self._trial_engine())
         self.get_logger().info(f"adaptation started: {archive.n_filled} gaits, at most {config.max_trials} trials "
-                               f"of {duration:g} s, alpha {config.alpha:g}, kappa {config.kappa:g}")
+                               f"of {duration:g} s, alpha {config.alpha:g}, kappa {config.kappa:g}"
+                               + (f"; {note}" if note else ""))
 
         niches = archive.elite_indices()      # M-BOA's candidate index -> niche
 
@@ -394,7 +426,8 @@ class AdaptNode(Node):
             recorder, self.recorder = self.recorder, None
             if recorder is not None:
                 recorder.close()
-        response.success, response.message = result.success, result.message
+        response.success = result.success
+        response.message = result.message + (f" ({note})" if note else "")
         response.trials = len(result.trials)
         response.elapsed = result.elapsed
         if result.best_niche >= 0:

@@ -8,7 +8,7 @@ import pytest
 
 from hexapod_adapt.archive import load_archive
 from hexapod_adapt.generate import GenerateConfig, generate_map
-from hexapod_adapt.map_elites import simulation_fingerprint
+from hexapod_adapt.simulation import simulation_fingerprint
 
 SMALL = dict(niches=30, evaluations=120, seed=4, lag=16, checkpoint_every=1.0, log_every=0.5)
 

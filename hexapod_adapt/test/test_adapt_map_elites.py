@@ -7,8 +7,10 @@ import pytest
 
 from hexapod_adapt.archive import Archive
 from hexapod_adapt.cvt import cached_cvt, compute_cvt
-from hexapod_adapt.map_elites import (Evaluation, MapElitesConfig, load_checkpoint, reachable_random_genes,
-                                      run_map_elites, simulate_genotypes)
+from hexapod_adapt.map_elites import MapElitesConfig, load_checkpoint, run_map_elites
+from hexapod_adapt.simulation import SimulateGenotypes
+from hexapod_sim import EvaluationResult
+from hexapod_sim.sampling import random_reachable_genes
 
 
 def toy_evaluate(genes):
@@ -16,7 +18,8 @@ def toy_evaluate(genes):
     out = []
     for g in np.atleast_2d(genes):
         d = np.clip(np.abs(np.sin(7.0 * g[:6] + g[6:12])), 0, 1)
-        out.append(Evaluation(float(np.sum(g[12:]) - 3 * np.abs(g[0] - 0.3)), d, bool(g[31] < 0.9), 1e-4))
+        out.append(EvaluationResult(float(np.sum(g[12:]) - 3 * np.abs(g[0] - 0.3)), d, bool(g[31] < 0.9), "", 5.0,
+                                    seconds=1e-4))
     return out
 
 
@@ -106,9 +109,10 @@ def test_progress_rows_carry_the_log_figures():
 def test_real_simulator_map_is_reproducible_by_re_evaluation():
     # ~1 in 80 reachable random genotypes is a feasible gait
     cfg = MapElitesConfig(evaluations=400, seed=5, lag=16, random_init=1.0, chunk=4)
+    simulate_genotypes = SimulateGenotypes("mujoco")
     with cf.ProcessPoolExecutor(2) as pool:
         a = run_map_elites(Archive.empty(compute_cvt(20, samples=1000, seed=2)), cfg, simulate_genotypes,
-                           executor=pool, workers=2, random_genes=reachable_random_genes)
+                           executor=pool, workers=2, random_genes=random_reachable_genes)
     idx = a.elite_indices()
     assert len(idx) >= 1
     for i in idx[:3]:

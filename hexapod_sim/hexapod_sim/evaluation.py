@@ -83,6 +83,9 @@ def evaluate_gaits(gaits: Sequence[GaitLike], sim: Simulator, duration: float = 
         slots.append(i)
     played = sim.rollout(tables, n_steps, stop_on_collision=collisions_fatal, record_contacts=record_contacts)
     for i, g, r in zip(slots, params, played):
+        if r.unstable is not None:
+            results[i] = failure(r.unstable, duration)
+            continue
         if collisions_fatal and r.first_collision is not None:
             results[i] = failure(r.first_collision, duration)
             continue

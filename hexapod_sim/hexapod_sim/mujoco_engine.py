@@ -172,6 +172,8 @@ class MujocoSimulator(Simulator):
         spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0.0, 0.0, 1.0])
         for geom in spec.geoms:
             geom.friction = friction
+            # no friction at all is a 1-D (normal-only) contact: a zero-width pyramid is singular
+            geom.condim = 3 if cfg.friction > 0 else 1
             geom.contype, geom.conaffinity = 1, _ALL
             geom.solref = [s.contact_timeconst, s.contact_dampratio]
         # Section 3.5.3: the femurs would hit the base before their joint limits.
@@ -247,7 +249,7 @@ class MujocoSimulator(Simulator):
             self.m.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_ACTUATION)
 
     def step(self) -> StepReport:
-        mujoco.mj_step(self.m, self.d)
+        mujoco.mj_step(self.m, self.d)   # sensors and d.contact: the state this step started from
         self.time += self.dt
         return self._report(self.d.sensordata)
 
@@ -256,8 +258,17 @@ class MujocoSimulator(Simulator):
         r.contacts = (sensordata[self._foot_adr] > 0).tolist()
         ground = np.flatnonzero(sensordata[self._ground_adr] > 0)
         r.body_ground = self._ground_links[ground[0]] if ground.size else None
-        r.self_collision = "between robot links" if sensordata[self._self_adr] > 0 else None
+        r.self_collision = self._self_collision_pair() if sensordata[self._self_adr] > 0 else None
         return r
+
+    def _self_collision_pair(self) -> str:
+        """"link_a / link_b" of the first robot-robot contact in ``d.contact``."""
+        m, d = self.m, self.d
+        for i in range(d.ncon):
+            b1, b2 = m.geom_bodyid[d.contact.geom1[i]], m.geom_bodyid[d.contact.geom2[i]]
+            if b1 != 0 and b2 != 0:
+                return f"{m.body(b1).name} / {m.body(b2).name}"
+        return "between robot links"
 
     # -- the native batch ----------------------------------------------------------------------------
     def rollout(self, tables: Sequence[JointRows], n_steps: int, stop_on_collision: bool = False,
@@ -275,8 +286,15 @@ class MujocoSimulator(Simulator):
             mujoco.mj_getState(m, d, initial[i], self._state_spec)
             control[i][:, self._act] = rows[steps % len(rows)]
         state, sensordata = mj_rollout.rollout(m, d, initial, control, initial_warmstart=np.zeros((n, m.nv)))
+        unstable = self._unstable_rollouts(initial, control, state) if self._instability_seen() else set()
         results = []
         for i in range(n):
+            if i in unstable:
+                k = unstable[i]
+                results.append(PlayResult(k + 1, np.zeros(N_LEGS, dtype=np.int64), 0, None, np.full(3, np.nan),
+                                          unstable=f"the MuJoCo physics became unstable at t = "
+                                                   f"{(k + 1) * self.dt:.3f} s (settings too stiff for the step)"))
+                continue
             sd = sensordata[i]
             feet = sd[:, self._foot_adr] > 0
             ground = (sd[:, self._ground_adr] > 0).any(axis=1)
@@ -286,6 +304,9 @@ class MujocoSimulator(Simulator):
             used = n_steps
             if hits.size:
                 k = int(hits[0])
+                # the contacts of step k are those of the state it started from: recompute them
+                mujoco.mj_setState(m, d, initial[i] if k == 0 else state[i, k - 1], self._state_spec)
+                mujoco.mj_forward(m, d)
                 first = f"{self._report(sd[k]).collision} at t = {(k + 1) * self.dt:.3f} s"
                 if stop_on_collision:
                     used = k + 1
@@ -298,6 +319,24 @@ class MujocoSimulator(Simulator):
         mujoco.mj_forward(m, d)
         self.time = results[-1].steps * self.dt
         return results
+
+    def _instability_seen(self) -> bool:
+        """True if MuJoCo flagged a numerical blow-up (and reset the state) since the last reset."""
+        return int(self.d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number) > 0
+
+    def _unstable_rollouts(self, initial: np.ndarray, control: np.ndarray, state: np.ndarray) -> dict[int, int]:
+        """Which rollouts of a batch blew up, and at which step (rare: replayed one by one)."""
+        out = {}
+        for i in range(len(initial)):
+            mujoco.mj_resetData(self.m, self.d)
+            mujoco.mj_setState(self.m, self.d, initial[i], self._state_spec)
+            for k in range(control.shape[1]):
+                self.d.ctrl[:] = control[i, k]
+                mujoco.mj_step(self.m, self.d)
+                if self.d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number:
+                    out[i] = k
+                    break
+        return out
 
     # -- readings --------------------------------------------------------------------------------------
     def base_pose(self) -> tuple[np.ndarray, np.ndarray]:

@@ -137,6 +137,7 @@ class PlayResult:
     first_collision: str | None       # "<what> at t = <s> s", or None
     final_position: np.ndarray        # (3,) base position at the end [m]
     contacts: np.ndarray | None = None   # (steps, 6) bool, if recorded
+    unstable: str | None = None          # why the engine's numbers cannot be trusted, or None
 
 
 def quat_to_matrix(quat: Sequence[float]) -> np.ndarray:
