@@ -10,7 +10,7 @@ from hexapod_msgs.srv import Adapt
 from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
 from rcl_interfaces.srv import SetParameters
 
-from conftest import wait_for
+from conftest import status_log_qos, wait_for
 from hexapod_adapt.archive import Archive
 from hexapod_adapt.simulation import simulation_fingerprint
 from hexapod_adapt.recording import read_messages
@@ -214,4 +214,23 @@ def test_an_unknown_mode_is_reported_not_replaced(ros, launch, small_archive):
     node = launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "mode": "warp", "record_dir": ""})
     answer = ros.call(Adapt, "adapt", Adapt.Request(max_trials=1), timeout=60)
     assert not answer.success and "mode must be one of sim, robot, manual" in answer.message
+    assert node.alive()
+
+
+def test_a_rogue_status_publisher_cannot_confirm_an_upload(ros, launch, small_archive):
+    """Only bridge_node's ~/upload_gait answer confirms an upload: status texts that look like a
+    confirmation (from any publisher, or radio text the bridge reposts) do not."""
+    from diagnostic_msgs.msg import DiagnosticStatus
+
+    path, archive, _ = small_archive
+    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "mode": "robot", "record_dir": "",
+                                                         "trial_timeout": 3.0})
+    rogue = ros.node.create_publisher(DiagnosticStatus, "bridge/status", status_log_qos())
+    for niche in archive.elite_indices():
+        rogue.publish(DiagnosticStatus(level=DiagnosticStatus.OK, name="bridge_node",
+                                       message=f"gait uploaded (archive index {niche})"))
+    trials = ros.collect(AdaptationTrial, "adapt/trials", 10)
+    response = ros.call(Adapt, "adapt", Adapt.Request(max_trials=2), timeout=60)
+    assert not response.success and response.trials == 0 and not trials
+    assert "upload_gait is not available" in response.message
     assert node.alive()

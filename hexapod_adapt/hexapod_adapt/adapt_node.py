@@ -28,10 +28,9 @@ from collections import deque
 from pathlib import Path
 
 import rclpy
-from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_msgs.msg import AdaptationTrial
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
-from hexapod_msgs.srv import Adapt, ReportDistance
+from hexapod_msgs.srv import Adapt, ReportDistance, UploadGait
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterDescriptor, ParameterType, SetParametersResult
 from rcl_interfaces.srv import GetParameters
@@ -51,7 +50,6 @@ from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_gait.ros_main import run_node
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
-STATUS_LOG = QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
 ODOM_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000, reliability=ReliabilityPolicy.RELIABLE)
 MODES = ("sim", "robot", "manual")
 
@@ -63,12 +61,17 @@ def _ns(stamp) -> int:
 RUN_SETTINGS = ("max_trials", "trial_duration", "alpha", "kappa", "length_scale", "noise")
 
 
+#: A trial must cover at least one gait cycle of the controller's default 1 s period.
+TRIAL_DURATION_RANGE = (1.0, 120.0)
+
+
 def run_settings(values: dict) -> tuple[MboaConfig, float]:
     """(M-BOA configuration, trial duration [s]) from the six run settings; ValueError says
-    which is out of range."""
+    which is out of range and what the range is."""
     duration = float(values["trial_duration"])
-    if not (math.isfinite(duration) and 0 < duration <= 120):
-        raise ValueError(f"trial_duration must be in (0, 120] s, got {duration!r}")
+    low, high = TRIAL_DURATION_RANGE
+    if not (math.isfinite(duration) and low <= duration <= high):
+        raise ValueError(f"trial_duration must be in [{low:g}, {high:g}] s, got {duration!r}")
     config = MboaConfig(max_trials=int(values["max_trials"]), alpha=float(values["alpha"]),
                         kappa=float(values["kappa"]), length_scale=float(values["length_scale"]),
                         noise=float(values["noise"]))
@@ -131,7 +134,6 @@ class AdaptNode(Node):
         self.odom: deque = deque(maxlen=20000)      # (stamp ns, x, y, twist x, twist y, received monotonic)
         self.active_stamp = None
         self.reset_stamp = None
-        self.bridge_status: deque = deque(maxlen=100)
         self.reported: list[float] = []
         self.recorder: McapRecorder | None = None
 
@@ -142,14 +144,11 @@ class AdaptNode(Node):
         self.create_subscription(Odometry, "odom", self._on_odom, ODOM_QOS, callback_group=sensors)
         self.create_subscription(Header, "sim/active_trajectory", self._on_active, LATCHED, callback_group=sensors)
         self.create_subscription(Header, "sim/last_reset", self._on_reset, LATCHED, callback_group=sensors)
-        # every status counts (an upload result may be followed at once by the robot's own text):
-        # a depth-1 reader would let the newer overwrite the older before it is taken
-        self.create_subscription(DiagnosticStatus, "bridge/status", self._on_bridge_status, STATUS_LOG,
-                                 callback_group=sensors)
         sim_name = self.get_parameter("sim_node").value
         bridge_name = self.get_parameter("bridge_node").value
         self.reset_client = self.create_client(Trigger, f"{sim_name}/reset", callback_group=work)
         self.start_client = self.create_client(Trigger, f"{bridge_name}/start_trial", callback_group=work)
+        self.upload_client = self.create_client(UploadGait, f"{bridge_name}/upload_gait", callback_group=work)
         self.sim_params_client = self.create_client(GetParameters, f"{sim_name}/get_parameters", callback_group=work)
         self.create_service(Adapt, "adapt", self._on_adapt, callback_group=work)
         self.create_service(ReportDistance, "~/report_distance", self._on_report, callback_group=work)
@@ -224,9 +223,6 @@ class AdaptNode(Node):
     def _on_reset(self, msg: Header) -> None:
         self.reset_stamp = _ns(msg.stamp)
 
-    def _on_bridge_status(self, msg: DiagnosticStatus) -> None:
-        self.bridge_status.append((time.monotonic(), msg))
-
     def _on_report(self, request: ReportDistance.Request, response: ReportDistance.Response):
         if not math.isfinite(request.distance) or abs(request.distance) > 50.0:
             response.accepted, response.message = False, f"distance {request.distance!r} m is not a plausible trial distance"
@@ -290,14 +286,27 @@ class AdaptNode(Node):
         return None
 
     # -- trials -----------------------------------------------------------------------------
-    def _publish_gait(self, niche: int) -> GaitParametersMsg:
+    def _gait_msg(self, niche: int) -> GaitParametersMsg:
         gait = from_genotype(self.archive.genotypes[niche]).replace(archive_index=int(niche))
         msg = gait_to_msg(gait)
         stamp = time.time_ns()                  # unique: sim_node echoes it when it plays the gait
         msg.header.stamp.sec, msg.header.stamp.nanosec = stamp // 1_000_000_000, stamp % 1_000_000_000
+        return msg
+
+    def _publish_gait(self, niche: int) -> GaitParametersMsg:
+        msg = self._gait_msg(niche)
         self.gait_pub.publish(msg)
         self._record("gait/parameters", msg)
         return msg
+
+    def _upload(self, msg: GaitParametersMsg, timeout: float) -> UploadGait.Response:
+        """Upload through bridge_node's ~/upload_gait service: only its typed answer confirms an
+        upload (a status text, or any other publisher, cannot)."""
+        if not self.upload_client.wait_for_service(timeout_sec=min(timeout, 10.0)):
+            raise TrialAborted(f"service {self.upload_client.srv_name} is not available (is bridge_node running?)")
+        future = self.upload_client.call_async(UploadGait.Request(gait=msg, timeout=timeout))
+        self._wait(future.done, timeout + 5.0, "bridge_node to upload the gait")
+        return future.result()
 
     def _sim_trial(self, niche: int, duration: float, timeout: float) -> float:
         for attempt in range(3):
@@ -326,22 +335,12 @@ class AdaptNode(Node):
                            "of the trial length in steps?)")
 
     def _robot_trial(self, niche: int, duration: float, timeout: float) -> float:
-        sent = time.monotonic()
-        crab = self._publish_gait(niche).crab_angle
-
-        def upload_outcome():
-            for t, status in list(self.bridge_status):
-                if t < sent:
-                    continue
-                if status.level == DiagnosticStatus.OK and f"archive index {niche})" in status.message:
-                    return "ok"
-                if "not uploaded" in status.message or "upload failed" in status.message:
-                    return status.message
-            return None
-
-        outcome = self._wait(upload_outcome, timeout, "bridge_node to upload the gait")
-        if outcome != "ok":
-            raise TrialAborted(outcome)
+        msg = self._gait_msg(niche)
+        self._record("gait/parameters", msg)
+        crab = msg.crab_angle
+        answer = self._upload(msg, timeout)
+        if not answer.success or answer.archive_index != niche:
+            raise TrialAborted(answer.message or "the robot did not confirm the upload")
         if self.mode == "manual":
             self.reported.clear()
             self.get_logger().warning(f"trial with archive gait {niche}: start the robot, then report the distance "
@@ -435,10 +434,24 @@ class AdaptNode(Node):
             response.best_speed = result.best_speed
             response.best_gait = gait_to_msg(from_genotype(archive.genotypes[result.best_niche])
                                              .replace(archive_index=result.best_niche))
-            self.gait_pub.publish(response.best_gait)     # leave the robot on the best gait found
+            self._leave_on_best_gait(response.best_gait, timeout)
         self.get_logger().info(f"adaptation finished: {result.message}; {len(result.trials)} trials, best gait "
                                f"{result.best_niche} at {result.best_speed:.3f} m/s")
         return response
+
+
+    def _leave_on_best_gait(self, msg: GaitParametersMsg, timeout: float) -> None:
+        """Leave the robot (or the simulator) walking the best gait found."""
+        if self.mode == "sim":
+            self.gait_pub.publish(msg)
+            return
+        try:
+            answer = self._upload(msg, timeout)
+        except TrialAborted as exc:
+            self.get_logger().error(f"could not upload the best gait: {exc}")
+            return
+        if not answer.success:
+            self.get_logger().error(f"could not upload the best gait: {answer.message}")
 
 
 def main(args: list[str] | None = None) -> int:

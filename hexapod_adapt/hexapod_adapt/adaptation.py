@@ -7,6 +7,7 @@ or, in ``adapt_node``, a trial through the ROS graph on the simulator or the rob
 """
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
@@ -69,6 +70,10 @@ def adapt(archive: Archive, trial: Callable[[int], float], config: MboaConfig | 
             measured = float(trial(niche))
         except TrialAborted as exc:
             result.message = f"trial {len(opt.trials) + 1} aborted: {exc}"
+            break
+        if not math.isfinite(measured):   # bad odometry: never fed to the GP, never a "best"
+            result.message = (f"trial {len(opt.trials) + 1} (gait {niche}) measured a non-finite speed "
+                              f"({measured!r} m/s): the odometry is broken; run stopped")
             break
         t = opt.observe(index, measured)
         result.niches.append(niche)

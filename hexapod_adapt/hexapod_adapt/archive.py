@@ -23,6 +23,7 @@ import datetime as _dt
 import hashlib
 import io
 import json
+import math
 import os
 import tempfile
 import zipfile
@@ -183,33 +184,66 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> None:
             os.close(dfd)
 
 
+#: Longest trial an archive may be measured over [s] (thesis 4.1.1 uses 5 s).
+MAX_TRIAL_DURATION = 120.0
+
+
+def check_metadata(meta: Any, where: str) -> dict[str, Any]:
+    """The metadata record if it is usable; ArchiveError names the first problem."""
+    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
+        found = meta.get("format") if isinstance(meta, dict) else type(meta).__name__
+        raise ArchiveError(f"{where}: not a hexapod archive (metadata format {found!r})")
+    if meta.get("format_version") != FORMAT_VERSION:
+        raise ArchiveError(f"{where}: archive format version {meta.get('format_version')!r}; this tool reads "
+                           f"version {FORMAT_VERSION}")
+    duration = meta.get("trial_duration", 5.0)
+    if isinstance(duration, bool) or not isinstance(duration, (int, float)) or not math.isfinite(duration) \
+            or not 0.0 < duration <= MAX_TRIAL_DURATION:
+        raise ArchiveError(f"{where}: metadata trial_duration must be a number of seconds in "
+                           f"(0, {MAX_TRIAL_DURATION:g}], got {duration!r}")
+    evaluations = meta.get("evaluations", 0)
+    if isinstance(evaluations, bool) or not isinstance(evaluations, int) or evaluations < 0:
+        raise ArchiveError(f"{where}: metadata evaluations must be a whole number >= 0, got {evaluations!r}")
+    return meta
+
+
 def load_archive(path: str | os.PathLike) -> Archive:
-    """Read an archive; ArchiveError names the file and what is wrong with it."""
+    """Read an archive; every way the file can be bad is an ArchiveError that names the file
+    and the problem (truncated, bit-flipped, foreign, altered, nonsensical metadata)."""
     path = Path(path)
     if not path.is_file():
         raise ArchiveError(f"{path}: no such archive file")
     try:
-        with np.load(path, allow_pickle=False) as data:
+        loaded = np.load(path, allow_pickle=False)
+        if not isinstance(loaded, np.lib.npyio.NpzFile):
+            raise ArchiveError(f"{path}: not a hexapod archive (a single array, not an .npz archive)")
+        with loaded as data:
             missing = [k for k in (*_ARRAYS, "metadata") if k not in data.files]
             if missing:
                 raise ArchiveError(f"{path}: not a hexapod archive (missing {', '.join(missing)})")
-            arrays = {k: np.array(data[k]) for k in _ARRAYS}
-            meta_text = str(data["metadata"])
+            arrays = {}
+            for name in _ARRAYS:
+                array = np.asarray(data[name])
+                if array.dtype.kind not in "fiu":
+                    raise ArchiveError(f"{path}: {name} must hold numbers, found dtype {array.dtype}")
+                arrays[name] = array.astype(float)
+            meta_array = np.asarray(data["metadata"])
+            if meta_array.shape != () or meta_array.dtype.kind not in "US":
+                raise ArchiveError(f"{path}: metadata must be one JSON string, found {meta_array.dtype} "
+                                   f"{meta_array.shape}")
+            meta_text = str(meta_array)
     except ArchiveError:
         raise
-    except (zipfile.BadZipFile, EOFError, OSError, ValueError) as exc:
-        raise ArchiveError(f"{path}: truncated or corrupted archive file ({exc})") from exc
+    except Exception as exc:  # noqa: BLE001 - numpy's readers raise many kinds on damaged bytes
+        # (BadZipFile, EOFError, ValueError, zlib.error, tokenize.TokenError, SyntaxError, MemoryError,
+        # ...): each one means the file is damaged, and the caller needs one answer for that.
+        raise ArchiveError(f"{path}: truncated or corrupted archive file ({type(exc).__name__}: {exc})") from exc
     try:
         meta = json.loads(meta_text)
-    except json.JSONDecodeError as exc:
+    except (json.JSONDecodeError, RecursionError) as exc:
         raise ArchiveError(f"{path}: metadata is not valid JSON ({exc})") from exc
-    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
-        raise ArchiveError(f"{path}: not a hexapod archive (metadata format {meta.get('format') if isinstance(meta, dict) else meta!r})")
-    if meta.get("format_version") != FORMAT_VERSION:
-        raise ArchiveError(f"{path}: archive format version {meta.get('format_version')!r}; this tool reads "
-                           f"version {FORMAT_VERSION}")
-    _check_arrays(arrays["centroids"].astype(float), arrays["fitness"].astype(float),
-                  arrays["descriptors"].astype(float), arrays["genotypes"].astype(float), where=str(path))
+    meta = check_metadata(meta, str(path))
+    _check_arrays(arrays["centroids"], arrays["fitness"], arrays["descriptors"], arrays["genotypes"], where=str(path))
     if meta.get("centroid_hash") != centroid_hash(arrays["centroids"]):
         raise ArchiveError(f"{path}: centroids do not match the centroid hash in the metadata (file altered?)")
     return Archive(arrays["centroids"], arrays["fitness"], arrays["descriptors"], arrays["genotypes"], meta)

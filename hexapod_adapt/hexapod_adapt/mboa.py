@@ -32,8 +32,17 @@ class StopReason(enum.Enum):
     MAP_EXHAUSTED = "map_exhausted"
 
 
+#: Documented limits of the run settings (the Adapt service refuses values outside them).
+MAX_TRIALS_LIMIT = 1000                   # the thesis's longest real run took 35 trials
+LENGTH_SCALE_RANGE = (1e-3, 10.0)         # descriptor units: the duty-factor cube's diagonal is 2.45
+NOISE_RANGE = (1e-9, 1.0)                 # (m/s)^2: a trial speed's variance, 1 = +/-1 m/s
+KAPPA_RANGE = (0.0, 100.0)
+
+
 @dataclass(frozen=True)
 class MboaConfig:
+    """M-BOA settings (thesis 5.2.2 defaults); ValueError names every value out of range."""
+
     max_trials: int = 20
     alpha: float = 0.90          # stop ratio
     kappa: float = 0.05          # UCB exploration weight (times the standard deviation)
@@ -43,16 +52,19 @@ class MboaConfig:
 
     def __post_init__(self) -> None:
         problems = []
-        if not (isinstance(self.max_trials, int) and self.max_trials >= 1):
-            problems.append(f"max_trials must be an integer >= 1 (got {self.max_trials!r})")
-        if not (math.isfinite(self.alpha) and 0.0 < self.alpha <= 1.0):
+
+        def within(name: str, value: float, low: float, high: float, unit: str = "") -> None:
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and low <= value <= high):
+                problems.append(f"{name} must be in [{low:g}, {high:g}]{unit} (got {value!r})")
+
+        if isinstance(self.max_trials, bool) or not isinstance(self.max_trials, int) \
+                or not 1 <= self.max_trials <= MAX_TRIALS_LIMIT:
+            problems.append(f"max_trials must be an integer in [1, {MAX_TRIALS_LIMIT}] (got {self.max_trials!r})")
+        if not (isinstance(self.alpha, (int, float)) and math.isfinite(self.alpha) and 0.0 < self.alpha <= 1.0):
             problems.append(f"alpha (stop ratio) must be in (0, 1] (got {self.alpha!r})")
-        if not (math.isfinite(self.kappa) and self.kappa >= 0.0):
-            problems.append(f"kappa must be >= 0 (got {self.kappa!r})")
-        if not (math.isfinite(self.length_scale) and self.length_scale > 0.0):
-            problems.append(f"length_scale (rho) must be > 0 (got {self.length_scale!r})")
-        if not (math.isfinite(self.noise) and self.noise > 0.0):
-            problems.append(f"noise variance must be > 0 (got {self.noise!r})")
+        within("kappa", self.kappa, *KAPPA_RANGE)
+        within("length_scale (rho)", self.length_scale, *LENGTH_SCALE_RANGE, " descriptor units")
+        within("noise variance", self.noise, *NOISE_RANGE, " (m/s)^2")
         if problems:
             raise ValueError("; ".join(problems))
 

@@ -22,11 +22,13 @@ import sys
 import threading
 import time
 from collections import deque
+from dataclasses import dataclass
 
 import rclpy
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.msg import LinkStatus
+from hexapod_msgs.srv import UploadGait
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from rclpy.callback_groups import ReentrantCallbackGroup
@@ -47,6 +49,18 @@ from hexapod_gait.ros_main import run_node
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
 #: Accuracy of the IMU trial-speed estimate, measured in test_bridge_odometry.py (docs/bridge.md).
 SPEED_ACCURACY = 0.025  # m/s
+
+
+@dataclass
+class ActiveTrial:
+    """The trial the bridge is measuring."""
+
+    odometry: TrialOdometry
+    start: float               # monotonic s when the start was sent
+    crab: float                # walking direction of the gait [rad]
+    duration: float            # s
+    generation: int            # RobotLink.trial_generation once the robot acknowledged this start
+    done_at: float | None = None
 
 
 def _quat_from_euler(roll: float, pitch: float, yaw: float) -> tuple[float, float, float, float]:
@@ -107,7 +121,7 @@ class BridgeNode(Node):
         self.gait_crab = 0.0
         self.upload_op: Operation | None = None
         self.imu_history: deque = deque(maxlen=int(max(1, self.pre_trial * self.imu_rate)) + 1)
-        self.trial: dict | None = None
+        self.trial: ActiveTrial | None = None
         self._counter_base = 0
         self._last_counter: int | None = None
 
@@ -119,6 +133,7 @@ class BridgeNode(Node):
         self.create_subscription(GaitParametersMsg, "gait/parameters", self._on_gait, LATCHED, callback_group=group)
         self.create_service(SetBool, "~/arm", self._on_arm, callback_group=group)
         self.create_service(Trigger, "~/start_trial", self._on_start, callback_group=group)
+        self.create_service(UploadGait, "~/upload_gait", self._on_upload_gait, callback_group=group)
         self.create_service(Trigger, "~/stop_trial", self._on_stop, callback_group=group)
         self.create_service(Trigger, "~/emergency_stop", self._on_estop, callback_group=group)
         self.create_timer(1.0 / float(status_rate), self._publish_link_status, callback_group=group)
@@ -181,6 +196,36 @@ class BridgeNode(Node):
         elif self._running:
             self._status(DiagnosticStatus.ERROR, f"gait upload failed: {op.message}")
 
+    def _on_upload_gait(self, request: UploadGait.Request, response: UploadGait.Response):
+        """Upload and answer once the robot acknowledged (or refused) it: the typed contract
+        for trials (status texts are for people)."""
+        response.archive_index = request.gait.archive_index
+        timeout = request.timeout if math.isfinite(request.timeout) and 0 < request.timeout <= 600 else 30.0
+        try:
+            gait = gait_from_msg(request.gait)
+        except GaitParameterError as exc:
+            response.success, response.message = False, f"gait not uploaded: {exc}"
+            return response
+        with self.lock:
+            if not self.link.armed:
+                response.success, response.message = False, "not armed: call ~/arm first"
+                return response
+            op = self.link.upload(gait)
+        if not self._wait(op, timeout):
+            response.success, response.message = False, f"gait not uploaded: no answer in {timeout:g} s"
+            return response
+        if not op.ok:
+            response.success, response.message = False, f"gait not uploaded: {op.message}"
+            self._status(DiagnosticStatus.ERROR, response.message)
+            return response
+        with self.lock:
+            self.gait_id, self.gait_crab = op.result["gait_id"], gait.crab_angle
+        response.success, response.gait_id = True, int(op.result["gait_id"])
+        response.message = f"gait uploaded as robot gait {response.gait_id}"
+        self._status(DiagnosticStatus.OK, f"{response.message} (archive index {gait.archive_index})",
+                     gait_id=response.gait_id, archive_index=gait.archive_index)
+        return response
+
     def _on_arm(self, request: SetBool.Request, response: SetBool.Response):
         with self.lock:
             self.link.arm(request.data, time.monotonic())
@@ -202,8 +247,8 @@ class BridgeNode(Node):
             for sample in self.imu_history:
                 odometry.add(*sample)
             op = self.link.start_trial(self.trial_duration, self.gait_id or 0)
-            self.trial = {"odometry": odometry, "start": time.monotonic(), "crab": self.gait_crab,
-                          "duration": self.trial_duration, "done_at": None}
+            self.trial = ActiveTrial(odometry, time.monotonic(), self.gait_crab, self.trial_duration,
+                                     generation=self.link.trial_generation + 1)
         if not self._wait(op, 3.0) or not op.ok:
             with self.lock:
                 self.trial = None
@@ -336,7 +381,7 @@ class BridgeNode(Node):
         with self.lock:
             self.imu_history.append(sample)
             if self.trial is not None:
-                self.trial["odometry"].add(*sample)
+                self.trial.odometry.add(*sample)
         msg = Imu()
         msg.header.stamp = self.get_clock().now().to_msg()
         msg.header.frame_id = str(self.imu_frame)
@@ -361,23 +406,29 @@ class BridgeNode(Node):
             trial = self.trial
             if trial is None:
                 return
-            finished = self.link.trial_state in (TrialState.DONE, TrialState.STOPPED, TrialState.FAILSAFE,
-                                                 TrialState.ESTOPPED)
-            overdue = now - trial["start"] > trial["duration"] + 3.0
-            if trial["done_at"] is None and (finished and now - trial["start"] > 0.2 or overdue):
-                trial["done_at"] = now
-            if trial["done_at"] is None or now - trial["done_at"] < self.settle_time:
+            # only the robot's reports about THIS trial (acknowledged start) can end it
+            ours = self.link.trial_generation == trial.generation
+            finished = ours and self.link.trial_state in (TrialState.DONE, TrialState.STOPPED, TrialState.FAILSAFE,
+                                                          TrialState.ESTOPPED)
+            overdue = now - trial.start > trial.duration + 3.0
+            if trial.done_at is None and (finished or overdue):
+                trial.done_at = now
+            if trial.done_at is None or now - trial.done_at < self.settle_time:
                 return
             self.trial = None
-            state = self.link.trial_state.name
+            state = self.link.trial_state.name if ours else "NO_REPORT"
         if self.imu_port is None:
             self._status(DiagnosticStatus.WARN, "trial finished; no IMU configured: enter the measured distance "
                                                 "by hand (adapt node's distance entry)", state=state)
             return
         try:
-            est = trial["odometry"].estimate(trial["crab"], trial["duration"])
+            est = trial.odometry.estimate(trial.crab, trial.duration)
         except ValueError as exc:
             self._status(DiagnosticStatus.ERROR, f"trial finished but no odometry: {exc}", state=state)
+            return
+        if not (math.isfinite(est.speed) and math.isfinite(est.distance)):
+            self._status(DiagnosticStatus.ERROR, "trial finished but the IMU estimate is not finite "
+                                                 f"(speed {est.speed!r} m/s): no odometry published", state=state)
             return
         self._publish_odometry(est, trial)
         self._status(DiagnosticStatus.OK, f"trial {state.lower()}: {est.distance:.3f} m, {est.speed:.3f} m/s "
@@ -386,7 +437,7 @@ class BridgeNode(Node):
                      drift_removed=f"{est.drift_velocity:.3f}", state=state)
 
     def _publish_odometry(self, est, trial) -> None:
-        yaw0 = trial["odometry"].yaw0 or 0.0
+        yaw0 = trial.odometry.yaw0 or 0.0
         c, s = math.cos(-yaw0), math.sin(-yaw0)
         x = c * est.displacement[0] - s * est.displacement[1]
         y = s * est.displacement[0] + c * est.displacement[1]
@@ -395,8 +446,8 @@ class BridgeNode(Node):
         odom.header.frame_id, odom.child_frame_id = str(self.odom_frame), str(self.base_frame)
         odom.pose.pose.position.x, odom.pose.pose.position.y = float(x), float(y)
         odom.pose.pose.orientation.w = 1.0
-        odom.twist.twist.linear.x, odom.twist.twist.linear.y = x / trial["duration"], y / trial["duration"]
-        var_pos = (SPEED_ACCURACY * trial["duration"]) ** 2
+        odom.twist.twist.linear.x, odom.twist.twist.linear.y = x / trial.duration, y / trial.duration
+        var_pos = (SPEED_ACCURACY * trial.duration) ** 2
         odom.pose.covariance[0] = odom.pose.covariance[7] = var_pos
         odom.twist.covariance[0] = odom.twist.covariance[7] = SPEED_ACCURACY ** 2
         self.odom_pub.publish(odom)

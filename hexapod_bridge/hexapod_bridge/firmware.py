@@ -20,6 +20,7 @@ import numpy as np
 from hexapod_bridge import extension as ext
 from hexapod_bridge import legacy, xbus
 from hexapod_bridge.stream import LegacyCommand, PingFrame, RobotReceiver
+from hexapod_gait import ReachabilityError
 from hexapod_sim.simulator import quat_to_euler, quat_to_matrix
 
 TICK = 0.05
@@ -185,10 +186,12 @@ class RobotFirmware:
             try:
                 gait = ext.gait_from_values(self.staged)
                 self._check_reachable(gait)
-            except ValueError as exc:
+            except ReachabilityError:
                 self.out_radio += legacy.encode_text("GAIT REJECTED")
-                unreachable = "cannot follow" in str(exc)
-                return self._ack(f, ext.Status.UNREACHABLE if unreachable else ext.Status.OUT_OF_RANGE, gait_id)
+                return self._ack(f, ext.Status.UNREACHABLE, gait_id)
+            except ValueError:
+                self.out_radio += legacy.encode_text("GAIT REJECTED")
+                return self._ack(f, ext.Status.OUT_OF_RANGE, gait_id)
             self.gait, self.gait_id = gait, gait_id
             self.staged = [None] * ext.N_PARAMS
             self._load_table()

@@ -63,6 +63,7 @@ class LinkStats:
     acks: int = 0
     unexpected_acks: int = 0
     reports_missed: int = 0         # robot TRIAL reports lost (gaps in their sequence numbers)
+    stale_reports: int = 0          # TRIAL reports that arrived for an earlier trial (ignored)
 
 
 class RobotLink:
@@ -85,6 +86,10 @@ class RobotLink:
         self.last_telemetry: legacy.Telemetry | None = None
         self.trial_state: ext.TrialState = ext.TrialState.IDLE
         self.trial_elapsed = 0.0
+        #: trials the robot acknowledged starting; a TRIAL report belongs to trial number
+        #: ``trial_generation`` only when no newer start is awaiting its acknowledgement
+        self.trial_generation = 0
+        self._start_pending = False
         self.events: deque[tuple[str, Any]] = deque(maxlen=1000)
         self._tokens = 20.0
         self._last_poll: float | None = None
@@ -143,6 +148,10 @@ class RobotLink:
         except ext.ExtensionError as exc:
             op.finish(False, str(exc))
             return op
+        # A new trial starts from a clean state; until the robot acknowledges the start, reports
+        # still in flight belong to the previous trial (the radio delivers bytes in order).
+        self.trial_state, self.trial_elapsed = ext.TrialState.IDLE, 0.0
+        self._start_pending = True
         self._queue.append(self._command(ext.Cmd.START_TRIAL, payload, PRIORITY_TRIAL, op))
         return op
 
@@ -237,6 +246,8 @@ class RobotLink:
                 continue
             del self._in_flight[seq]
             if item.attempts > self.max_retries:
+                if item.kind == ext.Cmd.START_TRIAL:
+                    self._start_pending = False      # no trial started: reports are the old one's
                 self._fail(item.operation, f"no acknowledgement after {item.attempts} attempts")
             elif item.priority == PRIORITY_UPLOAD:
                 self._upload_backlog.appendleft(item)
@@ -266,7 +277,10 @@ class RobotLink:
             elif frame.type == ext.Report.TRIAL:
                 self.stats.reports_missed += ext.sequence_gap(self._last_report_seq, frame.seq)
                 self._last_report_seq = frame.seq
-                self.trial_state = ext.TrialState(frame.payload[0]) if frame.payload[0] < 6 else self.trial_state
+                if self._start_pending or frame.payload[0] >= len(ext.TrialState):
+                    self.stats.stale_reports += 1
+                    return
+                self.trial_state = ext.TrialState(frame.payload[0])
                 self.trial_elapsed = int.from_bytes(frame.payload[1:4], "big") / 1000.0
                 self.events.append(("trial", (self.trial_state, self.trial_elapsed)))
             elif frame.type == ext.Report.VERSION:
@@ -296,6 +310,11 @@ class RobotLink:
         self.stats.acks += 1
         op = item.operation
         status = frame.payload[1]
+        if item.kind == ext.Cmd.START_TRIAL:
+            self._start_pending = False
+            if status == ext.Status.OK:
+                self.trial_generation += 1
+                self.trial_state, self.trial_elapsed = ext.TrialState.WALKING, 0.0
         if status != ext.Status.OK:
             name = ext.Status(status).name if status < len(ext.Status) else str(status)
             detail = ""

@@ -1,0 +1,115 @@
+"""Trial state on the host link: a trial ends only on the robot's report about THAT trial, with
+robot reports dropped, duplicated and garbled (seeded, no ROS; firmware emulator in the loop)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from hexapod_bridge import extension as ext
+from hexapod_bridge.firmware import RobotFirmware
+from hexapod_bridge.link import RobotLink
+from hexapod_bridge.stream import HostParser
+from hexapod_gait import preset
+
+STEP = 0.001
+
+
+def _is_trial_report(frame: bytes) -> bool:
+    decoded = HostParser().feed(frame)
+    return len(decoded) == 1 and isinstance(decoded[0], ext.ReportFrame) and decoded[0].type == ext.Report.TRIAL
+
+
+class Bench:
+    """Host link and emulated robot over an ideal wire whose robot->host TRIAL reports pass
+    through ``mangle`` (drop: return b""; duplicate; garble)."""
+
+    def __init__(self, mangle) -> None:
+        self.link, self.fw, self.t = RobotLink(), RobotFirmware(walk_duration=5.0), 0.0
+        self.mangle = mangle
+        self.link.arm(True, 0.0)
+        self.ended: list[tuple[int, ext.TrialState, float]] = []   # (generation, state, host time)
+
+    def run_until(self, done, limit: float) -> None:
+        end = self.t + limit
+        while not done() and self.t < end:
+            self.tick()
+
+    def tick(self) -> None:
+        self.t += STEP
+        for frame in self.link.poll(self.t):
+            self.fw.receive(frame, self.t)
+        radio, _ = self.fw.advance(self.t)
+        out = bytearray()
+        for frame in HostParserSplitter.split(radio):
+            out += self.mangle(frame) if _is_trial_report(frame) else frame
+        before = (self.link.trial_generation, self.link.trial_state)
+        self.link.receive(bytes(out), self.t)
+        after = (self.link.trial_generation, self.link.trial_state)
+        if after != before and after[1] in (ext.TrialState.DONE, ext.TrialState.STOPPED):
+            self.ended.append((after[0], after[1], self.t))
+
+    def upload_and_start(self, gait_index: int) -> float:
+        op = self.link.upload(preset("tripod").replace(archive_index=gait_index))
+        self.run_until(lambda: op.done, 10.0)
+        assert op.ok, op.message
+        start = self.link.start_trial(5.0, op.result["gait_id"])
+        self.run_until(lambda: start.done, 5.0)
+        assert start.ok, start.message
+        return self.t
+
+
+class HostParserSplitter:
+    """Split a robot->host byte string into frames as the robot wrote them (the emulator emits
+    whole frames; this re-parses to find their boundaries)."""
+
+    @staticmethod
+    def split(data: bytes) -> list[bytes]:
+        frames, i = [], 0
+        while i < len(data):
+            for j in range(i + 1, len(data) + 1):
+                if HostParser().feed(data[i:j]):
+                    frames.append(data[i:j])
+                    i = j
+                    break
+            else:
+                frames.append(data[i:])
+                break
+        return frames
+
+
+def _drop_walking(frame: bytes) -> bytes:
+    return b"" if frame[3] == ext.TrialState.WALKING else frame
+
+
+@pytest.mark.parametrize("name,mangle", [
+    ("walking report dropped", _drop_walking),
+    ("every report duplicated", lambda f: f + f),
+    ("walking dropped, done duplicated", lambda f: b"" if f[3] == ext.TrialState.WALKING else f + f),
+    ("walking report garbled", lambda f: f[:4] + bytes([f[4] ^ 0x5A]) + f[5:] if f[3] == ext.TrialState.WALKING else f),
+])
+def test_a_trial_ends_only_on_its_own_done_report(name, mangle):
+    bench = Bench(mangle)
+    for k in range(3):                          # back-to-back trials: stale DONEs are the risk
+        started = bench.upload_and_start(k)
+        generation = bench.link.trial_generation
+        assert bench.link.trial_state is ext.TrialState.WALKING, name
+        bench.run_until(lambda: bench.link.trial_state is ext.TrialState.DONE, 8.0)
+        assert bench.link.trial_state is ext.TrialState.DONE, name
+        ends = [e for e in bench.ended if e[0] == generation]
+        assert ends, name
+        # it ended when the robot finished this walk, not at the previous trial's stale report
+        assert ends[0][2] - started == pytest.approx(5.0, abs=0.15), (name, ends[0][2] - started)
+        assert bench.fw.trials[-1].state == "done"
+
+
+def test_a_report_in_flight_from_the_previous_trial_is_not_taken_for_the_new_one():
+    link = RobotLink()
+    link.arm(True, 0.0)
+    link.trial_state = ext.TrialState.DONE       # what the previous trial left behind
+    link.start_trial(5.0, 1)
+    assert link.trial_state is ext.TrialState.IDLE
+    # the previous trial's DONE report, duplicated, arrives before the robot acknowledges the start
+    stale = ext.encode_report(ext.Report.TRIAL, 9, bytes([ext.TrialState.DONE]) + (5000).to_bytes(3, "big"))
+    link.receive(stale + stale, 0.1)
+    assert link.trial_state is ext.TrialState.IDLE and link.stats.stale_reports == 2
+    assert link.trial_generation == 0
