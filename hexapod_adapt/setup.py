@@ -23,5 +23,6 @@ setup(
     entry_points={"console_scripts": ["generate_map = hexapod_adapt.generate_cli:main",
                                       "adapt_node = hexapod_adapt.adapt_node:main",
                                       "adapt_client = hexapod_adapt.adapt_client:main",
-                                      "run_experiment = hexapod_adapt.experiment_cli:main"]},
+                                      "run_experiment = hexapod_adapt.experiment_cli:main",
+                                      "recover_recording = hexapod_adapt.recover_cli:main"]},
 )

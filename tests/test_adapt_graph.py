@@ -234,3 +234,59 @@ def test_a_rogue_status_publisher_cannot_confirm_an_upload(ros, launch, small_ar
     assert not response.success and response.trials == 0 and not trials
     assert "upload_gait is not available" in response.message
     assert node.alive()
+
+
+def test_two_simulators_with_one_name_are_reported_not_waited_on(ros, launch, small_archive):
+    import time
+
+    from diagnostic_msgs.msg import DiagnosticStatus
+
+    path, _archive, _ = small_archive
+    first = launch("hexapod_sim", "sim_node", params={"real_time_factor": 0.0})
+    second = launch("hexapod_sim", "sim_node", params={"real_time_factor": 0.0})
+    status = ros.collect(DiagnosticStatus, "sim/status", status_log_qos())
+    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "mode": "sim", "record_dir": ""})
+    wait_for(lambda: any("2 nodes named /sim_node" in s.message for s in status), 30, "sim_node reporting its twin")
+    t0 = time.monotonic()
+    answer = ros.call(Adapt, "adapt", Adapt.Request(max_trials=2), timeout=60)
+    assert not answer.success and answer.trials == 0 and "2 nodes named /sim_node" in answer.message
+    assert time.monotonic() - t0 < 10.0                     # refused at once, not after a trial timeout
+    assert node.alive() and first.alive() and second.alive()
+
+
+def test_every_nonsensical_adapt_request_is_refused_with_a_reason(ros, launch, small_archive):
+    """Each field of Adapt over NaN, infinities, negative, tiny and huge values (the others at
+    their defaults, 0): never a trial, a reason naming the field every time, the node alive."""
+    path, _archive, _ = small_archive
+    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "mode": "sim", "record_dir": ""})
+    floats = [float("nan"), float("inf"), float("-inf"), -1.0, 1e-300, 1e-9, 1e300]
+    cases = [("max_trials", v, "max_trials") for v in (1001, 2 ** 31, 2 ** 32 - 1)]
+    cases += [("trial_duration", v, "trial_duration") for v in floats]
+    cases += [("alpha", v, "alpha") for v in floats + [1.5]]
+    cases += [("kappa", v, "kappa") for v in (float("nan"), float("inf"), -1.0, 1e300)]
+    cases += [("length_scale", v, "length_scale") for v in floats]
+    cases += [("noise", v, "noise") for v in (float("nan"), float("inf"), -1.0, 1e-300, 1e300)]
+    for field, value, named in cases:
+        request = Adapt.Request()
+        setattr(request, field, value)
+        answer = ros.call(Adapt, "adapt", request, timeout=30)
+        assert not answer.success and answer.trials == 0, (field, value, answer.message)
+        assert answer.message.startswith("bad request") and named in answer.message, (field, value, answer.message)
+    assert node.alive()
+
+
+def test_adapt_client_honours_its_timeout(domain_id):
+    import subprocess
+    import time
+
+    from conftest import executable
+
+    t0 = time.monotonic()
+    result = subprocess.run([str(executable("hexapod_adapt", "adapt_client")), "--timeout", "3"],
+                            capture_output=True, text=True, timeout=60)
+    elapsed = time.monotonic() - t0
+    assert result.returncode == 1 and "not available within 3 s" in result.stderr
+    assert elapsed < 8.0, elapsed                              # 3 s plus process start-up, not 30 s
+    bad = subprocess.run([str(executable("hexapod_adapt", "adapt_client")), "--max-trials", str(2 ** 32 + 3)],
+                         capture_output=True, text=True, timeout=60)
+    assert bad.returncode == 2 and "--max-trials must be in [0, 1000]" in bad.stderr

@@ -123,3 +123,25 @@ def test_port_vanishing_twenty_times(ros, launch, tmp_path):
     assert max(down_latency) <= 1.0 and max(up_latency) <= 1.0
     assert fds_after <= fds_before
     assert len(pings) == 21 and pings_after_last_return >= 4     # 1 per second while armed
+
+
+def test_after_an_emergency_stop_the_documented_sequence_powers_the_robot_again(ros, launch, tmp_path):
+    from hexapod_msgs.srv import UploadGait
+
+    _emu, radio, _imu = _emulator(launch, tmp_path)
+    bridge = launch("hexapod_bridge", "bridge_node", params={"port": radio, "trial_duration": 1.0})
+    assert ros.call(SetBool, "bridge_node/arm", SetBool.Request(data=True)).success
+    upload = ros.call(UploadGait, "bridge_node/upload_gait", UploadGait.Request(gait=gait_to_msg(preset("tripod"))),
+                      timeout=40)
+    assert upload.success and upload.gait_id > 0, upload.message
+    assert ros.call(Trigger, "bridge_node/emergency_stop", Trigger.Request()).success
+    # disarmed: nothing is sent, and power cannot be switched on while disarmed
+    power = ros.call(SetBool, "bridge_node/motor_power", SetBool.Request(data=True))
+    assert not power.success and "not armed" in power.message
+    assert ros.call(SetBool, "bridge_node/arm", SetBool.Request(data=True)).success
+    refused = ros.call(Trigger, "bridge_node/start_trial", Trigger.Request(), timeout=30)
+    assert not refused.success and "ESTOPPED" in refused.message           # the robot is still e-stopped
+    assert ros.call(SetBool, "bridge_node/motor_power", SetBool.Request(data=True)).success
+    started = ros.call(Trigger, "bridge_node/start_trial", Trigger.Request(), timeout=30)
+    assert started.success, started.message
+    assert bridge.alive()

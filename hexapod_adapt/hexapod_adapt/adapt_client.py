@@ -7,6 +7,7 @@ plus ``ros2 topic echo /adapt/trials`` on a full ROS install).
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 
@@ -14,21 +15,30 @@ import rclpy
 from hexapod_msgs.msg import AdaptationTrial
 from hexapod_msgs.srv import Adapt
 
+from hexapod_adapt.mboa import MAX_TRIALS_LIMIT
+
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="adapt_client", description="Run one adaptation and print its trials.")
-    ap.add_argument("--max-trials", type=int, default=0, help="0 = the node's default")
-    ap.add_argument("--trial-duration", type=float, default=0.0)
-    ap.add_argument("--alpha", type=float, default=0.0)
-    ap.add_argument("--kappa", type=float, default=0.0)
-    ap.add_argument("--length-scale", type=float, default=0.0)
-    ap.add_argument("--noise", type=float, default=0.0)
-    ap.add_argument("--service", default="adapt")
-    ap.add_argument("--timeout", type=float, default=3600.0, help="give up after this many seconds")
+    ap.add_argument("--max-trials", type=int, default=0,
+                    help=f"stop after this many trials, 1..{MAX_TRIALS_LIMIT} (0 = the node's default)")
+    ap.add_argument("--trial-duration", type=float, default=0.0, help="seconds per trial (0 = the node's default)")
+    ap.add_argument("--alpha", type=float, default=0.0, help="stop ratio in [0.05, 1] (0 = the node's default)")
+    ap.add_argument("--kappa", type=float, default=0.0, help="UCB weight on the posterior std (0 = default)")
+    ap.add_argument("--length-scale", type=float, default=0.0, help="Matern length scale rho (0 = default)")
+    ap.add_argument("--noise", type=float, default=0.0, help="GP noise variance [(m/s)^2] (0 = default)")
+    ap.add_argument("--service", default="adapt", help="name of the adapt service")
+    ap.add_argument("--timeout", type=float, default=3600.0,
+                    help="give up after this many seconds, waiting for the service included")
     args, ros_args = ap.parse_known_args(argv)
-    if args.max_trials < 0:
-        print("adapt_client: --max-trials must be >= 0", file=sys.stderr)
+    if not 0 <= args.max_trials <= MAX_TRIALS_LIMIT:
+        print(f"adapt_client: --max-trials must be in [0, {MAX_TRIALS_LIMIT}] (0 = the node's default), "
+              f"got {args.max_trials}", file=sys.stderr)
         return 2
+    if not (math.isfinite(args.timeout) and args.timeout > 0):
+        print(f"adapt_client: --timeout must be > 0 s, got {args.timeout}", file=sys.stderr)
+        return 2
+    deadline = time.monotonic() + args.timeout
     rclpy.init(args=ros_args)
     node = rclpy.create_node("adapt_client")
     try:
@@ -37,17 +47,17 @@ def main(argv: list[str] | None = None) -> int:
             f"(map {m.map_speed:.3f}, GP {m.predicted_speed:.3f} +/- {m.predicted_speed_std:.3f})  "
             f"best {m.best_speed:+.3f} m/s", flush=True), 10)
         client = node.create_client(Adapt, args.service)
-        if not client.wait_for_service(timeout_sec=30.0):
-            print(f"adapt_client: service {args.service} not available (is adapt_node running?)", file=sys.stderr)
+        if not client.wait_for_service(timeout_sec=max(0.0, deadline - time.monotonic())):
+            print(f"adapt_client: service {args.service} not available within {args.timeout:g} s "
+                  "(is adapt_node running?)", file=sys.stderr)
             return 1
         request = Adapt.Request(max_trials=args.max_trials, trial_duration=args.trial_duration, alpha=args.alpha,
                                 kappa=args.kappa, length_scale=args.length_scale, noise=args.noise)
         future = client.call_async(request)
-        deadline = time.monotonic() + args.timeout
         while not future.done() and time.monotonic() < deadline:
             rclpy.spin_once(node, timeout_sec=0.1)
         if not future.done():
-            print("adapt_client: no answer in time", file=sys.stderr)
+            print(f"adapt_client: no answer within {args.timeout:g} s", file=sys.stderr)
             return 1
         for _ in range(5):                      # let the last trial message arrive
             rclpy.spin_once(node, timeout_sec=0.05)

@@ -24,6 +24,7 @@ import os
 import sys
 import threading
 import time
+import traceback
 from collections import deque
 from pathlib import Path
 
@@ -32,7 +33,7 @@ from hexapod_msgs.msg import AdaptationTrial
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.srv import Adapt, ReportDistance, UploadGait
 from nav_msgs.msg import Odometry
-from rcl_interfaces.msg import ParameterDescriptor, ParameterType, SetParametersResult
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor, ParameterType, SetParametersResult
 from rcl_interfaces.srv import GetParameters
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.node import Node
@@ -42,12 +43,13 @@ from std_srvs.srv import Trigger
 
 from hexapod_adapt.adaptation import TrialAborted, adapt
 from hexapod_adapt.archive import Archive, ArchiveError, compatibility_problems, load_archive
-from hexapod_adapt.mboa import MboaConfig
-from hexapod_adapt.recording import McapRecorder
+from hexapod_adapt.mboa import (ALPHA_RANGE, KAPPA_RANGE, LENGTH_SCALE_RANGE, MAX_TRIALS_LIMIT, NOISE_RANGE,
+                                MboaConfig)
+from hexapod_adapt.recording import McapRecorder, create_recording
 from hexapod_adapt.simulation import archive_engine, simulation_fingerprint
 from hexapod_gait import from_genotype
 from hexapod_gait.ros_conversions import gait_to_msg
-from hexapod_gait.ros_main import run_node
+from hexapod_gait.ros_main import nodes_named, run_node, watch_for_duplicates
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
 ODOM_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000, reliability=ReliabilityPolicy.RELIABLE)
@@ -105,18 +107,30 @@ class AdaptNode(Node):
         d("archive", "", ParameterDescriptor(description="Archive file (.npz from generate_map); may be changed at "
                                                          "run time, a file that fails to load is refused"))
         d("mode", "sim", ParameterDescriptor(description="Trials on: sim | robot | manual", **ro))
-        d("max_trials", 20, ParameterDescriptor(description="Default maximum trials per run"))
-        d("trial_duration", 5.0, ParameterDescriptor(description="Default trial duration [s]"))
-        d("alpha", 0.9, ParameterDescriptor(description="Default stop ratio (0, 1]"))
-        d("kappa", 0.05, ParameterDescriptor(description="Default UCB weight on the posterior std"))
-        d("length_scale", 0.4, ParameterDescriptor(description="Default Matern length scale rho"))
-        d("noise", 0.001, ParameterDescriptor(description="Default observation noise variance [(m/s)^2]"))
+        def floats(low: float, high: float) -> dict:
+            return {"floating_point_range": [FloatingPointRange(from_value=low, to_value=high)]}
+
+        d("max_trials", 20, ParameterDescriptor(description="Default maximum trials per run",
+                                                integer_range=[IntegerRange(from_value=1, to_value=MAX_TRIALS_LIMIT,
+                                                                            step=1)]))
+        d("trial_duration", 5.0, ParameterDescriptor(description="Default trial duration [s]",
+                                                     **floats(*TRIAL_DURATION_RANGE)))
+        d("alpha", 0.9, ParameterDescriptor(description="Default stop ratio: stop when the best measured speed "
+                                                        "reaches alpha x the highest predicted one", **floats(*ALPHA_RANGE)))
+        d("kappa", 0.05, ParameterDescriptor(description="Default UCB weight on the posterior std",
+                                             **floats(*KAPPA_RANGE)))
+        d("length_scale", 0.4, ParameterDescriptor(description="Default Matern length scale rho [descriptor units]",
+                                                   **floats(*LENGTH_SCALE_RANGE)))
+        d("noise", 0.001, ParameterDescriptor(description="Default observation noise variance [(m/s)^2]",
+                                              **floats(*NOISE_RANGE)))
         d("record_dir", "adaptation_runs", ParameterDescriptor(description="MCAP files go here ('' = no recording)"))
         d("sim_node", "sim_node", ParameterDescriptor(description="Name of the simulator node (mode sim)", **ro))
         d("bridge_node", "bridge_node", ParameterDescriptor(description="Name of the bridge node (mode robot)", **ro))
-        d("trial_timeout", 120.0, ParameterDescriptor(description="Wall-clock limit for one trial [s]"))
+        d("trial_timeout", 120.0, ParameterDescriptor(description="Wall-clock limit for one trial [s]",
+                                                      **floats(1.0, 3600.0)))
         d("stand_still", 1.0, ParameterDescriptor(description="Robot modes: seconds the robot stands still before "
-                                                              "each trial (clean zero-velocity IMU window) [s]"))
+                                                              "each trial (clean zero-velocity IMU window) [s]",
+                                                  **floats(0.0, 60.0)))
         self.mode = self.get_parameter("mode").value
         self.archive: Archive | None = None
         self.archive_problem = "no archive loaded: set the 'archive' parameter"
@@ -146,6 +160,7 @@ class AdaptNode(Node):
         self.create_subscription(Header, "sim/last_reset", self._on_reset, LATCHED, callback_group=sensors)
         sim_name = self.get_parameter("sim_node").value
         bridge_name = self.get_parameter("bridge_node").value
+        self.sim_name, self.bridge_name = self._qualified(sim_name), self._qualified(bridge_name)
         self.reset_client = self.create_client(Trigger, f"{sim_name}/reset", callback_group=work)
         self.start_client = self.create_client(Trigger, f"{bridge_name}/start_trial", callback_group=work)
         self.upload_client = self.create_client(UploadGait, f"{bridge_name}/upload_gait", callback_group=work)
@@ -153,8 +168,16 @@ class AdaptNode(Node):
         self.create_service(Adapt, "adapt", self._on_adapt, callback_group=work)
         self.create_service(ReportDistance, "~/report_distance", self._on_report, callback_group=work)
         self.create_service(Trigger, "~/cancel", self._on_cancel, callback_group=work)
+        watch_for_duplicates(self, self.get_logger().error)
         self.get_logger().info(f"adapt_node ready: mode {self.mode}; " +
                                (f"archive {self.archive.n_filled} gaits" if self.archive else self.archive_problem))
+
+    def _qualified(self, name: str) -> str:
+        """A node name as a fully qualified one (relative names resolve in this node's namespace)."""
+        if name.startswith("/"):
+            return name
+        namespace = self.get_namespace().rstrip("/")
+        return f"{namespace}/{name}"
 
     def shutdown(self) -> None:
         """Ctrl-C / SIGTERM mid-run: finish the MCAP file (called by run_node)."""
@@ -250,6 +273,15 @@ class AdaptNode(Node):
                 self.get_logger().error(f"recording to {recorder.path} failed: {exc}; recording stopped")
                 self.recorder = None
 
+    def _checkpoint_recording(self) -> None:
+        recorder = self.recorder
+        if recorder is not None:
+            try:
+                recorder.checkpoint()
+            except (OSError, RuntimeError) as exc:
+                self.get_logger().error(f"recording to {recorder.path} failed: {exc}; recording stopped")
+                self.recorder = None
+
     def _wait(self, predicate, timeout: float, what: str):
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
@@ -267,6 +299,17 @@ class AdaptNode(Node):
         future = client.call_async(Trigger.Request())
         self._wait(future.done, timeout, f"{client.srv_name} to answer")
         return future.result()
+
+    def _duplicate_peers(self) -> str:
+        """A reason to refuse a run when this node's name, or the node the trials go through, is
+        taken by more than one node in the graph ('' if not)."""
+        peer = self.sim_name if self.mode == "sim" else self.bridge_name
+        for name in (self.get_fully_qualified_name(), peer):
+            count = nodes_named(self, name)
+            if count > 1:
+                return (f"{count} nodes named {name} are in the graph: trials would be ambiguous; stop the extra "
+                        "one (or rename it with --ros-args -r __node:=NAME) and call adapt again")
+        return ""
 
     def _trial_engine(self) -> str | None:
         """What the trials run on: sim_node's ``engine`` parameter in sim mode (None if it does
@@ -375,11 +418,21 @@ class AdaptNode(Node):
         except ValueError as exc:
             response.success, response.message = False, f"bad request: {exc}"
             return response
+        duplicates = self._duplicate_peers()
+        if duplicates:
+            response.success, response.message = False, duplicates
+            return response
         if not self.busy.acquire(blocking=False):
             response.success, response.message = False, "an adaptation is already running"
             return response
         try:
             return self._run(config, duration, response)
+        except Exception as exc:  # noqa: BLE001 - the service must answer and the node stay up
+            self.get_logger().error(f"adaptation failed unexpectedly: {type(exc).__name__}: {exc}\n"
+                                    f"{traceback.format_exc()}")
+            response.success = False
+            response.message = f"internal error, run stopped: {type(exc).__name__}: {exc}"
+            return response
         finally:
             self.cancel_requested = False
             self.busy.release()
@@ -389,12 +442,11 @@ class AdaptNode(Node):
         record_dir = self.get_parameter("record_dir").value
         timeout = float(self.get_parameter("trial_timeout").value)
         if record_dir:
-            path = Path(record_dir).expanduser() / time.strftime("adapt_%Y%m%d_%H%M%S.mcap")
             try:
-                self.recorder = McapRecorder(path)
-                response.mcap_path = str(path.resolve())
+                self.recorder = create_recording(Path(record_dir).expanduser())
+                response.mcap_path = str(self.recorder.path.resolve())
             except OSError as exc:
-                self.get_logger().error(f"cannot record to {path}: {exc}; running without a recording")
+                self.get_logger().error(f"cannot record in {record_dir}: {exc}; running without a recording")
         trial_fn = self._sim_trial if self.mode == "sim" else self._robot_trial
         note = engine_note(archive, self._trial_engine())
         self.get_logger().info(f"adaptation started: {archive.n_filled} gaits, at most {config.max_trials} trials "
@@ -415,6 +467,7 @@ class AdaptNode(Node):
             msg.gait = gait_to_msg(from_genotype(archive.genotypes[niche]).replace(archive_index=int(niche)))
             self.trial_pub.publish(msg)
             self._record("adapt/trials", msg)
+            self._checkpoint_recording()      # a completed trial survives a kill or power loss
             self.get_logger().info(f"trial {trial.number}: gait {niche} walked {trial.measured:.3f} m/s "
                                    f"(map {trial.predicted:.3f}, GP {trial.gp_mean:.3f} +/- {trial.gp_std:.3f})")
 

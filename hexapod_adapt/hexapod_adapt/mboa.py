@@ -37,6 +37,7 @@ MAX_TRIALS_LIMIT = 1000                   # the thesis's longest real run took 3
 LENGTH_SCALE_RANGE = (1e-3, 10.0)         # descriptor units: the duty-factor cube's diagonal is 2.45
 NOISE_RANGE = (1e-9, 1.0)                 # (m/s)^2: a trial speed's variance, 1 = +/-1 m/s
 KAPPA_RANGE = (0.0, 100.0)
+ALPHA_RANGE = (0.05, 1.0)                 # stop ratio: below 5 % any forward step would "succeed"
 
 
 @dataclass(frozen=True)
@@ -60,8 +61,7 @@ class MboaConfig:
         if isinstance(self.max_trials, bool) or not isinstance(self.max_trials, int) \
                 or not 1 <= self.max_trials <= MAX_TRIALS_LIMIT:
             problems.append(f"max_trials must be an integer in [1, {MAX_TRIALS_LIMIT}] (got {self.max_trials!r})")
-        if not (isinstance(self.alpha, (int, float)) and math.isfinite(self.alpha) and 0.0 < self.alpha <= 1.0):
-            problems.append(f"alpha (stop ratio) must be in (0, 1] (got {self.alpha!r})")
+        within("alpha (stop ratio)", self.alpha, *ALPHA_RANGE)
         within("kappa", self.kappa, *KAPPA_RANGE)
         within("length_scale (rho)", self.length_scale, *LENGTH_SCALE_RANGE, " descriptor units")
         within("noise variance", self.noise, *NOISE_RANGE, " (m/s)^2")

@@ -1,20 +1,38 @@
 """MCAP recording of an adaptation run: ROS 2 CDR messages with ``ros2msg`` schemas, readable by
-Foxglove, by ``ros2 bag`` on a full ROS install and by :func:`read_messages` here.
+Foxglove, by ``ros2 bag`` on a full ROS install, by the ``mcap`` readers and by
+:func:`read_messages` here.
 
 Messages are serialised by rclpy's own type support (the same bytes a ROS 2 recorder stores).
-The file is written without chunks and flushed after every message, so a run killed hard
-(SIGKILL, power loss) leaves a file whose every complete message still reads back; a run
-stopped cleanly (Ctrl-C, SIGTERM, the end of the run) also gets MCAP's index and footer.
+The file is chunked (zstd), and a cleanly closed file (end of the run, Ctrl-C, SIGTERM) has the
+chunk and message indexes, statistics and summary that ``ros2 bag`` writes, so indexed readers
+(``mcap`` ``make_reader``, Foxglove) read every message. :meth:`McapRecorder.checkpoint` ends
+the chunk in progress, flushes it and fsyncs the file: the adapt node calls it after every
+trial, so a run killed hard -- or a power loss -- keeps every trial completed before it. Such a
+file has no index; ``recover_recording`` (:func:`recover`) rewrites it as a valid indexed MCAP.
+Files are created exclusively under unique names (:func:`create_recording`): a recording is
+never overwritten.
 """
 from __future__ import annotations
 
+import contextlib
+import importlib
 import os
 import re
 import struct
+import tempfile
 import threading
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator
+
+import zstandard
+from ament_index_python.packages import get_package_share_directory
+from mcap.exceptions import McapError
+from mcap.records import Channel, Message, Schema
+from mcap.stream_reader import StreamReader
+from mcap.writer import CompressionType, Writer
+from rclpy.serialization import deserialize_message, serialize_message
 
 _BUILTIN = {"bool", "byte", "char", "float32", "float64", "int8", "uint8", "int16", "uint16", "int32",
             "uint32", "int64", "uint64", "string", "wstring"}
@@ -22,8 +40,6 @@ _SEPARATOR = "=" * 80
 
 
 def _msg_file(full_type: str) -> Path:
-    from ament_index_python.packages import get_package_share_directory
-
     pkg, _, name = full_type.split("/")
     return Path(get_package_share_directory(pkg)) / "msg" / f"{name}.msg"
 
@@ -72,25 +88,22 @@ def _type_name(msg: Any) -> str:
 
 
 class McapRecorder:
-    """Write ROS 2 messages to one MCAP file (``record(topic, msg)``); ``close()`` finishes it."""
+    """Write ROS 2 messages to one new MCAP file (``record(topic, msg)``); ``checkpoint()`` makes
+    everything so far durable; ``close()`` finishes the file with its index and summary."""
 
     def __init__(self, path: str | os.PathLike):
-        from mcap.writer import Writer
-
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self._file = open(self.path, "wb")
-        self._writer = Writer(self._file, use_chunking=False)
+        self._file = open(self.path, "xb")          # exclusive: never overwrite a recording
+        self._writer = Writer(self._file, chunk_size=1 << 20, compression=CompressionType.ZSTD)
         self._writer.start(profile="ros2", library="hexapod_adapt")
         self._schemas: dict[str, int] = {}
         self._channels: dict[str, int] = {}
         self._closed = False
         self._lock = threading.Lock()     # a node records from several threads and closes on shutdown
-        self._file.flush()
 
     def record(self, topic: str, msg: Any, log_time_ns: int | None = None) -> None:
-        from rclpy.serialization import serialize_message
-
+        """Add one message on ``topic`` (the time defaults to the wall clock)."""
         data = serialize_message(msg)
         with self._lock:
             self._record(topic, msg, data, log_time_ns)
@@ -106,9 +119,17 @@ class McapRecorder:
             self._channels[topic] = self._writer.register_channel(topic, "cdr", self._schemas[type_name])
         now = log_time_ns if log_time_ns is not None else time.time_ns()
         self._writer.add_message(self._channels[topic], log_time=now, data=data, publish_time=now)
-        self._file.flush()
+
+    def checkpoint(self) -> None:
+        """End the chunk in progress and fsync: what was recorded survives a kill or power loss."""
+        with self._lock:
+            if self._closed:
+                return
+            self._writer.flush()
+            os.fsync(self._file.fileno())
 
     def close(self) -> None:
+        """Finish the file (indexes, statistics, summary, footer) and fsync it."""
         with self._lock:
             if self._closed:
                 return
@@ -125,38 +146,94 @@ class McapRecorder:
         self.close()
 
 
+def create_recording(directory: str | os.PathLike, prefix: str = "adapt") -> McapRecorder:
+    """A recorder on a new file ``<prefix>_<UTC date-time>[_<n>].mcap`` in ``directory``: the
+    first name not taken, created exclusively (several runs in one second each get their own)."""
+    directory = Path(directory)
+    stamp = time.strftime("%Y%m%d_%H%M%S", time.gmtime())
+    for n in range(1, 10_000):
+        path = directory / (f"{prefix}_{stamp}.mcap" if n == 1 else f"{prefix}_{stamp}_{n}.mcap")
+        try:
+            return McapRecorder(path)
+        except FileExistsError:
+            continue
+    raise OSError(f"no free recording name for {prefix}_{stamp} in {directory}")
+
+
 def message_class(full_type: str) -> type:
     """The Python class of ``pkg/msg/Type``."""
-    import importlib
-
     pkg, kind, name = full_type.split("/")
     return getattr(importlib.import_module(f"{pkg}.{kind}"), name)
+
+
+def _complete_records(path: str | os.PathLike) -> Iterator[Any]:
+    """Every complete record of an MCAP file, chunks opened, stopping at a truncated tail."""
+    with open(path, "rb") as fh:
+        records = StreamReader(fh, skip_magic=False).records
+        while True:
+            try:
+                yield next(records)
+            except StopIteration:
+                return
+            except (McapError, EOFError, ValueError, IndexError, OSError, struct.error, zstandard.ZstdError):
+                return   # a truncated tail after a hard kill
 
 
 def read_messages(path: str | os.PathLike) -> Iterator[tuple[str, Any, int]]:
     """(topic, decoded message, log time ns) for every complete message in the file, including
     a file whose writer was killed before it could finish (its incomplete tail is skipped)."""
-    from mcap.exceptions import McapError
-    from mcap.records import Channel, Message, Schema
-    from mcap.stream_reader import StreamReader
-    from rclpy.serialization import deserialize_message
-
     schemas: dict[int, Any] = {}
     channels: dict[int, tuple[str, Any]] = {}
-    with open(path, "rb") as fh:
-        reader = StreamReader(fh, skip_magic=False)
-        records = reader.records
-        while True:
-            try:
-                record = next(records)
-            except StopIteration:
-                return
-            except (McapError, EOFError, ValueError, IndexError, OSError, struct.error):
-                return   # a truncated tail after a hard kill
-            if isinstance(record, Schema):
-                schemas[record.id] = message_class(record.name)
-            elif isinstance(record, Channel):
-                channels[record.id] = (record.topic, schemas[record.schema_id])
-            elif isinstance(record, Message):
-                topic, cls = channels[record.channel_id]
-                yield topic, deserialize_message(record.data, cls), record.log_time
+    for record in _complete_records(path):
+        if isinstance(record, Schema):
+            schemas[record.id] = message_class(record.name)
+        elif isinstance(record, Channel):
+            channels[record.id] = (record.topic, schemas[record.schema_id])
+        elif isinstance(record, Message):
+            topic, cls = channels[record.channel_id]
+            yield topic, deserialize_message(record.data, cls), record.log_time
+
+
+@dataclass(frozen=True)
+class Recovery:
+    """What :func:`recover` kept."""
+
+    messages: int
+    channels: int
+    out: Path
+
+
+def recover(src: str | os.PathLike, dst: str | os.PathLike | None = None) -> Recovery:
+    """Rewrite a recording (typically one whose writer was killed) as a valid, indexed MCAP with
+    every complete message of ``src``; written atomically to ``dst`` (default: ``src`` itself)."""
+    src = Path(src)
+    dst = Path(dst) if dst is not None else src
+    schema_map: dict[int, int] = {}
+    channel_map: dict[int, int] = {}
+    count = 0
+    fd, tmp = tempfile.mkstemp(prefix=f".{dst.name}.", suffix=".tmp", dir=dst.parent)
+    try:
+        with os.fdopen(fd, "wb") as out:
+            writer = Writer(out, chunk_size=1 << 20, compression=CompressionType.ZSTD)
+            writer.start(profile="ros2", library="hexapod_adapt recover")
+            for record in _complete_records(src):
+                if isinstance(record, Schema) and record.id not in schema_map:
+                    schema_map[record.id] = writer.register_schema(record.name, record.encoding, record.data)
+                elif isinstance(record, Channel) and record.id not in channel_map:
+                    channel_map[record.id] = writer.register_channel(record.topic, record.message_encoding,
+                                                                     schema_map.get(record.schema_id, 0),
+                                                                     dict(record.metadata))
+                elif isinstance(record, Message) and record.channel_id in channel_map:
+                    writer.add_message(channel_map[record.channel_id], log_time=record.log_time,
+                                       data=record.data, publish_time=record.publish_time,
+                                       sequence=record.sequence)
+                    count += 1
+            writer.finish()
+            out.flush()
+            os.fsync(out.fileno())
+        os.replace(tmp, dst)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+        raise
+    return Recovery(count, len(channel_map), dst)

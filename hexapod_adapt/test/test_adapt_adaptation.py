@@ -67,3 +67,15 @@ def test_simulated_trial_is_the_damaged_evaluation():
         expected = evaluate_gait(genes, sim, collisions_fatal=False, failed_legs=[1]).speed
         assert trial(0) == expected
         assert trial(0) < 0.2      # the intact control gait walks 0.29 m/s; one failed leg costs it
+
+
+@pytest.mark.parametrize("bad", [float("nan"), float("inf"), float("-inf")])
+def test_a_non_finite_trial_speed_stops_the_run_with_the_reason(bad):
+    a = Archive.empty(np.random.default_rng(0).random((5, 6)))
+    a.fitness[:] = np.linspace(0.5, 1.5, 5)
+    a.descriptors[:] = a.centroids
+    a.genotypes[:] = 0.5
+    speeds = iter([0.1, bad, 0.3])
+    result = adapt(a, lambda niche: next(speeds))
+    assert not result.success and len(result.trials) == 1
+    assert "trial 2" in result.message and "non-finite speed" in result.message

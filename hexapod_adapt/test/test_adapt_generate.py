@@ -58,3 +58,27 @@ def test_local_pool_and_dask_cluster_make_the_same_map(tmp_path):
     dask = generate_map(GenerateConfig(out=tmp_path / "b" / "map.npz", backend="dask", workers=2, **SMALL))
     np.testing.assert_array_equal(local.fitness, dask.fitness)
     np.testing.assert_array_equal(local.genotypes, dask.genotypes)
+
+
+def test_a_map_without_a_single_gait_is_not_a_success(tmp_path):
+    # 3 evaluations of random genotypes: reachable ones are almost never feasible gaits
+    r = _run_cli("--out", str(tmp_path / "m.npz"), "--niches", "5", "--evaluations", "3", "--seed", "1",
+                 "--backend", "inline", "--quiet")
+    assert r.returncode == 1 and "no valid gait in 3 evaluations: no map written" in r.stderr
+    assert not (tmp_path / "m.npz").exists()
+
+
+def test_orphaned_temporaries_are_removed_on_start_and_resume(tmp_path):
+    from hexapod_adapt.generate import remove_orphaned_temporaries
+
+    out = tmp_path / "map.npz"
+    left = [tmp_path / ".map.npz.abc123.tmp", tmp_path / ".map.npz.ckpt.npz.x9.tmp"]
+    unrelated = tmp_path / ".other.npz.zz.tmp"
+    for path in left + [unrelated]:
+        path.write_bytes(b"partial")
+    assert sorted(remove_orphaned_temporaries(out)) == sorted(left)
+    assert unrelated.exists() and not any(p.exists() for p in left)
+    r = _run_cli("--out", str(out), "--niches", "5", "--evaluations", "3", "--seed", "1", "--backend", "inline",
+                 "--quiet", "--resume")
+    assert not any(p.exists() for p in left)
+    assert r.returncode in (0, 1)

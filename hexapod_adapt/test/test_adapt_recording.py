@@ -43,15 +43,22 @@ def test_round_trip_through_our_reader_and_mcap_ros2(tmp_path):
         rec.record("odom", o)
 
 
-def test_a_hard_killed_writer_leaves_every_complete_message(tmp_path):
-    path = tmp_path / "killed.mcap"
+def _killed_recording(path, trials: int, extra: int) -> None:
+    """A writer that records ``trials`` checkpointed trials (as adapt_node does), then ``extra``
+    messages of a trial in progress, and is killed with SIGKILL."""
     script = textwrap.dedent(f"""
-        import sys, time
+        import time
         from hexapod_msgs.msg import AdaptationTrial
+        from nav_msgs.msg import Odometry
         from hexapod_adapt.recording import McapRecorder
         rec = McapRecorder({str(path)!r})
-        for i in range(5):
+        for i in range({trials}):
+            for k in range(30):
+                rec.record("odom", Odometry())
             rec.record("adapt/trials", AdaptationTrial(trial=i + 1))
+            rec.checkpoint()
+        for k in range({extra}):
+            rec.record("odom", Odometry())
         print("written", flush=True)
         time.sleep(60)
     """)
@@ -59,4 +66,54 @@ def test_a_hard_killed_writer_leaves_every_complete_message(tmp_path):
     assert proc.stdout.readline().strip() == "written"
     proc.send_signal(signal.SIGKILL)
     proc.wait()
-    assert [m.trial for _, m, _ in read_messages(path)] == [1, 2, 3, 4, 5]
+
+
+def test_a_hard_killed_writer_keeps_every_completed_trial_and_recover_makes_it_indexed(tmp_path):
+    from hexapod_adapt.recording import recover
+
+    path = tmp_path / "killed.mcap"
+    _killed_recording(path, trials=5, extra=7)
+    assert [m.trial for t, m, _ in read_messages(path) if t == "adapt/trials"] == [1, 2, 3, 4, 5]
+    with open(path, "rb") as f:                       # no summary: an indexed reader cannot use it
+        with pytest.raises(Exception):
+            list(make_reader(f).iter_messages())
+    out = tmp_path / "recovered.mcap"
+    result = subprocess.run([sys.executable, "-m", "hexapod_adapt.recover_cli", str(path), "--out", str(out)],
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stderr
+    assert "wrote" in result.stdout
+    with open(out, "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        summary = reader.get_summary()
+        assert summary is not None and summary.chunk_indexes and summary.statistics.message_count >= 155
+        trials = [d.trial for _, c, _, d in reader.iter_decoded_messages() if c.topic == "adapt/trials"]
+    assert trials == [1, 2, 3, 4, 5]
+    again = recover(out, tmp_path / "twice.mcap")       # recovering a good file changes nothing
+    assert again.messages == summary.statistics.message_count
+
+
+def test_a_cleanly_closed_recording_is_chunked_indexed_and_summarised(tmp_path):
+    with McapRecorder(tmp_path / "clean.mcap") as rec:
+        for i in range(4):
+            rec.record("odom", Odometry())
+            rec.record("adapt/trials", AdaptationTrial(trial=i + 1))
+            rec.checkpoint()
+    with open(tmp_path / "clean.mcap", "rb") as f:
+        reader = make_reader(f)
+        summary = reader.get_summary()
+        assert len(summary.chunk_indexes) >= 4 and summary.statistics.message_count == 8
+        assert all(ci.message_index_offsets for ci in summary.chunk_indexes)
+        assert len(list(reader.iter_messages(topics=["adapt/trials"]))) == 4
+
+
+def test_recordings_are_never_overwritten(tmp_path):
+    from hexapod_adapt.recording import create_recording
+
+    recorders = [create_recording(tmp_path) for _ in range(3)]       # three runs in the same second
+    for i, rec in enumerate(recorders):
+        rec.record("adapt/trials", AdaptationTrial(trial=i + 1))
+        rec.close()
+    assert len({r.path for r in recorders}) == 3
+    assert sorted(m.trial for r in recorders for _, m, _ in read_messages(r.path)) == [1, 2, 3]
+    with pytest.raises(FileExistsError):
+        McapRecorder(recorders[0].path)

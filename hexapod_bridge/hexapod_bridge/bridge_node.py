@@ -11,9 +11,15 @@ Publishes   imu/data          sensor_msgs/Imu: from the Xsens on ``imu_port`` at
             ~/link_status     hexapod_msgs/LinkStatus at ``status_rate``
             bridge/status     diagnostic_msgs/DiagnosticStatus (latched): uploads, trials, errors
 Services    ~/arm             std_srvs/SetBool: nothing is transmitted unless armed
+            ~/upload_gait     hexapod_msgs/UploadGait: upload, answer when the robot acknowledged
             ~/start_trial     std_srvs/Trigger: walk the uploaded gait for ``trial_duration``
             ~/stop_trial      std_srvs/Trigger
             ~/emergency_stop  std_srvs/Trigger: always transmitted (armed or not), then disarms
+            ~/motor_power     std_srvs/SetBool: servo power; on also clears a latched e-stop
+
+After an emergency stop the robot refuses trials (ESTOPPED) until, in this order:
+``~/arm true`` (the bridge transmits again), ``~/motor_power true`` (servos powered, e-stop
+cleared), and a gait upload; then ``~/start_trial`` works again.
 """
 from __future__ import annotations
 
@@ -134,6 +140,7 @@ class BridgeNode(Node):
         self.create_service(SetBool, "~/arm", self._on_arm, callback_group=group)
         self.create_service(Trigger, "~/start_trial", self._on_start, callback_group=group)
         self.create_service(UploadGait, "~/upload_gait", self._on_upload_gait, callback_group=group)
+        self.create_service(SetBool, "~/motor_power", self._on_motor_power, callback_group=group)
         self.create_service(Trigger, "~/stop_trial", self._on_stop, callback_group=group)
         self.create_service(Trigger, "~/emergency_stop", self._on_estop, callback_group=group)
         self.create_timer(1.0 / float(status_rate), self._publish_link_status, callback_group=group)
@@ -272,6 +279,15 @@ class BridgeNode(Node):
             self.link.arm(False, time.monotonic())
         self._status(DiagnosticStatus.WARN, "EMERGENCY STOP sent; bridge disarmed")
         response.success, response.message = True, "emergency stop sent; bridge disarmed"
+        return response
+
+    def _on_motor_power(self, request: SetBool.Request, response: SetBool.Response):
+        """After an e-stop: ~/arm true, then ~/motor_power true, then upload and start trials."""
+        with self.lock:
+            op = self.link.motor_power(request.data)
+        response.success, response.message = op.ok, op.message
+        if op.ok:
+            self._status(DiagnosticStatus.OK, op.message)
         return response
 
     def _link_status(self, now: float) -> LinkStatus:

@@ -197,6 +197,18 @@ class RobotLink:
         op.finish(True, "emergency stop sent")
         return op
 
+    def motor_power(self, on: bool) -> Operation:
+        """Switch the servos' power (legacy FF FA, unacknowledged: sent three times). Power on
+        also clears a latched emergency stop, so trials can start again."""
+        op = Operation("motor_power")
+        if not self.armed:
+            op.finish(False, "not armed: call ~/arm first (an e-stop disarms the bridge)")
+            return op
+        for _ in range(3):
+            self._queue.append(Outgoing(legacy.encode_motor_power(on), PRIORITY_TRIAL))
+        op.finish(True, f"motor power {'on' if on else 'off'} sent")
+        return op
+
     # -- I/O ---------------------------------------------------------------------------------
     def poll(self, now: float) -> list[bytes]:
         """Frames to write now (paced to the radio's throughput, by priority)."""

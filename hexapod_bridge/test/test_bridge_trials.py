@@ -113,3 +113,62 @@ def test_a_report_in_flight_from_the_previous_trial_is_not_taken_for_the_new_one
     link.receive(stale + stale, 0.1)
     assert link.trial_state is ext.TrialState.IDLE and link.stats.stale_reports == 2
     assert link.trial_generation == 0
+
+
+def test_a_noisy_stream_never_ends_a_trial_with_another_trials_report():
+    """Every robot->host frame is dropped, duplicated, garbled or followed by garbage at random
+    (seeded): uploads and starts may need retries or fail, but whenever the host sees a trial
+    end, it is the robot's end of that very trial (5 s after its start)."""
+    rng = np.random.default_rng(11)
+
+    def mangle_any(frame: bytes) -> bytes:
+        u = rng.random()
+        if u < 0.05:
+            return b""
+        if u < 0.10:
+            return frame + frame
+        if u < 0.15:
+            i = int(rng.integers(len(frame)))
+            return frame[:i] + bytes([frame[i] ^ int(rng.integers(1, 256))]) + frame[i + 1:]
+        if u < 0.20:
+            return frame + rng.integers(0, 256, int(rng.integers(1, 12))).astype(np.uint8).tobytes()
+        return frame
+
+    bench = Bench(lambda f: f)
+    bench.mangle = mangle_any
+    original_tick = bench.tick
+
+    def tick_all_frames() -> None:            # mangle every frame, not only TRIAL reports
+        bench.t += STEP
+        for frame in bench.link.poll(bench.t):
+            bench.fw.receive(frame, bench.t)
+        radio, _ = bench.fw.advance(bench.t)
+        out = b"".join(mangle_any(f) for f in HostParserSplitter.split(radio))
+        before = (bench.link.trial_generation, bench.link.trial_state)
+        bench.link.receive(out, bench.t)
+        after = (bench.link.trial_generation, bench.link.trial_state)
+        if after != before and after[1] in (ext.TrialState.DONE, ext.TrialState.STOPPED):
+            bench.ended.append((after[0], after[1], bench.t))
+
+    bench.tick = tick_all_frames
+    starts: dict[int, float] = {}
+    completed = 0
+    for k in range(6):
+        op = bench.link.upload(preset("tripod").replace(archive_index=k))
+        bench.run_until(lambda: op.done, 30.0)
+        if not op.ok:
+            continue
+        start = bench.link.start_trial(5.0, op.result["gait_id"])
+        bench.run_until(lambda: start.done, 10.0)
+        if not start.ok:
+            bench.run_until(lambda: False, 6.0)        # the robot may be walking anyway: let it finish
+            continue
+        starts[bench.link.trial_generation] = bench.t
+        bench.run_until(lambda: bench.link.trial_state is ext.TrialState.DONE, 8.0)
+        bench.run_until(lambda: False, 0.5)
+        completed += 1
+    assert completed >= 3 and original_tick is not None
+    for generation, state, t in bench.ended:
+        assert generation in starts and state is ext.TrialState.DONE
+        assert t - starts[generation] == pytest.approx(5.0, abs=0.3), (generation, t - starts[generation])
+    print(f"{completed} trials completed; {len(bench.ended)} ends seen; stale reports {bench.link.stats.stale_reports}")

@@ -3,6 +3,7 @@ spin in ``try``, treat Ctrl-C and an external shutdown (SIGTERM) as a normal exi
 the node release what it holds (``shutdown()`` if it has one), destroy it, shut rclpy down."""
 from __future__ import annotations
 
+import re
 import sys
 from typing import Callable
 
@@ -23,7 +24,8 @@ def run_node(make_node: Callable[[], Node], args: list[str] | None = None, num_t
         try:
             node = make_node()
         except (ValueError, InvalidParameterValueException, InvalidParameterTypeException) as exc:
-            print(f"[{getattr(make_node, '__name__', 'node')}] refusing to start: {exc}", file=sys.stderr)
+            name = re.sub(r"(?<!^)(?=[A-Z])", "_", getattr(make_node, "__name__", "node")).lower()   # SimNode -> sim_node
+            print(f"[{name}] refusing to start: {exc}", file=sys.stderr)
             return 2
         executor.add_node(node)
         executor.spin()
@@ -37,3 +39,29 @@ def run_node(make_node: Callable[[], Node], args: list[str] | None = None, num_t
             node.destroy_node()
         rclpy.try_shutdown()
     return 0
+
+
+def nodes_named(node: Node, fully_qualified_name: str) -> int:
+    """How many nodes in the graph (this one included) carry ``fully_qualified_name``."""
+    name = fully_qualified_name.rstrip("/")
+    count = 0
+    for other, namespace in node.get_node_names_and_namespaces():
+        if f"{namespace.rstrip('/')}/{other}" == name:
+            count += 1
+    return count
+
+
+def watch_for_duplicates(node: Node, report: Callable[[str], None], period: float = 2.0) -> None:
+    """Report (once per appearance) when another node with this node's name joins the graph:
+    two simulators or two adaptation servers answering the same services make clients hang."""
+    state = {"reported": False}
+
+    def check() -> None:
+        count = nodes_named(node, node.get_fully_qualified_name())
+        if count > 1 and not state["reported"]:
+            report(f"{count} nodes named {node.get_fully_qualified_name()} are in the graph: services and topics "
+                   "of that name are ambiguous; stop the extra one or start it with another name "
+                   "(--ros-args -r __node:=NAME)")
+        state["reported"] = count > 1
+
+    node.create_timer(period, check)

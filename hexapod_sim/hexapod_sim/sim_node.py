@@ -48,10 +48,10 @@ from std_srvs.srv import Trigger
 from trajectory_msgs.msg import JointTrajectory
 
 from hexapod_gait import preset
-from hexapod_gait.ros_main import run_node
+from hexapod_gait.ros_main import run_node, watch_for_duplicates
 from hexapod_gait.trajectory import build_joint_table
 from hexapod_sim.simulator import SimConfig, create_simulator, validate_failed_legs
-from hexapod_sim.trajectory_input import CycleTable, TrajectoryError, cycle_from_points
+from hexapod_sim.trajectory_input import MAX_POINTS, CycleTable, TrajectoryError, cycle_from_points
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
 # Trials read odometry at exact instants (reset, reset + 5 s). In fast mode the node publishes
@@ -132,6 +132,7 @@ class SimNode(Node):
         self._publish_errors: set[str] = set()
         self._thread = threading.Thread(target=self._run, name="physics", daemon=True)
         self._thread.start()
+        watch_for_duplicates(self, lambda text: self._status(DiagnosticStatus.ERROR, text))
         self.get_logger().info(f"simulating with the {engine} engine at real_time_factor {self.rtf:g}")
 
     # -- parameters / callbacks (executor threads) ---------------------------------------------
@@ -165,6 +166,10 @@ class SimNode(Node):
         return box.get("result")
 
     def _on_trajectory(self, msg: JointTrajectory) -> None:
+        if len(msg.points) > MAX_POINTS:   # refuse before copying anything out of the message
+            self._status(DiagnosticStatus.ERROR, f"trajectory rejected: a gait cycle may have at most {MAX_POINTS} "
+                                                 f"points, got {len(msg.points)}; previous gait kept")
+            return
         try:
             cycle = cycle_from_points(
                 msg.joint_names, [pt.time_from_start.sec + pt.time_from_start.nanosec * 1e-9 for pt in msg.points],
@@ -179,7 +184,11 @@ class SimNode(Node):
             self._prepare_cycle()
             self.active_pub.publish(msg.header)
 
-        self._in_physics_thread(switch)
+        try:
+            self._in_physics_thread(switch)
+        except TimeoutError as exc:
+            self._status(DiagnosticStatus.ERROR, f"trajectory not applied: {exc}")
+            return
         self._status(DiagnosticStatus.OK, f"playing a {len(cycle.positions)}-step cycle of {cycle.period:g} s")
 
     def _on_set_leg_failure(self, request: SetLegFailure.Request, response: SetLegFailure.Response):

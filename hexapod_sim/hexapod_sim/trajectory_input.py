@@ -15,6 +15,12 @@ class TrajectoryError(ValueError):
     """The trajectory cannot be played; the message says why."""
 
 
+#: Bounds of an accepted gait cycle: the controller's longest period is 10 s (table 4.1), sent
+#: at up to 1 kHz. Larger requests are refused before anything is allocated for them.
+MAX_CYCLE_SECONDS = 60.0
+MAX_POINTS = 60_000
+
+
 @dataclass(frozen=True)
 class CycleTable:
     positions: np.ndarray   # (N, 18) URDF joint order, at the simulator's time step
@@ -42,6 +48,10 @@ def cycle_from_points(joint_names: Sequence[str], times: Sequence[float], positi
     n = len(times)
     if n < 2:
         raise TrajectoryError(f"a gait cycle needs at least 2 points, got {n}")
+    if n > MAX_POINTS:
+        raise TrajectoryError(f"a gait cycle may have at most {MAX_POINTS} points, got {n}")
+    if len(positions) != n or (len(velocities) and len(velocities) != n):
+        raise TrajectoryError("positions (and velocities, if given) need one entry per point")
     t = np.asarray(times, dtype=float)
     try:
         q = np.asarray(positions, dtype=float)
@@ -61,8 +71,11 @@ def cycle_from_points(joint_names: Sequence[str], times: Sequence[float], positi
     else:
         v = None
     spacing = np.diff(t)
-    if t[0] != 0.0 or np.any(spacing <= 0):
+    if not np.isfinite(t).all() or t[0] != 0.0 or np.any(spacing <= 0):
         raise TrajectoryError("time_from_start must start at 0 and increase strictly")
+    if t[-1] + spacing.mean() > MAX_CYCLE_SECONDS:
+        raise TrajectoryError(f"a gait cycle may last at most {MAX_CYCLE_SECONDS:g} s, got "
+                              f"{t[-1] + spacing.mean():.6g} s")
     step = float(spacing.mean())
     if np.abs(spacing - step).max() > 1e-6:
         raise TrajectoryError("points must be uniformly spaced in time (one sampled gait cycle)")
