@@ -14,12 +14,10 @@ never overwritten.
 """
 from __future__ import annotations
 
-import contextlib
 import importlib
 import os
 import re
 import struct
-import tempfile
 import threading
 import time
 from dataclasses import dataclass
@@ -33,6 +31,8 @@ from mcap.records import Channel, Message, Schema
 from mcap.stream_reader import StreamReader
 from mcap.writer import CompressionType, Writer
 from rclpy.serialization import deserialize_message, serialize_message
+
+from hexapod_adapt.archive import atomic_output
 
 _BUILTIN = {"bool", "byte", "char", "float32", "float64", "int8", "uint8", "int16", "uint16", "int32",
             "uint32", "int64", "uint64", "string", "wstring"}
@@ -211,29 +211,19 @@ def recover(src: str | os.PathLike, dst: str | os.PathLike | None = None) -> Rec
     schema_map: dict[int, int] = {}
     channel_map: dict[int, int] = {}
     count = 0
-    fd, tmp = tempfile.mkstemp(prefix=f".{dst.name}.", suffix=".tmp", dir=dst.parent)
-    try:
-        with os.fdopen(fd, "wb") as out:
-            writer = Writer(out, chunk_size=1 << 20, compression=CompressionType.ZSTD)
-            writer.start(profile="ros2", library="hexapod_adapt recover")
-            for record in _complete_records(src):
-                if isinstance(record, Schema) and record.id not in schema_map:
-                    schema_map[record.id] = writer.register_schema(record.name, record.encoding, record.data)
-                elif isinstance(record, Channel) and record.id not in channel_map:
-                    channel_map[record.id] = writer.register_channel(record.topic, record.message_encoding,
-                                                                     schema_map.get(record.schema_id, 0),
-                                                                     dict(record.metadata))
-                elif isinstance(record, Message) and record.channel_id in channel_map:
-                    writer.add_message(channel_map[record.channel_id], log_time=record.log_time,
-                                       data=record.data, publish_time=record.publish_time,
-                                       sequence=record.sequence)
-                    count += 1
-            writer.finish()
-            out.flush()
-            os.fsync(out.fileno())
-        os.replace(tmp, dst)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        raise
+    with atomic_output(dst) as out:
+        writer = Writer(out, chunk_size=1 << 20, compression=CompressionType.ZSTD)
+        writer.start(profile="ros2", library="hexapod_adapt recover")
+        for record in _complete_records(src):
+            if isinstance(record, Schema) and record.id not in schema_map:
+                schema_map[record.id] = writer.register_schema(record.name, record.encoding, record.data)
+            elif isinstance(record, Channel) and record.id not in channel_map:
+                channel_map[record.id] = writer.register_channel(record.topic, record.message_encoding,
+                                                                 schema_map.get(record.schema_id, 0),
+                                                                 dict(record.metadata))
+            elif isinstance(record, Message) and record.channel_id in channel_map:
+                writer.add_message(channel_map[record.channel_id], log_time=record.log_time,
+                                   data=record.data, publish_time=record.publish_time, sequence=record.sequence)
+                count += 1
+        writer.finish()
     return Recovery(count, len(channel_map), dst)

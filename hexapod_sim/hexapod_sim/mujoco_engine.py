@@ -286,7 +286,7 @@ class MujocoSimulator(Simulator):
             mujoco.mj_getState(m, d, initial[i], self._state_spec)
             control[i][:, self._act] = rows[steps % len(rows)]
         state, sensordata = mj_rollout.rollout(m, d, initial, control, initial_warmstart=np.zeros((n, m.nv)))
-        unstable = self._unstable_rollouts(initial, control, state) if self._instability_seen() else set()
+        unstable = self._unstable_steps(initial, state)
         results = []
         for i in range(n):
             if i in unstable:
@@ -320,23 +320,14 @@ class MujocoSimulator(Simulator):
         self.time = results[-1].steps * self.dt
         return results
 
-    def _instability_seen(self) -> bool:
-        """True if MuJoCo flagged a numerical blow-up (and reset the state) since the last reset."""
-        return int(self.d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number) > 0
-
-    def _unstable_rollouts(self, initial: np.ndarray, control: np.ndarray, state: np.ndarray) -> dict[int, int]:
-        """Which rollouts of a batch blew up, and at which step (rare: replayed one by one)."""
-        out = {}
-        for i in range(len(initial)):
-            mujoco.mj_resetData(self.m, self.d)
-            mujoco.mj_setState(self.m, self.d, initial[i], self._state_spec)
-            for k in range(control.shape[1]):
-                self.d.ctrl[:] = control[i, k]
-                mujoco.mj_step(self.m, self.d)
-                if self.d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number:
-                    out[i] = k
-                    break
-        return out
+    def _unstable_steps(self, initial: np.ndarray, state: np.ndarray) -> dict[int, int]:
+        """{rollout: first bad step} for the rollouts that blew up. On a numerical blow-up MuJoCo
+        resets the data and carries on, so the simulated time (state[..., 0]) stops counting up
+        from the start, or the state holds NaN; a per-rollout check of the trajectory itself."""
+        steps = np.arange(1, state.shape[1] + 1) * self.dt
+        expected = initial[:, :1] + steps[None, :]
+        bad = (np.abs(state[:, :, 0] - expected) > 0.5 * self.dt) | ~np.isfinite(state).all(axis=2)
+        return {int(i): int(np.argmax(bad[i])) for i in np.flatnonzero(bad.any(axis=1))}
 
     # -- readings --------------------------------------------------------------------------------------
     def base_pose(self) -> tuple[np.ndarray, np.ndarray]:

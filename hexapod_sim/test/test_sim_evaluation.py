@@ -206,3 +206,24 @@ def test_motor_power_off_lets_the_robot_sag_and_on_holds_it_again():
                 sim.step()
             assert sim.base_pose()[0][2] < standing - 0.02, engine     # no servo torque: it collapses
             sim.set_motor_power(True)
+
+
+#: A demo-map gait that blows up MuJoCo when the servos have no back-EMF damping (found by a sweep).
+BLOWS_UP_WITHOUT_BACK_EMF = [
+    0.41188673603081094, 0.01405792578872316, 0.788538185685143, 0.42221799967350887, 0.7504814782561686,
+    0.05494747988027441, 0.988851117596404, 0.6918646326468704, 0.3921038615837734, 0.10614140681501028,
+    0.4466289770636665, 0.9648471310128469, 0.2128056869356695, 0.33351348221912314, 0.32741824778381523,
+    1.0, 1.0, 0.7830856788941308, 0.41782029280566696, 0.10673254783136216, 0.0, 0.982857411531142,
+    0.8269588476197195, 0.7634901616330082, 0.18557554116538633, 0.7397557562481006, 0.513996287413884,
+    0.890498664296602, 0.6862991581832442, 0.02786633641750492, 0.01278656943022703, 0.10752555490201114]
+
+
+def test_a_blow_up_inside_a_batch_fails_only_that_gait():
+    """MuJoCo resets itself after a blow-up and carries on; each rollout's own time line tells."""
+    with create_simulator(SimConfig(engine="mujoco", mujoco=MujocoSettings(back_emf=False))) as sim:
+        alone = evaluate_gait(BLOWS_UP_WITHOUT_BACK_EMF, sim, collisions_fatal=False)
+        batch = evaluate_gaits([BLOWS_UP_WITHOUT_BACK_EMF, preset("tripod"), preset("wave")], sim,
+                               collisions_fatal=False)
+    assert not alone.valid and "physics became unstable" in alone.reason
+    assert [r.valid for r in batch] == [False, True, True]
+    assert batch[0].reason == alone.reason
