@@ -24,5 +24,6 @@ setup(
                                       "adapt_node = hexapod_adapt.adapt_node:main",
                                       "adapt_client = hexapod_adapt.adapt_client:main",
                                       "run_experiment = hexapod_adapt.experiment_cli:main",
-                                      "recover_recording = hexapod_adapt.recover_cli:main"]},
+                                      "recover_recording = hexapod_adapt.recover_cli:main",
+                                      "plot_map = hexapod_adapt.plot_map_cli:main"]},
 )

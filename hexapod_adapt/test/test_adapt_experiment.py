@@ -32,3 +32,38 @@ def test_bad_inputs_are_refused(tmp_path):
     assert r.returncode == 2 and "no such archive" in r.stderr
     r = _run("--archive", str(DEMO_MAP), "--alpha", "0")
     assert r.returncode == 2 and "alpha" in r.stderr
+
+
+PNG = b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.slow
+def test_cross_engine_experiment_writes_csv_and_box_plots(tmp_path):
+    r = _run("--archive", str(DEMO_MAP), "--scenarios", "S2", "--cross-engine", "--max-trials", "4",
+             "--out-dir", str(tmp_path))
+    assert r.returncode == 0, r.stderr
+    rows = list(csv.DictReader((tmp_path / "runs.csv").open()))
+    assert sorted(row["trial_engine"] for row in rows) == ["mujoco"] * 3 + ["pybullet"] * 3
+    assert {row["map_engine"] for row in rows} == {"pybullet"}           # the demo map is a PyBullet map
+    for row in rows:
+        assert 1 <= int(row["trials"]) <= 4 and float(row["intact_control_speed"]) > 0.25
+    for name in ("adapted_speed.png", "trials.png"):
+        assert (tmp_path / name).read_bytes().startswith(PNG)
+    assert "trials on  scenario" in r.stdout
+
+
+def test_plot_map_draws_a_map_and_a_log_in_progress(tmp_path):
+    import json
+
+    log = tmp_path / "demo.log.jsonl"
+    rows = [{"evaluations": 100 * k, "filled": 10 * k, "max": 0.1 * k, "mean": 0.05 * k, "median": 0.04 * k,
+             "p5": 0.01 * k, "qd_score": float(k * k)} for k in range(1, 6)]
+    log.write_text("\n".join(json.dumps(r) for r in rows) + '\n{"evaluations": 6')   # torn last line
+    r = subprocess.run([sys.executable, "-m", "hexapod_adapt.plot_map_cli", "--archive", str(DEMO_MAP), "--log",
+                        str(log), "--out-dir", str(tmp_path)], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    for name in ("demo_map_projections.png", "demo_map_progress.png"):
+        assert (tmp_path / name).read_bytes().startswith(PNG)
+    bad = subprocess.run([sys.executable, "-m", "hexapod_adapt.plot_map_cli", "--archive", str(tmp_path / "no.npz")],
+                         capture_output=True, text=True, timeout=60)
+    assert bad.returncode == 2 and "no such archive" in bad.stderr
