@@ -16,12 +16,10 @@ import pytest
 
 WS = Path(__file__).resolve().parent.parent
 def status_log_qos():
-    """Subscriber QoS for a latched status topic read as a log. The publishers keep depth 1
-    (TRANSIENT_LOCAL); a depth-1 *reader* would let a status be overwritten by the next one
-    before the executor takes it (two statuses 20 ms apart were lost that way in CI)."""
-    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+    """The status-as-a-log reader profile (hexapod_gait.ros_glue.STATUS_LOG)."""
+    from hexapod_gait.ros_glue import STATUS_LOG
 
-    return QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
+    return STATUS_LOG
 
 
 _domain_ids = itertools.count((os.getpid() % 40) + 1)

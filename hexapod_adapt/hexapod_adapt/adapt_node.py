@@ -37,7 +37,6 @@ from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescri
 from rcl_interfaces.srv import GetParameters
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import Header
 from std_srvs.srv import Trigger
 
@@ -49,10 +48,8 @@ from hexapod_adapt.recording import McapRecorder, create_recording
 from hexapod_adapt.simulation import archive_engine, simulation_fingerprint
 from hexapod_gait import from_genotype
 from hexapod_gait.ros_conversions import gait_to_msg
-from hexapod_gait.ros_main import nodes_named, run_node, watch_for_duplicates
+from hexapod_gait.ros_glue import LATCHED, ODOM, nodes_named, run_node, watch_for_duplicates
 
-LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
-ODOM_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000, reliability=ReliabilityPolicy.RELIABLE)
 MODES = ("sim", "robot", "manual")
 
 
@@ -155,7 +152,7 @@ class AdaptNode(Node):
         work = ReentrantCallbackGroup()
         self.gait_pub = self.create_publisher(GaitParametersMsg, "gait/parameters", LATCHED)
         self.trial_pub = self.create_publisher(AdaptationTrial, "adapt/trials", 10)
-        self.create_subscription(Odometry, "odom", self._on_odom, ODOM_QOS, callback_group=sensors)
+        self.create_subscription(Odometry, "odom", self._on_odom, ODOM, callback_group=sensors)
         self.create_subscription(Header, "sim/active_trajectory", self._on_active, LATCHED, callback_group=sensors)
         self.create_subscription(Header, "sim/last_reset", self._on_reset, LATCHED, callback_group=sensors)
         sim_name = self.get_parameter("sim_node").value

@@ -20,13 +20,13 @@ from __future__ import annotations
 
 import contextlib
 import datetime as _dt
+import enum
 import hashlib
 import io
 import json
 import math
 import os
 import tempfile
-import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, BinaryIO, Iterator, Mapping
@@ -49,6 +49,27 @@ class ArchiveError(ValueError):
 def centroid_hash(centroids: np.ndarray) -> str:
     """sha256 of the centroids as little-endian float64 (identifies a CVT)."""
     return hashlib.sha256(np.ascontiguousarray(centroids, dtype="<f8").tobytes()).hexdigest()
+
+
+class InsertStatus(enum.Enum):
+    """What :meth:`Archive.insert` did with a result."""
+
+    NEW = "new"                  # the niche was empty: the result is its first elite
+    IMPROVED = "improved"        # the result beat the niche's elite and replaced it
+    NOT_IMPROVED = "not_improved"  # the niche's elite is at least as good: nothing changed
+
+
+@dataclass(frozen=True)
+class ArchiveStats:
+    """Summary figures of an archive (fitness in metres over the trial duration)."""
+
+    filled: int
+    coverage: float     # filled / niches
+    max: float          # NaN when empty
+    mean: float
+    median: float
+    p5: float           # 5th percentile
+    qd_score: float     # sum of the elites' fitness clipped at 0: never decreases as the map improves
 
 
 @dataclass
@@ -104,16 +125,28 @@ class Archive:
         """Indices of the filled niches, ascending."""
         return np.flatnonzero(self.filled)
 
-    def stats(self) -> dict[str, float]:
-        """Filled niches, coverage, max/mean/median/5th-percentile fitness and QD-score (the sum
-        of the elites' fitness clipped at 0, so it never decreases as the map improves)."""
+    def stats(self) -> ArchiveStats:
+        """Filled niches, coverage, max/mean/median/5th-percentile fitness and QD-score."""
         f = self.fitness[self.filled]
         if f.size == 0:
-            return {"filled": 0, "coverage": 0.0, "max": float("nan"), "mean": float("nan"),
-                    "median": float("nan"), "p5": float("nan"), "qd_score": 0.0}
-        return {"filled": int(f.size), "coverage": f.size / self.n_niches, "max": float(f.max()),
-                "mean": float(f.mean()), "median": float(np.median(f)), "p5": float(np.percentile(f, 5)),
-                "qd_score": float(np.sum(np.maximum(f, 0.0)))}
+            nan = float("nan")
+            return ArchiveStats(0, 0.0, nan, nan, nan, nan, 0.0)
+        return ArchiveStats(int(f.size), f.size / self.n_niches, float(f.max()), float(f.mean()),
+                            float(np.median(f)), float(np.percentile(f, 5)), float(np.sum(np.maximum(f, 0.0))))
+
+    def insert(self, niche: int, fitness: float, descriptor: np.ndarray, genotype: np.ndarray) -> InsertStatus:
+        """Offer a result to ``niche``: it becomes the elite if the niche is empty or it is
+        fitter (a tie keeps the incumbent). Returns what happened."""
+        if np.isnan(self.fitness[niche]):
+            status = InsertStatus.NEW
+        elif fitness > self.fitness[niche]:
+            status = InsertStatus.IMPROVED
+        else:
+            return InsertStatus.NOT_IMPROVED
+        self.fitness[niche] = fitness
+        self.descriptors[niche] = descriptor
+        self.genotypes[niche] = genotype
+        return status
 
     # -- files ------------------------------------------------------------------------------
     def save(self, path: str | os.PathLike, extra_arrays: Mapping[str, np.ndarray] | None = None) -> Path:

@@ -95,8 +95,8 @@ def main(argv: list[str] | None = None) -> int:
     if bar is not None:
         bar.close()
     s = archive.stats()
-    print(f"wrote {config.out}: {s['filled']} of {archive.n_niches} niches, max {s['max']:.3f} m "
-          f"({s['max'] / archive.trial_duration:.3f} m/s), {archive.metadata['evaluations']} evaluations")
+    print(f"wrote {config.out}: {s.filled} of {archive.n_niches} niches, max {s.max:.3f} m "
+          f"({s.max / archive.trial_duration:.3f} m/s), {archive.metadata['evaluations']} evaluations")
     return 0
 
 

@@ -23,12 +23,11 @@ import math
 import os
 import time
 from dataclasses import asdict, dataclass
-from pathlib import Path
 from typing import Callable, Protocol, Sequence
 
 import numpy as np
 
-from hexapod_adapt.archive import Archive, ArchiveError, load_archive
+from hexapod_adapt.archive import Archive, ArchiveError, InsertStatus, load_archive
 from hexapod_gait import GENOTYPE_SIZE
 
 
@@ -103,19 +102,14 @@ class MapElites:
         self.archive.metadata["evaluations"] = self.told
         self.archive.metadata["map_elites"] = asdict(self.config)
 
-    def tell(self, genes: np.ndarray, result: Evaluation) -> bool:
-        """Insert one result (in candidate order); True if it became an elite."""
+    def tell(self, genes: np.ndarray, result: Evaluation) -> InsertStatus | None:
+        """Insert one result (in candidate order); what the archive did with it (None for an
+        invalid gait, which is counted and not inserted)."""
         self.told += 1
         if not result.valid:
-            return False
+            return None
         niche = int(self.niche_of(result.descriptor)[0])
-        a = self.archive
-        if np.isnan(a.fitness[niche]) or result.fitness > a.fitness[niche]:
-            a.fitness[niche] = result.fitness
-            a.descriptors[niche] = result.descriptor
-            a.genotypes[niche] = genes
-            return True
-        return False
+        return self.archive.insert(niche, result.fitness, result.descriptor, genes)
 
 
 # -- checkpoints -------------------------------------------------------------------------------
@@ -181,8 +175,8 @@ def run_map_elites(archive: Archive, config: MapElitesConfig, evaluate: Evaluate
     def progress() -> Progress:
         s = engine.archive.stats()
         wall = max(time.monotonic() - t0, 1e-9)
-        return Progress(engine.told, s["filled"], s["coverage"], s["max"], s["mean"], s["median"], s["p5"],
-                        s["qd_score"], (engine.told - told_at_start) / wall, busy / (max(workers, 1) * wall), wall)
+        return Progress(engine.told, s.filled, s.coverage, s.max, s.mean, s.median, s.p5, s.qd_score,
+                        (engine.told - told_at_start) / wall, busy / (max(workers, 1) * wall), wall)
 
     inline: list[list[int]] = []   # without an executor: chunks evaluated one per loop turn
 

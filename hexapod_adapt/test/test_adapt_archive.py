@@ -25,7 +25,7 @@ def test_round_trip_keeps_every_value_and_metadata(tmp_path):
     assert b.metadata["seed"] == 3 and b.metadata["evaluations"] == 123
     assert b.metadata["niches"] == 50 and b.metadata["format_version"] == 1
     assert b.metadata["genotype_mapping"] == "thesis-4.1/v1" and "created" in b.metadata
-    assert b.n_filled == 20 and b.stats()["filled"] == 20
+    assert b.n_filled == 20 and b.stats().filled == 20
     np.testing.assert_allclose(b.speeds()[b.filled], b.fitness[b.filled] / 5.0)
     assert [p.name for p in tmp_path.iterdir()] == ["map.npz"]   # no temporary left behind
 
@@ -108,3 +108,16 @@ def test_thesis_import_refuses_wrong_rows_and_foreign_centroids(tmp_path):
     export_thesis_map(a, tmp_path / "m.dat")
     with pytest.raises(ArchiveError, match="different centroids file"):
         import_thesis_map(tmp_path / "m.dat", np.random.default_rng(9).random((40, 6)))
+
+
+def test_insert_says_what_happened():
+    from hexapod_adapt.archive import InsertStatus
+
+    a = Archive.empty(np.full((2, 6), 0.5))
+    d, g = np.full(6, 0.5), np.full(32, 0.5)
+    assert a.insert(0, 1.0, d, g) is InsertStatus.NEW
+    assert a.insert(0, 0.5, d, np.zeros(32)) is InsertStatus.NOT_IMPROVED and a.genotypes[0, 0] == 0.5
+    assert a.insert(0, 1.0, d, np.zeros(32)) is InsertStatus.NOT_IMPROVED          # a tie keeps the incumbent
+    assert a.insert(0, 2.0, d, np.zeros(32)) is InsertStatus.IMPROVED and a.fitness[0] == 2.0
+    s = a.stats()
+    assert (s.filled, s.coverage, s.max, s.qd_score) == (1, 0.5, 2.0, 2.0)

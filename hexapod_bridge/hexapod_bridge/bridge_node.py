@@ -31,7 +31,7 @@ from collections import deque
 from dataclasses import dataclass
 
 import rclpy
-from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
+from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.msg import LinkStatus
 from hexapod_msgs.srv import UploadGait
@@ -39,7 +39,6 @@ from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from sensor_msgs.msg import Imu
 from std_srvs.srv import SetBool, Trigger
 
@@ -50,9 +49,8 @@ from hexapod_bridge.odometry import TrialOdometry
 from hexapod_bridge.serial_port import ReconnectingPort
 from hexapod_gait.parameters import GaitParameterError
 from hexapod_gait.ros_conversions import gait_from_msg
-from hexapod_gait.ros_main import run_node
+from hexapod_gait.ros_glue import LATCHED, ODOM, SENSOR, publish_status, run_node
 
-LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
 #: Accuracy of the IMU trial-speed estimate, measured in test_bridge_odometry.py (docs/bridge.md).
 SPEED_ACCURACY = 0.025  # m/s
 
@@ -132,8 +130,8 @@ class BridgeNode(Node):
         self._last_counter: int | None = None
 
         group = ReentrantCallbackGroup()
-        self.imu_pub = self.create_publisher(Imu, "imu/data", qos_profile_sensor_data)
-        self.odom_pub = self.create_publisher(Odometry, "odom", QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE))
+        self.imu_pub = self.create_publisher(Imu, "imu/data", SENSOR)
+        self.odom_pub = self.create_publisher(Odometry, "odom", ODOM)
         self.link_pub = self.create_publisher(LinkStatus, "~/link_status", 10)
         self.status_pub = self.create_publisher(DiagnosticStatus, "bridge/status", LATCHED)
         self.create_subscription(GaitParametersMsg, "gait/parameters", self._on_gait, LATCHED, callback_group=group)
@@ -159,15 +157,7 @@ class BridgeNode(Node):
 
     # -- ROS callbacks ---------------------------------------------------------------------------
     def _status(self, level: bytes, message: str, **values) -> None:
-        if level == DiagnosticStatus.ERROR:   # rclpy: one severity per logging call site
-            self.get_logger().error(message)
-        elif level == DiagnosticStatus.WARN:
-            self.get_logger().warning(message)
-        else:
-            self.get_logger().info(message)
-        self.status_pub.publish(DiagnosticStatus(
-            level=level, name=self.get_fully_qualified_name(), message=message, hardware_id="hexapod",
-            values=[KeyValue(key=k, value=str(v)) for k, v in values.items()]))
+        publish_status(self, self.status_pub, level, message, "hexapod", **values)
 
     def _wait(self, op: Operation, timeout: float) -> bool:
         deadline = time.monotonic() + timeout

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 import struct
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -105,7 +105,7 @@ class RobotFirmware:
         if sim is not None:
             self._load_table()
             sim.reset(self._table.positions[0])
-            self._hold_row = sim.prepare_rows(self._table.positions[:1], np.zeros((1, 18)))
+            self._hold_row = sim.prepare_rows(self._table.positions[:1], np.zeros_like(self._table.positions[:1]))
 
     # -- receiving ---------------------------------------------------------------------------
     def receive(self, data: bytes, now: float) -> None:
@@ -253,7 +253,8 @@ class RobotFirmware:
         if self.sim is not None and self._table is not None:
             # stand still in the pose the walk stopped in
             row = self._row % len(self._table)
-            self._hold_row = self.sim.prepare_rows(self._table.positions[row:row + 1], np.zeros((1, 18)))
+            hold = self._table.positions[row:row + 1]
+            self._hold_row = self.sim.prepare_rows(hold, np.zeros_like(hold))
         state_code = {"done": ext.TrialState.DONE, "stopped": ext.TrialState.STOPPED,
                       "estopped": ext.TrialState.ESTOPPED, "failsafe": ext.TrialState.FAILSAFE}[state]
         self._trial_report(state_code, self.walk_end if state == "done" else self._sim_time)

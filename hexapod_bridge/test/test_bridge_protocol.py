@@ -1,7 +1,6 @@
 """Exact bytes of every frame of robot-facts.md, the extension, the parsers, the link layer."""
 from __future__ import annotations
 
-import math
 import struct
 
 import pytest

@@ -11,22 +11,19 @@ from __future__ import annotations
 
 import sys
 
-from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
+from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from trajectory_msgs.msg import JointTrajectory
 
 from hexapod_description import load_model
 from hexapod_gait.parameters import GaitParameterError, GaitParameters
 from hexapod_gait.presets import PRESETS, preset
 from hexapod_gait.ros_conversions import gait_from_msg, table_to_trajectory
-from hexapod_gait.ros_main import run_node
+from hexapod_gait.ros_glue import LATCHED, publish_status, run_node
 from hexapod_gait.trajectory import ReachabilityError, build_joint_table, samples_per_cycle
 
-LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
-                     reliability=ReliabilityPolicy.RELIABLE)
 
 
 class GaitNode(Node):
@@ -81,21 +78,18 @@ class GaitNode(Node):
         self.active = gait
         self.publish_status(DiagnosticStatus.OK, f"active gait from {source}: "
                             f"{len(table)} points at {self.rate:g} Hz", gait.archive_index)
-        self.get_logger().info(f"publishing {len(table)}-point cycle for gait from {source}")
         return True
 
     def reject(self, reason: str, archive_index: int) -> None:
         kept = "previous trajectory kept" if self.active is not None else "no trajectory active"
-        self.get_logger().warning(f"{reason} ({kept})")
         self.publish_status(DiagnosticStatus.ERROR, f"{reason} ({kept})", archive_index)
 
     def publish_status(self, level: bytes, message: str, archive_index: int) -> None:
-        status = DiagnosticStatus(level=level, name=self.get_fully_qualified_name(),
-                                  message=message, hardware_id="hexapod")
-        status.values = [KeyValue(key="archive_index", value=str(archive_index))]
+        """Log and publish gait/status with the gait's archive index (and the active one's)."""
+        values = {"archive_index": archive_index}
         if self.active is not None:
-            status.values.append(KeyValue(key="active_archive_index", value=str(self.active.archive_index)))
-        self.status_pub.publish(status)
+            values["active_archive_index"] = self.active.archive_index
+        publish_status(self, self.status_pub, level, message, "hexapod", **values)
 
 
 def main(args: list[str] | None = None) -> int:

@@ -12,7 +12,8 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-N_LEGS = 6
+from hexapod_description import N_LEGS
+
 GENOTYPE_SIZE = 2 + 5 * N_LEGS  # 32
 
 #: Walking direction of the map gaits, in base_link: between legs 1 and 6, as in the thesis

@@ -19,8 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from hexapod_description import N_LEGS
 from hexapod_gait.kinematics import LegKinematics, default_kinematics
-from hexapod_gait.parameters import N_LEGS, GaitParameters
+from hexapod_gait.parameters import GaitParameters
 
 #: Largest FK(IK(p)) - p accepted as "reachable" [m] (section 3.4.5).
 REACH_TOLERANCE = 1e-6

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 from itertools import combinations
 
-N_LEGS = 6
+from hexapod_description import N_LEGS
+
 SCENARIO_NAMES = ("S0", "S1", "S2", "S3", "S4")
 
 

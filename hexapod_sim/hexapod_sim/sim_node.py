@@ -40,7 +40,6 @@ from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescri
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, JointState
 from std_msgs.msg import Header
@@ -48,17 +47,11 @@ from std_srvs.srv import Trigger
 from trajectory_msgs.msg import JointTrajectory
 
 from hexapod_gait import preset
-from hexapod_gait.ros_main import run_node, watch_for_duplicates
+from hexapod_gait.ros_glue import LATCHED, ODOM, SENSOR, publish_status, run_node, watch_for_duplicates
 from hexapod_gait.trajectory import build_joint_table
 from hexapod_sim.simulator import SimConfig, create_simulator, validate_failed_legs
 from hexapod_sim.trajectory_input import MAX_POINTS, CycleTable, TrajectoryError, cycle_from_points
 
-LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
-# Trials read odometry at exact instants (reset, reset + 5 s). In fast mode the node publishes
-# ~1000 odometry messages per wall second and a loaded subscriber can lag hundreds behind; a
-# reliable writer only re-sends what is still in its history, so keep ~5 s of it. (KEEP_ALL
-# would make publish block and then fail when a subscriber stalls.)
-ODOM_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000, reliability=ReliabilityPolicy.RELIABLE)
 
 
 def _stamp(seconds: float) -> Time:
@@ -104,10 +97,10 @@ class SimNode(Node):
 
         group = ReentrantCallbackGroup()
         self.clock_pub = self.create_publisher(Clock, "/clock", 10)
-        self.joint_pub = self.create_publisher(JointState, "joint_states", qos_profile_sensor_data)
-        self.odom_pub = self.create_publisher(Odometry, "odom", ODOM_QOS)
-        self.imu_pub = self.create_publisher(Imu, "imu/data", qos_profile_sensor_data)
-        self.contacts_pub = self.create_publisher(FootContacts, "foot_contacts", qos_profile_sensor_data)
+        self.joint_pub = self.create_publisher(JointState, "joint_states", SENSOR)
+        self.odom_pub = self.create_publisher(Odometry, "odom", ODOM)
+        self.imu_pub = self.create_publisher(Imu, "imu/data", SENSOR)
+        self.contacts_pub = self.create_publisher(FootContacts, "foot_contacts", SENSOR)
         self.active_pub = self.create_publisher(Header, "sim/active_trajectory", LATCHED)
         self.reset_pub = self.create_publisher(Header, "sim/last_reset", LATCHED)
         self.status_pub = self.create_publisher(DiagnosticStatus, "sim/status", LATCHED)
@@ -211,12 +204,7 @@ class SimNode(Node):
         return response
 
     def _status(self, level: bytes, message: str) -> None:
-        if level == DiagnosticStatus.ERROR:  # rclpy: one severity per logging call site
-            self.get_logger().error(message)
-        else:
-            self.get_logger().info(message)
-        self.status_pub.publish(DiagnosticStatus(level=level, name=self.get_fully_qualified_name(),
-                                                 message=message, hardware_id="hexapod_sim"))
+        publish_status(self, self.status_pub, level, message, "hexapod_sim")
 
     # -- physics thread ------------------------------------------------------------------------
     def _apply_failure(self, legs: tuple[int, ...]) -> tuple[int, ...]:

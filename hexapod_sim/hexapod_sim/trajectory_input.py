@@ -7,8 +7,6 @@ from typing import Sequence
 
 import numpy as np
 
-from hexapod_gait import LegKinematics
-from hexapod_gait.trajectory import LegGeometry
 
 
 class TrajectoryError(ValueError):
@@ -96,11 +94,3 @@ def cycle_from_points(joint_names: Sequence[str], times: Sequence[float], positi
     resampled_q = np.column_stack([np.interp(grid, tt, qq[:, j]) for j in range(q.shape[1])])
     resampled_v = np.column_stack([np.interp(grid, tt, vv[:, j]) for j in range(q.shape[1])])
     return CycleTable(resampled_q, resampled_v, period)
-
-
-def body_height_from_joints(q: np.ndarray, kinematics: LegKinematics, geometry: LegGeometry) -> float:
-    """Base height that puts the lowest foot on the ground for joint angles q (18,): the
-    inverse of the controller's foot height -(h_b + mount_z), so a trajectory needs no
-    separate body-height field."""
-    feet = kinematics.forward(np.asarray(q, dtype=float).reshape(6, 3))
-    return float(np.max(-(feet[:, 2] + geometry.mount_z)))

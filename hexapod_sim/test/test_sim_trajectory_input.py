@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 from hexapod_description import load_model
-from hexapod_gait import build_joint_table, default_kinematics, preset
-from hexapod_gait.trajectory import default_geometry
-from hexapod_sim.trajectory_input import TrajectoryError, body_height_from_joints, cycle_from_points
+from hexapod_gait import build_joint_table, preset
+from hexapod_sim.simulator import body_height_from_joints
+from hexapod_sim.trajectory_input import TrajectoryError, cycle_from_points
 
 NAMES = list(load_model().joint_names)
 DT = 1.0 / 240.0
@@ -55,4 +55,4 @@ def test_body_height_is_recovered_from_the_joint_angles():
     for name in ("tripod", "wave", "quadruped"):
         gait = preset(name).replace(body_height=0.12)
         q0 = build_joint_table(gait).positions[0]
-        assert body_height_from_joints(q0, default_kinematics(), default_geometry()) == pytest.approx(0.12, abs=1e-12)
+        assert body_height_from_joints(q0) == pytest.approx(0.12, abs=1e-12)

@@ -1,0 +1,107 @@
+"""The ROS glue every node of this workspace shares, in one place:
+
+* the QoS profile of each topic family, one definition used by publishers and subscribers
+  alike (a mismatch between the two ends is silent in DDS);
+* the status helper: a node's events as ``diagnostic_msgs/DiagnosticStatus`` and in its log;
+* ``run_node``, the one ``main()`` of every node (the Jazzy pattern of ros2/demos: spin in
+  ``try``, Ctrl-C and an external shutdown (SIGTERM) are a normal exit, then the node releases
+  what it holds (``shutdown()`` if it has one), is destroyed, rclpy shut down; start-up
+  parameters it cannot use are one line and exit status 2);
+* the check for a second node of the same name in the graph.
+
+It lives in hexapod_gait because that is the bottom of the package graph: every node package
+already depends on it (docs/architecture.md).
+"""
+from __future__ import annotations
+
+import re
+import sys
+from typing import Callable
+
+import rclpy
+from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
+from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor, SingleThreadedExecutor
+from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+
+#: Latched state: the last message is kept for late joiners (gait parameters, the active
+#: trajectory, reset stamps, status topics on the publishing side).
+LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
+#: A latched status topic read as a log: a depth-1 *reader* lets a status be overwritten by the
+#: next one before the executor takes it (two statuses 20 ms apart were lost that way in CI).
+STATUS_LOG = QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
+#: Odometry: trials read it at exact instants (reset, reset + 5 s). In fast mode sim_node sends
+#: ~1000 messages per wall second and a loaded subscriber can lag hundreds behind; a reliable
+#: writer only re-sends what is still in its history, so keep ~5 s of it (KEEP_ALL would make
+#: publish block and then fail when a subscriber stalls).
+ODOM = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000, reliability=ReliabilityPolicy.RELIABLE)
+#: Sensor streams (joint states, IMU, foot contacts): best effort, latest wins.
+SENSOR = qos_profile_sensor_data
+
+
+def publish_status(node: Node, publisher, level: bytes, message: str, hardware_id: str, **values: object) -> None:
+    """Log ``message`` at the severity of ``level`` and publish it as a DiagnosticStatus."""
+    if level == DiagnosticStatus.ERROR:   # rclpy: one severity per logging call site
+        node.get_logger().error(message)
+    elif level == DiagnosticStatus.WARN:
+        node.get_logger().warning(message)
+    else:
+        node.get_logger().info(message)
+    publisher.publish(DiagnosticStatus(level=level, name=node.get_fully_qualified_name(), message=message,
+                                       hardware_id=hardware_id,
+                                       values=[KeyValue(key=k, value=str(v)) for k, v in values.items()]))
+
+
+def run_node(make_node: Callable[[], Node], args: list[str] | None = None, num_threads: int = 1) -> int:
+    """Create the node after ``rclpy.init`` and spin it (multi-threaded if ``num_threads`` > 1).
+    A node whose start-up parameters are unusable raises ValueError from its constructor: that
+    is printed as one line and the process exits with status 2, without a traceback."""
+    rclpy.init(args=args)
+    node = None
+    executor = MultiThreadedExecutor(num_threads=num_threads) if num_threads > 1 else SingleThreadedExecutor()
+    try:
+        try:
+            node = make_node()
+        except (ValueError, InvalidParameterValueException, InvalidParameterTypeException) as exc:
+            name = re.sub(r"(?<!^)(?=[A-Z])", "_", getattr(make_node, "__name__", "node")).lower()   # SimNode -> sim_node
+            print(f"[{name}] refusing to start: {exc}", file=sys.stderr)
+            return 2
+        executor.add_node(node)
+        executor.spin()
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        if node is not None:
+            shutdown = getattr(node, "shutdown", None)
+            if callable(shutdown):
+                shutdown()
+            node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+def nodes_named(node: Node, fully_qualified_name: str) -> int:
+    """How many nodes in the graph (this one included) carry ``fully_qualified_name``."""
+    name = fully_qualified_name.rstrip("/")
+    count = 0
+    for other, namespace in node.get_node_names_and_namespaces():
+        if f"{namespace.rstrip('/')}/{other}" == name:
+            count += 1
+    return count
+
+
+def watch_for_duplicates(node: Node, report: Callable[[str], None], period: float = 2.0) -> None:
+    """Report (once per appearance) when another node with this node's name joins the graph:
+    two simulators or two adaptation servers answering the same services make clients hang."""
+    state = {"reported": False}
+
+    def check() -> None:
+        count = nodes_named(node, node.get_fully_qualified_name())
+        if count > 1 and not state["reported"]:
+            report(f"{count} nodes named {node.get_fully_qualified_name()} are in the graph: services and topics "
+                   "of that name are ambiguous; stop the extra one or start it with another name "
+                   "(--ros-args -r __node:=NAME)")
+        state["reported"] = count > 1
+
+    node.create_timer(period, check)
