@@ -19,5 +19,5 @@ setup(
     maintainer_email="hexapod-dev@example.com",
     description="Serial bridge to the real hexapod (433 MHz radio link and Xsens IMU), protocol library and robot emulator.",
     license="MIT",
-    entry_points={"console_scripts": ["bridge_node = hexapod_bridge.bridge_node:main", "robot_emulator = hexapod_bridge.emulator_cli:main"]},
+    entry_points={"console_scripts": ["bridge_node = hexapod_bridge.bridge_node:main", "robot_emulator = hexapod_bridge.emulator.cli:main"]},
 )

@@ -99,7 +99,7 @@ def bench_bridge() -> None:
     per second; bridge_upload_ms: one gait upload (35 SET_PARAM + COMMIT, acknowledged) over an
     emulated clean 19200-baud link, emulated time."""
     from hexapod_bridge import extension as ext
-    from hexapod_bridge.firmware import RobotFirmware
+    from hexapod_bridge.emulator.firmware import RobotFirmware
     from hexapod_bridge.link import RobotLink
     from hexapod_bridge.stream import HostParser
     from hexapod_gait import preset

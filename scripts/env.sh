@@ -19,3 +19,23 @@ if [ -f "$_ws/install/local_setup.bash" ]; then
   source "$_ws/install/local_setup.bash"
 fi
 unset _ws
+# Every executable by its name (generate_map, sim_node, adapt_client, ...): the install space's
+# lib/<pkg> directories, where `ros2 run` finds them on a full install.
+for _lib in "$HEXAPOD_WS"/install/*/lib/*/; do
+  case ":$PATH:" in *":${_lib%/}:"*) ;; *) PATH="${_lib%/}:$PATH" ;; esac
+done
+unset _lib
+export PATH
+# Without the ros2 CLI, a `ros2 run <pkg> <exe> [args]` shim with the same layout.
+if ! command -v ros2 >/dev/null 2>&1; then
+  ros2() {
+    if [ "$1" = "run" ] && [ $# -ge 3 ]; then
+      local exe="$HEXAPOD_WS/install/$2/lib/$2/$3"
+      shift 3
+      if [ -x "$exe" ]; then "$exe" "$@"; else echo "ros2 run: no executable $exe" >&2; return 1; fi
+    else
+      echo "this environment has no ros2 CLI; this shim runs 'ros2 run <package> <executable> [args]'" >&2
+      return 2
+    fi
+  }
+fi

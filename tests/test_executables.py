@@ -4,6 +4,7 @@ from __future__ import annotations
 import ast
 import importlib
 import os
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -48,3 +49,17 @@ def test_executable_found_like_ros2_run(pkg, exe, target):
 def test_every_package_is_in_the_ament_index():
     for pkg in PACKAGES + ["hexapod_msgs"]:
         assert (Path(get_package_prefix(pkg)) / "share" / pkg / "package.xml").is_file()
+
+
+@pytest.mark.parametrize("pkg,exe,module", [
+    ("hexapod_sim", "sim_node", "hexapod_sim.sim_node"), ("hexapod_gait", "gait_node", "hexapod_gait.gait_node"),
+    ("hexapod_bridge", "bridge_node", "hexapod_bridge.bridge_node"),
+    ("hexapod_adapt", "adapt_node", "hexapod_adapt.adapt_node")])
+def test_node_executables_answer_help_with_their_parameters(pkg, exe, module):
+    specs = importlib.import_module(module).PARAMETERS
+    result = subprocess.run([str(WS / "install" / pkg / "lib" / pkg / exe), "--help"], capture_output=True,
+                            text=True, timeout=60)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.startswith(f"usage: {exe}")
+    for spec in specs:
+        assert f"  {spec.name} (" in result.stdout and spec.description[:30] in result.stdout

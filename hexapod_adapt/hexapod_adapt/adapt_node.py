@@ -26,6 +26,7 @@ import threading
 import time
 import traceback
 from collections import deque
+from dataclasses import dataclass
 from pathlib import Path
 
 import rclpy
@@ -33,7 +34,7 @@ from hexapod_msgs.msg import AdaptationTrial
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.srv import Adapt, ReportDistance, UploadGait
 from nav_msgs.msg import Odometry
-from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor, ParameterType, SetParametersResult
+from rcl_interfaces.msg import ParameterType, SetParametersResult
 from rcl_interfaces.srv import GetParameters
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.node import Node
@@ -48,9 +49,21 @@ from hexapod_adapt.recording import McapRecorder, create_recording
 from hexapod_adapt.simulation import archive_engine, simulation_fingerprint
 from hexapod_gait import from_genotype
 from hexapod_gait.ros_conversions import gait_to_msg
-from hexapod_gait.ros_glue import LATCHED, ODOM, nodes_named, run_node, watch_for_duplicates
+from hexapod_gait.ros_glue import LATCHED, ODOM, ParamSpec, declare, nodes_named, run_node, watch_for_duplicates
 
 MODES = ("sim", "robot", "manual")
+
+
+@dataclass(frozen=True)
+class OdomSample:
+    """One odometry message as a trial reads it."""
+
+    stamp_ns: int        # header stamp
+    x: float             # position in the odom frame [m]
+    y: float
+    vx: float            # twist (the bridge's trial-mean velocity) [m/s]
+    vy: float
+    received: float      # time.monotonic() when it arrived
 
 
 def _ns(stamp) -> int:
@@ -96,38 +109,30 @@ def engine_note(archive: Archive, trial_engine: str | None) -> str:
     return f"map made on {made_on}, trials on {trial_engine}: adapting across that gap"
 
 
+PARAMETERS = (
+    ParamSpec("archive", "", "Archive file (.npz from generate_map); may be changed at run time, a file that "
+              "fails to load is refused and the last good one kept"),
+    ParamSpec("mode", "sim", "Trials on: sim | robot | manual", read_only=True),
+    ParamSpec("max_trials", 20, "Default maximum trials per run", range=(1, MAX_TRIALS_LIMIT)),
+    ParamSpec("trial_duration", 5.0, "Default trial duration [s]", range=TRIAL_DURATION_RANGE),
+    ParamSpec("alpha", 0.9, "Default stop ratio: stop when the best measured speed reaches alpha x the highest "
+              "predicted one", range=ALPHA_RANGE),
+    ParamSpec("kappa", 0.05, "Default UCB weight on the posterior std", range=KAPPA_RANGE),
+    ParamSpec("length_scale", 0.4, "Default Matern length scale rho [descriptor units]", range=LENGTH_SCALE_RANGE),
+    ParamSpec("noise", 0.001, "Default observation noise variance [(m/s)^2]", range=NOISE_RANGE),
+    ParamSpec("record_dir", "adaptation_runs", "MCAP files go here ('' = no recording)"),
+    ParamSpec("sim_node", "sim_node", "Name of the simulator node (mode sim)", read_only=True),
+    ParamSpec("bridge_node", "bridge_node", "Name of the bridge node (modes robot, manual)", read_only=True),
+    ParamSpec("trial_timeout", 120.0, "Wall-clock limit for one trial [s]", range=(1.0, 3600.0)),
+    ParamSpec("stand_still", 1.0, "Robot modes: seconds the robot stands still before each trial (clean "
+              "zero-velocity IMU window) [s]", range=(0.0, 60.0)),
+)
+
+
 class AdaptNode(Node):
     def __init__(self) -> None:
         super().__init__("adapt_node")
-        ro = {"read_only": True}
-        d = self.declare_parameter
-        d("archive", "", ParameterDescriptor(description="Archive file (.npz from generate_map); may be changed at "
-                                                         "run time, a file that fails to load is refused"))
-        d("mode", "sim", ParameterDescriptor(description="Trials on: sim | robot | manual", **ro))
-        def floats(low: float, high: float) -> dict:
-            return {"floating_point_range": [FloatingPointRange(from_value=low, to_value=high)]}
-
-        d("max_trials", 20, ParameterDescriptor(description="Default maximum trials per run",
-                                                integer_range=[IntegerRange(from_value=1, to_value=MAX_TRIALS_LIMIT,
-                                                                            step=1)]))
-        d("trial_duration", 5.0, ParameterDescriptor(description="Default trial duration [s]",
-                                                     **floats(*TRIAL_DURATION_RANGE)))
-        d("alpha", 0.9, ParameterDescriptor(description="Default stop ratio: stop when the best measured speed "
-                                                        "reaches alpha x the highest predicted one", **floats(*ALPHA_RANGE)))
-        d("kappa", 0.05, ParameterDescriptor(description="Default UCB weight on the posterior std",
-                                             **floats(*KAPPA_RANGE)))
-        d("length_scale", 0.4, ParameterDescriptor(description="Default Matern length scale rho [descriptor units]",
-                                                   **floats(*LENGTH_SCALE_RANGE)))
-        d("noise", 0.001, ParameterDescriptor(description="Default observation noise variance [(m/s)^2]",
-                                              **floats(*NOISE_RANGE)))
-        d("record_dir", "adaptation_runs", ParameterDescriptor(description="MCAP files go here ('' = no recording)"))
-        d("sim_node", "sim_node", ParameterDescriptor(description="Name of the simulator node (mode sim)", **ro))
-        d("bridge_node", "bridge_node", ParameterDescriptor(description="Name of the bridge node (mode robot)", **ro))
-        d("trial_timeout", 120.0, ParameterDescriptor(description="Wall-clock limit for one trial [s]",
-                                                      **floats(1.0, 3600.0)))
-        d("stand_still", 1.0, ParameterDescriptor(description="Robot modes: seconds the robot stands still before "
-                                                              "each trial (clean zero-velocity IMU window) [s]",
-                                                  **floats(0.0, 60.0)))
+        declare(self, PARAMETERS)
         self.mode = self.get_parameter("mode").value
         self.archive: Archive | None = None
         self.archive_problem = "no archive loaded: set the 'archive' parameter"
@@ -142,7 +147,7 @@ class AdaptNode(Node):
         self.busy = threading.Lock()
         self.cancel_requested = False
         self.data_lock = threading.Lock()
-        self.odom: deque = deque(maxlen=20000)      # (stamp ns, x, y, twist x, twist y, received monotonic)
+        self.odom: deque[OdomSample] = deque(maxlen=20000)
         self.active_stamp = None
         self.reset_stamp = None
         self.reported: list[float] = []
@@ -233,7 +238,7 @@ class AdaptNode(Node):
     def _on_odom(self, msg: Odometry) -> None:
         p, t = msg.pose.pose.position, msg.twist.twist.linear
         with self.data_lock:
-            self.odom.append((_ns(msg.header.stamp), p.x, p.y, t.x, t.y, time.monotonic()))
+            self.odom.append(OdomSample(_ns(msg.header.stamp), p.x, p.y, t.x, t.y, time.monotonic()))
         if self.recorder is not None:
             self._record("odom", msg)
 
@@ -361,14 +366,14 @@ class AdaptNode(Node):
             t0 = self._wait(lambda: self.reset_stamp if (self.reset_stamp or -1) > before else None, timeout,
                             "the reset to take effect")
             end = t0 + int(round(duration * 1e9))
-            self._wait(lambda: self.odom and self.odom[-1][0] >= end, timeout,
+            self._wait(lambda: self.odom and self.odom[-1].stamp_ns >= end, timeout,
                        f"{duration:g} s of simulated odometry")
             with self.data_lock:
                 samples = list(self.odom)
-            start = [s for s in samples if s[0] == t0]
-            finish = [s for s in samples if abs(s[0] - end) < 1000]
+            start = [s for s in samples if s.stamp_ns == t0]
+            finish = [s for s in samples if abs(s.stamp_ns - end) < 1000]
             if start and finish:
-                dx, dy = finish[-1][1] - start[-1][1], finish[-1][2] - start[-1][2]
+                dx, dy = finish[-1].x - start[-1].x, finish[-1].y - start[-1].y
                 return (dx * math.cos(crab) + dy * math.sin(crab)) / duration
             self.get_logger().warning(f"odometry sample lost in transport; repeating the trial (attempt {attempt + 2})")
         raise TrialAborted("odometry samples kept getting lost (is sim_node's publish_period_steps a divisor "
@@ -395,9 +400,9 @@ class AdaptNode(Node):
         if not answer.success:
             raise TrialAborted(f"bridge_node did not start the trial: {answer.message}")
         started = time.monotonic()
-        sample = self._wait(lambda: next((s for s in list(self.odom)[seen:] if s[5] > started), None),
+        sample = self._wait(lambda: next((s for s in list(self.odom)[seen:] if s.received > started), None),
                             duration + timeout, "the trial's odometry from bridge_node")
-        return sample[3] * math.cos(crab) + sample[4] * math.sin(crab)
+        return sample.vx * math.cos(crab) + sample.vy * math.sin(crab)
 
     # -- the service --------------------------------------------------------------------------
     def _request_config(self, request: Adapt.Request) -> tuple[MboaConfig, float]:
@@ -505,7 +510,7 @@ class AdaptNode(Node):
 
 
 def main(args: list[str] | None = None) -> int:
-    return run_node(AdaptNode, args, num_threads=4)
+    return run_node(AdaptNode, args, num_threads=4, parameters=PARAMETERS)
 
 
 if __name__ == "__main__":

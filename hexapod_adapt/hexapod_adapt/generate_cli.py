@@ -13,6 +13,8 @@ import argparse
 import sys
 from pathlib import Path
 
+from tqdm import tqdm
+
 from hexapod_adapt.generate import BACKENDS, EmptyMapError, GenerateConfig, generate_map
 from hexapod_sim import ENGINES
 
@@ -69,8 +71,6 @@ def main(argv: list[str] | None = None) -> int:
         nonlocal bar
         if use_bar:
             if bar is None:   # made at the first report, so a resumed run's rate and ETA count this run only
-                from tqdm import tqdm
-
                 bar = tqdm(total=args.evaluations, initial=p.evaluations, unit="eval", dynamic_ncols=True,
                            smoothing=0.1)
             bar.update(p.evaluations - bar.n)

@@ -36,20 +36,19 @@ from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.msg import LinkStatus
 from hexapod_msgs.srv import UploadGait
 from nav_msgs.msg import Odometry
-from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.node import Node
 from sensor_msgs.msg import Imu
 from std_srvs.srv import SetBool, Trigger
 
-from hexapod_bridge import xbus
+from hexapod_bridge import legacy, xbus
 from hexapod_bridge.extension import TrialState
 from hexapod_bridge.link import Operation, RobotLink
 from hexapod_bridge.odometry import TrialOdometry
 from hexapod_bridge.serial_port import ReconnectingPort
 from hexapod_gait.parameters import GaitParameterError
 from hexapod_gait.ros_conversions import gait_from_msg
-from hexapod_gait.ros_glue import LATCHED, ODOM, SENSOR, publish_status, run_node
+from hexapod_gait.ros_glue import LATCHED, ODOM, SENSOR, ParamSpec, declare, publish_status, run_node
 
 #: Accuracy of the IMU trial-speed estimate, measured in test_bridge_odometry.py (docs/bridge.md).
 SPEED_ACCURACY = 0.025  # m/s
@@ -75,47 +74,49 @@ def _quat_from_euler(roll: float, pitch: float, yaw: float) -> tuple[float, floa
             cr * cp * cy + sr * sp * sy)
 
 
+PARAMETERS = (
+    ParamSpec("port", "/tmp/hexapod_radio", "Serial port of the 433 MHz radio module", read_only=True),
+    ParamSpec("baud", 19200, "Radio UART baud rate (the RF1100 modules run 19200 8N1)", read_only=True),
+    ParamSpec("imu_port", "", "Serial port of an Xsens MTi wired to this PC ('' = none)", read_only=True),
+    ParamSpec("imu_baud", 115200, "Xsens baud rate", read_only=True),
+    ParamSpec("firmware", "v2", "'v2' (gait-upload extension) or 'legacy' (today's firmware)", read_only=True),
+    ParamSpec("ping_period", 1.0, "Keep-alive period [s]; the robot stops after ~27 s without pings",
+              read_only=True, range=(0.1, 2.5)),
+    ParamSpec("trial_duration", 5.0, "Walk duration of a trial [s]", range=(0.5, 60.0)),
+    ParamSpec("settle_time", 0.5, "Rest after the walk before the odometry window closes [s]", read_only=True,
+              range=(0.0, 10.0)),
+    ParamSpec("pre_trial_buffer", 0.3, "IMU history before a start command in the window [s]", read_only=True,
+              range=(0.0, 5.0)),
+    ParamSpec("imu_rate", 100.0, "Xsens output rate [Hz] (its sample counter's clock)", read_only=True,
+              range=(1.0, 1000.0)),
+    ParamSpec("odom_frame", "odom", "REP 105 odometry frame", read_only=True),
+    ParamSpec("base_frame", "base_link", "Robot base frame", read_only=True),
+    ParamSpec("imu_frame", "imu_link", "IMU frame", read_only=True),
+    ParamSpec("status_rate", 5.0, "LinkStatus publish rate [Hz]", read_only=True, range=(0.1, 100.0)),
+    ParamSpec("telemetry_period", 0.5, "Robot attitude telemetry period requested on every (re)connect [s] "
+              "(firmware default 0.5)", read_only=True, range=(0.05, 60.0)),
+    ParamSpec("reconnect_max_backoff", 0.25, "Longest wait between attempts to reopen a lost port [s]",
+              read_only=True, range=(0.01, 5.0)),
+    ParamSpec("arm_on_start", False, "Arm (allow transmission) at start-up", read_only=True),
+    ParamSpec("leg_map", [1, 2, 3, 4, 5, 6], "Robot's leg number for URDF legs 1..6 (a permutation); "
+              "[1, 6, 5, 4, 3, 2] if the firmware keeps its clockwise numbering (unverified)", read_only=True),
+)
+
+
 class BridgeNode(Node):
     def __init__(self, **kwargs) -> None:
         super().__init__("bridge_node", **kwargs)
-        ro = dict(read_only=True)
-
-        def param(name, default, description, **extra):
-            self.declare_parameter(name, default, ParameterDescriptor(description=description, **extra))
-            return self.get_parameter(name).value
-
-        self.port_path = param("port", "/tmp/hexapod_radio", "Serial port of the 433 MHz radio module", **ro)
-        baud = param("baud", 19200, "Radio UART baud rate (the RF1100 modules run 19200 8N1)", **ro)
-        self.imu_path = param("imu_port", "", "Serial port of an Xsens MTi wired to this PC ('' = none)", **ro)
-        imu_baud = param("imu_baud", 115200, "Xsens baud rate", **ro)
-        firmware = param("firmware", "v2", "'v2' (gait-upload extension) or 'legacy' (today's firmware)", **ro)
-        ping_period = param("ping_period", 1.0, "Keep-alive period [s]; the robot stops after ~27 s without pings",
-                            floating_point_range=[FloatingPointRange(from_value=0.1, to_value=2.5)], **ro)
-        self.trial_duration = param("trial_duration", 5.0, "Walk duration of a trial [s]",
-                                    floating_point_range=[FloatingPointRange(from_value=0.5, to_value=60.0)])
-        self.settle_time = param("settle_time", 0.5, "Rest after the walk before the odometry window closes [s]", **ro)
-        self.pre_trial = param("pre_trial_buffer", 0.3, "IMU history before a start command in the window [s]", **ro)
-        self.imu_rate = param("imu_rate", 100.0, "Xsens output rate [Hz] (its sample counter's clock)", **ro)
-        self.odom_frame = param("odom_frame", "odom", "REP 105 odometry frame", **ro)
-        self.base_frame = param("base_frame", "base_link", "Robot base frame", **ro)
-        self.imu_frame = param("imu_frame", "imu_link", "IMU frame", **ro)
-        status_rate = param("status_rate", 5.0, "LinkStatus publish rate [Hz]", **ro)
-        self.telemetry_period = param("telemetry_period", 0.5, "Robot attitude telemetry period requested on "
-                                      "every (re)connect [s] (firmware default 0.5)",
-                                      floating_point_range=[FloatingPointRange(from_value=0.05, to_value=60.0)], **ro)
-        backoff = param("reconnect_max_backoff", 0.25, "Longest wait between attempts to reopen a lost port [s]",
-                        floating_point_range=[FloatingPointRange(from_value=0.01, to_value=5.0)], **ro)
-        arm = param("arm_on_start", False, "Arm (allow transmission) at start-up", **ro)
-        leg_map = param("leg_map", [1, 2, 3, 4, 5, 6], "Robot's leg number for URDF legs 1..6 (a permutation); "
-                        "[1, 6, 5, 4, 3, 2] if the firmware keeps its clockwise numbering (unverified)", **ro)
+        v = declare(self, PARAMETERS)
+        self.port_path, baud, self.imu_path, imu_baud = v["port"], v["baud"], v["imu_port"], v["imu_baud"]
+        firmware, ping_period, self.trial_duration = v["firmware"], v["ping_period"], v["trial_duration"]
+        self.settle_time, self.pre_trial, self.imu_rate = v["settle_time"], v["pre_trial_buffer"], v["imu_rate"]
+        self.odom_frame, self.base_frame, self.imu_frame = v["odom_frame"], v["base_frame"], v["imu_frame"]
+        status_rate, self.telemetry_period = v["status_rate"], v["telemetry_period"]
+        backoff, arm, leg_map = v["reconnect_max_backoff"], v["arm_on_start"], v["leg_map"]
 
         self.lock = threading.RLock()
-        try:
-            self.link = RobotLink(baud=int(baud), ping_period=float(ping_period), firmware=str(firmware),
-                                  leg_map=leg_map)
-        except ValueError as exc:
-            self.get_logger().error(f"{exc}; using firmware 'v2' and the identity leg map")
-            self.link = RobotLink(baud=int(baud), ping_period=float(ping_period))
+        # a wrong firmware or leg map must not silently become the default: refuse to start
+        self.link = RobotLink(baud=int(baud), ping_period=float(ping_period), firmware=str(firmware), leg_map=leg_map)
         self.radio = ReconnectingPort(str(self.port_path), int(baud), float(backoff))
         self.imu_port = ReconnectingPort(str(self.imu_path), int(imu_baud), float(backoff)) if self.imu_path else None
         self._configured_connects = 0
@@ -309,14 +310,14 @@ class BridgeNode(Node):
     def _guarded(self, body, name: str) -> None:
         """Run a thread's loop body forever: an unexpected error is logged (once per kind)
         and the loop goes on; it ends quietly when the node shuts down."""
-        seen: set[str] = set()
+        seen: set[type] = set()
         while self._running:
             try:
                 body()
             except Exception as exc:  # keep the link alive whatever one iteration hit
                 if not self._running or not rclpy.ok(context=self.context):
                     return
-                key = type(exc).__name__
+                key = type(exc)
                 if key not in seen:
                     seen.add(key)
                     self.get_logger().error(f"{name} thread: {exc!r} (continuing)")
@@ -349,7 +350,7 @@ class BridgeNode(Node):
             if not self.radio.write(frame):
                 break
         for frame in frames:
-            if type(frame).__name__ == "Telemetry" and self.imu_port is None:
+            if isinstance(frame, legacy.Telemetry) and self.imu_port is None:
                 self._publish_attitude(frame)
 
     def _report_connection_change(self) -> None:
@@ -468,7 +469,7 @@ class BridgeNode(Node):
 
 
 def main(args: list[str] | None = None) -> int:
-    return run_node(BridgeNode, args, num_threads=4)
+    return run_node(BridgeNode, args, num_threads=4, parameters=PARAMETERS)
 
 
 if __name__ == "__main__":

@@ -27,6 +27,7 @@ from enum import IntEnum
 from typing import Sequence
 
 from hexapod_bridge.crc import crc16
+from hexapod_gait import GaitParameters
 
 MARKER = 0xE7
 FRAME_LEN = 10
@@ -199,8 +200,6 @@ def upload_frames(values: Sequence[float], gait_id: int, first_seq: int) -> list
 
 def gait_from_values(values: Sequence[float]):
     """Robot side: a validated GaitParameters from the staged values (raises its errors)."""
-    from hexapod_gait import GaitParameters
-
     v = list(values)
     legs = {field: v[4 + 6 * k: 10 + 6 * k] for k, field in
             enumerate(("radius", "angle_offset", "step_height", "duty_factor", "phase_offset"))}

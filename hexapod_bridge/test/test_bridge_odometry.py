@@ -10,7 +10,7 @@ from collections import deque
 import numpy as np
 
 from hexapod_bridge.bridge_node import SPEED_ACCURACY
-from hexapod_bridge.firmware import ImuNoise, RobotFirmware
+from hexapod_bridge.emulator.firmware import ImuNoise, RobotFirmware
 from hexapod_bridge.link import RobotLink
 from hexapod_bridge.odometry import TrialOdometry
 from hexapod_bridge.xbus import MTData, XbusParser

@@ -8,7 +8,7 @@ import pytest
 from hexapod_bridge import extension as ext
 from hexapod_bridge import legacy, xbus
 from hexapod_bridge.crc import crc16
-from hexapod_bridge.firmware import RobotFirmware
+from hexapod_bridge.emulator.firmware import RobotFirmware
 from hexapod_bridge.link import RobotLink
 from hexapod_bridge.stream import HostParser, LegacyCommand, PingFrame, RobotReceiver
 from hexapod_gait import preset

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from hexapod_bridge import extension as ext
 from hexapod_bridge import legacy, xbus
-from hexapod_bridge.firmware import RobotFirmware
+from hexapod_bridge.emulator.firmware import RobotFirmware
 from hexapod_bridge.link import RobotLink
 from hexapod_bridge.stream import CHUNK, MAX_TEXT, HostParser, RobotReceiver
 from hexapod_gait import preset

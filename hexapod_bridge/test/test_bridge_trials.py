@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from hexapod_bridge import extension as ext
-from hexapod_bridge.firmware import RobotFirmware
+from hexapod_bridge.emulator.firmware import RobotFirmware
 from hexapod_bridge.link import RobotLink
 from hexapod_bridge.stream import HostParser
 from hexapod_gait import preset

@@ -24,6 +24,7 @@ def swing_groups(pattern: np.ndarray) -> list[frozenset[int]]:
 
 def plot_footfall(pattern: np.ndarray, times: np.ndarray, path: str | Path, title: str = "") -> Path:
     """Save a footfall diagram (black = foot on the ground) as PNG; returns the path."""
+    # optional: matplotlib is only needed to draw, so the gait library loads without it
     import matplotlib
 
     matplotlib.use("Agg")

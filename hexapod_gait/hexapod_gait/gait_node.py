@@ -13,7 +13,6 @@ import sys
 
 from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
-from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from rclpy.node import Node
 from trajectory_msgs.msg import JointTrajectory
 
@@ -21,24 +20,24 @@ from hexapod_description import load_model
 from hexapod_gait.parameters import GaitParameterError, GaitParameters
 from hexapod_gait.presets import PRESETS, preset
 from hexapod_gait.ros_conversions import gait_from_msg, table_to_trajectory
-from hexapod_gait.ros_glue import LATCHED, publish_status, run_node
+from hexapod_gait.ros_glue import LATCHED, ParamSpec, declare, publish_status, run_node
 from hexapod_gait.trajectory import ReachabilityError, build_joint_table, samples_per_cycle
 
+
+
+PARAMETERS = (
+    ParamSpec("control_rate", 240.0, "Trajectory sample rate [Hz]: 240 for the simulator, 120 for the robot. "
+              "period x rate must be a whole number.", read_only=True, range=(10.0, 2000.0)),
+    ParamSpec("initial_preset", "tripod", f"Gait published at start-up: one of {', '.join(PRESETS)}, or '' for none",
+              read_only=True),
+    ParamSpec("frame_id", "base_link", "frame_id of the published trajectory header", read_only=True),
+)
 
 
 class GaitNode(Node):
     def __init__(self, **kwargs) -> None:
         super().__init__("gait_node", **kwargs)
-        self.declare_parameter("control_rate", 240.0, ParameterDescriptor(
-            description="Trajectory sample rate [Hz]: 240 for the simulator, 120 for the robot. "
-                        "period x rate must be a whole number.",
-            read_only=True,
-            floating_point_range=[FloatingPointRange(from_value=10.0, to_value=2000.0)]))
-        self.declare_parameter("initial_preset", "tripod", ParameterDescriptor(
-            description=f"Gait published at start-up: one of {', '.join(PRESETS)}, or '' for none.",
-            read_only=True))
-        self.declare_parameter("frame_id", "base_link", ParameterDescriptor(
-            description="frame_id of the published trajectory header", read_only=True))
+        declare(self, PARAMETERS)
         self.rate = float(self.get_parameter("control_rate").value)
         self.frame_id = str(self.get_parameter("frame_id").value)
         self.joint_names = load_model().joint_names
@@ -93,7 +92,7 @@ class GaitNode(Node):
 
 
 def main(args: list[str] | None = None) -> int:
-    return run_node(GaitNode, args, num_threads=1)
+    return run_node(GaitNode, args, num_threads=1, parameters=PARAMETERS)
 
 
 if __name__ == "__main__":

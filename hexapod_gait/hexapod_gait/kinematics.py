@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from hexapod_description import load_model
+
 
 @dataclass(frozen=True)
 class LegKinematics:
@@ -79,7 +81,5 @@ class LegKinematics:
 @functools.lru_cache(maxsize=1)
 def default_kinematics() -> LegKinematics:
     """Kinematics with the link lengths of the installed hexapod URDF."""
-    from hexapod_description import load_model
-
     a1, a2, a3 = load_model().link_lengths
     return LegKinematics(a1, a2, a3)

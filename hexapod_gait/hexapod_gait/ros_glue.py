@@ -16,12 +16,15 @@ from __future__ import annotations
 
 import re
 import sys
-from typing import Callable
+from dataclasses import dataclass
+from typing import Any, Callable, Sequence
 
 import rclpy
 from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
 from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor, SingleThreadedExecutor
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
+from rclpy.parameter import Parameter
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 
@@ -40,6 +43,55 @@ ODOM = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000, reliability=Relia
 SENSOR = qos_profile_sensor_data
 
 
+@dataclass(frozen=True)
+class ParamSpec:
+    """One node parameter: declared from this, and listed by ``<node> --help``."""
+
+    name: str
+    default: Any                      # a value, or a rclpy Parameter.Type for "no default"
+    description: str                  # with units
+    read_only: bool = False
+    range: tuple[float, float] | None = None   # inclusive; an IntegerRange for int defaults
+
+    def descriptor(self) -> ParameterDescriptor:
+        """The ROS parameter descriptor (description, read-only flag, range)."""
+        d = ParameterDescriptor(description=self.description, read_only=self.read_only)
+        if self.range is not None:
+            low, high = self.range
+            if isinstance(self.default, int) and not isinstance(self.default, bool):
+                d.integer_range = [IntegerRange(from_value=int(low), to_value=int(high), step=1)]
+            else:
+                d.floating_point_range = [FloatingPointRange(from_value=float(low), to_value=float(high))]
+        return d
+
+    def help_line(self) -> str:
+        """``name (default ...; range ...; read-only): description``."""
+        default = "no default" if isinstance(self.default, Parameter.Type) else f"default {self.default!r}"
+        extra = [default]
+        if self.range is not None:
+            extra.append(f"range [{self.range[0]:g}, {self.range[1]:g}]")
+        if self.read_only:
+            extra.append("read-only")
+        return f"  {self.name} ({'; '.join(extra)}): {self.description}"
+
+
+def declare(node: Node, specs: Sequence[ParamSpec]) -> dict[str, Any]:
+    """Declare every parameter of ``specs`` on ``node``; returns name -> value (None if unset)."""
+    values = {}
+    for spec in specs:
+        node.declare_parameter(spec.name, spec.default, spec.descriptor())
+        param = node.get_parameter_or(spec.name, Parameter(spec.name, value=None))
+        values[spec.name] = param.value
+    return values
+
+
+def help_text(executable: str, summary: str, specs: Sequence[ParamSpec]) -> str:
+    """What ``<executable> --help`` prints: the summary and every parameter."""
+    lines = [f"usage: {executable} [--ros-args -p NAME:=VALUE ...]", "", summary.strip(), "", "parameters:"]
+    lines += [spec.help_line() for spec in specs]
+    return "\n".join(lines)
+
+
 def publish_status(node: Node, publisher, level: bytes, message: str, hardware_id: str, **values: object) -> None:
     """Log ``message`` at the severity of ``level`` and publish it as a DiagnosticStatus."""
     if level == DiagnosticStatus.ERROR:   # rclpy: one severity per logging call site
@@ -53,10 +105,19 @@ def publish_status(node: Node, publisher, level: bytes, message: str, hardware_i
                                        values=[KeyValue(key=k, value=str(v)) for k, v in values.items()]))
 
 
-def run_node(make_node: Callable[[], Node], args: list[str] | None = None, num_threads: int = 1) -> int:
+def run_node(make_node: Callable[[], Node], args: list[str] | None = None, num_threads: int = 1,
+             parameters: Sequence[ParamSpec] | None = None) -> int:
     """Create the node after ``rclpy.init`` and spin it (multi-threaded if ``num_threads`` > 1).
     A node whose start-up parameters are unusable raises ValueError from its constructor: that
-    is printed as one line and the process exits with status 2, without a traceback."""
+    is printed as one line and the process exits with status 2, without a traceback.
+    ``-h`` / ``--help`` (before ``--ros-args``) prints the node's parameters instead of starting."""
+    argv = list(sys.argv[1:] if args is None else args)
+    own = argv[:argv.index("--ros-args")] if "--ros-args" in argv else argv
+    if "-h" in own or "--help" in own:
+        summary = (sys.modules[make_node.__module__].__doc__ or "").split("\n\n")[0]
+        executable = re.sub(r"(?<!^)(?=[A-Z])", "_", getattr(make_node, "__name__", "node")).lower()
+        print(help_text(executable, summary, parameters or ()))
+        return 0
     rclpy.init(args=args)
     node = None
     executor = MultiThreadedExecutor(num_threads=num_threads) if num_threads > 1 else SingleThreadedExecutor()

@@ -19,9 +19,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hexapod_description import N_LEGS
+from types import SimpleNamespace
+
+from hexapod_description import N_LEGS, load_model
 from hexapod_gait.kinematics import LegKinematics, default_kinematics
-from hexapod_gait.parameters import GaitParameters
+from hexapod_gait.parameters import DEFAULT_CRAB_ANGLE, DEFAULT_PERIOD, GaitParameters, genotype_fields
 
 #: Largest FK(IK(p)) - p accepted as "reachable" [m] (section 3.4.5).
 REACH_TOLERANCE = 1e-6
@@ -54,8 +56,7 @@ class LegGeometry:
 
 @functools.lru_cache(maxsize=1)
 def default_geometry() -> LegGeometry:
-    from hexapod_description import load_model
-
+    """Leg mount yaws and heights of the installed hexapod URDF."""
     mounts = load_model().mounts
     return LegGeometry(np.array([m.yaw for m in mounts]), np.array([m.z for m in mounts]))
 
@@ -85,10 +86,6 @@ def reachable_key_points(genotypes: np.ndarray, kinematics: LegKinematics | None
                          geometry: LegGeometry | None = None) -> np.ndarray:
     """(G,) bool: every leg's three key points are reachable. A cheap necessary condition for
     :func:`build_joint_table` to succeed, for filtering many random genotypes at once."""
-    from types import SimpleNamespace
-
-    from hexapod_gait.parameters import DEFAULT_CRAB_ANGLE, DEFAULT_PERIOD, genotype_fields
-
     kin = kinematics or default_kinematics()
     batch = SimpleNamespace(period=DEFAULT_PERIOD, crab_angle=DEFAULT_CRAB_ANGLE, **genotype_fields(genotypes))
     points = np.stack(key_points(batch, geometry), axis=-2)                     # (G, 6, 3, 3)

@@ -36,7 +36,7 @@ from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_msgs.msg import FootContacts
 from hexapod_msgs.srv import SetLegFailure
 from nav_msgs.msg import Odometry
-from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor, SetParametersResult
+from rcl_interfaces.msg import SetParametersResult
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -47,7 +47,8 @@ from std_srvs.srv import Trigger
 from trajectory_msgs.msg import JointTrajectory
 
 from hexapod_gait import preset
-from hexapod_gait.ros_glue import LATCHED, ODOM, SENSOR, publish_status, run_node, watch_for_duplicates
+from hexapod_gait.ros_glue import (LATCHED, ODOM, SENSOR, ParamSpec, declare, publish_status, run_node,
+                                   watch_for_duplicates)
 from hexapod_gait.trajectory import build_joint_table
 from hexapod_sim.simulator import SimConfig, create_simulator, validate_failed_legs
 from hexapod_sim.trajectory_input import MAX_POINTS, CycleTable, TrajectoryError, cycle_from_points
@@ -59,29 +60,29 @@ def _stamp(seconds: float) -> Time:
     return Time(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000)
 
 
+PARAMETERS = (
+    ParamSpec("real_time_factor", 1.0, "Simulated seconds per wall-clock second; 0 = as fast as possible",
+              range=(0.0, 100.0)),
+    ParamSpec("engine", "pybullet", "Physics engine: 'pybullet' (the thesis's, the reference) or 'mujoco' (fast)",
+              read_only=True),
+    ParamSpec("gui", False, "Open the PyBullet GUI window (engine pybullet only)", read_only=True),
+    ParamSpec("friction", 1.0, "Lateral friction coefficient of the ground and the feet", read_only=True,
+              range=(0.0, 10.0)),
+    ParamSpec("failed_legs", Parameter.Type.INTEGER_ARRAY, "Legs (1..6, at most two) failed at start-up",
+              read_only=True),
+    ParamSpec("publish_period_steps", 4, "Publish joint_states/odom/imu/foot_contacts every N physics steps "
+              "(1/240 s each). With real_time_factor 0 the node runs ~18x real time; use 24 (10 Hz of sim time) so "
+              "Python consumers keep up. Trials read odometry at reset + N steps exactly.", read_only=True,
+              range=(1, 240)),
+    ParamSpec("odom_frame", "odom", "REP 105 odometry frame", read_only=True),
+    ParamSpec("base_frame", "base_link", "Robot base frame", read_only=True),
+)
+
+
 class SimNode(Node):
     def __init__(self, **kwargs) -> None:
         super().__init__("sim_node", **kwargs)
-        ro = dict(read_only=True)
-        self.declare_parameter("real_time_factor", 1.0, ParameterDescriptor(
-            description="Simulated seconds per wall-clock second; 0 = as fast as possible.",
-            floating_point_range=[FloatingPointRange(from_value=0.0, to_value=100.0)]))
-        self.declare_parameter("gui", False, ParameterDescriptor(description="Open the PyBullet GUI window "
-                                                                          "(engine pybullet only)", **ro))
-        self.declare_parameter("friction", 1.0, ParameterDescriptor(
-            description="Lateral friction coefficient of the ground and the feet",
-            floating_point_range=[FloatingPointRange(from_value=0.0, to_value=10.0)], **ro))
-        self.declare_parameter("engine", "pybullet", ParameterDescriptor(
-            description="Physics engine: 'pybullet' (the thesis's, the reference) or 'mujoco' (fast)", **ro))
-        self.declare_parameter("failed_legs", Parameter.Type.INTEGER_ARRAY, ParameterDescriptor(
-            description="Legs (1..6, at most two) failed at start-up", **ro))
-        self.declare_parameter("publish_period_steps", 4, ParameterDescriptor(
-            description="Publish joint_states/odom/imu/foot_contacts every N physics steps (1/240 s each). "
-                        "With real_time_factor 0 the node runs ~18x real time; use 24 (10 Hz of sim time) "
-                        "so Python consumers keep up. Trials read odometry at reset + N steps exactly.",
-            integer_range=[IntegerRange(from_value=1, to_value=240)], **ro))
-        self.declare_parameter("odom_frame", "odom", ParameterDescriptor(description="REP 105 odometry frame", **ro))
-        self.declare_parameter("base_frame", "base_link", ParameterDescriptor(description="Robot base frame", **ro))
+        declare(self, PARAMETERS)
         self.add_on_set_parameters_callback(self._on_set_parameters)
 
         self.rtf = float(self.get_parameter("real_time_factor").value)
@@ -122,7 +123,7 @@ class SimNode(Node):
         self._work: queue.Queue[Callable[[], None]] = queue.Queue()
         self._reset_now()
         self._running = True
-        self._publish_errors: set[str] = set()
+        self._publish_errors: set[type] = set()
         self._thread = threading.Thread(target=self._run, name="physics", daemon=True)
         self._thread.start()
         watch_for_duplicates(self, lambda text: self._status(DiagnosticStatus.ERROR, text))
@@ -253,8 +254,8 @@ class SimNode(Node):
                 if not self._running or not rclpy.ok(context=self.context):
                     return  # shutting down: the context is gone
                 # a failed publish must not stop the physics: report once per kind, go on
-                if type(exc).__name__ not in self._publish_errors:
-                    self._publish_errors.add(type(exc).__name__)
+                if type(exc) not in self._publish_errors:
+                    self._publish_errors.add(type(exc))
                     self.get_logger().error(f"publishing failed: {exc} (simulation continues)")
             if self.rtf != rtf_seen:
                 wall_start, sim_start, rtf_seen = time.monotonic(), self._sim_time, self.rtf
@@ -299,7 +300,7 @@ class SimNode(Node):
 
 
 def main(args: list[str] | None = None) -> int:
-    return run_node(SimNode, args, num_threads=3)
+    return run_node(SimNode, args, num_threads=3, parameters=PARAMETERS)
 
 
 if __name__ == "__main__":

@@ -84,6 +84,7 @@ class SimConfig:
 
     def engine_settings(self) -> Any:
         """The settings object of the selected engine (its default if none was given)."""
+        # the engine modules import this one: they are imported on use
         if self.engine == "pybullet":
             from hexapod_sim.pybullet_engine import ACCURATE
             return self.pybullet or ACCURATE

@@ -20,7 +20,7 @@ import numpy as np
 from hexapod_bridge import extension as ext
 from hexapod_bridge import legacy, xbus
 from hexapod_bridge.stream import LegacyCommand, PingFrame, RobotReceiver
-from hexapod_gait import ReachabilityError
+from hexapod_gait import RANGES, ROBOT_RATE, ReachabilityError, build_joint_table, preset
 from hexapod_sim.simulator import quat_to_euler, quat_to_matrix
 
 TICK = 0.05
@@ -65,8 +65,6 @@ class RobotFirmware:
     def __init__(self, sim=None, walk_duration: float = 5.0, failsafe_windows: int = 11,
                  telemetry_ticks: int = 10, ping_check_ticks: int = 50, imu_rate: float = 100.0,
                  imu_noise: ImuNoise | None = None, seed: int = 0, now: float = 0.0) -> None:
-        from hexapod_gait import preset
-
         self.receiver = RobotReceiver()
         self.sim = sim
         self.walk_duration = walk_duration
@@ -162,8 +160,6 @@ class RobotFirmware:
             self.stats.duplicates += 1        # a retransmission: answer again, apply once
             self.out_radio += repeat
             return
-        from hexapod_gait import RANGES
-
         if f.type == ext.Cmd.SET_PARAM:
             index = f.payload[0]
             if index >= ext.N_PARAMS:
@@ -223,15 +219,11 @@ class RobotFirmware:
         return self._ack(f, ext.Status.UNKNOWN_TYPE)
 
     def _check_reachable(self, gait) -> None:
-        from hexapod_gait import ROBOT_RATE, build_joint_table
-
         build_joint_table(gait, rate=ROBOT_RATE)   # the firmware's own IK check, at its 120 Hz
 
     # -- walking -----------------------------------------------------------------------------
     def _load_table(self) -> None:
         if self.sim is not None:
-            from hexapod_gait import build_joint_table
-
             self._table = build_joint_table(self.gait, rate=1.0 / self.sim.dt)
             self._rows = self.sim.prepare_rows(self._table.positions, self._table.velocities)
 

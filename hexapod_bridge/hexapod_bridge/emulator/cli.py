@@ -19,7 +19,7 @@ import sys
 import time
 import tty
 
-from hexapod_bridge.firmware import ImuNoise, RobotFirmware
+from hexapod_bridge.emulator.firmware import ImuNoise, RobotFirmware
 from hexapod_sim import ENGINES, SimConfig, create_simulator
 
 
