@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import random
 import re
+import zlib
 
 import numpy as np
 
@@ -25,6 +26,12 @@ def _scalar(kind: str, rng: random.Random):
     raise KeyError(kind)
 
 
+def request_seed(msg) -> int:
+    """A seed from a message's field values. (Not from its CDR bytes: the alignment padding
+    between fields need not be zero, so two processes can serialise equal messages differently.)"""
+    return zlib.crc32(repr(msg).encode())
+
+
 def fill(msg_type, seed: int):
     """An instance of msg_type with every field set from a generator seeded by seed."""
     rng = random.Random(seed)
@@ -34,6 +41,10 @@ def fill(msg_type, seed: int):
 def _fill(msg_type, rng: random.Random):
     msg = msg_type()
     for name, kind in msg_type.get_fields_and_field_types().items():
+        if kind == "uint32" and name == "nanosec":
+            # a valid builtin_interfaces/Time: nanosec < 1e9
+            setattr(msg, name, rng.randint(0, 999_999_999))
+            continue
         setattr(msg, name, _value(kind, getattr(msg, name), rng))
     return msg
 

@@ -1,20 +1,18 @@
 #!/usr/bin/env python3
 """Echo process for the interface round-trip test: for each message type, republish what
 arrives on rt/<Type> to rt/<Type>/echo; for each service type, serve rt/<Type> answering
-fill(Response, crc32(serialised request)) so the caller can verify the request arrived intact."""
+fill(Response, request_seed(request)) so the caller can verify the request arrived intact."""
 from __future__ import annotations
 
 import os
 import sys
-import zlib
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # PYTHONSAFEPATH drops it
 
 import rclpy  # noqa: E402
 from rclpy.executors import ExternalShutdownException  # noqa: E402
-from rclpy.serialization import serialize_message  # noqa: E402
 
-from interface_fill import fill  # noqa: E402
+from interface_fill import fill, request_seed  # noqa: E402
 from test_interfaces_roundtrip import MESSAGES, QOS, SERVICES  # noqa: E402
 
 
@@ -26,7 +24,7 @@ def main() -> None:
         node.create_subscription(msg_type, f"rt/{msg_type.__name__}", pub.publish, QOS)
     for srv_type in SERVICES:
         def handle(request, response, srv_type=srv_type):
-            return fill(srv_type.Response, zlib.crc32(serialize_message(request)))
+            return fill(srv_type.Response, request_seed(request))
         node.create_service(srv_type, f"rt/{srv_type.__name__}", handle)
     try:
         rclpy.spin(node)

@@ -19,6 +19,7 @@ from hexapod_adapt.mboa import MAX_TRIALS_LIMIT
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Parse the options, call the adapt service, print each trial; exit status 0 on success."""
     ap = argparse.ArgumentParser(prog="adapt_client", description="Run one adaptation and print its trials.")
     ap.add_argument("--max-trials", type=int, default=0,
                     help=f"stop after this many trials, 1..{MAX_TRIALS_LIMIT} (0 = the node's default)")

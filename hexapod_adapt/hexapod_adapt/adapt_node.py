@@ -130,6 +130,7 @@ PARAMETERS = (
 
 
 class AdaptNode(Node):
+    """Runs M-BOA over an archive when its ``adapt`` service is called (see the module docstring)."""
     def __init__(self) -> None:
         super().__init__("adapt_node")
         declare(self, PARAMETERS)
@@ -510,6 +511,7 @@ class AdaptNode(Node):
 
 
 def main(args: list[str] | None = None) -> int:
+    """Entry point of ``ros2 run hexapod_adapt adapt_node``."""
     return run_node(AdaptNode, args, num_threads=4, parameters=PARAMETERS)
 
 

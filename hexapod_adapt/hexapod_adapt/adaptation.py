@@ -24,6 +24,7 @@ from hexapod_sim.scenarios import scenario as orientations_of
 
 @dataclass
 class AdaptationResult:
+    """The outcome of one adaptation run: trials, the best gait found and why it stopped."""
     success: bool                 # the stopping criterion (alpha) was met
     message: str
     trials: list[Trial] = field(default_factory=list)
@@ -103,6 +104,7 @@ def simulated_trial(archive: Archive, failed_legs: Sequence[int], sim: Simulator
 
 @dataclass
 class ExperimentRow:
+    """One run of the thesis 5.2 experiment: one failure orientation, one trial engine."""
     scenario: str
     failed_legs: tuple[int, ...]
     trials: int

@@ -74,6 +74,7 @@ class ArchiveStats:
 
 @dataclass
 class Archive:
+    """A behaviour-performance map in memory: one row per niche (see the module docstring)."""
     centroids: np.ndarray
     fitness: np.ndarray
     descriptors: np.ndarray
@@ -95,6 +96,7 @@ class Archive:
 
     @classmethod
     def empty(cls, centroids: np.ndarray, metadata: Mapping[str, Any] | None = None) -> "Archive":
+        """An archive with these centroids and no elite."""
         n = len(centroids)
         return cls(np.asarray(centroids, dtype=float), np.full(n, np.nan), np.full((n, DESCRIPTOR_DIM), np.nan),
                    np.full((n, GENOTYPE_SIZE), np.nan), dict(metadata or {}))
@@ -102,6 +104,7 @@ class Archive:
     # -- views ------------------------------------------------------------------------------
     @property
     def n_niches(self) -> int:
+        """Number of niches (CVT centroids)."""
         return len(self.centroids)
 
     @property
@@ -111,10 +114,12 @@ class Archive:
 
     @property
     def n_filled(self) -> int:
+        """Number of niches holding an elite."""
         return int(self.filled.sum())
 
     @property
     def trial_duration(self) -> float:
+        """Seconds the fitness was measured over (metadata ``trial_duration``)."""
         return float(self.metadata["trial_duration"])
 
     def speeds(self) -> np.ndarray:
@@ -316,6 +321,7 @@ def load_centroids(path: str | os.PathLike) -> np.ndarray:
 
 
 def save_centroids(path: str | os.PathLike, centroids: np.ndarray) -> None:
+    """Write centroids as a ``centroids_<n>_<dim>.dat`` text file, atomically."""
     buf = io.StringIO()
     np.savetxt(buf, centroids, fmt="%.17g")
     atomic_write_bytes(path, buf.getvalue().encode())

@@ -33,6 +33,7 @@ def compute_cvt(n_niches: int, dim: int = 6, samples: int | None = None, seed: i
 
 
 def cvt_cache_path(directory: str | os.PathLike, n_niches: int, dim: int = 6) -> Path:
+    """Where the centroids of ``n_niches`` niches are cached in ``directory``."""
     return Path(directory) / f"centroids_{n_niches}_{dim}.dat"
 
 

@@ -63,6 +63,7 @@ def summary(rows: list[ExperimentRow]) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Entry point of ``run_experiment``; exit status 2 for bad inputs."""
     ap = argparse.ArgumentParser(prog="run_experiment", description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--archive", type=Path, required=True, help="the map (.npz)")

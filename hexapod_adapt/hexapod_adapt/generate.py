@@ -29,6 +29,7 @@ BACKENDS = ("local", "dask", "mpi", "inline")
 
 @dataclass(frozen=True)
 class GenerateConfig:
+    """Everything a ``generate_map`` run needs; ValueError names a bad setting."""
     out: Path
     niches: int = 10000
     evaluations: int = 1_000_000
@@ -61,13 +62,16 @@ class GenerateConfig:
 
     @property
     def checkpoint_path(self) -> Path:
+        """The checkpoint file beside the output (``<out>.ckpt.npz``)."""
         return Path(f"{self.out}.ckpt.npz")
 
     @property
     def log_path(self) -> Path:
+        """The JSON-lines progress log (``<out>.log.jsonl`` unless set)."""
         return self.log or Path(f"{self.out}.log.jsonl")
 
     def worker_count(self) -> int:
+        """Worker processes to use (every core the process may run on if 0)."""
         if self.workers:
             return self.workers
         if hasattr(os, "sched_getaffinity"):
@@ -76,6 +80,7 @@ class GenerateConfig:
 
     def engine_config(self) -> MapElitesConfig:
         # MuJoCo evaluates a chunk as one native batch; PyBullet gains nothing from batches.
+        """The MAP-Elites settings this run implies (chunk and lag defaults resolved)."""
         chunk = self.chunk or (8 if self.engine == "mujoco" else 1)
         lag = self.lag or max(64, 4 * chunk * self.worker_count())
         initial: tuple = ()

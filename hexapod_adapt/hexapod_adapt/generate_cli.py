@@ -20,6 +20,7 @@ from hexapod_sim import ENGINES
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The command-line options of ``generate_map``."""
     ap = argparse.ArgumentParser(prog="generate_map", description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", type=Path, required=True, help="archive file to write (.npz)")
@@ -51,6 +52,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Entry point of ``generate_map``; exit status 1 for a failed run, 2 for bad options."""
     args = build_parser().parse_args(argv)
     try:
         config = GenerateConfig(out=args.out, niches=args.niches, evaluations=args.evaluations, seed=args.seed,

@@ -33,6 +33,7 @@ from hexapod_gait import GENOTYPE_SIZE
 
 @dataclass(frozen=True)
 class MapElitesConfig:
+    """Settings of a MAP-Elites run; together with the seed they are the map's identity."""
     evaluations: int                 # total evaluations, random initialisation included
     seed: int = 0
     lag: int = 64                    # candidates in flight (>= workers, 2-4x workers keeps them busy)
@@ -82,6 +83,7 @@ class MapElites:
         self.told = int(archive.metadata.get("evaluations") or 0)   # results inserted so far
 
     def niche_of(self, descriptors: np.ndarray) -> np.ndarray:
+        """Niche indices of descriptors (nearest centroid)."""
         return self._tree.query(np.atleast_2d(descriptors))[1]
 
     def candidate(self, k: int) -> np.ndarray:
@@ -123,6 +125,7 @@ def save_checkpoint(path: str | os.PathLike, engine: MapElites, pending: dict[in
 
 
 def load_checkpoint(path: str | os.PathLike) -> tuple[Archive, dict[int, np.ndarray]]:
+    """(archive, candidates in flight) from a checkpoint; ArchiveError if it is not one."""
     archive = load_archive(path)
     with np.load(path, allow_pickle=False) as data:
         if "pending_index" not in data.files:
@@ -134,6 +137,7 @@ def load_checkpoint(path: str | os.PathLike) -> tuple[Archive, dict[int, np.ndar
 # -- the run loop ------------------------------------------------------------------------------
 @dataclass
 class Progress:
+    """One progress report of a run (one line of its JSON-lines log)."""
     evaluations: int
     filled: int
     coverage: float
@@ -147,6 +151,7 @@ class Progress:
     elapsed: float
 
     def log_row(self) -> str:
+        """This report as one JSON line."""
         return json.dumps({k: (round(v, 6) if isinstance(v, float) else v) for k, v in asdict(self).items()})
 
 

@@ -83,6 +83,7 @@ def _solve_lower(a: np.ndarray, b: np.ndarray, upper: bool = False) -> np.ndarra
 
 @dataclass
 class Trial:
+    """One trial of an M-BOA run: what was predicted and what was measured."""
     number: int            # 1-based
     index: int             # candidate index (row of the descriptors given to Mboa)
     predicted: float       # map prior at that elite [m/s]
@@ -159,9 +160,11 @@ class Mboa:
 
     # -- the loop ---------------------------------------------------------------------------
     def tested(self) -> set[int]:
+        """Candidate indices tried so far."""
         return {t.index for t in self.trials}
 
     def best(self) -> Trial | None:
+        """The trial with the highest measured speed (None before the first)."""
         return max(self.trials, key=lambda t: t.measured) if self.trials else None
 
     def stop_reason(self) -> StopReason:

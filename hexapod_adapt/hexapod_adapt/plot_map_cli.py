@@ -15,6 +15,7 @@ from hexapod_adapt.plots import plot_progress, plot_projections, read_log
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Entry point of ``plot_map``; exit status 2 for an unreadable map or log."""
     ap = argparse.ArgumentParser(prog="plot_map", description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--archive", type=Path, required=True, help="map (.npz) or its checkpoint (.ckpt.npz)")

@@ -15,6 +15,7 @@ from hexapod_adapt.recording import recover
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Entry point of ``recover_recording``; exit status 2 for a missing file, 1 for an I/O error."""
     ap = argparse.ArgumentParser(prog="recover_recording", description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("recording", type=Path, help="the MCAP file to recover")

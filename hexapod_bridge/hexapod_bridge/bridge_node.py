@@ -104,6 +104,7 @@ PARAMETERS = (
 
 
 class BridgeNode(Node):
+    """The base station's link to the robot's radio and IMU (see the module docstring)."""
     def __init__(self, **kwargs) -> None:
         super().__init__("bridge_node", **kwargs)
         v = declare(self, PARAMETERS)
@@ -460,6 +461,7 @@ class BridgeNode(Node):
         self.odom_pub.publish(odom)
 
     def shutdown(self) -> None:
+        """Stop the I/O threads and close the ports (called by run_node)."""
         self._running = False
         for thread in self._threads:
             thread.join(timeout=2.0)
@@ -469,6 +471,7 @@ class BridgeNode(Node):
 
 
 def main(args: list[str] | None = None) -> int:
+    """Entry point of ``ros2 run hexapod_bridge bridge_node``."""
     return run_node(BridgeNode, args, num_threads=4, parameters=PARAMETERS)
 
 

@@ -43,6 +43,7 @@ N_PARAMS = len(PARAM_NAMES)  # 35
 
 
 class Cmd(IntEnum):
+    """Host -> robot command types of extension v1."""
     SET_PARAM = 0x10
     COMMIT = 0x11
     START_TRIAL = 0x12
@@ -52,12 +53,14 @@ class Cmd(IntEnum):
 
 
 class Report(IntEnum):
+    """Robot -> host report types of extension v1."""
     ACK = 0x01
     TRIAL = 0x02
     VERSION = 0x03
 
 
 class Status(IntEnum):
+    """Result codes in the robot's ACK of a command."""
     OK = 0
     BAD_INDEX = 1
     OUT_OF_RANGE = 2
@@ -71,6 +74,7 @@ class Status(IntEnum):
 
 
 class TrialState(IntEnum):
+    """Trial states in the robot's TRIAL reports."""
     IDLE = 0
     WALKING = 1
     DONE = 2
@@ -98,6 +102,7 @@ class ReportFrame:
 
 
 class ExtensionError(ValueError):
+    """A value cannot be sent in an extension frame; the message says why."""
     pass
 
 
@@ -106,22 +111,26 @@ def _seal(body: bytes) -> bytes:
 
 
 def encode_command(kind: Cmd, seq: int, payload: bytes = b"") -> bytes:
+    """A 10-byte host -> robot extension frame (CRC-16 sealed)."""
     if len(payload) > 5:
         raise ExtensionError("command payload is at most 5 bytes")
     return _seal(bytes([MARKER, int(kind), seq & 0xFF]) + payload.ljust(5, b"\0"))
 
 
 def encode_report(kind: Report, seq: int, payload: bytes = b"") -> bytes:
+    """A robot -> host extension report frame (CRC-16 sealed)."""
     if len(payload) > 4:
         raise ExtensionError("report payload is at most 4 bytes")
     return _seal(bytes([0xFF, MARKER, int(kind), seq & 0xFF]) + payload.ljust(4, b"\0"))
 
 
 def crc_ok(frame: bytes | bytearray) -> bool:
+    """True if a frame's trailing CRC-16 matches its body."""
     return len(frame) == FRAME_LEN and struct.unpack(">H", bytes(frame[8:10]))[0] == crc16(frame[:8])
 
 
 def decode_command(frame: bytes | bytearray) -> CommandFrame:
+    """The CommandFrame in a 10-byte host -> robot frame; ExtensionError if it is not one."""
     if len(frame) != FRAME_LEN or frame[0] != MARKER:
         raise ExtensionError("not an extension command frame")
     if not crc_ok(frame):
@@ -130,6 +139,7 @@ def decode_command(frame: bytes | bytearray) -> CommandFrame:
 
 
 def decode_report(frame: bytes | bytearray) -> ReportFrame:
+    """The ReportFrame in a robot -> host frame; ExtensionError if it is not one."""
     if len(frame) != FRAME_LEN or frame[0] != 0xFF or frame[1] != MARKER:
         raise ExtensionError("not an extension report frame")
     if not crc_ok(frame):
@@ -208,6 +218,7 @@ def gait_from_values(values: Sequence[float]):
 
 
 def start_payload(duration_s: float, gait_id: int, stand_first: bool = False) -> bytes:
+    """START_TRIAL's payload: duration in ms and the gait id; ExtensionError if out of range."""
     ms = int(round(duration_s * 1000))
     if not 100 <= ms <= 60000:
         raise ExtensionError(f"trial duration must be 0.1..60 s, got {duration_s:g}")

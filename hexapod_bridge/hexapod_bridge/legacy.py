@@ -51,6 +51,7 @@ DIRECTION_ANGLE = {Direction.FORWARD: 0.0, Direction.BACKWARD: math.pi, Directio
 
 
 class Function(IntEnum):
+    """Movement frame function codes (robot-facts.md)."""
     WALK = 0
     STAND = 2
     TURN_LEFT = 3      # -0.3 rad
@@ -64,11 +65,13 @@ class ProtocolError(ValueError):
 
 
 def checksum8(data: bytes | bytearray) -> int:
+    """The movement frame's checksum: sum of the bytes mod 256."""
     return sum(data) & 0xFF
 
 
 @dataclass(frozen=True)
 class Movement:
+    """A legacy movement command (direction code, twist, speed, height, function)."""
     direction: int = Direction.FORWARD
     twist: float = 0.0        # rad, b2 / 100 - 1
     speed: float = 0.0        # b4 / 100
@@ -77,6 +80,7 @@ class Movement:
 
 
 def encode_movement(m: Movement) -> bytes:
+    """The 10-byte movement frame; ValueError for a value the frame cannot carry."""
     if not 0 <= int(m.direction) <= 8:
         raise ProtocolError(f"direction code must be 0..8, got {m.direction}")
     twist = round((m.twist + 1.0) * 100)
@@ -114,20 +118,24 @@ def _pad(body: bytes) -> bytes:
 
 
 def encode_ping() -> bytes:
+    """The 10-byte keep-alive frame."""
     return _pad(bytes([PING_BYTE]))
 
 
 def encode_motor_power(on: bool) -> bytes:
+    """The 10-byte motor power frame (FF FA on)."""
     return _pad(bytes([0xFF, 0xFA, 1 if on else 0]))
 
 
 def encode_pid_enable(on: bool, axis: int) -> bytes:
+    """The 10-byte levelling PID on/off frame."""
     if axis not in (1, 2, 3):
         raise ProtocolError(f"PID axis must be 1 (pitch), 2 (roll) or 3 (both), got {axis}")
     return _pad(bytes([0xFF, 0xFB, 1 if on else 0, axis]))
 
 
 def encode_pid_gain(axis: int, gain: int, value: float) -> bytes:
+    """The 10-byte PID gain frame."""
     if axis not in (1, 2, 3) or gain not in (1, 2, 3):
         raise ProtocolError(f"PID axis and gain must be 1..3, got {axis}, {gain}")
     if not math.isfinite(value):
@@ -136,12 +144,14 @@ def encode_pid_gain(axis: int, gain: int, value: float) -> bytes:
 
 
 def encode_imu_period(seconds: float) -> bytes:
+    """The 10-byte telemetry period frame (FF DD, float32 seconds)."""
     if not (math.isfinite(seconds) and 0.05 <= seconds <= 60.0):
         raise ProtocolError(f"telemetry period must be 0.05..60 s, got {seconds}")
     return _pad(bytes([0xFF, 0xDD]) + struct.pack("<f", seconds))
 
 
 def encode_charging(start: bool) -> bytes:
+    """The 10-byte charging base start/stop frame."""
     return _pad(bytes([0xFF, 0xF8, 0x37, 1 if start else 0]))
 
 
@@ -149,6 +159,7 @@ def encode_charging(start: bool) -> bytes:
 
 @dataclass(frozen=True)
 class Telemetry:
+    """Robot attitude telemetry (FF FE): sample counter, pitch, roll, yaw, slope [rad]."""
     counter: float
     pitch: float
     roll: float
@@ -159,15 +170,18 @@ class Telemetry:
 
 @dataclass(frozen=True)
 class PingReply:
+    """The robot's ping reply (FF FA)."""
     pass
 
 
 @dataclass(frozen=True)
 class ErrorReport:
+    """A robot error report (FF FD loc code)."""
     location: int     # 1 servo bus, 2 radio, 3 IMU, 11 servo ping failed (code = servo id); else HAL bits
     code: int
 
     def describe(self) -> str:
+        """The error in words (location and code)."""
         names = {1: "servo bus", 2: "radio", 3: "IMU", 11: "servo ping failed"}
         if self.location == 11:
             return f"servo {self.code} did not answer a ping"
@@ -178,17 +192,20 @@ class ErrorReport:
 
 @dataclass(frozen=True)
 class Text:
+    """An ASCII message from the robot (FF FC len text)."""
     text: str
 
 
 @dataclass(frozen=True)
 class ChargerStatus:
+    """Charger status and battery voltage (FF F9)."""
     status: int
     voltage: float
 
 
 @dataclass(frozen=True)
 class MovementAck:
+    """The robot's acknowledgement of a movement frame (FF <checksum>)."""
     checksum: int
 
 
@@ -196,22 +213,27 @@ TELEMETRY_LEN = 26
 
 
 def encode_telemetry(t: Telemetry) -> bytes:
+    """Robot side: a 26-byte telemetry frame."""
     return bytes([0xFF, 0xFE]) + struct.pack("<6f", t.counter, t.pitch, t.roll, t.yaw, t.slope_pitch, t.slope_roll)
 
 
 def encode_error(location: int, code: int) -> bytes:
+    """Robot side: an error report frame."""
     return bytes([0xFF, 0xFD, location & 0xFF, code & 0xFF])
 
 
 def encode_text(text: str) -> bytes:
+    """Robot side: a text frame (at most MAX_TEXT bytes)."""
     data = text.encode("ascii", errors="replace")[:255]
     return bytes([0xFF, 0xFC, len(data)]) + data
 
 
 def encode_charger(status: int, voltage: float) -> bytes:
+    """Robot side: a charger status frame."""
     body = bytes([0xFF, 0xF9, status & 0xFF]) + struct.pack("<f", voltage) + bytes(2)
     return body + bytes([checksum8(body)])
 
 
 def encode_ack(checksum: int) -> bytes:
+    """Robot side: the acknowledgement of a movement frame with this checksum."""
     return bytes([0xFF, checksum & 0xFF])

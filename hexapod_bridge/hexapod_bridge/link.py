@@ -30,6 +30,7 @@ PRIORITY_ESTOP, PRIORITY_PING, PRIORITY_TRIAL, PRIORITY_MOVE, PRIORITY_UPLOAD = 
 
 @dataclass
 class Outgoing:
+    """A frame waiting to be sent or acknowledged."""
     frame: bytes
     priority: int
     seq: int | None = None          # extension frames wait for an ACK with this seq
@@ -51,12 +52,14 @@ class Operation:
     result: dict = field(default_factory=dict)
 
     def finish(self, ok: bool, message: str) -> None:
+        """Mark the operation done with its outcome (only the first call counts)."""
         if not self.done:
             self.done, self.ok, self.message = True, ok, message
 
 
 @dataclass
 class LinkStats:
+    """Counters of the host side of the radio link."""
     frames_sent: int = 0
     retries: int = 0
     pings_sent: int = 0
@@ -67,6 +70,7 @@ class LinkStats:
 
 
 class RobotLink:
+    """The host side of the radio link: queues, pacing, retries, acknowledgements, trial state."""
     def __init__(self, baud: int = 19200, ping_period: float = 1.0, ack_timeout: float = 0.25,
                  max_retries: int = 6, upload_window: int = 4, firmware: str = "v2",
                  leg_map=ext.IDENTITY_LEG_MAP) -> None:
@@ -104,6 +108,7 @@ class RobotLink:
 
     # -- commands ----------------------------------------------------------------------------
     def arm(self, on: bool, now: float) -> None:
+        """Allow (True) or stop (False) transmission; nothing but an e-stop is sent unarmed."""
         self.armed = bool(on)
         if self.armed:
             self._next_ping = now
@@ -139,6 +144,7 @@ class RobotLink:
         return op
 
     def start_trial(self, duration: float, gait_id: int) -> Operation:
+        """Ask the robot to walk gait ``gait_id`` for ``duration`` seconds."""
         op = Operation("start_trial")
         if self.firmware == "legacy":
             # the only "start a trial" handle of today's firmware: reset restarts the 5 s walk
@@ -156,6 +162,7 @@ class RobotLink:
         return op
 
     def stop_trial(self) -> Operation:
+        """Ask the robot to stop walking."""
         op = Operation("stop_trial")
         if self.firmware == "legacy":
             return self.move(legacy.Movement(direction=legacy.Direction.STOP, function=legacy.Function.STAND), op)
@@ -163,6 +170,7 @@ class RobotLink:
         return op
 
     def move(self, movement: legacy.Movement, op: Operation | None = None) -> Operation:
+        """Queue a legacy movement frame (acknowledged by its checksum)."""
         op = op or Operation("movement")
         try:
             frame = legacy.encode_movement(movement)
@@ -276,6 +284,7 @@ class RobotLink:
                 del self._in_flight[seq]
 
     def receive(self, data: bytes, now: float) -> list:
+        """Bytes from the radio at time ``now``: decode and handle frames; returns them."""
         frames = self.parser.feed(data)
         for frame in frames:
             self.last_heard = now
@@ -340,5 +349,10 @@ class RobotLink:
                 op.finish(True, f"{op.name} acknowledged")
 
     # -- status ------------------------------------------------------------------------------
+    def queued_frames(self) -> list[bytes]:
+        """The frames waiting to be sent for the first time (commands, then upload frames)."""
+        return [item.frame for item in self._queue] + [item.frame for item in self._upload_backlog]
+
     def busy(self) -> bool:
+        """True while frames wait to be sent or acknowledged."""
         return bool(self._queue or self._in_flight or self._upload_backlog)

@@ -29,6 +29,7 @@ def rotation_from_euler_deg(roll: float, pitch: float, yaw: float) -> np.ndarray
 
 @dataclass(frozen=True)
 class TrialEstimate:
+    """The IMU estimate of one trial's displacement and speed along the walking direction."""
     distance: float          # m along the walking direction
     speed: float             # m/s = distance / walk duration
     displacement: np.ndarray  # (2,) world x, y [m] over the window

@@ -9,6 +9,7 @@ import serial
 
 
 class ReconnectingPort:
+    """A serial port that reopens itself after the device goes away (backing off)."""
     def __init__(self, path: str, baud: int, max_backoff: float = 0.5) -> None:
         self.path = path
         self.baud = baud
@@ -21,9 +22,11 @@ class ReconnectingPort:
 
     @property
     def connected(self) -> bool:
+        """True while the port is open."""
         return self.port is not None
 
     def ensure_open(self, now: float) -> bool:
+        """Try to (re)open the port when it is due; True if it is open."""
         if self.port is not None:
             return True
         if now < self._next_try:
@@ -41,6 +44,7 @@ class ReconnectingPort:
             return False
 
     def close(self, reason: str = "") -> None:
+        """Close the port (a later ensure_open reopens it)."""
         if self.port is not None:
             try:
                 self.port.close()
@@ -69,6 +73,7 @@ class ReconnectingPort:
             return b""
 
     def write(self, data: bytes) -> bool:
+        """Write bytes; False (and the port closed) if the device went away."""
         if self.port is None or not data:
             return False
         try:

@@ -27,6 +27,7 @@ HostFrame = Union[legacy.Telemetry, legacy.PingReply, legacy.ErrorReport, legacy
 
 @dataclass
 class ParserStats:
+    """Counters of a stream parser: frames, checksum errors, resyncs, dropped bytes."""
     frames_ok: int = 0
     checksum_errors: int = 0     # frames with a checksum/CRC that did not match
     implausible: int = 0         # frames without a checksum whose values were impossible
@@ -47,6 +48,7 @@ class ResyncBuffer:
         self._skipping = False
 
     def feed(self, data: bytes) -> list:
+        """Add received bytes; return the frames they complete."""
         out: list = []
         for start in range(0, len(data), CHUNK):
             self.buffer += data[start:start + CHUNK]
@@ -166,6 +168,7 @@ class HostParser(ResyncBuffer):
 
 @dataclass(frozen=True)
 class PingFrame:
+    """A keep-alive frame as the robot receives it."""
     pass
 
 

@@ -28,6 +28,7 @@ REQ_DATA = bytes([0xFA, 0x01, 0x34, 0x00, 0xCB])
 
 
 def encode(bus_id: int, message_id: int, data: bytes = b"") -> bytes:
+    """An Xbus message (preamble, bus id, message id, length, data, checksum)."""
     if len(data) > MAX_DATA:
         raise ValueError(f"Xbus data is at most {MAX_DATA} bytes")
     body = bytes([bus_id & 0xFF, message_id & 0xFF, len(data)]) + data
@@ -36,6 +37,7 @@ def encode(bus_id: int, message_id: int, data: bytes = b"") -> bytes:
 
 @dataclass(frozen=True)
 class MTData:
+    """One Xsens MTData sample: acceleration, rate of turn, magnetic field, Euler angles, counter."""
     acc: tuple[float, float, float]     # m/s^2, sensor frame (specific force)
     gyr: tuple[float, float, float]     # rad/s
     mag: tuple[float, float, float]     # arbitrary units
@@ -44,6 +46,7 @@ class MTData:
 
 
 def encode_mtdata(m: MTData, bus_id: int = 0x01) -> bytes:
+    """The 55-byte MTData message the firmware expects."""
     data = struct.pack(">12fH", *m.acc, *m.gyr, *m.mag, *m.euler, m.counter & 0xFFFF)
     return encode(bus_id, MID_MTDATA, data)
 

@@ -143,14 +143,16 @@ def test_xbus_commands_and_mtdata():
     assert fresh.feed(bytes(corrupted) + raw)[0] == out[0] and fresh.stats.checksum_errors == 1
 
 
-def _run(link: RobotLink, firmware: RobotFirmware, seconds: float, t0: float = 0.0, drop=None) -> float:
-    """Exchange bytes between link and firmware in 2 ms steps of emulated time."""
+def _run(link: RobotLink, firmware: RobotFirmware, seconds: float, t0: float = 0.0, drop=None,
+         alter=None) -> float:
+    """Exchange bytes between link and firmware in 2 ms steps of emulated time (``drop`` and
+    ``alter`` act on host->robot frames in transit)."""
     t = t0
     while t < t0 + seconds:
         t += 0.002
         for frame in link.poll(t):
             if drop is None or not drop(frame):
-                firmware.receive(frame, t)
+                firmware.receive(alter(frame) if alter else frame, t)
         radio, _ = firmware.advance(t)
         link.receive(radio, t)
     return t
@@ -179,13 +181,16 @@ def test_refused_parameter_is_reported_by_name():
     gait = preset("tripod")
     values = ext.gait_values(gait)
     op = link.upload(gait)
-    # tamper with the queued radius[3] frame so it carries 0.9 m (out of the robot's range)
-    for item in link._upload_backlog:
-        if item.kind == ext.Cmd.SET_PARAM and item.frame[3] == ext.PARAM_NAMES.index("radius[3]"):
-            body = bytearray(item.frame[:8])
+
+    def radius3_out_of_range(frame: bytes) -> bytes:
+        """The radius[3] frame, re-sealed carrying 0.9 m (out of the robot's range)."""
+        if len(frame) == 10 and frame[1] == ext.Cmd.SET_PARAM and frame[3] == ext.PARAM_NAMES.index("radius[3]"):
+            body = bytearray(frame[:8])
             body[4:8] = struct.pack("<f", 0.9)
-            item.frame = bytes(body) + struct.pack(">H", crc16(bytes(body)))
-    _run(link, fw, 1.0)
+            return bytes(body) + struct.pack(">H", crc16(bytes(body)))
+        return frame
+
+    _run(link, fw, 1.0, alter=radius3_out_of_range)
     assert not op.ok and "radius[3]" in op.message and "OUT_OF_RANGE" in op.message
     assert fw.gait_id == 0 and values[0] == gait.body_velocity
 
@@ -226,7 +231,7 @@ def test_emergency_stop_stops_the_walk_and_blocks_restart():
     link, fw = RobotLink(), RobotFirmware()
     link.arm(True, 0.0)
     t = _run(link, fw, 0.1)
-    fw._start_walk(t, 5.0)
+    fw.start_walk(t, 5.0)
     link.emergency_stop()
     t = _run(link, fw, 0.2, t)
     assert not fw.walking and fw.estopped and link.trial_state == ext.TrialState.ESTOPPED
@@ -249,7 +254,7 @@ def test_legacy_firmware_fallbacks():
 
 def test_failsafe_trips_without_pings():
     fw = RobotFirmware(failsafe_windows=11)
-    fw._start_walk(0.0, 60.0)
+    fw.start_walk(0.0, 60.0)
     t = 0.0
     while t < 40.0 and fw.walking:
         t += 0.05
@@ -265,7 +270,7 @@ def test_movement_acks_are_never_ambiguous():
     for speed in range(0, 100):
         for direction in range(0, 9):
             link.move(legacy.Movement(direction=direction, speed=speed / 100))
-    frames = [item.frame for item in link._queue]
+    frames = link.queued_frames()
     assert len(frames) == 900 and not any(f[9] in AMBIGUOUS_ACKS for f in frames)
     assert all(abs(legacy.decode_movement(f).twist) <= 0.05 for f in frames)
 

@@ -8,6 +8,7 @@ from hexapod_description.model import load_model, summary
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Entry point of ``describe``: print the robot model read from the URDF."""
     parser = argparse.ArgumentParser(description="Print a summary of the hexapod URDF.")
     parser.add_argument("--urdf", help="URDF to read (default: the installed one)")
     parser.add_argument("--print-urdf-path", action="store_true", help="print only the path")

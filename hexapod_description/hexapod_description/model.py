@@ -82,12 +82,15 @@ class HexapodModel:
 
     @property
     def total_mass(self) -> float:
+        """Sum of every link's mass [kg]."""
         return sum(self.link_masses.values())
 
     def limit(self, joint_name: str) -> JointLimit:
+        """The limits of joint ``joint_name``."""
         return self.limits[self.joint_names.index(joint_name)]
 
     def leg_joint_names(self, leg: int) -> tuple[str, str, str]:
+        """(coxa, femur, tibia) joint names of leg 1..6."""
         if not 1 <= leg <= N_LEGS:
             raise ValueError(f"leg must be 1..{N_LEGS}, got {leg}")
         i = (leg - 1) * JOINTS_PER_LEG

@@ -17,6 +17,7 @@ from hexapod_gait.trajectory import SIM_RATE, stance_mask
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Entry point of ``footfall``: draw a preset's footfall diagram."""
     parser = argparse.ArgumentParser(description="Draw footfall diagrams of the preset gaits.")
     parser.add_argument("--preset", choices=sorted(PRESETS), action="append",
                         help="preset to draw (repeatable; default: tripod, wave, quadruped)")

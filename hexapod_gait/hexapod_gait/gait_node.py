@@ -35,6 +35,7 @@ PARAMETERS = (
 
 
 class GaitNode(Node):
+    """Gait parameters in, one joint-trajectory cycle out (see the module docstring)."""
     def __init__(self, **kwargs) -> None:
         super().__init__("gait_node", **kwargs)
         declare(self, PARAMETERS)
@@ -55,6 +56,7 @@ class GaitNode(Node):
                 self.get_logger().error(f"initial_preset: {exc}; starting without a gait")
 
     def on_parameters(self, msg: GaitParametersMsg) -> None:
+        """A GaitParameters message: build and publish its trajectory, or refuse it."""
         try:
             gait = gait_from_msg(msg)
         except GaitParameterError as exc:
@@ -63,6 +65,7 @@ class GaitNode(Node):
         self.apply(gait, source=f"gait/parameters (archive index {msg.archive_index})", stamp=msg.header.stamp)
 
     def apply(self, gait: GaitParameters, source: str, stamp=None) -> bool:
+        """Build the joint table of ``gait`` and publish it; False if it cannot be followed."""
         try:
             samples_per_cycle(gait.period, self.rate)
             table = build_joint_table(gait, rate=self.rate)
@@ -80,6 +83,7 @@ class GaitNode(Node):
         return True
 
     def reject(self, reason: str, archive_index: int) -> None:
+        """Report a refused gait; the previous trajectory stays active."""
         kept = "previous trajectory kept" if self.active is not None else "no trajectory active"
         self.publish_status(DiagnosticStatus.ERROR, f"{reason} ({kept})", archive_index)
 
@@ -92,6 +96,7 @@ class GaitNode(Node):
 
 
 def main(args: list[str] | None = None) -> int:
+    """Entry point of ``ros2 run hexapod_gait gait_node``."""
     return run_node(GaitNode, args, num_threads=1, parameters=PARAMETERS)
 
 

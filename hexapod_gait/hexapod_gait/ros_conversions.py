@@ -21,6 +21,7 @@ def gait_from_msg(msg: GaitParametersMsg) -> GaitParameters:
 
 
 def gait_to_msg(gait: GaitParameters, msg: GaitParametersMsg | None = None) -> GaitParametersMsg:
+    """A hexapod_msgs/GaitParameters message of a gait."""
     out = msg if msg is not None else GaitParametersMsg()
     out.body_velocity = gait.body_velocity
     out.body_height = gait.body_height

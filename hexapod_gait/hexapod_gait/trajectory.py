@@ -161,6 +161,7 @@ class JointTable:
 
     @property
     def times(self) -> np.ndarray:
+        """Sample times of the rows [s]."""
         return np.arange(self.positions.shape[0]) / self.rate
 
     def __len__(self) -> int:

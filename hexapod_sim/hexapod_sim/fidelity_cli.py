@@ -28,6 +28,7 @@ def map_genotypes(path: Path) -> np.ndarray:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Entry point of ``fidelity_table``; exit status 2 for an unreadable map."""
     parser = argparse.ArgumentParser(description="Simulated speeds of the reference gaits per failure scenario, "
                                                  "per engine, and the engines' agreement over a map's gaits.")
     parser.add_argument("--engine", choices=ENGINES + ("both",), default="both", help="engine(s) to tabulate")

@@ -48,6 +48,7 @@ def render_walk(gait_name: str, seconds: float, out: Path, failed_legs: list[int
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Entry point of ``render_walk``; exit status 2 for bad options or an engine that cannot render."""
     parser = argparse.ArgumentParser(description="Render a simulated walk to GIF + measured footfall PNG.")
     parser.add_argument("--preset", choices=sorted(PRESETS), default="tripod", help="gait to walk")
     parser.add_argument("--seconds", type=float, default=3.0, help="simulated seconds, (0, 60]")

@@ -29,4 +29,5 @@ def scenario(name: str) -> list[tuple[int, ...]]:
 
 
 def all_scenarios() -> dict[str, list[tuple[int, ...]]]:
+    """Every scenario's orientations, S0-S4."""
     return {name: scenario(name) for name in SCENARIO_NAMES}

@@ -80,6 +80,7 @@ PARAMETERS = (
 
 
 class SimNode(Node):
+    """The simulated hexapod in the ROS graph (see the module docstring)."""
     def __init__(self, **kwargs) -> None:
         super().__init__("sim_node", **kwargs)
         declare(self, PARAMETERS)
@@ -293,6 +294,7 @@ class SimNode(Node):
                                                in_contact=[bool(c) for c in sim.report.contacts]))
 
     def shutdown(self) -> None:
+        """Stop the physics thread and release the simulator (called by run_node)."""
         self._running = False
         if self._thread.is_alive():
             self._thread.join(timeout=5.0)
@@ -300,6 +302,7 @@ class SimNode(Node):
 
 
 def main(args: list[str] | None = None) -> int:
+    """Entry point of ``ros2 run hexapod_sim sim_node``."""
     return run_node(SimNode, args, num_threads=3, parameters=PARAMETERS)
 
 

@@ -21,6 +21,7 @@ MAX_POINTS = 60_000
 
 @dataclass(frozen=True)
 class CycleTable:
+    """One gait cycle at the simulator's step: positions, velocities (N, 18), period."""
     positions: np.ndarray   # (N, 18) URDF joint order, at the simulator's time step
     velocities: np.ndarray  # (N, 18)
     period: float           # s

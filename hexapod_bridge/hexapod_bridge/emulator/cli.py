@@ -32,6 +32,7 @@ class PtyPort:
         self.slave: int | None = None
 
     def open(self) -> str:
+        """Create the pseudo-terminal and its symlink at ``link``."""
         self.master, self.slave = os.openpty()
         tty.setraw(self.master)
         tty.setraw(self.slave)
@@ -45,6 +46,7 @@ class PtyPort:
         return path
 
     def close(self) -> None:
+        """Close the pseudo-terminal and remove the symlink."""
         if os.path.lexists(self.link):
             os.unlink(self.link)
         for fd in (self.master, self.slave):
@@ -56,6 +58,7 @@ class PtyPort:
         self.master = self.slave = None
 
     def write(self, data: bytes) -> None:
+        """Write bytes to the host side (dropped when no host has the port open)."""
         if self.master is None or not data:
             return
         try:
@@ -64,6 +67,7 @@ class PtyPort:
             pass   # nobody reading: bytes are lost, as on a radio with no receiver
 
     def read(self) -> bytes:
+        """Bytes the host wrote since the last call (b'' if none)."""
         if self.master is None:
             return b""
         try:
@@ -73,6 +77,7 @@ class PtyPort:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Entry point of ``robot_emulator``: serve the emulated robot until Ctrl-C."""
     parser = argparse.ArgumentParser(description="Emulate the hexapod's firmware on pseudo-terminals.")
     parser.add_argument("--radio-link", default="/tmp/hexapod_radio", help="symlink path of the radio port")
     parser.add_argument("--imu-link", default="", help="symlink path of an emulated Xsens port ('' = none)")
@@ -138,6 +143,7 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def print_stats(firmware: RobotFirmware) -> None:
+    """Print the firmware's frame and link counters."""
     stats = firmware.stats
     print(f"STATS pings={stats.pings} failsafe_trips={stats.failsafe_trips} "
           f"missed_windows={stats.missed_windows} frames={stats.frames} duplicates={stats.duplicates} "

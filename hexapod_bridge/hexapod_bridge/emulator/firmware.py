@@ -38,6 +38,7 @@ class ImuNoise:
 
 @dataclass
 class FirmwareStats:
+    """Counters of the emulated firmware (pings, failsafe trips, frames, duplicates)."""
     pings: int = 0
     failsafe_trips: int = 0
     missed_windows: int = 0
@@ -47,6 +48,7 @@ class FirmwareStats:
 
 @dataclass
 class TrialRecord:
+    """One walk of the emulated robot, with the true displacement for tests."""
     gait_id: int
     crab_angle: float
     duration: float
@@ -55,6 +57,7 @@ class TrialRecord:
     state: str = "walking"
 
     def summary(self) -> dict:
+        """The walk as a dict: gait id, end state, duration, distance and speed along the walk."""
         d = (self.end_position - self.start_position)[:2] if self.end_position is not None else np.zeros(2)
         distance = float(d[0] * math.cos(self.crab_angle) + d[1] * math.sin(self.crab_angle))
         return {"gait_id": self.gait_id, "state": self.state, "duration": self.duration,
@@ -62,6 +65,7 @@ class TrialRecord:
 
 
 class RobotFirmware:
+    """The robot's firmware side of the radio protocol, in emulated time (module docstring)."""
     def __init__(self, sim=None, walk_duration: float = 5.0, failsafe_windows: int = 11,
                  telemetry_ticks: int = 10, ping_check_ticks: int = 50, imu_rate: float = 100.0,
                  imu_noise: ImuNoise | None = None, seed: int = 0, now: float = 0.0) -> None:
@@ -107,6 +111,7 @@ class RobotFirmware:
 
     # -- receiving ---------------------------------------------------------------------------
     def receive(self, data: bytes, now: float) -> None:
+        """Bytes from the radio at time ``now``: parse frames and act on them."""
         for frame in self.receiver.feed(data):
             self.stats.frames += 1
             if isinstance(frame, PingFrame):
@@ -124,7 +129,7 @@ class RobotFirmware:
     def _on_movement(self, m: legacy.Movement, now: float) -> None:
         if m.function == legacy.Function.RESET:
             self.out_radio += legacy.encode_text("RESET")
-            self._start_walk(now, self.walk_duration)
+            self.start_walk(now, self.walk_duration)
         elif m.function == legacy.Function.STAND or m.direction == legacy.Direction.STOP:
             self._stop_walk("stopped")
         elif m.function == legacy.Function.WALK and m.direction in legacy.DIRECTION_ANGLE:
@@ -201,7 +206,7 @@ class RobotFirmware:
             if self.walking:
                 return self._ack(f, ext.Status.BUSY, gait_id)
             self._ack(f, ext.Status.OK, gait_id)
-            self._start_walk(now, ms / 1000.0)
+            self.start_walk(now, ms / 1000.0)
             return None
         if f.type == ext.Cmd.STOP_TRIAL:
             self._ack(f, ext.Status.OK)
@@ -227,7 +232,8 @@ class RobotFirmware:
             self._table = build_joint_table(self.gait, rate=1.0 / self.sim.dt)
             self._rows = self.sim.prepare_rows(self._table.positions, self._table.velocities)
 
-    def _start_walk(self, now: float, duration: float) -> None:
+    def start_walk(self, now: float, duration: float) -> None:
+        """Walk the current gait for ``duration`` seconds from ``now`` (a reset or START_TRIAL does this)."""
         self.walking, self._walk_start, self.walk_end = True, now, now + duration
         self._row = 0
         position = self.sim.base_pose()[0] if self.sim is not None else np.zeros(3)
