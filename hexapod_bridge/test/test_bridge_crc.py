@@ -1,0 +1,10 @@
+"""CRC-16 (hexapod_bridge.crc)."""
+from __future__ import annotations
+
+
+
+from hexapod_bridge.crc import crc16
+
+
+def test_crc16_check_value():
+    assert crc16(b"123456789") == 0x29B1
