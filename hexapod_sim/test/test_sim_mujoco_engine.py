@@ -1,0 +1,55 @@
+"""The MuJoCo engine's own choices: settings ranges, servo model, blow-up detection."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from hexapod_gait import preset
+from hexapod_sim import SimConfig, create_simulator, evaluate_gait, evaluate_gaits
+from hexapod_sim.mujoco_engine import MujocoSettings
+
+
+@pytest.mark.parametrize("field,value,match", [
+    ("compliance_slope", 0.0, r"compliance_slope must be in \[1, 256\]"),
+    ("time_step", 0.5, r"time_step must be in"),
+    ("contact_timeconst", 0.001, r"contact_timeconst must be in"),     # < 2 time steps: unstable
+    ("iterations", 0, r"iterations must be in \[1, 1000\]"),
+    ("iterations", 2.5, r"iterations must be an integer"),
+    ("armature", float("nan"), r"armature must be in"),
+    ("cone", "round", r"cone must be one of pyramidal, elliptic"),
+    ("integrator", "rk9", r"integrator must be one of"),
+])
+def test_mujoco_settings_out_of_range_are_refused(field, value, match):
+    with pytest.raises(ValueError, match=match):
+        MujocoSettings(**{field: value})
+
+
+def test_mujoco_servos_respect_the_urdf_effort_limits():
+    with create_simulator(SimConfig(engine="mujoco")) as sim:
+        result = evaluate_gait(preset("tripod"), sim, collisions_fatal=False)
+        efforts = np.array([lim.effort for lim in sim.model.limits])
+        _, _, torque = sim.joint_states()
+        assert result.valid and np.all(np.abs(torque) <= efforts + 1e-9)
+        # the servo gain follows from the stall torque and the compliance slope (32 units of 0.29 deg)
+        assert sim.settings.servo_kp(3.464) == pytest.approx(3.464 / (32 * np.radians(300 / 1024)))
+
+
+#: A demo-map gait that blows up MuJoCo when the servos have no back-EMF damping (found by a sweep).
+BLOWS_UP_WITHOUT_BACK_EMF = [
+    0.411886736030811, 0.014057925788723155, 0.788538185685143, 0.42221799967350887, 0.7504814782561686,
+    0.05494747988027441, 0.988851117596404, 0.6918646326468704, 0.3921038615837734, 0.10614140681501028,
+    0.4466289770636665, 0.9648471310128469, 0.2128056869356695, 0.33351348221912314, 0.32741824778381523,
+    1.0, 1.0, 0.7830856788941308, 0.41782029280566696, 0.10673254783136216, 0.0, 0.982857411531142,
+    0.8269588476197195, 0.7634901616330082, 0.18557554116538633, 0.7397557562481006, 0.513996287413884,
+    0.890498664296602, 0.6862991581832442, 0.027866336417504918, 0.012786569430227029, 0.10752555490201114]
+
+
+def test_a_blow_up_inside_a_batch_fails_only_that_gait():
+    """MuJoCo resets itself after a blow-up and carries on; each rollout's own time line tells."""
+    with create_simulator(SimConfig(engine="mujoco", mujoco=MujocoSettings(back_emf=False))) as sim:
+        alone = evaluate_gait(BLOWS_UP_WITHOUT_BACK_EMF, sim, collisions_fatal=False)
+        batch = evaluate_gaits([BLOWS_UP_WITHOUT_BACK_EMF, preset("tripod"), preset("wave")], sim,
+                               collisions_fatal=False)
+    assert not alone.valid and "physics became unstable" in alone.reason
+    assert [r.valid for r in batch] == [False, True, True]
+    assert batch[0].reason == alone.reason
