@@ -130,8 +130,7 @@ class MujocoSimulator(Simulator):
 
     def __init__(self, config: SimConfig | None = None):
         super().__init__(config)
-        self.settings: MujocoSettings = self.config.engine_settings()
-        self.dt = self.settings.time_step
+        self.settings: MujocoSettings
         self.m = self._build_model()
         self.d = mujoco.MjData(self.m)
         m = self.m

@@ -83,8 +83,7 @@ class PyBulletSimulator(Simulator):
 
     def __init__(self, config: SimConfig | None = None):
         super().__init__(config)
-        self.settings: PyBulletSettings = self.config.engine_settings()
-        self.dt = self.settings.time_step
+        self.settings: PyBulletSettings
         self._urdf = str(self.model.path if self.config.urdf else urdf_path())
         self.client = p.connect(p.GUI if self.config.gui else p.DIRECT)
         if self.client < 0:

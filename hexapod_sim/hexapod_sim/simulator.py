@@ -178,6 +178,8 @@ class Simulator(abc.ABC):
         self.config = config or SimConfig(engine=self.engine)
         if self.config.engine != self.engine:
             raise ValueError(f"{type(self).__name__} runs the {self.engine} engine, not {self.config.engine}")
+        self.settings = self.config.engine_settings()
+        self.dt = float(self.settings.time_step)
         self.model = load_model(self.config.urdf) if self.config.urdf else load_model()
         self.lower = np.array([lim.lower for lim in self.model.limits])
         self.upper = np.array([lim.upper for lim in self.model.limits])
