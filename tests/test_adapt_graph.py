@@ -65,9 +65,10 @@ def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive):
 
     recorded = list(read_messages(response.mcap_path))
     topics = [topic for topic, _, _ in recorded]
-    assert topics.count("adapt/trials") == response.trials and topics.count("gait/parameters") >= response.trials
-    assert "odom" in topics
-    assert [m.measured_speed for topic, m, _ in recorded if topic == "adapt/trials"] == [t.measured_speed for t in trials]
+    # recordings store fully qualified topic names (the node runs in the root namespace here)
+    assert topics.count("/adapt/trials") == response.trials and topics.count("/gait/parameters") >= response.trials
+    assert "/odom" in topics
+    assert [m.measured_speed for topic, m, _ in recorded if topic == "/adapt/trials"] == [t.measured_speed for t in trials]
 
     # a truncated archive is refused with the reason; the loaded one stays in use
     broken = tmp_path / "broken.npz"
@@ -186,7 +187,7 @@ def test_second_request_refused_and_ctrl_c_mid_run_finishes_the_recording(ros, l
     assert len(files) == 1
     with open(files[0], "rb") as f:
         assert make_reader(f).get_summary() is not None      # finished cleanly: index and footer
-    assert [t for t, _, _ in read_messages(files[0])] == ["gait/parameters"]
+    assert [t for t, _, _ in read_messages(files[0])] == ["/gait/parameters"]
 
 
 def test_a_gait_the_robot_refuses_stops_the_run_with_the_robots_reason(ros, launch, tmp_path):

@@ -268,10 +268,12 @@ class AdaptNode(Node):
 
     # -- helpers ----------------------------------------------------------------------------
     def _record(self, topic: str, msg) -> None:
+        """Record ``msg`` under the fully qualified name of ``topic`` (relative names resolve in
+        this node's namespace, as its publishers and subscribers do)."""
         recorder = self.recorder
         if recorder is not None:
             try:
-                recorder.record(topic, msg)
+                recorder.record(self.resolve_topic_name(topic), msg)
             except (OSError, RuntimeError) as exc:
                 self.get_logger().error(f"recording to {recorder.path} failed: {exc}; recording stopped")
                 self.recorder = None
