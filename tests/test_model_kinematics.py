@@ -1,37 +1,49 @@
-"""The URDF (in PyBullet) and the gait controller's kinematics agree: for random joint
-configurations, PyBullet's foot frame equals FK eqs. 3.48-3.50 placed at each leg's mount."""
+"""The URDF as each physics engine loads it agrees with the gait controller's kinematics and the
+thesis's masses: for random joint configurations, each engine's tibia frame carried to the foot
+tip equals FK eqs. 3.48-3.50 placed at the leg's mount; the total mass is table 3.5's."""
 from __future__ import annotations
 
 import numpy as np
-import pybullet as p
+import pytest
 
-from hexapod_description import load_model, urdf_path
+from hexapod_description import load_model
 from hexapod_gait import default_kinematics
+from hexapod_sim import ENGINES, SimConfig, create_simulator
+from hexapod_sim.simulator import quat_to_matrix
+
+TABLE_3_5_TOTAL = 3.468     # kg
 
 
-def test_pybullet_feet_match_analytic_forward_kinematics():
+@pytest.mark.parametrize("engine", ENGINES)
+def test_engine_feet_match_analytic_forward_kinematics(engine):
     model = load_model()
     kin = default_kinematics()
-    client = p.connect(p.DIRECT)
-    try:
-        body = p.loadURDF(str(urdf_path()), useFixedBase=True, physicsClientId=client)
-        index = {p.getJointInfo(body, i, physicsClientId=client)[1].decode(): i
-                 for i in range(p.getNumJoints(body, physicsClientId=client))}
-        rng = np.random.default_rng(2024)
-        worst = 0.0
-        for _ in range(250):
+    a3 = model.tibia_length
+    rng = np.random.default_rng(2024)
+    worst = 0.0
+    with create_simulator(SimConfig(engine=engine)) as sim:
+        for _ in range(100):
             q = np.array([rng.uniform(lim.lower, lim.upper) for lim in model.limits])
-            for name, value in zip(model.joint_names, q):
-                p.resetJointState(body, index[name], value, physicsClientId=client)
+            sim.reset(q, body_height=1.0)          # in the air: nothing pushes the joints yet
+            poses = sim.link_poses()
+            base_pos, base_quat = poses["base_link"]
+            to_base = quat_to_matrix(base_quat).T
             for leg, mount in enumerate(model.mounts, start=1):
-                foot = p.getLinkState(body, index[f"joint_{leg}_foot"], computeForwardKinematics=True,
-                                      physicsClientId=client)[4]
+                tibia_pos, tibia_quat = poses[f"link_{leg}_3"]
+                foot_world = tibia_pos + quat_to_matrix(tibia_quat) @ np.array([a3, 0.0, 0.0])
+                foot = to_base @ (foot_world - base_pos)
                 local = kin.forward(q[3 * (leg - 1): 3 * leg])
                 c, s = np.cos(mount.yaw), np.sin(mount.yaw)
                 expected = np.array([mount.x + c * local[0] - s * local[1],
                                      mount.y + s * local[0] + c * local[1], mount.z + local[2]])
-                worst = max(worst, float(np.linalg.norm(np.array(foot) - expected)))
-        print(f"max |PyBullet foot - FK| over 250 configurations x 6 legs: {worst * 1e3:.2e} mm")
-        assert worst <= 0.5e-3
-    finally:
-        p.disconnect(client)
+                worst = max(worst, float(np.linalg.norm(foot - expected)))
+    print(f"{engine}: max |foot - FK| over 100 configurations x 6 legs: {worst * 1e3:.2e} mm")
+    assert worst <= 0.5e-3
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_engine_masses_match_table_3_5(engine):
+    with create_simulator(SimConfig(engine=engine)) as sim:
+        masses = sim.link_masses()
+    assert abs(sum(masses.values()) - TABLE_3_5_TOTAL) < 0.001
+    assert set(masses) == {"base_link"} | {f"link_{leg}_{k}" for leg in range(1, 7) for k in (1, 2, 3)}

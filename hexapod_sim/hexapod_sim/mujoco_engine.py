@@ -338,6 +338,19 @@ class MujocoSimulator(Simulator):
         qvel = self.d.qvel
         return qvel[0:3].copy(), self.d.xmat[self.m.body("base_link").id].reshape(3, 3) @ qvel[3:6]
 
+    def link_poses(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        m, d = self.m, self.d
+        mujoco.mj_kinematics(m, d)
+        poses = {}
+        for name in self._link_bodies():
+            body = m.body(name).id
+            w, x, y, z = d.xquat[body]
+            poses[name] = (d.xpos[body].copy(), np.array([x, y, z, w]))   # MuJoCo bodies sit at link frames
+        return poses
+
+    def link_masses(self) -> dict[str, float]:
+        return {name: float(self.m.body_mass[self.m.body(name).id]) for name in self._link_bodies()}
+
     def joint_states(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         d = self.d
         return d.qpos[self._qadr].copy(), d.qvel[self._dadr].copy(), d.actuator_force[self._act].copy()

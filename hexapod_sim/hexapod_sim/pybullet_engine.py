@@ -225,6 +225,25 @@ class PyBulletSimulator(Simulator):
         lin, ang = p.getBaseVelocity(self.body, physicsClientId=self.client)
         return np.array(lin), np.array(ang)
 
+    def link_poses(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        cid = self.client
+        # getBasePositionAndOrientation gives the base's inertial frame: undo its local offset
+        pos, quat = p.getBasePositionAndOrientation(self.body, physicsClientId=cid)
+        local_pos, local_orn = p.getDynamicsInfo(self.body, -1, physicsClientId=cid)[3:5]
+        inv_pos, inv_orn = p.invertTransform(local_pos, local_orn)
+        base_pos, base_orn = p.multiplyTransforms(pos, quat, inv_pos, inv_orn)
+        poses = {"base_link": (np.array(base_pos), np.array(base_orn))}
+        for index, name in self._link_names.items():
+            if index >= 0:
+                state = p.getLinkState(self.body, index, computeForwardKinematics=True, physicsClientId=cid)
+                poses[name] = (np.array(state[4]), np.array(state[5]))     # the URDF link frame
+        return poses
+
+    def link_masses(self) -> dict[str, float]:
+        cid = self.client
+        return {name: float(p.getDynamicsInfo(self.body, index, physicsClientId=cid)[0])
+                for index, name in self._link_names.items()}
+
     def joint_states(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         states = p.getJointStates(self.body, self.joint_indices, physicsClientId=self.client)
         return (np.array([s[0] for s in states]), np.array([s[1] for s in states]),

@@ -226,6 +226,15 @@ class Simulator(abc.ABC):
         """Base linear [m/s] and angular [rad/s] velocity in the world frame."""
 
     @abc.abstractmethod
+    def link_poses(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """World pose of every link frame of the URDF (``base_link`` and ``link_<leg>_<k>``):
+        position [m] and quaternion (x, y, z, w)."""
+
+    @abc.abstractmethod
+    def link_masses(self) -> dict[str, float]:
+        """Mass of every body as the engine loaded it [kg] (foot frames fused into the tibias)."""
+
+    @abc.abstractmethod
     def joint_states(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Joint positions [rad], velocities [rad/s], servo torques [N m] (URDF order)."""
 

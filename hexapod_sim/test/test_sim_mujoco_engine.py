@@ -53,3 +53,14 @@ def test_a_blow_up_inside_a_batch_fails_only_that_gait():
     assert not alone.valid and "physics became unstable" in alone.reason
     assert [r.valid for r in batch] == [False, True, True]
     assert batch[0].reason == alone.reason
+
+
+def test_mujoco_model_takes_limits_from_the_urdf():
+    """Joint ranges and servo force limits of the compiled model are the URDF's (tables 3.8, 3.9)."""
+    with create_simulator(SimConfig(engine="mujoco")) as sim:
+        for lim in sim.model.limits:
+            np.testing.assert_allclose(sim.m.joint(lim.name).range, (lim.lower, lim.upper), err_msg=lim.name)
+            np.testing.assert_allclose(sim.m.actuator(lim.name).forcerange, (-lim.effort, lim.effort),
+                                       err_msg=lim.name)
+            # back-EMF: the URDF velocity limit is the no-load speed
+            assert sim.m.dof_damping[sim.m.joint(lim.name).dofadr[0]] == pytest.approx(lim.effort / lim.velocity)
