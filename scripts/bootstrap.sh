@@ -27,6 +27,8 @@ command -v git >/dev/null 2>&1 || missing+=(git)
 "$PYTHON" -c 'import venv, ensurepip' >/dev/null 2>&1 || missing+=(python3-venv)
 pyinc="$("$PYTHON" -c 'import sysconfig; print(sysconfig.get_paths()["include"])')"
 [ -f "$pyinc/Python.h" ] || missing+=(python3-dev)
+# headless OpenGL for MuJoCo's renderer (render_walk --engine mujoco)
+ldconfig -p 2>/dev/null | grep -q libOSMesa || missing+=(libosmesa6)
 if [ ${#missing[@]} -gt 0 ]; then
   log "installing Debian packages: ${missing[*]}"
   SUDO=""

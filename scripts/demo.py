@@ -49,7 +49,7 @@ def main() -> int:
     archive = load_archive(MAP)
     s = archive.stats()
     speeds = archive.speeds()[archive.filled]
-    print(f"{MAP.relative_to(WS)}: {s['filled']} gaits in {archive.n_niches} niches after "
+    print(f"{MAP.relative_to(WS)}: {s.filled} gaits in {archive.n_niches} niches after "
           f"{archive.metadata['evaluations']} simulated evaluations (seed {archive.metadata['seed']}); "
           f"speeds {speeds.min():.3f} .. {speeds.max():.3f} m/s, median {float(sorted(speeds)[len(speeds) // 2]):.3f}")
 

@@ -11,6 +11,11 @@ export AMENT_PREFIX_PATH="$HEXAPOD_VENV${AMENT_PREFIX_PATH:+:$AMENT_PREFIX_PATH}
 export CMAKE_PREFIX_PATH="$HEXAPOD_VENV${CMAKE_PREFIX_PATH:+:$CMAKE_PREFIX_PATH}"
 export LD_LIBRARY_PATH="$HEXAPOD_VENV/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 export RMW_IMPLEMENTATION="${RMW_IMPLEMENTATION:-rmw_fastrtps_cpp}"
+# MuJoCo renders headless through OSMesa (installed by the bootstrap) unless a backend was chosen
+# (MUJOCO_GL=egl on a GPU machine, glfw with a display).
+if [ -z "${MUJOCO_GL:-}" ] && [ -z "${DISPLAY:-}" ]; then
+  export MUJOCO_GL=osmesa PYOPENGL_PLATFORM=osmesa
+fi
 # Package directories at the repository root (hexapod_gait/, ...) would shadow the installed
 # Python packages of the same name when Python puts the current directory on sys.path.
 export PYTHONSAFEPATH=1

@@ -168,7 +168,12 @@ class MujocoSimulator(Simulator):
         spec.option.tolerance = s.tolerance
         spec.option.gravity = [0.0, 0.0, -9.81]
         friction = [cfg.friction, s.torsional_friction, s.rolling_friction]
-        spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0.0, 0.0, 1.0])
+        spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0.0, 0.0, 1.0],
+                                rgba=[0.82, 0.84, 0.86, 1.0])
+        # for rendered frames only (lights take no part in the physics)
+        spec.worldbody.add_light(name="sun", pos=[0.0, 0.0, 3.0], dir=[0.0, 0.0, -1.0],
+                                 type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
+                                 diffuse=[0.8, 0.8, 0.8])
         for geom in spec.geoms:
             geom.friction = friction
             # no friction at all is a 1-D (normal-only) contact: a zero-width pyramid is singular

@@ -64,3 +64,12 @@ def test_mujoco_model_takes_limits_from_the_urdf():
                                        err_msg=lim.name)
             # back-EMF: the URDF velocity limit is the no-load speed
             assert sim.m.dof_damping[sim.m.joint(lim.name).dofadr[0]] == pytest.approx(lim.effort / lim.velocity)
+
+
+def test_mujoco_renders_the_robot():
+    """A frame from MuJoCo's renderer (OSMesa headless, set up by the bootstrap and env.sh)."""
+    with create_simulator(SimConfig(engine="mujoco")) as sim:
+        sim.reset(np.zeros(len(sim.model.joint_names)))
+        frame = sim.render(160, 120)
+    assert frame.shape == (120, 160, 3) and frame.dtype == np.uint8
+    assert frame.std() > 10          # not a blank image: robot, floor and shadow differ
