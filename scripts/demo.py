@@ -66,13 +66,15 @@ def main() -> int:
                PYTHONUNBUFFERED="1")
     logs = {name: open(out / f"{name}.log", "w") for name in ("gait_node", "sim_node", "adapt_node")}
     nodes = [
-        subprocess.Popen([exe("hexapod_gait", "gait_node"), "--ros-args", "-p", "initial_preset:=''"],
+        # one time base: gait_node and adapt_node run on sim_node's /clock
+        subprocess.Popen([exe("hexapod_gait", "gait_node"), "--ros-args", "-p", "initial_preset:=''",
+                          "-p", "use_sim_time:=true"],
                          env=env, stdout=logs["gait_node"], stderr=subprocess.STDOUT),
         subprocess.Popen([exe("hexapod_sim", "sim_node"), "--ros-args", "-p", "real_time_factor:=0.0",
                           "-p", "publish_period_steps:=24", "-p", f"failed_legs:=[{','.join(map(str, FAILED_LEGS))}]"],
                          env=env, stdout=logs["sim_node"], stderr=subprocess.STDOUT),
         subprocess.Popen([exe("hexapod_adapt", "adapt_node"), "--ros-args", "-p", f"archive:={MAP}",
-                          "-p", f"record_dir:={out / 'runs'}"],
+                          "-p", f"record_dir:={out / 'runs'}", "-p", "use_sim_time:=true"],
                          env=env, stdout=logs["adapt_node"], stderr=subprocess.STDOUT),
     ]
     mcap = None

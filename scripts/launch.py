@@ -67,7 +67,9 @@ def main(argv: list[str] | None = None) -> int:
             sim_params["publish_period_steps"] = 24    # 10 Hz of sim time: consumers keep up at ~18x
         if args.failed_legs:
             sim_params["failed_legs"] = "[" + ",".join(map(str, args.failed_legs)) + "]"
-        commands = [("gait_node", [exe("hexapod_gait", "gait_node")] + ros_args({"initial_preset": args.preset})),
+        # one time base: every node but the clock source (sim_node) runs on sim time
+        commands = [("gait_node", [exe("hexapod_gait", "gait_node")] +
+                     ros_args({"initial_preset": args.preset, "use_sim_time": True})),
                     ("sim_node", [exe("hexapod_sim", "sim_node")] + ros_args(sim_params))]
     elif args.profile == "emulated-robot":
         commands = [("robot_emulator", [exe("hexapod_bridge", "robot_emulator"), "--sim", "--imu-noise",
@@ -80,7 +82,8 @@ def main(argv: list[str] | None = None) -> int:
     if args.archive:
         mode = "sim" if args.profile in ("sim", "adapt-sim") else ("manual" if args.manual else "robot")
         commands.append(("adapt_node", [exe("hexapod_adapt", "adapt_node")] +
-                         ros_args({"archive": str(Path(args.archive).resolve()), "mode": mode})))
+                         ros_args({"archive": str(Path(args.archive).resolve()), "mode": mode,
+                                   "use_sim_time": mode == "sim"})))
 
     env = dict(os.environ, PYTHONUNBUFFERED="1")
     procs = []

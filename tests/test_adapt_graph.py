@@ -291,3 +291,37 @@ def test_adapt_client_honours_its_timeout(domain_id):
     bad = subprocess.run([str(executable("hexapod_adapt", "adapt_client")), "--max-trials", str(2 ** 32 + 3)],
                          capture_output=True, text=True, timeout=60)
     assert bad.returncode == 2 and "--max-trials must be in [0, 1000]" in bad.stderr
+
+
+def test_a_simulated_graph_has_one_time_base(ros, launch, tmp_path, small_archive):
+    """gait_node and adapt_node run on sim_node's /clock: every stamp -- odometry, trials, the gait
+    messages, the recording's log times -- is sim time, none is wall time."""
+    import time
+
+    from rosgraph_msgs.msg import Clock
+
+    path, _archive, _ = small_archive
+    launch("hexapod_sim", "sim_node", params={"real_time_factor": 0.0, "publish_period_steps": 24,
+                                              "failed_legs": FAILED})
+    launch("hexapod_gait", "gait_node", params={"initial_preset": "", "use_sim_time": True})
+    launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "record_dir": str(tmp_path / "runs"),
+                                                  "use_sim_time": True})
+    clock = ros.collect(Clock, "/clock", 10)
+    trials = ros.collect(AdaptationTrial, "adapt/trials", 10)
+    response = ros.call(Adapt, "adapt", Adapt.Request(max_trials=2, alpha=1.0), timeout=300)
+    assert response.trials >= 1, response.message
+    wait_for(lambda: len(trials) == response.trials and clock, 10, "trials and clock")
+    latest_sim = max(_ns(c.clock) for c in clock)
+    wall = time.time_ns()
+    stamps = [("adapt/trials", _ns(t.header.stamp)) for t in trials]
+    for topic, msg, log_time in read_messages(response.mcap_path):
+        stamps.append((f"{topic} log time", log_time))
+        stamps.append((f"{topic} header", _ns(msg.header.stamp)))
+    assert len(stamps) > 10
+    for what, ns in stamps:
+        assert 0 < ns <= latest_sim + 1_000_000_000, (what, ns, latest_sim)     # sim time ...
+        assert ns < wall / 1000, (what, ns)                                      # ... and never wall time
+
+
+def _ns(stamp) -> int:
+    return stamp.sec * 1_000_000_000 + stamp.nanosec

@@ -151,6 +151,7 @@ class AdaptNode(Node):
         self.odom: deque[OdomSample] = deque(maxlen=20000)
         self.active_stamp = None
         self.reset_stamp = None
+        self._last_gait_stamp = 0
         self.reported: list[float] = []
         self.recorder: McapRecorder | None = None
 
@@ -273,7 +274,8 @@ class AdaptNode(Node):
         recorder = self.recorder
         if recorder is not None:
             try:
-                recorder.record(self.resolve_topic_name(topic), msg)
+                recorder.record(self.resolve_topic_name(topic), msg,
+                                log_time_ns=self.get_clock().now().nanoseconds)   # one time base
             except (OSError, RuntimeError) as exc:
                 self.get_logger().error(f"recording to {recorder.path} failed: {exc}; recording stopped")
                 self.recorder = None
@@ -337,7 +339,10 @@ class AdaptNode(Node):
     def _gait_msg(self, niche: int) -> GaitParametersMsg:
         gait = from_genotype(self.archive.genotypes[niche]).replace(archive_index=int(niche))
         msg = gait_to_msg(gait)
-        stamp = time.time_ns()                  # unique: sim_node echoes it when it plays the gait
+        # the node's clock (sim time in a simulated graph), made unique: sim_node echoes the stamp
+        # of the gait it plays, and that echo is how a trial knows its gait is on
+        stamp = max(self.get_clock().now().nanoseconds, self._last_gait_stamp + 1)
+        self._last_gait_stamp = stamp
         msg.header.stamp.sec, msg.header.stamp.nanosec = stamp // 1_000_000_000, stamp % 1_000_000_000
         return msg
 

@@ -15,11 +15,13 @@ def generate_launch_description() -> LaunchDescription:
         DeclareLaunchArgument("archive", description="archive file written by generate_map"),
         DeclareLaunchArgument("failed_legs", default_value="[]", description="legs (1-6) failed in the simulator"),
         DeclareLaunchArgument("record_dir", default_value="adaptation_runs"),
-        Node(package="hexapod_gait", executable="gait_node", output="screen", parameters=[{"initial_preset": ""}]),
+        # one time base: every node but the clock source (sim_node) runs on sim time
+        Node(package="hexapod_gait", executable="gait_node", output="screen",
+             parameters=[{"initial_preset": "", "use_sim_time": True}]),
         Node(package="hexapod_sim", executable="sim_node", output="screen",
              parameters=[{"real_time_factor": 0.0, "publish_period_steps": 24,
                           "failed_legs": LaunchConfiguration("failed_legs")}]),
         Node(package="hexapod_adapt", executable="adapt_node", output="screen",
-             parameters=[{"archive": LaunchConfiguration("archive"), "mode": "sim",
+             parameters=[{"archive": LaunchConfiguration("archive"), "mode": "sim", "use_sim_time": True,
                           "record_dir": LaunchConfiguration("record_dir")}]),
     ])

@@ -19,7 +19,8 @@ def generate_launch_description() -> LaunchDescription:
         DeclareLaunchArgument("publish_period_steps", default_value="4",
                               description="state topics every N 1/240 s steps; 24 suits real_time_factor 0"),
         Node(package="hexapod_gait", executable="gait_node", output="screen",
-             parameters=[{"initial_preset": LaunchConfiguration("initial_preset"), "control_rate": 240.0}]),
+             parameters=[{"initial_preset": LaunchConfiguration("initial_preset"), "control_rate": 240.0,
+                          "use_sim_time": True}]),     # sim_node's /clock: one time base
         Node(package="hexapod_sim", executable="sim_node", output="screen",
              parameters=[{"real_time_factor": rtf, "gui": LaunchConfiguration("gui"),
                           "publish_period_steps": LaunchConfiguration("publish_period_steps")}]),
