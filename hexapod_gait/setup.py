@@ -19,5 +19,6 @@ setup(
     maintainer_email="hexapod-dev@example.com",
     description="32-parameter kinematic gait controller (ROS-free library) and the gait node publishing joint trajectories.",
     license="MIT",
-    entry_points={"console_scripts": ["gait_node = hexapod_gait.gait_node:main", "footfall = hexapod_gait.footfall_cli:main"]},
+    entry_points={"console_scripts": ["gait_node = hexapod_gait.gait_node:main", "footfall = hexapod_gait.footfall_cli:main",
+                                      "state_publisher = hexapod_gait.state_publisher:main"]},
 )

@@ -58,7 +58,12 @@ fi
 "$VENV/bin/python" scripts/fix_ros_wheel_cmake.py "$VENV" >/dev/null
 
 # --- 4. colcon build, skipped when nothing changed ------------------------------------------
-fingerprint="$( { find colcon.meta hexapod_* -type f \
+# tf2_msgs (for /tf, /tf_static): the wheels lack it; build third_party/tf2_msgs only then.
+base_paths=(.)
+if ! "$VENV/bin/python" -c 'import tf2_msgs' >/dev/null 2>&1; then
+  base_paths+=(third_party/tf2_msgs)
+fi
+fingerprint="$( { find colcon.meta hexapod_* third_party -type f \
       -not -path '*/__pycache__/*' -not -name '*.pyc' -not -path '*.egg-info/*' \
       -printf '%p %s %T@\n' | sort; cat requirements.txt; } | sha256sum | cut -d' ' -f1)"
 build_stamp="$WS/install/.hexapod-build"
@@ -69,7 +74,7 @@ if [ $FORCE_BUILD -eq 1 ] || [ "$(cat "$build_stamp" 2>/dev/null || true)" != "$
     # shellcheck disable=SC1091
     source "$VENV/bin/activate"
     export AMENT_PREFIX_PATH="$VENV" CMAKE_PREFIX_PATH="$VENV"
-    colcon build --symlink-install --parallel-workers 2 --event-handlers console_cohesion- summary+ \
+    colcon build --base-paths "${base_paths[@]}" --symlink-install --parallel-workers 2 --event-handlers console_cohesion- summary+ \
       --cmake-args -DPython3_EXECUTABLE="$VENV/bin/python" -DBUILD_TESTING=OFF
   )
   echo "$fingerprint" > "$build_stamp"

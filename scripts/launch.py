@@ -70,6 +70,8 @@ def main(argv: list[str] | None = None) -> int:
         # one time base: every node but the clock source (sim_node) runs on sim time
         commands = [("gait_node", [exe("hexapod_gait", "gait_node")] +
                      ros_args({"initial_preset": args.preset, "use_sim_time": True})),
+                    # robot_state_publisher's job: leg links on /tf, latched robot_description
+                    ("state_publisher", [exe("hexapod_gait", "state_publisher")] + ros_args({"use_sim_time": True})),
                     ("sim_node", [exe("hexapod_sim", "sim_node")] + ros_args(sim_params))]
     elif args.profile == "emulated-robot":
         commands = [("robot_emulator", [exe("hexapod_bridge", "robot_emulator"), "--sim", "--imu-noise",

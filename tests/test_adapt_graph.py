@@ -294,8 +294,9 @@ def test_adapt_client_honours_its_timeout(domain_id):
 
 
 def test_a_simulated_graph_has_one_time_base(ros, launch, tmp_path, small_archive):
-    """gait_node and adapt_node run on sim_node's /clock: every stamp -- odometry, trials, the gait
-    messages, the recording's log times -- is sim time, none is wall time."""
+    """gait_node, the state publisher and adapt_node run on sim_node's /clock: every stamp --
+    odometry, transforms, trials, the gait messages, the recording's log times -- is sim time,
+    none is wall time; and the recording holds what a 3D replay needs."""
     import time
 
     from rosgraph_msgs.msg import Clock
@@ -304,6 +305,7 @@ def test_a_simulated_graph_has_one_time_base(ros, launch, tmp_path, small_archiv
     launch("hexapod_sim", "sim_node", params={"real_time_factor": 0.0, "publish_period_steps": 24,
                                               "failed_legs": FAILED})
     launch("hexapod_gait", "gait_node", params={"initial_preset": "", "use_sim_time": True})
+    launch("hexapod_gait", "state_publisher", params={"use_sim_time": True})
     launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "record_dir": str(tmp_path / "runs"),
                                                   "use_sim_time": True})
     clock = ros.collect(Clock, "/clock", 10)
@@ -314,12 +316,21 @@ def test_a_simulated_graph_has_one_time_base(ros, launch, tmp_path, small_archiv
     latest_sim = max(_ns(c.clock) for c in clock)
     wall = time.time_ns()
     stamps = [("adapt/trials", _ns(t.header.stamp)) for t in trials]
+    topics = set()
     for topic, msg, log_time in read_messages(response.mcap_path):
+        topics.add(topic)
         stamps.append((f"{topic} log time", log_time))
-        stamps.append((f"{topic} header", _ns(msg.header.stamp)))
+        if hasattr(msg, "header"):
+            stamps.append((f"{topic} header", _ns(msg.header.stamp)))
+        for transform in getattr(msg, "transforms", []):
+            stamps.append((f"{topic} transform", _ns(transform.header.stamp)))
     assert len(stamps) > 10
+    # what Foxglove's 3D panel needs to replay the trial: the model, the frames, the joints
+    assert {"/robot_description", "/tf", "/tf_static", "/joint_states", "/imu/data", "/foot_contacts",
+            "/odom", "/adapt/trials", "/gait/parameters"} <= topics, topics
     for what, ns in stamps:
-        assert 0 < ns <= latest_sim + 1_000_000_000, (what, ns, latest_sim)     # sim time ...
+        lowest = 0 if what.startswith("/tf_static") else 1          # static frames are timeless in tf2
+        assert lowest <= ns <= latest_sim + 1_000_000_000, (what, ns, latest_sim)     # sim time ...
         assert ns < wall / 1000, (what, ns)                                      # ... and never wall time
 
 

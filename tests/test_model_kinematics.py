@@ -47,3 +47,29 @@ def test_engine_masses_match_table_3_5(engine):
         masses = sim.link_masses()
     assert abs(sum(masses.values()) - TABLE_3_5_TOTAL) < 0.001
     assert set(masses) == {"base_link"} | {f"link_{leg}_{k}" for leg in range(1, 7) for k in (1, 2, 3)}
+
+
+def test_the_tf_chain_of_the_urdf_gives_the_kinematic_feet():
+    """base_link -> coxa -> femur -> tibia -> foot, composed from the state publisher's
+    transforms, lands on FK eqs. 3.48-3.50 at the leg's mount."""
+    from hexapod_description.tf_tree import joint_frames, moving_transforms, static_transforms
+
+    model, kin = load_model(), default_kinematics()
+    frames = joint_frames()
+    rng = np.random.default_rng(7)
+    worst = 0.0
+    for _ in range(100):
+        q = np.array([rng.uniform(lim.lower, lim.upper) for lim in model.limits])
+        parts = moving_transforms(frames, dict(zip(model.joint_names, q))) + static_transforms(frames)
+        place = {f.child: (f.parent, np.array(xyz), quat_to_matrix(r)) for f, xyz, r in parts}
+        for leg, mount in enumerate(model.mounts, start=1):
+            point, link = np.zeros(3), f"link_{leg}_foot"
+            while link != "base_link":                      # carry the foot origin up to base_link
+                parent, xyz, rot = place[link]
+                point, link = rot @ point + xyz, parent
+            local = kin.forward(q[3 * (leg - 1): 3 * leg])
+            c, s = np.cos(mount.yaw), np.sin(mount.yaw)
+            expected = np.array([mount.x + c * local[0] - s * local[1], mount.y + s * local[0] + c * local[1],
+                                 mount.z + local[2]])
+            worst = max(worst, float(np.linalg.norm(point - expected)))
+    assert worst < 1e-9, worst

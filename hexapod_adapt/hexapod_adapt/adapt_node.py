@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import rclpy
-from hexapod_msgs.msg import AdaptationTrial
+from hexapod_msgs.msg import AdaptationTrial, FootContacts
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.srv import Adapt, ReportDistance, UploadGait
 from nav_msgs.msg import Odometry
@@ -38,8 +38,10 @@ from rcl_interfaces.msg import ParameterType, SetParametersResult
 from rcl_interfaces.srv import GetParameters
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.node import Node
-from std_msgs.msg import Header
+from sensor_msgs.msg import Imu, JointState
+from std_msgs.msg import Header, String
 from std_srvs.srv import Trigger
+from tf2_msgs.msg import TFMessage
 
 from hexapod_adapt.adaptation import TrialAborted, adapt
 from hexapod_adapt.archive import Archive, ArchiveError, compatibility_problems, load_archive
@@ -49,7 +51,8 @@ from hexapod_adapt.recording import McapRecorder, create_recording
 from hexapod_adapt.simulation import archive_engine, simulation_fingerprint
 from hexapod_gait import from_genotype
 from hexapod_gait.ros_conversions import gait_to_msg
-from hexapod_gait.ros_glue import LATCHED, ODOM, ParamSpec, declare, nodes_named, run_node, watch_for_duplicates
+from hexapod_gait.ros_glue import (LATCHED, ODOM, SENSOR, TF_QOS, ParamSpec, declare, nodes_named, run_node,
+                                   watch_for_duplicates)
 
 MODES = ("sim", "robot", "manual")
 
@@ -162,6 +165,16 @@ class AdaptNode(Node):
         self.create_subscription(Odometry, "odom", self._on_odom, ODOM, callback_group=sensors)
         self.create_subscription(Header, "sim/active_trajectory", self._on_active, LATCHED, callback_group=sensors)
         self.create_subscription(Header, "sim/last_reset", self._on_reset, LATCHED, callback_group=sensors)
+        # recorded while a run records, so that a trial replays in Foxglove's 3D panel
+        recorded = MutuallyExclusiveCallbackGroup()
+        for msg_type, topic, qos in ((TFMessage, "/tf", TF_QOS), (JointState, "joint_states", SENSOR),
+                                     (Imu, "imu/data", SENSOR), (FootContacts, "foot_contacts", SENSOR)):
+            self.create_subscription(msg_type, topic, lambda msg, topic=topic: self._record(topic, msg), qos,
+                                     callback_group=recorded)
+        self._latched: dict[str, object] = {}      # latest latched message of each topic, recorded at a start
+        for msg_type, topic in ((TFMessage, "/tf_static"), (String, "robot_description")):
+            self.create_subscription(msg_type, topic, lambda msg, topic=topic: self._on_latched(topic, msg), LATCHED,
+                                     callback_group=recorded)
         sim_name = self.get_parameter("sim_node").value
         bridge_name = self.get_parameter("bridge_node").value
         self.sim_name, self.bridge_name = self._qualified(sim_name), self._qualified(bridge_name)
@@ -243,6 +256,10 @@ class AdaptNode(Node):
             self.odom.append(OdomSample(_ns(msg.header.stamp), p.x, p.y, t.x, t.y, time.monotonic()))
         if self.recorder is not None:
             self._record("odom", msg)
+
+    def _on_latched(self, topic: str, msg) -> None:
+        self._latched[topic] = msg
+        self._record(topic, msg)
 
     def _on_active(self, msg: Header) -> None:
         self.active_stamp = _ns(msg.stamp)
@@ -455,6 +472,8 @@ class AdaptNode(Node):
             try:
                 self.recorder = create_recording(Path(record_dir).expanduser())
                 response.mcap_path = str(self.recorder.path.resolve())
+                for topic, msg in list(self._latched.items()):      # the URDF and the static frames
+                    self._record(topic, msg)
             except OSError as exc:
                 self.get_logger().error(f"cannot record in {record_dir}: {exc}; running without a recording")
         trial_fn = self._sim_trial if self.mode == "sim" else self._robot_trial

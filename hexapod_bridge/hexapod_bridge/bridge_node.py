@@ -40,6 +40,7 @@ from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.node import Node
 from sensor_msgs.msg import Imu
 from std_srvs.srv import SetBool, Trigger
+from tf2_msgs.msg import TFMessage
 
 from hexapod_bridge import legacy, xbus
 from hexapod_bridge.extension import TrialState
@@ -48,7 +49,8 @@ from hexapod_bridge.odometry import TrialOdometry
 from hexapod_bridge.serial_port import ReconnectingPort
 from hexapod_gait.parameters import GaitParameterError
 from hexapod_gait.ros_conversions import gait_from_msg
-from hexapod_gait.ros_glue import LATCHED, ODOM, SENSOR, ParamSpec, declare, publish_status, run_node
+from hexapod_gait.ros_glue import (LATCHED, ODOM, SENSOR, TF_QOS, ParamSpec, declare, odom_transform, publish_status,
+                                   run_node)
 
 #: Accuracy of the IMU trial-speed estimate, measured in test_bridge_odometry.py (docs/bridge.md).
 SPEED_ACCURACY = 0.025  # m/s
@@ -134,6 +136,7 @@ class BridgeNode(Node):
         group = ReentrantCallbackGroup()
         self.imu_pub = self.create_publisher(Imu, "imu/data", SENSOR)
         self.odom_pub = self.create_publisher(Odometry, "odom", ODOM)
+        self.tf_pub = self.create_publisher(TFMessage, "/tf", TF_QOS)
         self.link_pub = self.create_publisher(LinkStatus, "~/link_status", 10)
         self.status_pub = self.create_publisher(DiagnosticStatus, "bridge/status", LATCHED)
         self.create_subscription(GaitParametersMsg, "gait/parameters", self._on_gait, LATCHED, callback_group=group)
@@ -459,6 +462,7 @@ class BridgeNode(Node):
         odom.pose.covariance[0] = odom.pose.covariance[7] = var_pos
         odom.twist.covariance[0] = odom.twist.covariance[7] = SPEED_ACCURACY ** 2
         self.odom_pub.publish(odom)
+        self.tf_pub.publish(TFMessage(transforms=[odom_transform(odom)]))
 
     def shutdown(self) -> None:
         """Stop the I/O threads and close the ports (called by run_node)."""

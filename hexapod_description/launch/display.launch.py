@@ -1,4 +1,6 @@
-"""Publish the hexapod's TF tree from its URDF (full ROS 2 Jazzy install only).
+"""Publish the hexapod's TF tree and robot_description from its URDF (full ROS 2 Jazzy install;
+joint angles come from joint_states: sim_node or bridge_node). Without robot_state_publisher,
+``ros2 run hexapod_gait state_publisher`` does the same.
 
     ros2 launch hexapod_description display.launch.py
 """

@@ -23,6 +23,8 @@ import rclpy
 from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
 from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor, SingleThreadedExecutor
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
+from geometry_msgs.msg import TransformStamped
+from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.parameter import Parameter
 from rclpy.node import Node
@@ -41,6 +43,19 @@ STATUS_LOG = QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL, 
 ODOM = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000, reliability=ReliabilityPolicy.RELIABLE)
 #: Sensor streams (joint states, IMU, foot contacts): best effort, latest wins.
 SENSOR = qos_profile_sensor_data
+#: /tf as tf2's broadcasters publish it.
+TF_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
+
+
+def odom_transform(odom: Odometry) -> TransformStamped:
+    """The odometry's pose as the odom -> base_link transform (REP 105), same stamp and frames."""
+    t = TransformStamped()
+    t.header = odom.header
+    t.child_frame_id = odom.child_frame_id
+    p, q = odom.pose.pose.position, odom.pose.pose.orientation
+    t.transform.translation.x, t.transform.translation.y, t.transform.translation.z = p.x, p.y, p.z
+    t.transform.rotation = q
+    return t
 
 
 @dataclass(frozen=True)

@@ -6,6 +6,7 @@ Subscribes  gait/joint_trajectory  trajectory_msgs/JointTrajectory (latched): on
 Publishes   /clock                 rosgraph_msgs/Clock, every step
             joint_states           sensor_msgs/JointState        (sensor-data QoS)
             odom                   nav_msgs/Odometry, odom -> base_link, pose and twist (reliable)
+            /tf                    tf2_msgs/TFMessage: odom -> base_link with every odometry message
             imu/data               sensor_msgs/Imu               (sensor-data QoS)
             foot_contacts          hexapod_msgs/FootContacts     (sensor-data QoS)
             sim/active_trajectory  std_msgs/Header (latched): stamp of the trajectory being played
@@ -44,11 +45,12 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, JointState
 from std_msgs.msg import Header
 from std_srvs.srv import Trigger
+from tf2_msgs.msg import TFMessage
 from trajectory_msgs.msg import JointTrajectory
 
 from hexapod_gait import preset
-from hexapod_gait.ros_glue import (LATCHED, ODOM, SENSOR, ParamSpec, declare, publish_status, run_node,
-                                   watch_for_duplicates)
+from hexapod_gait.ros_glue import (LATCHED, ODOM, SENSOR, TF_QOS, ParamSpec, declare, odom_transform,
+                                   publish_status, run_node, watch_for_duplicates)
 from hexapod_gait.trajectory import build_joint_table
 from hexapod_sim.simulator import SimConfig, create_simulator, validate_failed_legs
 from hexapod_sim.trajectory_input import MAX_POINTS, CycleTable, TrajectoryError, cycle_from_points
@@ -101,6 +103,7 @@ class SimNode(Node):
         self.clock_pub = self.create_publisher(Clock, "/clock", 10)
         self.joint_pub = self.create_publisher(JointState, "joint_states", SENSOR)
         self.odom_pub = self.create_publisher(Odometry, "odom", ODOM)
+        self.tf_pub = self.create_publisher(TFMessage, "/tf", TF_QOS)
         self.imu_pub = self.create_publisher(Imu, "imu/data", SENSOR)
         self.contacts_pub = self.create_publisher(FootContacts, "foot_contacts", SENSOR)
         self.active_pub = self.create_publisher(Header, "sim/active_trajectory", LATCHED)
@@ -279,6 +282,7 @@ class SimNode(Node):
         t.linear.x, t.linear.y, t.linear.z = (float(v) for v in lin_b)
         t.angular.x, t.angular.y, t.angular.z = (float(v) for v in ang_b)
         self.odom_pub.publish(odom)
+        self.tf_pub.publish(TFMessage(transforms=[odom_transform(odom)]))
 
         q, qd, effort = sim.joint_states()
         self.joint_pub.publish(JointState(header=Header(stamp=stamp, frame_id=self.base_frame),

@@ -3,10 +3,16 @@
     ros2 launch hexapod_sim sim.launch.py real_time_factor:=0.0 failed_legs:='[1]'
 In this workspace without `launch`: python scripts/launch.py sim
 """
+from pathlib import Path
+
+from ament_index_python.packages import get_package_share_directory
 from launch import LaunchDescription
 from launch.actions import DeclareLaunchArgument
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
+
+
+URDF = Path(get_package_share_directory("hexapod_description")) / "urdf" / "hexapod.urdf"
 
 
 def generate_launch_description() -> LaunchDescription:
@@ -24,4 +30,7 @@ def generate_launch_description() -> LaunchDescription:
         Node(package="hexapod_sim", executable="sim_node", output="screen",
              parameters=[{"real_time_factor": rtf, "gui": LaunchConfiguration("gui"),
                           "publish_period_steps": LaunchConfiguration("publish_period_steps")}]),
+        # the leg links on /tf and the latched robot_description (odom -> base_link: sim_node)
+        Node(package="robot_state_publisher", executable="robot_state_publisher", output="screen",
+             parameters=[{"robot_description": URDF.read_text(), "use_sim_time": True}]),
     ])
