@@ -17,7 +17,7 @@ setup(
     zip_safe=True,
     maintainer="Hexapod adaptation team",
     maintainer_email="hexapod-dev@example.com",
-    description="PyBullet simulator of the hexapod (ROS-free library), gait evaluation, failure scenarios, and the sim node.",
+    description="Simulator of the hexapod behind one interface with PyBullet and MuJoCo engines, gait evaluation, failure scenarios, and the sim node.",
     license="MIT",
     entry_points={"console_scripts": ["sim_node = hexapod_sim.sim_node:main", "render_walk = hexapod_sim.render_cli:main", "fidelity_table = hexapod_sim.fidelity_cli:main"]},
 )
