@@ -253,9 +253,13 @@ class MujocoSimulator(Simulator):
             self.m.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_ACTUATION)
 
     def step(self) -> StepReport:
+        warnings = self.d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number
         mujoco.mj_step(self.m, self.d)   # sensors and d.contact: the state this step started from
         self.time += self.dt
-        return self._report(self.d.sensordata)
+        report = self._report(self.d.sensordata)
+        # MuJoCo resets the data after a blow-up and carries on: say so
+        report.unstable = self.d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > warnings
+        return report
 
     def _report(self, sensordata: np.ndarray) -> StepReport:
         r = self.report

@@ -202,6 +202,7 @@ class PyBulletSimulator(Simulator):
         r.contacts = [False] * N_LEGS
         r.body_ground = None
         r.self_collision = None
+        r.unstable = False
         foot_leg, names = self._foot_leg, self._link_names
         for c in p.getContactPoints(bodyA=self.body, physicsClientId=self.client):
             if c[2] == self.body:

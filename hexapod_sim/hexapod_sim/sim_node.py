@@ -228,6 +228,7 @@ class SimNode(Node):
         if not hasattr(self, "_sim_time"):
             self._sim_time = 0.0
         self._steps_since_reset = 0
+        self._unstable_reported = False
         self._row = 0
         self._reset_stamp = self._sim_time
         self.reset_pub.publish(Header(stamp=_stamp(self._sim_time), frame_id=self.odom_frame))
@@ -245,7 +246,11 @@ class SimNode(Node):
                     break
             sim = self.sim
             sim.apply_row(self._rows, self._row)
-            sim.step()
+            if sim.step().unstable and not self._unstable_reported:
+                self._unstable_reported = True       # once per reset: a bad setting repeats it every step
+                self._status(DiagnosticStatus.ERROR, f"the {sim.engine} physics became unstable at sim time "
+                                                     f"{self._sim_time:.3f} s and was reset; results since the last "
+                                                     "reset are not valid: call ~/reset")
             sim.update_imu()
             self._row = (self._row + 1) % self._n_rows
             self._steps_since_reset += 1

@@ -108,6 +108,7 @@ class StepReport:
     contacts: list = field(default_factory=lambda: [False] * N_LEGS)   # per leg, foot on ground
     body_ground: str | None = None        # name of a non-foot link on the ground
     self_collision: str | None = None     # description of a self-collision
+    unstable: bool = False                # the engine's numbers blew up this step (and were reset)
 
     @property
     def collision(self) -> str | None:

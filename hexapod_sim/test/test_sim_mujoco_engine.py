@@ -73,3 +73,19 @@ def test_mujoco_renders_the_robot():
         frame = sim.render(160, 120)
     assert frame.shape == (120, 160, 3) and frame.dtype == np.uint8
     assert frame.std() > 10          # not a blank image: robot, floor and shadow differ
+
+
+def test_the_per_step_path_reports_a_blow_up_too():
+    """sim_node and the emulator step one at a time: the step that blew up says so."""
+    stiff = MujocoSettings(back_emf=False, compliance_slope=1, integrator="euler", time_step=0.01)
+    with create_simulator(SimConfig(engine="mujoco", mujoco=stiff)) as sim:
+        from hexapod_gait import build_joint_table
+
+        table = build_joint_table(preset("tripod"), rate=1.0 / sim.dt)
+        rows = sim.prepare_rows(table.positions, table.velocities)
+        sim.reset(table.positions[0])
+        flagged = []
+        for k in range(500):
+            sim.apply_row(rows, k % len(table.positions))
+            flagged.append(sim.step().unstable)
+    assert any(flagged) and not flagged[0]
