@@ -64,6 +64,8 @@ def evaluate_gaits(gaits: Sequence[GaitLike], sim: Simulator, duration: float = 
     if failed_legs is not None:
         sim.set_failed_legs(failed_legs)
     n_steps = int(round(duration / sim.dt))
+    if n_steps < 1:
+        raise ValueError(f"duration {duration!r} s is shorter than one time step ({sim.dt:g} s)")
     results: list[EvaluationResult | None] = [None] * len(gaits)
     params: list[GaitParameters] = []
     tables: list[JointRows] = []

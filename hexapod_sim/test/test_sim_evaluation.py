@@ -161,3 +161,9 @@ def test_motor_power_off_lets_the_robot_sag_and_on_holds_it_again():
                 sim.step()
             assert sim.base_pose()[0][2] < standing - 0.02, engine     # no servo torque: it collapses
             sim.set_motor_power(True)
+
+
+@pytest.mark.parametrize("duration", [0.0, -1.0, float("nan"), 1e-4])
+def test_a_duration_without_a_single_step_is_refused(sim, duration):
+    with pytest.raises(ValueError, match="duration"):
+        evaluate_gait(preset("tripod"), sim, duration=duration)
