@@ -182,10 +182,11 @@ def generate_map(config: GenerateConfig, on_progress: Callable[[Progress], None]
         archive = Archive.empty(centroids, {"seed": config.seed, "evaluations": 0, **fingerprint, "cvt": cvt_info})
     log_path = config.log_path
     log_path.parent.mkdir(parents=True, exist_ok=True)
-    with open(log_path, "a", encoding="utf-8") as log, open_executor(config) as (executor, workers):
+    with open_executor(config) as (executor, workers):
         def progress(p: Progress) -> None:
-            log.write(p.log_row() + "\n")
-            log.flush()
+            # opened per row: a file replaced under a long run (git checkout, a copy) still gets it
+            with open(log_path, "a", encoding="utf-8") as log:
+                log.write(p.log_row() + "\n")
             if on_progress:
                 on_progress(p)
 
