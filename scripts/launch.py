@@ -88,26 +88,36 @@ def main(argv: list[str] | None = None) -> int:
                                    "use_sim_time": mode == "sim"})))
 
     env = dict(os.environ, PYTHONUNBUFFERED="1")
+    # Ctrl-C and SIGTERM stop the graph even when this process was started with SIGINT ignored
+    # (a background job of a non-interactive shell inherits SIG_IGN, and Python keeps it).
+    stop = threading.Event()
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, lambda *_: stop.set())
+
+    def default_signals() -> None:           # the nodes get Ctrl-C back whatever we inherited
+        signal.signal(signal.SIGINT, signal.SIG_DFL)
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
     procs = []
     for name, cmd in commands:
-        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
+                                preexec_fn=default_signals)
         threading.Thread(target=pump, args=(name, proc.stdout), daemon=True).start()
         procs.append(proc)
         time.sleep(1.0 if name == "robot_emulator" else 0.0)   # let the emulator create its ports
     try:
-        while all(p.poll() is None for p in procs):
-            time.sleep(0.2)
-    except KeyboardInterrupt:
-        pass
+        while not stop.is_set() and all(p.poll() is None for p in procs):
+            stop.wait(0.2)
     finally:
-        for p in procs:
-            if p.poll() is None:
-                p.send_signal(signal.SIGINT)
-        for p in procs:
-            try:
-                p.wait(10)
-            except subprocess.TimeoutExpired:
-                p.kill()
+        # SIGINT (the nodes finish cleanly), then SIGTERM, then SIGKILL: never leave one running
+        for signum, grace in ((signal.SIGINT, 10.0), (signal.SIGTERM, 5.0), (signal.SIGKILL, 5.0)):
+            alive = [p for p in procs if p.poll() is None]
+            for p in alive:
+                p.send_signal(signum)
+            deadline = time.monotonic() + grace
+            while alive and time.monotonic() < deadline:
+                alive = [p for p in alive if p.poll() is None]
+                time.sleep(0.05)
     return max((p.returncode or 0) for p in procs)
 
 

@@ -26,14 +26,22 @@ def test_launch_files_compile(path: Path):
 def test_launcher_starts_the_sim_graph_and_stops_on_ctrl_c(ros, domain_id, tmp_path):
     odom = ros.collect(Odometry, "odom", QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE))
     log = open(tmp_path / "launch.log", "w")
+    # started with SIGINT ignored, as a background job of a non-interactive shell would be: Ctrl-C
+    # (SIGINT) must stop the launcher and its nodes anyway
     proc = subprocess.Popen([sys.executable, str(WS / "scripts" / "launch.py"), "sim", "--rtf", "0", "--failed-legs", "2"],
-                            env=dict(os.environ, ROS_DOMAIN_ID=str(domain_id)), stdout=log, stderr=subprocess.STDOUT)
+                            env=dict(os.environ, ROS_DOMAIN_ID=str(domain_id)), stdout=log, stderr=subprocess.STDOUT,
+                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN))
     try:
         # the tripod walks: odometry moves away from the origin
         wait_for(lambda: odom and math_dist(odom[-1]) > 0.2, 60, "the simulated robot walking")
     finally:
         proc.send_signal(signal.SIGINT)
-        code = proc.wait(30)
+        try:
+            code = proc.wait(40)
+        except subprocess.TimeoutExpired:
+            code = None
+        if code is None:                      # never leave the graph running after a failure
+            os.killpg(proc.pid, signal.SIGKILL)
         log.close()
     text = (tmp_path / "launch.log").read_text()
     assert "[sim_node]" in text and "[gait_node]" in text
