@@ -468,6 +468,13 @@ class AdaptNode(Node):
         archive = self.archive
         record_dir = self.get_parameter("record_dir").value
         timeout = float(self.get_parameter("trial_timeout").value)
+        if self.get_parameter("use_sim_time").value:
+            # one time base: nothing is stamped or recorded before the first /clock arrives
+            try:
+                self._wait(lambda: self.get_clock().now().nanoseconds > 0, timeout, "/clock (is sim_node running?)")
+            except TrialAborted as exc:
+                response.success, response.message = False, f"run not started: {exc}"
+                return response
         if record_dir:
             try:
                 self.recorder = create_recording(Path(record_dir).expanduser())
