@@ -47,6 +47,7 @@ from hexapod_bridge.extension import TrialState
 from hexapod_bridge.link import Operation, RobotLink
 from hexapod_bridge.odometry import TrialOdometry
 from hexapod_bridge.serial_port import ReconnectingPort
+from hexapod_description.tf_tree import quat_from_rpy
 from hexapod_gait.parameters import GaitParameterError
 from hexapod_gait.ros_conversions import gait_from_msg
 from hexapod_gait.ros_glue import (LATCHED, ODOM, SENSOR, TF_QOS, ParamSpec, declare, odom_transform, publish_status,
@@ -66,14 +67,6 @@ class ActiveTrial:
     duration: float            # s
     generation: int            # RobotLink.trial_generation once the robot acknowledged this start
     done_at: float | None = None
-
-
-def _quat_from_euler(roll: float, pitch: float, yaw: float) -> tuple[float, float, float, float]:
-    cr, sr = math.cos(roll / 2), math.sin(roll / 2)
-    cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
-    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
-    return (sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy,
-            cr * cp * cy + sr * sp * sy)
 
 
 PARAMETERS = (
@@ -396,7 +389,7 @@ class BridgeNode(Node):
         msg = Imu()
         msg.header.stamp = self.get_clock().now().to_msg()
         msg.header.frame_id = str(self.imu_frame)
-        q = _quat_from_euler(*(math.radians(v) for v in m.euler))
+        q = quat_from_rpy(*(math.radians(v) for v in m.euler))
         msg.orientation.x, msg.orientation.y, msg.orientation.z, msg.orientation.w = q
         msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z = (float(v) for v in m.gyr)
         msg.linear_acceleration.x, msg.linear_acceleration.y, msg.linear_acceleration.z = (float(v) for v in m.acc)
@@ -406,7 +399,7 @@ class BridgeNode(Node):
         msg = Imu()
         msg.header.stamp = self.get_clock().now().to_msg()
         msg.header.frame_id = str(self.base_frame)
-        q = _quat_from_euler(t.roll, t.pitch, t.yaw)
+        q = quat_from_rpy(t.roll, t.pitch, t.yaw)
         msg.orientation.x, msg.orientation.y, msg.orientation.z, msg.orientation.w = q
         msg.angular_velocity_covariance[0] = -1.0        # not provided by the telemetry
         msg.linear_acceleration_covariance[0] = -1.0

@@ -28,8 +28,7 @@ import numpy as np
 from mujoco import rollout as mj_rollout
 
 from hexapod_description import N_LEGS
-from hexapod_sim.simulator import (FAILURE_POSE, JointRows, PlayResult, SimConfig, Simulator, StepReport,
-                                   body_height_from_joints)
+from hexapod_sim.simulator import FAILURE_POSE, JointRows, PlayResult, SimConfig, Simulator, StepReport
 
 #: Dynamixel RX position units: 1024 over 300 degrees (both RX-28 and RX-64).
 DYNAMIXEL_RAD_PER_UNIT = math.radians(300.0) / 1024.0
@@ -290,7 +289,7 @@ class MujocoSimulator(Simulator):
         steps = np.arange(n_steps)
         for i, table in enumerate(tables):
             rows = self.prepare_rows(table.positions, table.velocities)
-            self.reset(table.positions[0], body_height_from_joints(table.positions[0]))
+            self.reset(table.positions[0])
             mujoco.mj_getState(m, d, initial[i], self._state_spec)
             control[i][:, self._act] = rows[steps % len(rows)]
         state, sensordata = mj_rollout.rollout(m, d, initial, control, initial_warmstart=np.zeros((n, m.nv)))
@@ -319,7 +318,8 @@ class MujocoSimulator(Simulator):
                 if stop_on_collision:
                     used = k + 1
             last = used - 1
-            counts = feet[:used].sum(axis=0) if not (stop_on_collision and hits.size) else feet[:last].sum(axis=0)
+            # a stop on a collision counts the feet of the steps before it, as the per-step loop does
+            counts = feet[:last if stop_on_collision and hits.size else used].sum(axis=0)
             results.append(PlayResult(used, counts.astype(np.int64), int(collided[:used].sum()), first,
                                       state[i, last, 1:4].copy(), feet[:used].copy() if record_contacts else None))
         # leave the simulator in the final state of the last table
