@@ -4,7 +4,7 @@ SHELL := /bin/bash
 ENV := source scripts/env.sh
 PYTEST_ARGS ?=
 
-.PHONY: all bootstrap build demo test test-unit test-integration bench bench-gait bench-sim \
+.PHONY: all bootstrap build demo test test-unit test-integration lint format bench bench-gait bench-sim \
         bench-map bench-adapt bench-bridge pictures clean
 
 all: build
@@ -26,6 +26,18 @@ test-unit: bootstrap
 
 test-integration: bootstrap
 	@$(ENV) && python -m pytest tests $(PYTEST_ARGS)
+
+# The packages' lint tests (ament_flake8, ament_pep257, copyright, xmllint); `make test` runs them too.
+lint: bootstrap
+	@$(ENV) && python -m pytest -m linter $(PYTEST_ARGS)
+
+# The formatter configured to the ROS 2 style (ruff.toml): fixes what the lint tests report, bar
+# wording (docstring mood, over-long text), and adds missing copyright headers.
+format: bootstrap
+	@$(ENV) && ruff format . && ruff check --fix . && \
+	  python scripts/copyright_check.py --fix hexapod_description hexapod_gait hexapod_sim \
+	    hexapod_bridge hexapod_adapt hexapod_msgs && \
+	  python scripts/copyright_check.py --fix --notice-from hexapod_sim/LICENSE scripts tests
 
 bench: bootstrap
 	@$(ENV) && python scripts/bench.py all

@@ -1,24 +1,52 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
 from glob import glob
 
 from setuptools import find_packages, setup
 
-package_name = "hexapod_gait"
+package_name = 'hexapod_gait'
 
 setup(
     name=package_name,
-    version="0.1.0",
-    packages=find_packages(exclude=["test"]),
+    version='0.1.0',
+    packages=find_packages(exclude=['test']),
     data_files=[
-        ("share/ament_index/resource_index/packages", [f"resource/{package_name}"]),
-        (f"share/{package_name}", ["package.xml"]),
-        (f"share/{package_name}/launch", glob("launch/*.py")),
+        ('share/ament_index/resource_index/packages', [f'resource/{package_name}']),
+        (f'share/{package_name}', ['package.xml']),
+        (f'share/{package_name}/launch', glob('launch/*.py')),
     ],
-    install_requires=["setuptools"],
+    install_requires=['setuptools'],
     zip_safe=True,
-    maintainer="Hexapod adaptation team",
-    maintainer_email="hexapod-dev@example.com",
-    description="32-parameter kinematic gait controller (ROS-free library) and the gait node publishing joint trajectories.",
-    license="MIT",
-    entry_points={"console_scripts": ["gait_node = hexapod_gait.gait_node:main", "footfall = hexapod_gait.footfall_cli:main",
-                                      "state_publisher = hexapod_gait.state_publisher:main"]},
+    maintainer='Hexapod adaptation team',
+    maintainer_email='hexapod-dev@example.com',
+    description=(
+        '32-parameter kinematic gait controller (ROS-free library) and the gait node publishing'
+        ' joint trajectories.'
+    ),
+    license='MIT',
+    entry_points={
+        'console_scripts': [
+            'gait_node = hexapod_gait.gait_node:main',
+            'footfall = hexapod_gait.footfall_cli:main',
+            'state_publisher = hexapod_gait.state_publisher:main',
+        ]
+    },
 )

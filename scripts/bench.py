@@ -1,8 +1,30 @@
 #!/usr/bin/env python3
-"""Benchmarks. Each figure is printed on its own line as ``BENCH <name> <value> <unit>``.
-
-    python scripts/bench.py all|gait|sim|map|adapt|bridge
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
 """
+Benchmarks. Each figure is printed on its own line as ``BENCH <name> <value> <unit>``.
+
+python scripts/bench.py all|gait|sim|map|adapt|bridge
+"""
+
 from __future__ import annotations
 
 import sys
@@ -12,9 +34,13 @@ import numpy as np
 
 
 def bench_gait() -> None:
-    """gait_build_ms: genotype -> 240 Hz joint table (what MAP-Elites does per evaluation),
-    median over feasible random genotypes after warm-up."""
-    from hexapod_gait import ReachabilityError, build_joint_table, from_genotype
+    """
+    Gait benchmarks.
+
+    gait_build_ms: genotype -> 240 Hz joint table (what MAP-Elites does per evaluation),
+    median over feasible random genotypes after warm-up.
+    """
+    from hexapod_gait import build_joint_table, from_genotype, ReachabilityError
 
     rng = np.random.default_rng(1)
     feasible = []
@@ -31,34 +57,36 @@ def bench_gait() -> None:
             t0 = time.perf_counter()
             build_joint_table(from_genotype(g))
             samples.append(time.perf_counter() - t0)
-    print(f"BENCH gait_build_ms {np.median(samples) * 1e3:.3f} ms")
-    print(f"BENCH gait_build_p95_ms {np.percentile(samples, 95) * 1e3:.3f} ms")
+    print(f'BENCH gait_build_ms {np.median(samples) * 1e3:.3f} ms')
+    print(f'BENCH gait_build_p95_ms {np.percentile(samples, 95) * 1e3:.3f} ms')
 
 
 def bench_sim() -> None:
-    """Both engines in one run, on one pinned core, interleaved gait by gait.
-    sim_eval_ms (PyBullet) and sim_eval_mujoco_ms: median time of one whole 5 s evaluation
-    (reset, contacts and collision checks included; one gait per call) over seeded random
-    feasible gaits; sim_eval_mujoco_batch8_ms: the same gaits in MuJoCo batches of 8 (what a
-    map-generation worker does); sim_engine_speedup: PyBullet ms / MuJoCo ms.
-    sim_engine_spearman: rank correlation of the two engines' fitness over the shipped demo
-    map's gaits (walking gaits of all speeds), collisions not fatal; sim_engine_descriptor_mad:
-    their mean absolute duty-factor difference. sim_engine_tripod_ratio: intact control tripod
-    speed, MuJoCo / PyBullet."""
+    """
+    Both engines in one run, on one pinned core, interleaved gait by gait..
+
+    im_eval_ms (PyBullet) and sim_eval_mujoco_ms: median time of one whole 5 s evaluation (reset,
+    contacts and collision checks included; one gait per call) over seeded random feasible gaits;
+    sim_eval_mujoco_batch8_ms: the same gaits in MuJoCo batches of 8 (what a map-generation worker
+    does); sim_engine_speedup: PyBullet ms / MuJoCo ms. sim_engine_spearman: rank correlation of
+    the two engines' fitness over the shipped demo map's gaits (walking gaits of all speeds),
+    collisions not fatal; sim_engine_descriptor_mad: their mean absolute duty-factor difference.
+    sim_engine_tripod_ratio: intact control tripod speed, MuJoCo / PyBullet.
+    """
     import os
     from pathlib import Path
 
     from hexapod_gait import preset
-    from hexapod_sim import SimConfig, create_simulator, evaluate_gait, evaluate_gaits
+    from hexapod_sim import create_simulator, evaluate_gait, evaluate_gaits, SimConfig
     from hexapod_sim.fidelity import agreement
     from hexapod_sim.fidelity_cli import map_genotypes
     from hexapod_sim.sampling import random_feasible_genotypes
 
-    if hasattr(os, "sched_setaffinity"):
+    if hasattr(os, 'sched_setaffinity'):
         os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
-    n = int(os.environ.get("BENCH_SIM_GAITS", "100"))
-    bullet = create_simulator(SimConfig(engine="pybullet"))
-    mujoco = create_simulator(SimConfig(engine="mujoco"))
+    n = int(os.environ.get('BENCH_SIM_GAITS', '100'))
+    bullet = create_simulator(SimConfig(engine='pybullet'))
+    mujoco = create_simulator(SimConfig(engine='mujoco'))
     genotypes, _ = random_feasible_genotypes(n, seed=2024, sim=bullet)
 
     def timed(sim, genes) -> float:
@@ -66,56 +94,68 @@ def bench_sim() -> None:
         evaluate_gait(genes, sim, collisions_fatal=True)
         return time.perf_counter() - t0
 
-    evaluate_gait(genotypes[0], mujoco)   # warm-up
+    evaluate_gait(genotypes[0], mujoco)  # warm-up
     t_bullet, t_mujoco = [], []
-    for genes in genotypes:               # interleaved: both engines see the same machine state
+    for genes in genotypes:  # interleaved: both engines see the same machine state
         t_bullet.append(timed(bullet, genes))
         t_mujoco.append(timed(mujoco, genes))
     batch = []
     for i in range(0, n - 7, 8):
         t0 = time.perf_counter()
-        evaluate_gaits(list(genotypes[i:i + 8]), mujoco, collisions_fatal=True)
+        evaluate_gaits(list(genotypes[slice(i, i + 8)]), mujoco, collisions_fatal=True)
         batch.append((time.perf_counter() - t0) / 8)
     ms_bullet, ms_mujoco = np.median(t_bullet) * 1e3, np.median(t_mujoco) * 1e3
-    print(f"BENCH sim_feasible_gaits {n} gaits")
-    print(f"BENCH sim_eval_ms {ms_bullet:.1f} ms")
-    print(f"BENCH sim_eval_mujoco_ms {ms_mujoco:.1f} ms")
-    print(f"BENCH sim_eval_mujoco_batch8_ms {np.median(batch) * 1e3:.1f} ms")
-    print(f"BENCH sim_engine_speedup {ms_bullet / ms_mujoco:.2f} x")
-    demo = Path(__file__).resolve().parent.parent / "hexapod_adapt" / "maps" / "demo_map.npz"
+    print(f'BENCH sim_feasible_gaits {n} gaits')
+    print(f'BENCH sim_eval_ms {ms_bullet:.1f} ms')
+    print(f'BENCH sim_eval_mujoco_ms {ms_mujoco:.1f} ms')
+    print(f'BENCH sim_eval_mujoco_batch8_ms {np.median(batch) * 1e3:.1f} ms')
+    print(f'BENCH sim_engine_speedup {ms_bullet / ms_mujoco:.2f} x')
+    demo = Path(__file__).resolve().parent.parent / 'hexapod_adapt' / 'maps' / 'demo_map.npz'
     a = agreement(map_genotypes(demo), bullet, mujoco)
-    print(f"BENCH sim_engine_agreement_gaits {a.gaits} gaits")
-    print(f"BENCH sim_engine_spearman {a.spearman:.4f} 1")
-    print(f"BENCH sim_engine_descriptor_mad {a.mean_abs_descriptor:.4f} 1")
-    tripod = [evaluate_gait(preset("control"), sim, collisions_fatal=False, failed_legs=()).speed
-              for sim in (bullet, mujoco)]
-    print(f"BENCH sim_tripod_speed_pybullet {tripod[0]:.4f} m/s")
-    print(f"BENCH sim_tripod_speed_mujoco {tripod[1]:.4f} m/s")
-    print(f"BENCH sim_engine_tripod_ratio {tripod[1] / tripod[0]:.4f} 1")
+    print(f'BENCH sim_engine_agreement_gaits {a.gaits} gaits')
+    print(f'BENCH sim_engine_spearman {a.spearman:.4f} 1')
+    print(f'BENCH sim_engine_descriptor_mad {a.mean_abs_descriptor:.4f} 1')
+    tripod = [
+        evaluate_gait(preset('control'), sim, collisions_fatal=False, failed_legs=()).speed
+        for sim in (bullet, mujoco)
+    ]
+    print(f'BENCH sim_tripod_speed_pybullet {tripod[0]:.4f} m/s')
+    print(f'BENCH sim_tripod_speed_mujoco {tripod[1]:.4f} m/s')
+    print(f'BENCH sim_engine_tripod_ratio {tripod[1] / tripod[0]:.4f} 1')
 
 
 def bench_bridge() -> None:
-    """bridge_parse_frames_per_s: robot->PC frames (extension reports) the host parser decodes
-    per second; bridge_upload_ms: one gait upload (35 SET_PARAM + COMMIT, acknowledged) over an
-    emulated clean 19200-baud link, emulated time."""
+    """
+    bridge_parse_frames_per_s.
+
+    Robot->PC frames (extension reports) the host parser decodes per second; bridge_upload_ms: one
+    gait upload (35 SET_PARAM + COMMIT, acknowledged) over an emulated clean 19200-baud link,
+    emulated time.
+    """
     from hexapod_bridge import extension as ext
     from hexapod_bridge.emulator.firmware import RobotFirmware
     from hexapod_bridge.link import RobotLink
     from hexapod_bridge.stream import HostParser
     from hexapod_gait import preset
 
-    stream = b"".join(ext.encode_report(ext.Report.TRIAL, i, bytes([1, 0, 0, i & 0xFF])) for i in range(50_000))
+    stream = b''.join(
+        ext.encode_report(ext.Report.TRIAL, i, bytes([1, 0, 0, i & 0xFF])) for i in range(50_000)
+    )
     parser = HostParser()
     t0 = time.perf_counter()
     for k in range(0, len(stream), 4096):
-        parser.feed(stream[k:k + 4096])
+        parser.feed(stream[slice(k, k + 4096)])
     rate = parser.stats.frames_ok / (time.perf_counter() - t0)
-    print(f"BENCH bridge_parse_frames_per_s {rate:.0f} frames/s")
+    print(f'BENCH bridge_parse_frames_per_s {rate:.0f} frames/s')
     durations = []
     for archive_index in range(20):
         link, fw = RobotLink(), RobotFirmware()
         link.arm(True, 0.0)
-        op, t, wire_free = link.upload(preset("tripod").replace(archive_index=archive_index)), 0.0, 0.0
+        op, t, wire_free = (
+            link.upload(preset('tripod').replace(archive_index=archive_index)),
+            0.0,
+            0.0,
+        )
         while not op.done and t < 10.0:
             t += 0.0005
             for frame in link.poll(t):
@@ -125,45 +165,64 @@ def bench_bridge() -> None:
             link.receive(radio, t + len(radio) / 1920.0)
         assert op.ok, op.message
         durations.append(t)
-    print(f"BENCH bridge_upload_ms {np.median(durations) * 1e3:.0f} ms")
+    print(f'BENCH bridge_upload_ms {np.median(durations) * 1e3:.0f} ms')
 
 
 def bench_map() -> None:
-    """map_evals_per_s_mujoco and map_worker_utilisation_mujoco: a generate_map run from scratch
-    on 2 local worker processes with the MuJoCo engine (batches of 8), 3000 evaluations into a
-    500-niche map: evaluations per second and worker compute time / (workers x wall time).
-    map_evals_per_s (PyBullet, 2 workers, 600 evaluations) for comparison.
-    map_archive_save_ms: writing a 40 000-niche archive atomically."""
-    import tempfile
+    """
+    map_evals_per_s_mujoco and map_worker_utilisation_mujoco.
+
+    A generate_map run from scratch on 2 local worker processes with the MuJoCo engine (batches of
+    8), 3000 evaluations into a 500-niche map: evaluations per second and worker compute time /
+    (workers x wall time). map_evals_per_s (PyBullet, 2 workers, 600 evaluations) for comparison.
+    map_archive_save_ms: writing a 40 000-niche archive atomically.
+    """
     from pathlib import Path
+    import tempfile
 
     from hexapod_adapt.archive import Archive
-    from hexapod_adapt.generate import GenerateConfig, generate_map
+    from hexapod_adapt.generate import generate_map, GenerateConfig
 
     with tempfile.TemporaryDirectory() as tmp:
-        for engine, evaluations, suffix in (("mujoco", 3000, "_mujoco"), ("pybullet", 600, "")):
+        for engine, evaluations, suffix in (('mujoco', 3000, '_mujoco'), ('pybullet', 600, '')):
             last = []
-            cfg = GenerateConfig(out=Path(tmp) / engine / "map.npz", niches=500, evaluations=evaluations, seed=1,
-                                 workers=2, engine=engine, log_every=1.0)
+            cfg = GenerateConfig(
+                out=Path(tmp) / engine / 'map.npz',
+                niches=500,
+                evaluations=evaluations,
+                seed=1,
+                workers=2,
+                engine=engine,
+                log_every=1.0,
+            )
             generate_map(cfg, on_progress=last.append)
             p = last[-1]
-            print(f"BENCH map_workers{suffix} {cfg.worker_count()} processes")
-            print(f"BENCH map_evals_per_s{suffix} {p.evals_per_s:.1f} evals/s")
-            print(f"BENCH map_worker_utilisation{suffix} {100 * p.utilisation:.1f} %")
+            print(f'BENCH map_workers{suffix} {cfg.worker_count()} processes')
+            print(f'BENCH map_evals_per_s{suffix} {p.evals_per_s:.1f} evals/s')
+            print(f'BENCH map_worker_utilisation{suffix} {100 * p.utilisation:.1f} %')
         rng = np.random.default_rng(0)
-        big = Archive(rng.random((40000, 6)), rng.random(40000), rng.random((40000, 6)), rng.random((40000, 32)))
+        big = Archive(
+            rng.random((40000, 6)),
+            rng.random(40000),
+            rng.random((40000, 6)),
+            rng.random((40000, 32)),
+        )
         t0 = time.perf_counter()
-        big.save(Path(tmp) / "big.npz")
-        print(f"BENCH map_archive_save_ms {(time.perf_counter() - t0) * 1e3:.0f} ms")
+        big.save(Path(tmp) / 'big.npz')
+        print(f'BENCH map_archive_save_ms {(time.perf_counter() - t0) * 1e3:.0f} ms')
 
 
 def bench_adapt() -> None:
-    """adapt_mboa_step_ms: one M-BOA step (observe a trial + pick the next gait) on a 40 000-gait
+    """
+    Adaptation benchmarks.
+
+    adapt_mboa_step_ms: one M-BOA step (observe a trial + pick the next gait) on a 40 000-gait
     map after 19 trials (median of 20 runs' last steps). Then thesis experiment 5.2 on the
     default map (``BENCH_ADAPT_MAP`` overrides it; the demo map if the default is not made yet):
     every orientation of S1-S4 with trials on the map's engine, and again across engines
     (suffix _cross). Per run: the best speed found, the trials, the control tripod with the same
-    damage. adapt_beats_control: runs whose adapted gait beats the damaged control tripod."""
+    damage. adapt_beats_control: runs whose adapted gait beats the damaged control tripod.
+    """
     import os
     from pathlib import Path
 
@@ -183,50 +242,69 @@ def bench_adapt() -> None:
         t0 = time.perf_counter()
         opt.observe(opt.next_index(), 0.2)
         steps.append(time.perf_counter() - t0)
-    print(f"BENCH adapt_mboa_step_ms {np.median(steps) * 1e3:.2f} ms")
+    print(f'BENCH adapt_mboa_step_ms {np.median(steps) * 1e3:.2f} ms')
 
-    maps = Path(__file__).resolve().parent.parent / "hexapod_adapt" / "maps"
-    path = Path(os.environ.get("BENCH_ADAPT_MAP", maps / "default_map.npz"))
+    maps = Path(__file__).resolve().parent.parent / 'hexapod_adapt' / 'maps'
+    path = Path(os.environ.get('BENCH_ADAPT_MAP', maps / 'default_map.npz'))
     if not path.is_file():
-        print(f"# {path.name} is not made yet: the experiment runs on the demo map", file=sys.stderr)
-        path = maps / "demo_map.npz"
+        print(
+            f'# {path.name} is not made yet: the experiment runs on the demo map', file=sys.stderr
+        )
+        path = maps / 'demo_map.npz'
     archive = load_archive(path)
-    print(f"BENCH adapt_map_gaits {archive.n_filled} gaits")
-    map_engine = archive_engine(archive.metadata) or "pybullet"
+    print(f'BENCH adapt_map_gaits {archive.n_filled} gaits')
+    map_engine = archive_engine(archive.metadata) or 'pybullet'
     other = next(e for e in ENGINES if e != map_engine)
-    for engine, suffix in ((map_engine, ""), (other, "_cross")):
+    for engine, suffix in ((map_engine, ''), (other, '_cross')):
         rows = run_experiment(archive, trial_engine=engine)
         best = np.array([r.best_speed for r in rows])
         control = np.array([r.control_speed for r in rows])
-        print(f"BENCH adapt_speed_mean{suffix} {best.mean():.3f} m/s")
-        for name in ("S1", "S2", "S3", "S4"):
+        print(f'BENCH adapt_speed_mean{suffix} {best.mean():.3f} m/s')
+        for name in ('S1', 'S2', 'S3', 'S4'):
             sel = [r for r in rows if r.scenario == name]
-            print(f"BENCH adapt_speed_median_{name}{suffix} {np.median([r.best_speed for r in sel]):.3f} m/s")
-            print(f"BENCH adapt_trials_median_{name}{suffix} {np.median([r.trials for r in sel]):.1f} trials")
-        print(f"BENCH control_speed_mean{suffix} {control.mean():.3f} m/s")
-        print(f"BENCH control_speed_intact{suffix} {rows[0].intact_control_speed:.3f} m/s")
-        print(f"BENCH adapt_beats_control{suffix} {int(np.sum(best > control))} of {len(rows)} runs")
-        print(f"BENCH adapt_within_24_trials{suffix} {sum(r.trials <= 24 for r in rows)} of {len(rows)} runs")
+            print(
+                f'BENCH adapt_speed_median_{name}{suffix}'
+                f' {np.median([r.best_speed for r in sel]):.3f} m/s'
+            )
+            print(
+                f'BENCH adapt_trials_median_{name}{suffix}'
+                f' {np.median([r.trials for r in sel]):.1f} trials'
+            )
+        print(f'BENCH control_speed_mean{suffix} {control.mean():.3f} m/s')
+        print(f'BENCH control_speed_intact{suffix} {rows[0].intact_control_speed:.3f} m/s')
+        print(
+            f'BENCH adapt_beats_control{suffix} {int(np.sum(best > control))} of {len(rows)} runs'
+        )
+        print(
+            f'BENCH adapt_within_24_trials{suffix} {sum(r.trials <= 24 for r in rows)} of'
+            f' {len(rows)} runs'
+        )
 
 
 def _not_yet(area: str):
     def run() -> None:
-        print(f"# no {area} benchmarks yet", file=sys.stderr)
+        print(f'# no {area} benchmarks yet', file=sys.stderr)
+
     return run
 
 
-AREAS = {"gait": bench_gait, "sim": bench_sim, "map": bench_map,
-         "adapt": bench_adapt, "bridge": bench_bridge}
+AREAS = {
+    'gait': bench_gait,
+    'sim': bench_sim,
+    'map': bench_map,
+    'adapt': bench_adapt,
+    'bridge': bench_bridge,
+}
 
 
 def main(argv: list[str]) -> int:
-    if len(argv) != 1 or argv[0] not in list(AREAS) + ["all"]:
-        print(f"usage: bench.py {{all|{'|'.join(AREAS)}}}", file=sys.stderr)
+    if len(argv) != 1 or argv[0] not in list(AREAS) + ['all']:
+        print(f'usage: bench.py {{all|{"|".join(AREAS)}}}', file=sys.stderr)
         return 2
-    for name in AREAS if argv[0] == "all" else [argv[0]]:
+    for name in AREAS if argv[0] == 'all' else [argv[0]]:
         AREAS[name]()
     return 0
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main(sys.argv[1:]))

@@ -29,6 +29,8 @@ pyinc="$("$PYTHON" -c 'import sysconfig; print(sysconfig.get_paths()["include"])
 [ -f "$pyinc/Python.h" ] || missing+=(python3-dev)
 # headless OpenGL for MuJoCo's renderer (render_walk --engine mujoco)
 ldconfig -p 2>/dev/null | grep -q libOSMesa || missing+=(libosmesa6)
+# xmllint for the packages' ament_xmllint tests
+command -v xmllint >/dev/null 2>&1 || missing+=(libxml2-utils)
 if [ ${#missing[@]} -gt 0 ]; then
   log "installing Debian packages: ${missing[*]}"
   SUDO=""
@@ -49,7 +51,7 @@ if [ "$(cat "$stamp" 2>/dev/null || true)" != "$want" ]; then
   "$VENV/bin/python" -m pip install -q --disable-pip-version-check -r requirements.txt 2>&1 \
     | grep -v -E "is ignored: it is neither a file nor a directory" || true
   # pip's exit status is hidden by the filter above: verify the key imports instead.
-  "$VENV/bin/python" -c 'import rclpy, pybullet, mujoco, numpy, colcon_core, serial, mcap, tqdm' \
+  "$VENV/bin/python" -c 'import rclpy, pybullet, mujoco, numpy, colcon_core, serial, mcap, tqdm, ament_flake8, ament_pep257, ament_xmllint, flake8_import_order, ruff' \
     || { log "dependency installation failed"; exit 1; }
   echo "$want" > "$stamp"
 fi

@@ -1,5 +1,26 @@
 #!/usr/bin/env python3
-"""`make demo`: Intelligent Trial & Error end to end on the simulated hexapod, in about a minute.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+`make demo`: Intelligent Trial & Error end to end on the simulated hexapod, in about a minute.
 
 1. The robot model and the behaviour-performance map shipped for demos
    (hexapod_adapt/maps/demo_map.npz, written by generate_map; see docs/adaptation.md).
@@ -10,27 +31,28 @@
    an operator would from the base station. Each 5 s trial is printed as it completes.
 4. The run's MCAP recording, read back.
 """
+
 from __future__ import annotations
 
 import os
+from pathlib import Path
 import signal
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 T0 = time.perf_counter()
 WS = Path(__file__).resolve().parent.parent
-MAP = WS / "hexapod_adapt" / "maps" / "demo_map.npz"
-FAILED_LEGS = [1, 4]     # scenario S2: two opposite legs, where the tripod gait stops walking
+MAP = WS / 'hexapod_adapt' / 'maps' / 'demo_map.npz'
+FAILED_LEGS = [1, 4]  # scenario S2: two opposite legs, where the tripod gait stops walking
 
 
 def section(title: str) -> None:
-    print(f"\n== {title} ==", flush=True)
+    print(f'\n== {title} ==', flush=True)
 
 
 def exe(pkg: str, name: str) -> str:
-    return str(WS / "install" / pkg / "lib" / pkg / name)
+    return str(WS / 'install' / pkg / 'lib' / pkg / name)
 
 
 def main() -> int:
@@ -40,55 +62,111 @@ def main() -> int:
     from hexapod_gait import preset
     from hexapod_sim import create_simulator, evaluate_gait
 
-    out = WS / "out" / "demo"
+    out = WS / 'out' / 'demo'
     out.mkdir(parents=True, exist_ok=True)
-    section("robot model (hexapod_description)")
+    section('robot model (hexapod_description)')
     print(summary(load_model()))
 
-    section("behaviour-performance map (hexapod_adapt)")
+    section('behaviour-performance map (hexapod_adapt)')
     archive = load_archive(MAP)
     s = archive.stats()
     speeds = archive.speeds()[archive.filled]
-    print(f"{MAP.relative_to(WS)}: {s.filled} gaits in {archive.n_niches} niches after "
-          f"{archive.metadata['evaluations']} simulated evaluations (seed {archive.metadata['seed']}); "
-          f"speeds {speeds.min():.3f} .. {speeds.max():.3f} m/s, median {float(sorted(speeds)[len(speeds) // 2]):.3f}")
+    print(
+        f'{MAP.relative_to(WS)}: {s.filled} gaits in {archive.n_niches} niches after'
+        f' {archive.metadata["evaluations"]} simulated evaluations (seed'
+        f' {archive.metadata["seed"]}); speeds {speeds.min():.3f} .. {speeds.max():.3f} m/s,'
+        f' median {float(sorted(speeds)[len(speeds) // 2]):.3f}'
+    )
 
-    legs = " and ".join(map(str, FAILED_LEGS))
-    section(f"damage: legs {legs} fail")
+    legs = ' and '.join(map(str, FAILED_LEGS))
+    section(f'damage: legs {legs} fail')
     with create_simulator() as sim:
-        intact = evaluate_gait(preset("control"), sim, collisions_fatal=False).speed
-        damaged = evaluate_gait(preset("control"), sim, collisions_fatal=False, failed_legs=FAILED_LEGS).speed
-    print(f"control tripod gait (the robot's original gait): {intact:.3f} m/s intact, "
-          f"{damaged:.3f} m/s with legs {legs} failed")
+        intact = evaluate_gait(preset('control'), sim, collisions_fatal=False).speed
+        damaged = evaluate_gait(
+            preset('control'), sim, collisions_fatal=False, failed_legs=FAILED_LEGS
+        ).speed
+    print(
+        f"control tripod gait (the robot's original gait): {intact:.3f} m/s intact, "
+        f'{damaged:.3f} m/s with legs {legs} failed'
+    )
 
-    section("adaptation through the ROS graph: gait_node + sim_node + adapt_node, adapt_client")
-    env = dict(os.environ, ROS_DOMAIN_ID=str(60 + os.getpid() % 30), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
-               PYTHONUNBUFFERED="1")
-    logs = {name: open(out / f"{name}.log", "w") for name in ("gait_node", "sim_node", "adapt_node")}
+    section('adaptation through the ROS graph: gait_node + sim_node + adapt_node, adapt_client')
+    env = dict(
+        os.environ,
+        ROS_DOMAIN_ID=str(60 + os.getpid() % 30),
+        ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST',
+        PYTHONUNBUFFERED='1',
+    )
+    logs = {
+        name: open(out / f'{name}.log', 'w') for name in ('gait_node', 'sim_node', 'adapt_node')
+    }
     nodes = [
         # one time base: gait_node and adapt_node run on sim_node's /clock
-        subprocess.Popen([exe("hexapod_gait", "gait_node"), "--ros-args", "-p", "initial_preset:=''",
-                          "-p", "use_sim_time:=true"],
-                         env=env, stdout=logs["gait_node"], stderr=subprocess.STDOUT),
-        subprocess.Popen([exe("hexapod_sim", "sim_node"), "--ros-args", "-p", "real_time_factor:=0.0",
-                          "-p", "publish_period_steps:=24", "-p", f"failed_legs:=[{','.join(map(str, FAILED_LEGS))}]"],
-                         env=env, stdout=logs["sim_node"], stderr=subprocess.STDOUT),
-        subprocess.Popen([exe("hexapod_adapt", "adapt_node"), "--ros-args", "-p", f"archive:={MAP}",
-                          "-p", f"record_dir:={out / 'runs'}", "-p", "use_sim_time:=true"],
-                         env=env, stdout=logs["adapt_node"], stderr=subprocess.STDOUT),
+        subprocess.Popen(
+            [
+                exe('hexapod_gait', 'gait_node'),
+                '--ros-args',
+                '-p',
+                "initial_preset:=''",
+                '-p',
+                'use_sim_time:=true',
+            ],
+            env=env,
+            stdout=logs['gait_node'],
+            stderr=subprocess.STDOUT,
+        ),
+        subprocess.Popen(
+            [
+                exe('hexapod_sim', 'sim_node'),
+                '--ros-args',
+                '-p',
+                'real_time_factor:=0.0',
+                '-p',
+                'publish_period_steps:=24',
+                '-p',
+                f'failed_legs:=[{",".join(map(str, FAILED_LEGS))}]',
+            ],
+            env=env,
+            stdout=logs['sim_node'],
+            stderr=subprocess.STDOUT,
+        ),
+        subprocess.Popen(
+            [
+                exe('hexapod_adapt', 'adapt_node'),
+                '--ros-args',
+                '-p',
+                f'archive:={MAP}',
+                '-p',
+                f'record_dir:={out / "runs"}',
+                '-p',
+                'use_sim_time:=true',
+            ],
+            env=env,
+            stdout=logs['adapt_node'],
+            stderr=subprocess.STDOUT,
+        ),
     ]
     mcap = None
     try:
         t0 = time.perf_counter()
-        client = subprocess.run([exe("hexapod_adapt", "adapt_client"), "--max-trials", "20"], env=env,
-                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=600)
-        print(client.stdout, end="")
-        print(f"({time.perf_counter() - t0:.1f} s of wall time; 5 s of simulated time per trial)")
+        client = subprocess.run(
+            [exe('hexapod_adapt', 'adapt_client'), '--max-trials', '20'],
+            env=env,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+            timeout=600,
+        )
+        print(client.stdout, end='')
+        print(f'({time.perf_counter() - t0:.1f} s of wall time; 5 s of simulated time per trial)')
         for line in client.stdout.splitlines():
-            if line.startswith("recording: "):
-                mcap = line.split(": ", 1)[1]
+            if line.startswith('recording: '):
+                mcap = line.split(': ', 1)[1]
         if client.returncode not in (0, 3):
-            print(f"adapt_client failed (exit {client.returncode}); node logs in {out.relative_to(WS)}/")
+            print(
+                f'adapt_client failed (exit {client.returncode}); node logs in'
+                f' {out.relative_to(WS)}/'
+            )
             return 1
     finally:
         for p in nodes:
@@ -108,17 +186,23 @@ def main() -> int:
         best = None
         for topic, msg, _ in read_messages(mcap):
             counts[topic] = counts.get(topic, 0) + 1
-            if topic == "adapt/trials":
+            if topic == 'adapt/trials':
                 best = msg
-        print(f"{Path(mcap).relative_to(WS) if Path(mcap).is_relative_to(WS) else mcap}: " +
-              ", ".join(f"{n} x {t}" for t, n in sorted(counts.items())))
+        print(
+            f'{Path(mcap).relative_to(WS) if Path(mcap).is_relative_to(WS) else mcap}: '
+            + ', '.join(f'{n} x {t}' for t, n in sorted(counts.items()))
+        )
         if best is not None:
-            print(f"adapted gait {best.best_archive_index}: {best.best_speed:.3f} m/s with legs {legs} failed, "
-                  f"vs {damaged:.3f} m/s for the control tripod gait")
-    print(f"\ndemo finished in {time.perf_counter() - T0:.0f} s. Next: docs/adaptation.md "
-          "(generate your own map, adapt on the real robot).")
+            print(
+                f'adapted gait {best.best_archive_index}: {best.best_speed:.3f} m/s with legs'
+                f' {legs} failed, vs {damaged:.3f} m/s for the control tripod gait'
+            )
+    print(
+        f'\ndemo finished in {time.perf_counter() - T0:.0f} s. Next: docs/adaptation.md '
+        '(generate your own map, adapt on the real robot).'
+    )
     return 0
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

@@ -1,110 +1,195 @@
 #!/usr/bin/env python3
-"""Start a node graph from the install space - the equivalent of the launch files for this
-environment, which has no `ros2 launch`. Each node's output is prefixed with its name; Ctrl-C
-stops them all.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+r"""
+Start a node graph from the install space.
+
+The equivalent of the launch files for this environment, which has no `ros2 launch`. Each node's
+output is prefixed with its name; Ctrl-C stops them all.
 
     python scripts/launch.py sim [--rtf 0] [--failed-legs 1 4] [--preset wave]
     python scripts/launch.py adapt-sim --archive MAP [--failed-legs 1]   # + adapt_node, fast mode
-    python scripts/launch.py emulated-robot [--archive MAP]   # robot_emulator (PyBullet) + bridge_node
-    python scripts/launch.py robot --port /dev/ttyUSB0 [--imu-port /dev/ttyUSB1] [--archive MAP [--manual]]
+    # robot_emulator (PyBullet) + bridge_node:
+    python scripts/launch.py emulated-robot [--archive MAP]
+    python scripts/launch.py robot --port /dev/ttyUSB0 [--imu-port /dev/ttyUSB1] \\
+        [--archive MAP [--manual]]
 With --archive the robot profiles also start adapt_node (mode robot, or manual with --manual).
 """
+
 from __future__ import annotations
 
 import argparse
 import os
+from pathlib import Path
 import signal
 import subprocess
 import sys
 import threading
 import time
-from pathlib import Path
 
 WS = Path(__file__).resolve().parent.parent
 
 
 def exe(pkg: str, name: str) -> str:
-    path = WS / "install" / pkg / "lib" / pkg / name
+    path = WS / 'install' / pkg / 'lib' / pkg / name
     if not path.exists():
-        sys.exit(f"launch: {path} not found; run `make build` first")
+        sys.exit(f'launch: {path} not found; run `make build` first')
     return str(path)
 
 
 def ros_args(params: dict) -> list[str]:
-    out = ["--ros-args"]
+    out = ['--ros-args']
     for key, value in params.items():
-        text = str(value).lower() if isinstance(value, bool) else ("''" if value == "" else str(value))
-        out += ["-p", f"{key}:={text}"]
+        text = (
+            str(value).lower()
+            if isinstance(value, bool)
+            else ("''" if value == '' else str(value))
+        )
+        out += ['-p', f'{key}:={text}']
     return out
 
 
 def pump(name: str, stream) -> None:
-    for line in iter(stream.readline, ""):
-        sys.stdout.write(f"[{name}] {line}")
+    for line in iter(stream.readline, ''):
+        sys.stdout.write(f'[{name}] {line}')
         sys.stdout.flush()
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description="Start the hexapod node graph (no `ros2 launch` needed).")
-    parser.add_argument("profile", choices=["sim", "adapt-sim", "emulated-robot", "robot"])
-    parser.add_argument("--archive", default="", help="archive for adapt_node (adapt-sim, robot profiles)")
-    parser.add_argument("--manual", action="store_true", help="adapt_node takes tape-measured distances")
-    parser.add_argument("--rtf", type=float, default=1.0, help="sim real_time_factor (0 = as fast as possible)")
-    parser.add_argument("--preset", default="tripod", help="gait_node initial preset")
-    parser.add_argument("--failed-legs", type=int, nargs="*", default=[])
-    parser.add_argument("--port", default="/tmp/hexapod_radio")
-    parser.add_argument("--imu-port", default="")
+    parser = argparse.ArgumentParser(
+        description='Start the hexapod node graph (no `ros2 launch` needed).'
+    )
+    parser.add_argument('profile', choices=['sim', 'adapt-sim', 'emulated-robot', 'robot'])
+    parser.add_argument(
+        '--archive', default='', help='archive for adapt_node (adapt-sim, robot profiles)'
+    )
+    parser.add_argument(
+        '--manual', action='store_true', help='adapt_node takes tape-measured distances'
+    )
+    parser.add_argument(
+        '--rtf', type=float, default=1.0, help='sim real_time_factor (0 = as fast as possible)'
+    )
+    parser.add_argument('--preset', default='tripod', help='gait_node initial preset')
+    parser.add_argument('--failed-legs', type=int, nargs='*', default=[])
+    parser.add_argument('--port', default='/tmp/hexapod_radio')
+    parser.add_argument('--imu-port', default='')
     args = parser.parse_args(argv)
 
     commands: list[tuple[str, list[str]]] = []
-    if args.profile == "adapt-sim":
+    if args.profile == 'adapt-sim':
         if not args.archive:
-            parser.error("adapt-sim needs --archive (a map written by generate_map)")
-        args.rtf, args.preset = 0.0, ""
-    if args.profile in ("sim", "adapt-sim"):
-        sim_params = {"real_time_factor": args.rtf}
+            parser.error('adapt-sim needs --archive (a map written by generate_map)')
+        args.rtf, args.preset = 0.0, ''
+    if args.profile in ('sim', 'adapt-sim'):
+        sim_params = {'real_time_factor': args.rtf}
         if args.rtf == 0:
-            sim_params["publish_period_steps"] = 24    # 10 Hz of sim time: consumers keep up at ~18x
+            sim_params['publish_period_steps'] = 24  # 10 Hz of sim time: consumers keep up at ~18x
         if args.failed_legs:
-            sim_params["failed_legs"] = "[" + ",".join(map(str, args.failed_legs)) + "]"
+            sim_params['failed_legs'] = '[' + ','.join(map(str, args.failed_legs)) + ']'
         # one time base: every node but the clock source (sim_node) runs on sim time
-        commands = [("gait_node", [exe("hexapod_gait", "gait_node")] +
-                     ros_args({"initial_preset": args.preset, "use_sim_time": True})),
-                    # robot_state_publisher's job: leg links on /tf, latched robot_description
-                    ("state_publisher", [exe("hexapod_gait", "state_publisher")] + ros_args({"use_sim_time": True})),
-                    ("sim_node", [exe("hexapod_sim", "sim_node")] + ros_args(sim_params))]
-    elif args.profile == "emulated-robot":
-        commands = [("robot_emulator", [exe("hexapod_bridge", "robot_emulator"), "--sim", "--imu-noise",
-                                        "--radio-link", "/tmp/hexapod_radio", "--imu-link", "/tmp/hexapod_imu"]),
-                    ("bridge_node", [exe("hexapod_bridge", "bridge_node")] +
-                     ros_args({"port": "/tmp/hexapod_radio", "imu_port": "/tmp/hexapod_imu"}))]
+        commands = [
+            (
+                'gait_node',
+                [exe('hexapod_gait', 'gait_node')]
+                + ros_args({'initial_preset': args.preset, 'use_sim_time': True}),
+            ),
+            # robot_state_publisher's job: leg links on /tf, latched robot_description
+            (
+                'state_publisher',
+                [exe('hexapod_gait', 'state_publisher')] + ros_args({'use_sim_time': True}),
+            ),
+            ('sim_node', [exe('hexapod_sim', 'sim_node')] + ros_args(sim_params)),
+        ]
+    elif args.profile == 'emulated-robot':
+        commands = [
+            (
+                'robot_emulator',
+                [
+                    exe('hexapod_bridge', 'robot_emulator'),
+                    '--sim',
+                    '--imu-noise',
+                    '--radio-link',
+                    '/tmp/hexapod_radio',
+                    '--imu-link',
+                    '/tmp/hexapod_imu',
+                ],
+            ),
+            (
+                'bridge_node',
+                [exe('hexapod_bridge', 'bridge_node')]
+                + ros_args({'port': '/tmp/hexapod_radio', 'imu_port': '/tmp/hexapod_imu'}),
+            ),
+        ]
     else:
-        commands = [("bridge_node", [exe("hexapod_bridge", "bridge_node")] +
-                     ros_args({"port": args.port, "imu_port": args.imu_port}))]
+        commands = [
+            (
+                'bridge_node',
+                [exe('hexapod_bridge', 'bridge_node')]
+                + ros_args({'port': args.port, 'imu_port': args.imu_port}),
+            )
+        ]
     if args.archive:
-        mode = "sim" if args.profile in ("sim", "adapt-sim") else ("manual" if args.manual else "robot")
-        commands.append(("adapt_node", [exe("hexapod_adapt", "adapt_node")] +
-                         ros_args({"archive": str(Path(args.archive).resolve()), "mode": mode,
-                                   "use_sim_time": mode == "sim"})))
+        mode = (
+            'sim'
+            if args.profile in ('sim', 'adapt-sim')
+            else ('manual' if args.manual else 'robot')
+        )
+        commands.append(
+            (
+                'adapt_node',
+                [exe('hexapod_adapt', 'adapt_node')]
+                + ros_args(
+                    {
+                        'archive': str(Path(args.archive).resolve()),
+                        'mode': mode,
+                        'use_sim_time': mode == 'sim',
+                    }
+                ),
+            )
+        )
 
-    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    env = dict(os.environ, PYTHONUNBUFFERED='1')
     # Ctrl-C and SIGTERM stop the graph even when this process was started with SIGINT ignored
     # (a background job of a non-interactive shell inherits SIG_IGN, and Python keeps it).
     stop = threading.Event()
     for signum in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signum, lambda *_: stop.set())
 
-    def default_signals() -> None:           # the nodes get Ctrl-C back whatever we inherited
+    def default_signals() -> None:  # the nodes get Ctrl-C back whatever we inherited
         signal.signal(signal.SIGINT, signal.SIG_DFL)
         signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
     procs = []
     for name, cmd in commands:
-        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
-                                preexec_fn=default_signals)
+        proc = subprocess.Popen(
+            cmd,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+            env=env,
+            preexec_fn=default_signals,
+        )
         threading.Thread(target=pump, args=(name, proc.stdout), daemon=True).start()
         procs.append(proc)
-        time.sleep(1.0 if name == "robot_emulator" else 0.0)   # let the emulator create its ports
+        time.sleep(1.0 if name == 'robot_emulator' else 0.0)  # let the emulator create its ports
     try:
         while not stop.is_set() and all(p.poll() is None for p in procs):
             stop.wait(0.2)
@@ -121,5 +206,5 @@ def main(argv: list[str] | None = None) -> int:
     return max((p.returncode or 0) for p in procs)
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

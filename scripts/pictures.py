@@ -1,14 +1,38 @@
 #!/usr/bin/env python3
-"""`make pictures`: footfall diagrams of the preset gaits (controller), a measured footfall of
-a simulated tripod walk, and animated GIFs of simulated walks (PyBullet's headless renderer).
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+`make pictures`: footfall diagrams and animated GIFs of walks.
+
+Footfall diagrams of the preset gaits (controller), a measured footfall of a simulated tripod
+walk, and animated GIFs of simulated walks (PyBullet's headless renderer).
 
     python scripts/pictures.py --out docs/img [--no-gif]
 """
+
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
+import sys
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -16,19 +40,23 @@ def main(argv: list[str] | None = None) -> int:
     from hexapod_sim.render_cli import render_walk
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=Path("docs/img"))
-    parser.add_argument("--no-gif", action="store_true", help="only the footfall diagrams")
+    parser.add_argument('--out', type=Path, default=Path('docs/img'))
+    parser.add_argument('--no-gif', action='store_true', help='only the footfall diagrams')
     args = parser.parse_args(argv)
-    footfall_main(["--out", str(args.out)])
-    walks = [("tripod", []), ("wave", [1])]
+    footfall_main(['--out', str(args.out)])
+    walks = [('tripod', []), ('wave', [1])]
     for name, failed in walks:
-        gif = args.out / (f"walk_{name}" + (f"_leg{'_'.join(map(str, failed))}_failed" if failed else "") + ".gif")
+        gif = args.out / (
+            f'walk_{name}'
+            + (f'_leg{"_".join(map(str, failed))}_failed' if failed else '')
+            + '.gif'
+        )
         if args.no_gif:
-            gif = Path("/tmp") / gif.name
+            gif = Path('/tmp') / gif.name
         for path in render_walk(name, 3.0, gif, failed, fps=15):
             print(path)
     return 0
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

@@ -1,20 +1,46 @@
-"""Shared fixtures for the cross-package integration tests: ROS 2 nodes started as separate
-processes from the install space, and an in-process rclpy harness on a private context and a
-unique DDS domain, talking over loopback."""
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Shared fixtures for the cross-package integration tests.
+
+ROS 2 nodes started as separate processes from the install space, and an in-process rclpy harness
+on a private context and a unique DDS domain, talking over loopback.
+"""
+
 from __future__ import annotations
 
 import itertools
 import os
+from pathlib import Path
 import signal
 import subprocess
 import threading
 import time
-from pathlib import Path
 from typing import Any, Callable
 
 import pytest
 
 WS = Path(__file__).resolve().parent.parent
+
+
 def status_log_qos():
     """The status-as-a-log reader profile (hexapod_gait.ros_glue.STATUS_LOG)."""
     from hexapod_gait.ros_glue import STATUS_LOG
@@ -26,36 +52,49 @@ _domain_ids = itertools.count((os.getpid() % 40) + 1)
 
 
 def executable(pkg: str, exe: str) -> Path:
-    return WS / "install" / pkg / "lib" / pkg / exe
+    return WS / 'install' / pkg / 'lib' / pkg / exe
 
 
 def _param_text(value: Any) -> str:
     if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, str) and value == "":
-        return "''"                      # YAML empty string
+        return 'true' if value else 'false'
+    if isinstance(value, str) and value == '':
+        return "''"  # YAML empty string
     if isinstance(value, (list, tuple)):
-        return "[" + ",".join(_param_text(v) for v in value) + "]"
+        return '[' + ','.join(_param_text(v) for v in value) + ']'
     return str(value)
 
 
 class NodeProcess:
     """A node started from install/<pkg>/lib/<pkg>/<exe> (what `ros2 run` executes)."""
 
-    def __init__(self, pkg: str, exe: str, domain_id: int, log_dir: Path,
-                 params: dict[str, Any] | None = None, args: list[str] | None = None,
-                 env: dict[str, str] | None = None):
-        self.log_path = log_dir / f"{exe}.log"
+    def __init__(
+        self,
+        pkg: str,
+        exe: str,
+        domain_id: int,
+        log_dir: Path,
+        params: dict[str, Any] | None = None,
+        args: list[str] | None = None,
+        env: dict[str, str] | None = None,
+    ):
+        self.log_path = log_dir / f'{exe}.log'
         cmd = [str(executable(pkg, exe))] + list(args or [])
         if params:
-            cmd.append("--ros-args")
+            cmd.append('--ros-args')
             for key, value in params.items():
-                cmd += ["-p", f"{key}:={_param_text(value)}"]
-        full_env = dict(os.environ, ROS_DOMAIN_ID=str(domain_id), PYTHONUNBUFFERED="1",
-                        RCUTILS_LOGGING_BUFFERED_STREAM="0", **(env or {}))
-        self._log = open(self.log_path, "w")
-        self.proc = subprocess.Popen(cmd, stdout=self._log, stderr=subprocess.STDOUT, env=full_env,
-                                     start_new_session=True)
+                cmd += ['-p', f'{key}:={_param_text(value)}']
+        full_env = dict(
+            os.environ,
+            ROS_DOMAIN_ID=str(domain_id),
+            PYTHONUNBUFFERED='1',
+            RCUTILS_LOGGING_BUFFERED_STREAM='0',
+            **(env or {}),
+        )
+        self._log = open(self.log_path, 'w')
+        self.proc = subprocess.Popen(
+            cmd, stdout=self._log, stderr=subprocess.STDOUT, env=full_env, start_new_session=True
+        )
 
     def alive(self) -> bool:
         return self.proc.poll() is None
@@ -88,7 +127,7 @@ class RosHarness:
         self.domain_id = domain_id
         self.context = rclpy.Context()
         rclpy.init(context=self.context, domain_id=domain_id)
-        self.node = rclpy.create_node("test_harness", context=self.context)
+        self.node = rclpy.create_node('test_harness', context=self.context)
         self.executor = MultiThreadedExecutor(num_threads=2, context=self.context)
         self.executor.add_node(self.node)
         self._thread = threading.Thread(target=self.executor.spin, daemon=True)
@@ -103,9 +142,9 @@ class RosHarness:
     def call(self, srv_type, name: str, request, timeout: float = 20.0):
         client = self.node.create_client(srv_type, name)
         if not client.wait_for_service(timeout_sec=timeout):
-            raise TimeoutError(f"service {name} not available")
+            raise TimeoutError(f'service {name} not available')
         future = client.call_async(request)
-        wait_for(future.done, timeout, f"response from {name}")
+        wait_for(future.done, timeout, f'response from {name}')
         return future.result()
 
     def close(self) -> None:
@@ -114,7 +153,9 @@ class RosHarness:
         self.rclpy.try_shutdown(context=self.context)
 
 
-def wait_for(predicate: Callable[[], Any], timeout: float, what: str = "condition", period: float = 0.02):
+def wait_for(
+    predicate: Callable[[], Any], timeout: float, what: str = 'condition', period: float = 0.02
+):
     """Poll predicate until truthy; raise AssertionError naming what did not happen."""
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
@@ -122,14 +163,14 @@ def wait_for(predicate: Callable[[], Any], timeout: float, what: str = "conditio
         if value:
             return value
         time.sleep(period)
-    raise AssertionError(f"timed out after {timeout:g} s waiting for {what}")
+    raise AssertionError(f'timed out after {timeout:g} s waiting for {what}')
 
 
 @pytest.fixture
 def domain_id(monkeypatch) -> int:
     did = next(_domain_ids)
-    monkeypatch.setenv("ROS_DOMAIN_ID", str(did))
-    monkeypatch.setenv("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    monkeypatch.setenv('ROS_DOMAIN_ID', str(did))
+    monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
     return did
 
 
@@ -142,7 +183,7 @@ def ros(domain_id):
 
 @pytest.fixture
 def launch(domain_id, tmp_path):
-    """launch(pkg, exe, params=..., args=...) -> NodeProcess; all stopped at teardown."""
+    """Start nodes with ``launch(pkg, exe, params=..., args=...)``; all stop at teardown."""
     started: list[NodeProcess] = []
 
     def _launch(pkg: str, exe: str, **kwargs) -> NodeProcess:
@@ -155,4 +196,4 @@ def launch(domain_id, tmp_path):
         node.stop()
         # shown by pytest only when the test failed
         tail = node.log_path.read_text().splitlines()[-25:]
-        print(f"----- {node.log_path.name} (last {len(tail)} lines) -----", *tail, sep="\n")
+        print(f'----- {node.log_path.name} (last {len(tail)} lines) -----', *tail, sep='\n')

@@ -1,7 +1,32 @@
 #!/usr/bin/env python3
-"""Echo process for the interface round-trip test: for each message type, republish what
-arrives on rt/<Type> to rt/<Type>/echo; for each service type, serve rt/<Type> answering
-fill(Response, request_seed(request)) so the caller can verify the request arrived intact."""
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Echo process for the interface round-trip test.
+
+For each message type, republish what arrives on rt/<Type> to rt/<Type>/echo; for each service
+type, serve rt/<Type> answering fill(Response, request_seed(request)) so the caller can verify the
+request arrived intact.
+"""
+
 from __future__ import annotations
 
 import os
@@ -9,23 +34,24 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # PYTHONSAFEPATH drops it
 
+from interface_fill import fill, request_seed  # noqa: E402
 import rclpy  # noqa: E402
 from rclpy.executors import ExternalShutdownException  # noqa: E402
-
-from interface_fill import fill, request_seed  # noqa: E402
 from test_interfaces_roundtrip import MESSAGES, QOS, SERVICES  # noqa: E402
 
 
 def main() -> None:
     rclpy.init()
-    node = rclpy.create_node("ros_echo")
+    node = rclpy.create_node('ros_echo')
     for msg_type in MESSAGES:
-        pub = node.create_publisher(msg_type, f"rt/{msg_type.__name__}/echo", QOS)
-        node.create_subscription(msg_type, f"rt/{msg_type.__name__}", pub.publish, QOS)
+        pub = node.create_publisher(msg_type, f'rt/{msg_type.__name__}/echo', QOS)
+        node.create_subscription(msg_type, f'rt/{msg_type.__name__}', pub.publish, QOS)
     for srv_type in SERVICES:
+
         def handle(request, response, srv_type=srv_type):
             return fill(srv_type.Response, request_seed(request))
-        node.create_service(srv_type, f"rt/{srv_type.__name__}", handle)
+
+        node.create_service(srv_type, f'rt/{srv_type.__name__}', handle)
     try:
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
@@ -35,5 +61,5 @@ def main() -> None:
         rclpy.try_shutdown()
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     main()

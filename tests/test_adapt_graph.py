@@ -1,93 +1,158 @@
-"""adapt_node + gait_node + sim_node in separate processes (fast mode): an adaptation run through
-the ROS graph measures the library's damaged-robot speeds, publishes its trials, records an MCAP
-file that reads back, and refuses bad requests and bad archives while keeping the good one."""
-from __future__ import annotations
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+adapt_node + gait_node + sim_node in separate processes (fast mode).
 
-import numpy as np
-import pytest
-from hexapod_msgs.msg import AdaptationTrial
-from hexapod_msgs.srv import Adapt
-from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
-from rcl_interfaces.srv import SetParameters
+An adaptation run through the ROS graph measures the library's damaged-robot speeds, publishes its
+trials, records an MCAP file that reads back, and refuses bad requests and bad archives while
+keeping the good one.
+"""
+
+from __future__ import annotations
 
 from conftest import status_log_qos, wait_for
 from hexapod_adapt.archive import Archive
-from hexapod_adapt.simulation import simulation_fingerprint
 from hexapod_adapt.recording import read_messages
+from hexapod_adapt.simulation import simulation_fingerprint
+from hexapod_msgs.msg import AdaptationTrial
+from hexapod_msgs.srv import Adapt
 from hexapod_sim import create_simulator, evaluate_gait
 from hexapod_sim.sampling import random_feasible_genotypes
+import numpy as np
+import pytest
+from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
+from rcl_interfaces.srv import SetParameters
 
 pytestmark = pytest.mark.ros
 FAILED = [2]
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope='module')
 def small_archive(tmp_path_factory):
     """12 feasible gaits, each its own niche, with their map-generation evaluations."""
     with create_simulator() as sim:
         genes, results = random_feasible_genotypes(12, seed=77, sim=sim)
-        damaged = [evaluate_gait(g, sim, collisions_fatal=False, failed_legs=FAILED).speed for g in genes]
+        damaged = [
+            evaluate_gait(g, sim, collisions_fatal=False, failed_legs=FAILED).speed for g in genes
+        ]
     desc = np.array([r.descriptor for r in results])
-    archive = Archive(desc, np.array([r.fitness for r in results]), desc, genes,
-                      {"seed": 77, "evaluations": 12, **simulation_fingerprint("pybullet")})
-    path = archive.save(tmp_path_factory.mktemp("archive") / "map.npz")
+    archive = Archive(
+        desc,
+        np.array([r.fitness for r in results]),
+        desc,
+        genes,
+        {'seed': 77, 'evaluations': 12, **simulation_fingerprint('pybullet')},
+    )
+    path = archive.save(tmp_path_factory.mktemp('archive') / 'map.npz')
     return path, archive, np.array(damaged)
 
 
 def _set_archive(ros, value: str):
-    req = SetParameters.Request(parameters=[Parameter(
-        name="archive", value=ParameterValue(type=ParameterType.PARAMETER_STRING, string_value=value))])
-    return ros.call(SetParameters, "adapt_node/set_parameters", req).results[0]
+    req = SetParameters.Request(
+        parameters=[
+            Parameter(
+                name='archive',
+                value=ParameterValue(type=ParameterType.PARAMETER_STRING, string_value=value),
+            )
+        ]
+    )
+    return ros.call(SetParameters, 'adapt_node/set_parameters', req).results[0]
 
 
 def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive):
     path, archive, damaged_speeds = small_archive
-    sim = launch("hexapod_sim", "sim_node", params={"real_time_factor": 0.0, "publish_period_steps": 24,
-                                                    "failed_legs": FAILED})
-    gait = launch("hexapod_gait", "gait_node", params={"initial_preset": ""})
-    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "record_dir": str(tmp_path / "runs")})
-    trials = ros.collect(AdaptationTrial, "adapt/trials", 10)
+    sim = launch(
+        'hexapod_sim',
+        'sim_node',
+        params={'real_time_factor': 0.0, 'publish_period_steps': 24, 'failed_legs': FAILED},
+    )
+    gait = launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'record_dir': str(tmp_path / 'runs')},
+    )
+    trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
 
-    refused = ros.call(Adapt, "adapt", Adapt.Request(alpha=1.5), timeout=60)
-    assert not refused.success and "alpha" in refused.message and refused.trials == 0
+    refused = ros.call(Adapt, 'adapt', Adapt.Request(alpha=1.5), timeout=60)
+    assert not refused.success and 'alpha' in refused.message and refused.trials == 0
 
-    response = ros.call(Adapt, "adapt", Adapt.Request(max_trials=4, alpha=1.0), timeout=300)
+    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=4, alpha=1.0), timeout=300)
     assert 1 <= response.trials <= 4, response.message
-    wait_for(lambda: len(trials) == response.trials, 10, "one AdaptationTrial per trial")
+    wait_for(lambda: len(trials) == response.trials, 10, 'one AdaptationTrial per trial')
     niches = archive.elite_indices()
     for t in trials:
         expected = damaged_speeds[list(niches).index(t.archive_index)]
-        assert abs(t.measured_speed - expected) <= 0.02 * abs(expected) + 1e-9, (t.archive_index, t.measured_speed, expected)
+        assert abs(t.measured_speed - expected) <= 0.02 * abs(expected) + 1e-9, (
+            t.archive_index,
+            t.measured_speed,
+            expected,
+        )
         assert t.map_speed == pytest.approx(archive.speeds()[t.archive_index])
     best = max(trials, key=lambda t: t.measured_speed)
-    assert response.best_archive_index == best.archive_index and response.best_speed == best.measured_speed
+    assert (
+        response.best_archive_index == best.archive_index
+        and response.best_speed == best.measured_speed
+    )
     assert [t.trial for t in trials] == list(range(1, response.trials + 1))
 
     recorded = list(read_messages(response.mcap_path))
     topics = [topic for topic, _, _ in recorded]
     # recordings store fully qualified topic names (the node runs in the root namespace here)
-    assert topics.count("/adapt/trials") == response.trials and topics.count("/gait/parameters") >= response.trials
-    assert "/odom" in topics
-    assert [m.measured_speed for topic, m, _ in recorded if topic == "/adapt/trials"] == [t.measured_speed for t in trials]
+    assert (
+        topics.count('/adapt/trials') == response.trials
+        and topics.count('/gait/parameters') >= response.trials
+    )
+    assert '/odom' in topics
+    assert [m.measured_speed for topic, m, _ in recorded if topic == '/adapt/trials'] == [
+        t.measured_speed for t in trials
+    ]
 
     # a truncated archive is refused with the reason; the loaded one stays in use
-    broken = tmp_path / "broken.npz"
+    broken = tmp_path / 'broken.npz'
     broken.write_bytes(path.read_bytes()[:1000])
     result = _set_archive(ros, str(broken))
-    assert not result.successful and "truncated" in result.reason
-    again = ros.call(Adapt, "adapt", Adapt.Request(max_trials=1), timeout=120)
+    assert not result.successful and 'truncated' in result.reason
+    again = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=1), timeout=120)
     assert again.trials == 1
     assert node.alive() and sim.alive() and gait.alive()
 
 
 def test_archive_for_another_simulator_is_refused(ros, launch, tmp_path, small_archive):
     path, archive, _ = small_archive
-    foreign = Archive(archive.centroids, archive.fitness, archive.descriptors, archive.genotypes,
-                      {**archive.metadata, "urdf_sha256": "0" * 64})
-    foreign_path = foreign.save(tmp_path / "foreign.npz")
-    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(foreign_path), "record_dir": ""})
-    answer = ros.call(Adapt, "adapt", Adapt.Request(max_trials=1), timeout=60)
-    assert not answer.success and "urdf_sha256" in answer.message and "does not fit" in answer.message
+    foreign = Archive(
+        archive.centroids,
+        archive.fitness,
+        archive.descriptors,
+        archive.genotypes,
+        {**archive.metadata, 'urdf_sha256': '0' * 64},
+    )
+    foreign_path = foreign.save(tmp_path / 'foreign.npz')
+    node = launch(
+        'hexapod_adapt', 'adapt_node', params={'archive': str(foreign_path), 'record_dir': ''}
+    )
+    answer = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=1), timeout=60)
+    assert (
+        not answer.success and 'urdf_sha256' in answer.message and 'does not fit' in answer.message
+    )
     assert _set_archive(ros, str(path)).successful
     assert node.alive()
 
@@ -97,47 +162,69 @@ def _preset_archive(tmp_path):
     from hexapod_gait.parameters import to_genotype
 
     with create_simulator() as sim:
-        genes = np.array([to_genotype(preset(name)) for name in ("tripod", "wave", "quadruped")])
+        genes = np.array([to_genotype(preset(name)) for name in ('tripod', 'wave', 'quadruped')])
         results = [evaluate_gait(g, sim) for g in genes]
     desc = np.array([r.descriptor for r in results])
-    return Archive(desc, np.array([r.fitness for r in results]), desc, genes,
-                   {"seed": 0, "evaluations": 3, **simulation_fingerprint("pybullet")}).save(tmp_path / "presets.npz")
+    return Archive(
+        desc,
+        np.array([r.fitness for r in results]),
+        desc,
+        genes,
+        {'seed': 0, 'evaluations': 3, **simulation_fingerprint('pybullet')},
+    ).save(tmp_path / 'presets.npz')
 
 
 def _emulated_robot(launch, tmp_path, *extra):
     import os
 
-    radio, imu = str(tmp_path / "radio"), str(tmp_path / "imu")
-    emu = launch("hexapod_bridge", "robot_emulator", args=["--radio-link", radio, "--imu-link", imu, *extra])
-    wait_for(lambda: os.path.exists(radio) and os.path.exists(imu), 60, "emulator ports")
+    radio, imu = str(tmp_path / 'radio'), str(tmp_path / 'imu')
+    emu = launch(
+        'hexapod_bridge', 'robot_emulator', args=['--radio-link', radio, '--imu-link', imu, *extra]
+    )
+    wait_for(lambda: os.path.exists(radio) and os.path.exists(imu), 60, 'emulator ports')
     return emu, radio, imu
 
 
 @pytest.mark.slow
-def test_adaptation_on_the_emulated_robot_uses_the_bridge_odometry(ros, launch, tmp_path, small_archive):
+def test_adaptation_on_the_emulated_robot_uses_the_bridge_odometry(
+    ros, launch, tmp_path, small_archive
+):
     import json
 
+    from hexapod_bridge.bridge_node import SPEED_ACCURACY
     from std_srvs.srv import SetBool
 
-    from hexapod_bridge.bridge_node import SPEED_ACCURACY
-
-    # the preset gaits: the IMU estimate's stated accuracy was measured on such calm gaits (a random
-    # map gait can walk very differently on the emulated firmware; see docs/adaptation.md)
+    # the preset gaits: the IMU estimate's stated accuracy was measured on such calm gaits (a
+    # random map gait can walk very differently on the emulated firmware; see docs/adaptation.md)
     path = _preset_archive(tmp_path)
-    emu, radio, imu = _emulated_robot(launch, tmp_path, "--sim", "--imu-noise", "--seed", "3")
-    bridge = launch("hexapod_bridge", "bridge_node", params={"port": radio, "imu_port": imu})
-    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "mode": "robot", "record_dir": ""})
-    trials = ros.collect(AdaptationTrial, "adapt/trials", 10)
-    assert ros.call(SetBool, "bridge_node/arm", SetBool.Request(data=True)).success
-    response = ros.call(Adapt, "adapt", Adapt.Request(max_trials=2, alpha=1.0), timeout=120)
-    # one trial suffices when the measured speed beats every prediction (the tripod walks ~0.288 m/s, as mapped)
+    emu, radio, imu = _emulated_robot(launch, tmp_path, '--sim', '--imu-noise', '--seed', '3')
+    bridge = launch('hexapod_bridge', 'bridge_node', params={'port': radio, 'imu_port': imu})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'mode': 'robot', 'record_dir': ''},
+    )
+    trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
+    assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
+    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=2, alpha=1.0), timeout=120)
+    # one trial suffices when the measured speed beats every prediction (the tripod walks
+    # ~0.288 m/s, as mapped)
     assert 1 <= response.trials <= 2, response.message
     n = response.trials
-    wait_for(lambda: len(trials) == n and emu.log().count("TRIAL ") >= n, 20, "every trial reported")
-    truths = [json.loads(line.split("TRIAL ", 1)[1]) for line in emu.log().splitlines() if "TRIAL " in line]
+    wait_for(
+        lambda: len(trials) == n and emu.log().count('TRIAL ') >= n, 20, 'every trial reported'
+    )
+    truths = [
+        json.loads(line.split('TRIAL ', 1)[1])
+        for line in emu.log().splitlines()
+        if 'TRIAL ' in line
+    ]
     for t, truth in zip(trials, truths):
-        assert truth["state"] == "done"
-        assert abs(t.measured_speed - truth["speed"]) <= SPEED_ACCURACY, (t.measured_speed, truth["speed"])
+        assert truth['state'] == 'done'
+        assert abs(t.measured_speed - truth['speed']) <= SPEED_ACCURACY, (
+            t.measured_speed,
+            truth['speed'],
+        )
     assert node.alive() and bridge.alive() and emu.alive()
 
 
@@ -147,95 +234,135 @@ def test_manual_mode_takes_the_operators_distance(ros, launch, tmp_path, small_a
 
     path, archive, _ = small_archive
     _emu, radio, _imu = _emulated_robot(launch, tmp_path)
-    launch("hexapod_bridge", "bridge_node", params={"port": radio})
-    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "mode": "manual", "record_dir": ""})
-    trials = ros.collect(AdaptationTrial, "adapt/trials", 10)
-    early = ros.call(ReportDistance, "adapt_node/report_distance", ReportDistance.Request(distance=1.0))
-    assert not early.accepted and "no manual trial" in early.message
-    assert ros.call(SetBool, "bridge_node/arm", SetBool.Request(data=True)).success
-    client = ros.node.create_client(Adapt, "adapt")
+    launch('hexapod_bridge', 'bridge_node', params={'port': radio})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'mode': 'manual', 'record_dir': ''},
+    )
+    trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
+    early = ros.call(
+        ReportDistance, 'adapt_node/report_distance', ReportDistance.Request(distance=1.0)
+    )
+    assert not early.accepted and 'no manual trial' in early.message
+    assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
+    client = ros.node.create_client(Adapt, 'adapt')
     assert client.wait_for_service(timeout_sec=20)
     future = client.call_async(Adapt.Request(max_trials=1))
-    wait_for(lambda: "report the distance" in node.log(), 30, "adapt_node asking for the distance")
-    silly = ros.call(ReportDistance, "adapt_node/report_distance", ReportDistance.Request(distance=float("nan")))
-    assert not silly.accepted and "not a plausible" in silly.message
-    assert ros.call(ReportDistance, "adapt_node/report_distance", ReportDistance.Request(distance=0.62)).accepted
-    wait_for(future.done, 30, "the adaptation to finish")
+    wait_for(lambda: 'report the distance' in node.log(), 30, 'adapt_node asking for the distance')
+    silly = ros.call(
+        ReportDistance, 'adapt_node/report_distance', ReportDistance.Request(distance=float('nan'))
+    )
+    assert not silly.accepted and 'not a plausible' in silly.message
+    assert ros.call(
+        ReportDistance, 'adapt_node/report_distance', ReportDistance.Request(distance=0.62)
+    ).accepted
+    wait_for(future.done, 30, 'the adaptation to finish')
     assert future.result().trials == 1
-    wait_for(lambda: trials, 10, "the trial message")
+    wait_for(lambda: trials, 10, 'the trial message')
     assert trials[0].measured_speed == pytest.approx(0.62 / 5.0)
 
 
-def test_second_request_refused_and_ctrl_c_mid_run_finishes_the_recording(ros, launch, tmp_path, small_archive):
+def test_second_request_refused_and_ctrl_c_mid_run_finishes_the_recording(
+    ros, launch, tmp_path, small_archive
+):
     from mcap.reader import make_reader
     from std_srvs.srv import SetBool
 
     path, _archive, _ = small_archive
     _emu, radio, _imu = _emulated_robot(launch, tmp_path)
-    launch("hexapod_bridge", "bridge_node", params={"port": radio})
-    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "mode": "manual",
-                                                         "record_dir": str(tmp_path / "runs")})
-    assert ros.call(SetBool, "bridge_node/arm", SetBool.Request(data=True)).success
-    client = ros.node.create_client(Adapt, "adapt")
+    launch('hexapod_bridge', 'bridge_node', params={'port': radio})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'mode': 'manual', 'record_dir': str(tmp_path / 'runs')},
+    )
+    assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
+    client = ros.node.create_client(Adapt, 'adapt')
     assert client.wait_for_service(timeout_sec=20)
     client.call_async(Adapt.Request(max_trials=3))
-    wait_for(lambda: "report the distance" in node.log(), 30, "a trial waiting for the operator")
-    busy = ros.call(Adapt, "adapt", Adapt.Request(max_trials=1))
-    assert not busy.success and "already running" in busy.message
+    wait_for(lambda: 'report the distance' in node.log(), 30, 'a trial waiting for the operator')
+    busy = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=1))
+    assert not busy.success and 'already running' in busy.message
     assert node.stop() == 0
-    files = list((tmp_path / "runs").glob("*.mcap"))
+    files = list((tmp_path / 'runs').glob('*.mcap'))
     assert len(files) == 1
-    with open(files[0], "rb") as f:
-        assert make_reader(f).get_summary() is not None      # finished cleanly: index and footer
+    with open(files[0], 'rb') as f:
+        assert make_reader(f).get_summary() is not None  # finished cleanly: index and footer
     # the run so far: one gait sent, no trial completed (sensor topics are recorded beside them)
-    run_topics = [t for t, _, _ in read_messages(files[0]) if t in ("/gait/parameters", "/adapt/trials")]
-    assert run_topics == ["/gait/parameters"]
+    run_topics = [
+        t for t, _, _ in read_messages(files[0]) if t in ('/gait/parameters', '/adapt/trials')
+    ]
+    assert run_topics == ['/gait/parameters']
 
 
 def test_a_gait_the_robot_refuses_stops_the_run_with_the_robots_reason(ros, launch, tmp_path):
-    from std_srvs.srv import SetBool
-
     from hexapod_gait.trajectory import reachable_key_points
+    from std_srvs.srv import SetBool
 
     rng = np.random.default_rng(5)
     genes = next(g for g in rng.random((1000, 32)) if not reachable_key_points(g[None])[0])
-    unreachable = Archive(np.full((1, 6), 0.5), np.array([1.0]), np.full((1, 6), 0.5), genes[None],
-                          {"seed": 0, "evaluations": 1, **simulation_fingerprint("pybullet")}).save(tmp_path / "bad.npz")
+    unreachable = Archive(
+        np.full((1, 6), 0.5),
+        np.array([1.0]),
+        np.full((1, 6), 0.5),
+        genes[None],
+        {'seed': 0, 'evaluations': 1, **simulation_fingerprint('pybullet')},
+    ).save(tmp_path / 'bad.npz')
     _emu, radio, _imu = _emulated_robot(launch, tmp_path)
-    launch("hexapod_bridge", "bridge_node", params={"port": radio})
-    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(unreachable), "mode": "robot",
-                                                         "record_dir": ""})
-    assert ros.call(SetBool, "bridge_node/arm", SetBool.Request(data=True)).success
-    response = ros.call(Adapt, "adapt", Adapt.Request(max_trials=3), timeout=120)
+    launch('hexapod_bridge', 'bridge_node', params={'port': radio})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(unreachable), 'mode': 'robot', 'record_dir': ''},
+    )
+    assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
+    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=3), timeout=120)
     assert not response.success and response.trials == 0
-    assert "trial 1 aborted" in response.message and "UNREACHABLE" in response.message
+    assert 'trial 1 aborted' in response.message and 'UNREACHABLE' in response.message
     assert node.alive()
 
 
 def test_an_unknown_mode_is_reported_not_replaced(ros, launch, small_archive):
     path, _archive, _ = small_archive
-    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "mode": "warp", "record_dir": ""})
-    answer = ros.call(Adapt, "adapt", Adapt.Request(max_trials=1), timeout=60)
-    assert not answer.success and "mode must be one of sim, robot, manual" in answer.message
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'mode': 'warp', 'record_dir': ''},
+    )
+    answer = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=1), timeout=60)
+    assert not answer.success and 'mode must be one of sim, robot, manual' in answer.message
     assert node.alive()
 
 
 def test_a_rogue_status_publisher_cannot_confirm_an_upload(ros, launch, small_archive):
-    """Only bridge_node's ~/upload_gait answer confirms an upload: status texts that look like a
-    confirmation (from any publisher, or radio text the bridge reposts) do not."""
+    """
+    Only bridge_node's ~/upload_gait answer confirms an upload.
+
+    Status texts that look like a confirmation (from any publisher, or radio text the bridge
+    reposts) do not.
+    """
     from diagnostic_msgs.msg import DiagnosticStatus
 
     path, archive, _ = small_archive
-    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "mode": "robot", "record_dir": "",
-                                                         "trial_timeout": 3.0})
-    rogue = ros.node.create_publisher(DiagnosticStatus, "bridge/status", status_log_qos())
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'mode': 'robot', 'record_dir': '', 'trial_timeout': 3.0},
+    )
+    rogue = ros.node.create_publisher(DiagnosticStatus, 'bridge/status', status_log_qos())
     for niche in archive.elite_indices():
-        rogue.publish(DiagnosticStatus(level=DiagnosticStatus.OK, name="bridge_node",
-                                       message=f"gait uploaded (archive index {niche})"))
-    trials = ros.collect(AdaptationTrial, "adapt/trials", 10)
-    response = ros.call(Adapt, "adapt", Adapt.Request(max_trials=2), timeout=60)
+        rogue.publish(
+            DiagnosticStatus(
+                level=DiagnosticStatus.OK,
+                name='bridge_node',
+                message=f'gait uploaded (archive index {niche})',
+            )
+        )
+    trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
+    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=2), timeout=60)
     assert not response.success and response.trials == 0 and not trials
-    assert "upload_gait is not available" in response.message
+    assert 'upload_gait is not available' in response.message
     assert node.alive()
 
 
@@ -245,36 +372,58 @@ def test_two_simulators_with_one_name_are_reported_not_waited_on(ros, launch, sm
     from diagnostic_msgs.msg import DiagnosticStatus
 
     path, _archive, _ = small_archive
-    first = launch("hexapod_sim", "sim_node", params={"real_time_factor": 0.0})
-    second = launch("hexapod_sim", "sim_node", params={"real_time_factor": 0.0})
-    status = ros.collect(DiagnosticStatus, "sim/status", status_log_qos())
-    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "mode": "sim", "record_dir": ""})
-    wait_for(lambda: any("2 nodes named /sim_node" in s.message for s in status), 30, "sim_node reporting its twin")
+    first = launch('hexapod_sim', 'sim_node', params={'real_time_factor': 0.0})
+    second = launch('hexapod_sim', 'sim_node', params={'real_time_factor': 0.0})
+    status = ros.collect(DiagnosticStatus, 'sim/status', status_log_qos())
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'mode': 'sim', 'record_dir': ''},
+    )
+    wait_for(
+        lambda: any('2 nodes named /sim_node' in s.message for s in status),
+        30,
+        'sim_node reporting its twin',
+    )
     t0 = time.monotonic()
-    answer = ros.call(Adapt, "adapt", Adapt.Request(max_trials=2), timeout=60)
-    assert not answer.success and answer.trials == 0 and "2 nodes named /sim_node" in answer.message
-    assert time.monotonic() - t0 < 10.0                     # refused at once, not after a trial timeout
+    answer = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=2), timeout=60)
+    assert (
+        not answer.success and answer.trials == 0 and '2 nodes named /sim_node' in answer.message
+    )
+    assert time.monotonic() - t0 < 10.0  # refused at once, not after a trial timeout
     assert node.alive() and first.alive() and second.alive()
 
 
 def test_every_nonsensical_adapt_request_is_refused_with_a_reason(ros, launch, small_archive):
-    """Each field of Adapt over NaN, infinities, negative, tiny and huge values (the others at
-    their defaults, 0): never a trial, a reason naming the field every time, the node alive."""
+    """
+    Each field of Adapt is refused when NaN, infinite, negative, tiny or huge.
+
+    The other fields at their defaults (0): never a trial, a reason naming the field every
+    time, the node alive.
+    """
     path, _archive, _ = small_archive
-    node = launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "mode": "sim", "record_dir": ""})
-    floats = [float("nan"), float("inf"), float("-inf"), -1.0, 1e-300, 1e-9, 1e300]
-    cases = [("max_trials", v, "max_trials") for v in (1001, 2 ** 31, 2 ** 32 - 1)]
-    cases += [("trial_duration", v, "trial_duration") for v in floats]
-    cases += [("alpha", v, "alpha") for v in floats + [1.5]]
-    cases += [("kappa", v, "kappa") for v in (float("nan"), float("inf"), -1.0, 1e300)]
-    cases += [("length_scale", v, "length_scale") for v in floats]
-    cases += [("noise", v, "noise") for v in (float("nan"), float("inf"), -1.0, 1e-300, 1e300)]
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'mode': 'sim', 'record_dir': ''},
+    )
+    floats = [float('nan'), float('inf'), float('-inf'), -1.0, 1e-300, 1e-9, 1e300]
+    cases = [('max_trials', v, 'max_trials') for v in (1001, 2**31, 2**32 - 1)]
+    cases += [('trial_duration', v, 'trial_duration') for v in floats]
+    cases += [('alpha', v, 'alpha') for v in floats + [1.5]]
+    cases += [('kappa', v, 'kappa') for v in (float('nan'), float('inf'), -1.0, 1e300)]
+    cases += [('length_scale', v, 'length_scale') for v in floats]
+    cases += [('noise', v, 'noise') for v in (float('nan'), float('inf'), -1.0, 1e-300, 1e300)]
     for field, value, named in cases:
         request = Adapt.Request()
         setattr(request, field, value)
-        answer = ros.call(Adapt, "adapt", request, timeout=30)
+        answer = ros.call(Adapt, 'adapt', request, timeout=30)
         assert not answer.success and answer.trials == 0, (field, value, answer.message)
-        assert answer.message.startswith("bad request") and named in answer.message, (field, value, answer.message)
+        assert answer.message.startswith('bad request') and named in answer.message, (
+            field,
+            value,
+            answer.message,
+        )
     assert node.alive()
 
 
@@ -285,55 +434,81 @@ def test_adapt_client_honours_its_timeout(domain_id):
     from conftest import executable
 
     t0 = time.monotonic()
-    result = subprocess.run([str(executable("hexapod_adapt", "adapt_client")), "--timeout", "3"],
-                            capture_output=True, text=True, timeout=60)
+    result = subprocess.run(
+        [str(executable('hexapod_adapt', 'adapt_client')), '--timeout', '3'],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     elapsed = time.monotonic() - t0
-    assert result.returncode == 1 and "not available within 3 s" in result.stderr
-    assert elapsed < 8.0, elapsed                              # 3 s plus process start-up, not 30 s
-    bad = subprocess.run([str(executable("hexapod_adapt", "adapt_client")), "--max-trials", str(2 ** 32 + 3)],
-                         capture_output=True, text=True, timeout=60)
-    assert bad.returncode == 2 and "--max-trials must be in [0, 1000]" in bad.stderr
+    assert result.returncode == 1 and 'not available within 3 s' in result.stderr
+    assert elapsed < 8.0, elapsed  # 3 s plus process start-up, not 30 s
+    bad = subprocess.run(
+        [str(executable('hexapod_adapt', 'adapt_client')), '--max-trials', str(2**32 + 3)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert bad.returncode == 2 and '--max-trials must be in [0, 1000]' in bad.stderr
 
 
 def test_a_simulated_graph_has_one_time_base(ros, launch, tmp_path, small_archive):
-    """gait_node, the state publisher and adapt_node run on sim_node's /clock: every stamp --
-    odometry, transforms, trials, the gait messages, the recording's log times -- is sim time,
-    none is wall time; and the recording holds what a 3D replay needs."""
+    """
+    gait_node, the state publisher and adapt_node run on sim_node's /clock.
+
+    Every stamp -- odometry, transforms, trials, the gait messages, the recording's log times -- is
+    sim time, none is wall time; and the recording holds what a 3D replay needs.
+    """
     import time
 
     from rosgraph_msgs.msg import Clock
 
     path, _archive, _ = small_archive
-    launch("hexapod_sim", "sim_node", params={"real_time_factor": 0.0, "publish_period_steps": 24,
-                                              "failed_legs": FAILED})
-    launch("hexapod_gait", "gait_node", params={"initial_preset": "", "use_sim_time": True})
-    launch("hexapod_gait", "state_publisher", params={"use_sim_time": True})
-    launch("hexapod_adapt", "adapt_node", params={"archive": str(path), "record_dir": str(tmp_path / "runs"),
-                                                  "use_sim_time": True})
-    clock = ros.collect(Clock, "/clock", 10)
-    trials = ros.collect(AdaptationTrial, "adapt/trials", 10)
-    response = ros.call(Adapt, "adapt", Adapt.Request(max_trials=2, alpha=1.0), timeout=300)
+    launch(
+        'hexapod_sim',
+        'sim_node',
+        params={'real_time_factor': 0.0, 'publish_period_steps': 24, 'failed_legs': FAILED},
+    )
+    launch('hexapod_gait', 'gait_node', params={'initial_preset': '', 'use_sim_time': True})
+    launch('hexapod_gait', 'state_publisher', params={'use_sim_time': True})
+    launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'record_dir': str(tmp_path / 'runs'), 'use_sim_time': True},
+    )
+    clock = ros.collect(Clock, '/clock', 10)
+    trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
+    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=2, alpha=1.0), timeout=300)
     assert response.trials >= 1, response.message
-    wait_for(lambda: len(trials) == response.trials and clock, 10, "trials and clock")
+    wait_for(lambda: len(trials) == response.trials and clock, 10, 'trials and clock')
     latest_sim = max(_ns(c.clock) for c in clock)
     wall = time.time_ns()
-    stamps = [("adapt/trials", _ns(t.header.stamp)) for t in trials]
+    stamps = [('adapt/trials', _ns(t.header.stamp)) for t in trials]
     topics = set()
     for topic, msg, log_time in read_messages(response.mcap_path):
         topics.add(topic)
-        stamps.append((f"{topic} log time", log_time))
-        if hasattr(msg, "header"):
-            stamps.append((f"{topic} header", _ns(msg.header.stamp)))
-        for transform in getattr(msg, "transforms", []):
-            stamps.append((f"{topic} transform", _ns(transform.header.stamp)))
+        stamps.append((f'{topic} log time', log_time))
+        if hasattr(msg, 'header'):
+            stamps.append((f'{topic} header', _ns(msg.header.stamp)))
+        for transform in getattr(msg, 'transforms', []):
+            stamps.append((f'{topic} transform', _ns(transform.header.stamp)))
     assert len(stamps) > 10
     # what Foxglove's 3D panel needs to replay the trial: the model, the frames, the joints
-    assert {"/robot_description", "/tf", "/tf_static", "/joint_states", "/imu/data", "/foot_contacts",
-            "/odom", "/adapt/trials", "/gait/parameters"} <= topics, topics
+    assert {
+        '/robot_description',
+        '/tf',
+        '/tf_static',
+        '/joint_states',
+        '/imu/data',
+        '/foot_contacts',
+        '/odom',
+        '/adapt/trials',
+        '/gait/parameters',
+    } <= topics, topics
     for what, ns in stamps:
-        lowest = 0 if what.startswith("/tf_static") else 1          # static frames are timeless in tf2
-        assert lowest <= ns <= latest_sim + 1_000_000_000, (what, ns, latest_sim)     # sim time ...
-        assert ns < wall / 1000, (what, ns)                                      # ... and never wall time
+        lowest = 0 if what.startswith('/tf_static') else 1  # static frames are timeless in tf2
+        assert lowest <= ns <= latest_sim + 1_000_000_000, (what, ns, latest_sim)  # sim time ...
+        assert ns < wall / 1000, (what, ns)  # ... and never wall time
 
 
 def _ns(stamp) -> int:

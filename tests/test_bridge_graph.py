@@ -1,4 +1,25 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
 """bridge_node against robot_emulator over pseudo-terminals, as separate processes."""
+
 from __future__ import annotations
 
 import json
@@ -7,92 +28,111 @@ import os
 import signal
 import time
 
-import numpy as np
-import pytest
-from diagnostic_msgs.msg import DiagnosticStatus
-from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
-from hexapod_msgs.msg import LinkStatus
-from nav_msgs.msg import Odometry
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
-from sensor_msgs.msg import Imu
-from std_srvs.srv import SetBool, Trigger
-
 from conftest import status_log_qos, wait_for
+from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_bridge.bridge_node import SPEED_ACCURACY
 from hexapod_gait import preset
 from hexapod_gait.ros_conversions import gait_to_msg
+from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
+from hexapod_msgs.msg import LinkStatus
+from nav_msgs.msg import Odometry
+import numpy as np
+import pytest
+from rclpy.qos import DurabilityPolicy, qos_profile_sensor_data, QoSProfile, ReliabilityPolicy
+from sensor_msgs.msg import Imu
+from std_srvs.srv import SetBool, Trigger
 
 pytestmark = pytest.mark.ros
-LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
+LATCHED = QoSProfile(
+    depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE
+)
 
 
 def _emulator(launch, tmp_path, *extra):
-    radio, imu = str(tmp_path / "radio"), str(tmp_path / "imu")
-    emu = launch("hexapod_bridge", "robot_emulator", args=["--radio-link", radio, "--imu-link", imu, *extra])
-    wait_for(lambda: os.path.exists(radio) and os.path.exists(imu), 60, "emulator ports")
+    radio, imu = str(tmp_path / 'radio'), str(tmp_path / 'imu')
+    emu = launch(
+        'hexapod_bridge', 'robot_emulator', args=['--radio-link', radio, '--imu-link', imu, *extra]
+    )
+    wait_for(lambda: os.path.exists(radio) and os.path.exists(imu), 60, 'emulator ports')
     return emu, radio, imu
 
 
 def test_upload_and_trial_end_to_end_over_pseudo_terminals(ros, launch, tmp_path):
-    emu, radio, imu = _emulator(launch, tmp_path, "--sim", "--imu-noise", "--seed", "7")
-    bridge = launch("hexapod_bridge", "bridge_node", params={"port": radio, "imu_port": imu})
-    status = ros.collect(DiagnosticStatus, "bridge/status", status_log_qos())
-    odom = ros.collect(Odometry, "odom", QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE))
-    assert ros.call(SetBool, "bridge_node/arm", SetBool.Request(data=True)).success
-    pub = ros.node.create_publisher(GaitParametersMsg, "gait/parameters", LATCHED)
-    gait = preset("quadruped").replace(archive_index=31)
+    emu, radio, imu = _emulator(launch, tmp_path, '--sim', '--imu-noise', '--seed', '7')
+    bridge = launch('hexapod_bridge', 'bridge_node', params={'port': radio, 'imu_port': imu})
+    status = ros.collect(DiagnosticStatus, 'bridge/status', status_log_qos())
+    odom = ros.collect(
+        Odometry, 'odom', QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+    )
+    assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
+    pub = ros.node.create_publisher(GaitParametersMsg, 'gait/parameters', LATCHED)
+    gait = preset('quadruped').replace(archive_index=31)
     pub.publish(gait_to_msg(gait))
-    wait_for(lambda: any("gait uploaded (archive index 31)" in s.message for s in status), 30, "upload")
-    time.sleep(1.0)                                        # the robot stands still before the trial
-    response = ros.call(Trigger, "bridge_node/start_trial", Trigger.Request())
+    wait_for(
+        lambda: any('gait uploaded (archive index 31)' in s.message for s in status), 30, 'upload'
+    )
+    time.sleep(1.0)  # the robot stands still before the trial
+    response = ros.call(Trigger, 'bridge_node/start_trial', Trigger.Request())
     assert response.success, response.message
-    wait_for(lambda: odom, 30, "trial odometry")
+    wait_for(lambda: odom, 30, 'trial odometry')
     o = odom[-1].pose.pose.position
     bridge_speed = (o.x * math.cos(gait.crab_angle) + o.y * math.sin(gait.crab_angle)) / 5.0
-    wait_for(lambda: "TRIAL " in emu.log(), 10, "emulator trial report")
-    truth = json.loads(emu.log().split("TRIAL ", 1)[1].splitlines()[0])
-    print(f"bridge odom {bridge_speed:.4f} m/s vs simulator {truth['speed']:.4f} m/s")
-    assert truth["state"] == "done" and abs(bridge_speed - truth["speed"]) <= SPEED_ACCURACY
+    wait_for(lambda: 'TRIAL ' in emu.log(), 10, 'emulator trial report')
+    truth = json.loads(emu.log().split('TRIAL ', 1)[1].splitlines()[0])
+    print(f'bridge odom {bridge_speed:.4f} m/s vs simulator {truth["speed"]:.4f} m/s')
+    assert truth['state'] == 'done' and abs(bridge_speed - truth['speed']) <= SPEED_ACCURACY
     assert bridge.alive() and emu.alive()
 
 
 def test_bad_requests_are_refused_with_reasons(ros, launch, tmp_path):
     _emu, radio, _imu = _emulator(launch, tmp_path)
-    bridge = launch("hexapod_bridge", "bridge_node", params={"port": radio})
-    status = ros.collect(DiagnosticStatus, "bridge/status", status_log_qos())
-    start = ros.call(Trigger, "bridge_node/start_trial", Trigger.Request())
-    assert not start.success and "not armed" in start.message
-    assert ros.call(SetBool, "bridge_node/arm", SetBool.Request(data=True)).success
-    start = ros.call(Trigger, "bridge_node/start_trial", Trigger.Request())
-    assert not start.success and "no gait uploaded" in start.message
-    pub = ros.node.create_publisher(GaitParametersMsg, "gait/parameters", LATCHED)
-    bad = gait_to_msg(preset("tripod"))
+    bridge = launch('hexapod_bridge', 'bridge_node', params={'port': radio})
+    status = ros.collect(DiagnosticStatus, 'bridge/status', status_log_qos())
+    start = ros.call(Trigger, 'bridge_node/start_trial', Trigger.Request())
+    assert not start.success and 'not armed' in start.message
+    assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
+    start = ros.call(Trigger, 'bridge_node/start_trial', Trigger.Request())
+    assert not start.success and 'no gait uploaded' in start.message
+    pub = ros.node.create_publisher(GaitParametersMsg, 'gait/parameters', LATCHED)
+    bad = gait_to_msg(preset('tripod'))
     bad.duty_factor[2] = 1.5
     pub.publish(bad)
-    wait_for(lambda: any("duty_factor[leg 3]" in s.message for s in status), 20, "invalid gait refused")
-    far = gait_to_msg(preset("tripod").replace(radius=[0.29] * 6))
+    wait_for(
+        lambda: any('duty_factor[leg 3]' in s.message for s in status), 20, 'invalid gait refused'
+    )
+    far = gait_to_msg(preset('tripod').replace(radius=[0.29] * 6))
     seen = len(status)
     pub.publish(far)
-    # the refusal may be followed at once by the robot's own "GAIT REJECTED" text: look at every status since
-    wait_for(lambda: any("UNREACHABLE" in s.message for s in status[seen:]), 20, "unreachable gait refused by the robot")
-    stop = ros.call(Trigger, "bridge_node/emergency_stop", Trigger.Request())
-    assert stop.success and "disarmed" in stop.message
+    # the refusal may be followed at once by the robot's own "GAIT REJECTED" text: look at every
+    # status since
+    wait_for(
+        lambda: any('UNREACHABLE' in s.message for s in status[seen:]),
+        20,
+        'unreachable gait refused by the robot',
+    )
+    stop = ros.call(Trigger, 'bridge_node/emergency_stop', Trigger.Request())
+    assert stop.success and 'disarmed' in stop.message
     assert bridge.alive()
 
 
 def _open_fds(pid: int) -> int:
-    return len(os.listdir(f"/proc/{pid}/fd"))
+    return len(os.listdir(f'/proc/{pid}/fd'))
 
 
 @pytest.mark.slow
 def test_port_vanishing_twenty_times(ros, launch, tmp_path):
     emu, radio, _imu = _emulator(launch, tmp_path)
-    bridge = launch("hexapod_bridge", "bridge_node", params={"port": radio, "arm_on_start": True,
-                                                             "telemetry_period": 0.2})
-    links = ros.collect(LinkStatus, "bridge_node/link_status", 10)
+    bridge = launch(
+        'hexapod_bridge',
+        'bridge_node',
+        params={'port': radio, 'arm_on_start': True, 'telemetry_period': 0.2},
+    )
+    links = ros.collect(LinkStatus, 'bridge_node/link_status', 10)
     imu_times: list[float] = []
-    ros.node.create_subscription(Imu, "imu/data", lambda m: imu_times.append(time.monotonic()), qos_profile_sensor_data)
-    wait_for(lambda: imu_times, 30, "first attitude telemetry")
+    ros.node.create_subscription(
+        Imu, 'imu/data', lambda m: imu_times.append(time.monotonic()), qos_profile_sensor_data
+    )
+    wait_for(lambda: imu_times, 30, 'first attitude telemetry')
     time.sleep(1.0)
     fds_before = _open_fds(bridge.proc.pid)
     rng = np.random.default_rng(20)
@@ -102,46 +142,70 @@ def test_port_vanishing_twenty_times(ros, launch, tmp_path):
         t_gone, t_gone_wall = time.monotonic(), time.time()
         emu.proc.send_signal(signal.SIGUSR1)
         # a LinkStatus stamped after the loss that says "not connected"
-        wait_for(lambda: links and not links[-1].connected and
-                 links[-1].header.stamp.sec + links[-1].header.stamp.nanosec * 1e-9 > t_gone_wall,
-                 5, f"link-down report, cycle {cycle}")
+        wait_for(
+            lambda: (
+                links
+                and not links[-1].connected
+                and links[-1].header.stamp.sec + links[-1].header.stamp.nanosec * 1e-9
+                > t_gone_wall
+            ),
+            5,
+            f'link-down report, cycle {cycle}',
+        )
         down_latency.append(time.monotonic() - t_gone)
         time.sleep(max(0.0, gone_for - (time.monotonic() - t_gone)))
         t_back = time.monotonic()
         emu.proc.send_signal(signal.SIGUSR2)
-        wait_for(lambda: imu_times and imu_times[-1] > t_back, 5, f"publishing after the port returned, cycle {cycle}")
+        wait_for(
+            lambda: imu_times and imu_times[-1] > t_back,
+            5,
+            f'publishing after the port returned, cycle {cycle}',
+        )
         up_latency.append(time.monotonic() - t_back)
-        assert bridge.alive(), f"bridge_node exited in cycle {cycle}"
-    time.sleep(6.0)                              # connected again: keep-alives must get through
+        assert bridge.alive(), f'bridge_node exited in cycle {cycle}'
+    time.sleep(6.0)  # connected again: keep-alives must get through
     fds_after = _open_fds(bridge.proc.pid)
     emu.stop()
-    pings = [int(line.split("pings=")[1].split()[0]) for line in emu.log().splitlines() if line.startswith("STATS")]
+    pings = [
+        int(line.split('pings=')[1].split()[0])
+        for line in emu.log().splitlines()
+        if line.startswith('STATS')
+    ]
     pings_after_last_return = pings[-1] - pings[-2]
-    print(f"20 port losses: link-down reported after max {max(down_latency):.2f} s, publishing resumed after "
-          f"max {max(up_latency):.2f} s; open file descriptors {fds_before} -> {fds_after}; robot received "
-          f"{pings_after_last_return} keep-alives in the 6 s after the last return")
+    print(
+        f'20 port losses: link-down reported after max {max(down_latency):.2f} s, publishing'
+        f' resumed after max {max(up_latency):.2f} s; open file descriptors {fds_before} ->'
+        f' {fds_after}; robot received {pings_after_last_return} keep-alives in the 6 s after the'
+        ' last return'
+    )
     assert max(down_latency) <= 1.0 and max(up_latency) <= 1.0
     assert fds_after <= fds_before
-    assert len(pings) == 21 and pings_after_last_return >= 4     # 1 per second while armed
+    assert len(pings) == 21 and pings_after_last_return >= 4  # 1 per second while armed
 
 
-def test_after_an_emergency_stop_the_documented_sequence_powers_the_robot_again(ros, launch, tmp_path):
+def test_after_an_emergency_stop_the_documented_sequence_powers_the_robot_again(
+    ros, launch, tmp_path
+):
     from hexapod_msgs.srv import UploadGait
 
     _emu, radio, _imu = _emulator(launch, tmp_path)
-    bridge = launch("hexapod_bridge", "bridge_node", params={"port": radio, "trial_duration": 1.0})
-    assert ros.call(SetBool, "bridge_node/arm", SetBool.Request(data=True)).success
-    upload = ros.call(UploadGait, "bridge_node/upload_gait", UploadGait.Request(gait=gait_to_msg(preset("tripod"))),
-                      timeout=40)
+    bridge = launch('hexapod_bridge', 'bridge_node', params={'port': radio, 'trial_duration': 1.0})
+    assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
+    upload = ros.call(
+        UploadGait,
+        'bridge_node/upload_gait',
+        UploadGait.Request(gait=gait_to_msg(preset('tripod'))),
+        timeout=40,
+    )
     assert upload.success and upload.gait_id > 0, upload.message
-    assert ros.call(Trigger, "bridge_node/emergency_stop", Trigger.Request()).success
+    assert ros.call(Trigger, 'bridge_node/emergency_stop', Trigger.Request()).success
     # disarmed: nothing is sent, and power cannot be switched on while disarmed
-    power = ros.call(SetBool, "bridge_node/motor_power", SetBool.Request(data=True))
-    assert not power.success and "not armed" in power.message
-    assert ros.call(SetBool, "bridge_node/arm", SetBool.Request(data=True)).success
-    refused = ros.call(Trigger, "bridge_node/start_trial", Trigger.Request(), timeout=30)
-    assert not refused.success and "ESTOPPED" in refused.message           # the robot is still e-stopped
-    assert ros.call(SetBool, "bridge_node/motor_power", SetBool.Request(data=True)).success
-    started = ros.call(Trigger, "bridge_node/start_trial", Trigger.Request(), timeout=30)
+    power = ros.call(SetBool, 'bridge_node/motor_power', SetBool.Request(data=True))
+    assert not power.success and 'not armed' in power.message
+    assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
+    refused = ros.call(Trigger, 'bridge_node/start_trial', Trigger.Request(), timeout=30)
+    assert not refused.success and 'ESTOPPED' in refused.message  # the robot is still e-stopped
+    assert ros.call(SetBool, 'bridge_node/motor_power', SetBool.Request(data=True)).success
+    started = ros.call(Trigger, 'bridge_node/start_trial', Trigger.Request(), timeout=30)
     assert started.success, started.message
     assert bridge.alive()

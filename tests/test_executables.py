@@ -1,28 +1,55 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
 """Every declared executable is installed where `ros2 run` looks, and its entry point imports."""
+
 from __future__ import annotations
 
 import ast
 import importlib
 import os
-import subprocess
 from pathlib import Path
+import subprocess
 
-import pytest
 from ament_index_python.packages import get_package_prefix
+import pytest
 
 WS = Path(__file__).resolve().parent.parent
-PACKAGES = ["hexapod_description", "hexapod_gait", "hexapod_sim", "hexapod_adapt", "hexapod_bridge"]
+PACKAGES = [
+    'hexapod_description',
+    'hexapod_gait',
+    'hexapod_sim',
+    'hexapod_adapt',
+    'hexapod_bridge',
+]
 
 
 def console_scripts(pkg: str) -> list[tuple[str, str]]:
     """(executable, 'module:function') pairs declared in the package's setup.py."""
-    tree = ast.parse((WS / pkg / "setup.py").read_text())
+    tree = ast.parse((WS / pkg / 'setup.py').read_text())
     for node in ast.walk(tree):
         if isinstance(node, ast.Dict):
             for key, value in zip(node.keys, node.values):
-                if isinstance(key, ast.Constant) and key.value == "console_scripts":
+                if isinstance(key, ast.Constant) and key.value == 'console_scripts':
                     entries = ast.literal_eval(value)
-                    return [tuple(s.strip() for s in e.split("=", 1)) for e in entries]
+                    return [tuple(s.strip() for s in e.split('=', 1)) for e in entries]
     return []
 
 
@@ -31,35 +58,44 @@ DECLARED = [(pkg, exe, target) for pkg in PACKAGES for exe, target in console_sc
 
 def test_packages_declare_their_executables():
     names = {(pkg, exe) for pkg, exe, _ in DECLARED}
-    assert {("hexapod_gait", "gait_node"), ("hexapod_description", "describe")} <= names
+    assert {('hexapod_gait', 'gait_node'), ('hexapod_description', 'describe')} <= names
 
 
-@pytest.mark.parametrize("pkg,exe,target", DECLARED, ids=[f"{p}/{e}" for p, e, _ in DECLARED])
+@pytest.mark.parametrize('pkg,exe,target', DECLARED, ids=[f'{p}/{e}' for p, e, _ in DECLARED])
 def test_executable_found_like_ros2_run(pkg, exe, target):
     # ros2 run: prefix from the ament index, then <prefix>/lib/<pkg>/<exe>, must be executable
     prefix = Path(get_package_prefix(pkg))
-    assert prefix == WS / "install" / pkg
-    path = prefix / "lib" / pkg / exe
-    assert path.is_file(), f"{path} missing"
-    assert os.access(path, os.X_OK), f"{path} not executable"
-    module, func = target.split(":")
+    assert prefix == WS / 'install' / pkg
+    path = prefix / 'lib' / pkg / exe
+    assert path.is_file(), f'{path} missing'
+    assert os.access(path, os.X_OK), f'{path} not executable'
+    module, func = target.split(':')
     assert callable(getattr(importlib.import_module(module), func))
 
 
 def test_every_package_is_in_the_ament_index():
-    for pkg in PACKAGES + ["hexapod_msgs"]:
-        assert (Path(get_package_prefix(pkg)) / "share" / pkg / "package.xml").is_file()
+    for pkg in PACKAGES + ['hexapod_msgs']:
+        assert (Path(get_package_prefix(pkg)) / 'share' / pkg / 'package.xml').is_file()
 
 
-@pytest.mark.parametrize("pkg,exe,module", [
-    ("hexapod_sim", "sim_node", "hexapod_sim.sim_node"), ("hexapod_gait", "gait_node", "hexapod_gait.gait_node"),
-    ("hexapod_bridge", "bridge_node", "hexapod_bridge.bridge_node"),
-    ("hexapod_adapt", "adapt_node", "hexapod_adapt.adapt_node")])
+@pytest.mark.parametrize(
+    'pkg,exe,module',
+    [
+        ('hexapod_sim', 'sim_node', 'hexapod_sim.sim_node'),
+        ('hexapod_gait', 'gait_node', 'hexapod_gait.gait_node'),
+        ('hexapod_bridge', 'bridge_node', 'hexapod_bridge.bridge_node'),
+        ('hexapod_adapt', 'adapt_node', 'hexapod_adapt.adapt_node'),
+    ],
+)
 def test_node_executables_answer_help_with_their_parameters(pkg, exe, module):
     specs = importlib.import_module(module).PARAMETERS
-    result = subprocess.run([str(WS / "install" / pkg / "lib" / pkg / exe), "--help"], capture_output=True,
-                            text=True, timeout=60)
+    result = subprocess.run(
+        [str(WS / 'install' / pkg / 'lib' / pkg / exe), '--help'],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert result.returncode == 0, result.stderr
-    assert result.stdout.startswith(f"usage: {exe}")
+    assert result.stdout.startswith(f'usage: {exe}')
     for spec in specs:
-        assert f"  {spec.name} (" in result.stdout and spec.description[:30] in result.stdout
+        assert f'  {spec.name} (' in result.stdout and spec.description[:30] in result.stdout

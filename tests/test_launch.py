@@ -1,52 +1,92 @@
-"""The launch files (for full ROS installs) compile, and scripts/launch.py starts a working
-graph and stops it cleanly on Ctrl-C."""
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+The launch files (for full ROS installs) compile; scripts/launch.py runs a graph.
+
+scripts/launch.py starts a working graph and stops it cleanly on Ctrl-C.
+"""
+
 from __future__ import annotations
 
 import os
+from pathlib import Path
 import py_compile
 import signal
 import subprocess
 import sys
-from pathlib import Path
 
-import pytest
+from conftest import wait_for, WS
 from nav_msgs.msg import Odometry
+import pytest
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
-from conftest import WS, wait_for
 
-
-@pytest.mark.parametrize("path", sorted(WS.glob("hexapod_*/launch/*.launch.py")), ids=lambda p: p.name)
+@pytest.mark.parametrize(
+    'path', sorted(WS.glob('hexapod_*/launch/*.launch.py')), ids=lambda p: p.name
+)
 def test_launch_files_compile(path: Path):
     py_compile.compile(str(path), doraise=True)
-    assert "generate_launch_description" in path.read_text()
+    assert 'generate_launch_description' in path.read_text()
 
 
 @pytest.mark.ros
 def test_launcher_starts_the_sim_graph_and_stops_on_ctrl_c(ros, domain_id, tmp_path):
-    odom = ros.collect(Odometry, "odom", QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE))
-    log = open(tmp_path / "launch.log", "w")
+    odom = ros.collect(
+        Odometry, 'odom', QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
+    )
+    log = open(tmp_path / 'launch.log', 'w')
     # started with SIGINT ignored, as a background job of a non-interactive shell would be: Ctrl-C
     # (SIGINT) must stop the launcher and its nodes anyway
-    proc = subprocess.Popen([sys.executable, str(WS / "scripts" / "launch.py"), "sim", "--rtf", "0", "--failed-legs", "2"],
-                            env=dict(os.environ, ROS_DOMAIN_ID=str(domain_id)), stdout=log, stderr=subprocess.STDOUT,
-                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN))
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            str(WS / 'scripts' / 'launch.py'),
+            'sim',
+            '--rtf',
+            '0',
+            '--failed-legs',
+            '2',
+        ],
+        env=dict(os.environ, ROS_DOMAIN_ID=str(domain_id)),
+        stdout=log,
+        stderr=subprocess.STDOUT,
+        start_new_session=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN),
+    )
     try:
         # the tripod walks: odometry moves away from the origin
-        wait_for(lambda: odom and math_dist(odom[-1]) > 0.2, 60, "the simulated robot walking")
+        wait_for(lambda: odom and math_dist(odom[-1]) > 0.2, 60, 'the simulated robot walking')
     finally:
         proc.send_signal(signal.SIGINT)
         try:
             code = proc.wait(40)
         except subprocess.TimeoutExpired:
             code = None
-        if code is None:                      # never leave the graph running after a failure
+        if code is None:  # never leave the graph running after a failure
             os.killpg(proc.pid, signal.SIGKILL)
         log.close()
-    text = (tmp_path / "launch.log").read_text()
-    assert "[sim_node]" in text and "[gait_node]" in text
+    text = (tmp_path / 'launch.log').read_text()
+    assert '[sim_node]' in text and '[gait_node]' in text
     assert code == 0, text[-2000:]
 
 
 def math_dist(o: Odometry) -> float:
-    return (o.pose.pose.position.x ** 2 + o.pose.pose.position.y ** 2) ** 0.5
+    return (o.pose.pose.position.x**2 + o.pose.pose.position.y**2) ** 0.5

@@ -1,29 +1,61 @@
-"""sim_node + gait_node in separate processes (fast mode): trials through the ROS graph give the
-library's speeds; bad requests get clear errors and the node keeps running."""
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+sim_node + gait_node in separate processes (fast mode).
+
+Trials through the ROS graph give the library's speeds; bad requests get clear errors and the node
+keeps running.
+"""
+
 from __future__ import annotations
 
 import math
 
-import numpy as np
-import pytest
+from conftest import status_log_qos, wait_for
 from diagnostic_msgs.msg import DiagnosticStatus
+from hexapod_gait import from_genotype, preset
+from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.srv import SetLegFailure
+from hexapod_sim import create_simulator, evaluate_gait, FAILURE_POSE, SimConfig
+from hexapod_sim.sampling import random_reachable_genotypes
 from nav_msgs.msg import Odometry
-from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+import numpy as np
+import pytest
+from rclpy.qos import (
+    DurabilityPolicy,
+    HistoryPolicy,
+    qos_profile_sensor_data,
+    QoSProfile,
+    ReliabilityPolicy,
+)
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Header
 from std_srvs.srv import Trigger
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
-from conftest import status_log_qos, wait_for
-from hexapod_gait import from_genotype, preset
-from hexapod_gait.ros_conversions import gait_to_msg
-from hexapod_sim import FAILURE_POSE, create_simulator, SimConfig, evaluate_gait
-from hexapod_sim.sampling import random_reachable_genotypes
-
 pytestmark = pytest.mark.ros
-LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
+LATCHED = QoSProfile(
+    depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE
+)
 ODOM_QOS = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE)
 TRIAL = 5.0
 
@@ -33,11 +65,15 @@ def _ns(stamp) -> int:
 
 
 def _gaits_with_library_speeds(n_random: int, engine: str) -> list[tuple[object, float]]:
-    """Presets plus random reachable gaits that move (|speed| >= 0.03 m/s), with the library's
-    speed for each (same engine as sim_node's, collisions not fatal like the node)."""
+    """
+    Presets plus random reachable gaits that move (|speed| >= 0.03 m/s).
+
+    With the library's speed for each (same engine as sim_node's, collisions not fatal like
+    the node).
+    """
     chosen = []
     with create_simulator(SimConfig(engine=engine)) as sim:
-        for name in ("tripod", "wave", "quadruped"):
+        for name in ('tripod', 'wave', 'quadruped'):
             gait = preset(name)
             chosen.append((gait, evaluate_gait(gait, sim, collisions_fatal=False).speed))
         for genes in random_reachable_genotypes(80, seed=21):
@@ -50,19 +86,22 @@ def _gaits_with_library_speeds(n_random: int, engine: str) -> list[tuple[object,
     return chosen
 
 
-@pytest.mark.parametrize("engine,n_random", [("pybullet", 18), ("mujoco", 10)])
+@pytest.mark.parametrize('engine,n_random', [('pybullet', 18), ('mujoco', 10)])
 def test_graph_trials_match_library_speeds(ros, launch, engine, n_random):
     gaits = _gaits_with_library_speeds(n_random, engine)
     assert len(gaits) == 3 + n_random
-    sim = launch("hexapod_sim", "sim_node", params={"real_time_factor": 0.0, "publish_period_steps": 24,
-                                                    "engine": engine})
-    gait_node = launch("hexapod_gait", "gait_node", params={"initial_preset": ""})
-    odom = ros.collect(Odometry, "odom", ODOM_QOS)
-    active = ros.collect(Header, "sim/active_trajectory", LATCHED)
-    resets = ros.collect(Header, "sim/last_reset", LATCHED)
-    pub = ros.node.create_publisher(GaitParametersMsg, "gait/parameters", LATCHED)
-    wait_for(lambda: pub.get_subscription_count() > 0, 30, "gait_node subscription")
-    wait_for(lambda: resets, 30, "sim_node start-up")
+    sim = launch(
+        'hexapod_sim',
+        'sim_node',
+        params={'real_time_factor': 0.0, 'publish_period_steps': 24, 'engine': engine},
+    )
+    gait_node = launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
+    odom = ros.collect(Odometry, 'odom', ODOM_QOS)
+    active = ros.collect(Header, 'sim/active_trajectory', LATCHED)
+    resets = ros.collect(Header, 'sim/last_reset', LATCHED)
+    pub = ros.node.create_publisher(GaitParametersMsg, 'gait/parameters', LATCHED)
+    wait_for(lambda: pub.get_subscription_count() > 0, 30, 'gait_node subscription')
+    wait_for(lambda: resets, 30, 'sim_node start-up')
 
     worst, repeats = 0.0, 0
 
@@ -72,20 +111,26 @@ def test_graph_trials_match_library_speeds(ros, launch, engine, n_random):
         msg.header.stamp.sec, msg.header.stamp.nanosec = 1000 + i, 0
         pub.publish(msg)
         # 1. the simulator plays the new gait (no race between "new gait" and "reset")
-        wait_for(lambda: active and active[-1].stamp.sec == 1000 + i, 30, f"gait {i} active in sim_node")
+        wait_for(
+            lambda: active and active[-1].stamp.sec == 1000 + i, 30, f'gait {i} active in sim_node'
+        )
         previous_reset = _ns(resets[-1].stamp)
         # 2. reset: origin, phase 0
-        assert ros.call(Trigger, "sim_node/reset", Trigger.Request()).success
-        wait_for(lambda: _ns(resets[-1].stamp) > previous_reset, 10, "reset stamp")
+        assert ros.call(Trigger, 'sim_node/reset', Trigger.Request()).success
+        wait_for(lambda: _ns(resets[-1].stamp) > previous_reset, 10, 'reset stamp')
         t0 = _ns(resets[-1].stamp)
         # 3. odometry over exactly TRIAL seconds of sim time
         end = t0 + int(TRIAL * 1e9)
-        wait_for(lambda: odom and _ns(odom[-1].header.stamp) >= end, 60, f"{TRIAL} s of odometry for gait {i}")
+        wait_for(
+            lambda: odom and _ns(odom[-1].header.stamp) >= end,
+            60,
+            f'{TRIAL} s of odometry for gait {i}',
+        )
         by_stamp = {_ns(o.header.stamp): o for o in list(odom)}
         start_msg = by_stamp.get(t0)
         end_msg = next((o for s, o in by_stamp.items() if abs(s - end) < 1000), None)
         if start_msg is None or end_msg is None:
-            return None        # a sample was lost in transport: the trial must be repeated
+            return None  # a sample was lost in transport: the trial must be repeated
         dx = end_msg.pose.pose.position.x - start_msg.pose.pose.position.x
         dy = end_msg.pose.pose.position.y - start_msg.pose.pose.position.y
         return (dx * math.cos(gait.crab_angle) + dy * math.sin(gait.crab_angle)) / TRIAL
@@ -95,40 +140,71 @@ def test_graph_trials_match_library_speeds(ros, launch, engine, n_random):
         while graph_speed is None and repeats < 5:
             repeats += 1
             graph_speed = graph_trial(100 + i + repeats, gait)
-        assert graph_speed is not None, "odometry samples kept getting lost"
+        assert graph_speed is not None, 'odometry samples kept getting lost'
         error = abs(graph_speed - library_speed) / abs(library_speed)
         worst = max(worst, error)
-        assert error <= 0.02, f"gait {i}: graph {graph_speed:.5f} m/s vs library {library_speed:.5f} m/s"
-    print(f"{engine}: {len(gaits)} gaits through the graph: worst relative speed error {worst:.2e}; "
-          f"trials repeated for lost odometry samples: {repeats}")
+        assert error <= 0.02, (
+            f'gait {i}: graph {graph_speed:.5f} m/s vs library {library_speed:.5f} m/s'
+        )
+    print(
+        f'{engine}: {len(gaits)} gaits through the graph: worst relative speed error {worst:.2e}; '
+        f'trials repeated for lost odometry samples: {repeats}'
+    )
     assert sim.alive() and gait_node.alive()
 
 
 def test_sim_node_refuses_bad_requests_and_keeps_running(ros, launch):
-    sim = launch("hexapod_sim", "sim_node", params={"real_time_factor": 0.0, "failed_legs": [3]})
-    status = ros.collect(DiagnosticStatus, "sim/status", status_log_qos())
-    joints = ros.collect(JointState, "joint_states", qos_profile_sensor_data)
-    wait_for(lambda: joints, 30, "joint_states")
+    sim = launch('hexapod_sim', 'sim_node', params={'real_time_factor': 0.0, 'failed_legs': [3]})
+    status = ros.collect(DiagnosticStatus, 'sim/status', status_log_qos())
+    joints = ros.collect(JointState, 'joint_states', qos_profile_sensor_data)
+    wait_for(lambda: joints, 30, 'joint_states')
     # initially failed leg 3 is held in the failure pose
-    wait_for(lambda: np.allclose(joints[-1].position[6:9], FAILURE_POSE, atol=0.05), 20, "leg 3 in failure pose")
+    wait_for(
+        lambda: np.allclose(joints[-1].position[6:9], FAILURE_POSE, atol=0.05),
+        20,
+        'leg 3 in failure pose',
+    )
 
-    for legs, expected in [([7], "leg 7 does not exist"), ([1, 2, 3], "at most 2 legs"), ([0], "leg 0")]:
-        response = ros.call(SetLegFailure, "sim_node/set_leg_failure", SetLegFailure.Request(failed_legs=legs))
+    for legs, expected in [
+        ([7], 'leg 7 does not exist'),
+        ([1, 2, 3], 'at most 2 legs'),
+        ([0], 'leg 0'),
+    ]:
+        response = ros.call(
+            SetLegFailure, 'sim_node/set_leg_failure', SetLegFailure.Request(failed_legs=legs)
+        )
         assert not response.success and expected in response.message
-        assert list(response.failed_legs) == [3]          # nothing changed
-    response = ros.call(SetLegFailure, "sim_node/set_leg_failure", SetLegFailure.Request(failed_legs=[1, 4]))
+        assert list(response.failed_legs) == [3]  # nothing changed
+    response = ros.call(
+        SetLegFailure, 'sim_node/set_leg_failure', SetLegFailure.Request(failed_legs=[1, 4])
+    )
     assert response.success and list(response.failed_legs) == [1, 4]
-    wait_for(lambda: np.allclose(joints[-1].position[0:3], FAILURE_POSE, atol=0.05), 20, "leg 1 in failure pose")
+    wait_for(
+        lambda: np.allclose(joints[-1].position[0:3], FAILURE_POSE, atol=0.05),
+        20,
+        'leg 1 in failure pose',
+    )
 
-    pub = ros.node.create_publisher(JointTrajectory, "gait/joint_trajectory", LATCHED)
-    wait_for(lambda: pub.get_subscription_count() > 0, 20, "sim_node trajectory subscription")
-    pub.publish(JointTrajectory(joint_names=[f"joint_{leg}_{k}" for leg in range(1, 7) for k in (1, 2, 3)]))
-    wait_for(lambda: status and "at least 2 points" in status[-1].message, 20, "empty trajectory refused")
+    pub = ros.node.create_publisher(JointTrajectory, 'gait/joint_trajectory', LATCHED)
+    wait_for(lambda: pub.get_subscription_count() > 0, 20, 'sim_node trajectory subscription')
+    pub.publish(
+        JointTrajectory(joint_names=[f'joint_{leg}_{k}' for leg in range(1, 7) for k in (1, 2, 3)])
+    )
+    wait_for(
+        lambda: status and 'at least 2 points' in status[-1].message,
+        20,
+        'empty trajectory refused',
+    )
     assert status[-1].level == DiagnosticStatus.ERROR
-    bad_names = JointTrajectory(joint_names=["hip", "knee"], points=[
-        JointTrajectoryPoint(positions=[0.0, 0.0]), JointTrajectoryPoint(positions=[0.0, 0.0])])
+    bad_names = JointTrajectory(
+        joint_names=['hip', 'knee'],
+        points=[
+            JointTrajectoryPoint(positions=[0.0, 0.0]),
+            JointTrajectoryPoint(positions=[0.0, 0.0]),
+        ],
+    )
     bad_names.points[1].time_from_start.nanosec = 4_166_667
     pub.publish(bad_names)
-    wait_for(lambda: "joint names must be" in status[-1].message, 20, "wrong joint names refused")
-    assert ros.call(Trigger, "sim_node/reset", Trigger.Request()).success
+    wait_for(lambda: 'joint names must be' in status[-1].message, 20, 'wrong joint names refused')
+    assert ros.call(Trigger, 'sim_node/reset', Trigger.Request()).success
     assert sim.alive()

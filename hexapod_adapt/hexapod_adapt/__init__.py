@@ -1,10 +1,54 @@
-"""MAP-Elites map generation and M-BOA adaptation for the hexapod (ROS-free library; the nodes
-and commands are adapt_node, adapt_client, generate_map and run_experiment)."""
-from hexapod_adapt.adaptation import AdaptationResult, TrialAborted, adapt, run_experiment, simulated_trial
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+MAP-Elites map generation and M-BOA adaptation for the hexapod.
+
+ROS-free library; the nodes and commands are adapt_node, adapt_client, generate_map and
+run_experiment.
+"""
+
+from hexapod_adapt.adaptation import (
+    adapt,
+    AdaptationResult,
+    run_experiment,
+    simulated_trial,
+    TrialAborted,
+)
 from hexapod_adapt.archive import Archive, ArchiveError, import_thesis_map, load_archive
 from hexapod_adapt.map_elites import Evaluation, MapElitesConfig, run_map_elites
 from hexapod_adapt.mboa import Mboa, MboaConfig
 
-__all__ = ["AdaptationResult", "Archive", "ArchiveError", "Evaluation", "MapElitesConfig", "Mboa", "MboaConfig",
-           "TrialAborted", "adapt", "import_thesis_map", "load_archive", "run_experiment", "run_map_elites",
-           "simulated_trial"]
+__all__ = [
+    'AdaptationResult',
+    'Archive',
+    'ArchiveError',
+    'Evaluation',
+    'MapElitesConfig',
+    'Mboa',
+    'MboaConfig',
+    'TrialAborted',
+    'adapt',
+    'import_thesis_map',
+    'load_archive',
+    'run_experiment',
+    'run_map_elites',
+    'simulated_trial',
+]

@@ -1,4 +1,25 @@
-"""``ros2 run hexapod_adapt adapt_node``: Intelligent Trial & Error on the simulator or the robot.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+``ros2 run hexapod_adapt adapt_node``: Intelligent Trial & Error on the simulator or the robot.
 
 Loads an archive (``archive`` parameter; refused, with the reason, if its genotype mapping --
 and in ``sim`` mode its URDF and trial duration -- differ from this installation's) and
@@ -17,25 +38,51 @@ Publishes ``adapt/trials`` (AdaptationTrial) per trial and records each run (tri
 odometry) to an MCAP file in ``record_dir``. Services: ``adapt`` (hexapod_msgs/Adapt),
 ``~/report_distance`` (hexapod_msgs/ReportDistance), ``~/cancel`` (std_srvs/Trigger).
 """
+
 from __future__ import annotations
 
+from collections import deque
+from dataclasses import dataclass
 import math
 import os
+from pathlib import Path
 import sys
 import threading
 import time
 import traceback
-from collections import deque
-from dataclasses import dataclass
-from pathlib import Path
 
-import rclpy
+from hexapod_adapt.adaptation import adapt, TrialAborted
+from hexapod_adapt.archive import Archive, ArchiveError, compatibility_problems, load_archive
+from hexapod_adapt.mboa import (
+    ALPHA_RANGE,
+    KAPPA_RANGE,
+    LENGTH_SCALE_RANGE,
+    MAX_TRIALS_LIMIT,
+    MboaConfig,
+    NOISE_RANGE,
+)
+from hexapod_adapt.recording import create_recording, McapRecorder
+from hexapod_adapt.simulation import archive_engine, simulation_fingerprint
+from hexapod_gait import from_genotype
+from hexapod_gait.ros_conversions import gait_to_msg
+from hexapod_gait.ros_glue import (
+    declare,
+    LATCHED,
+    nodes_named,
+    ODOM,
+    ParamSpec,
+    run_node,
+    SENSOR,
+    TF_QOS,
+    watch_for_duplicates,
+)
 from hexapod_msgs.msg import AdaptationTrial, FootContacts
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.srv import Adapt, ReportDistance, UploadGait
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterType, SetParametersResult
 from rcl_interfaces.srv import GetParameters
+import rclpy
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.node import Node
 from sensor_msgs.msg import Imu, JointState
@@ -43,37 +90,26 @@ from std_msgs.msg import Header, String
 from std_srvs.srv import Trigger
 from tf2_msgs.msg import TFMessage
 
-from hexapod_adapt.adaptation import TrialAborted, adapt
-from hexapod_adapt.archive import Archive, ArchiveError, compatibility_problems, load_archive
-from hexapod_adapt.mboa import (ALPHA_RANGE, KAPPA_RANGE, LENGTH_SCALE_RANGE, MAX_TRIALS_LIMIT, NOISE_RANGE,
-                                MboaConfig)
-from hexapod_adapt.recording import McapRecorder, create_recording
-from hexapod_adapt.simulation import archive_engine, simulation_fingerprint
-from hexapod_gait import from_genotype
-from hexapod_gait.ros_conversions import gait_to_msg
-from hexapod_gait.ros_glue import (LATCHED, ODOM, SENSOR, TF_QOS, ParamSpec, declare, nodes_named, run_node,
-                                   watch_for_duplicates)
-
-MODES = ("sim", "robot", "manual")
+MODES = ('sim', 'robot', 'manual')
 
 
 @dataclass(frozen=True)
 class OdomSample:
     """One odometry message as a trial reads it."""
 
-    stamp_ns: int        # header stamp
-    x: float             # position in the odom frame [m]
+    stamp_ns: int  # header stamp
+    x: float  # position in the odom frame [m]
     y: float
-    vx: float            # twist (the bridge's trial-mean velocity) [m/s]
+    vx: float  # twist (the bridge's trial-mean velocity) [m/s]
     vy: float
-    received: float      # time.monotonic() when it arrived
+    received: float  # time.monotonic() when it arrived
 
 
 def _ns(stamp) -> int:
     return stamp.sec * 1_000_000_000 + stamp.nanosec
 
 
-RUN_SETTINGS = ("max_trials", "trial_duration", "alpha", "kappa", "length_scale", "noise")
+RUN_SETTINGS = ('max_trials', 'trial_duration', 'alpha', 'kappa', 'length_scale', 'noise')
 
 
 #: A trial must cover at least one gait cycle of the controller's default 1 s period.
@@ -81,71 +117,109 @@ TRIAL_DURATION_RANGE = (1.0, 120.0)
 
 
 def run_settings(values: dict) -> tuple[MboaConfig, float]:
-    """(M-BOA configuration, trial duration [s]) from the six run settings; ValueError says
-    which is out of range and what the range is."""
-    duration = float(values["trial_duration"])
+    """
+    (M-BOA configuration, trial duration [s]) from the six run settings.
+
+    ValueError says which is out of range and what the range is.
+    """
+    duration = float(values['trial_duration'])
     low, high = TRIAL_DURATION_RANGE
     if not (math.isfinite(duration) and low <= duration <= high):
-        raise ValueError(f"trial_duration must be in [{low:g}, {high:g}] s, got {duration!r}")
-    config = MboaConfig(max_trials=int(values["max_trials"]), alpha=float(values["alpha"]),
-                        kappa=float(values["kappa"]), length_scale=float(values["length_scale"]),
-                        noise=float(values["noise"]))
+        raise ValueError(f'trial_duration must be in [{low:g}, {high:g}] s, got {duration!r}')
+    config = MboaConfig(
+        max_trials=int(values['max_trials']),
+        alpha=float(values['alpha']),
+        kappa=float(values['kappa']),
+        length_scale=float(values['length_scale']),
+        noise=float(values['noise']),
+    )
     return config, duration
 
 
 def expected_metadata(mode: str) -> dict:
-    """What an archive must match to be used in ``mode``: the gait mapping always; the URDF and
-    trial duration too when trials run on the simulator. The engine that made the map need not
-    be the trials' engine: that is a reality gap, which M-BOA exists to cross (see
-    :func:`engine_note`)."""
+    """
+    Return what an archive must match to be used in ``mode``: the gait mapping always.
+
+    The URDF and trial duration too when trials run on the simulator. The engine that made the map
+    need not be the trials' engine: that is a reality gap, which M-BOA exists to cross (see
+    :func:`engine_note`).
+    """
     fp = simulation_fingerprint()
-    if mode != "sim":
-        return {"genotype_mapping": fp["genotype_mapping"]}
-    return {key: fp[key] for key in ("genotype_mapping", "urdf_sha256", "trial_duration")}
+    if mode != 'sim':
+        return {'genotype_mapping': fp['genotype_mapping']}
+    return {key: fp[key] for key in ('genotype_mapping', 'urdf_sha256', 'trial_duration')}
 
 
 def engine_note(archive: Archive, trial_engine: str | None) -> str:
-    """A sentence when the map was made on another engine than the trials run on ('' if not)."""
-    made_on = archive_engine(archive.metadata) or "an unrecorded engine"
+    """Say when the map was made on another engine than the trials run on ('' if not)."""
+    made_on = archive_engine(archive.metadata) or 'an unrecorded engine'
     if trial_engine is None or made_on == trial_engine:
-        return ""
-    return f"map made on {made_on}, trials on {trial_engine}: adapting across that gap"
+        return ''
+    return f'map made on {made_on}, trials on {trial_engine}: adapting across that gap'
 
 
 PARAMETERS = (
-    ParamSpec("archive", "", "Archive file (.npz from generate_map); may be changed at run time, a file that "
-              "fails to load is refused and the last good one kept"),
-    ParamSpec("mode", "sim", "Trials on: sim | robot | manual", read_only=True),
-    ParamSpec("max_trials", 20, "Default maximum trials per run", range=(1, MAX_TRIALS_LIMIT)),
-    ParamSpec("trial_duration", 5.0, "Default trial duration [s]", range=TRIAL_DURATION_RANGE),
-    ParamSpec("alpha", 0.9, "Default stop ratio: stop when the best measured speed reaches alpha x the highest "
-              "predicted one", range=ALPHA_RANGE),
-    ParamSpec("kappa", 0.05, "Default UCB weight on the posterior std", range=KAPPA_RANGE),
-    ParamSpec("length_scale", 0.4, "Default Matern length scale rho [descriptor units]", range=LENGTH_SCALE_RANGE),
-    ParamSpec("noise", 0.001, "Default observation noise variance [(m/s)^2]", range=NOISE_RANGE),
-    ParamSpec("record_dir", "adaptation_runs", "MCAP files go here ('' = no recording)"),
-    ParamSpec("sim_node", "sim_node", "Name of the simulator node (mode sim)", read_only=True),
-    ParamSpec("bridge_node", "bridge_node", "Name of the bridge node (modes robot, manual)", read_only=True),
-    ParamSpec("trial_timeout", 120.0, "Wall-clock limit for one trial [s]", range=(1.0, 3600.0)),
-    ParamSpec("stand_still", 1.0, "Robot modes: seconds the robot stands still before each trial (clean "
-              "zero-velocity IMU window) [s]", range=(0.0, 60.0)),
+    ParamSpec(
+        'archive',
+        '',
+        'Archive file (.npz from generate_map); may be changed at run time, a file that '
+        'fails to load is refused and the last good one kept',
+    ),
+    ParamSpec('mode', 'sim', 'Trials on: sim | robot | manual', read_only=True),
+    ParamSpec('max_trials', 20, 'Default maximum trials per run', range=(1, MAX_TRIALS_LIMIT)),
+    ParamSpec('trial_duration', 5.0, 'Default trial duration [s]', range=TRIAL_DURATION_RANGE),
+    ParamSpec(
+        'alpha',
+        0.9,
+        'Default stop ratio: stop when the best measured speed reaches alpha x the highest '
+        'predicted one',
+        range=ALPHA_RANGE,
+    ),
+    ParamSpec('kappa', 0.05, 'Default UCB weight on the posterior std', range=KAPPA_RANGE),
+    ParamSpec(
+        'length_scale',
+        0.4,
+        'Default Matern length scale rho [descriptor units]',
+        range=LENGTH_SCALE_RANGE,
+    ),
+    ParamSpec('noise', 0.001, 'Default observation noise variance [(m/s)^2]', range=NOISE_RANGE),
+    ParamSpec('record_dir', 'adaptation_runs', "MCAP files go here ('' = no recording)"),
+    ParamSpec('sim_node', 'sim_node', 'Name of the simulator node (mode sim)', read_only=True),
+    ParamSpec(
+        'bridge_node',
+        'bridge_node',
+        'Name of the bridge node (modes robot, manual)',
+        read_only=True,
+    ),
+    ParamSpec('trial_timeout', 120.0, 'Wall-clock limit for one trial [s]', range=(1.0, 3600.0)),
+    ParamSpec(
+        'stand_still',
+        1.0,
+        'Robot modes: seconds the robot stands still before each trial (clean '
+        'zero-velocity IMU window) [s]',
+        range=(0.0, 60.0),
+    ),
 )
 
 
 class AdaptNode(Node):
-    """Runs M-BOA over an archive when its ``adapt`` service is called (see the module docstring)."""
+    """Run M-BOA over an archive when its ``adapt`` service is called."""
+
     def __init__(self) -> None:
-        super().__init__("adapt_node")
+        super().__init__('adapt_node')
         declare(self, PARAMETERS)
-        self.mode = self.get_parameter("mode").value
+        self.mode = self.get_parameter('mode').value
         self.archive: Archive | None = None
         self.archive_problem = "no archive loaded: set the 'archive' parameter"
         if self.mode not in MODES:
             # read-only parameter: the node runs, refusing every request with the reason
-            self.archive_problem = f"parameter mode must be one of {', '.join(MODES)}, got {self.mode!r}; restart the node"
+            self.archive_problem = (
+                f'parameter mode must be one of {", ".join(MODES)}, got {self.mode!r}; restart the'
+                ' node'
+            )
             self.get_logger().error(self.archive_problem)
         else:
-            self._load_archive(self.get_parameter("archive").value)
+            self._load_archive(self.get_parameter('archive').value)
         self.add_on_set_parameters_callback(self._on_set_parameters)
 
         self.busy = threading.Lock()
@@ -160,41 +234,71 @@ class AdaptNode(Node):
 
         sensors = MutuallyExclusiveCallbackGroup()
         work = ReentrantCallbackGroup()
-        self.gait_pub = self.create_publisher(GaitParametersMsg, "gait/parameters", LATCHED)
-        self.trial_pub = self.create_publisher(AdaptationTrial, "adapt/trials", 10)
-        self.create_subscription(Odometry, "odom", self._on_odom, ODOM, callback_group=sensors)
-        self.create_subscription(Header, "sim/active_trajectory", self._on_active, LATCHED, callback_group=sensors)
-        self.create_subscription(Header, "sim/last_reset", self._on_reset, LATCHED, callback_group=sensors)
+        self.gait_pub = self.create_publisher(GaitParametersMsg, 'gait/parameters', LATCHED)
+        self.trial_pub = self.create_publisher(AdaptationTrial, 'adapt/trials', 10)
+        self.create_subscription(Odometry, 'odom', self._on_odom, ODOM, callback_group=sensors)
+        self.create_subscription(
+            Header, 'sim/active_trajectory', self._on_active, LATCHED, callback_group=sensors
+        )
+        self.create_subscription(
+            Header, 'sim/last_reset', self._on_reset, LATCHED, callback_group=sensors
+        )
         # recorded while a run records, so that a trial replays in Foxglove's 3D panel
         recorded = MutuallyExclusiveCallbackGroup()
-        for msg_type, topic, qos in ((TFMessage, "/tf", TF_QOS), (JointState, "joint_states", SENSOR),
-                                     (Imu, "imu/data", SENSOR), (FootContacts, "foot_contacts", SENSOR)):
-            self.create_subscription(msg_type, topic, lambda msg, topic=topic: self._record(topic, msg), qos,
-                                     callback_group=recorded)
-        self._latched: dict[str, object] = {}      # latest latched message of each topic, recorded at a start
-        for msg_type, topic in ((TFMessage, "/tf_static"), (String, "robot_description")):
-            self.create_subscription(msg_type, topic, lambda msg, topic=topic: self._on_latched(topic, msg), LATCHED,
-                                     callback_group=recorded)
-        sim_name = self.get_parameter("sim_node").value
-        bridge_name = self.get_parameter("bridge_node").value
+        for msg_type, topic, qos in (
+            (TFMessage, '/tf', TF_QOS),
+            (JointState, 'joint_states', SENSOR),
+            (Imu, 'imu/data', SENSOR),
+            (FootContacts, 'foot_contacts', SENSOR),
+        ):
+            self.create_subscription(
+                msg_type,
+                topic,
+                lambda msg, topic=topic: self._record(topic, msg),
+                qos,
+                callback_group=recorded,
+            )
+        self._latched: dict[
+            str, object
+        ] = {}  # latest latched message of each topic, recorded at a start
+        for msg_type, topic in ((TFMessage, '/tf_static'), (String, 'robot_description')):
+            self.create_subscription(
+                msg_type,
+                topic,
+                lambda msg, topic=topic: self._on_latched(topic, msg),
+                LATCHED,
+                callback_group=recorded,
+            )
+        sim_name = self.get_parameter('sim_node').value
+        bridge_name = self.get_parameter('bridge_node').value
         self.sim_name, self.bridge_name = self._qualified(sim_name), self._qualified(bridge_name)
-        self.reset_client = self.create_client(Trigger, f"{sim_name}/reset", callback_group=work)
-        self.start_client = self.create_client(Trigger, f"{bridge_name}/start_trial", callback_group=work)
-        self.upload_client = self.create_client(UploadGait, f"{bridge_name}/upload_gait", callback_group=work)
-        self.sim_params_client = self.create_client(GetParameters, f"{sim_name}/get_parameters", callback_group=work)
-        self.create_service(Adapt, "adapt", self._on_adapt, callback_group=work)
-        self.create_service(ReportDistance, "~/report_distance", self._on_report, callback_group=work)
-        self.create_service(Trigger, "~/cancel", self._on_cancel, callback_group=work)
+        self.reset_client = self.create_client(Trigger, f'{sim_name}/reset', callback_group=work)
+        self.start_client = self.create_client(
+            Trigger, f'{bridge_name}/start_trial', callback_group=work
+        )
+        self.upload_client = self.create_client(
+            UploadGait, f'{bridge_name}/upload_gait', callback_group=work
+        )
+        self.sim_params_client = self.create_client(
+            GetParameters, f'{sim_name}/get_parameters', callback_group=work
+        )
+        self.create_service(Adapt, 'adapt', self._on_adapt, callback_group=work)
+        self.create_service(
+            ReportDistance, '~/report_distance', self._on_report, callback_group=work
+        )
+        self.create_service(Trigger, '~/cancel', self._on_cancel, callback_group=work)
         watch_for_duplicates(self, self.get_logger().error)
-        self.get_logger().info(f"adapt_node ready: mode {self.mode}; " +
-                               (f"archive {self.archive.n_filled} gaits" if self.archive else self.archive_problem))
+        self.get_logger().info(
+            f'adapt_node ready: mode {self.mode}; '
+            + (f'archive {self.archive.n_filled} gaits' if self.archive else self.archive_problem)
+        )
 
     def _qualified(self, name: str) -> str:
-        """A node name as a fully qualified one (relative names resolve in this node's namespace)."""
-        if name.startswith("/"):
+        """Fully qualify a node name (relative names resolve in this node's namespace)."""
+        if name.startswith('/'):
             return name
-        namespace = self.get_namespace().rstrip("/")
-        return f"{namespace}/{name}"
+        namespace = self.get_namespace().rstrip('/')
+        return f'{namespace}/{name}'
 
     def shutdown(self) -> None:
         """Ctrl-C / SIGTERM mid-run: finish the MCAP file (called by run_node)."""
@@ -212,10 +316,10 @@ class AdaptNode(Node):
             return None, str(exc)
         problems = compatibility_problems(archive, expected_metadata(self.mode))
         if problems:
-            return None, f"{path} does not fit this installation: " + "; ".join(problems)
+            return None, f'{path} does not fit this installation: ' + '; '.join(problems)
         if archive.n_filled == 0:
-            return None, f"{path} has no gaits"
-        return archive, ""
+            return None, f'{path} has no gaits'
+        return archive, ''
 
     def _load_archive(self, path: str) -> None:
         archive, problem = self._try_load(path)
@@ -224,22 +328,26 @@ class AdaptNode(Node):
             if path:
                 self.get_logger().error(problem)
         else:
-            self.archive, self.archive_problem = archive, ""
-            self.get_logger().info(f"archive {path}: {archive.n_filled} gaits in {archive.n_niches} niches")
+            self.archive, self.archive_problem = archive, ''
+            self.get_logger().info(
+                f'archive {path}: {archive.n_filled} gaits in {archive.n_niches} niches'
+            )
 
     def _on_set_parameters(self, params) -> SetParametersResult:
         for param in params:
-            if param.name == "archive":
+            if param.name == 'archive':
                 if self.mode not in MODES:
                     return SetParametersResult(successful=False, reason=self.archive_problem)
                 if self.busy.locked():
-                    return SetParametersResult(successful=False, reason="an adaptation is running")
+                    return SetParametersResult(successful=False, reason='an adaptation is running')
                 archive, problem = self._try_load(param.value)
                 if archive is None:
-                    return SetParametersResult(successful=False, reason=problem)   # the old archive stays
-                self.archive, self.archive_problem = archive, ""
-            elif param.name == "trial_timeout" and param.value <= 0:
-                return SetParametersResult(successful=False, reason="trial_timeout must be > 0")
+                    return SetParametersResult(
+                        successful=False, reason=problem
+                    )  # the old archive stays
+                self.archive, self.archive_problem = archive, ''
+            elif param.name == 'trial_timeout' and param.value <= 0:
+                return SetParametersResult(successful=False, reason='trial_timeout must be > 0')
         # the run defaults are checked by the same rules as a request's fields
         values = {name: self.get_parameter(name).value for name in RUN_SETTINGS}
         values.update({param.name: param.value for param in params if param.name in RUN_SETTINGS})
@@ -253,9 +361,11 @@ class AdaptNode(Node):
     def _on_odom(self, msg: Odometry) -> None:
         p, t = msg.pose.pose.position, msg.twist.twist.linear
         with self.data_lock:
-            self.odom.append(OdomSample(_ns(msg.header.stamp), p.x, p.y, t.x, t.y, time.monotonic()))
+            self.odom.append(
+                OdomSample(_ns(msg.header.stamp), p.x, p.y, t.x, t.y, time.monotonic())
+            )
         if self.recorder is not None:
-            self._record("odom", msg)
+            self._record('odom', msg)
 
     def _on_latched(self, topic: str, msg) -> None:
         self._latched[topic] = msg
@@ -269,32 +379,48 @@ class AdaptNode(Node):
 
     def _on_report(self, request: ReportDistance.Request, response: ReportDistance.Response):
         if not math.isfinite(request.distance) or abs(request.distance) > 50.0:
-            response.accepted, response.message = False, f"distance {request.distance!r} m is not a plausible trial distance"
-        elif self.mode != "manual" or not self.busy.locked():
-            response.accepted, response.message = False, "no manual trial is waiting for a distance"
+            response.accepted, response.message = (
+                False,
+                f'distance {request.distance!r} m is not a plausible trial distance',
+            )
+        elif self.mode != 'manual' or not self.busy.locked():
+            response.accepted, response.message = (
+                False,
+                'no manual trial is waiting for a distance',
+            )
         else:
             self.reported.append(float(request.distance))
-            response.accepted, response.message = True, f"{request.distance:.3f} m recorded"
+            response.accepted, response.message = True, f'{request.distance:.3f} m recorded'
         return response
 
     def _on_cancel(self, request, response):
         running = self.busy.locked()
         self.cancel_requested = running
         response.success = running
-        response.message = "cancelling after the current trial" if running else "no adaptation is running"
+        response.message = (
+            'cancelling after the current trial' if running else 'no adaptation is running'
+        )
         return response
 
     # -- helpers ----------------------------------------------------------------------------
     def _record(self, topic: str, msg) -> None:
-        """Record ``msg`` under the fully qualified name of ``topic`` (relative names resolve in
-        this node's namespace, as its publishers and subscribers do)."""
+        """
+        Record ``msg`` under the fully qualified name of ``topic``.
+
+        Relative names resolve in this node's namespace, as its publishers and subscribers do.
+        """
         recorder = self.recorder
         if recorder is not None:
             try:
-                recorder.record(self.resolve_topic_name(topic), msg,
-                                log_time_ns=self.get_clock().now().nanoseconds)   # one time base
+                recorder.record(
+                    self.resolve_topic_name(topic),
+                    msg,
+                    log_time_ns=self.get_clock().now().nanoseconds,
+                )  # one time base
             except (OSError, RuntimeError) as exc:
-                self.get_logger().error(f"recording to {recorder.path} failed: {exc}; recording stopped")
+                self.get_logger().error(
+                    f'recording to {recorder.path} failed: {exc}; recording stopped'
+                )
                 self.recorder = None
 
     def _checkpoint_recording(self) -> None:
@@ -303,46 +429,58 @@ class AdaptNode(Node):
             try:
                 recorder.checkpoint()
             except (OSError, RuntimeError) as exc:
-                self.get_logger().error(f"recording to {recorder.path} failed: {exc}; recording stopped")
+                self.get_logger().error(
+                    f'recording to {recorder.path} failed: {exc}; recording stopped'
+                )
                 self.recorder = None
 
     def _wait(self, predicate, timeout: float, what: str):
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
             if not rclpy.ok(context=self.context):
-                raise TrialAborted("shutting down")
+                raise TrialAborted('shutting down')
             value = predicate()
             if value:
                 return value
             time.sleep(0.005)
-        raise TrialAborted(f"timed out after {timeout:g} s waiting for {what}")
+        raise TrialAborted(f'timed out after {timeout:g} s waiting for {what}')
 
     def _call(self, client, what: str, timeout: float = 10.0) -> Trigger.Response:
         if not client.wait_for_service(timeout_sec=timeout):
-            raise TrialAborted(f"service {client.srv_name} is not available ({what})")
+            raise TrialAborted(f'service {client.srv_name} is not available ({what})')
         future = client.call_async(Trigger.Request())
-        self._wait(future.done, timeout, f"{client.srv_name} to answer")
+        self._wait(future.done, timeout, f'{client.srv_name} to answer')
         return future.result()
 
     def _duplicate_peers(self) -> str:
-        """A reason to refuse a run when this node's name, or the node the trials go through, is
-        taken by more than one node in the graph ('' if not)."""
-        peer = self.sim_name if self.mode == "sim" else self.bridge_name
+        """
+        Why a run must be refused because a node name is taken twice ('' if it need not be).
+
+        Checked: this node's name and the node the trials go through.
+        """
+        peer = self.sim_name if self.mode == 'sim' else self.bridge_name
         for name in (self.get_fully_qualified_name(), peer):
             count = nodes_named(self, name)
             if count > 1:
-                return (f"{count} nodes named {name} are in the graph: trials would be ambiguous; stop the extra "
-                        "one (or rename it with --ros-args -r __node:=NAME) and call adapt again")
-        return ""
+                return (
+                    f'{count} nodes named {name} are in the graph: trials would be ambiguous; stop'
+                    ' the extra one (or rename it with --ros-args -r __node:=NAME) and call adapt'
+                    ' again'
+                )
+        return ''
 
     def _trial_engine(self) -> str | None:
-        """What the trials run on: sim_node's ``engine`` parameter in sim mode (None if it does
-        not answer), the real robot otherwise."""
-        if self.mode != "sim":
-            return "the real robot"
+        """
+        Return what the trials run on.
+
+        sim_node's ``engine`` parameter in sim mode (None if it does not answer), the real robot
+        otherwise.
+        """
+        if self.mode != 'sim':
+            return 'the real robot'
         if not self.sim_params_client.wait_for_service(timeout_sec=2.0):
             return None
-        future = self.sim_params_client.call_async(GetParameters.Request(names=["engine"]))
+        future = self.sim_params_client.call_async(GetParameters.Request(names=['engine']))
         try:
             self._wait(future.done, 5.0, "sim_node's parameters")
         except TrialAborted:
@@ -360,39 +498,56 @@ class AdaptNode(Node):
         # of the gait it plays, and that echo is how a trial knows its gait is on
         stamp = max(self.get_clock().now().nanoseconds, self._last_gait_stamp + 1)
         self._last_gait_stamp = stamp
-        msg.header.stamp.sec, msg.header.stamp.nanosec = stamp // 1_000_000_000, stamp % 1_000_000_000
+        msg.header.stamp.sec, msg.header.stamp.nanosec = (
+            stamp // 1_000_000_000,
+            stamp % 1_000_000_000,
+        )
         return msg
 
     def _publish_gait(self, niche: int) -> GaitParametersMsg:
         msg = self._gait_msg(niche)
         self.gait_pub.publish(msg)
-        self._record("gait/parameters", msg)
+        self._record('gait/parameters', msg)
         return msg
 
     def _upload(self, msg: GaitParametersMsg, timeout: float) -> UploadGait.Response:
-        """Upload through bridge_node's ~/upload_gait service: only its typed answer confirms an
-        upload (a status text, or any other publisher, cannot)."""
+        """
+        Upload through bridge_node's ~/upload_gait service.
+
+        Only its typed answer confirms an upload (a status text, or any other publisher, cannot).
+        """
         if not self.upload_client.wait_for_service(timeout_sec=min(timeout, 10.0)):
-            raise TrialAborted(f"service {self.upload_client.srv_name} is not available (is bridge_node running?)")
+            raise TrialAborted(
+                f'service {self.upload_client.srv_name} is not available (is bridge_node running?)'
+            )
         future = self.upload_client.call_async(UploadGait.Request(gait=msg, timeout=timeout))
-        self._wait(future.done, timeout + 5.0, "bridge_node to upload the gait")
+        self._wait(future.done, timeout + 5.0, 'bridge_node to upload the gait')
         return future.result()
 
     def _sim_trial(self, niche: int, duration: float, timeout: float) -> float:
         for attempt in range(3):
             msg = self._publish_gait(niche)
             stamp, crab = _ns(msg.header.stamp), msg.crab_angle
-            self._wait(lambda: self.active_stamp == stamp, timeout,
-                       "sim_node to play the gait (are gait_node and sim_node running?)")
+            self._wait(
+                lambda: self.active_stamp == stamp,
+                timeout,
+                'sim_node to play the gait (are gait_node and sim_node running?)',
+            )
             before = self.reset_stamp or -1
-            answer = self._call(self.reset_client, "reset the simulation")
+            answer = self._call(self.reset_client, 'reset the simulation')
             if not answer.success:
-                raise TrialAborted(f"sim_node refused the reset: {answer.message}")
-            t0 = self._wait(lambda: self.reset_stamp if (self.reset_stamp or -1) > before else None, timeout,
-                            "the reset to take effect")
+                raise TrialAborted(f'sim_node refused the reset: {answer.message}')
+            t0 = self._wait(
+                lambda: self.reset_stamp if (self.reset_stamp or -1) > before else None,
+                timeout,
+                'the reset to take effect',
+            )
             end = t0 + int(round(duration * 1e9))
-            self._wait(lambda: self.odom and self.odom[-1].stamp_ns >= end, timeout,
-                       f"{duration:g} s of simulated odometry")
+            self._wait(
+                lambda: self.odom and self.odom[-1].stamp_ns >= end,
+                timeout,
+                f'{duration:g} s of simulated odometry',
+            )
             with self.data_lock:
                 samples = list(self.odom)
             start = [s for s in samples if s.stamp_ns == t0]
@@ -400,40 +555,56 @@ class AdaptNode(Node):
             if start and finish:
                 dx, dy = finish[-1].x - start[-1].x, finish[-1].y - start[-1].y
                 return (dx * math.cos(crab) + dy * math.sin(crab)) / duration
-            self.get_logger().warning(f"odometry sample lost in transport; repeating the trial (attempt {attempt + 2})")
-        raise TrialAborted("odometry samples kept getting lost (is sim_node's publish_period_steps a divisor "
-                           "of the trial length in steps?)")
+            self.get_logger().warning(
+                f'odometry sample lost in transport; repeating the trial (attempt {attempt + 2})'
+            )
+        raise TrialAborted(
+            "odometry samples kept getting lost (is sim_node's publish_period_steps a divisor "
+            'of the trial length in steps?)'
+        )
 
     def _robot_trial(self, niche: int, duration: float, timeout: float) -> float:
         msg = self._gait_msg(niche)
-        self._record("gait/parameters", msg)
+        self._record('gait/parameters', msg)
         crab = msg.crab_angle
         answer = self._upload(msg, timeout)
         if not answer.success or answer.archive_index != niche:
-            raise TrialAborted(answer.message or "the robot did not confirm the upload")
-        if self.mode == "manual":
+            raise TrialAborted(answer.message or 'the robot did not confirm the upload')
+        if self.mode == 'manual':
             self.reported.clear()
-            self.get_logger().warning(f"trial with archive gait {niche}: start the robot, then report the distance "
-                                      "walked with ~/report_distance")
-            distance = self._wait(lambda: self.reported[-1] if self.reported else None, max(timeout, 600.0),
-                                  "the operator's distance (~/report_distance)")
+            self.get_logger().warning(
+                f'trial with archive gait {niche}: start the robot, then report the distance '
+                'walked with ~/report_distance'
+            )
+            distance = self._wait(
+                lambda: self.reported[-1] if self.reported else None,
+                max(timeout, 600.0),
+                "the operator's distance (~/report_distance)",
+            )
             return float(distance) / duration
-        time.sleep(max(0.0, float(self.get_parameter("stand_still").value)))
+        time.sleep(max(0.0, float(self.get_parameter('stand_still').value)))
         with self.data_lock:
             seen = len(self.odom)
-        answer = self._call(self.start_client, "start the trial")
+        answer = self._call(self.start_client, 'start the trial')
         if not answer.success:
-            raise TrialAborted(f"bridge_node did not start the trial: {answer.message}")
+            raise TrialAborted(f'bridge_node did not start the trial: {answer.message}')
         started = time.monotonic()
-        sample = self._wait(lambda: next((s for s in list(self.odom)[seen:] if s.received > started), None),
-                            duration + timeout, "the trial's odometry from bridge_node")
+        sample = self._wait(
+            lambda: next((s for s in list(self.odom)[seen:] if s.received > started), None),
+            duration + timeout,
+            "the trial's odometry from bridge_node",
+        )
         return sample.vx * math.cos(crab) + sample.vy * math.sin(crab)
 
     # -- the service --------------------------------------------------------------------------
     def _request_config(self, request: Adapt.Request) -> tuple[MboaConfig, float]:
         # a zero field means "the node's parameter"
-        return run_settings({name: getattr(request, name) or self.get_parameter(name).value
-                             for name in RUN_SETTINGS})
+        return run_settings(
+            {
+                name: getattr(request, name) or self.get_parameter(name).value
+                for name in RUN_SETTINGS
+            }
+        )
 
     def _on_adapt(self, request: Adapt.Request, response: Adapt.Response):
         response.best_archive_index = -1
@@ -443,53 +614,65 @@ class AdaptNode(Node):
         try:
             config, duration = self._request_config(request)
         except ValueError as exc:
-            response.success, response.message = False, f"bad request: {exc}"
+            response.success, response.message = False, f'bad request: {exc}'
             return response
         duplicates = self._duplicate_peers()
         if duplicates:
             response.success, response.message = False, duplicates
             return response
         if not self.busy.acquire(blocking=False):
-            response.success, response.message = False, "an adaptation is already running"
+            response.success, response.message = False, 'an adaptation is already running'
             return response
         try:
             return self._run(config, duration, response)
         except Exception as exc:  # noqa: BLE001 - the service must answer and the node stay up
-            self.get_logger().error(f"adaptation failed unexpectedly: {type(exc).__name__}: {exc}\n"
-                                    f"{traceback.format_exc()}")
+            self.get_logger().error(
+                f'adaptation failed unexpectedly: {type(exc).__name__}: {exc}\n'
+                f'{traceback.format_exc()}'
+            )
             response.success = False
-            response.message = f"internal error, run stopped: {type(exc).__name__}: {exc}"
+            response.message = f'internal error, run stopped: {type(exc).__name__}: {exc}'
             return response
         finally:
             self.cancel_requested = False
             self.busy.release()
 
-    def _run(self, config: MboaConfig, duration: float, response: Adapt.Response) -> Adapt.Response:
+    def _run(
+        self, config: MboaConfig, duration: float, response: Adapt.Response
+    ) -> Adapt.Response:
         archive = self.archive
-        record_dir = self.get_parameter("record_dir").value
-        timeout = float(self.get_parameter("trial_timeout").value)
-        if self.get_parameter("use_sim_time").value:
+        record_dir = self.get_parameter('record_dir').value
+        timeout = float(self.get_parameter('trial_timeout').value)
+        if self.get_parameter('use_sim_time').value:
             # one time base: nothing is stamped or recorded before the first /clock arrives
             try:
-                self._wait(lambda: self.get_clock().now().nanoseconds > 0, timeout, "/clock (is sim_node running?)")
+                self._wait(
+                    lambda: self.get_clock().now().nanoseconds > 0,
+                    timeout,
+                    '/clock (is sim_node running?)',
+                )
             except TrialAborted as exc:
-                response.success, response.message = False, f"run not started: {exc}"
+                response.success, response.message = False, f'run not started: {exc}'
                 return response
         if record_dir:
             try:
                 self.recorder = create_recording(Path(record_dir).expanduser())
                 response.mcap_path = str(self.recorder.path.resolve())
-                for topic, msg in list(self._latched.items()):      # the URDF and the static frames
+                for topic, msg in list(self._latched.items()):  # the URDF and the static frames
                     self._record(topic, msg)
             except OSError as exc:
-                self.get_logger().error(f"cannot record in {record_dir}: {exc}; running without a recording")
-        trial_fn = self._sim_trial if self.mode == "sim" else self._robot_trial
+                self.get_logger().error(
+                    f'cannot record in {record_dir}: {exc}; running without a recording'
+                )
+        trial_fn = self._sim_trial if self.mode == 'sim' else self._robot_trial
         note = engine_note(archive, self._trial_engine())
-        self.get_logger().info(f"adaptation started: {archive.n_filled} gaits, at most {config.max_trials} trials "
-                               f"of {duration:g} s, alpha {config.alpha:g}, kappa {config.kappa:g}"
-                               + (f"; {note}" if note else ""))
+        self.get_logger().info(
+            f'adaptation started: {archive.n_filled} gaits, at most {config.max_trials} trials '
+            f'of {duration:g} s, alpha {config.alpha:g}, kappa {config.kappa:g}'
+            + (f'; {note}' if note else '')
+        )
 
-        niches = archive.elite_indices()      # M-BOA's candidate index -> niche
+        niches = archive.elite_indices()  # M-BOA's candidate index -> niche
 
         def on_trial(trial, niche, opt) -> None:
             best = opt.best()
@@ -497,50 +680,71 @@ class AdaptNode(Node):
             msg = AdaptationTrial()
             msg.header.stamp = self.get_clock().now().to_msg()
             msg.trial, msg.archive_index = trial.number, int(niche)
-            msg.map_speed, msg.predicted_speed, msg.predicted_speed_std = trial.predicted, trial.gp_mean, trial.gp_std
-            msg.measured_speed, msg.best_speed, msg.best_archive_index = trial.measured, best.measured, int(best_niche)
+            msg.map_speed, msg.predicted_speed, msg.predicted_speed_std = (
+                trial.predicted,
+                trial.gp_mean,
+                trial.gp_std,
+            )
+            msg.measured_speed, msg.best_speed, msg.best_archive_index = (
+                trial.measured,
+                best.measured,
+                int(best_niche),
+            )
             msg.descriptor = [float(x) for x in archive.descriptors[niche]]
-            msg.gait = gait_to_msg(from_genotype(archive.genotypes[niche]).replace(archive_index=int(niche)))
+            msg.gait = gait_to_msg(
+                from_genotype(archive.genotypes[niche]).replace(archive_index=int(niche))
+            )
             self.trial_pub.publish(msg)
-            self._record("adapt/trials", msg)
-            self._checkpoint_recording()      # a completed trial survives a kill or power loss
-            self.get_logger().info(f"trial {trial.number}: gait {niche} walked {trial.measured:.3f} m/s "
-                                   f"(map {trial.predicted:.3f}, GP {trial.gp_mean:.3f} +/- {trial.gp_std:.3f})")
+            self._record('adapt/trials', msg)
+            self._checkpoint_recording()  # a completed trial survives a kill or power loss
+            self.get_logger().info(
+                f'trial {trial.number}: gait {niche} walked {trial.measured:.3f} m/s '
+                f'(map {trial.predicted:.3f}, GP {trial.gp_mean:.3f} +/- {trial.gp_std:.3f})'
+            )
 
         try:
-            result = adapt(archive, lambda niche: trial_fn(niche, duration, timeout), config, on_trial,
-                           should_cancel=lambda: self.cancel_requested)
+            result = adapt(
+                archive,
+                lambda niche: trial_fn(niche, duration, timeout),
+                config,
+                on_trial,
+                should_cancel=lambda: self.cancel_requested,
+            )
         finally:
             recorder, self.recorder = self.recorder, None
             if recorder is not None:
                 recorder.close()
         response.success = result.success
-        response.message = result.message + (f" ({note})" if note else "")
+        response.message = result.message + (f' ({note})' if note else '')
         response.trials = len(result.trials)
         response.elapsed = result.elapsed
         if result.best_niche >= 0:
             response.best_archive_index = result.best_niche
             response.best_speed = result.best_speed
-            response.best_gait = gait_to_msg(from_genotype(archive.genotypes[result.best_niche])
-                                             .replace(archive_index=result.best_niche))
+            response.best_gait = gait_to_msg(
+                from_genotype(archive.genotypes[result.best_niche]).replace(
+                    archive_index=result.best_niche
+                )
+            )
             self._leave_on_best_gait(response.best_gait, timeout)
-        self.get_logger().info(f"adaptation finished: {result.message}; {len(result.trials)} trials, best gait "
-                               f"{result.best_niche} at {result.best_speed:.3f} m/s")
+        self.get_logger().info(
+            f'adaptation finished: {result.message}; {len(result.trials)} trials, best gait '
+            f'{result.best_niche} at {result.best_speed:.3f} m/s'
+        )
         return response
-
 
     def _leave_on_best_gait(self, msg: GaitParametersMsg, timeout: float) -> None:
         """Leave the robot (or the simulator) walking the best gait found."""
-        if self.mode == "sim":
+        if self.mode == 'sim':
             self.gait_pub.publish(msg)
             return
         try:
             answer = self._upload(msg, timeout)
         except TrialAborted as exc:
-            self.get_logger().error(f"could not upload the best gait: {exc}")
+            self.get_logger().error(f'could not upload the best gait: {exc}')
             return
         if not answer.success:
-            self.get_logger().error(f"could not upload the best gait: {answer.message}")
+            self.get_logger().error(f'could not upload the best gait: {answer.message}')
 
 
 def main(args: list[str] | None = None) -> int:
@@ -548,5 +752,5 @@ def main(args: list[str] | None = None) -> int:
     return run_node(AdaptNode, args, num_threads=4, parameters=PARAMETERS)
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

@@ -1,61 +1,90 @@
-"""An adaptation run: M-BOA over an archive's elites with a trial function (ROS-free).
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+An adaptation run: M-BOA over an archive's elites with a trial function (ROS-free).
 
 ``adapt(archive, trial, config)`` asks ``trial(niche)`` for the measured speed [m/s] of the
 elite in ``niche`` until M-BOA's stopping rule holds. The trial function is where the world
 comes in: the simulator with damage (:func:`simulated_trial`, the thesis's experiment 5.2),
 or, in ``adapt_node``, a trial through the ROS graph on the simulator or the robot.
 """
+
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 import math
 import time
-from dataclasses import dataclass, field
 from typing import Callable, Sequence
-
-import numpy as np
 
 from hexapod_adapt.archive import Archive
 from hexapod_adapt.mboa import Mboa, MboaConfig, StopReason, Trial
 from hexapod_adapt.simulation import archive_engine
 from hexapod_gait import preset
-from hexapod_sim import SimConfig, Simulator, create_simulator, evaluate_gait
+from hexapod_sim import create_simulator, evaluate_gait, SimConfig, Simulator
 from hexapod_sim.scenarios import scenario as orientations_of
+import numpy as np
 
 
 @dataclass
 class AdaptationResult:
     """The outcome of one adaptation run: trials, the best gait found and why it stopped."""
-    success: bool                 # the stopping criterion (alpha) was met
+
+    success: bool  # the stopping criterion (alpha) was met
     message: str
     trials: list[Trial] = field(default_factory=list)
-    niches: list[int] = field(default_factory=list)      # archive niche of each trial
+    niches: list[int] = field(default_factory=list)  # archive niche of each trial
     best_niche: int = -1
-    best_speed: float = float("nan")
+    best_speed: float = float('nan')
     elapsed: float = 0.0
 
 
 class TrialAborted(RuntimeError):
-    """A trial could not be completed (timeout, lost robot link, cancelled); the run stops and
-    reports what it has."""
+    """
+    A trial could not be completed (timeout, lost robot link, cancelled).
+
+    The run stops and reports what it has.
+    """
 
 
 def candidates(archive: Archive) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(niches, descriptors, prior speeds) of the archive's elites."""
     niches = archive.elite_indices()
     if len(niches) == 0:
-        raise ValueError("the archive has no elites to try")
+        raise ValueError('the archive has no elites to try')
     return niches, archive.descriptors[niches], archive.speeds()[niches]
 
 
-def adapt(archive: Archive, trial: Callable[[int], float], config: MboaConfig | None = None,
-          on_trial: Callable[[Trial, int, Mboa], None] | None = None,
-          should_cancel: Callable[[], bool] | None = None) -> AdaptationResult:
+def adapt(
+    archive: Archive,
+    trial: Callable[[int], float],
+    config: MboaConfig | None = None,
+    on_trial: Callable[[Trial, int, Mboa], None] | None = None,
+    should_cancel: Callable[[], bool] | None = None,
+) -> AdaptationResult:
     """Run M-BOA until it stops (never more than ``config.max_trials`` trials)."""
     config = config or MboaConfig()
     niches, descriptors, prior = candidates(archive)
     opt = Mboa(descriptors, prior, config)
     t0 = time.monotonic()
-    result = AdaptationResult(False, "")
+    result = AdaptationResult(False, '')
     while True:
         reason = opt.stop_reason()
         if reason is not StopReason.CONTINUE:
@@ -63,18 +92,20 @@ def adapt(archive: Archive, trial: Callable[[int], float], config: MboaConfig | 
             result.message = opt.should_stop()[1]
             break
         if should_cancel and should_cancel():
-            result.message = "cancelled"
+            result.message = 'cancelled'
             break
         index = opt.next_index()
         niche = int(niches[index])
         try:
             measured = float(trial(niche))
         except TrialAborted as exc:
-            result.message = f"trial {len(opt.trials) + 1} aborted: {exc}"
+            result.message = f'trial {len(opt.trials) + 1} aborted: {exc}'
             break
-        if not math.isfinite(measured):   # bad odometry: never fed to the GP, never a "best"
-            result.message = (f"trial {len(opt.trials) + 1} (gait {niche}) measured a non-finite speed "
-                              f"({measured!r} m/s): the odometry is broken; run stopped")
+        if not math.isfinite(measured):  # bad odometry: never fed to the GP, never a "best"
+            result.message = (
+                f'trial {len(opt.trials) + 1} (gait {niche}) measured a non-finite speed '
+                f'({measured!r} m/s): the odometry is broken; run stopped'
+            )
             break
         t = opt.observe(index, measured)
         result.niches.append(niche)
@@ -89,15 +120,24 @@ def adapt(archive: Archive, trial: Callable[[int], float], config: MboaConfig | 
     return result
 
 
-def simulated_trial(archive: Archive, failed_legs: Sequence[int], sim: Simulator,
-                    duration: float | None = None) -> Callable[[int], float]:
-    """Trial function on ``sim`` (either engine) with ``failed_legs``; collisions are not fatal
-    (thesis 5.2.2: the robot cannot detect them)."""
+def simulated_trial(
+    archive: Archive, failed_legs: Sequence[int], sim: Simulator, duration: float | None = None
+) -> Callable[[int], float]:
+    """
+    Trial function on ``sim`` (either engine) with ``failed_legs``.
+
+    Collisions are not fatal (thesis 5.2.2: the robot cannot detect them).
+    """
     duration = duration or archive.trial_duration
 
     def trial(niche: int) -> float:
-        return evaluate_gait(archive.genotypes[niche], sim, duration=duration, collisions_fatal=False,
-                             failed_legs=failed_legs).speed
+        return evaluate_gait(
+            archive.genotypes[niche],
+            sim,
+            duration=duration,
+            collisions_fatal=False,
+            failed_legs=failed_legs,
+        ).speed
 
     return trial
 
@@ -105,37 +145,60 @@ def simulated_trial(archive: Archive, failed_legs: Sequence[int], sim: Simulator
 @dataclass
 class ExperimentRow:
     """One run of the thesis 5.2 experiment: one failure orientation, one trial engine."""
+
     scenario: str
     failed_legs: tuple[int, ...]
     trials: int
     success: bool
     best_niche: int
-    best_speed: float            # adapted gait [m/s]
-    control_speed: float         # the control tripod with the same damage [m/s]
+    best_speed: float  # adapted gait [m/s]
+    control_speed: float  # the control tripod with the same damage [m/s]
     intact_control_speed: float  # the control tripod without damage, same engine [m/s]
-    elapsed: float               # wall-clock seconds of the run (simulated trials)
-    map_engine: str              # engine that made the map
-    trial_engine: str            # engine the trials ran on (another one: a stand-in for the reality gap)
+    elapsed: float  # wall-clock seconds of the run (simulated trials)
+    map_engine: str  # engine that made the map
+    trial_engine: str  # engine the trials ran on (another one: a stand-in for the reality gap)
 
 
-def run_experiment(archive: Archive, scenarios: Sequence[str] = ("S1", "S2", "S3", "S4"),
-                   config: MboaConfig | None = None,
-                   on_row: Callable[[ExperimentRow], None] | None = None,
-                   trial_engine: str | None = None) -> list[ExperimentRow]:
-    """Thesis experiment 5.2 on one map: adapt in every orientation of each failure scenario
-    (library trials in the simulator, collisions not fatal), next to the control tripod gait.
-    Trials run on ``trial_engine`` (default: the engine that made the map)."""
-    map_engine = archive_engine(archive.metadata) or "pybullet"
+def run_experiment(
+    archive: Archive,
+    scenarios: Sequence[str] = ('S1', 'S2', 'S3', 'S4'),
+    config: MboaConfig | None = None,
+    on_row: Callable[[ExperimentRow], None] | None = None,
+    trial_engine: str | None = None,
+) -> list[ExperimentRow]:
+    """
+    Thesis experiment 5.2 on one map.
+
+    Adapt in every orientation of each failure scenario (library trials in the simulator,
+    collisions not fatal), next to the control tripod gait. Trials run on ``trial_engine``
+    (default: the engine that made the map).
+    """
+    map_engine = archive_engine(archive.metadata) or 'pybullet'
     trial_engine = trial_engine or map_engine
     rows = []
     with create_simulator(SimConfig(engine=trial_engine)) as sim:
-        intact = evaluate_gait(preset("control"), sim, collisions_fatal=False, failed_legs=()).speed
+        intact = evaluate_gait(
+            preset('control'), sim, collisions_fatal=False, failed_legs=()
+        ).speed
         for name in scenarios:
             for legs in orientations_of(name):
                 result = adapt(archive, simulated_trial(archive, legs, sim), config)
-                control = evaluate_gait(preset("control"), sim, collisions_fatal=False, failed_legs=legs).speed
-                row = ExperimentRow(name, tuple(legs), len(result.trials), result.success, result.best_niche,
-                                    result.best_speed, control, intact, result.elapsed, map_engine, trial_engine)
+                control = evaluate_gait(
+                    preset('control'), sim, collisions_fatal=False, failed_legs=legs
+                ).speed
+                row = ExperimentRow(
+                    name,
+                    tuple(legs),
+                    len(result.trials),
+                    result.success,
+                    result.best_niche,
+                    result.best_speed,
+                    control,
+                    intact,
+                    result.elapsed,
+                    map_engine,
+                    trial_engine,
+                )
                 rows.append(row)
                 if on_row:
                     on_row(row)

@@ -1,4 +1,25 @@
-"""The behaviour-performance map (archive) file: one self-describing ``.npz`` (ROS-free).
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+The behaviour-performance map (archive) file: one self-describing ``.npz`` (ROS-free).
 
 An archive has one row per niche (a CVT centroid in the 6-D duty-factor space):
 
@@ -16,9 +37,11 @@ the directory, so a crash or a full disk leaves the previous file intact.
 The thesis / pymap_elites text format (``fitness, descriptor(6), centroid(6), genotype(32)``
 per row, filled niches only) and ``centroids_<n>_<dim>.dat`` files import and export.
 """
+
 from __future__ import annotations
 
 import contextlib
+from dataclasses import dataclass, field
 import datetime as _dt
 import enum
 import hashlib
@@ -26,20 +49,18 @@ import io
 import json
 import math
 import os
-import tempfile
-from dataclasses import dataclass, field
 from pathlib import Path
+import tempfile
 from typing import Any, BinaryIO, Iterator, Mapping
 
+from hexapod_gait import GENOTYPE_MAPPING_VERSION, GENOTYPE_SIZE
 import numpy as np
 
-from hexapod_gait import GENOTYPE_MAPPING_VERSION, GENOTYPE_SIZE
-
-FORMAT = "hexapod-archive"
+FORMAT = 'hexapod-archive'
 FORMAT_VERSION = 1
 DESCRIPTOR_DIM = 6
-TOOL_VERSION = "hexapod_adapt 0.1.0"
-_ARRAYS = ("centroids", "fitness", "descriptors", "genotypes")
+TOOL_VERSION = 'hexapod_adapt 0.1.0'
+_ARRAYS = ('centroids', 'fitness', 'descriptors', 'genotypes')
 
 
 class ArchiveError(ValueError):
@@ -48,15 +69,15 @@ class ArchiveError(ValueError):
 
 def centroid_hash(centroids: np.ndarray) -> str:
     """sha256 of the centroids as little-endian float64 (identifies a CVT)."""
-    return hashlib.sha256(np.ascontiguousarray(centroids, dtype="<f8").tobytes()).hexdigest()
+    return hashlib.sha256(np.ascontiguousarray(centroids, dtype='<f8').tobytes()).hexdigest()
 
 
 class InsertStatus(enum.Enum):
     """What :meth:`Archive.insert` did with a result."""
 
-    NEW = "new"                  # the niche was empty: the result is its first elite
-    IMPROVED = "improved"        # the result beat the niche's elite and replaced it
-    NOT_IMPROVED = "not_improved"  # the niche's elite is at least as good: nothing changed
+    NEW = 'new'  # the niche was empty: the result is its first elite
+    IMPROVED = 'improved'  # the result beat the niche's elite and replaced it
+    NOT_IMPROVED = 'not_improved'  # the niche's elite is at least as good: nothing changed
 
 
 @dataclass(frozen=True)
@@ -64,17 +85,18 @@ class ArchiveStats:
     """Summary figures of an archive (fitness in metres over the trial duration)."""
 
     filled: int
-    coverage: float     # filled / niches
-    max: float          # NaN when empty
+    coverage: float  # filled / niches
+    max: float  # noqa: A003 (the statistic; NaN when empty)
     mean: float
     median: float
-    p5: float           # 5th percentile
-    qd_score: float     # sum of the elites' fitness clipped at 0: never decreases as the map improves
+    p5: float  # 5th percentile
+    qd_score: float  # sum of the elites' fitness clipped at 0: never decreases as the map improves
 
 
 @dataclass
 class Archive:
     """A behaviour-performance map in memory: one row per niche (see the module docstring)."""
+
     centroids: np.ndarray
     fitness: np.ndarray
     descriptors: np.ndarray
@@ -87,24 +109,29 @@ class Archive:
         self.descriptors = np.asarray(self.descriptors, dtype=float)
         self.genotypes = np.asarray(self.genotypes, dtype=float)
         _check_arrays(self.centroids, self.fitness, self.descriptors, self.genotypes)
-        self.metadata.setdefault("format", FORMAT)
-        self.metadata.setdefault("format_version", FORMAT_VERSION)
-        self.metadata["niches"] = int(len(self.centroids))
-        self.metadata["centroid_hash"] = centroid_hash(self.centroids)
-        self.metadata.setdefault("genotype_mapping", GENOTYPE_MAPPING_VERSION)
-        self.metadata.setdefault("trial_duration", 5.0)
+        self.metadata.setdefault('format', FORMAT)
+        self.metadata.setdefault('format_version', FORMAT_VERSION)
+        self.metadata['niches'] = int(len(self.centroids))
+        self.metadata['centroid_hash'] = centroid_hash(self.centroids)
+        self.metadata.setdefault('genotype_mapping', GENOTYPE_MAPPING_VERSION)
+        self.metadata.setdefault('trial_duration', 5.0)
 
     @classmethod
-    def empty(cls, centroids: np.ndarray, metadata: Mapping[str, Any] | None = None) -> "Archive":
-        """An archive with these centroids and no elite."""
+    def empty(cls, centroids: np.ndarray, metadata: Mapping[str, Any] | None = None) -> 'Archive':
+        """Return an archive with these centroids and no elite."""
         n = len(centroids)
-        return cls(np.asarray(centroids, dtype=float), np.full(n, np.nan), np.full((n, DESCRIPTOR_DIM), np.nan),
-                   np.full((n, GENOTYPE_SIZE), np.nan), dict(metadata or {}))
+        return cls(
+            np.asarray(centroids, dtype=float),
+            np.full(n, np.nan),
+            np.full((n, DESCRIPTOR_DIM), np.nan),
+            np.full((n, GENOTYPE_SIZE), np.nan),
+            dict(metadata or {}),
+        )
 
     # -- views ------------------------------------------------------------------------------
     @property
     def n_niches(self) -> int:
-        """Number of niches (CVT centroids)."""
+        """Return the number of niches (CVT centroids)."""
         return len(self.centroids)
 
     @property
@@ -114,34 +141,47 @@ class Archive:
 
     @property
     def n_filled(self) -> int:
-        """Number of niches holding an elite."""
+        """Return the number of niches holding an elite."""
         return int(self.filled.sum())
 
     @property
     def trial_duration(self) -> float:
         """Seconds the fitness was measured over (metadata ``trial_duration``)."""
-        return float(self.metadata["trial_duration"])
+        return float(self.metadata['trial_duration'])
 
     def speeds(self) -> np.ndarray:
         """Fitness as average speed [m/s] (NaN for empty niches)."""
         return self.fitness / self.trial_duration
 
     def elite_indices(self) -> np.ndarray:
-        """Indices of the filled niches, ascending."""
+        """Return the indices of the filled niches, ascending."""
         return np.flatnonzero(self.filled)
 
     def stats(self) -> ArchiveStats:
-        """Filled niches, coverage, max/mean/median/5th-percentile fitness and QD-score."""
+        """Summarise: filled niches, coverage, max/mean/median/5th-percentile fitness, QD-score."""
         f = self.fitness[self.filled]
         if f.size == 0:
-            nan = float("nan")
+            nan = float('nan')
             return ArchiveStats(0, 0.0, nan, nan, nan, nan, 0.0)
-        return ArchiveStats(int(f.size), f.size / self.n_niches, float(f.max()), float(f.mean()),
-                            float(np.median(f)), float(np.percentile(f, 5)), float(np.sum(np.maximum(f, 0.0))))
+        return ArchiveStats(
+            int(f.size),
+            f.size / self.n_niches,
+            float(f.max()),
+            float(f.mean()),
+            float(np.median(f)),
+            float(np.percentile(f, 5)),
+            float(np.sum(np.maximum(f, 0.0))),
+        )
 
-    def insert(self, niche: int, fitness: float, descriptor: np.ndarray, genotype: np.ndarray) -> InsertStatus:
-        """Offer a result to ``niche``: it becomes the elite if the niche is empty or it is
-        fitter (a tie keeps the incumbent). Returns what happened."""
+    def insert(
+        self, niche: int, fitness: float, descriptor: np.ndarray, genotype: np.ndarray
+    ) -> InsertStatus:
+        """
+        Offer a result to ``niche``.
+
+        It becomes the elite if the niche is empty or it is fitter (a tie keeps the incumbent).
+        Returns what happened.
+        """
         if np.isnan(self.fitness[niche]):
             status = InsertStatus.NEW
         elif fitness > self.fitness[niche]:
@@ -154,61 +194,95 @@ class Archive:
         return status
 
     # -- files ------------------------------------------------------------------------------
-    def save(self, path: str | os.PathLike, extra_arrays: Mapping[str, np.ndarray] | None = None) -> Path:
-        """Write atomically (temp file + fsync + rename); returns the path. ``extra_arrays`` are
-        stored beside the archive's (a map-generation checkpoint's candidates in flight)."""
+    def save(
+        self, path: str | os.PathLike, extra_arrays: Mapping[str, np.ndarray] | None = None
+    ) -> Path:
+        """
+        Write atomically (temp file + fsync + rename); returns the path.
+
+        ``extra_arrays`` are stored beside the archive's (a map-generation checkpoint's candidates
+        in flight).
+        """
         path = Path(path)
         meta = dict(self.metadata)
-        meta["niches"], meta["centroid_hash"] = self.n_niches, centroid_hash(self.centroids)
-        meta.setdefault("created", _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
-        meta.setdefault("tool_version", TOOL_VERSION)
+        meta['niches'], meta['centroid_hash'] = self.n_niches, centroid_hash(self.centroids)
+        meta.setdefault(
+            'created', _dt.datetime.now(_dt.timezone.utc).isoformat(timespec='seconds')
+        )
+        meta.setdefault('tool_version', TOOL_VERSION)
         self.metadata = meta
         buf = io.BytesIO()
-        np.savez(buf, centroids=self.centroids, fitness=self.fitness, descriptors=self.descriptors,
-                 genotypes=self.genotypes, metadata=np.array(json.dumps(meta, sort_keys=True)),
-                 **dict(extra_arrays or {}))
+        np.savez(
+            buf,
+            centroids=self.centroids,
+            fitness=self.fitness,
+            descriptors=self.descriptors,
+            genotypes=self.genotypes,
+            metadata=np.array(json.dumps(meta, sort_keys=True)),
+            **dict(extra_arrays or {}),
+        )
         atomic_write_bytes(path, buf.getvalue())
         return path
 
 
-def _check_arrays(centroids: np.ndarray, fitness: np.ndarray, descriptors: np.ndarray, genotypes: np.ndarray,
-                  where: str = "archive") -> None:
+def _check_arrays(
+    centroids: np.ndarray,
+    fitness: np.ndarray,
+    descriptors: np.ndarray,
+    genotypes: np.ndarray,
+    where: str = 'archive',
+) -> None:
     if centroids.ndim != 2 or centroids.shape[1] != DESCRIPTOR_DIM or len(centroids) == 0:
-        raise ArchiveError(f"{where}: centroids must be (n, {DESCRIPTOR_DIM}) with n >= 1, got {centroids.shape}")
+        raise ArchiveError(
+            f'{where}: centroids must be (n, {DESCRIPTOR_DIM}) with n >= 1, got {centroids.shape}'
+        )
     n = len(centroids)
-    for name, arr, shape in (("fitness", fitness, (n,)), ("descriptors", descriptors, (n, DESCRIPTOR_DIM)),
-                             ("genotypes", genotypes, (n, GENOTYPE_SIZE))):
+    for name, arr, shape in (
+        ('fitness', fitness, (n,)),
+        ('descriptors', descriptors, (n, DESCRIPTOR_DIM)),
+        ('genotypes', genotypes, (n, GENOTYPE_SIZE)),
+    ):
         if arr.shape != shape:
-            raise ArchiveError(f"{where}: {name} must have shape {shape} (one row per niche), got {arr.shape}")
+            raise ArchiveError(
+                f'{where}: {name} must have shape {shape} (one row per niche), got {arr.shape}'
+            )
     if not np.all(np.isfinite(centroids)):
-        raise ArchiveError(f"{where}: centroids contain NaN or infinity")
+        raise ArchiveError(f'{where}: centroids contain NaN or infinity')
     filled = ~np.isnan(fitness)
     if np.any(np.isinf(fitness)):
-        raise ArchiveError(f"{where}: fitness contains infinity")
-    for name, arr in (("descriptors", descriptors), ("genotypes", genotypes)):
+        raise ArchiveError(f'{where}: fitness contains infinity')
+    for name, arr in (('descriptors', descriptors), ('genotypes', genotypes)):
         rows = arr[filled]
         if not np.all(np.isfinite(rows)):
-            bad = int(np.flatnonzero(filled)[np.flatnonzero(~np.all(np.isfinite(rows), axis=1))[0]])
-            raise ArchiveError(f"{where}: niche {bad} has a fitness but its {name} are not finite")
+            bad = int(
+                np.flatnonzero(filled)[np.flatnonzero(~np.all(np.isfinite(rows), axis=1))[0]]
+            )
+            raise ArchiveError(f'{where}: niche {bad} has a fitness but its {name} are not finite')
         if rows.size and (rows.min() < 0.0 or rows.max() > 1.0):
-            raise ArchiveError(f"{where}: {name} of filled niches must lie in [0, 1], "
-                               f"found [{rows.min():.6g}, {rows.max():.6g}]")
+            raise ArchiveError(
+                f'{where}: {name} of filled niches must lie in [0, 1], '
+                f'found [{rows.min():.6g}, {rows.max():.6g}]'
+            )
 
 
 @contextlib.contextmanager
 def atomic_output(path: str | os.PathLike) -> Iterator[BinaryIO]:
-    """A binary file to write ``path`` through: readers see the old file or the complete new
-    one, never a part (temporary file in the same directory, fsync, rename, directory fsync).
-    If the block raises, the old file stays and the temporary is removed."""
+    """
+    Return a binary file to write ``path`` through.
+
+    Readers see the old file or the complete new one, never a part (temporary file in the same
+    directory, fsync, rename, directory fsync). If the block raises, the old file stays and the
+    temporary is removed.
+    """
     path = Path(path)
-    directory = path.parent if str(path.parent) else Path(".")
+    directory = path.parent if str(path.parent) else Path('.')
     directory.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
+    fd, tmp = tempfile.mkstemp(prefix=f'.{path.name}.', suffix='.tmp', dir=directory)
     try:
         umask = os.umask(0)
         os.umask(umask)
-        os.fchmod(fd, 0o666 & ~umask)          # mkstemp makes 0600; a map is an ordinary file
-        with os.fdopen(fd, "wb") as fh:
+        os.fchmod(fd, 0o666 & ~umask)  # mkstemp makes 0600; a map is an ordinary file
+        with os.fdopen(fd, 'wb') as fh:
             yield fh
             fh.flush()
             os.fsync(fh.fileno())
@@ -217,7 +291,7 @@ def atomic_output(path: str | os.PathLike) -> Iterator[BinaryIO]:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
         raise
-    with contextlib.suppress(OSError):   # directory fsync: not possible on every filesystem
+    with contextlib.suppress(OSError):  # directory fsync: not possible on every filesystem
         dfd = os.open(directory, os.O_RDONLY)
         try:
             os.fsync(dfd)
@@ -236,117 +310,164 @@ MAX_TRIAL_DURATION = 120.0
 
 
 def check_metadata(meta: Any, where: str) -> dict[str, Any]:
-    """The metadata record if it is usable; ArchiveError names the first problem."""
-    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
-        found = meta.get("format") if isinstance(meta, dict) else type(meta).__name__
-        raise ArchiveError(f"{where}: not a hexapod archive (metadata format {found!r})")
-    if meta.get("format_version") != FORMAT_VERSION:
-        raise ArchiveError(f"{where}: archive format version {meta.get('format_version')!r}; this tool reads "
-                           f"version {FORMAT_VERSION}")
-    duration = meta.get("trial_duration", 5.0)
-    if isinstance(duration, bool) or not isinstance(duration, (int, float)) or not math.isfinite(duration) \
-            or not 0.0 < duration <= MAX_TRIAL_DURATION:
-        raise ArchiveError(f"{where}: metadata trial_duration must be a number of seconds in "
-                           f"(0, {MAX_TRIAL_DURATION:g}], got {duration!r}")
-    evaluations = meta.get("evaluations", 0)
+    """Return the metadata record if it is usable; ArchiveError names the first problem."""
+    if not isinstance(meta, dict) or meta.get('format') != FORMAT:
+        found = meta.get('format') if isinstance(meta, dict) else type(meta).__name__
+        raise ArchiveError(f'{where}: not a hexapod archive (metadata format {found!r})')
+    if meta.get('format_version') != FORMAT_VERSION:
+        raise ArchiveError(
+            f'{where}: archive format version {meta.get("format_version")!r}; this tool reads '
+            f'version {FORMAT_VERSION}'
+        )
+    duration = meta.get('trial_duration', 5.0)
+    if (
+        isinstance(duration, bool)
+        or not isinstance(duration, (int, float))
+        or not math.isfinite(duration)
+        or not 0.0 < duration <= MAX_TRIAL_DURATION
+    ):
+        raise ArchiveError(
+            f'{where}: metadata trial_duration must be a number of seconds in '
+            f'(0, {MAX_TRIAL_DURATION:g}], got {duration!r}'
+        )
+    evaluations = meta.get('evaluations', 0)
     if isinstance(evaluations, bool) or not isinstance(evaluations, int) or evaluations < 0:
-        raise ArchiveError(f"{where}: metadata evaluations must be a whole number >= 0, got {evaluations!r}")
+        raise ArchiveError(
+            f'{where}: metadata evaluations must be a whole number >= 0, got {evaluations!r}'
+        )
     return meta
 
 
 def load_archive(path: str | os.PathLike) -> Archive:
-    """Read an archive; every way the file can be bad is an ArchiveError that names the file
-    and the problem (truncated, bit-flipped, foreign, altered, nonsensical metadata)."""
+    """
+    Read an archive.
+
+    Every way the file can be bad is an ArchiveError that names the file and the problem
+    (truncated, bit-flipped, foreign, altered, nonsensical metadata).
+    """
     path = Path(path)
     if not path.is_file():
-        raise ArchiveError(f"{path}: no such archive file")
+        raise ArchiveError(f'{path}: no such archive file')
     try:
         loaded = np.load(path, allow_pickle=False)
         if not isinstance(loaded, np.lib.npyio.NpzFile):
-            raise ArchiveError(f"{path}: not a hexapod archive (a single array, not an .npz archive)")
+            raise ArchiveError(
+                f'{path}: not a hexapod archive (a single array, not an .npz archive)'
+            )
         with loaded as data:
-            missing = [k for k in (*_ARRAYS, "metadata") if k not in data.files]
+            missing = [k for k in (*_ARRAYS, 'metadata') if k not in data.files]
             if missing:
-                raise ArchiveError(f"{path}: not a hexapod archive (missing {', '.join(missing)})")
+                raise ArchiveError(f'{path}: not a hexapod archive (missing {", ".join(missing)})')
             arrays = {}
             for name in _ARRAYS:
                 array = np.asarray(data[name])
-                if array.dtype.kind not in "fiu":
-                    raise ArchiveError(f"{path}: {name} must hold numbers, found dtype {array.dtype}")
+                if array.dtype.kind not in 'fiu':
+                    raise ArchiveError(
+                        f'{path}: {name} must hold numbers, found dtype {array.dtype}'
+                    )
                 arrays[name] = array.astype(float)
-            meta_array = np.asarray(data["metadata"])
-            if meta_array.shape != () or meta_array.dtype.kind not in "US":
-                raise ArchiveError(f"{path}: metadata must be one JSON string, found {meta_array.dtype} "
-                                   f"{meta_array.shape}")
+            meta_array = np.asarray(data['metadata'])
+            if meta_array.shape != () or meta_array.dtype.kind not in 'US':
+                raise ArchiveError(
+                    f'{path}: metadata must be one JSON string, found {meta_array.dtype} '
+                    f'{meta_array.shape}'
+                )
             meta_text = str(meta_array)
     except ArchiveError:
         raise
     except Exception as exc:  # noqa: BLE001 - numpy's readers raise many kinds on damaged bytes
-        # (BadZipFile, EOFError, ValueError, zlib.error, tokenize.TokenError, SyntaxError, MemoryError,
+        # (BadZipFile, EOFError, ValueError, zlib.error, tokenize.TokenError, SyntaxError,
+        # MemoryError,
         # ...): each one means the file is damaged, and the caller needs one answer for that.
-        raise ArchiveError(f"{path}: truncated or corrupted archive file ({type(exc).__name__}: {exc})") from exc
+        raise ArchiveError(
+            f'{path}: truncated or corrupted archive file ({type(exc).__name__}: {exc})'
+        ) from exc
     try:
         meta = json.loads(meta_text)
     except (json.JSONDecodeError, RecursionError) as exc:
-        raise ArchiveError(f"{path}: metadata is not valid JSON ({exc})") from exc
+        raise ArchiveError(f'{path}: metadata is not valid JSON ({exc})') from exc
     meta = check_metadata(meta, str(path))
-    _check_arrays(arrays["centroids"], arrays["fitness"], arrays["descriptors"], arrays["genotypes"], where=str(path))
-    if meta.get("centroid_hash") != centroid_hash(arrays["centroids"]):
-        raise ArchiveError(f"{path}: centroids do not match the centroid hash in the metadata (file altered?)")
-    return Archive(arrays["centroids"], arrays["fitness"], arrays["descriptors"], arrays["genotypes"], meta)
+    _check_arrays(
+        arrays['centroids'],
+        arrays['fitness'],
+        arrays['descriptors'],
+        arrays['genotypes'],
+        where=str(path),
+    )
+    if meta.get('centroid_hash') != centroid_hash(arrays['centroids']):
+        raise ArchiveError(
+            f'{path}: centroids do not match the centroid hash in the metadata (file altered?)'
+        )
+    return Archive(
+        arrays['centroids'], arrays['fitness'], arrays['descriptors'], arrays['genotypes'], meta
+    )
 
 
 def compatibility_problems(archive: Archive, expected: Mapping[str, Any]) -> list[str]:
-    """Metadata entries that differ from what the caller runs against, as readable sentences
-    (empty if compatible). Keys compared: any of ``expected``'s keys present in it."""
+    """
+    List, as readable sentences, the metadata entries that differ from ``expected``.
+
+    Empty if compatible. Keys compared: any of ``expected``'s keys present in it.
+    """
     problems = []
     for key, want in expected.items():
         have = archive.metadata.get(key)
         if have != want:
-            problems.append(f"{key} is {have!r} in the archive but {want!r} here")
+            problems.append(f'{key} is {have!r} in the archive but {want!r} here')
     return problems
 
 
 # -- thesis / pymap_elites text files -----------------------------------------------------------
 def load_centroids(path: str | os.PathLike) -> np.ndarray:
-    """A ``centroids_<n>_<dim>.dat`` file: one centroid per row, whitespace separated."""
+    """Return a ``centroids_<n>_<dim>.dat`` file: one centroid per row, whitespace separated."""
     path = Path(path)
     try:
         c = np.loadtxt(path, ndmin=2)
     except (OSError, ValueError) as exc:
-        raise ArchiveError(f"{path}: cannot read centroids ({exc})") from exc
+        raise ArchiveError(f'{path}: cannot read centroids ({exc})') from exc
     if c.shape[1] != DESCRIPTOR_DIM:
-        raise ArchiveError(f"{path}: centroids must have {DESCRIPTOR_DIM} columns, got {c.shape[1]}")
+        raise ArchiveError(
+            f'{path}: centroids must have {DESCRIPTOR_DIM} columns, got {c.shape[1]}'
+        )
     return c
 
 
 def save_centroids(path: str | os.PathLike, centroids: np.ndarray) -> None:
     """Write centroids as a ``centroids_<n>_<dim>.dat`` text file, atomically."""
     buf = io.StringIO()
-    np.savetxt(buf, centroids, fmt="%.17g")
+    np.savetxt(buf, centroids, fmt='%.17g')
     atomic_write_bytes(path, buf.getvalue().encode())
 
 
-def import_thesis_map(path: str | os.PathLike, centroids: np.ndarray | None = None,
-                      metadata: Mapping[str, Any] | None = None) -> Archive:
-    """Read a thesis/pymap_elites map (``archive_<n>.dat``): rows of fitness, descriptor (6),
-    centroid (6), genotype (32). With ``centroids`` (e.g. from :func:`load_centroids`) rows are
-    placed in the niche whose centroid is nearest to the row's; without, the rows' centroids
-    are the niches. Fitness is taken as metres in 5 s, as the thesis code computed it."""
+def import_thesis_map(
+    path: str | os.PathLike,
+    centroids: np.ndarray | None = None,
+    metadata: Mapping[str, Any] | None = None,
+) -> Archive:
+    """
+    Read a thesis/pymap_elites map (``archive_<n>.dat``).
+
+    Rows of fitness, descriptor (6), centroid (6), genotype (32). With ``centroids`` (e.g. from
+    :func:`load_centroids`) rows are placed in the niche whose centroid is nearest to the row's;
+    without, the rows' centroids are the niches. Fitness is taken as metres in 5 s, as the thesis
+    code computed it.
+    """
     path = Path(path)
     width = 1 + 2 * DESCRIPTOR_DIM + GENOTYPE_SIZE
     try:
         rows = np.loadtxt(path, ndmin=2)
     except (OSError, ValueError) as exc:
-        raise ArchiveError(f"{path}: cannot read a thesis map ({exc})") from exc
+        raise ArchiveError(f'{path}: cannot read a thesis map ({exc})') from exc
     if rows.size == 0:
-        raise ArchiveError(f"{path}: the map has no rows")
+        raise ArchiveError(f'{path}: the map has no rows')
     if rows.shape[1] != width:
-        raise ArchiveError(f"{path}: a thesis map row has {width} numbers (fitness, 6 descriptor, 6 centroid, "
-                           f"{GENOTYPE_SIZE} genes); found {rows.shape[1]}")
+        raise ArchiveError(
+            f'{path}: a thesis map row has {width} numbers (fitness, 6 descriptor, 6 centroid, '
+            f'{GENOTYPE_SIZE} genes); found {rows.shape[1]}'
+        )
     fit, desc = rows[:, 0], rows[:, 1:7]
     cent, genes = rows[:, 7:13], rows[:, 13:]
-    meta = {"source": f"thesis map {path.name}", "evaluations": None, "seed": None}
+    meta = {'source': f'thesis map {path.name}', 'evaluations': None, 'seed': None}
     meta.update(metadata or {})
     if centroids is None:
         return Archive(cent, fit, desc, genes, meta)
@@ -355,20 +476,30 @@ def import_thesis_map(path: str | os.PathLike, centroids: np.ndarray | None = No
     archive = Archive.empty(centroids, meta)
     dist, idx = cKDTree(archive.centroids).query(cent)
     if np.max(dist) > 1e-6:
-        raise ArchiveError(f"{path}: row {int(np.argmax(dist))}'s centroid is {np.max(dist):.3g} from every "
-                           "centroid in the given CVT (a different centroids file?)")
+        raise ArchiveError(
+            f"{path}: row {int(np.argmax(dist))}'s centroid is {np.max(dist):.3g} from every "
+            'centroid in the given CVT (a different centroids file?)'
+        )
     if len(np.unique(idx)) != len(idx):
-        raise ArchiveError(f"{path}: two rows claim the same niche")
+        raise ArchiveError(f'{path}: two rows claim the same niche')
     archive.fitness[idx], archive.descriptors[idx], archive.genotypes[idx] = fit, desc, genes
-    _check_arrays(archive.centroids, archive.fitness, archive.descriptors, archive.genotypes, where=str(path))
+    _check_arrays(
+        archive.centroids, archive.fitness, archive.descriptors, archive.genotypes, where=str(path)
+    )
     return archive
 
 
 def export_thesis_map(archive: Archive, path: str | os.PathLike) -> None:
     """Write the filled niches in the thesis/pymap_elites text format (atomically)."""
     idx = archive.elite_indices()
-    rows = np.hstack([archive.fitness[idx, None], archive.descriptors[idx], archive.centroids[idx],
-                      archive.genotypes[idx]])
+    rows = np.hstack(
+        [
+            archive.fitness[idx, None],
+            archive.descriptors[idx],
+            archive.centroids[idx],
+            archive.genotypes[idx],
+        ]
+    )
     buf = io.StringIO()
-    np.savetxt(buf, rows, fmt="%.17g")
+    np.savetxt(buf, rows, fmt='%.17g')
     atomic_write_bytes(path, buf.getvalue().encode())

@@ -1,7 +1,28 @@
-"""``run_experiment``: the thesis's simulated adaptation experiment (5.2) on one map.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+``run_experiment``: the thesis's simulated adaptation experiment (5.2) on one map.
 
     ros2 run hexapod_adapt run_experiment --archive map.npz [--scenarios S1 S3] [--out runs.csv]
-    run_experiment --archive map.npz --cross-engine --out-dir docs/experiment   # the full experiment
+    run_experiment --archive map.npz --cross-engine --out-dir docs/experiment  # all of it
 
 For every orientation of each failure scenario: one M-BOA run with simulated trials (leg
 failures as in table 5.1, collisions not fatal), next to the control tripod gait with the same
@@ -11,16 +32,15 @@ damage and intact. Trials run on the engine that made the map, or ``--trial-engi
 and engine; ``--out`` writes the rows as CSV (atomically); ``--out-dir`` writes runs.csv plus
 the box plots adapted_speed.png and trials.png (thesis figs 5.4-5.5).
 """
+
 from __future__ import annotations
 
 import argparse
 import csv
-import io
-import sys
 from dataclasses import asdict
+import io
 from pathlib import Path
-
-import numpy as np
+import sys
 
 from hexapod_adapt.adaptation import ExperimentRow, run_experiment
 from hexapod_adapt.archive import ArchiveError, atomic_write_bytes, load_archive
@@ -28,26 +48,34 @@ from hexapod_adapt.mboa import MboaConfig
 from hexapod_adapt.plots import plot_experiment
 from hexapod_adapt.simulation import archive_engine
 from hexapod_sim import ENGINES
+import numpy as np
 
-SCENARIOS = ("S1", "S2", "S3", "S4")
+SCENARIOS = ('S1', 'S2', 'S3', 'S4')
 
 
 def rows_csv(rows: list[ExperimentRow]) -> bytes:
-    """The rows as CSV text (failed legs space-separated)."""
+    """Return the rows as CSV text (failed legs space-separated)."""
     buf = io.StringIO()
     writer = csv.DictWriter(buf, fieldnames=list(asdict(rows[0])))
     writer.writeheader()
     for r in rows:
         d = asdict(r)
-        d["failed_legs"] = " ".join(map(str, r.failed_legs))
+        d['failed_legs'] = ' '.join(map(str, r.failed_legs))
         writer.writerow(d)
     return buf.getvalue().encode()
 
 
 def summary(rows: list[ExperimentRow]) -> str:
-    """Per trial engine and scenario: runs, trials (median / max), adapted speed (median / mean),
-    runs beating the damaged control tripod, the control speeds."""
-    lines = ["trials on  scenario  runs  trials med/max  adapted med/mean m/s  beat control  control m/s  intact m/s"]
+    """
+    Per trial engine and scenario.
+
+    Runs, trials (median / max), adapted speed (median / mean), runs beating the damaged control
+    tripod, the control speeds.
+    """
+    lines = [
+        'trials on  scenario  runs  trials med/max  adapted med/mean m/s  beat control  control'
+        ' m/s  intact m/s'
+    ]
     for engine in dict.fromkeys(r.trial_engine for r in rows):
         for name in dict.fromkeys(r.scenario for r in rows):
             sel = [r for r in rows if r.scenario == name and r.trial_engine == engine]
@@ -55,46 +83,74 @@ def summary(rows: list[ExperimentRow]) -> str:
                 continue
             best = np.array([r.best_speed for r in sel])
             control = np.array([r.control_speed for r in sel])
-            lines.append(f"{engine:9s} {name:8s}  {len(sel):4d}  {np.median([r.trials for r in sel]):6.1f} / "
-                         f"{max(r.trials for r in sel):3d}      {np.median(best):+.3f} / {np.mean(best):+.3f}      "
-                         f"{int(np.sum(best > control)):3d} of {len(sel):2d}    {np.mean(control):+.3f}       "
-                         f"{sel[0].intact_control_speed:+.3f}")
-    return "\n".join(lines)
+            lines.append(
+                f'{engine:9s} {name:8s}  {len(sel):4d}  {np.median([r.trials for r in sel]):6.1f}'
+                f' / {max(r.trials for r in sel):3d}      {np.median(best):+.3f} /'
+                f' {np.mean(best):+.3f}      {int(np.sum(best > control)):3d} of {len(sel):2d}   '
+                f' {np.mean(control):+.3f}       {sel[0].intact_control_speed:+.3f}'
+            )
+    return '\n'.join(lines)
 
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of ``run_experiment``; exit status 2 for bad inputs."""
-    ap = argparse.ArgumentParser(prog="run_experiment", description=__doc__.split("\n\n")[0],
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--archive", type=Path, required=True, help="the map (.npz)")
-    ap.add_argument("--scenarios", nargs="+", default=list(SCENARIOS), choices=SCENARIOS,
-                    help="failure scenarios to run (every orientation of each)")
-    ap.add_argument("--trial-engine", choices=ENGINES, default=None,
-                    help="engine the trials run on (default: the engine that made the map)")
-    ap.add_argument("--cross-engine", action="store_true",
-                    help="run on the map's engine and again on the other engine")
-    ap.add_argument("--max-trials", type=int, default=20, help="trials per run at most")
-    ap.add_argument("--alpha", type=float, default=0.9, help="stop ratio")
-    ap.add_argument("--kappa", type=float, default=0.05, help="UCB weight on the posterior std")
-    ap.add_argument("--length-scale", type=float, default=0.4, help="Matern length scale rho")
-    ap.add_argument("--noise", type=float, default=0.001, help="GP noise variance [(m/s)^2]")
-    ap.add_argument("--out", type=Path, help="CSV file of the runs")
-    ap.add_argument("--out-dir", type=Path, help="directory for runs.csv, adapted_speed.png and trials.png")
+    ap = argparse.ArgumentParser(
+        prog='run_experiment',
+        description=__doc__.split('\n\n')[0],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    ap.add_argument('--archive', type=Path, required=True, help='the map (.npz)')
+    ap.add_argument(
+        '--scenarios',
+        nargs='+',
+        default=list(SCENARIOS),
+        choices=SCENARIOS,
+        help='failure scenarios to run (every orientation of each)',
+    )
+    ap.add_argument(
+        '--trial-engine',
+        choices=ENGINES,
+        default=None,
+        help='engine the trials run on (default: the engine that made the map)',
+    )
+    ap.add_argument(
+        '--cross-engine',
+        action='store_true',
+        help="run on the map's engine and again on the other engine",
+    )
+    ap.add_argument('--max-trials', type=int, default=20, help='trials per run at most')
+    ap.add_argument('--alpha', type=float, default=0.9, help='stop ratio')
+    ap.add_argument('--kappa', type=float, default=0.05, help='UCB weight on the posterior std')
+    ap.add_argument('--length-scale', type=float, default=0.4, help='Matern length scale rho')
+    ap.add_argument('--noise', type=float, default=0.001, help='GP noise variance [(m/s)^2]')
+    ap.add_argument('--out', type=Path, help='CSV file of the runs')
+    ap.add_argument(
+        '--out-dir', type=Path, help='directory for runs.csv, adapted_speed.png and trials.png'
+    )
     args = ap.parse_args(argv)
     try:
         archive = load_archive(args.archive)
-        config = MboaConfig(max_trials=args.max_trials, alpha=args.alpha, kappa=args.kappa,
-                            length_scale=args.length_scale, noise=args.noise)
+        config = MboaConfig(
+            max_trials=args.max_trials,
+            alpha=args.alpha,
+            kappa=args.kappa,
+            length_scale=args.length_scale,
+            noise=args.noise,
+        )
     except (ArchiveError, ValueError) as exc:
-        print(f"run_experiment: {exc}", file=sys.stderr)
+        print(f'run_experiment: {exc}', file=sys.stderr)
         return 2
-    map_engine = archive_engine(archive.metadata) or "pybullet"
+    map_engine = archive_engine(archive.metadata) or 'pybullet'
     first = args.trial_engine or map_engine
     engines = [first] + ([e for e in ENGINES if e != first] if args.cross_engine else [])
 
     def show(r: ExperimentRow) -> None:
-        print(f"{r.trial_engine:8s} {r.scenario} legs {','.join(map(str, r.failed_legs)):4s} {r.trials:3d} trials  "
-              f"adapted {r.best_speed:+.3f} m/s  control {r.control_speed:+.3f} m/s", flush=True)
+        print(
+            f'{r.trial_engine:8s} {r.scenario} legs {",".join(map(str, r.failed_legs)):4s}'
+            f' {r.trials:3d} trials  adapted {r.best_speed:+.3f} m/s  control'
+            f' {r.control_speed:+.3f} m/s',
+            flush=True,
+        )
 
     rows: list[ExperimentRow] = []
     for engine in engines:
@@ -103,14 +159,18 @@ def main(argv: list[str] | None = None) -> int:
     print(summary(rows))
     if args.out:
         atomic_write_bytes(args.out, rows_csv(rows))
-        print(f"wrote {args.out}")
+        print(f'wrote {args.out}')
     if args.out_dir:
-        atomic_write_bytes(args.out_dir / "runs.csv", rows_csv(rows))
-        for path in (args.out_dir / "runs.csv",
-                     *plot_experiment(rows, args.out_dir / "adapted_speed.png", args.out_dir / "trials.png")):
-            print(f"wrote {path}")
+        atomic_write_bytes(args.out_dir / 'runs.csv', rows_csv(rows))
+        for path in (
+            args.out_dir / 'runs.csv',
+            *plot_experiment(
+                rows, args.out_dir / 'adapted_speed.png', args.out_dir / 'trials.png'
+            ),
+        ):
+            print(f'wrote {path}')
     return 0
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

@@ -1,105 +1,136 @@
-"""Offline map generation: CVT + MAP-Elites + the simulated evaluation (MuJoCo by default, or
-PyBullet), on a local process pool, a Dask cluster or MPI (ROS-free API behind ``generate_map``).
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Offline map generation.
+
+CVT + MAP-Elites + the simulated evaluation (MuJoCo by default, or PyBullet), on a local process
+pool, a Dask cluster or MPI (ROS-free API behind ``generate_map``).
 
 Writes the archive atomically to ``out``; while running, a checkpoint ``<out>.ckpt.npz`` (the
 archive plus the candidates in flight) every ``checkpoint_every`` seconds, and one JSON line per
 ``log_every`` seconds to the log file. ``resume=True`` continues from the checkpoint exactly:
 the map is a function of (seed, configuration) only, whatever the backend or worker count.
 """
+
 from __future__ import annotations
 
 import concurrent.futures as cf
 import contextlib
+from dataclasses import asdict, dataclass
 import json
 import os
-from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Callable, Iterator
 
 from hexapod_adapt.archive import Archive, ArchiveError, compatibility_problems
 from hexapod_adapt.cvt import cached_cvt, cvt_cache_path
-from hexapod_adapt.map_elites import MapElitesConfig, Progress, load_checkpoint, run_map_elites
+from hexapod_adapt.map_elites import load_checkpoint, MapElitesConfig, Progress, run_map_elites
 from hexapod_adapt.simulation import DEFAULT_MAP_ENGINE, SimulateGenotypes, simulation_fingerprint
-from hexapod_gait import PRESETS, preset, to_genotype
+from hexapod_gait import preset, PRESETS, to_genotype
 from hexapod_sim import validate_engine
 from hexapod_sim.sampling import random_reachable_genes
 
-BACKENDS = ("local", "dask", "mpi", "inline")
+BACKENDS = ('local', 'dask', 'mpi', 'inline')
 
 
 @dataclass(frozen=True)
 class GenerateConfig:
     """Everything a ``generate_map`` run needs; ValueError names a bad setting."""
+
     out: Path
     niches: int = 10000
     evaluations: int = 1_000_000
     seed: int = 0
-    backend: str = "local"
-    workers: int = 0                  # local: processes (0 = all cores); dask/mpi: for the figures
-    scheduler: str | None = None      # dask scheduler address (None: a local Dask cluster)
-    lag: int = 0                      # candidates in flight (0: 4 x workers, at least 64)
-    chunk: int = 0                    # candidates per worker call (0: 8 for MuJoCo, 1 for PyBullet)
+    backend: str = 'local'
+    workers: int = 0  # local: processes (0 = all cores); dask/mpi: for the figures
+    scheduler: str | None = None  # dask scheduler address (None: a local Dask cluster)
+    lag: int = 0  # candidates in flight (0: 4 x workers, at least 64)
+    chunk: int = 0  # candidates per worker call (0: 8 for MuJoCo, 1 for PyBullet)
     engine: str = DEFAULT_MAP_ENGINE
     random_init: float = 0.01
     cvt_samples: int | None = None
-    cvt_dir: Path | None = None       # cache centroids_<n>_6.dat here (default: next to out)
+    cvt_dir: Path | None = None  # cache centroids_<n>_6.dat here (default: next to out)
     checkpoint_every: float = 600.0
     log_every: float = 30.0
-    log: Path | None = None           # default: <out>.log.jsonl
+    log: Path | None = None  # default: <out>.log.jsonl
     resume: bool = False
-    with_presets: bool = False        # try the preset gaits (control, tripod, wave, quadruped) first
+    with_presets: bool = False  # try the preset gaits (control, tripod, wave, quadruped) first
 
     def __post_init__(self) -> None:
         if self.backend not in BACKENDS:
-            raise ValueError(f"backend must be one of {', '.join(BACKENDS)}, got {self.backend!r}")
+            raise ValueError(f'backend must be one of {", ".join(BACKENDS)}, got {self.backend!r}')
         if self.niches < 2:
-            raise ValueError(f"niches must be >= 2, got {self.niches}")
+            raise ValueError(f'niches must be >= 2, got {self.niches}')
         if self.workers < 0:
-            raise ValueError(f"workers must be >= 0, got {self.workers}")
+            raise ValueError(f'workers must be >= 0, got {self.workers}')
         if self.chunk < 0:
-            raise ValueError(f"chunk must be >= 0, got {self.chunk}")
+            raise ValueError(f'chunk must be >= 0, got {self.chunk}')
         validate_engine(self.engine)
 
     @property
     def checkpoint_path(self) -> Path:
-        """The checkpoint file beside the output (``<out>.ckpt.npz``)."""
-        return Path(f"{self.out}.ckpt.npz")
+        """Return the checkpoint file beside the output (``<out>.ckpt.npz``)."""
+        return Path(f'{self.out}.ckpt.npz')
 
     @property
     def log_path(self) -> Path:
-        """The JSON-lines progress log (``<out>.log.jsonl`` unless set)."""
-        return self.log or Path(f"{self.out}.log.jsonl")
+        """Return the JSON-lines progress log (``<out>.log.jsonl`` unless set)."""
+        return self.log or Path(f'{self.out}.log.jsonl')
 
     def worker_count(self) -> int:
         """Worker processes to use (every core the process may run on if 0)."""
         if self.workers:
             return self.workers
-        if hasattr(os, "sched_getaffinity"):
+        if hasattr(os, 'sched_getaffinity'):
             return len(os.sched_getaffinity(0))
         return os.cpu_count() or 1
 
     def engine_config(self) -> MapElitesConfig:
         # MuJoCo evaluates a chunk as one native batch; PyBullet gains nothing from batches.
-        """The MAP-Elites settings this run implies (chunk and lag defaults resolved)."""
-        chunk = self.chunk or (8 if self.engine == "mujoco" else 1)
+        """Return the MAP-Elites settings this run implies (chunk and lag defaults resolved)."""
+        chunk = self.chunk or (8 if self.engine == 'mujoco' else 1)
         lag = self.lag or max(64, 4 * chunk * self.worker_count())
         initial: tuple = ()
         if self.with_presets:
             initial = tuple(tuple(float(g) for g in to_genotype(preset(name))) for name in PRESETS)
-        return MapElitesConfig(evaluations=self.evaluations, seed=self.seed, lag=lag, random_init=self.random_init,
-                               chunk=chunk, initial=initial)
+        return MapElitesConfig(
+            evaluations=self.evaluations,
+            seed=self.seed,
+            lag=lag,
+            random_init=self.random_init,
+            chunk=chunk,
+            initial=initial,
+        )
 
 
 @contextlib.contextmanager
 def open_executor(config: GenerateConfig) -> Iterator[tuple[cf.Executor | None, int]]:
     """(executor, worker count) for the configured backend."""
-    if config.backend == "inline":
+    if config.backend == 'inline':
         yield None, 1
-    elif config.backend == "local":
+    elif config.backend == 'local':
         n = config.worker_count()
         with cf.ProcessPoolExecutor(n) as pool:
             yield pool, n
-    elif config.backend == "dask":
+    elif config.backend == 'dask':
         try:
             from distributed import Client, LocalCluster
         except ImportError as exc:  # pragma: no cover - dask is in requirements.txt
@@ -108,11 +139,15 @@ def open_executor(config: GenerateConfig) -> Iterator[tuple[cf.Executor | None, 
             client = Client(config.scheduler)
             cluster = None
         else:
-            cluster = LocalCluster(n_workers=config.worker_count(), threads_per_worker=1, processes=True,
-                                   dashboard_address=None)
+            cluster = LocalCluster(
+                n_workers=config.worker_count(),
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+            )
             client = Client(cluster)
         try:
-            n = len(client.scheduler_info()["workers"]) or config.worker_count()
+            n = len(client.scheduler_info()['workers']) or config.worker_count()
             yield client.get_executor(pure=False), n
         finally:
             client.close()
@@ -122,18 +157,23 @@ def open_executor(config: GenerateConfig) -> Iterator[tuple[cf.Executor | None, 
         try:
             from mpi4py.futures import MPIPoolExecutor
         except ImportError as exc:
-            raise RuntimeError("the mpi backend needs mpi4py and an MPI library (e.g. Debian's openmpi-bin "
-                               "libopenmpi-dev, then pip install mpi4py)") from exc
+            raise RuntimeError(
+                "the mpi backend needs mpi4py and an MPI library (e.g. Debian's openmpi-bin "
+                'libopenmpi-dev, then pip install mpi4py)'
+            ) from exc
         with MPIPoolExecutor() as pool:
             yield pool, config.workers or pool.num_workers
 
 
 def remove_orphaned_temporaries(out: Path) -> list[Path]:
-    """Delete temporary files that an interrupted atomic write of ``out`` or of its checkpoint
-    left behind (``.<name>.*.tmp`` beside them); returns what was removed."""
+    """
+    Delete the temporary files an interrupted atomic write left beside ``out``; return them.
+
+    Those are ``.<name>.*.tmp`` files of ``out`` or of its checkpoint.
+    """
     removed = []
-    for name in (out.name, f"{out.name}.ckpt.npz"):
-        for tmp in out.parent.glob(f".{name}.*.tmp"):
+    for name in (out.name, f'{out.name}.ckpt.npz'):
+        for tmp in out.parent.glob(f'.{name}.*.tmp'):
             with contextlib.suppress(FileNotFoundError):
                 tmp.unlink()
                 removed.append(tmp)
@@ -144,9 +184,14 @@ class EmptyMapError(RuntimeError):
     """The run finished without a single valid gait: no map was written."""
 
 
-def generate_map(config: GenerateConfig, on_progress: Callable[[Progress], None] | None = None) -> Archive:
-    """Run (or resume) a map generation; returns the final archive (also written to config.out).
-    Raises EmptyMapError if no evaluated gait was valid (nothing is written then)."""
+def generate_map(
+    config: GenerateConfig, on_progress: Callable[[Progress], None] | None = None
+) -> Archive:
+    """
+    Run (or resume) a map generation; returns the final archive (also written to config.out).
+
+    Raises EmptyMapError if no evaluated gait was valid (nothing is written then).
+    """
     out = Path(config.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     remove_orphaned_temporaries(out)
@@ -155,48 +200,73 @@ def generate_map(config: GenerateConfig, on_progress: Callable[[Progress], None]
     pending = None
     if config.resume and config.checkpoint_path.is_file():
         archive, pending = load_checkpoint(config.checkpoint_path)
-        saved = archive.metadata.get("map_elites", {})
+        saved = archive.metadata.get('map_elites', {})
         # Candidate k depends on (seed, k, lag, settings) and the results before it, never on the
-        # total: a run may be resumed with MORE evaluations and equals a run made that long at once.
-        wanted = json.loads(json.dumps(asdict(engine)))          # as stored: tuples became lists
-        if saved and {k: v for k, v in saved.items() if k != "evaluations"} != \
-                {k: v for k, v in wanted.items() if k != "evaluations"}:
-            raise ArchiveError(f"{config.checkpoint_path}: written with MAP-Elites settings {saved}, not {wanted}: "
-                               "resume with the same --seed/--lag/--chunk/--random-init/--with-presets/--engine")
-        if saved and engine.evaluations < archive.metadata.get("evaluations", 0):
-            raise ArchiveError(f"{config.checkpoint_path}: already has {archive.metadata['evaluations']} evaluations, "
-                               f"more than the {engine.evaluations} asked for")
+        # total: a run may be resumed with MORE evaluations and equals a run made that long at
+        # once.
+        wanted = json.loads(json.dumps(asdict(engine)))  # as stored: tuples became lists
+        if saved and {k: v for k, v in saved.items() if k != 'evaluations'} != {
+            k: v for k, v in wanted.items() if k != 'evaluations'
+        }:
+            raise ArchiveError(
+                f'{config.checkpoint_path}: written with MAP-Elites settings {saved}, not'
+                f' {wanted}: resume with the same'
+                ' --seed/--lag/--chunk/--random-init/--with-presets/--engine'
+            )
+        if saved and engine.evaluations < archive.metadata.get('evaluations', 0):
+            raise ArchiveError(
+                f'{config.checkpoint_path}: already has {archive.metadata["evaluations"]}'
+                f' evaluations, more than the {engine.evaluations} asked for'
+            )
         problems = compatibility_problems(archive, fingerprint)
         if problems:
-            raise ArchiveError(f"{config.checkpoint_path}: cannot resume a map made with another simulator, engine "
-                               "or URDF: " + "; ".join(problems))
+            raise ArchiveError(
+                f'{config.checkpoint_path}: cannot resume a map made with another simulator,'
+                ' engine or URDF: ' + '; '.join(problems)
+            )
     else:
         # one CVT per study, as in the thesis: reused from centroids_<n>_6.dat when present
         cvt_dir = Path(config.cvt_dir or out.parent)
         cvt_file = cvt_cache_path(cvt_dir, config.niches)
         reused = cvt_file.is_file()
-        centroids = cached_cvt(cvt_dir, config.niches, samples=config.cvt_samples, seed=config.seed)
-        cvt_info = {"file": cvt_file.name, "reused": reused}
+        centroids = cached_cvt(
+            cvt_dir, config.niches, samples=config.cvt_samples, seed=config.seed
+        )
+        cvt_info = {'file': cvt_file.name, 'reused': reused}
         if not reused:
             cvt_info.update(samples=config.cvt_samples or 25 * config.niches, seed=config.seed)
-        archive = Archive.empty(centroids, {"seed": config.seed, "evaluations": 0, **fingerprint, "cvt": cvt_info})
+        archive = Archive.empty(
+            centroids, {'seed': config.seed, 'evaluations': 0, **fingerprint, 'cvt': cvt_info}
+        )
     log_path = config.log_path
     log_path.parent.mkdir(parents=True, exist_ok=True)
     with open_executor(config) as (executor, workers):
+
         def progress(p: Progress) -> None:
             # opened per row: a file replaced under a long run (git checkout, a copy) still gets it
-            with open(log_path, "a", encoding="utf-8") as log:
-                log.write(p.log_row() + "\n")
+            with open(log_path, 'a', encoding='utf-8') as log:
+                log.write(p.log_row() + '\n')
             if on_progress:
                 on_progress(p)
 
-        archive = run_map_elites(archive, engine, SimulateGenotypes(config.engine), executor=executor,
-                                 workers=workers, checkpoint=config.checkpoint_path,
-                                 checkpoint_every=config.checkpoint_every, pending=pending, on_progress=progress,
-                                 progress_every=config.log_every, random_genes=random_reachable_genes)
+        archive = run_map_elites(
+            archive,
+            engine,
+            SimulateGenotypes(config.engine),
+            executor=executor,
+            workers=workers,
+            checkpoint=config.checkpoint_path,
+            checkpoint_every=config.checkpoint_every,
+            pending=pending,
+            on_progress=progress,
+            progress_every=config.log_every,
+            random_genes=random_reachable_genes,
+        )
     if archive.n_filled == 0:
-        raise EmptyMapError(f"no valid gait in {archive.metadata.get('evaluations')} evaluations: no map written "
-                            f"(the checkpoint {config.checkpoint_path} holds the run)")
-    archive.metadata.pop("created", None)
+        raise EmptyMapError(
+            f'no valid gait in {archive.metadata.get("evaluations")} evaluations: no map written '
+            f'(the checkpoint {config.checkpoint_path} holds the run)'
+        )
+    archive.metadata.pop('created', None)
     archive.save(out)
     return archive

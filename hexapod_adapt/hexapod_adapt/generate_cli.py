@@ -1,5 +1,27 @@
-"""``generate_map``: build a behaviour-performance map offline (thin front end of
-hexapod_adapt.generate).
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+r"""
+``generate_map``: build a behaviour-performance map offline.
+
+Thin front end of hexapod_adapt.generate.
 
     ros2 run hexapod_adapt generate_map --out maps/map_s1.npz --niches 10000 \\
         --evaluations 1000000 --seed 1                         # all local cores
@@ -7,47 +29,101 @@ hexapod_adapt.generate).
     mpiexec -n 64 python -m mpi4py.futures -m hexapod_adapt.generate_cli ... --backend mpi
     generate_map ... --resume                                    # continue after a queue limit
 """
+
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
+import sys
 
-from tqdm import tqdm
-
-from hexapod_adapt.generate import BACKENDS, EmptyMapError, GenerateConfig, generate_map
+from hexapod_adapt.generate import BACKENDS, EmptyMapError, generate_map, GenerateConfig
 from hexapod_sim import ENGINES
+from tqdm import tqdm
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The command-line options of ``generate_map``."""
-    ap = argparse.ArgumentParser(prog="generate_map", description=__doc__.split("\n\n")[0],
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--out", type=Path, required=True, help="archive file to write (.npz)")
-    ap.add_argument("--niches", type=int, default=10000, help="CVT niches (thesis: 40000)")
-    ap.add_argument("--evaluations", type=int, default=1_000_000, help="total evaluations (thesis: 4e7)")
-    ap.add_argument("--seed", type=int, default=0, help="seed of the CVT and of every candidate (the map's identity)")
-    ap.add_argument("--engine", choices=ENGINES, default="mujoco",
-                    help="physics engine of the evaluations (mujoco: ~7x faster per core; pybullet: the thesis's)")
-    ap.add_argument("--backend", choices=BACKENDS, default="local",
-                    help="local process pool, a Dask cluster, MPI, or inline in this process")
-    ap.add_argument("--workers", type=int, default=0, help="local worker processes (0 = every core)")
-    ap.add_argument("--scheduler", help="Dask scheduler address (default: a local Dask cluster)")
-    ap.add_argument("--lag", type=int, default=0,
-                    help="candidates in flight; part of the map's identity (0 = max(64, 4 x workers))")
-    ap.add_argument("--chunk", type=int, default=0,
-                    help="candidates per worker call; part of the map's identity (0 = 8 for mujoco, 1 for pybullet)")
-    ap.add_argument("--random-init", type=float, default=0.01, help="fraction of niches filled at random first")
-    ap.add_argument("--cvt-samples", type=int, default=None, help="K-means samples (default 25 per niche)")
-    ap.add_argument("--cvt-dir", type=Path, default=None, help="where centroids_<n>_6.dat is cached (default: next to --out)")
-    ap.add_argument("--checkpoint-every", type=float, default=600.0, help="seconds between checkpoints")
-    ap.add_argument("--log-every", type=float, default=30.0, help="seconds between log lines")
-    ap.add_argument("--log", type=Path, default=None, help="JSON-lines progress log (default <out>.log.jsonl)")
-    ap.add_argument("--resume", action="store_true", help="continue from <out>.ckpt.npz if present")
-    ap.add_argument("--with-presets", action="store_true",
-                    help="try the preset gaits (control, tripod, wave, quadruped) before anything else")
-    ap.add_argument("--quiet", action="store_true", help="no progress bar or progress lines")
-    ap.add_argument("--no-bar", action="store_true", help="progress lines instead of a progress bar (logs, CI)")
+    """Return the command-line options of ``generate_map``."""
+    ap = argparse.ArgumentParser(
+        prog='generate_map',
+        description=__doc__.split('\n\n')[0],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    ap.add_argument('--out', type=Path, required=True, help='archive file to write (.npz)')
+    ap.add_argument('--niches', type=int, default=10000, help='CVT niches (thesis: 40000)')
+    ap.add_argument(
+        '--evaluations', type=int, default=1_000_000, help='total evaluations (thesis: 4e7)'
+    )
+    ap.add_argument(
+        '--seed',
+        type=int,
+        default=0,
+        help="seed of the CVT and of every candidate (the map's identity)",
+    )
+    ap.add_argument(
+        '--engine',
+        choices=ENGINES,
+        default='mujoco',
+        help=(
+            'physics engine of the evaluations (mujoco: ~7x faster per core; pybullet: the'
+            " thesis's)"
+        ),
+    )
+    ap.add_argument(
+        '--backend',
+        choices=BACKENDS,
+        default='local',
+        help='local process pool, a Dask cluster, MPI, or inline in this process',
+    )
+    ap.add_argument(
+        '--workers', type=int, default=0, help='local worker processes (0 = every core)'
+    )
+    ap.add_argument('--scheduler', help='Dask scheduler address (default: a local Dask cluster)')
+    ap.add_argument(
+        '--lag',
+        type=int,
+        default=0,
+        help="candidates in flight; part of the map's identity (0 = max(64, 4 x workers))",
+    )
+    ap.add_argument(
+        '--chunk',
+        type=int,
+        default=0,
+        help=(
+            "candidates per worker call; part of the map's identity (0 = 8 for mujoco, 1 for"
+            ' pybullet)'
+        ),
+    )
+    ap.add_argument(
+        '--random-init', type=float, default=0.01, help='fraction of niches filled at random first'
+    )
+    ap.add_argument(
+        '--cvt-samples', type=int, default=None, help='K-means samples (default 25 per niche)'
+    )
+    ap.add_argument(
+        '--cvt-dir',
+        type=Path,
+        default=None,
+        help='where centroids_<n>_6.dat is cached (default: next to --out)',
+    )
+    ap.add_argument(
+        '--checkpoint-every', type=float, default=600.0, help='seconds between checkpoints'
+    )
+    ap.add_argument('--log-every', type=float, default=30.0, help='seconds between log lines')
+    ap.add_argument(
+        '--log', type=Path, default=None, help='JSON-lines progress log (default <out>.log.jsonl)'
+    )
+    ap.add_argument(
+        '--resume', action='store_true', help='continue from <out>.ckpt.npz if present'
+    )
+    ap.add_argument(
+        '--with-presets',
+        action='store_true',
+        help='try the preset gaits (control, tripod, wave, quadruped) before anything else',
+    )
+    ap.add_argument('--quiet', action='store_true', help='no progress bar or progress lines')
+    ap.add_argument(
+        '--no-bar', action='store_true', help='progress lines instead of a progress bar (logs, CI)'
+    )
     return ap
 
 
@@ -55,15 +131,29 @@ def main(argv: list[str] | None = None) -> int:
     """Entry point of ``generate_map``; exit status 1 for a failed run, 2 for bad options."""
     args = build_parser().parse_args(argv)
     try:
-        config = GenerateConfig(out=args.out, niches=args.niches, evaluations=args.evaluations, seed=args.seed,
-                                backend=args.backend, workers=args.workers, scheduler=args.scheduler, lag=args.lag,
-                                chunk=args.chunk, random_init=args.random_init, cvt_samples=args.cvt_samples,
-                                cvt_dir=args.cvt_dir, checkpoint_every=args.checkpoint_every,
-                                log_every=args.log_every, log=args.log, resume=args.resume,
-                                with_presets=args.with_presets, engine=args.engine)
+        config = GenerateConfig(
+            out=args.out,
+            niches=args.niches,
+            evaluations=args.evaluations,
+            seed=args.seed,
+            backend=args.backend,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            lag=args.lag,
+            chunk=args.chunk,
+            random_init=args.random_init,
+            cvt_samples=args.cvt_samples,
+            cvt_dir=args.cvt_dir,
+            checkpoint_every=args.checkpoint_every,
+            log_every=args.log_every,
+            log=args.log,
+            resume=args.resume,
+            with_presets=args.with_presets,
+            engine=args.engine,
+        )
         config.engine_config()
     except ValueError as exc:
-        print(f"generate_map: {exc}", file=sys.stderr)
+        print(f'generate_map: {exc}', file=sys.stderr)
         return 2
 
     bar = None
@@ -72,35 +162,56 @@ def main(argv: list[str] | None = None) -> int:
     def show(p) -> None:
         nonlocal bar
         if use_bar:
-            if bar is None:   # made at the first report, so a resumed run's rate and ETA count this run only
-                bar = tqdm(total=args.evaluations, initial=p.evaluations, unit="eval", dynamic_ncols=True,
-                           smoothing=0.1)
+            if (
+                bar is None
+            ):  # made at the first report, so a resumed run's rate and ETA count this run only
+                bar = tqdm(
+                    total=args.evaluations,
+                    initial=p.evaluations,
+                    unit='eval',
+                    dynamic_ncols=True,
+                    smoothing=0.1,
+                )
             bar.update(p.evaluations - bar.n)
-            bar.set_postfix(niches=p.filled, max=f"{p.max:.3f}", util=f"{100 * p.utilisation:.0f}%", refresh=False)
+            bar.set_postfix(
+                niches=p.filled,
+                max=f'{p.max:.3f}',
+                util=f'{100 * p.utilisation:.0f}%',
+                refresh=False,
+            )
         elif not args.quiet:
-            print(f"{p.evaluations:>10d} evals  {p.filled:>6d} niches ({100 * p.coverage:5.1f} %)  "
-                  f"max {p.max:7.3f}  mean {p.mean:7.3f} m  {p.evals_per_s:7.1f} evals/s  "
-                  f"utilisation {100 * p.utilisation:5.1f} %", flush=True)
+            print(
+                f'{p.evaluations:>10d} evals  {p.filled:>6d} niches ({100 * p.coverage:5.1f} %)  '
+                f'max {p.max:7.3f}  mean {p.mean:7.3f} m  {p.evals_per_s:7.1f} evals/s  '
+                f'utilisation {100 * p.utilisation:5.1f} %',
+                flush=True,
+            )
 
     try:
         archive = generate_map(config, on_progress=show)
     except EmptyMapError as exc:
-        print(f"generate_map: {exc}", file=sys.stderr)
+        print(f'generate_map: {exc}', file=sys.stderr)
         return 1
     except KeyboardInterrupt:
-        print(f"generate_map: interrupted; continue with --resume (checkpoint {config.checkpoint_path})",
-              file=sys.stderr)
+        print(
+            'generate_map: interrupted; continue with --resume (checkpoint'
+            f' {config.checkpoint_path})',
+            file=sys.stderr,
+        )
         return 130
     except (ValueError, RuntimeError) as exc:
-        print(f"generate_map: {exc}", file=sys.stderr)
+        print(f'generate_map: {exc}', file=sys.stderr)
         return 1
     if bar is not None:
         bar.close()
     s = archive.stats()
-    print(f"wrote {config.out}: {s.filled} of {archive.n_niches} niches, max {s.max:.3f} m "
-          f"({s.max / archive.trial_duration:.3f} m/s), {archive.metadata['evaluations']} evaluations")
+    print(
+        f'wrote {config.out}: {s.filled} of {archive.n_niches} niches, max {s.max:.3f} m'
+        f' ({s.max / archive.trial_duration:.3f} m/s), {archive.metadata["evaluations"]}'
+        ' evaluations'
+    )
     return 0
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

@@ -1,4 +1,25 @@
-"""CVT-MAP-Elites (thesis algorithm 1, 4.2), asynchronous and reproducible; ROS-free.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+CVT-MAP-Elites (thesis algorithm 1, 4.2), asynchronous and reproducible; ROS-free.
 
 Candidates are numbered k = 0, 1, 2, ... Candidate k's genes come from its own random stream
 ``default_rng([seed, k])`` and from the archive as it stands after the results of candidates
@@ -15,72 +36,77 @@ the niches are filled, candidates are random genotypes (thesis 4.2.4: 1 %). Opti
 Invalid gaits (unreachable, colliding, body on the ground: the thesis's fitness 0, empty
 descriptor) are counted as evaluations and not inserted.
 """
+
 from __future__ import annotations
 
 import concurrent.futures as cf
+from dataclasses import asdict, dataclass
 import json
 import math
 import os
 import time
-from dataclasses import asdict, dataclass
 from typing import Callable, Protocol, Sequence
-
-import numpy as np
 
 from hexapod_adapt.archive import Archive, ArchiveError, InsertStatus, load_archive
 from hexapod_gait import GENOTYPE_SIZE
+import numpy as np
 
 
 @dataclass(frozen=True)
 class MapElitesConfig:
     """Settings of a MAP-Elites run; together with the seed they are the map's identity."""
-    evaluations: int                 # total evaluations, random initialisation included
+
+    evaluations: int  # total evaluations, random initialisation included
     seed: int = 0
-    lag: int = 64                    # candidates in flight (>= workers, 2-4x workers keeps them busy)
-    random_init: float = 0.01        # fraction of niches filled with random gaits first (thesis 4.2.4)
-    sigma_iso: float = 0.01          # pymap_elites defaults
+    lag: int = 64  # candidates in flight (>= workers, 2-4x workers keeps them busy)
+    random_init: float = 0.01  # fraction of niches filled with random gaits first (thesis 4.2.4)
+    sigma_iso: float = 0.01  # pymap_elites defaults
     sigma_line: float = 0.2
-    chunk: int = 1                   # candidates per task sent to a worker (larger over a network)
-    initial: tuple[tuple[float, ...], ...] = ()   # genotypes tried first (e.g. the preset gaits)
+    chunk: int = 1  # candidates per task sent to a worker (larger over a network)
+    initial: tuple[tuple[float, ...], ...] = ()  # genotypes tried first (e.g. the preset gaits)
 
     def __post_init__(self) -> None:
         if self.evaluations < 1:
-            raise ValueError(f"evaluations must be >= 1, got {self.evaluations}")
+            raise ValueError(f'evaluations must be >= 1, got {self.evaluations}')
         if self.lag < 1 or self.chunk < 1:
-            raise ValueError(f"lag and chunk must be >= 1, got lag={self.lag}, chunk={self.chunk}")
+            raise ValueError(f'lag and chunk must be >= 1, got lag={self.lag}, chunk={self.chunk}')
         if not 0.0 <= self.random_init <= 1.0:
-            raise ValueError(f"random_init must be a fraction in [0, 1], got {self.random_init}")
+            raise ValueError(f'random_init must be a fraction in [0, 1], got {self.random_init}')
         if self.sigma_iso < 0 or self.sigma_line < 0:
-            raise ValueError("sigma_iso and sigma_line must be >= 0")
+            raise ValueError('sigma_iso and sigma_line must be >= 0')
         for genes in self.initial:
             if len(genes) != GENOTYPE_SIZE or not all(0.0 <= g <= 1.0 for g in genes):
-                raise ValueError(f"initial genotypes must have {GENOTYPE_SIZE} genes in [0, 1]")
+                raise ValueError(f'initial genotypes must have {GENOTYPE_SIZE} genes in [0, 1]')
 
 
 class Evaluation(Protocol):
     """What MAP-Elites needs of one candidate's result (hexapod_sim's EvaluationResult is one)."""
 
     fitness: float
-    descriptor: np.ndarray   # (6,)
+    descriptor: np.ndarray  # (6,)
     valid: bool
-    seconds: float           # worker compute time (for the utilisation figure)
+    seconds: float  # worker compute time (for the utilisation figure)
 
 
-EvaluateFn = Callable[[np.ndarray], Sequence[Evaluation]]   # (m, 32) genes -> m evaluations
+EvaluateFn = Callable[[np.ndarray], Sequence[Evaluation]]  # (m, 32) genes -> m evaluations
 
 
 class MapElites:
     """The archive update and candidate generation (no executor; see :func:`run_map_elites`)."""
 
-    def __init__(self, archive: Archive, config: MapElitesConfig,
-                 random_genes: Callable[[np.random.Generator], np.ndarray] | None = None):
+    def __init__(
+        self,
+        archive: Archive,
+        config: MapElitesConfig,
+        random_genes: Callable[[np.random.Generator], np.ndarray] | None = None,
+    ):
         from scipy.spatial import cKDTree
 
         self.archive = archive
         self.config = config
         self.random_genes = random_genes or (lambda rng: rng.random(GENOTYPE_SIZE))
         self._tree = cKDTree(archive.centroids)
-        self.told = int(archive.metadata.get("evaluations") or 0)   # results inserted so far
+        self.told = int(archive.metadata.get('evaluations') or 0)  # results inserted so far
 
     def niche_of(self, descriptors: np.ndarray) -> np.ndarray:
         """Niche indices of descriptors (nearest centroid)."""
@@ -95,18 +121,24 @@ class MapElites:
         if len(elites) < max(1, math.ceil(self.config.random_init * self.archive.n_niches)):
             return self.random_genes(rng)
         x1, x2 = self.archive.genotypes[rng.choice(elites, 2)]
-        child = (x1 + self.config.sigma_iso * rng.standard_normal(GENOTYPE_SIZE)
-                 + self.config.sigma_line * rng.standard_normal() * (x2 - x1))
+        child = (
+            x1
+            + self.config.sigma_iso * rng.standard_normal(GENOTYPE_SIZE)
+            + self.config.sigma_line * rng.standard_normal() * (x2 - x1)
+        )
         return np.clip(child, 0.0, 1.0)
 
     def sync_metadata(self) -> None:
         """Record the evaluations done and the settings in the archive's metadata."""
-        self.archive.metadata["evaluations"] = self.told
-        self.archive.metadata["map_elites"] = asdict(self.config)
+        self.archive.metadata['evaluations'] = self.told
+        self.archive.metadata['map_elites'] = asdict(self.config)
 
     def tell(self, genes: np.ndarray, result: Evaluation) -> InsertStatus | None:
-        """Insert one result (in candidate order); what the archive did with it (None for an
-        invalid gait, which is counted and not inserted)."""
+        """
+        Insert one result (in candidate order).
+
+        What the archive did with it (None for an invalid gait, which is counted and not inserted).
+        """
         self.told += 1
         if not result.valid:
             return None
@@ -115,22 +147,31 @@ class MapElites:
 
 
 # -- checkpoints -------------------------------------------------------------------------------
-def save_checkpoint(path: str | os.PathLike, engine: MapElites, pending: dict[int, np.ndarray]) -> None:
-    """Archive + the candidates in flight, atomically, in one file (an archive file with two
-    extra arrays: any archive reader can open it)."""
+def save_checkpoint(
+    path: str | os.PathLike, engine: MapElites, pending: dict[int, np.ndarray]
+) -> None:
+    """
+    Archive + the candidates in flight, atomically, in one file.
+
+    An archive file with two extra arrays: any archive reader can open it.
+    """
     engine.sync_metadata()
     ks = np.array(sorted(pending), dtype=np.int64)
     genes = np.array([pending[k] for k in ks]).reshape(len(ks), GENOTYPE_SIZE)
-    engine.archive.save(path, {"pending_index": ks, "pending_genes": genes})
+    engine.archive.save(path, {'pending_index': ks, 'pending_genes': genes})
 
 
 def load_checkpoint(path: str | os.PathLike) -> tuple[Archive, dict[int, np.ndarray]]:
     """(archive, candidates in flight) from a checkpoint; ArchiveError if it is not one."""
     archive = load_archive(path)
     with np.load(path, allow_pickle=False) as data:
-        if "pending_index" not in data.files:
-            raise ArchiveError(f"{path}: an archive, not a map-generation checkpoint (no pending candidates)")
-        pending = {int(k): np.array(g) for k, g in zip(data["pending_index"], data["pending_genes"])}
+        if 'pending_index' not in data.files:
+            raise ArchiveError(
+                f'{path}: an archive, not a map-generation checkpoint (no pending candidates)'
+            )
+        pending = {
+            int(k): np.array(g) for k, g in zip(data['pending_index'], data['pending_genes'])
+        }
     return archive, pending
 
 
@@ -138,35 +179,47 @@ def load_checkpoint(path: str | os.PathLike) -> tuple[Archive, dict[int, np.ndar
 @dataclass
 class Progress:
     """One progress report of a run (one line of its JSON-lines log)."""
+
     evaluations: int
     filled: int
     coverage: float
-    max: float
+    max: float  # noqa: A003 (the statistic)
     mean: float
     median: float
     p5: float
     qd_score: float
     evals_per_s: float
-    utilisation: float    # worker compute time / (workers x wall time) since the run started
+    utilisation: float  # worker compute time / (workers x wall time) since the run started
     elapsed: float
 
     def log_row(self) -> str:
-        """This report as one JSON line."""
-        return json.dumps({k: (round(v, 6) if isinstance(v, float) else v) for k, v in asdict(self).items()})
+        """Return this report as one JSON line."""
+        return json.dumps(
+            {k: round(v, 6) if isinstance(v, float) else v for k, v in asdict(self).items()}
+        )
 
 
-def run_map_elites(archive: Archive, config: MapElitesConfig, evaluate: EvaluateFn,
-                   executor: cf.Executor | None = None, workers: int = 1,
-                   checkpoint: str | os.PathLike | None = None, checkpoint_every: float = 600.0,
-                   pending: dict[int, np.ndarray] | None = None,
-                   on_progress: Callable[[Progress], None] | None = None,
-                   progress_every: float = 10.0,
-                   random_genes: Callable[[np.random.Generator], np.ndarray] | None = None) -> Archive:
-    """Run until ``config.evaluations`` results are in. ``evaluate`` is called in the executor
-    (or inline without one) on chunks of genes. ``pending`` resumes a checkpoint's in-flight
-    candidates. Checkpoints every ``checkpoint_every`` s and at the end. ``random_genes(rng)``
-    draws a random-initialisation genotype (default uniform; the hexapod uses
-    :func:`reachable_random_genes`)."""
+def run_map_elites(
+    archive: Archive,
+    config: MapElitesConfig,
+    evaluate: EvaluateFn,
+    executor: cf.Executor | None = None,
+    workers: int = 1,
+    checkpoint: str | os.PathLike | None = None,
+    checkpoint_every: float = 600.0,
+    pending: dict[int, np.ndarray] | None = None,
+    on_progress: Callable[[Progress], None] | None = None,
+    progress_every: float = 10.0,
+    random_genes: Callable[[np.random.Generator], np.ndarray] | None = None,
+) -> Archive:
+    """
+    Run until ``config.evaluations`` results are in.
+
+    ``evaluate`` is called in the executor (or inline without one) on chunks of genes. ``pending``
+    resumes a checkpoint's in-flight candidates. Checkpoints every ``checkpoint_every`` s and at
+    the end. ``random_genes(rng)`` draws a random-initialisation genotype (default uniform; the
+    hexapod uses :func:`reachable_random_genes`).
+    """
     engine = MapElites(archive, config, random_genes)
     pending = dict(pending or {})
     asked = engine.told + len(pending)
@@ -180,10 +233,21 @@ def run_map_elites(archive: Archive, config: MapElitesConfig, evaluate: Evaluate
     def progress() -> Progress:
         s = engine.archive.stats()
         wall = max(time.monotonic() - t0, 1e-9)
-        return Progress(engine.told, s.filled, s.coverage, s.max, s.mean, s.median, s.p5, s.qd_score,
-                        (engine.told - told_at_start) / wall, busy / (max(workers, 1) * wall), wall)
+        return Progress(
+            engine.told,
+            s.filled,
+            s.coverage,
+            s.max,
+            s.mean,
+            s.median,
+            s.p5,
+            s.qd_score,
+            (engine.told - told_at_start) / wall,
+            busy / (max(workers, 1) * wall),
+            wall,
+        )
 
-    inline: list[list[int]] = []   # without an executor: chunks evaluated one per loop turn
+    inline: list[list[int]] = []  # without an executor: chunks evaluated one per loop turn
 
     def submit(ks: list[int]) -> None:
         if executor is None:
@@ -194,7 +258,7 @@ def run_map_elites(archive: Archive, config: MapElitesConfig, evaluate: Evaluate
     # resubmit what a checkpoint had in flight
     resumed = sorted(pending)
     for i in range(0, len(resumed), config.chunk):
-        submit(resumed[i:i + config.chunk])
+        submit(resumed[slice(i, i + config.chunk)])
 
     new: list[int] = []
 

@@ -1,4 +1,25 @@
-"""Map-based Bayesian optimisation, M-BOA (thesis algorithm 2, Cully et al. 2015); ROS-free.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Map-based Bayesian optimisation, M-BOA (thesis algorithm 2, Cully et al. 2015); ROS-free.
 
 A Gaussian process over the behaviour descriptors of the map's elites models the real speed
 of each elite. Its prior mean is the speed the map predicts (simulation, intact robot); the
@@ -12,11 +33,12 @@ An elite already tried is not offered again: the next-best untried elite is (re-
 same gait would only average its noise; see ``MboaConfig.exclude_tested``).
 Speeds are in m/s throughout.
 """
+
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 import enum
 import math
-from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.linalg import solve_triangular
@@ -24,20 +46,20 @@ from threadpoolctl import threadpool_limits
 
 
 class StopReason(enum.Enum):
-    """Why an M-BOA run stops (thesis 5.2.2's stopping rule, the trial budget, or a used-up map)."""
+    """Why an M-BOA run stops: thesis 5.2.2's stopping rule, the trial budget or a used-up map."""
 
-    CONTINUE = "continue"
-    ALPHA_REACHED = "alpha_reached"   # best measured >= alpha x highest posterior mean: success
-    MAX_TRIALS = "max_trials"
-    MAP_EXHAUSTED = "map_exhausted"
+    CONTINUE = 'continue'
+    ALPHA_REACHED = 'alpha_reached'  # best measured >= alpha x highest posterior mean: success
+    MAX_TRIALS = 'max_trials'
+    MAP_EXHAUSTED = 'map_exhausted'
 
 
 #: Documented limits of the run settings (the Adapt service refuses values outside them).
-MAX_TRIALS_LIMIT = 1000                   # the thesis's longest real run took 35 trials
-LENGTH_SCALE_RANGE = (1e-3, 10.0)         # descriptor units: the duty-factor cube's diagonal is 2.45
-NOISE_RANGE = (1e-9, 1.0)                 # (m/s)^2: a trial speed's variance, 1 = +/-1 m/s
+MAX_TRIALS_LIMIT = 1000  # the thesis's longest real run took 35 trials
+LENGTH_SCALE_RANGE = (1e-3, 10.0)  # descriptor units: the duty-factor cube's diagonal is 2.45
+NOISE_RANGE = (1e-9, 1.0)  # (m/s)^2: a trial speed's variance, 1 = +/-1 m/s
 KAPPA_RANGE = (0.0, 100.0)
-ALPHA_RANGE = (0.05, 1.0)                 # stop ratio: below 5 % any forward step would "succeed"
+ALPHA_RANGE = (0.05, 1.0)  # stop ratio: below 5 % any forward step would "succeed"
 
 
 @dataclass(frozen=True)
@@ -45,28 +67,36 @@ class MboaConfig:
     """M-BOA settings (thesis 5.2.2 defaults); ValueError names every value out of range."""
 
     max_trials: int = 20
-    alpha: float = 0.90          # stop ratio
-    kappa: float = 0.05          # UCB exploration weight (times the standard deviation)
-    length_scale: float = 0.4    # rho, in descriptor units (duty factor, 0..1)
-    noise: float = 0.001         # observation noise variance [(m/s)^2]
+    alpha: float = 0.90  # stop ratio
+    kappa: float = 0.05  # UCB exploration weight (times the standard deviation)
+    length_scale: float = 0.4  # rho, in descriptor units (duty factor, 0..1)
+    noise: float = 0.001  # observation noise variance [(m/s)^2]
     exclude_tested: bool = True
 
     def __post_init__(self) -> None:
         problems = []
 
-        def within(name: str, value: float, low: float, high: float, unit: str = "") -> None:
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and low <= value <= high):
-                problems.append(f"{name} must be in [{low:g}, {high:g}]{unit} (got {value!r})")
+        def within(name: str, value: float, low: float, high: float, unit: str = '') -> None:
+            if not (
+                isinstance(value, (int, float)) and math.isfinite(value) and low <= value <= high
+            ):
+                problems.append(f'{name} must be in [{low:g}, {high:g}]{unit} (got {value!r})')
 
-        if isinstance(self.max_trials, bool) or not isinstance(self.max_trials, int) \
-                or not 1 <= self.max_trials <= MAX_TRIALS_LIMIT:
-            problems.append(f"max_trials must be an integer in [1, {MAX_TRIALS_LIMIT}] (got {self.max_trials!r})")
-        within("alpha (stop ratio)", self.alpha, *ALPHA_RANGE)
-        within("kappa", self.kappa, *KAPPA_RANGE)
-        within("length_scale (rho)", self.length_scale, *LENGTH_SCALE_RANGE, " descriptor units")
-        within("noise variance", self.noise, *NOISE_RANGE, " (m/s)^2")
+        if (
+            isinstance(self.max_trials, bool)
+            or not isinstance(self.max_trials, int)
+            or not 1 <= self.max_trials <= MAX_TRIALS_LIMIT
+        ):
+            problems.append(
+                f'max_trials must be an integer in [1, {MAX_TRIALS_LIMIT}] (got'
+                f' {self.max_trials!r})'
+            )
+        within('alpha (stop ratio)', self.alpha, *ALPHA_RANGE)
+        within('kappa', self.kappa, *KAPPA_RANGE)
+        within('length_scale (rho)', self.length_scale, *LENGTH_SCALE_RANGE, ' descriptor units')
+        within('noise variance', self.noise, *NOISE_RANGE, ' (m/s)^2')
         if problems:
-            raise ValueError("; ".join(problems))
+            raise ValueError('; '.join(problems))
 
 
 def matern52(a: np.ndarray, b: np.ndarray, length_scale: float) -> np.ndarray:
@@ -84,12 +114,13 @@ def _solve_lower(a: np.ndarray, b: np.ndarray, upper: bool = False) -> np.ndarra
 @dataclass
 class Trial:
     """One trial of an M-BOA run: what was predicted and what was measured."""
-    number: int            # 1-based
-    index: int             # candidate index (row of the descriptors given to Mboa)
-    predicted: float       # map prior at that elite [m/s]
-    gp_mean: float         # posterior mean before the trial [m/s]
+
+    number: int  # 1-based
+    index: int  # candidate index (row of the descriptors given to Mboa)
+    predicted: float  # map prior at that elite [m/s]
+    gp_mean: float  # posterior mean before the trial [m/s]
     gp_std: float
-    measured: float        # [m/s]
+    measured: float  # [m/s]
 
 
 @dataclass
@@ -105,17 +136,21 @@ class Mboa:
         self.descriptors = np.atleast_2d(np.asarray(self.descriptors, dtype=float))
         self.prior = np.asarray(self.prior, dtype=float)
         if len(self.descriptors) == 0 or self.prior.shape != (len(self.descriptors),):
-            raise ValueError(f"need one prior speed per descriptor, got {self.prior.shape} for "
-                             f"{len(self.descriptors)} descriptors")
+            raise ValueError(
+                f'need one prior speed per descriptor, got {self.prior.shape} for '
+                f'{len(self.descriptors)} descriptors'
+            )
         if not (np.all(np.isfinite(self.descriptors)) and np.all(np.isfinite(self.prior))):
-            raise ValueError("descriptors and prior speeds must be finite (pass only filled niches)")
+            raise ValueError(
+                'descriptors and prior speeds must be finite (pass only filled niches)'
+            )
         self._mu = self.prior.copy()
         self._var = np.ones(len(self.prior))
         # Incremental GP state (one column / row per trial, so a step costs O(m t), not O(m t^2)):
         n, cap = len(self.prior), self.config.max_trials
-        self._k_sx = np.empty((n, cap))        # kernel between every candidate and each trial
-        self._v = np.empty((cap, n))           # L^-1 k_xs, rows fixed once computed
-        self._chol = np.zeros((cap, cap))      # Cholesky factor of K_xx + noise I
+        self._k_sx = np.empty((n, cap))  # kernel between every candidate and each trial
+        self._v = np.empty((cap, n))  # L^-1 k_xs, rows fixed once computed
+        self._chol = np.zeros((cap, cap))  # Cholesky factor of K_xx + noise I
 
     # -- the model --------------------------------------------------------------------------
     @property
@@ -129,18 +164,21 @@ class Mboa:
         return np.sqrt(np.maximum(self._var, 0.0))
 
     def _refit(self) -> None:
-        """Add the newest trial to the posterior: kernel column, Cholesky row, v row; then the
-        mean from all observations. Same GP as a full refit (Matern 5/2, explicit noise).
-        Matrix-vector work this small is slower on several BLAS threads when the cores are busy
-        (24 ms instead of 1.5 ms measured with a simulator beside it), so it runs on one."""
-        with threadpool_limits(limits=1, user_api="blas"):
+        """
+        Add the newest trial to the posterior: kernel column, Cholesky row, v row.
+
+        Then the mean from all observations. Same GP as a full refit (Matern 5/2, explicit noise).
+        Matrix-vector work this small is slower on several BLAS threads when the cores are busy (24
+        ms instead of 1.5 ms measured with a simulator beside it), so it runs on one.
+        """
+        with threadpool_limits(limits=1, user_api='blas'):
             self._add_last_trial()
 
     def _add_last_trial(self) -> None:
         t = len(self.trials) - 1
         new = self.trials[-1]
         x = self.descriptors[new.index][None, :]
-        k_new = matern52(self.descriptors, x, self.config.length_scale)[:, 0]   # (m,)
+        k_new = matern52(self.descriptors, x, self.config.length_scale)[:, 0]  # (m,)
         self._k_sx[:, t] = k_new
         idx = np.array([tr.index for tr in self.trials])
         chol = self._chol
@@ -148,15 +186,15 @@ class Mboa:
             chol[0, 0] = math.sqrt(1.0 + self.config.noise)
             row = np.empty(0)
         else:
-            row = _solve_lower(chol[:t, :t], k_new[idx[:t]])                     # L^-1 k(x_old, x_new)
+            row = _solve_lower(chol[:t, :t], k_new[idx[:t]])  # L^-1 k(x_old, x_new)
             chol[t, :t] = row
             chol[t, t] = math.sqrt(max(1.0 + self.config.noise - float(row @ row), 1e-12))
         self._v[t] = (k_new - row @ self._v[:t]) / chol[t, t]
         self._var = self._var - self._v[t] ** 2
         y = np.array([tr.measured for tr in self.trials]) - self.prior[idx]
-        lower = chol[:t + 1, :t + 1]
+        lower = chol[: t + 1, : t + 1]
         alpha = _solve_lower(lower.T, _solve_lower(lower, y), upper=True)
-        self._mu = self.prior + self._k_sx[:, :t + 1] @ alpha
+        self._mu = self.prior + self._k_sx[:, : t + 1] @ alpha
 
     # -- the loop ---------------------------------------------------------------------------
     def tested(self) -> set[int]:
@@ -164,7 +202,7 @@ class Mboa:
         return {t.index for t in self.trials}
 
     def best(self) -> Trial | None:
-        """The trial with the highest measured speed (None before the first)."""
+        """Return the trial with the highest measured speed (None before the first)."""
         return max(self.trials, key=lambda t: t.measured) if self.trials else None
 
     def stop_reason(self) -> StopReason:
@@ -182,18 +220,23 @@ class Mboa:
         """(stop, why) with ``why`` a sentence for people (decide on :meth:`stop_reason`)."""
         reason = self.stop_reason()
         if reason is StopReason.MAX_TRIALS:
-            return True, f"reached the maximum of {self.config.max_trials} trials"
+            return True, f'reached the maximum of {self.config.max_trials} trials'
         if reason is StopReason.ALPHA_REACHED:
             best = self.best()
             assert best is not None
-            return True, (f"best measured {best.measured:.3f} m/s >= alpha x max predicted "
-                          f"({self.config.alpha:g} x {np.max(self._mu):.3f} m/s)")
+            return (
+                True,
+                (
+                    f'best measured {best.measured:.3f} m/s >= alpha x max predicted '
+                    f'({self.config.alpha:g} x {np.max(self._mu):.3f} m/s)'
+                ),
+            )
         if reason is StopReason.MAP_EXHAUSTED:
-            return True, "every gait in the map has been tried"
-        return False, ""
+            return True, 'every gait in the map has been tried'
+        return False, ''
 
     def next_index(self) -> int:
-        """The candidate with the highest UCB (untested ones only, by default)."""
+        """Return the candidate with the highest UCB (untested ones only, by default)."""
         ucb = self._mu + self.config.kappa * self.std
         if self.config.exclude_tested and self.trials:
             ucb = ucb.copy()
@@ -203,13 +246,19 @@ class Mboa:
     def observe(self, index: int, measured: float) -> Trial:
         """Record a trial of candidate ``index`` that walked at ``measured`` m/s."""
         if not 0 <= index < len(self.prior):
-            raise ValueError(f"candidate {index} does not exist (0..{len(self.prior) - 1})")
+            raise ValueError(f'candidate {index} does not exist (0..{len(self.prior) - 1})')
         if not math.isfinite(measured):
-            raise ValueError(f"measured speed must be finite, got {measured!r}")
+            raise ValueError(f'measured speed must be finite, got {measured!r}')
         if len(self.trials) >= self.config.max_trials:
-            raise RuntimeError(f"already {len(self.trials)} trials, the maximum")
-        trial = Trial(len(self.trials) + 1, index, float(self.prior[index]), float(self._mu[index]),
-                      float(self.std[index]), float(measured))
+            raise RuntimeError(f'already {len(self.trials)} trials, the maximum')
+        trial = Trial(
+            len(self.trials) + 1,
+            index,
+            float(self.prior[index]),
+            float(self._mu[index]),
+            float(self.std[index]),
+            float(measured),
+        )
         self.trials.append(trial)
         self._refit()
         return trial

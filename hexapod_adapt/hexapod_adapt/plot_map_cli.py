@@ -1,14 +1,38 @@
-"""``plot_map``: pictures of a map -- QD progress from its generation log and the 6-D map as 2-D
-projections. Works on a finished map, a checkpoint, and the log of a run still in progress.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+``plot_map``: pictures of a map.
+
+QD progress from its generation log and the 6-D map as 2-D projections. Works on a finished map, a
+checkpoint, and the log of a run still in progress.
 
     ros2 run hexapod_adapt plot_map --archive hexapod_adapt/maps/default_map.npz --out-dir docs/img
     plot_map --archive map.npz.ckpt.npz --log map.npz.log.jsonl --out-dir /tmp/progress
 """
+
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
+import sys
 
 from hexapod_adapt.archive import ArchiveError, load_archive
 from hexapod_adapt.plots import plot_progress, plot_projections, read_log
@@ -16,34 +40,52 @@ from hexapod_adapt.plots import plot_progress, plot_projections, read_log
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of ``plot_map``; exit status 2 for an unreadable map or log."""
-    ap = argparse.ArgumentParser(prog="plot_map", description=__doc__.split("\n\n")[0],
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--archive", type=Path, required=True, help="map (.npz) or its checkpoint (.ckpt.npz)")
-    ap.add_argument("--log", type=Path, default=None,
-                    help="JSON-lines progress log (default: <map>.log.jsonl beside the map)")
-    ap.add_argument("--out-dir", type=Path, default=Path("."), help="where the PNG files go")
-    ap.add_argument("--name", default=None, help="file name stem (default: the map's)")
+    ap = argparse.ArgumentParser(
+        prog='plot_map',
+        description=__doc__.split('\n\n')[0],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    ap.add_argument(
+        '--archive', type=Path, required=True, help='map (.npz) or its checkpoint (.ckpt.npz)'
+    )
+    ap.add_argument(
+        '--log',
+        type=Path,
+        default=None,
+        help='JSON-lines progress log (default: <map>.log.jsonl beside the map)',
+    )
+    ap.add_argument('--out-dir', type=Path, default=Path('.'), help='where the PNG files go')
+    ap.add_argument('--name', default=None, help="file name stem (default: the map's)")
     args = ap.parse_args(argv)
-    stem = args.name or args.archive.name.split(".")[0]
-    base = Path(str(args.archive).replace(".ckpt.npz", ""))
-    candidates = [base.with_name(base.name + ".log.jsonl"), base.with_name(stem + ".log.jsonl")]
+    stem = args.name or args.archive.name.split('.')[0]
+    base = Path(str(args.archive).replace('.ckpt.npz', ''))
+    candidates = [base.with_name(base.name + '.log.jsonl'), base.with_name(stem + '.log.jsonl')]
     log = args.log or next((c for c in candidates if c.is_file()), candidates[0])
     try:
         archive = load_archive(args.archive)
         rows = read_log(log) if log.is_file() else []
-        written = [plot_projections(archive, args.out_dir / f"{stem}_projections.png")]
+        written = [plot_projections(archive, args.out_dir / f'{stem}_projections.png')]
         if rows:
-            written.append(plot_progress(rows, args.out_dir / f"{stem}_progress.png", archive.trial_duration,
-                                         title=f"{stem}: {rows[-1]['evaluations']} evaluations"))
+            written.append(
+                plot_progress(
+                    rows,
+                    args.out_dir / f'{stem}_progress.png',
+                    archive.trial_duration,
+                    title=f'{stem}: {rows[-1]["evaluations"]} evaluations',
+                )
+            )
         else:
-            print(f"plot_map: no progress log at {log}; drawing the projections only", file=sys.stderr)
+            print(
+                f'plot_map: no progress log at {log}; drawing the projections only',
+                file=sys.stderr,
+            )
     except (ArchiveError, ValueError, OSError) as exc:
-        print(f"plot_map: {exc}", file=sys.stderr)
+        print(f'plot_map: {exc}', file=sys.stderr)
         return 2
     for path in written:
         print(path)
     return 0
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

@@ -1,4 +1,25 @@
-"""Pictures of maps and experiments (PNG, matplotlib's headless Agg backend); ROS-free.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Pictures of maps and experiments (PNG, matplotlib's headless Agg backend); ROS-free.
 
 * :func:`plot_progress` -- a map generation's QD progress from its JSON-lines log (thesis figs
   4.7-4.8): filled niches, max / mean / median / 5th-percentile fitness and QD-score against
@@ -9,6 +30,7 @@
   damaged control tripod per scenario and the intact one as references) and trials per scenario
   (with the 24-trial = 2-minute line); one box per trial engine.
 """
+
 from __future__ import annotations
 
 import itertools
@@ -16,69 +38,80 @@ import json
 from pathlib import Path
 from typing import Any, Sequence
 
+from hexapod_adapt.archive import Archive, atomic_output
 import matplotlib
 
-matplotlib.use("Agg")
+matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402 - after choosing the headless backend
 import numpy as np  # noqa: E402
 
-from hexapod_adapt.archive import Archive, atomic_output  # noqa: E402
-
-TWO_MINUTES_OF_TRIALS = 24     # 24 trials of 5 s = 2 minutes of walking (thesis 5.3.2)
+TWO_MINUTES_OF_TRIALS = 24  # 24 trials of 5 s = 2 minutes of walking (thesis 5.3.2)
 
 
 def read_log(path: str | Path) -> list[dict[str, Any]]:
-    """The rows of a map-generation log (JSON lines); a torn last line (run in progress) is skipped.
-    Rows from several resumed runs are kept in order of their evaluation counts."""
+    """
+    Return the rows of a map-generation log (JSON lines).
+
+    A torn last line (run in progress) is skipped.
+
+    Rows from several resumed runs are kept in order of their evaluation counts.
+    """
     rows = []
     for line in Path(path).read_text().splitlines():
         try:
             row = json.loads(line)
         except json.JSONDecodeError:
             continue
-        if isinstance(row, dict) and "evaluations" in row:
+        if isinstance(row, dict) and 'evaluations' in row:
             rows.append(row)
-    rows.sort(key=lambda r: r["evaluations"])
+    rows.sort(key=lambda r: r['evaluations'])
     return rows
 
 
 def _save(fig: Any, out: str | Path) -> Path:
     out = Path(out)
     with atomic_output(out) as fh:
-        fig.savefig(fh, format="png", dpi=110, bbox_inches="tight")
+        fig.savefig(fh, format='png', dpi=110, bbox_inches='tight')
     plt.close(fig)
     return out
 
 
-def plot_progress(rows: Sequence[dict[str, Any]], out: str | Path, trial_duration: float = 5.0,
-                  title: str = "") -> Path:
+def plot_progress(
+    rows: Sequence[dict[str, Any]], out: str | Path, trial_duration: float = 5.0, title: str = ''
+) -> Path:
     """QD progress of a map generation (fitness shown as speed, m/s)."""
     if not rows:
-        raise ValueError("the log has no progress rows yet")
-    ev = np.array([r["evaluations"] for r in rows], dtype=float)
+        raise ValueError('the log has no progress rows yet')
+    ev = np.array([r['evaluations'] for r in rows], dtype=float)
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
-    axes[0].plot(ev, [r["filled"] for r in rows], color="tab:blue")
-    axes[0].set_ylabel("filled niches")
-    for key, label, style in (("max", "max", "-"), ("mean", "mean", "--"), ("median", "median", "-."),
-                              ("p5", "5th percentile", ":")):
-        axes[1].plot(ev, np.array([r[key] for r in rows], dtype=float) / trial_duration, style, label=label)
-    axes[1].set_ylabel("elite speed (m/s)")
-    axes[1].legend(loc="lower right", fontsize=8)
-    axes[2].plot(ev, [r["qd_score"] for r in rows], color="tab:green")
-    axes[2].set_ylabel("QD-score (sum of elite fitness, m)")
+    axes[0].plot(ev, [r['filled'] for r in rows], color='tab:blue')
+    axes[0].set_ylabel('filled niches')
+    for key, label, style in (
+        ('max', 'max', '-'),
+        ('mean', 'mean', '--'),
+        ('median', 'median', '-.'),
+        ('p5', '5th percentile', ':'),
+    ):
+        axes[1].plot(
+            ev, np.array([r[key] for r in rows], dtype=float) / trial_duration, style, label=label
+        )
+    axes[1].set_ylabel('elite speed (m/s)')
+    axes[1].legend(loc='lower right', fontsize=8)
+    axes[2].plot(ev, [r['qd_score'] for r in rows], color='tab:green')
+    axes[2].set_ylabel('QD-score (sum of elite fitness, m)')
     for ax in axes:
-        ax.set_xlabel("evaluations")
+        ax.set_xlabel('evaluations')
         ax.grid(alpha=0.3)
-    fig.suptitle(title or "map generation progress")
+    fig.suptitle(title or 'map generation progress')
     return _save(fig, out)
 
 
-def plot_projections(archive: Archive, out: str | Path, bins: int = 20, title: str = "") -> Path:
+def plot_projections(archive: Archive, out: str | Path, bins: int = 20, title: str = '') -> Path:
     """Best speed over each pair of legs' duty factors (15 panels, one colour scale)."""
     speeds = archive.speeds()
     filled = archive.filled
     if not filled.any():
-        raise ValueError("the archive has no gaits to draw")
+        raise ValueError('the archive has no gaits to draw')
     d, v = archive.descriptors[filled], speeds[filled]
     pairs = list(itertools.combinations(range(6), 2))
     fig, axes = plt.subplots(3, 5, figsize=(16, 9.5))
@@ -89,57 +122,105 @@ def plot_projections(archive: Archive, out: str | Path, bins: int = 20, title: s
         xi = np.minimum((d[:, i] * bins).astype(int), bins - 1)
         yj = np.minimum((d[:, j] * bins).astype(int), bins - 1)
         for x, y, s in zip(xi, yj, v):
-            if not s <= grid[y, x]:          # NaN or lower: keep the best
+            if not s <= grid[y, x]:  # NaN or lower: keep the best
                 grid[y, x] = s
-        image = ax.imshow(grid, origin="lower", extent=(0, 1, 0, 1), vmin=vmin, vmax=vmax, cmap="viridis",
-                          aspect="equal")
-        ax.set_xlabel(f"duty factor leg {i + 1}", fontsize=8)
-        ax.set_ylabel(f"leg {j + 1}", fontsize=8)
+        image = ax.imshow(
+            grid,
+            origin='lower',
+            extent=(0, 1, 0, 1),
+            vmin=vmin,
+            vmax=vmax,
+            cmap='viridis',
+            aspect='equal',
+        )
+        ax.set_xlabel(f'duty factor leg {i + 1}', fontsize=8)
+        ax.set_ylabel(f'leg {j + 1}', fontsize=8)
         ax.tick_params(labelsize=7)
     fig.subplots_adjust(wspace=0.45, hspace=0.35)
-    fig.colorbar(image, ax=axes, shrink=0.8, label="best speed (m/s)")
-    fig.suptitle(title or f"{archive.n_filled} gaits in {archive.n_niches} niches: best speed per pair of legs")
+    fig.colorbar(image, ax=axes, shrink=0.8, label='best speed (m/s)')
+    fig.suptitle(
+        title
+        or f'{archive.n_filled} gaits in {archive.n_niches} niches: best speed per pair of legs'
+    )
     return _save(fig, out)
 
 
-def plot_experiment(rows: Sequence[Any], out_speed: str | Path, out_trials: str | Path) -> tuple[Path, Path]:
+def plot_experiment(
+    rows: Sequence[Any], out_speed: str | Path, out_trials: str | Path
+) -> tuple[Path, Path]:
     """Box plots of an adaptation experiment (rows: hexapod_adapt.adaptation.ExperimentRow)."""
     if not rows:
-        raise ValueError("no experiment rows to draw")
+        raise ValueError('no experiment rows to draw')
     scenarios = sorted({r.scenario for r in rows})
     engines = list(dict.fromkeys(r.trial_engine for r in rows))
     width = 0.8 / len(engines)
-    colours = ["tab:blue", "tab:orange", "tab:green"]
+    colours = ['tab:blue', 'tab:orange', 'tab:green']
     figures = []
-    for quantity, ylabel in (("best_speed", "adapted speed (m/s)"), ("trials", "trials")):
+    for quantity, ylabel in (('best_speed', 'adapted speed (m/s)'), ('trials', 'trials')):
         fig, ax = plt.subplots(figsize=(2.2 + 1.6 * len(scenarios), 4.5))
         for k, engine in enumerate(engines):
-            data = [[getattr(r, quantity) for r in rows if r.scenario == s and r.trial_engine == engine]
-                    for s in scenarios]
+            data = [
+                [
+                    getattr(r, quantity)
+                    for r in rows
+                    if r.scenario == s and r.trial_engine == engine
+                ]
+                for s in scenarios
+            ]
             positions = np.arange(len(scenarios)) + (k - (len(engines) - 1) / 2) * width
-            box = ax.boxplot(data, positions=positions, widths=width * 0.85, patch_artist=True,
-                             manage_ticks=False)
-            for patch in box["boxes"]:
+            box = ax.boxplot(
+                data,
+                positions=positions,
+                widths=width * 0.85,
+                patch_artist=True,
+                manage_ticks=False,
+            )
+            for patch in box['boxes']:
                 patch.set_facecolor(colours[k % len(colours)])
                 patch.set_alpha(0.55)
-            ax.plot([], [], color=colours[k % len(colours)], lw=8, alpha=0.55,
-                    label=f"trials on {engine} (map: {rows[0].map_engine})")
-        if quantity == "best_speed":
+            ax.plot(
+                [],
+                [],
+                color=colours[k % len(colours)],
+                lw=8,
+                alpha=0.55,
+                label=f'trials on {engine} (map: {rows[0].map_engine})',
+            )
+        if quantity == 'best_speed':
             for k, engine in enumerate(engines):
                 offset = (k - (len(engines) - 1) / 2) * width
                 for i, s in enumerate(scenarios):
-                    damaged = np.mean([r.control_speed for r in rows if r.scenario == s and r.trial_engine == engine])
-                    ax.hlines(damaged, i + offset - width / 2, i + offset + width / 2, colors="tab:red",
-                              linestyles="--", label="control tripod, damaged (same engine)" if i == k == 0 else None)
+                    damaged = np.mean(
+                        [
+                            r.control_speed
+                            for r in rows
+                            if r.scenario == s and r.trial_engine == engine
+                        ]
+                    )
+                    ax.hlines(
+                        damaged,
+                        i + offset - width / 2,
+                        i + offset + width / 2,
+                        colors='tab:red',
+                        linestyles='--',
+                        label='control tripod, damaged (same engine)' if i == k == 0 else None,
+                    )
                 intact = next(r.intact_control_speed for r in rows if r.trial_engine == engine)
-                ax.axhline(intact, color=colours[k % len(colours)], ls=":", lw=1.2,
-                           label=f"control tripod, intact ({engine})")
+                ax.axhline(
+                    intact,
+                    color=colours[k % len(colours)],
+                    ls=':',
+                    lw=1.2,
+                    label=f'control tripod, intact ({engine})',
+                )
         else:
-            ax.axhline(TWO_MINUTES_OF_TRIALS, color="tab:red", ls="--", label="24 trials = 2 minutes")
+            ax.axhline(
+                TWO_MINUTES_OF_TRIALS, color='tab:red', ls='--', label='24 trials = 2 minutes'
+            )
         ax.set_xticks(range(len(scenarios)), scenarios)
-        ax.set_xlabel("failure scenario")
+        ax.set_xlabel('failure scenario')
         ax.set_ylabel(ylabel)
-        ax.grid(axis="y", alpha=0.3)
-        ax.legend(fontsize=7, loc="best")
+        ax.grid(axis='y', alpha=0.3)
+        ax.legend(fontsize=7, loc='best')
         figures.append(fig)
     return _save(figures[0], out_speed), _save(figures[1], out_trials)

@@ -1,6 +1,28 @@
-"""MCAP recording of an adaptation run: ROS 2 CDR messages with ``ros2msg`` schemas, readable by
-Foxglove, by ``ros2 bag`` on a full ROS install, by the ``mcap`` readers and by
-:func:`read_messages` here.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+MCAP recording of an adaptation run.
+
+ROS 2 CDR messages with ``ros2msg`` schemas, readable by Foxglove, by ``ros2 bag`` on a full ROS
+install, by the ``mcap`` readers and by :func:`read_messages` here.
 
 Messages are serialised by rclpy's own type support (the same bytes a ROS 2 recorder stores).
 The file is chunked (zstd), and a cleanly closed file (end of the run, Ctrl-C, SIGTERM) has the
@@ -12,63 +34,81 @@ file has no index; ``recover_recording`` (:func:`recover`) rewrites it as a vali
 Files are created exclusively under unique names (:func:`create_recording`): a recording is
 never overwritten.
 """
+
 from __future__ import annotations
 
+from dataclasses import dataclass
 import importlib
 import os
+from pathlib import Path
 import re
 import struct
 import threading
 import time
-from dataclasses import dataclass
-from pathlib import Path
 from typing import Any, Iterator
 
-import zstandard
 from ament_index_python.packages import get_package_share_directory
+from hexapod_adapt.archive import atomic_output
 from mcap.exceptions import McapError
 from mcap.records import Channel, Message, Schema
 from mcap.stream_reader import StreamReader
 from mcap.writer import CompressionType, Writer
 from rclpy.serialization import deserialize_message, serialize_message
+import zstandard
 
-from hexapod_adapt.archive import atomic_output
-
-_BUILTIN = {"bool", "byte", "char", "float32", "float64", "int8", "uint8", "int16", "uint16", "int32",
-            "uint32", "int64", "uint64", "string", "wstring"}
-_SEPARATOR = "=" * 80
+_BUILTIN = {
+    'bool',
+    'byte',
+    'char',
+    'float32',
+    'float64',
+    'int8',
+    'uint8',
+    'int16',
+    'uint16',
+    'int32',
+    'uint32',
+    'int64',
+    'uint64',
+    'string',
+    'wstring',
+}
+_SEPARATOR = '=' * 80
 
 
 def _msg_file(full_type: str) -> Path:
-    pkg, _, name = full_type.split("/")
-    return Path(get_package_share_directory(pkg)) / "msg" / f"{name}.msg"
+    pkg, _, name = full_type.split('/')
+    return Path(get_package_share_directory(pkg)) / 'msg' / f'{name}.msg'
 
 
 def _dependencies(full_type: str, text: str) -> list[str]:
-    pkg = full_type.split("/")[0]
+    pkg = full_type.split('/')[0]
     deps = []
     for line in text.splitlines():
-        line = line.split("#", 1)[0].strip()
-        if not line or "=" in line.split()[0]:
+        line = line.split('#', 1)[0].strip()
+        if not line or '=' in line.split()[0]:
             continue
-        base = re.sub(r"\[.*\]$", "", line.split()[0])
-        base = re.sub(r"<=\d+$", "", base)
-        if base in _BUILTIN or base.startswith(("string<", "wstring<")):
+        base = re.sub(r'\[.*\]$', '', line.split()[0])
+        base = re.sub(r'<=\d+$', '', base)
+        if base in _BUILTIN or base.startswith(('string<', 'wstring<')):
             continue
-        if "/" in base:
-            dep_pkg, dep_name = base.split("/")
+        if '/' in base:
+            dep_pkg, dep_name = base.split('/')
         else:
             dep_pkg, dep_name = pkg, base
-        deps.append(f"{dep_pkg}/msg/{dep_name}")
+        deps.append(f'{dep_pkg}/msg/{dep_name}')
     return deps
 
 
 def schema_text(full_type: str) -> str:
-    """The ros2msg schema of ``pkg/msg/Type``: its definition, then every nested type's after a
-    separator line (the layout rosbag2 writes)."""
+    """
+    Return the ros2msg schema of ``pkg/msg/Type``.
+
+    Its definition, then every nested type's after a separator line (the layout rosbag2 writes).
+    """
     main = _msg_file(full_type).read_text()
     seen: set[str] = {full_type}
-    parts: list[str] = [main.rstrip("\n")]
+    parts: list[str] = [main.rstrip('\n')]
     queue = _dependencies(full_type, main)
     while queue:
         dep = queue.pop(0)
@@ -76,31 +116,35 @@ def schema_text(full_type: str) -> str:
             continue
         seen.add(dep)
         text = _msg_file(dep).read_text()
-        pkg, _, name = dep.split("/")
-        parts.append(f"{_SEPARATOR}\nMSG: {pkg}/{name}\n{text.rstrip(chr(10))}")
+        pkg, _, name = dep.split('/')
+        parts.append(f'{_SEPARATOR}\nMSG: {pkg}/{name}\n{text.rstrip(chr(10))}')
         queue.extend(_dependencies(dep, text))
-    return "\n".join(parts) + "\n"
+    return '\n'.join(parts) + '\n'
 
 
 def _type_name(msg: Any) -> str:
-    module = type(msg).__module__.split(".")[0]
-    return f"{module}/msg/{type(msg).__name__}"
+    module = type(msg).__module__.split('.')[0]
+    return f'{module}/msg/{type(msg).__name__}'
 
 
 class McapRecorder:
-    """Write ROS 2 messages to one new MCAP file (``record(topic, msg)``); ``checkpoint()`` makes
-    everything so far durable; ``close()`` finishes the file with its index and summary."""
+    """
+    Write ROS 2 messages to one new MCAP file (``record(topic, msg)``).
+
+    ``checkpoint()`` makes everything so far durable; ``close()`` finishes the file with its index
+    and summary.
+    """
 
     def __init__(self, path: str | os.PathLike):
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self._file = open(self.path, "xb")          # exclusive: never overwrite a recording
+        self._file = open(self.path, 'xb')  # exclusive: never overwrite a recording
         self._writer = Writer(self._file, chunk_size=1 << 20, compression=CompressionType.ZSTD)
-        self._writer.start(profile="ros2", library="hexapod_adapt")
+        self._writer.start(profile='ros2', library='hexapod_adapt')
         self._schemas: dict[str, int] = {}
         self._channels: dict[str, int] = {}
         self._closed = False
-        self._lock = threading.Lock()     # a node records from several threads and closes on shutdown
+        self._lock = threading.Lock()  # a node records from several threads and closes on shutdown
 
     def record(self, topic: str, msg: Any, log_time_ns: int | None = None) -> None:
         """Add one message on ``topic`` (the time defaults to the wall clock)."""
@@ -110,13 +154,16 @@ class McapRecorder:
 
     def _record(self, topic: str, msg: Any, data: bytes, log_time_ns: int | None) -> None:
         if self._closed:
-            raise RuntimeError(f"{self.path} is closed")
+            raise RuntimeError(f'{self.path} is closed')
         type_name = _type_name(msg)
         if type_name not in self._schemas:
-            self._schemas[type_name] = self._writer.register_schema(type_name, "ros2msg",
-                                                                    schema_text(type_name).encode())
+            self._schemas[type_name] = self._writer.register_schema(
+                type_name, 'ros2msg', schema_text(type_name).encode()
+            )
         if topic not in self._channels:
-            self._channels[topic] = self._writer.register_channel(topic, "cdr", self._schemas[type_name])
+            self._channels[topic] = self._writer.register_channel(
+                topic, 'cdr', self._schemas[type_name]
+            )
         now = log_time_ns if log_time_ns is not None else time.time_ns()
         self._writer.add_message(self._channels[topic], log_time=now, data=data, publish_time=now)
 
@@ -139,49 +186,64 @@ class McapRecorder:
             os.fsync(self._file.fileno())
             self._file.close()
 
-    def __enter__(self) -> "McapRecorder":
+    def __enter__(self) -> 'McapRecorder':
         return self
 
     def __exit__(self, *exc) -> None:
         self.close()
 
 
-def create_recording(directory: str | os.PathLike, prefix: str = "adapt") -> McapRecorder:
-    """A recorder on a new file ``<prefix>_<UTC date-time>[_<n>].mcap`` in ``directory``: the
-    first name not taken, created exclusively (several runs in one second each get their own)."""
+def create_recording(directory: str | os.PathLike, prefix: str = 'adapt') -> McapRecorder:
+    """
+    Return a recorder on a new file ``<prefix>_<UTC date-time>[_<n>].mcap`` in ``directory``.
+
+    The first name not taken, created exclusively (several runs in one second each get their own).
+    """
     directory = Path(directory)
-    stamp = time.strftime("%Y%m%d_%H%M%S", time.gmtime())
+    stamp = time.strftime('%Y%m%d_%H%M%S', time.gmtime())
     for n in range(1, 10_000):
-        path = directory / (f"{prefix}_{stamp}.mcap" if n == 1 else f"{prefix}_{stamp}_{n}.mcap")
+        path = directory / (f'{prefix}_{stamp}.mcap' if n == 1 else f'{prefix}_{stamp}_{n}.mcap')
         try:
             return McapRecorder(path)
         except FileExistsError:
             continue
-    raise OSError(f"no free recording name for {prefix}_{stamp} in {directory}")
+    raise OSError(f'no free recording name for {prefix}_{stamp} in {directory}')
 
 
 def message_class(full_type: str) -> type:
-    """The Python class of ``pkg/msg/Type``."""
-    pkg, kind, name = full_type.split("/")
-    return getattr(importlib.import_module(f"{pkg}.{kind}"), name)
+    """Return the Python class of ``pkg/msg/Type``."""
+    pkg, kind, name = full_type.split('/')
+    return getattr(importlib.import_module(f'{pkg}.{kind}'), name)
 
 
 def _complete_records(path: str | os.PathLike) -> Iterator[Any]:
     """Every complete record of an MCAP file, chunks opened, stopping at a truncated tail."""
-    with open(path, "rb") as fh:
+    with open(path, 'rb') as fh:
         records = StreamReader(fh, skip_magic=False).records
         while True:
             try:
                 yield next(records)
             except StopIteration:
                 return
-            except (McapError, EOFError, ValueError, IndexError, OSError, struct.error, zstandard.ZstdError):
-                return   # a truncated tail after a hard kill
+            except (
+                McapError,
+                EOFError,
+                ValueError,
+                IndexError,
+                OSError,
+                struct.error,
+                zstandard.ZstdError,
+            ):
+                return  # a truncated tail after a hard kill
 
 
 def read_messages(path: str | os.PathLike) -> Iterator[tuple[str, Any, int]]:
-    """(topic, decoded message, log time ns) for every complete message in the file, including
-    a file whose writer was killed before it could finish (its incomplete tail is skipped)."""
+    """
+    Yield (topic, decoded message, log time ns) for every complete message in the file.
+
+    This includes a file whose writer was killed before it could finish (its incomplete tail
+    is skipped).
+    """
     schemas: dict[int, Any] = {}
     channels: dict[int, tuple[str, Any]] = {}
     for record in _complete_records(path):
@@ -204,8 +266,12 @@ class Recovery:
 
 
 def recover(src: str | os.PathLike, dst: str | os.PathLike | None = None) -> Recovery:
-    """Rewrite a recording (typically one whose writer was killed) as a valid, indexed MCAP with
-    every complete message of ``src``; written atomically to ``dst`` (default: ``src`` itself)."""
+    """
+    Rewrite a recording whose writer was killed as a valid, indexed MCAP.
+
+    Every complete message of ``src`` is kept; the result is written atomically to ``dst``
+    (default: ``src`` itself).
+    """
     src = Path(src)
     dst = Path(dst) if dst is not None else src
     schema_map: dict[int, int] = {}
@@ -213,17 +279,27 @@ def recover(src: str | os.PathLike, dst: str | os.PathLike | None = None) -> Rec
     count = 0
     with atomic_output(dst) as out:
         writer = Writer(out, chunk_size=1 << 20, compression=CompressionType.ZSTD)
-        writer.start(profile="ros2", library="hexapod_adapt recover")
+        writer.start(profile='ros2', library='hexapod_adapt recover')
         for record in _complete_records(src):
             if isinstance(record, Schema) and record.id not in schema_map:
-                schema_map[record.id] = writer.register_schema(record.name, record.encoding, record.data)
+                schema_map[record.id] = writer.register_schema(
+                    record.name, record.encoding, record.data
+                )
             elif isinstance(record, Channel) and record.id not in channel_map:
-                channel_map[record.id] = writer.register_channel(record.topic, record.message_encoding,
-                                                                 schema_map.get(record.schema_id, 0),
-                                                                 dict(record.metadata))
+                channel_map[record.id] = writer.register_channel(
+                    record.topic,
+                    record.message_encoding,
+                    schema_map.get(record.schema_id, 0),
+                    dict(record.metadata),
+                )
             elif isinstance(record, Message) and record.channel_id in channel_map:
-                writer.add_message(channel_map[record.channel_id], log_time=record.log_time,
-                                   data=record.data, publish_time=record.publish_time, sequence=record.sequence)
+                writer.add_message(
+                    channel_map[record.channel_id],
+                    log_time=record.log_time,
+                    data=record.data,
+                    publish_time=record.publish_time,
+                    sequence=record.sequence,
+                )
                 count += 1
         writer.finish()
     return Recovery(count, len(channel_map), dst)

@@ -1,38 +1,69 @@
-"""``recover_recording``: rewrite an MCAP recording whose writer was killed (SIGKILL, power loss)
-as a valid, indexed MCAP that every reader opens, keeping every complete message (every trial
-the adapt node finished before the kill).
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+``recover_recording``.
+
+Rewrite an MCAP recording whose writer was killed (SIGKILL, power loss) as a valid, indexed MCAP
+that every reader opens, keeping every complete message (every trial the adapt node finished before
+the kill).
 
     ros2 run hexapod_adapt recover_recording adaptation_runs/adapt_20261121_101500.mcap
     recover_recording killed.mcap --out repaired.mcap
 """
+
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
+import sys
 
 from hexapod_adapt.recording import recover
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of ``recover_recording``; exit status 2 for a missing file, 1 for an I/O error."""
-    ap = argparse.ArgumentParser(prog="recover_recording", description=__doc__.split("\n\n")[0],
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("recording", type=Path, help="the MCAP file to recover")
-    ap.add_argument("--out", type=Path, default=None,
-                    help="where to write the recovered file (default: replace the input, atomically)")
+    """Run ``recover_recording``; exit status 2 for a missing file, 1 for an I/O error."""
+    ap = argparse.ArgumentParser(
+        prog='recover_recording',
+        description=__doc__.split('\n\n')[0],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    ap.add_argument('recording', type=Path, help='the MCAP file to recover')
+    ap.add_argument(
+        '--out',
+        type=Path,
+        default=None,
+        help='where to write the recovered file (default: replace the input, atomically)',
+    )
     args = ap.parse_args(argv)
     if not args.recording.is_file():
-        print(f"recover_recording: {args.recording}: no such file", file=sys.stderr)
+        print(f'recover_recording: {args.recording}: no such file', file=sys.stderr)
         return 2
     try:
         result = recover(args.recording, args.out)
     except OSError as exc:
-        print(f"recover_recording: {exc}", file=sys.stderr)
+        print(f'recover_recording: {exc}', file=sys.stderr)
         return 1
-    print(f"wrote {result.out}: {result.messages} messages on {result.channels} topics")
+    print(f'wrote {result.out}: {result.messages} messages on {result.channels} topics')
     return 0
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

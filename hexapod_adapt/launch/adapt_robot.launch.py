@@ -1,4 +1,25 @@
-"""Adaptation on the real robot: bridge_node + adapt_node (full ROS 2 Jazzy install).
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Adaptation on the real robot: bridge_node + adapt_node (full ROS 2 Jazzy install).
 
     ros2 launch hexapod_adapt adapt_robot.launch.py archive:=/path/map.npz port:=/dev/ttyUSB0 \
         imu_port:=/dev/ttyUSB1            # mode robot: trial speeds from the IMU estimate
@@ -6,6 +27,7 @@
                                           # ros2 service call /adapt_node/report_distance ...
 Arm the bridge first: ros2 service call /bridge_node/arm std_srvs/srv/SetBool "{data: true}"
 """
+
 from launch import LaunchDescription
 from launch.actions import DeclareLaunchArgument
 from launch.substitutions import LaunchConfiguration
@@ -13,13 +35,35 @@ from launch_ros.actions import Node
 
 
 def generate_launch_description() -> LaunchDescription:
-    return LaunchDescription([
-        DeclareLaunchArgument("archive"),
-        DeclareLaunchArgument("port", default_value="/dev/ttyUSB0"),
-        DeclareLaunchArgument("imu_port", default_value=""),
-        DeclareLaunchArgument("mode", default_value="robot", description="robot (IMU odometry) or manual"),
-        Node(package="hexapod_bridge", executable="bridge_node", output="screen",
-             parameters=[{"port": LaunchConfiguration("port"), "imu_port": LaunchConfiguration("imu_port")}]),
-        Node(package="hexapod_adapt", executable="adapt_node", output="screen",
-             parameters=[{"archive": LaunchConfiguration("archive"), "mode": LaunchConfiguration("mode")}]),
-    ])
+    return LaunchDescription(
+        [
+            DeclareLaunchArgument('archive'),
+            DeclareLaunchArgument('port', default_value='/dev/ttyUSB0'),
+            DeclareLaunchArgument('imu_port', default_value=''),
+            DeclareLaunchArgument(
+                'mode', default_value='robot', description='robot (IMU odometry) or manual'
+            ),
+            Node(
+                package='hexapod_bridge',
+                executable='bridge_node',
+                output='screen',
+                parameters=[
+                    {
+                        'port': LaunchConfiguration('port'),
+                        'imu_port': LaunchConfiguration('imu_port'),
+                    }
+                ],
+            ),
+            Node(
+                package='hexapod_adapt',
+                executable='adapt_node',
+                output='screen',
+                parameters=[
+                    {
+                        'archive': LaunchConfiguration('archive'),
+                        'mode': LaunchConfiguration('mode'),
+                    }
+                ],
+            ),
+        ]
+    )

@@ -1,9 +1,32 @@
-"""Adaptation on the simulated robot: gait_node + sim_node + adapt_node (full ROS 2 Jazzy install).
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Adaptation on the simulated robot: gait_node + sim_node + adapt_node (full ROS 2 Jazzy install).
 
     ros2 launch hexapod_adapt adapt_sim.launch.py archive:=/path/map.npz failed_legs:='[1]'
     ros2 service call /adapt hexapod_msgs/srv/Adapt "{max_trials: 20}"
-In this workspace without `launch`: python scripts/launch.py adapt-sim --archive MAP --failed-legs 1
+In this workspace without `launch`:
+    python scripts/launch.py adapt-sim --archive MAP --failed-legs 1
 """
+
 from pathlib import Path
 
 from ament_index_python.packages import get_package_share_directory
@@ -12,25 +35,55 @@ from launch.actions import DeclareLaunchArgument
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 
-
-URDF = Path(get_package_share_directory("hexapod_description")) / "urdf" / "hexapod.urdf"
+URDF = Path(get_package_share_directory('hexapod_description')) / 'urdf' / 'hexapod.urdf'
 
 
 def generate_launch_description() -> LaunchDescription:
-    return LaunchDescription([
-        DeclareLaunchArgument("archive", description="archive file written by generate_map"),
-        DeclareLaunchArgument("failed_legs", default_value="[]", description="legs (1-6) failed in the simulator"),
-        DeclareLaunchArgument("record_dir", default_value="adaptation_runs"),
-        # one time base: every node but the clock source (sim_node) runs on sim time
-        Node(package="hexapod_gait", executable="gait_node", output="screen",
-             parameters=[{"initial_preset": "", "use_sim_time": True}]),
-        Node(package="hexapod_sim", executable="sim_node", output="screen",
-             parameters=[{"real_time_factor": 0.0, "publish_period_steps": 24,
-                          "failed_legs": LaunchConfiguration("failed_legs")}]),
-        Node(package="hexapod_adapt", executable="adapt_node", output="screen",
-             parameters=[{"archive": LaunchConfiguration("archive"), "mode": "sim", "use_sim_time": True,
-                          "record_dir": LaunchConfiguration("record_dir")}]),
-        # the leg links on /tf and the latched robot_description (odom -> base_link: sim_node)
-        Node(package="robot_state_publisher", executable="robot_state_publisher", output="screen",
-             parameters=[{"robot_description": URDF.read_text(), "use_sim_time": True}]),
-    ])
+    return LaunchDescription(
+        [
+            DeclareLaunchArgument('archive', description='archive file written by generate_map'),
+            DeclareLaunchArgument(
+                'failed_legs', default_value='[]', description='legs (1-6) failed in the simulator'
+            ),
+            DeclareLaunchArgument('record_dir', default_value='adaptation_runs'),
+            # one time base: every node but the clock source (sim_node) runs on sim time
+            Node(
+                package='hexapod_gait',
+                executable='gait_node',
+                output='screen',
+                parameters=[{'initial_preset': '', 'use_sim_time': True}],
+            ),
+            Node(
+                package='hexapod_sim',
+                executable='sim_node',
+                output='screen',
+                parameters=[
+                    {
+                        'real_time_factor': 0.0,
+                        'publish_period_steps': 24,
+                        'failed_legs': LaunchConfiguration('failed_legs'),
+                    }
+                ],
+            ),
+            Node(
+                package='hexapod_adapt',
+                executable='adapt_node',
+                output='screen',
+                parameters=[
+                    {
+                        'archive': LaunchConfiguration('archive'),
+                        'mode': 'sim',
+                        'use_sim_time': True,
+                        'record_dir': LaunchConfiguration('record_dir'),
+                    }
+                ],
+            ),
+            # the leg links on /tf and the latched robot_description (odom -> base_link: sim_node)
+            Node(
+                package='robot_state_publisher',
+                executable='robot_state_publisher',
+                output='screen',
+                parameters=[{'robot_description': URDF.read_text(), 'use_sim_time': True}],
+            ),
+        ]
+    )

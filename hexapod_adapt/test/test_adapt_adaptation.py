@@ -1,16 +1,36 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
 """An adaptation run over an archive: stopping, aborted trials, cancellation, simulated trials."""
-import numpy as np
-import pytest
 
-from hexapod_adapt.adaptation import TrialAborted, adapt, simulated_trial
+from hexapod_adapt.adaptation import adapt, simulated_trial, TrialAborted
 from hexapod_adapt.archive import Archive
 from hexapod_adapt.mboa import MboaConfig
+import numpy as np
+import pytest
 
 
 def _archive(n=400, seed=0):
     rng = np.random.default_rng(seed)
     a = Archive.empty(rng.random((n, 6)))
-    a.fitness[:] = rng.uniform(0.5, 2.0, n)          # metres in 5 s -> 0.1 .. 0.4 m/s
+    a.fitness[:] = rng.uniform(0.5, 2.0, n)  # metres in 5 s -> 0.1 .. 0.4 m/s
     a.descriptors[:] = a.centroids
     a.genotypes[:] = rng.random((n, 32))
     return a
@@ -19,11 +39,11 @@ def _archive(n=400, seed=0):
 def test_finds_a_gait_that_works_despite_the_damage():
     a = _archive()
 
-    def reality(niche):   # "leg 1 broken": gaits that lean on leg 1 (high duty factor) lose 80 %
+    def reality(niche):  # "leg 1 broken": gaits that lean on leg 1 (high duty factor) lose 80 %
         return a.speeds()[niche] * (0.2 if a.descriptors[niche, 0] > 0.3 else 1.0)
 
     result = adapt(a, reality, MboaConfig(max_trials=20))
-    assert result.success and 1 <= len(result.trials) <= 20 and "alpha" in result.message
+    assert result.success and 1 <= len(result.trials) <= 20 and 'alpha' in result.message
     assert a.descriptors[result.best_niche, 0] <= 0.3
     assert result.best_speed == max(t.measured for t in result.trials)
 
@@ -31,25 +51,25 @@ def test_finds_a_gait_that_works_despite_the_damage():
 def test_never_more_than_max_trials_and_aborts_keep_what_was_measured():
     a = _archive(seed=1)
     result = adapt(a, lambda niche: 0.0, MboaConfig(max_trials=3))
-    assert not result.success and len(result.trials) == 3 and "maximum of 3" in result.message
+    assert not result.success and len(result.trials) == 3 and 'maximum of 3' in result.message
     calls = []
 
     def dies_on_third(niche):
         calls.append(niche)
         if len(calls) == 3:
-            raise TrialAborted("robot link lost")
+            raise TrialAborted('robot link lost')
         return 0.01
 
     result = adapt(a, dies_on_third, MboaConfig(max_trials=10))
-    assert len(result.trials) == 2 and "trial 3 aborted: robot link lost" in result.message
+    assert len(result.trials) == 2 and 'trial 3 aborted: robot link lost' in result.message
     assert result.best_niche == result.niches[0]
     stop_after = adapt(a, lambda n: 0.0, MboaConfig(max_trials=10), should_cancel=lambda: True)
-    assert stop_after.message == "cancelled" and not stop_after.trials
+    assert stop_after.message == 'cancelled' and not stop_after.trials
 
 
 def test_an_empty_archive_is_refused():
     a = Archive.empty(np.random.default_rng(0).random((5, 6)))
-    with pytest.raises(ValueError, match="no elites"):
+    with pytest.raises(ValueError, match='no elites'):
         adapt(a, lambda n: 0.0)
 
 
@@ -59,17 +79,17 @@ def test_simulated_trial_is_the_damaged_evaluation():
     from hexapod_gait.parameters import to_genotype
     from hexapod_sim import create_simulator, evaluate_gait
 
-    genes = to_genotype(preset("control"))
+    genes = to_genotype(preset('control'))
     a = Archive.empty(np.full((1, 6), 0.5))
     a.fitness[0], a.descriptors[0], a.genotypes[0] = 1.0, 0.5, genes
     with create_simulator() as sim:
         trial = simulated_trial(a, failed_legs=[1], sim=sim)
         expected = evaluate_gait(genes, sim, collisions_fatal=False, failed_legs=[1]).speed
         assert trial(0) == expected
-        assert trial(0) < 0.2      # the intact control gait walks 0.29 m/s; one failed leg costs it
+        assert trial(0) < 0.2  # the intact control gait walks 0.29 m/s; one failed leg costs it
 
 
-@pytest.mark.parametrize("bad", [float("nan"), float("inf"), float("-inf")])
+@pytest.mark.parametrize('bad', [float('nan'), float('inf'), float('-inf')])
 def test_a_non_finite_trial_speed_stops_the_run_with_the_reason(bad):
     a = Archive.empty(np.random.default_rng(0).random((5, 6)))
     a.fitness[:] = np.linspace(0.5, 1.5, 5)
@@ -78,4 +98,4 @@ def test_a_non_finite_trial_speed_stops_the_run_with_the_reason(bad):
     speeds = iter([0.1, bad, 0.3])
     result = adapt(a, lambda niche: next(speeds))
     assert not result.success and len(result.trials) == 1
-    assert "trial 2" in result.message and "non-finite speed" in result.message
+    assert 'trial 2' in result.message and 'non-finite speed' in result.message

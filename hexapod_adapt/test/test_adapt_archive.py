@@ -1,14 +1,42 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
 """Archive file: round trip, atomic writes, clear errors, thesis text format."""
+
+from hexapod_adapt.archive import (
+    Archive,
+    ArchiveError,
+    compatibility_problems,
+    export_thesis_map,
+    import_thesis_map,
+    load_archive,
+    load_centroids,
+    save_centroids,
+)
 import numpy as np
 import pytest
-
-from hexapod_adapt.archive import (Archive, ArchiveError, compatibility_problems, export_thesis_map,
-                                   import_thesis_map, load_archive, load_centroids, save_centroids)
 
 
 def _archive(n=50, filled=20, seed=3):
     rng = np.random.default_rng(seed)
-    a = Archive.empty(rng.random((n, 6)), {"seed": seed, "evaluations": 123})
+    a = Archive.empty(rng.random((n, 6)), {'seed': seed, 'evaluations': 123})
     idx = rng.choice(n, filled, replace=False)
     a.fitness[idx] = rng.normal(0.5, 0.3, filled)
     a.descriptors[idx] = rng.random((filled, 6))
@@ -18,96 +46,105 @@ def _archive(n=50, filled=20, seed=3):
 
 def test_round_trip_keeps_every_value_and_metadata(tmp_path):
     a = _archive()
-    path = a.save(tmp_path / "map.npz")
+    path = a.save(tmp_path / 'map.npz')
     b = load_archive(path)
-    for name in ("centroids", "fitness", "descriptors", "genotypes"):
+    for name in ('centroids', 'fitness', 'descriptors', 'genotypes'):
         np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
-    assert b.metadata["seed"] == 3 and b.metadata["evaluations"] == 123
-    assert b.metadata["niches"] == 50 and b.metadata["format_version"] == 1
-    assert b.metadata["genotype_mapping"] == "thesis-4.1/v1" and "created" in b.metadata
+    assert b.metadata['seed'] == 3 and b.metadata['evaluations'] == 123
+    assert b.metadata['niches'] == 50 and b.metadata['format_version'] == 1
+    assert b.metadata['genotype_mapping'] == 'thesis-4.1/v1' and 'created' in b.metadata
     assert b.n_filled == 20 and b.stats().filled == 20
     np.testing.assert_allclose(b.speeds()[b.filled], b.fitness[b.filled] / 5.0)
-    assert [p.name for p in tmp_path.iterdir()] == ["map.npz"]   # no temporary left behind
+    assert [p.name for p in tmp_path.iterdir()] == ['map.npz']  # no temporary left behind
 
 
 def test_truncated_and_foreign_files_are_refused_with_reasons(tmp_path):
-    path = _archive().save(tmp_path / "map.npz")
+    path = _archive().save(tmp_path / 'map.npz')
     data = path.read_bytes()
-    cut = tmp_path / "cut.npz"
+    cut = tmp_path / 'cut.npz'
     cut.write_bytes(data[: len(data) // 2])
-    with pytest.raises(ArchiveError, match="truncated or corrupted"):
+    with pytest.raises(ArchiveError, match='truncated or corrupted'):
         load_archive(cut)
-    with pytest.raises(ArchiveError, match="no such archive"):
-        load_archive(tmp_path / "missing.npz")
-    other = tmp_path / "other.npz"
+    with pytest.raises(ArchiveError, match='no such archive'):
+        load_archive(tmp_path / 'missing.npz')
+    other = tmp_path / 'other.npz'
     np.savez(other, x=np.zeros(3))
-    with pytest.raises(ArchiveError, match="not a hexapod archive"):
+    with pytest.raises(ArchiveError, match='not a hexapod archive'):
         load_archive(other)
 
 
 def test_a_failed_save_keeps_the_previous_file(tmp_path, monkeypatch):
     good = _archive(seed=1)
-    path = good.save(tmp_path / "map.npz")
+    path = good.save(tmp_path / 'map.npz')
     before = path.read_bytes()
 
     def disk_full(*args, **kwargs):
-        raise OSError(28, "No space left on device")
+        raise OSError(28, 'No space left on device')
 
-    monkeypatch.setattr("os.replace", disk_full)
+    monkeypatch.setattr('os.replace', disk_full)
     with pytest.raises(OSError):
         _archive(seed=2).save(path)
     assert path.read_bytes() == before
-    assert [p.name for p in tmp_path.iterdir()] == ["map.npz"]
+    assert [p.name for p in tmp_path.iterdir()] == ['map.npz']
 
 
 def test_inconsistent_contents_are_refused():
-    with pytest.raises(ArchiveError, match="genotypes must have shape"):
+    with pytest.raises(ArchiveError, match='genotypes must have shape'):
         Archive(np.zeros((4, 6)), np.zeros(4), np.zeros((4, 6)), np.zeros((4, 31)))
-    with pytest.raises(ArchiveError, match="in \\[0, 1\\]"):
-        Archive(np.zeros((2, 6)), np.array([1.0, np.nan]), np.full((2, 6), 0.5), np.full((2, 32), 1.5))
-    with pytest.raises(ArchiveError, match="niche 1 has a fitness"):
-        Archive(np.zeros((2, 6)), np.array([np.nan, 1.0]), np.full((2, 6), np.nan), np.full((2, 32), 0.5))
+    with pytest.raises(ArchiveError, match='in \\[0, 1\\]'):
+        Archive(
+            np.zeros((2, 6)), np.array([1.0, np.nan]), np.full((2, 6), 0.5), np.full((2, 32), 1.5)
+        )
+    with pytest.raises(ArchiveError, match='niche 1 has a fitness'):
+        Archive(
+            np.zeros((2, 6)),
+            np.array([np.nan, 1.0]),
+            np.full((2, 6), np.nan),
+            np.full((2, 32), 0.5),
+        )
 
 
 def test_altered_centroids_are_detected(tmp_path):
-    path = _archive().save(tmp_path / "map.npz")
+    path = _archive().save(tmp_path / 'map.npz')
     with np.load(path) as d:
         arrays = {k: d[k] for k in d.files}
-    arrays["centroids"] = arrays["centroids"] * 0.5
-    np.savez(tmp_path / "altered.npz", **arrays)
-    with pytest.raises(ArchiveError, match="centroid hash"):
-        load_archive(tmp_path / "altered.npz")
+    arrays['centroids'] = arrays['centroids'] * 0.5
+    np.savez(tmp_path / 'altered.npz', **arrays)
+    with pytest.raises(ArchiveError, match='centroid hash'):
+        load_archive(tmp_path / 'altered.npz')
 
 
 def test_compatibility_problems_name_the_mismatch():
     a = _archive()
-    assert compatibility_problems(a, {"genotype_mapping": "thesis-4.1/v1"}) == []
-    problems = compatibility_problems(a, {"genotype_mapping": "other/v9", "urdf_sha256": "abc"})
-    assert len(problems) == 2 and "other/v9" in problems[0] and "urdf_sha256" in problems[1]
+    assert compatibility_problems(a, {'genotype_mapping': 'thesis-4.1/v1'}) == []
+    problems = compatibility_problems(a, {'genotype_mapping': 'other/v9', 'urdf_sha256': 'abc'})
+    assert len(problems) == 2 and 'other/v9' in problems[0] and 'urdf_sha256' in problems[1]
 
 
 def test_thesis_text_format_round_trip_through_a_centroids_file(tmp_path):
     a = _archive(n=40, filled=15)
-    save_centroids(tmp_path / "centroids_40_6.dat", a.centroids)
-    export_thesis_map(a, tmp_path / "archive_1000.dat")
-    rows = np.loadtxt(tmp_path / "archive_1000.dat")
+    save_centroids(tmp_path / 'centroids_40_6.dat', a.centroids)
+    export_thesis_map(a, tmp_path / 'archive_1000.dat')
+    rows = np.loadtxt(tmp_path / 'archive_1000.dat')
     assert rows.shape == (15, 45)
-    b = import_thesis_map(tmp_path / "archive_1000.dat", load_centroids(tmp_path / "centroids_40_6.dat"))
+    b = import_thesis_map(
+        tmp_path / 'archive_1000.dat', load_centroids(tmp_path / 'centroids_40_6.dat')
+    )
     np.testing.assert_array_equal(a.fitness, b.fitness)
     np.testing.assert_array_equal(a.genotypes[a.filled], b.genotypes[b.filled])
-    bare = import_thesis_map(tmp_path / "archive_1000.dat")          # niches = the rows' centroids
+    bare = import_thesis_map(tmp_path / 'archive_1000.dat')  # niches = the rows' centroids
     assert bare.n_niches == 15 and bare.n_filled == 15
 
 
 def test_thesis_import_refuses_wrong_rows_and_foreign_centroids(tmp_path):
-    bad = tmp_path / "bad.dat"
+    bad = tmp_path / 'bad.dat'
     np.savetxt(bad, np.zeros((3, 44)))
-    with pytest.raises(ArchiveError, match="45 numbers"):
+    with pytest.raises(ArchiveError, match='45 numbers'):
         import_thesis_map(bad)
     a = _archive(n=40, filled=5)
-    export_thesis_map(a, tmp_path / "m.dat")
-    with pytest.raises(ArchiveError, match="different centroids file"):
-        import_thesis_map(tmp_path / "m.dat", np.random.default_rng(9).random((40, 6)))
+    export_thesis_map(a, tmp_path / 'm.dat')
+    with pytest.raises(ArchiveError, match='different centroids file'):
+        import_thesis_map(tmp_path / 'm.dat', np.random.default_rng(9).random((40, 6)))
 
 
 def test_insert_says_what_happened():
@@ -116,8 +153,12 @@ def test_insert_says_what_happened():
     a = Archive.empty(np.full((2, 6), 0.5))
     d, g = np.full(6, 0.5), np.full(32, 0.5)
     assert a.insert(0, 1.0, d, g) is InsertStatus.NEW
-    assert a.insert(0, 0.5, d, np.zeros(32)) is InsertStatus.NOT_IMPROVED and a.genotypes[0, 0] == 0.5
-    assert a.insert(0, 1.0, d, np.zeros(32)) is InsertStatus.NOT_IMPROVED          # a tie keeps the incumbent
+    assert (
+        a.insert(0, 0.5, d, np.zeros(32)) is InsertStatus.NOT_IMPROVED and a.genotypes[0, 0] == 0.5
+    )
+    assert (
+        a.insert(0, 1.0, d, np.zeros(32)) is InsertStatus.NOT_IMPROVED
+    )  # a tie keeps the incumbent
     assert a.insert(0, 2.0, d, np.zeros(32)) is InsertStatus.IMPROVED and a.fitness[0] == 2.0
     s = a.stats()
     assert (s.filled, s.coverage, s.max, s.qd_score) == (1, 0.5, 2.0, 2.0)

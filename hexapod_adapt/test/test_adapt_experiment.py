@@ -1,69 +1,139 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
 """run_experiment: thesis experiment 5.2 on the shipped demo map."""
+
 import csv
+from pathlib import Path
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
-DEMO_MAP = Path(__file__).resolve().parents[1] / "maps" / "demo_map.npz"
+DEMO_MAP = Path(__file__).resolve().parents[1] / 'maps' / 'demo_map.npz'
 
 
 def _run(*args):
-    return subprocess.run([sys.executable, "-m", "hexapod_adapt.experiment_cli", *args], capture_output=True,
-                          text=True, timeout=300)
+    return subprocess.run(
+        [sys.executable, '-m', 'hexapod_adapt.experiment_cli', *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
 
 
 @pytest.mark.slow
 def test_scenario_s2_runs_in_every_orientation_and_writes_csv(tmp_path):
-    out = tmp_path / "runs.csv"
-    r = _run("--archive", str(DEMO_MAP), "--scenarios", "S2", "--out", str(out))
+    out = tmp_path / 'runs.csv'
+    r = _run('--archive', str(DEMO_MAP), '--scenarios', 'S2', '--out', str(out))
     assert r.returncode == 0, r.stderr
     rows = list(csv.DictReader(out.open()))
-    assert [row["failed_legs"] for row in rows] == ["1 4", "2 5", "3 6"]
+    assert [row['failed_legs'] for row in rows] == ['1 4', '2 5', '3 6']
     for row in rows:
-        assert 1 <= int(row["trials"]) <= 20
+        assert 1 <= int(row['trials']) <= 20
         # two opposite legs stop the control tripod; the map has gaits that still walk forwards
-        assert float(row["best_speed"]) > float(row["control_speed"])
+        assert float(row['best_speed']) > float(row['control_speed'])
 
 
 def test_bad_inputs_are_refused(tmp_path):
-    r = _run("--archive", str(tmp_path / "missing.npz"))
-    assert r.returncode == 2 and "no such archive" in r.stderr
-    r = _run("--archive", str(DEMO_MAP), "--alpha", "0")
-    assert r.returncode == 2 and "alpha" in r.stderr
+    r = _run('--archive', str(tmp_path / 'missing.npz'))
+    assert r.returncode == 2 and 'no such archive' in r.stderr
+    r = _run('--archive', str(DEMO_MAP), '--alpha', '0')
+    assert r.returncode == 2 and 'alpha' in r.stderr
 
 
-PNG = b"\x89PNG\r\n\x1a\n"
+PNG = b'\x89PNG\r\n\x1a\n'
 
 
 @pytest.mark.slow
 def test_cross_engine_experiment_writes_csv_and_box_plots(tmp_path):
-    r = _run("--archive", str(DEMO_MAP), "--scenarios", "S2", "--cross-engine", "--max-trials", "4",
-             "--out-dir", str(tmp_path))
+    r = _run(
+        '--archive',
+        str(DEMO_MAP),
+        '--scenarios',
+        'S2',
+        '--cross-engine',
+        '--max-trials',
+        '4',
+        '--out-dir',
+        str(tmp_path),
+    )
     assert r.returncode == 0, r.stderr
-    rows = list(csv.DictReader((tmp_path / "runs.csv").open()))
-    assert sorted(row["trial_engine"] for row in rows) == ["mujoco"] * 3 + ["pybullet"] * 3
-    assert {row["map_engine"] for row in rows} == {"pybullet"}           # the demo map is a PyBullet map
+    rows = list(csv.DictReader((tmp_path / 'runs.csv').open()))
+    assert sorted(row['trial_engine'] for row in rows) == ['mujoco'] * 3 + ['pybullet'] * 3
+    assert {row['map_engine'] for row in rows} == {'pybullet'}  # the demo map is a PyBullet map
     for row in rows:
-        assert 1 <= int(row["trials"]) <= 4 and float(row["intact_control_speed"]) > 0.25
-    for name in ("adapted_speed.png", "trials.png"):
+        assert 1 <= int(row['trials']) <= 4 and float(row['intact_control_speed']) > 0.25
+    for name in ('adapted_speed.png', 'trials.png'):
         assert (tmp_path / name).read_bytes().startswith(PNG)
-    assert "trials on  scenario" in r.stdout
+    assert 'trials on  scenario' in r.stdout
 
 
 def test_plot_map_draws_a_map_and_a_log_in_progress(tmp_path):
     import json
 
-    log = tmp_path / "demo.log.jsonl"
-    rows = [{"evaluations": 100 * k, "filled": 10 * k, "max": 0.1 * k, "mean": 0.05 * k, "median": 0.04 * k,
-             "p5": 0.01 * k, "qd_score": float(k * k)} for k in range(1, 6)]
-    log.write_text("\n".join(json.dumps(r) for r in rows) + '\n{"evaluations": 6')   # torn last line
-    r = subprocess.run([sys.executable, "-m", "hexapod_adapt.plot_map_cli", "--archive", str(DEMO_MAP), "--log",
-                        str(log), "--out-dir", str(tmp_path)], capture_output=True, text=True, timeout=120)
+    log = tmp_path / 'demo.log.jsonl'
+    rows = [
+        {
+            'evaluations': 100 * k,
+            'filled': 10 * k,
+            'max': 0.1 * k,
+            'mean': 0.05 * k,
+            'median': 0.04 * k,
+            'p5': 0.01 * k,
+            'qd_score': float(k * k),
+        }
+        for k in range(1, 6)
+    ]
+    log.write_text(
+        '\n'.join(json.dumps(r) for r in rows) + '\n{"evaluations": 6'
+    )  # torn last line
+    r = subprocess.run(
+        [
+            sys.executable,
+            '-m',
+            'hexapod_adapt.plot_map_cli',
+            '--archive',
+            str(DEMO_MAP),
+            '--log',
+            str(log),
+            '--out-dir',
+            str(tmp_path),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert r.returncode == 0, r.stderr
-    for name in ("demo_map_projections.png", "demo_map_progress.png"):
+    for name in ('demo_map_projections.png', 'demo_map_progress.png'):
         assert (tmp_path / name).read_bytes().startswith(PNG)
-    bad = subprocess.run([sys.executable, "-m", "hexapod_adapt.plot_map_cli", "--archive", str(tmp_path / "no.npz")],
-                         capture_output=True, text=True, timeout=60)
-    assert bad.returncode == 2 and "no such archive" in bad.stderr
+    bad = subprocess.run(
+        [
+            sys.executable,
+            '-m',
+            'hexapod_adapt.plot_map_cli',
+            '--archive',
+            str(tmp_path / 'no.npz'),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert bad.returncode == 2 and 'no such archive' in bad.stderr

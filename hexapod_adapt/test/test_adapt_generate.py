@@ -1,84 +1,190 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
 """generate_map: the command, its files, backends that agree, resume, refusals."""
+
 import json
 import subprocess
 import sys
 
+from hexapod_adapt.archive import load_archive
+from hexapod_adapt.generate import generate_map, GenerateConfig
+from hexapod_adapt.simulation import simulation_fingerprint
 import numpy as np
 import pytest
 
-from hexapod_adapt.archive import load_archive
-from hexapod_adapt.generate import GenerateConfig, generate_map
-from hexapod_adapt.simulation import simulation_fingerprint
-
-SMALL = dict(niches=30, evaluations=120, seed=4, lag=16, checkpoint_every=1.0, log_every=0.5)
+SMALL = {
+    'niches': 30,
+    'evaluations': 120,
+    'seed': 4,
+    'lag': 16,
+    'checkpoint_every': 1.0,
+    'log_every': 0.5,
+}
 
 
 def _run_cli(*args):
-    return subprocess.run([sys.executable, "-m", "hexapod_adapt.generate_cli", *args], capture_output=True,
-                          text=True, timeout=300)
+    return subprocess.run(
+        [sys.executable, '-m', 'hexapod_adapt.generate_cli', *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
 
 
 @pytest.mark.slow
 def test_command_writes_archive_log_and_cvt_and_refuses_a_changed_resume(tmp_path):
-    out = tmp_path / "map.npz"
-    r = _run_cli("--out", str(out), "--niches", "30", "--evaluations", "120", "--seed", "4", "--lag", "16",
-                 "--workers", "2", "--log-every", "0.5", "--quiet")
+    out = tmp_path / 'map.npz'
+    r = _run_cli(
+        '--out',
+        str(out),
+        '--niches',
+        '30',
+        '--evaluations',
+        '120',
+        '--seed',
+        '4',
+        '--lag',
+        '16',
+        '--workers',
+        '2',
+        '--log-every',
+        '0.5',
+        '--quiet',
+    )
     assert r.returncode == 0, r.stderr
-    assert "wrote" in r.stdout and "of 30 niches" in r.stdout
+    assert 'wrote' in r.stdout and 'of 30 niches' in r.stdout
     a = load_archive(out)
-    assert a.metadata["evaluations"] == 120 and a.n_filled >= 1 and a.metadata["seed"] == 4
+    assert a.metadata['evaluations'] == 120 and a.n_filled >= 1 and a.metadata['seed'] == 4
     for key, value in simulation_fingerprint().items():
         assert a.metadata[key] == value
-    assert (tmp_path / "centroids_30_6.dat").is_file()
-    rows = [json.loads(line) for line in (tmp_path / "map.npz.log.jsonl").read_text().splitlines()]
-    assert rows[-1]["evaluations"] == 120
-    for key in ("filled", "max", "mean", "median", "p5", "qd_score", "coverage", "evals_per_s", "utilisation"):
+    assert (tmp_path / 'centroids_30_6.dat').is_file()
+    rows = [json.loads(line) for line in (tmp_path / 'map.npz.log.jsonl').read_text().splitlines()]
+    assert rows[-1]['evaluations'] == 120
+    for key in (
+        'filled',
+        'max',
+        'mean',
+        'median',
+        'p5',
+        'qd_score',
+        'coverage',
+        'evals_per_s',
+        'utilisation',
+    ):
         assert key in rows[-1]
-    same = _run_cli("--out", str(out), "--niches", "30", "--evaluations", "120", "--seed", "4", "--lag", "16",
-                    "--resume", "--quiet")          # a finished run resumes to the same map
+    same = _run_cli(
+        '--out',
+        str(out),
+        '--niches',
+        '30',
+        '--evaluations',
+        '120',
+        '--seed',
+        '4',
+        '--lag',
+        '16',
+        '--resume',
+        '--quiet',
+    )  # a finished run resumes to the same map
     assert same.returncode == 0, same.stderr
     np.testing.assert_array_equal(load_archive(out).fitness, a.fitness)
-    bad = _run_cli("--out", str(out), "--niches", "30", "--evaluations", "120", "--seed", "5", "--lag", "16",
-                   "--resume")
-    assert bad.returncode == 1 and "resume with the same" in bad.stderr
-    assert load_archive(out).metadata["seed"] == 4          # the good map is untouched
+    bad = _run_cli(
+        '--out',
+        str(out),
+        '--niches',
+        '30',
+        '--evaluations',
+        '120',
+        '--seed',
+        '5',
+        '--lag',
+        '16',
+        '--resume',
+    )
+    assert bad.returncode == 1 and 'resume with the same' in bad.stderr
+    assert load_archive(out).metadata['seed'] == 4  # the good map is untouched
 
 
 def test_bad_arguments_are_refused_with_reasons(tmp_path):
-    r = _run_cli("--out", str(tmp_path / "m.npz"), "--niches", "1")
-    assert r.returncode == 2 and "niches must be >= 2" in r.stderr
-    r = _run_cli("--out", str(tmp_path / "m.npz"), "--random-init", "2")
-    assert r.returncode == 2 and "random_init" in r.stderr
-    assert not (tmp_path / "m.npz").exists()
+    r = _run_cli('--out', str(tmp_path / 'm.npz'), '--niches', '1')
+    assert r.returncode == 2 and 'niches must be >= 2' in r.stderr
+    r = _run_cli('--out', str(tmp_path / 'm.npz'), '--random-init', '2')
+    assert r.returncode == 2 and 'random_init' in r.stderr
+    assert not (tmp_path / 'm.npz').exists()
 
 
 @pytest.mark.slow
 def test_local_pool_and_dask_cluster_make_the_same_map(tmp_path):
-    local = generate_map(GenerateConfig(out=tmp_path / "a" / "map.npz", backend="local", workers=2, **SMALL))
-    dask = generate_map(GenerateConfig(out=tmp_path / "b" / "map.npz", backend="dask", workers=2, **SMALL))
+    local = generate_map(
+        GenerateConfig(out=tmp_path / 'a' / 'map.npz', backend='local', workers=2, **SMALL)
+    )
+    dask = generate_map(
+        GenerateConfig(out=tmp_path / 'b' / 'map.npz', backend='dask', workers=2, **SMALL)
+    )
     np.testing.assert_array_equal(local.fitness, dask.fitness)
     np.testing.assert_array_equal(local.genotypes, dask.genotypes)
 
 
 def test_a_map_without_a_single_gait_is_not_a_success(tmp_path):
     # 3 evaluations of random genotypes: reachable ones are almost never feasible gaits
-    r = _run_cli("--out", str(tmp_path / "m.npz"), "--niches", "5", "--evaluations", "3", "--seed", "1",
-                 "--backend", "inline", "--quiet")
-    assert r.returncode == 1 and "no valid gait in 3 evaluations: no map written" in r.stderr
-    assert not (tmp_path / "m.npz").exists()
+    r = _run_cli(
+        '--out',
+        str(tmp_path / 'm.npz'),
+        '--niches',
+        '5',
+        '--evaluations',
+        '3',
+        '--seed',
+        '1',
+        '--backend',
+        'inline',
+        '--quiet',
+    )
+    assert r.returncode == 1 and 'no valid gait in 3 evaluations: no map written' in r.stderr
+    assert not (tmp_path / 'm.npz').exists()
 
 
 def test_orphaned_temporaries_are_removed_on_start_and_resume(tmp_path):
     from hexapod_adapt.generate import remove_orphaned_temporaries
 
-    out = tmp_path / "map.npz"
-    left = [tmp_path / ".map.npz.abc123.tmp", tmp_path / ".map.npz.ckpt.npz.x9.tmp"]
-    unrelated = tmp_path / ".other.npz.zz.tmp"
+    out = tmp_path / 'map.npz'
+    left = [tmp_path / '.map.npz.abc123.tmp', tmp_path / '.map.npz.ckpt.npz.x9.tmp']
+    unrelated = tmp_path / '.other.npz.zz.tmp'
     for path in left + [unrelated]:
-        path.write_bytes(b"partial")
+        path.write_bytes(b'partial')
     assert sorted(remove_orphaned_temporaries(out)) == sorted(left)
     assert unrelated.exists() and not any(p.exists() for p in left)
-    r = _run_cli("--out", str(out), "--niches", "5", "--evaluations", "3", "--seed", "1", "--backend", "inline",
-                 "--quiet", "--resume")
+    r = _run_cli(
+        '--out',
+        str(out),
+        '--niches',
+        '5',
+        '--evaluations',
+        '3',
+        '--seed',
+        '1',
+        '--backend',
+        'inline',
+        '--quiet',
+        '--resume',
+    )
     assert not any(p.exists() for p in left)
     assert r.returncode in (0, 1)

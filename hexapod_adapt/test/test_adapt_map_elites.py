@@ -1,30 +1,58 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
 """MAP-Elites: reproducible whatever the parallelism, exact resume, the real simulator."""
+
 import concurrent.futures as cf
 import time
 
-import numpy as np
-import pytest
-
 from hexapod_adapt.archive import Archive
 from hexapod_adapt.cvt import cached_cvt, compute_cvt
-from hexapod_adapt.map_elites import MapElitesConfig, load_checkpoint, run_map_elites
+from hexapod_adapt.map_elites import load_checkpoint, MapElitesConfig, run_map_elites
 from hexapod_adapt.simulation import SimulateGenotypes
 from hexapod_sim import EvaluationResult
 from hexapod_sim.sampling import random_reachable_genes
+import numpy as np
+import pytest
 
 
 def toy_evaluate(genes):
-    """A cheap deterministic stand-in for the simulator (fitness and descriptor from the genes)."""
+    """Evaluate cheaply and deterministically: fitness and descriptor from the genes."""
     out = []
     for g in np.atleast_2d(genes):
         d = np.clip(np.abs(np.sin(7.0 * g[:6] + g[6:12])), 0, 1)
-        out.append(EvaluationResult(float(np.sum(g[12:]) - 3 * np.abs(g[0] - 0.3)), d, bool(g[31] < 0.9), "", 5.0,
-                                    seconds=1e-4))
+        out.append(
+            EvaluationResult(
+                float(np.sum(g[12:]) - 3 * np.abs(g[0] - 0.3)),
+                d,
+                bool(g[31] < 0.9),
+                '',
+                5.0,
+                seconds=1e-4,
+            )
+        )
     return out
 
 
 def toy_evaluate_jittered(genes):
-    """The same results, finishing in a random order."""
+    """Return the same results, finishing in a random order."""
     time.sleep(float(np.random.default_rng().uniform(0, 0.004)))
     return toy_evaluate(genes)
 
@@ -34,7 +62,7 @@ def _fresh(n=60):
 
 
 def _same(a, b):
-    for name in ("fitness", "descriptors", "genotypes"):
+    for name in ('fitness', 'descriptors', 'genotypes'):
         np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
 
 
@@ -44,22 +72,31 @@ def test_cvt_is_seeded_cached_and_in_the_unit_cube(tmp_path):
     assert c1.shape == (30, 6) and c1.min() >= 0 and c1.max() <= 1
     assert not np.array_equal(c1, compute_cvt(30, samples=1500, seed=6))
     cached = cached_cvt(tmp_path, 30, samples=1500, seed=5)
-    assert (tmp_path / "centroids_30_6.dat").is_file()
-    np.testing.assert_allclose(cached_cvt(tmp_path, 30, seed=99), cached)   # read back, not recomputed
+    assert (tmp_path / 'centroids_30_6.dat').is_file()
+    np.testing.assert_allclose(
+        cached_cvt(tmp_path, 30, seed=99), cached
+    )  # read back, not recomputed
 
 
 def test_same_seed_same_map_inline_pool_and_out_of_order_completion():
     cfg = MapElitesConfig(evaluations=600, seed=11, lag=8, random_init=0.2)
     inline = run_map_elites(_fresh(), cfg, toy_evaluate)
-    assert inline.n_filled > 20 and inline.metadata["evaluations"] == 600
+    assert inline.n_filled > 20 and inline.metadata['evaluations'] == 600
     with cf.ProcessPoolExecutor(2) as pool:
         pooled = run_map_elites(_fresh(), cfg, toy_evaluate_jittered, executor=pool, workers=2)
     with cf.ThreadPoolExecutor(4) as pool:
-        chunked = run_map_elites(_fresh(), cfg.__class__(**{**cfg.__dict__, "chunk": 3}), toy_evaluate_jittered,
-                                 executor=pool, workers=4)
+        chunked = run_map_elites(
+            _fresh(),
+            cfg.__class__(**{**cfg.__dict__, 'chunk': 3}),
+            toy_evaluate_jittered,
+            executor=pool,
+            workers=4,
+        )
     _same(inline, pooled)
     _same(inline, chunked)
-    other = run_map_elites(_fresh(), MapElitesConfig(evaluations=600, seed=12, lag=8, random_init=0.2), toy_evaluate)
+    other = run_map_elites(
+        _fresh(), MapElitesConfig(evaluations=600, seed=12, lag=8, random_init=0.2), toy_evaluate
+    )
     assert not np.array_equal(inline.genotypes, other.genotypes, equal_nan=True)
 
 
@@ -77,31 +114,38 @@ def test_elites_only_improve_and_sit_in_their_nearest_niche():
 def test_interrupted_run_resumes_exactly_from_its_checkpoint(tmp_path):
     cfg = MapElitesConfig(evaluations=500, seed=7, lag=6, random_init=0.1)
     whole = run_map_elites(_fresh(), cfg, toy_evaluate)
-    calls = {"n": 0}
+    calls = {'n': 0}
 
     def dies_after_200(genes):
-        calls["n"] += 1
-        if calls["n"] > 200:
-            raise RuntimeError("node died")
+        calls['n'] += 1
+        if calls['n'] > 200:
+            raise RuntimeError('node died')
         return toy_evaluate(genes)
 
-    ckpt = tmp_path / "run.ckpt.npz"
-    with pytest.raises(RuntimeError, match="node died"):
+    ckpt = tmp_path / 'run.ckpt.npz'
+    with pytest.raises(RuntimeError, match='node died'):
         run_map_elites(_fresh(), cfg, dies_after_200, checkpoint=ckpt, checkpoint_every=0.0)
     archive, pending = load_checkpoint(ckpt)
-    assert 150 < archive.metadata["evaluations"] <= 200 and pending
+    assert 150 < archive.metadata['evaluations'] <= 200 and pending
     resumed = run_map_elites(archive, cfg, toy_evaluate, pending=pending, checkpoint=ckpt)
     _same(whole, resumed)
     final, left = load_checkpoint(ckpt)
-    assert final.metadata["evaluations"] == 500 and left == {}
+    assert final.metadata['evaluations'] == 500 and left == {}
 
 
 def test_progress_rows_carry_the_log_figures():
     rows = []
-    run_map_elites(_fresh(), MapElitesConfig(evaluations=100, seed=1, random_init=0.1), toy_evaluate,
-                   on_progress=rows.append, progress_every=0.0)
+    run_map_elites(
+        _fresh(),
+        MapElitesConfig(evaluations=100, seed=1, random_init=0.1),
+        toy_evaluate,
+        on_progress=rows.append,
+        progress_every=0.0,
+    )
     last = rows[-1]
-    assert last.evaluations == 100 and 0 < last.coverage <= 1 and last.max >= last.median >= last.p5
+    assert (
+        last.evaluations == 100 and 0 < last.coverage <= 1 and last.max >= last.median >= last.p5
+    )
     assert last.evals_per_s > 0 and 0 <= last.utilisation and '"qd_score"' in last.log_row()
 
 
@@ -109,10 +153,16 @@ def test_progress_rows_carry_the_log_figures():
 def test_real_simulator_map_is_reproducible_by_re_evaluation():
     # ~1 in 80 reachable random genotypes is a feasible gait
     cfg = MapElitesConfig(evaluations=400, seed=5, lag=16, random_init=1.0, chunk=4)
-    simulate_genotypes = SimulateGenotypes("mujoco")
+    simulate_genotypes = SimulateGenotypes('mujoco')
     with cf.ProcessPoolExecutor(2) as pool:
-        a = run_map_elites(Archive.empty(compute_cvt(20, samples=1000, seed=2)), cfg, simulate_genotypes,
-                           executor=pool, workers=2, random_genes=random_reachable_genes)
+        a = run_map_elites(
+            Archive.empty(compute_cvt(20, samples=1000, seed=2)),
+            cfg,
+            simulate_genotypes,
+            executor=pool,
+            workers=2,
+            random_genes=random_reachable_genes,
+        )
     idx = a.elite_indices()
     assert len(idx) >= 1
     for i in idx[:3]:
@@ -132,16 +182,24 @@ def test_initial_genotypes_are_the_first_candidates():
 
     run_map_elites(_fresh(), cfg, record)
     assert [tuple(g) for g in tried[:2]] == list(start)
-    with pytest.raises(ValueError, match="initial genotypes"):
+    with pytest.raises(ValueError, match='initial genotypes'):
         MapElitesConfig(evaluations=5, initial=((2.0,) * 32,))
 
 
 def test_a_finished_run_extended_to_more_evaluations_equals_one_long_run(tmp_path):
-    long = run_map_elites(_fresh(), MapElitesConfig(evaluations=400, seed=9, lag=5, random_init=0.1), toy_evaluate)
-    ckpt = tmp_path / "c.npz"
-    run_map_elites(_fresh(), MapElitesConfig(evaluations=250, seed=9, lag=5, random_init=0.1), toy_evaluate,
-                   checkpoint=ckpt)
+    long = run_map_elites(
+        _fresh(), MapElitesConfig(evaluations=400, seed=9, lag=5, random_init=0.1), toy_evaluate
+    )
+    ckpt = tmp_path / 'c.npz'
+    run_map_elites(
+        _fresh(),
+        MapElitesConfig(evaluations=250, seed=9, lag=5, random_init=0.1),
+        toy_evaluate,
+        checkpoint=ckpt,
+    )
     archive, pending = load_checkpoint(ckpt)
     assert pending == {}
-    extended = run_map_elites(archive, MapElitesConfig(evaluations=400, seed=9, lag=5, random_init=0.1), toy_evaluate)
+    extended = run_map_elites(
+        archive, MapElitesConfig(evaluations=400, seed=9, lag=5, random_init=0.1), toy_evaluate
+    )
     _same(long, extended)

@@ -1,8 +1,28 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
 """M-BOA: GP posterior, UCB with the standard deviation, stopping, tested gaits, noise."""
+
+from hexapod_adapt.mboa import matern52, Mboa, MboaConfig
 import numpy as np
 import pytest
-
-from hexapod_adapt.mboa import Mboa, MboaConfig, matern52
 
 
 def _map(m=300, seed=0):
@@ -21,9 +41,9 @@ def test_posterior_matches_a_direct_gp_computation():
     k = matern52(x[idx], x[idx], 0.4) + 0.001 * np.eye(3)
     ks = matern52(x, x[idx], 0.4)
     mu = prior + ks @ np.linalg.solve(k, np.array(list(obs.values())) - prior[idx])
-    var = 1.0 - np.einsum("ij,ji->i", ks, np.linalg.solve(k, ks.T))
+    var = 1.0 - np.einsum('ij,ji->i', ks, np.linalg.solve(k, ks.T))
     np.testing.assert_allclose(opt.mean, mu, atol=1e-10)
-    np.testing.assert_allclose(opt.std ** 2, var, atol=1e-10)
+    np.testing.assert_allclose(opt.std**2, var, atol=1e-10)
 
 
 def test_noise_is_the_configured_variance_not_a_library_default():
@@ -44,11 +64,11 @@ def test_ucb_adds_kappa_times_standard_deviation():
         for i in (0, 1, 2):
             opt.observe(i, prior[i] - 0.2)
         with_std = int(np.argmax(opt.mean + 0.3 * opt.std))
-        with_var = int(np.argmax(opt.mean + 0.3 * opt.std ** 2))
+        with_var = int(np.argmax(opt.mean + 0.3 * opt.std**2))
         if with_std != with_var:
             assert opt.next_index() == with_std
             return
-    pytest.fail("no seed separated sigma from sigma^2")
+    pytest.fail('no seed separated sigma from sigma^2')
 
 
 def test_stops_at_alpha_of_best_prediction_and_never_exceeds_max_trials():
@@ -56,15 +76,15 @@ def test_stops_at_alpha_of_best_prediction_and_never_exceeds_max_trials():
     opt = Mboa(x, prior, MboaConfig(max_trials=5, alpha=0.9))
     while not opt.should_stop()[0]:
         i = opt.next_index()
-        opt.observe(i, 0.3 * prior[i])          # the robot is much worse than the map
-    assert len(opt.trials) == 5 and "maximum of 5" in opt.should_stop()[1]
+        opt.observe(i, 0.3 * prior[i])  # the robot is much worse than the map
+    assert len(opt.trials) == 5 and 'maximum of 5' in opt.should_stop()[1]
     with pytest.raises(RuntimeError):
         opt.observe(0, 0.1)
     good = Mboa(x, prior, MboaConfig(max_trials=20, alpha=0.9))
     i = good.next_index()
-    good.observe(i, prior[i])                   # reality as predicted: stop after one trial
+    good.observe(i, prior[i])  # reality as predicted: stop after one trial
     stop, why = good.should_stop()
-    assert stop and "alpha" in why and len(good.trials) == 1
+    assert stop and 'alpha' in why and len(good.trials) == 1
 
 
 def test_tested_gaits_are_not_offered_again_by_default():
@@ -78,27 +98,31 @@ def test_tested_gaits_are_not_offered_again_by_default():
         seen.append(i)
         opt.observe(i, 0.0)
     assert len(seen) == len(set(seen)) == 30
-    assert opt.should_stop() == (True, "reached the maximum of 30 trials")
+    assert opt.should_stop() == (True, 'reached the maximum of 30 trials')
 
 
 def test_bad_configuration_and_observations_are_refused():
-    with pytest.raises(ValueError, match="alpha"):
+    with pytest.raises(ValueError, match='alpha'):
         MboaConfig(alpha=1.5)
-    with pytest.raises(ValueError, match="noise"):
+    with pytest.raises(ValueError, match='noise'):
         MboaConfig(noise=0.0)
     x, prior = _map(5)
     opt = Mboa(x, prior)
-    with pytest.raises(ValueError, match="does not exist"):
+    with pytest.raises(ValueError, match='does not exist'):
         opt.observe(5, 0.1)
-    with pytest.raises(ValueError, match="finite"):
-        opt.observe(0, float("nan"))
-    with pytest.raises(ValueError, match="one prior speed"):
+    with pytest.raises(ValueError, match='finite'):
+        opt.observe(0, float('nan'))
+    with pytest.raises(ValueError, match='one prior speed'):
         Mboa(x, prior[:3])
 
 
 def test_incremental_posterior_equals_a_full_refit():
-    """The step updates the GP one trial at a time; the numbers are those of the textbook
-    posterior (Matern 5/2, explicit noise) computed from scratch."""
+    """
+    The step updates the GP one trial at a time.
+
+    The numbers are those of the textbook posterior (Matern 5/2, explicit noise) computed from
+    scratch.
+    """
     from hexapod_adapt.mboa import matern52
 
     rng = np.random.default_rng(3)
@@ -112,6 +136,6 @@ def test_incremental_posterior_equals_a_full_refit():
         k = matern52(d[idx], d[idx], cfg.length_scale) + cfg.noise * np.eye(len(idx))
         ks = matern52(d, d[idx], cfg.length_scale)
         mean = prior + ks @ np.linalg.solve(k, y - prior[idx])
-        var = 1.0 - np.einsum("ij,ji->i", ks, np.linalg.solve(k, ks.T))
+        var = 1.0 - np.einsum('ij,ji->i', ks, np.linalg.solve(k, ks.T))
         np.testing.assert_allclose(opt.mean, mean, atol=1e-12)
         np.testing.assert_allclose(opt.std, np.sqrt(np.maximum(var, 0.0)), atol=1e-7)

@@ -1,51 +1,82 @@
-"""MCAP recording: real rclpy CDR + ros2msg schemas, read back by mcap_ros2 too, and readable
-after the writing process is killed."""
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+MCAP recording: real rclpy CDR and ros2msg schemas, read back by mcap_ros2 too.
+
+The file stays readable after the writing process is killed.
+"""
+
 import signal
 import subprocess
 import sys
 import textwrap
 
-import pytest
+from hexapod_adapt.recording import McapRecorder, read_messages, schema_text
 from hexapod_msgs.msg import AdaptationTrial
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
 from nav_msgs.msg import Odometry
-
-from hexapod_adapt.recording import McapRecorder, read_messages, schema_text
+import pytest
 
 
 def test_schema_carries_every_nested_definition():
-    text = schema_text("hexapod_msgs/msg/AdaptationTrial")
-    for nested in ("MSG: std_msgs/Header", "MSG: builtin_interfaces/Time", "MSG: hexapod_msgs/GaitParameters"):
+    text = schema_text('hexapod_msgs/msg/AdaptationTrial')
+    for nested in (
+        'MSG: std_msgs/Header',
+        'MSG: builtin_interfaces/Time',
+        'MSG: hexapod_msgs/GaitParameters',
+    ):
         assert nested in text
-    assert text.count("MSG: std_msgs/Header") == 1
+    assert text.count('MSG: std_msgs/Header') == 1
 
 
 def test_round_trip_through_our_reader_and_mcap_ros2(tmp_path):
-    path = tmp_path / "run.mcap"
+    path = tmp_path / 'run.mcap'
     with McapRecorder(path) as rec:
         for i in range(3):
             m = AdaptationTrial(trial=i + 1, archive_index=10 * i, measured_speed=0.1 * i)
             m.descriptor = [0.5] * 6
-            rec.record("adapt/trials", m)
+            rec.record('adapt/trials', m)
         o = Odometry()
         o.pose.pose.position.x = 1.25
-        rec.record("odom", o)
+        rec.record('odom', o)
     ours = list(read_messages(path))
-    assert [t for t, _, _ in ours] == ["adapt/trials"] * 3 + ["odom"]
+    assert [t for t, _, _ in ours] == ['adapt/trials'] * 3 + ['odom']
     assert [m.archive_index for t, m, _ in ours[:3]] == [0, 10, 20]
-    with open(path, "rb") as f:
+    with open(path, 'rb') as f:
         reader = make_reader(f, decoder_factories=[DecoderFactory()])
-        assert reader.get_summary() is not None                       # finished: indexed
+        assert reader.get_summary() is not None  # finished: indexed
         decoded = [(c.topic, d) for _, c, _, d in reader.iter_decoded_messages()]
     assert decoded[1][1].trial == 2 and decoded[3][1].pose.pose.position.x == 1.25
-    with pytest.raises(RuntimeError, match="closed"):
-        rec.record("odom", o)
+    with pytest.raises(RuntimeError, match='closed'):
+        rec.record('odom', o)
 
 
 def _killed_recording(path, trials: int, extra: int) -> None:
-    """A writer that records ``trials`` checkpointed trials (as adapt_node does), then ``extra``
-    messages of a trial in progress, and is killed with SIGKILL."""
+    """
+    Run a writer that is killed with SIGKILL part-way through a trial.
+
+    It records ``trials`` checkpointed trials (as adapt_node does), then ``extra`` messages of
+    a trial in progress.
+    """
     script = textwrap.dedent(f"""
         import time
         from hexapod_msgs.msg import AdaptationTrial
@@ -62,8 +93,8 @@ def _killed_recording(path, trials: int, extra: int) -> None:
         print("written", flush=True)
         time.sleep(60)
     """)
-    proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
-    assert proc.stdout.readline().strip() == "written"
+    proc = subprocess.Popen([sys.executable, '-c', script], stdout=subprocess.PIPE, text=True)
+    assert proc.stdout.readline().strip() == 'written'
     proc.send_signal(signal.SIGKILL)
     proc.wait()
 
@@ -71,47 +102,57 @@ def _killed_recording(path, trials: int, extra: int) -> None:
 def test_a_hard_killed_writer_keeps_every_completed_trial_and_recover_makes_it_indexed(tmp_path):
     from hexapod_adapt.recording import recover
 
-    path = tmp_path / "killed.mcap"
+    path = tmp_path / 'killed.mcap'
     _killed_recording(path, trials=5, extra=7)
-    assert [m.trial for t, m, _ in read_messages(path) if t == "adapt/trials"] == [1, 2, 3, 4, 5]
-    with open(path, "rb") as f:                       # no summary: an indexed reader cannot use it
+    assert [m.trial for t, m, _ in read_messages(path) if t == 'adapt/trials'] == [1, 2, 3, 4, 5]
+    with open(path, 'rb') as f:  # no summary: an indexed reader cannot use it
         with pytest.raises(Exception):
             list(make_reader(f).iter_messages())
-    out = tmp_path / "recovered.mcap"
-    result = subprocess.run([sys.executable, "-m", "hexapod_adapt.recover_cli", str(path), "--out", str(out)],
-                            capture_output=True, text=True, timeout=60)
+    out = tmp_path / 'recovered.mcap'
+    result = subprocess.run(
+        [sys.executable, '-m', 'hexapod_adapt.recover_cli', str(path), '--out', str(out)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert result.returncode == 0, result.stderr
-    assert "wrote" in result.stdout
-    with open(out, "rb") as f:
+    assert 'wrote' in result.stdout
+    with open(out, 'rb') as f:
         reader = make_reader(f, decoder_factories=[DecoderFactory()])
         summary = reader.get_summary()
-        assert summary is not None and summary.chunk_indexes and summary.statistics.message_count >= 155
-        trials = [d.trial for _, c, _, d in reader.iter_decoded_messages() if c.topic == "adapt/trials"]
+        assert (
+            summary is not None
+            and summary.chunk_indexes
+            and summary.statistics.message_count >= 155
+        )
+        trials = [
+            d.trial for _, c, _, d in reader.iter_decoded_messages() if c.topic == 'adapt/trials'
+        ]
     assert trials == [1, 2, 3, 4, 5]
-    again = recover(out, tmp_path / "twice.mcap")       # recovering a good file changes nothing
+    again = recover(out, tmp_path / 'twice.mcap')  # recovering a good file changes nothing
     assert again.messages == summary.statistics.message_count
 
 
 def test_a_cleanly_closed_recording_is_chunked_indexed_and_summarised(tmp_path):
-    with McapRecorder(tmp_path / "clean.mcap") as rec:
+    with McapRecorder(tmp_path / 'clean.mcap') as rec:
         for i in range(4):
-            rec.record("odom", Odometry())
-            rec.record("adapt/trials", AdaptationTrial(trial=i + 1))
+            rec.record('odom', Odometry())
+            rec.record('adapt/trials', AdaptationTrial(trial=i + 1))
             rec.checkpoint()
-    with open(tmp_path / "clean.mcap", "rb") as f:
+    with open(tmp_path / 'clean.mcap', 'rb') as f:
         reader = make_reader(f)
         summary = reader.get_summary()
         assert len(summary.chunk_indexes) >= 4 and summary.statistics.message_count == 8
         assert all(ci.message_index_offsets for ci in summary.chunk_indexes)
-        assert len(list(reader.iter_messages(topics=["adapt/trials"]))) == 4
+        assert len(list(reader.iter_messages(topics=['adapt/trials']))) == 4
 
 
 def test_recordings_are_never_overwritten(tmp_path):
     from hexapod_adapt.recording import create_recording
 
-    recorders = [create_recording(tmp_path) for _ in range(3)]       # three runs in the same second
+    recorders = [create_recording(tmp_path) for _ in range(3)]  # three runs in the same second
     for i, rec in enumerate(recorders):
-        rec.record("adapt/trials", AdaptationTrial(trial=i + 1))
+        rec.record('adapt/trials', AdaptationTrial(trial=i + 1))
         rec.close()
     assert len({r.path for r in recorders}) == 3
     assert sorted(m.trial for r in recorders for _, m, _ in read_messages(r.path)) == [1, 2, 3]

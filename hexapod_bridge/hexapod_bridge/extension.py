@@ -1,4 +1,25 @@
-"""Gait-upload extension of the radio protocol, version 1 (specification: docs/radio-protocol.md).
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Gait-upload extension of the radio protocol, version 1 (specification: docs/radio-protocol.md).
 
 Every frame is 10 bytes, so PC -> robot frames fit the robot's fixed 10-byte receive path, and
 each carries a CRC-16/CCITT-FALSE (over bytes 0..7, big-endian in bytes 8..9) and a sequence
@@ -18,12 +39,13 @@ Robot -> PC:   FF E7 type seq p0 p1 p2 p3 crc_hi crc_lo   (seq echoes the reques
   TRIAL        p0 = TrialState, p1..p3 = elapsed ms (uint24 BE); seq counts the robot's reports
   VERSION      p0 = major, p1 = minor, p2..p3 = capability bits
 """
+
 from __future__ import annotations
 
-import math
-import struct
 from dataclasses import dataclass
 from enum import IntEnum
+import math
+import struct
 from typing import Sequence
 
 from hexapod_bridge.crc import crc16
@@ -34,16 +56,20 @@ FRAME_LEN = 10
 PROTOCOL_MAJOR, PROTOCOL_MINOR = 1, 0
 
 PARAM_NAMES: tuple[str, ...] = (
-    ("body_velocity", "body_height", "period", "crab_angle")
-    + tuple(f"{field}[{leg}]" for field in ("radius", "angle_offset", "step_height", "duty_factor", "phase_offset")
-            for leg in range(1, 7))
-    + ("archive_index",)
+    ('body_velocity', 'body_height', 'period', 'crab_angle')
+    + tuple(
+        f'{field}[{leg}]'
+        for field in ('radius', 'angle_offset', 'step_height', 'duty_factor', 'phase_offset')
+        for leg in range(1, 7)
+    )
+    + ('archive_index',)
 )
 N_PARAMS = len(PARAM_NAMES)  # 35
 
 
 class Cmd(IntEnum):
     """Host -> robot command types of extension v1."""
+
     SET_PARAM = 0x10
     COMMIT = 0x11
     START_TRIAL = 0x12
@@ -54,6 +80,7 @@ class Cmd(IntEnum):
 
 class Report(IntEnum):
     """Robot -> host report types of extension v1."""
+
     ACK = 0x01
     TRIAL = 0x02
     VERSION = 0x03
@@ -61,6 +88,7 @@ class Report(IntEnum):
 
 class Status(IntEnum):
     """Result codes in the robot's ACK of a command."""
+
     OK = 0
     BAD_INDEX = 1
     OUT_OF_RANGE = 2
@@ -75,6 +103,7 @@ class Status(IntEnum):
 
 class TrialState(IntEnum):
     """Trial states in the robot's TRIAL reports."""
+
     IDLE = 0
     WALKING = 1
     DONE = 2
@@ -87,7 +116,7 @@ class TrialState(IntEnum):
 class CommandFrame:
     """A decoded PC -> robot extension frame."""
 
-    type: int
+    type: int  # noqa: A003 (the frame field named in the protocol)
     seq: int
     payload: bytes  # 5 bytes
 
@@ -96,54 +125,57 @@ class CommandFrame:
 class ReportFrame:
     """A decoded robot -> PC extension frame."""
 
-    type: int
+    type: int  # noqa: A003 (the frame field named in the protocol)
     seq: int
     payload: bytes  # 4 bytes
 
 
 class ExtensionError(ValueError):
     """A value cannot be sent in an extension frame; the message says why."""
+
     pass
 
 
 def _seal(body: bytes) -> bytes:
-    return body + struct.pack(">H", crc16(body))
+    return body + struct.pack('>H', crc16(body))
 
 
-def encode_command(kind: Cmd, seq: int, payload: bytes = b"") -> bytes:
-    """A 10-byte host -> robot extension frame (CRC-16 sealed)."""
+def encode_command(kind: Cmd, seq: int, payload: bytes = b'') -> bytes:
+    """Return a 10-byte host -> robot extension frame (CRC-16 sealed)."""
     if len(payload) > 5:
-        raise ExtensionError("command payload is at most 5 bytes")
-    return _seal(bytes([MARKER, int(kind), seq & 0xFF]) + payload.ljust(5, b"\0"))
+        raise ExtensionError('command payload is at most 5 bytes')
+    return _seal(bytes([MARKER, int(kind), seq & 0xFF]) + payload.ljust(5, b'\0'))
 
 
-def encode_report(kind: Report, seq: int, payload: bytes = b"") -> bytes:
-    """A robot -> host extension report frame (CRC-16 sealed)."""
+def encode_report(kind: Report, seq: int, payload: bytes = b'') -> bytes:
+    """Return a robot -> host extension report frame (CRC-16 sealed)."""
     if len(payload) > 4:
-        raise ExtensionError("report payload is at most 4 bytes")
-    return _seal(bytes([0xFF, MARKER, int(kind), seq & 0xFF]) + payload.ljust(4, b"\0"))
+        raise ExtensionError('report payload is at most 4 bytes')
+    return _seal(bytes([0xFF, MARKER, int(kind), seq & 0xFF]) + payload.ljust(4, b'\0'))
 
 
 def crc_ok(frame: bytes | bytearray) -> bool:
-    """True if a frame's trailing CRC-16 matches its body."""
-    return len(frame) == FRAME_LEN and struct.unpack(">H", bytes(frame[8:10]))[0] == crc16(frame[:8])
+    """Return True if a frame's trailing CRC-16 matches its body."""
+    return len(frame) == FRAME_LEN and struct.unpack('>H', bytes(frame[8:10]))[0] == crc16(
+        frame[:8]
+    )
 
 
 def decode_command(frame: bytes | bytearray) -> CommandFrame:
-    """The CommandFrame in a 10-byte host -> robot frame; ExtensionError if it is not one."""
+    """Decode a 10-byte host -> robot frame; ExtensionError if it is not a command."""
     if len(frame) != FRAME_LEN or frame[0] != MARKER:
-        raise ExtensionError("not an extension command frame")
+        raise ExtensionError('not an extension command frame')
     if not crc_ok(frame):
-        raise ExtensionError("CRC mismatch")
+        raise ExtensionError('CRC mismatch')
     return CommandFrame(frame[1], frame[2], bytes(frame[3:8]))
 
 
 def decode_report(frame: bytes | bytearray) -> ReportFrame:
-    """The ReportFrame in a robot -> host frame; ExtensionError if it is not one."""
+    """Decode a robot -> host frame; ExtensionError if it is not a report."""
     if len(frame) != FRAME_LEN or frame[0] != 0xFF or frame[1] != MARKER:
-        raise ExtensionError("not an extension report frame")
+        raise ExtensionError('not an extension report frame')
     if not crc_ok(frame):
-        raise ExtensionError("CRC mismatch")
+        raise ExtensionError('CRC mismatch')
     return ReportFrame(frame[2], frame[3], bytes(frame[4:8]))
 
 
@@ -161,22 +193,25 @@ MIRRORED_LEG_MAP = (1, 6, 5, 4, 3, 2)
 
 
 def validate_leg_map(leg_map) -> tuple[int, ...]:
-    """A permutation of 1..6: entry k-1 is the robot's number for URDF leg k."""
+    """Return a permutation of 1..6: entry k-1 is the robot's number for URDF leg k."""
     try:
         mapping = tuple(int(v) for v in leg_map)
     except (TypeError, ValueError):
-        raise ExtensionError(f"leg map must be six leg numbers, got {leg_map!r}") from None
+        raise ExtensionError(f'leg map must be six leg numbers, got {leg_map!r}') from None
     if sorted(mapping) != [1, 2, 3, 4, 5, 6]:
-        raise ExtensionError(f"leg map must be a permutation of 1..6, got {list(mapping)}")
+        raise ExtensionError(f'leg map must be a permutation of 1..6, got {list(mapping)}')
     return mapping
 
 
 def gait_values(gait, leg_map=IDENTITY_LEG_MAP) -> list[float]:
-    """The N_PARAMS numbers of a hexapod_gait.GaitParameters in PARAM_NAMES order, each leg's
-    values placed in the robot's slot for it (``leg_map``, see validate_leg_map)."""
+    """
+    Return the N_PARAMS numbers of a hexapod_gait.GaitParameters in PARAM_NAMES order.
+
+    Each leg's values go to the robot's slot for it (``leg_map``, see validate_leg_map).
+    """
     mapping = validate_leg_map(leg_map)
     values = [gait.body_velocity, gait.body_height, gait.period, gait.crab_angle]
-    for field in ("radius", "angle_offset", "step_height", "duty_factor", "phase_offset"):
+    for field in ('radius', 'angle_offset', 'step_height', 'duty_factor', 'phase_offset'):
         per_leg = [0.0] * 6
         for urdf_leg, robot_leg in enumerate(mapping):
             per_leg[robot_leg - 1] = float(getattr(gait, field)[urdf_leg])
@@ -187,23 +222,25 @@ def gait_values(gait, leg_map=IDENTITY_LEG_MAP) -> list[float]:
 
 def values_crc(values: Sequence[float]) -> int:
     """CRC-16 over the float32 LE encodings of the values, index order (COMMIT's check)."""
-    return crc16(b"".join(struct.pack("<f", v) for v in values))
+    return crc16(b''.join(struct.pack('<f', v) for v in values))
 
 
 def quantise(values: Sequence[float]) -> list[float]:
-    """The values as the robot stores them (float32)."""
-    return [struct.unpack("<f", struct.pack("<f", v))[0] for v in values]
+    """Return the values as the robot stores them (float32)."""
+    return [struct.unpack('<f', struct.pack('<f', v))[0] for v in values]
 
 
 def upload_frames(values: Sequence[float], gait_id: int, first_seq: int) -> list[bytes]:
     """SET_PARAM for every value, then COMMIT; sequence numbers first_seq, first_seq + 1, ..."""
     if len(values) != N_PARAMS:
-        raise ExtensionError(f"a gait has {N_PARAMS} parameters, got {len(values)}")
+        raise ExtensionError(f'a gait has {N_PARAMS} parameters, got {len(values)}')
     if not all(math.isfinite(v) for v in values):
-        raise ExtensionError("gait parameters must be finite")
-    frames = [encode_command(Cmd.SET_PARAM, first_seq + i, bytes([i]) + struct.pack("<f", v))
-              for i, v in enumerate(values)]
-    commit = bytes([N_PARAMS]) + struct.pack(">HH", values_crc(quantise(values)), gait_id & 0xFFFF)
+        raise ExtensionError('gait parameters must be finite')
+    frames = [
+        encode_command(Cmd.SET_PARAM, first_seq + i, bytes([i]) + struct.pack('<f', v))
+        for i, v in enumerate(values)
+    ]
+    commit = bytes([N_PARAMS]) + struct.pack('>HH', values_crc(quantise(values)), gait_id & 0xFFFF)
     frames.append(encode_command(Cmd.COMMIT, first_seq + N_PARAMS, commit))
     return frames
 
@@ -211,15 +248,25 @@ def upload_frames(values: Sequence[float], gait_id: int, first_seq: int) -> list
 def gait_from_values(values: Sequence[float]):
     """Robot side: a validated GaitParameters from the staged values (raises its errors)."""
     v = list(values)
-    legs = {field: v[4 + 6 * k: 10 + 6 * k] for k, field in
-            enumerate(("radius", "angle_offset", "step_height", "duty_factor", "phase_offset"))}
-    return GaitParameters(body_velocity=v[0], body_height=v[1], period=v[2], crab_angle=v[3],
-                          archive_index=int(v[34]), **legs)
+    legs = {
+        field: v[slice(4 + 6 * k, 10 + 6 * k)]
+        for k, field in enumerate(
+            ('radius', 'angle_offset', 'step_height', 'duty_factor', 'phase_offset')
+        )
+    }
+    return GaitParameters(
+        body_velocity=v[0],
+        body_height=v[1],
+        period=v[2],
+        crab_angle=v[3],
+        archive_index=int(v[34]),
+        **legs,
+    )
 
 
 def start_payload(duration_s: float, gait_id: int, stand_first: bool = False) -> bytes:
     """START_TRIAL's payload: duration in ms and the gait id; ExtensionError if out of range."""
     ms = int(round(duration_s * 1000))
     if not 100 <= ms <= 60000:
-        raise ExtensionError(f"trial duration must be 0.1..60 s, got {duration_s:g}")
-    return struct.pack(">HHB", ms, gait_id & 0xFFFF, 1 if stand_first else 0)
+        raise ExtensionError(f'trial duration must be 0.1..60 s, got {duration_s:g}')
+    return struct.pack('>HHB', ms, gait_id & 0xFFFF, 1 if stand_first else 0)

@@ -1,6 +1,29 @@
-"""Host side of the radio link, without I/O: what to transmit when, and what received frames
-mean. bridge_node owns the serial port and threads and calls :meth:`RobotLink.receive` with
-bytes read and :meth:`RobotLink.poll` to get bytes to write.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Host side of the radio link, without I/O.
+
+What to transmit when, and what received frames mean. bridge_node owns the serial port and threads
+and calls :meth:`RobotLink.receive` with bytes read and :meth:`RobotLink.poll` to get bytes to
+write.
 
 Transmission rules:
   * nothing is sent unless armed, except an emergency stop (always sent, three times);
@@ -13,12 +36,13 @@ Transmission rules:
     ``ack_timeout`` up to ``max_retries`` times; an upload is a window of SET_PARAM frames and
     a COMMIT, complete when the COMMIT is acknowledged OK.
 """
+
 from __future__ import annotations
 
-import itertools
-import math
 from collections import deque
 from dataclasses import dataclass, field, replace
+import itertools
+import math
 from typing import Any
 
 from hexapod_bridge import extension as ext
@@ -31,13 +55,14 @@ PRIORITY_ESTOP, PRIORITY_PING, PRIORITY_TRIAL, PRIORITY_MOVE, PRIORITY_UPLOAD = 
 @dataclass
 class Outgoing:
     """A frame waiting to be sent or acknowledged."""
+
     frame: bytes
     priority: int
-    seq: int | None = None          # extension frames wait for an ACK with this seq
+    seq: int | None = None  # extension frames wait for an ACK with this seq
     kind: int | None = None
     attempts: int = 0
     sent_at: float = -math.inf
-    operation: "Operation | None" = None
+    operation: 'Operation | None' = None
 
 
 @dataclass
@@ -48,7 +73,7 @@ class Operation:
     pending: int = 0
     done: bool = False
     ok: bool = False
-    message: str = ""
+    message: str = ''
     result: dict = field(default_factory=dict)
 
     def finish(self, ok: bool, message: str) -> None:
@@ -60,21 +85,30 @@ class Operation:
 @dataclass
 class LinkStats:
     """Counters of the host side of the radio link."""
+
     frames_sent: int = 0
     retries: int = 0
     pings_sent: int = 0
     acks: int = 0
     unexpected_acks: int = 0
-    reports_missed: int = 0         # robot TRIAL reports lost (gaps in their sequence numbers)
-    stale_reports: int = 0          # TRIAL reports that arrived for an earlier trial (ignored)
+    reports_missed: int = 0  # robot TRIAL reports lost (gaps in their sequence numbers)
+    stale_reports: int = 0  # TRIAL reports that arrived for an earlier trial (ignored)
 
 
 class RobotLink:
     """The host side of the radio link: queues, pacing, retries, acknowledgements, trial state."""
-    def __init__(self, baud: int = 19200, ping_period: float = 1.0, ack_timeout: float = 0.25,
-                 max_retries: int = 6, upload_window: int = 4, firmware: str = "v2",
-                 leg_map=ext.IDENTITY_LEG_MAP) -> None:
-        if firmware not in ("v2", "legacy"):
+
+    def __init__(
+        self,
+        baud: int = 19200,
+        ping_period: float = 1.0,
+        ack_timeout: float = 0.25,
+        max_retries: int = 6,
+        upload_window: int = 4,
+        firmware: str = 'v2',
+        leg_map=ext.IDENTITY_LEG_MAP,
+    ) -> None:
+        if firmware not in ('v2', 'legacy'):
             raise ValueError("firmware must be 'v2' (gait-upload extension) or 'legacy'")
         self.parser = HostParser()
         self.firmware = firmware
@@ -98,8 +132,8 @@ class RobotLink:
         self._tokens = 20.0
         self._last_poll: float | None = None
         self._next_ping = -math.inf
-        self._seq = 0                              # last sequence number used
-        self._queue: list[Outgoing] = []          # waiting to be sent for the first time
+        self._seq = 0  # last sequence number used
+        self._queue: list[Outgoing] = []  # waiting to be sent for the first time
         self._in_flight: dict[int, Outgoing] = {}  # seq -> sent, awaiting ACK
         self._upload_backlog: deque[Outgoing] = deque()
         self._movement_acks: dict[int, Operation] = {}
@@ -112,7 +146,7 @@ class RobotLink:
         self.armed = bool(on)
         if self.armed:
             self._next_ping = now
-        self.events.append(("armed", self.armed))
+        self.events.append(('armed', self.armed))
 
     def _next_seq(self, count: int = 1) -> int:
         """Reserve ``count`` consecutive sequence numbers (mod 256); return the first."""
@@ -123,30 +157,41 @@ class RobotLink:
     def _command(self, kind: ext.Cmd, payload: bytes, priority: int, op: Operation) -> Outgoing:
         seq = self._next_seq()
         op.pending += 1
-        return Outgoing(ext.encode_command(kind, seq, payload), priority, seq, int(kind), operation=op)
+        return Outgoing(
+            ext.encode_command(kind, seq, payload), priority, seq, int(kind), operation=op
+        )
 
     def upload(self, gait) -> Operation:
-        """Queue an upload of a hexapod_gait.GaitParameters; the Operation completes when the
-        robot acknowledged the COMMIT (result: gait_id) or failed (message says why)."""
-        op = Operation("upload")
-        if self.firmware == "legacy":
-            op.finish(False, "the legacy firmware cannot receive gait parameters over the radio "
-                             "(paste them into the firmware and reflash; see docs/radio-protocol.md)")
+        """
+        Queue an upload of a hexapod_gait.GaitParameters.
+
+        The Operation completes when the robot acknowledged the COMMIT (result: gait_id) or failed
+        (message says why).
+        """
+        op = Operation('upload')
+        if self.firmware == 'legacy':
+            op.finish(
+                False,
+                'the legacy firmware cannot receive gait parameters over the radio '
+                '(paste them into the firmware and reflash; see docs/radio-protocol.md)',
+            )
             return op
         gait_id = next(self._gait_ids) & 0xFFFF
         values = ext.gait_values(gait, self.leg_map)
         frames = ext.upload_frames(values, gait_id, self._next_seq(ext.N_PARAMS + 1))
         for frame in frames:
             op.pending += 1
-            self._upload_backlog.append(Outgoing(frame, PRIORITY_UPLOAD, frame[2], frame[1], operation=op))
-        op.result["gait_id"] = gait_id
-        op.result["values"] = ext.quantise(values)
+            self._upload_backlog.append(
+                Outgoing(frame, PRIORITY_UPLOAD, frame[2], frame[1], operation=op)
+            )
+        op.result['gait_id'] = gait_id
+        op.result['values'] = ext.quantise(values)
         return op
 
     def start_trial(self, duration: float, gait_id: int) -> Operation:
         """Ask the robot to walk gait ``gait_id`` for ``duration`` seconds."""
-        op = Operation("start_trial")
-        if self.firmware == "legacy":
+        op = Operation('start_trial')
+        if self.firmware == 'legacy':
             # the only "start a trial" handle of today's firmware: reset restarts the 5 s walk
             return self.move(legacy.Movement(function=legacy.Function.RESET), op)
         try:
@@ -163,15 +208,18 @@ class RobotLink:
 
     def stop_trial(self) -> Operation:
         """Ask the robot to stop walking."""
-        op = Operation("stop_trial")
-        if self.firmware == "legacy":
-            return self.move(legacy.Movement(direction=legacy.Direction.STOP, function=legacy.Function.STAND), op)
-        self._queue.append(self._command(ext.Cmd.STOP_TRIAL, b"", PRIORITY_TRIAL, op))
+        op = Operation('stop_trial')
+        if self.firmware == 'legacy':
+            return self.move(
+                legacy.Movement(direction=legacy.Direction.STOP, function=legacy.Function.STAND),
+                op,
+            )
+        self._queue.append(self._command(ext.Cmd.STOP_TRIAL, b'', PRIORITY_TRIAL, op))
         return op
 
     def move(self, movement: legacy.Movement, op: Operation | None = None) -> Operation:
         """Queue a legacy movement frame (acknowledged by its checksum)."""
-        op = op or Operation("movement")
+        op = op or Operation('movement')
         try:
             frame = legacy.encode_movement(movement)
             # The robot acknowledges with FF <checksum>; a checksum equal to a frame-type byte
@@ -189,39 +237,44 @@ class RobotLink:
         return op
 
     def set_telemetry_period(self, seconds: float) -> None:
-        """Ask the robot for attitude telemetry every ``seconds`` (legacy FF DD, unacknowledged)."""
+        """Ask for attitude telemetry every ``seconds`` (legacy FF DD, unacknowledged)."""
         self._queue.append(Outgoing(legacy.encode_imu_period(seconds), PRIORITY_MOVE))
 
     def emergency_stop(self) -> Operation:
         """Sent at once, armed or not: three copies of ESTOP (v2) / motor power off (legacy)."""
-        op = Operation("emergency_stop")
+        op = Operation('emergency_stop')
         for _ in range(3):
-            if self.firmware == "v2":
+            if self.firmware == 'v2':
                 seq = self._next_seq()
-                frame = ext.encode_command(ext.Cmd.ESTOP, seq, b"")
+                frame = ext.encode_command(ext.Cmd.ESTOP, seq, b'')
             else:
                 frame = legacy.encode_motor_power(False)
             self._queue.insert(0, Outgoing(frame, PRIORITY_ESTOP))
-        op.finish(True, "emergency stop sent")
+        op.finish(True, 'emergency stop sent')
         return op
 
     def motor_power(self, on: bool) -> Operation:
-        """Switch the servos' power (legacy FF FA, unacknowledged: sent three times). Power on
-        also clears a latched emergency stop, so trials can start again."""
-        op = Operation("motor_power")
+        """
+        Switch the servos' power (legacy FF FA, unacknowledged: sent three times).
+
+        Power on also clears a latched emergency stop, so trials can start again.
+        """
+        op = Operation('motor_power')
         if not self.armed:
-            op.finish(False, "not armed: call ~/arm first (an e-stop disarms the bridge)")
+            op.finish(False, 'not armed: call ~/arm first (an e-stop disarms the bridge)')
             return op
         for _ in range(3):
             self._queue.append(Outgoing(legacy.encode_motor_power(on), PRIORITY_TRIAL))
-        op.finish(True, f"motor power {'on' if on else 'off'} sent")
+        op.finish(True, f'motor power {"on" if on else "off"} sent')
         return op
 
     # -- I/O ---------------------------------------------------------------------------------
     def poll(self, now: float) -> list[bytes]:
         """Frames to write now (paced to the radio's throughput, by priority)."""
         if self._last_poll is not None:
-            self._tokens = min(20.0, self._tokens + (now - self._last_poll) * self.bytes_per_second)
+            self._tokens = min(
+                20.0, self._tokens + (now - self._last_poll) * self.bytes_per_second
+            )
         self._last_poll = now
         self._expire(now)
         out: list[bytes] = []
@@ -236,7 +289,7 @@ class RobotLink:
                 self.stats.retries += 1
             item.attempts += 1
             item.sent_at = now
-            if item.seq is not None:          # movement frames wait for their FF <sum> ack instead
+            if item.seq is not None:  # movement frames wait for their FF <sum> ack instead
                 self._in_flight[item.seq] = item
         return out
 
@@ -252,11 +305,13 @@ class RobotLink:
         for i, item in enumerate(self._queue):
             if item.priority <= PRIORITY_MOVE:
                 return self._queue.pop(i)
-        uploads_in_flight = sum(1 for o in self._in_flight.values() if o.priority == PRIORITY_UPLOAD)
+        uploads_in_flight = sum(
+            1 for o in self._in_flight.values() if o.priority == PRIORITY_UPLOAD
+        )
         if self._upload_backlog and uploads_in_flight < self.upload_window:
             head = self._upload_backlog[0]
             if head.kind == ext.Cmd.COMMIT and uploads_in_flight:
-                return None   # COMMIT only after every SET_PARAM of its set is acknowledged
+                return None  # COMMIT only after every SET_PARAM of its set is acknowledged
             return self._upload_backlog.popleft()
         return None
 
@@ -267,8 +322,8 @@ class RobotLink:
             del self._in_flight[seq]
             if item.attempts > self.max_retries:
                 if item.kind == ext.Cmd.START_TRIAL:
-                    self._start_pending = False      # no trial started: reports are the old one's
-                self._fail(item.operation, f"no acknowledgement after {item.attempts} attempts")
+                    self._start_pending = False  # no trial started: reports are the old one's
+                self._fail(item.operation, f'no acknowledgement after {item.attempts} attempts')
             elif item.priority == PRIORITY_UPLOAD:
                 self._upload_backlog.appendleft(item)
             else:
@@ -278,7 +333,7 @@ class RobotLink:
         if op is None or op.done:
             return
         op.finish(False, message)
-        if op.name == "upload":
+        if op.name == 'upload':
             self._upload_backlog = deque(o for o in self._upload_backlog if o.operation is not op)
             for seq in [s for s, o in self._in_flight.items() if o.operation is op]:
                 del self._in_flight[seq]
@@ -302,26 +357,26 @@ class RobotLink:
                     self.stats.stale_reports += 1
                     return
                 self.trial_state = ext.TrialState(frame.payload[0])
-                self.trial_elapsed = int.from_bytes(frame.payload[1:4], "big") / 1000.0
-                self.events.append(("trial", (self.trial_state, self.trial_elapsed)))
+                self.trial_elapsed = int.from_bytes(frame.payload[1:4], 'big') / 1000.0
+                self.events.append(('trial', (self.trial_state, self.trial_elapsed)))
             elif frame.type == ext.Report.VERSION:
-                self.events.append(("version", (frame.payload[0], frame.payload[1])))
+                self.events.append(('version', (frame.payload[0], frame.payload[1])))
         elif isinstance(frame, legacy.MovementAck):
             op = self._movement_acks.pop(frame.checksum, None)
             if op is None:
                 self.stats.unexpected_acks += 1
             else:
                 self.stats.acks += 1
-                op.finish(True, "movement acknowledged")
+                op.finish(True, 'movement acknowledged')
         elif isinstance(frame, legacy.Telemetry):
             self.last_telemetry = frame
-            self.events.append(("telemetry", frame))
+            self.events.append(('telemetry', frame))
         elif isinstance(frame, legacy.ErrorReport):
-            self.events.append(("error", frame.describe()))
+            self.events.append(('error', frame.describe()))
         elif isinstance(frame, legacy.Text):
-            self.events.append(("text", frame.text))
+            self.events.append(('text', frame.text))
         elif isinstance(frame, legacy.ChargerStatus):
-            self.events.append(("charger", frame))
+            self.events.append(('charger', frame))
 
     def _on_ack(self, frame: ext.ReportFrame) -> None:
         item = self._in_flight.pop(frame.seq, None)
@@ -338,21 +393,21 @@ class RobotLink:
                 self.trial_state, self.trial_elapsed = ext.TrialState.WALKING, 0.0
         if status != ext.Status.OK:
             name = ext.Status(status).name if status < len(ext.Status) else str(status)
-            detail = ""
+            detail = ''
             if item.kind == ext.Cmd.SET_PARAM:
-                detail = f" for parameter {ext.PARAM_NAMES[item.frame[3]]}"
-            self._fail(op, f"robot refused {ext.Cmd(item.kind).name}{detail}: {name}")
+                detail = f' for parameter {ext.PARAM_NAMES[item.frame[3]]}'
+            self._fail(op, f'robot refused {ext.Cmd(item.kind).name}{detail}: {name}')
             return
         if op is not None:
             op.pending -= 1
             if op.pending == 0:
-                op.finish(True, f"{op.name} acknowledged")
+                op.finish(True, f'{op.name} acknowledged')
 
     # -- status ------------------------------------------------------------------------------
     def queued_frames(self) -> list[bytes]:
-        """The frames waiting to be sent for the first time (commands, then upload frames)."""
+        """Return the frames not sent yet (commands, then upload frames)."""
         return [item.frame for item in self._queue] + [item.frame for item in self._upload_backlog]
 
     def busy(self) -> bool:
-        """True while frames wait to be sent or acknowledged."""
+        """Return True while frames wait to be sent or acknowledged."""
         return bool(self._queue or self._in_flight or self._upload_backlog)

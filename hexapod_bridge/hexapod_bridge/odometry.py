@@ -1,4 +1,25 @@
-"""Trial odometry from an IMU: speed along the walking direction over one trial.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Trial odometry from an IMU: speed along the walking direction over one trial.
 
 The robot stands still before a trial starts and after its walk stops. Between those two
 rests, horizontal acceleration (accelerometer specific force rotated to the world with the
@@ -8,10 +29,11 @@ linear ramp over the window (a zero-velocity update at both ends), then velocity
 to displacement. The accuracy this achieves is measured against ground truth in
 hexapod_bridge/test/test_bridge_odometry.py and stated in docs/bridge.md.
 """
+
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
+import math
 
 import numpy as np
 
@@ -21,20 +43,32 @@ GRAVITY = 9.81
 def rotation_from_euler_deg(roll: float, pitch: float, yaw: float) -> np.ndarray:
     """Sensor-to-world rotation for Xsens Euler angles (Z-Y-X: yaw, then pitch, then roll)."""
     r, p, y = (math.radians(v) for v in (roll, pitch, yaw))
-    cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
-    return np.array([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-                     [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-                     [-sp, cp * sr, cp * cr]])
+    cr, sr, cp, sp, cy, sy = (
+        math.cos(r),
+        math.sin(r),
+        math.cos(p),
+        math.sin(p),
+        math.cos(y),
+        math.sin(y),
+    )
+    return np.array(
+        [
+            [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+            [-sp, cp * sr, cp * cr],
+        ]
+    )
 
 
 @dataclass(frozen=True)
 class TrialEstimate:
     """The IMU estimate of one trial's displacement and speed along the walking direction."""
-    distance: float          # m along the walking direction
-    speed: float             # m/s = distance / walk duration
+
+    distance: float  # m along the walking direction
+    speed: float  # m/s = distance / walk duration
     displacement: np.ndarray  # (2,) world x, y [m] over the window
     samples: int
-    drift_velocity: float    # |velocity| removed by the end-of-window zero-velocity update [m/s]
+    drift_velocity: float  # |velocity| removed by the end-of-window zero-velocity update [m/s]
 
 
 class TrialOdometry:
@@ -45,9 +79,17 @@ class TrialOdometry:
         self.accel_world: list[np.ndarray] = []
         self.yaw0: float | None = None
 
-    def add(self, t: float, acc_sensor: tuple[float, float, float], euler_deg: tuple[float, float, float]) -> None:
-        """One IMU sample at time t [s] (the IMU's clock, e.g. its sample counter / rate):
-        acc_sensor is the mean specific force over the interval ending at t."""
+    def add(
+        self,
+        t: float,
+        acc_sensor: tuple[float, float, float],
+        euler_deg: tuple[float, float, float],
+    ) -> None:
+        """
+        One IMU sample at time t [s] (the IMU's clock, e.g. its sample counter / rate).
+
+        acc_sensor is the mean specific force over the interval ending at t.
+        """
         rot = rotation_from_euler_deg(*euler_deg)
         if self.yaw0 is None:
             self.yaw0 = math.radians(euler_deg[2])
@@ -64,18 +106,24 @@ class TrialOdometry:
         return np.sum(0.5 * (v[1:] + v[:-1]) * np.diff(t)[:, None], axis=0)
 
     def _velocity(self) -> tuple[np.ndarray, np.ndarray]:
-        """Velocity at each sample time: samples are interval means, so the rectangle rule
-        over each interval is exact for them."""
+        """
+        Velocity at each sample time.
+
+        Samples are interval means, so the rectangle rule over each interval is exact for them.
+        """
         t = np.asarray(self.times)
         a = np.asarray(self.accel_world)[:, :2]
         v = np.concatenate([[np.zeros(2)], np.cumsum(a[1:] * np.diff(t)[:, None], axis=0)])
         return t, v
 
     def estimate(self, crab_angle: float, walk_duration: float) -> TrialEstimate:
-        """Distance along the walking direction (crab angle relative to the heading at the
-        start of the window), assuming rest at both ends of the window."""
+        """
+        Distance along the walking direction, assuming rest at both ends of the window.
+
+        The walking direction is the crab angle relative to the heading at the window's start.
+        """
         if len(self.times) < 10:
-            raise ValueError(f"too few IMU samples for a trial estimate ({len(self.times)})")
+            raise ValueError(f'too few IMU samples for a trial estimate ({len(self.times)})')
         t, v = self._velocity()
         dt = np.diff(t)
         drift = v[-1].copy()
@@ -83,4 +131,6 @@ class TrialOdometry:
         displacement = np.sum(0.5 * (v[1:] + v[:-1]) * dt[:, None], axis=0)
         heading = (self.yaw0 or 0.0) + crab_angle
         distance = float(displacement[0] * math.cos(heading) + displacement[1] * math.sin(heading))
-        return TrialEstimate(distance, distance / walk_duration, displacement, len(t), float(np.linalg.norm(drift)))
+        return TrialEstimate(
+            distance, distance / walk_duration, displacement, len(t), float(np.linalg.norm(drift))
+        )

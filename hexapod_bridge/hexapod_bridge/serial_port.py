@@ -1,5 +1,30 @@
-"""A serial port that survives the device disappearing: reads return b"" while it is gone,
-reopening is retried with a capped back-off, and a closed port holds no file descriptor."""
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+A serial port that survives the device disappearing.
+
+Reads return b"" while it is gone, reopening is retried with a capped back-off, and a closed port
+holds no file descriptor.
+"""
+
 from __future__ import annotations
 
 import select
@@ -10,19 +35,20 @@ import serial
 
 class ReconnectingPort:
     """A serial port that reopens itself after the device goes away (backing off)."""
+
     def __init__(self, path: str, baud: int, max_backoff: float = 0.5) -> None:
         self.path = path
         self.baud = baud
         self.max_backoff = max_backoff
         self.port: serial.Serial | None = None
-        self.last_error = ""
+        self.last_error = ''
         self.connects = 0
         self._backoff = 0.05
         self._next_try = 0.0
 
     @property
     def connected(self) -> bool:
-        """True while the port is open."""
+        """Return True while the port is open."""
         return self.port is not None
 
     def ensure_open(self, now: float) -> bool:
@@ -32,18 +58,20 @@ class ReconnectingPort:
         if now < self._next_try:
             return False
         try:
-            self.port = serial.Serial(self.path, self.baud, timeout=0, write_timeout=0.5, exclusive=True)
+            self.port = serial.Serial(
+                self.path, self.baud, timeout=0, write_timeout=0.5, exclusive=True
+            )
             self.connects += 1
             self._backoff = 0.05
-            self.last_error = ""
+            self.last_error = ''
             return True
         except (serial.SerialException, OSError, ValueError) as exc:
-            self.last_error = f"cannot open {self.path}: {exc}"
+            self.last_error = f'cannot open {self.path}: {exc}'
             self._next_try = now + self._backoff
             self._backoff = min(self.max_backoff, self._backoff * 2)
             return False
 
-    def close(self, reason: str = "") -> None:
+    def close(self, reason: str = '') -> None:
         """Close the port (a later ensure_open reopens it)."""
         if self.port is not None:
             try:
@@ -59,18 +87,20 @@ class ReconnectingPort:
         """Bytes available within timeout (b"" if none or the port is down)."""
         if self.port is None:
             time.sleep(timeout)
-            return b""
+            return b''
         try:
             ready = select.select([self.port.fileno()], [], [], timeout)[0]
             if not ready:
-                return b""
+                return b''
             data = self.port.read(self.port.in_waiting or 1)
             if not data:
-                raise serial.SerialException("device reports readiness to read but returned no data")
+                raise serial.SerialException(
+                    'device reports readiness to read but returned no data'
+                )
             return data
         except (serial.SerialException, OSError, TypeError, ValueError) as exc:
-            self.close(f"{self.path} lost: {exc}")
-            return b""
+            self.close(f'{self.path} lost: {exc}')
+            return b''
 
     def write(self, data: bytes) -> bool:
         """Write bytes; False (and the port closed) if the device went away."""
@@ -80,5 +110,5 @@ class ReconnectingPort:
             self.port.write(data)
             return True
         except (serial.SerialException, OSError) as exc:
-            self.close(f"{self.path} lost while writing: {exc}")
+            self.close(f'{self.path} lost while writing: {exc}')
             return False

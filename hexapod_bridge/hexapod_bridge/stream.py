@@ -1,46 +1,80 @@
-"""Stream parsers that resynchronise after garbage and count what they drop.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Stream parsers that resynchronise after garbage and count what they drop.
 
 HostParser   robot -> PC bytes (legacy frames of variable length + extension reports)
 RobotReceiver PC -> robot bytes (10-byte frames), the receive path specified for firmware v2:
              aligned while frames validate, sliding one byte at a time when they do not
 Both keep a bounded buffer and never raise on input.
 """
+
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 import math
 import struct
-from dataclasses import dataclass, field
 from typing import Union
 
 from hexapod_bridge import extension as ext
 from hexapod_bridge import legacy
 
-MAX_TEXT = 64            # longest text frame accepted (robot messages are short, e.g. "LOW BATTERY")
-CHUNK = 256              # input is processed in slices of at most this many bytes
+MAX_TEXT = 64  # longest text frame accepted (robot messages are short, e.g. "LOW BATTERY")
+CHUNK = 256  # input is processed in slices of at most this many bytes
 TYPE_LENGTHS = {0xFE: legacy.TELEMETRY_LEN, 0xFA: 2, 0xFD: 4, 0xF9: 10, ext.MARKER: ext.FRAME_LEN}
 #: Movement-ack checksums a parser could not tell from a frame header ("FF FE" ...).
 AMBIGUOUS_ACKS = frozenset(TYPE_LENGTHS) | {0xFC, 0xFF}
 
-HostFrame = Union[legacy.Telemetry, legacy.PingReply, legacy.ErrorReport, legacy.Text,
-                  legacy.ChargerStatus, legacy.MovementAck, ext.ReportFrame]
+HostFrame = Union[
+    legacy.Telemetry,
+    legacy.PingReply,
+    legacy.ErrorReport,
+    legacy.Text,
+    legacy.ChargerStatus,
+    legacy.MovementAck,
+    ext.ReportFrame,
+]
 
 
 @dataclass
 class ParserStats:
     """Counters of a stream parser: frames, checksum errors, resyncs, dropped bytes."""
+
     frames_ok: int = 0
-    checksum_errors: int = 0     # frames with a checksum/CRC that did not match
-    implausible: int = 0         # frames without a checksum whose values were impossible
-    resyncs: int = 0             # times bytes were skipped to find the next frame
+    checksum_errors: int = 0  # frames with a checksum/CRC that did not match
+    implausible: int = 0  # frames without a checksum whose values were impossible
+    resyncs: int = 0  # times bytes were skipped to find the next frame
     bytes_dropped: int = 0
-    max_buffer: int = 0          # largest buffer length seen (bounded by design)
+    max_buffer: int = 0  # largest buffer length seen (bounded by design)
     by_type: dict = field(default_factory=dict)
 
 
 class ResyncBuffer:
-    """What every stream parser shares: a buffer fed in slices of at most CHUNK bytes (so it
-    stays bounded), statistics, and counting a run of skipped bytes as one resync. Subclasses
-    implement ``_drain`` (take frames off the front of the buffer) and never raise on input."""
+    """
+    What every stream parser shares.
+
+    A buffer fed in slices of at most CHUNK bytes (so it stays bounded), statistics, and counting a
+    run of skipped bytes as one resync. Subclasses implement ``_drain`` (take frames off the front
+    of the buffer) and never raise on input.
+    """
 
     def __init__(self) -> None:
         self.buffer = bytearray()
@@ -51,7 +85,8 @@ class ResyncBuffer:
         """Add received bytes; return the frames they complete."""
         out: list = []
         for start in range(0, len(data), CHUNK):
-            self.buffer += data[start:start + CHUNK]
+            end = start + CHUNK
+            self.buffer += data[start:end]
             self.stats.max_buffer = max(self.stats.max_buffer, len(self.buffer))
             self._drain(out)
         return out
@@ -70,7 +105,7 @@ class ResyncBuffer:
         del self.buffer[:n]
 
     def _take(self, n: int) -> None:
-        """A valid frame of n bytes was taken off the front: in sync again."""
+        """Note that a valid frame of n bytes was taken off the front: in sync again."""
         del self.buffer[:n]
         self._skipping = False
         self.stats.frames_ok += 1
@@ -80,9 +115,15 @@ def _telemetry_plausible(t: legacy.Telemetry) -> bool:
     values = (t.counter, t.pitch, t.roll, t.yaw, t.slope_pitch, t.slope_roll)
     if not all(math.isfinite(v) for v in values):
         return False
-    return (0 <= t.counter < 2 ** 24 and t.counter == int(t.counter)
-            and abs(t.pitch) <= math.pi and abs(t.roll) <= math.pi and abs(t.yaw) <= 2 * math.pi
-            and abs(t.slope_pitch) <= math.pi / 2 and abs(t.slope_roll) <= math.pi / 2)
+    return (
+        0 <= t.counter < 2**24
+        and t.counter == int(t.counter)
+        and abs(t.pitch) <= math.pi
+        and abs(t.roll) <= math.pi
+        and abs(t.yaw) <= 2 * math.pi
+        and abs(t.slope_pitch) <= math.pi / 2
+        and abs(t.slope_roll) <= math.pi / 2
+    )
 
 
 def _error_plausible(loc: int, code: int) -> bool:
@@ -129,7 +170,7 @@ class HostParser(ResyncBuffer):
         kind = raw[1]
         s = self.stats
         if kind == 0xFE:
-            t = legacy.Telemetry(*struct.unpack("<6f", raw[2:26]))
+            t = legacy.Telemetry(*struct.unpack('<6f', raw[2:26]))
             if _telemetry_plausible(t):
                 return t
             s.implausible += 1
@@ -144,14 +185,14 @@ class HostParser(ResyncBuffer):
         if kind == 0xFC:
             text = raw[3:]
             if all(0x20 <= c <= 0x7E for c in text):
-                return legacy.Text(text.decode("ascii"))
+                return legacy.Text(text.decode('ascii'))
             s.implausible += 1
             return None
         if kind == 0xF9:
             if legacy.checksum8(raw[:9]) != raw[9]:
                 s.checksum_errors += 1
                 return None
-            voltage = struct.unpack("<f", raw[3:7])[0]
+            voltage = struct.unpack('<f', raw[3:7])[0]
             if not (math.isfinite(voltage) and 0.0 <= voltage <= 60.0):
                 s.implausible += 1
                 return None
@@ -166,9 +207,11 @@ class HostParser(ResyncBuffer):
 
 # ---- robot side --------------------------------------------------------------------------
 
+
 @dataclass(frozen=True)
 class PingFrame:
     """A keep-alive frame as the robot receives it."""
+
     pass
 
 
@@ -191,11 +234,11 @@ class RobotReceiver(ResyncBuffer):
 
     def __init__(self) -> None:
         super().__init__()
-        self.last_checksum: int | None = None   # of the last movement frame (for its ack)
+        self.last_checksum: int | None = None  # of the last movement frame (for its ack)
 
     def _drain(self, out: list) -> None:
         while len(self.buffer) >= legacy.FRAME_LEN:
-            frame = self._decode(bytes(self.buffer[:legacy.FRAME_LEN]))
+            frame = self._decode(bytes(self.buffer[: legacy.FRAME_LEN]))
             if frame is None:
                 self._drop(1)
                 continue
@@ -227,7 +270,7 @@ class RobotReceiver(ResyncBuffer):
         if b0 == legacy.PING_BYTE:
             return PingFrame() if not self._skipping or not any(raw[1:]) else None
         if b0 == 0xFF and raw[1] in _FF_CODES:
-            if self._skipping and any(raw[_FF_PADDING[raw[1]]:]):
+            if self._skipping and any(raw[slice(_FF_PADDING[raw[1]], None)]):
                 return None
             return LegacyCommand(raw[1], raw)
         return None

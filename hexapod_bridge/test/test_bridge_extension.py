@@ -1,36 +1,58 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
 """Gait-upload extension frames (hexapod_bridge.extension): layout, round trips, leg map."""
+
 from __future__ import annotations
 
 import struct
 
-import pytest
-
 from hexapod_bridge import extension as ext
 from hexapod_gait import preset
+import pytest
 
 
 def test_extension_round_trip_and_layout():
-    frame = ext.encode_command(ext.Cmd.SET_PARAM, 300, bytes([5]) + struct.pack("<f", 0.15))
+    frame = ext.encode_command(ext.Cmd.SET_PARAM, 300, bytes([5]) + struct.pack('<f', 0.15))
     assert len(frame) == 10 and frame[0] == 0xE7 and frame[1] == 0x10 and frame[2] == 300 & 0xFF
     decoded = ext.decode_command(frame)
-    assert decoded.payload[0] == 5 and struct.unpack("<f", decoded.payload[1:5])[0] == pytest.approx(0.15)
+    assert decoded.payload[0] == 5 and struct.unpack('<f', decoded.payload[1:5])[
+        0
+    ] == pytest.approx(0.15)
     corrupted = bytearray(frame)
     corrupted[5] ^= 0x40
-    with pytest.raises(ext.ExtensionError, match="CRC"):
+    with pytest.raises(ext.ExtensionError, match='CRC'):
         ext.decode_command(bytes(corrupted))
     report = ext.encode_report(ext.Report.TRIAL, 4, bytes([1, 0, 0x13, 0x88]))
     assert ext.decode_report(report).payload == bytes([1, 0, 0x13, 0x88])
 
 
 def test_upload_frames_and_values_round_trip():
-    gait = preset("wave").replace(archive_index=1234)
+    gait = preset('wave').replace(archive_index=1234)
     values = ext.gait_values(gait)
     frames = ext.upload_frames(values, gait_id=7, first_seq=250)
     assert len(frames) == ext.N_PARAMS + 1 == 36
     assert [f[2] for f in frames[:7]] == [250, 251, 252, 253, 254, 255, 0]
     commit = ext.decode_command(frames[-1])
     assert commit.type == ext.Cmd.COMMIT and commit.payload[0] == 35
-    assert struct.unpack(">H", commit.payload[1:3])[0] == ext.values_crc(ext.quantise(values))
+    assert struct.unpack('>H', commit.payload[1:3])[0] == ext.values_crc(ext.quantise(values))
     back = ext.gait_from_values(ext.quantise(values))
     assert back.archive_index == 1234
     assert back.duty_factor[0] == pytest.approx(5 / 6, abs=1e-6)

@@ -1,9 +1,32 @@
-"""The host link layer (hexapod_bridge.link) against the emulated firmware: uploads, trials, retries, arming, e-stop."""
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+The host link layer (hexapod_bridge.link) against the emulated firmware.
+
+Uploads, trials, retries, arming, e-stop.
+"""
+
 from __future__ import annotations
 
 import struct
-
-import pytest
 
 from hexapod_bridge import extension as ext
 from hexapod_bridge import legacy
@@ -11,12 +34,22 @@ from hexapod_bridge.crc import crc16
 from hexapod_bridge.emulator.firmware import RobotFirmware
 from hexapod_bridge.link import RobotLink
 from hexapod_gait import preset
+import pytest
 
 
-def _run(link: RobotLink, firmware: RobotFirmware, seconds: float, t0: float = 0.0, drop=None,
-         alter=None) -> float:
-    """Exchange bytes between link and firmware in 2 ms steps of emulated time (``drop`` and
-    ``alter`` act on host->robot frames in transit)."""
+def _run(
+    link: RobotLink,
+    firmware: RobotFirmware,
+    seconds: float,
+    t0: float = 0.0,
+    drop=None,
+    alter=None,
+) -> float:
+    """
+    Exchange bytes between link and firmware in 2 ms steps of emulated time.
+
+    ``drop`` and ``alter`` act on host->robot frames in transit.
+    """
     t = t0
     while t < t0 + seconds:
         t += 0.002
@@ -31,46 +64,54 @@ def _run(link: RobotLink, firmware: RobotFirmware, seconds: float, t0: float = 0
 def test_upload_commit_and_trial_without_simulator():
     link, fw = RobotLink(), RobotFirmware()
     link.arm(True, 0.0)
-    gait = preset("quadruped").replace(archive_index=5)
+    gait = preset('quadruped').replace(archive_index=5)
     op = link.upload(gait)
     t = _run(link, fw, 1.0)
     assert op.ok, op.message
-    assert fw.gait_id == op.result["gait_id"] and fw.gait.archive_index == 5
+    assert fw.gait_id == op.result['gait_id'] and fw.gait.archive_index == 5
     assert fw.gait.duty_factor[0] == pytest.approx(2 / 3, abs=1e-6)
-    start = link.start_trial(5.0, op.result["gait_id"])
+    start = link.start_trial(5.0, op.result['gait_id'])
     t = _run(link, fw, 0.5, t)
     assert start.ok and fw.walking
     t = _run(link, fw, 5.0, t)
-    assert not fw.walking and link.trial_state == ext.TrialState.DONE and fw.trials[-1].state == "done"
+    assert (
+        not fw.walking
+        and link.trial_state == ext.TrialState.DONE
+        and fw.trials[-1].state == 'done'
+    )
     assert link.trial_elapsed == pytest.approx(5.0, abs=0.01)
 
 
 def test_refused_parameter_is_reported_by_name():
     link, fw = RobotLink(), RobotFirmware()
     link.arm(True, 0.0)
-    gait = preset("tripod")
+    gait = preset('tripod')
     values = ext.gait_values(gait)
     op = link.upload(gait)
 
     def radius3_out_of_range(frame: bytes) -> bytes:
-        """The radius[3] frame, re-sealed carrying 0.9 m (out of the robot's range)."""
-        if len(frame) == 10 and frame[1] == ext.Cmd.SET_PARAM and frame[3] == ext.PARAM_NAMES.index("radius[3]"):
+        """Return the radius[3] frame, re-sealed carrying 0.9 m (out of the robot's range)."""
+        if (
+            len(frame) == 10
+            and frame[1] == ext.Cmd.SET_PARAM
+            and frame[3] == ext.PARAM_NAMES.index('radius[3]')
+        ):
             body = bytearray(frame[:8])
-            body[4:8] = struct.pack("<f", 0.9)
-            return bytes(body) + struct.pack(">H", crc16(bytes(body)))
+            body[4:8] = struct.pack('<f', 0.9)
+            return bytes(body) + struct.pack('>H', crc16(bytes(body)))
         return frame
 
     _run(link, fw, 1.0, alter=radius3_out_of_range)
-    assert not op.ok and "radius[3]" in op.message and "OUT_OF_RANGE" in op.message
+    assert not op.ok and 'radius[3]' in op.message and 'OUT_OF_RANGE' in op.message
     assert fw.gait_id == 0 and values[0] == gait.body_velocity
 
 
 def test_unreachable_gait_is_refused_by_the_robot():
     link, fw = RobotLink(), RobotFirmware()
     link.arm(True, 0.0)
-    op = link.upload(preset("tripod").replace(radius=[0.29] * 6))
+    op = link.upload(preset('tripod').replace(radius=[0.29] * 6))
     _run(link, fw, 1.0)
-    assert not op.ok and "UNREACHABLE" in op.message
+    assert not op.ok and 'UNREACHABLE' in op.message
 
 
 def test_lost_frames_are_retried_and_applied_once():
@@ -82,7 +123,7 @@ def test_lost_frames_are_retried_and_applied_once():
         count[0] += 1
         return frame[0] == 0xE7 and count[0] % 3 == 0
 
-    op = link.upload(preset("wave"))
+    op = link.upload(preset('wave'))
     _run(link, fw, 3.0, drop=drop_every_third)
     assert op.ok, op.message
     assert link.stats.retries > 0
@@ -90,7 +131,7 @@ def test_lost_frames_are_retried_and_applied_once():
 
 def test_nothing_is_sent_unless_armed_except_an_emergency_stop():
     link = RobotLink()
-    link.upload(preset("tripod"))
+    link.upload(preset('tripod'))
     assert link.poll(0.0) == [] and link.poll(5.0) == []
     link.emergency_stop()
     sent = link.poll(6.0) + link.poll(7.0)
@@ -107,15 +148,15 @@ def test_emergency_stop_stops_the_walk_and_blocks_restart():
     assert not fw.walking and fw.estopped and link.trial_state == ext.TrialState.ESTOPPED
     start = link.start_trial(5.0, 0)
     _run(link, fw, 0.5, t)
-    assert not start.ok and "ESTOPPED" in start.message
+    assert not start.ok and 'ESTOPPED' in start.message
 
 
 def test_legacy_firmware_fallbacks():
-    link, fw = RobotLink(firmware="legacy"), RobotFirmware()
+    link, fw = RobotLink(firmware='legacy'), RobotFirmware()
     link.arm(True, 0.0)
-    upload = link.upload(preset("tripod"))
-    assert upload.done and not upload.ok and "cannot receive gait parameters" in upload.message
-    start = link.start_trial(5.0, 0)           # movement function 55: reset restarts the walk
+    upload = link.upload(preset('tripod'))
+    assert upload.done and not upload.ok and 'cannot receive gait parameters' in upload.message
+    start = link.start_trial(5.0, 0)  # movement function 55: reset restarts the walk
     t = _run(link, fw, 0.5)
     assert start.ok and fw.walking and fw.trials
     t = _run(link, fw, 5.0, t)
@@ -135,13 +176,15 @@ def test_movement_acks_are_never_ambiguous():
 
 
 def test_leg_map_places_each_legs_values_in_the_robots_slot():
-    gait = preset("tripod").replace(radius=[0.11, 0.12, 0.13, 0.14, 0.15, 0.16])
+    gait = preset('tripod').replace(radius=[0.11, 0.12, 0.13, 0.14, 0.15, 0.16])
     values = ext.gait_values(gait, ext.MIRRORED_LEG_MAP)
     radius = values[4:10]
-    assert radius == pytest.approx([0.11, 0.16, 0.15, 0.14, 0.13, 0.12])   # URDF leg 2 is firmware leg 6
+    assert radius == pytest.approx(
+        [0.11, 0.16, 0.15, 0.14, 0.13, 0.12]
+    )  # URDF leg 2 is firmware leg 6
     assert ext.gait_values(gait)[4:10] == pytest.approx([0.11, 0.12, 0.13, 0.14, 0.15, 0.16])
-    for bad in ([1, 2, 3], [1, 1, 2, 3, 4, 5], ["a"] * 6, [0, 1, 2, 3, 4, 5]):
-        with pytest.raises(ext.ExtensionError, match="leg map"):
+    for bad in ([1, 2, 3], [1, 1, 2, 3, 4, 5], ['a'] * 6, [0, 1, 2, 3, 4, 5]):
+        with pytest.raises(ext.ExtensionError, match='leg map'):
             ext.validate_leg_map(bad)
     link, fw = RobotLink(leg_map=ext.MIRRORED_LEG_MAP), RobotFirmware()
     link.arm(True, 0.0)

@@ -1,33 +1,65 @@
-"""Trial state on the host link: a trial ends only on the robot's report about THAT trial, with
-robot reports dropped, duplicated and garbled (seeded, no ROS; firmware emulator in the loop)."""
-from __future__ import annotations
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Trial state on the host link.
 
-import numpy as np
-import pytest
+A trial ends only on the robot's report about THAT trial, with robot reports dropped, duplicated
+and garbled (seeded, no ROS; firmware emulator in the loop).
+"""
+
+from __future__ import annotations
 
 from hexapod_bridge import extension as ext
 from hexapod_bridge.emulator.firmware import RobotFirmware
 from hexapod_bridge.link import RobotLink
 from hexapod_bridge.stream import HostParser
 from hexapod_gait import preset
+import numpy as np
+import pytest
 
 STEP = 0.001
 
 
 def _is_trial_report(frame: bytes) -> bool:
     decoded = HostParser().feed(frame)
-    return len(decoded) == 1 and isinstance(decoded[0], ext.ReportFrame) and decoded[0].type == ext.Report.TRIAL
+    return (
+        len(decoded) == 1
+        and isinstance(decoded[0], ext.ReportFrame)
+        and decoded[0].type == ext.Report.TRIAL
+    )
 
 
 class Bench:
-    """Host link and emulated robot over an ideal wire whose robot->host TRIAL reports pass
-    through ``mangle`` (drop: return b""; duplicate; garble)."""
+    """
+    Host link and emulated robot over an ideal wire, except for the TRIAL reports.
+
+    The robot->host TRIAL reports pass through ``mangle`` (drop: return b""; duplicate;
+    garble).
+    """
 
     def __init__(self, mangle) -> None:
         self.link, self.fw, self.t = RobotLink(), RobotFirmware(walk_duration=5.0), 0.0
         self.mangle = mangle
         self.link.arm(True, 0.0)
-        self.ended: list[tuple[int, ext.TrialState, float]] = []   # (generation, state, host time)
+        self.ended: list[tuple[int, ext.TrialState, float]] = []  # (generation, state, host time)
 
     def run_until(self, done, limit: float) -> None:
         end = self.t + limit
@@ -49,18 +81,21 @@ class Bench:
             self.ended.append((after[0], after[1], self.t))
 
     def upload_and_start(self, gait_index: int) -> float:
-        op = self.link.upload(preset("tripod").replace(archive_index=gait_index))
+        op = self.link.upload(preset('tripod').replace(archive_index=gait_index))
         self.run_until(lambda: op.done, 10.0)
         assert op.ok, op.message
-        start = self.link.start_trial(5.0, op.result["gait_id"])
+        start = self.link.start_trial(5.0, op.result['gait_id'])
         self.run_until(lambda: start.done, 5.0)
         assert start.ok, start.message
         return self.t
 
 
 class HostParserSplitter:
-    """Split a robot->host byte string into frames as the robot wrote them (the emulator emits
-    whole frames; this re-parses to find their boundaries)."""
+    """
+    Split a robot->host byte string into frames as the robot wrote them.
+
+    The emulator emits whole frames; this re-parses to find their boundaries.
+    """
 
     @staticmethod
     def split(data: bytes) -> list[bytes]:
@@ -78,18 +113,29 @@ class HostParserSplitter:
 
 
 def _drop_walking(frame: bytes) -> bytes:
-    return b"" if frame[3] == ext.TrialState.WALKING else frame
+    return b'' if frame[3] == ext.TrialState.WALKING else frame
 
 
-@pytest.mark.parametrize("name,mangle", [
-    ("walking report dropped", _drop_walking),
-    ("every report duplicated", lambda f: f + f),
-    ("walking dropped, done duplicated", lambda f: b"" if f[3] == ext.TrialState.WALKING else f + f),
-    ("walking report garbled", lambda f: f[:4] + bytes([f[4] ^ 0x5A]) + f[5:] if f[3] == ext.TrialState.WALKING else f),
-])
+@pytest.mark.parametrize(
+    'name,mangle',
+    [
+        ('walking report dropped', _drop_walking),
+        ('every report duplicated', lambda f: f + f),
+        (
+            'walking dropped, done duplicated',
+            lambda f: b'' if f[3] == ext.TrialState.WALKING else f + f,
+        ),
+        (
+            'walking report garbled',
+            lambda f: (
+                f[:4] + bytes([f[4] ^ 0x5A]) + f[5:] if f[3] == ext.TrialState.WALKING else f
+            ),
+        ),
+    ],
+)
 def test_a_trial_ends_only_on_its_own_done_report(name, mangle):
     bench = Bench(mangle)
-    for k in range(3):                          # back-to-back trials: stale DONEs are the risk
+    for k in range(3):  # back-to-back trials: stale DONEs are the risk
         started = bench.upload_and_start(k)
         generation = bench.link.trial_generation
         assert bench.link.trial_state is ext.TrialState.WALKING, name
@@ -99,51 +145,63 @@ def test_a_trial_ends_only_on_its_own_done_report(name, mangle):
         assert ends, name
         # it ended when the robot finished this walk, not at the previous trial's stale report
         assert ends[0][2] - started == pytest.approx(5.0, abs=0.15), (name, ends[0][2] - started)
-        assert bench.fw.trials[-1].state == "done"
+        assert bench.fw.trials[-1].state == 'done'
 
 
 def test_a_report_in_flight_from_the_previous_trial_is_not_taken_for_the_new_one():
     link = RobotLink()
     link.arm(True, 0.0)
-    link.trial_state = ext.TrialState.DONE       # what the previous trial left behind
+    link.trial_state = ext.TrialState.DONE  # what the previous trial left behind
     link.start_trial(5.0, 1)
     assert link.trial_state is ext.TrialState.IDLE
     # the previous trial's DONE report, duplicated, arrives before the robot acknowledges the start
-    stale = ext.encode_report(ext.Report.TRIAL, 9, bytes([ext.TrialState.DONE]) + (5000).to_bytes(3, "big"))
+    stale = ext.encode_report(
+        ext.Report.TRIAL, 9, bytes([ext.TrialState.DONE]) + (5000).to_bytes(3, 'big')
+    )
     link.receive(stale + stale, 0.1)
     assert link.trial_state is ext.TrialState.IDLE and link.stats.stale_reports == 2
     assert link.trial_generation == 0
 
 
 def test_a_noisy_stream_never_ends_a_trial_with_another_trials_report():
-    """Every robot->host frame is dropped, duplicated, garbled or followed by garbage at random
+    """
+    A trial end the host sees is always the robot's end of that very trial.
+
+    Every robot->host frame is dropped, duplicated, garbled or followed by garbage at random
     (seeded): uploads and starts may need retries or fail, but whenever the host sees a trial
-    end, it is the robot's end of that very trial (5 s after its start)."""
+    end, it is the robot's end of that very trial (5 s after its start).
+    """
     rng = np.random.default_rng(11)
 
     def mangle_any(frame: bytes) -> bytes:
         u = rng.random()
         if u < 0.05:
-            return b""
+            return b''
         if u < 0.10:
             return frame + frame
         if u < 0.15:
             i = int(rng.integers(len(frame)))
-            return frame[:i] + bytes([frame[i] ^ int(rng.integers(1, 256))]) + frame[i + 1:]
+            return (
+                frame[:i]
+                + bytes([frame[i] ^ int(rng.integers(1, 256))])
+                + frame[slice(i + 1, None)]
+            )
         if u < 0.20:
-            return frame + rng.integers(0, 256, int(rng.integers(1, 12))).astype(np.uint8).tobytes()
+            return (
+                frame + rng.integers(0, 256, int(rng.integers(1, 12))).astype(np.uint8).tobytes()
+            )
         return frame
 
     bench = Bench(lambda f: f)
     bench.mangle = mangle_any
     original_tick = bench.tick
 
-    def tick_all_frames() -> None:            # mangle every frame, not only TRIAL reports
+    def tick_all_frames() -> None:  # mangle every frame, not only TRIAL reports
         bench.t += STEP
         for frame in bench.link.poll(bench.t):
             bench.fw.receive(frame, bench.t)
         radio, _ = bench.fw.advance(bench.t)
-        out = b"".join(mangle_any(f) for f in HostParserSplitter.split(radio))
+        out = b''.join(mangle_any(f) for f in HostParserSplitter.split(radio))
         before = (bench.link.trial_generation, bench.link.trial_state)
         bench.link.receive(out, bench.t)
         after = (bench.link.trial_generation, bench.link.trial_state)
@@ -154,14 +212,14 @@ def test_a_noisy_stream_never_ends_a_trial_with_another_trials_report():
     starts: dict[int, float] = {}
     completed = 0
     for k in range(6):
-        op = bench.link.upload(preset("tripod").replace(archive_index=k))
+        op = bench.link.upload(preset('tripod').replace(archive_index=k))
         bench.run_until(lambda: op.done, 30.0)
         if not op.ok:
             continue
-        start = bench.link.start_trial(5.0, op.result["gait_id"])
+        start = bench.link.start_trial(5.0, op.result['gait_id'])
         bench.run_until(lambda: start.done, 10.0)
         if not start.ok:
-            bench.run_until(lambda: False, 6.0)        # the robot may be walking anyway: let it finish
+            bench.run_until(lambda: False, 6.0)  # the robot may be walking anyway: let it finish
             continue
         starts[bench.link.trial_generation] = bench.t
         bench.run_until(lambda: bench.link.trial_state is ext.TrialState.DONE, 8.0)
@@ -170,5 +228,11 @@ def test_a_noisy_stream_never_ends_a_trial_with_another_trials_report():
     assert completed >= 3 and original_tick is not None
     for generation, state, t in bench.ended:
         assert generation in starts and state is ext.TrialState.DONE
-        assert t - starts[generation] == pytest.approx(5.0, abs=0.3), (generation, t - starts[generation])
-    print(f"{completed} trials completed; {len(bench.ended)} ends seen; stale reports {bench.link.stats.stale_reports}")
+        assert t - starts[generation] == pytest.approx(5.0, abs=0.3), (
+            generation,
+            t - starts[generation],
+        )
+    print(
+        f'{completed} trials completed; {len(bench.ended)} ends seen; stale reports'
+        f' {bench.link.stats.stale_reports}'
+    )

@@ -1,21 +1,42 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
 """Xsens Xbus messages (hexapod_bridge.xbus)."""
+
 from __future__ import annotations
 
-
-import pytest
-
 from hexapod_bridge import xbus
+import pytest
 
 
 def test_xbus_commands_and_mtdata():
     for command in (xbus.GO_TO_CONFIG, xbus.GO_TO_MEASUREMENT, xbus.HEADING_RESET, xbus.REQ_DATA):
         assert sum(command[1:]) & 0xFF == 0
     assert xbus.encode(0xFF, 0x30) == xbus.GO_TO_CONFIG
-    m = xbus.MTData((0.1, -0.2, 9.8), (0.01, 0.02, -0.03), (1.0, 0.0, 0.5), (1.5, -2.0, 170.0), 65535)
+    m = xbus.MTData(
+        (0.1, -0.2, 9.8), (0.01, 0.02, -0.03), (1.0, 0.0, 0.5), (1.5, -2.0, 170.0), 65535
+    )
     raw = xbus.encode_mtdata(m)
     assert len(raw) == 55 and raw[:4] == bytes([0xFA, 0x01, 0x32, 50])
     parser = xbus.XbusParser()
-    out = parser.feed(b"\xfa\x00garbage\xfa" + raw + raw[:20])
+    out = parser.feed(b'\xfa\x00garbage\xfa' + raw + raw[:20])
     assert len(out) == 1 and out[0].counter == 65535 and out[0].euler[2] == pytest.approx(170.0)
     assert out[0].acc[2] == pytest.approx(9.8, abs=1e-6)
     corrupted = bytearray(raw)

@@ -1,9 +1,32 @@
-"""Publish the hexapod's TF tree and robot_description from its URDF (full ROS 2 Jazzy install;
-joint angles come from joint_states: sim_node or bridge_node). Without robot_state_publisher,
-``ros2 run hexapod_gait state_publisher`` does the same.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Publish the hexapod's TF tree and robot_description from its URDF.
+
+For a full ROS 2 Jazzy install; joint angles come from joint_states: sim_node or bridge_node).
+Without robot_state_publisher, ``ros2 run hexapod_gait state_publisher`` does the same.
 
     ros2 launch hexapod_description display.launch.py
 """
+
 from pathlib import Path
 
 from ament_index_python.packages import get_package_share_directory
@@ -12,8 +35,13 @@ from launch_ros.actions import Node
 
 
 def generate_launch_description() -> LaunchDescription:
-    urdf = Path(get_package_share_directory("hexapod_description")) / "urdf" / "hexapod.urdf"
-    return LaunchDescription([
-        Node(package="robot_state_publisher", executable="robot_state_publisher",
-             parameters=[{"robot_description": urdf.read_text()}]),
-    ])
+    urdf = Path(get_package_share_directory('hexapod_description')) / 'urdf' / 'hexapod.urdf'
+    return LaunchDescription(
+        [
+            Node(
+                package='robot_state_publisher',
+                executable='robot_state_publisher',
+                parameters=[{'robot_description': urdf.read_text()}],
+            ),
+        ]
+    )

@@ -1,4 +1,25 @@
-"""``ros2 run hexapod_gait gait_node``: gait parameters in, one joint-trajectory cycle out.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+``ros2 run hexapod_gait gait_node``: gait parameters in, one joint-trajectory cycle out.
 
 Subscribes  gait/parameters        hexapod_msgs/GaitParameters   (latched, depth 1)
 Publishes   gait/joint_trajectory  trajectory_msgs/JointTrajectory (latched): one full cycle
@@ -7,62 +28,79 @@ An invalid or unreachable gait is rejected with its reason; the previous traject
 The trajectory's header stamp echoes the stamp of the GaitParameters it was built from (or
 the current time if that was zero), so a consumer can tell which request it answers.
 """
+
 from __future__ import annotations
 
 import sys
 
 from diagnostic_msgs.msg import DiagnosticStatus
+from hexapod_description import load_model
+from hexapod_gait.parameters import GaitParameterError, GaitParameters
+from hexapod_gait.presets import preset, PRESETS
+from hexapod_gait.ros_conversions import gait_from_msg, table_to_trajectory
+from hexapod_gait.ros_glue import declare, LATCHED, ParamSpec, publish_status, run_node
+from hexapod_gait.trajectory import build_joint_table, ReachabilityError, samples_per_cycle
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from rclpy.node import Node
 from trajectory_msgs.msg import JointTrajectory
 
-from hexapod_description import load_model
-from hexapod_gait.parameters import GaitParameterError, GaitParameters
-from hexapod_gait.presets import PRESETS, preset
-from hexapod_gait.ros_conversions import gait_from_msg, table_to_trajectory
-from hexapod_gait.ros_glue import LATCHED, ParamSpec, declare, publish_status, run_node
-from hexapod_gait.trajectory import ReachabilityError, build_joint_table, samples_per_cycle
-
-
-
 PARAMETERS = (
-    ParamSpec("control_rate", 240.0, "Trajectory sample rate [Hz]: 240 for the simulator, 120 for the robot. "
-              "period x rate must be a whole number.", read_only=True, range=(10.0, 2000.0)),
-    ParamSpec("initial_preset", "tripod", f"Gait published at start-up: one of {', '.join(PRESETS)}, or '' for none",
-              read_only=True),
-    ParamSpec("frame_id", "base_link", "frame_id of the published trajectory header", read_only=True),
+    ParamSpec(
+        'control_rate',
+        240.0,
+        'Trajectory sample rate [Hz]: 240 for the simulator, 120 for the robot. '
+        'period x rate must be a whole number.',
+        read_only=True,
+        range=(10.0, 2000.0),
+    ),
+    ParamSpec(
+        'initial_preset',
+        'tripod',
+        f"Gait published at start-up: one of {', '.join(PRESETS)}, or '' for none",
+        read_only=True,
+    ),
+    ParamSpec(
+        'frame_id', 'base_link', 'frame_id of the published trajectory header', read_only=True
+    ),
 )
 
 
 class GaitNode(Node):
     """Gait parameters in, one joint-trajectory cycle out (see the module docstring)."""
+
     def __init__(self, **kwargs) -> None:
-        super().__init__("gait_node", **kwargs)
+        super().__init__('gait_node', **kwargs)
         declare(self, PARAMETERS)
-        self.rate = float(self.get_parameter("control_rate").value)
-        self.frame_id = str(self.get_parameter("frame_id").value)
+        self.rate = float(self.get_parameter('control_rate').value)
+        self.frame_id = str(self.get_parameter('frame_id').value)
         self.joint_names = load_model().joint_names
         self.active: GaitParameters | None = None
 
-        self.trajectory_pub = self.create_publisher(JointTrajectory, "gait/joint_trajectory", LATCHED)
-        self.status_pub = self.create_publisher(DiagnosticStatus, "gait/status", LATCHED)
-        self.create_subscription(GaitParametersMsg, "gait/parameters", self.on_parameters, LATCHED)
+        self.trajectory_pub = self.create_publisher(
+            JointTrajectory, 'gait/joint_trajectory', LATCHED
+        )
+        self.status_pub = self.create_publisher(DiagnosticStatus, 'gait/status', LATCHED)
+        self.create_subscription(GaitParametersMsg, 'gait/parameters', self.on_parameters, LATCHED)
 
-        name = str(self.get_parameter("initial_preset").value)
+        name = str(self.get_parameter('initial_preset').value)
         if name:
             try:
                 self.apply(preset(name), source=f"preset '{name}'")
             except ValueError as exc:
-                self.get_logger().error(f"initial_preset: {exc}; starting without a gait")
+                self.get_logger().error(f'initial_preset: {exc}; starting without a gait')
 
     def on_parameters(self, msg: GaitParametersMsg) -> None:
-        """A GaitParameters message: build and publish its trajectory, or refuse it."""
+        """Handle a GaitParameters message: build and publish its trajectory, or refuse it."""
         try:
             gait = gait_from_msg(msg)
         except GaitParameterError as exc:
-            self.reject(f"invalid gait parameters: {exc}", msg.archive_index)
+            self.reject(f'invalid gait parameters: {exc}', msg.archive_index)
             return
-        self.apply(gait, source=f"gait/parameters (archive index {msg.archive_index})", stamp=msg.header.stamp)
+        self.apply(
+            gait,
+            source=f'gait/parameters (archive index {msg.archive_index})',
+            stamp=msg.header.stamp,
+        )
 
     def apply(self, gait: GaitParameters, source: str, stamp=None) -> bool:
         """Build the joint table of ``gait`` and publish it; False if it cannot be followed."""
@@ -70,7 +108,7 @@ class GaitNode(Node):
             samples_per_cycle(gait.period, self.rate)
             table = build_joint_table(gait, rate=self.rate)
         except (ReachabilityError, ValueError) as exc:
-            self.reject(f"gait from {source} rejected: {exc}", gait.archive_index)
+            self.reject(f'gait from {source} rejected: {exc}', gait.archive_index)
             return False
         traj = table_to_trajectory(table, self.joint_names)
         traj.header.frame_id = self.frame_id
@@ -78,21 +116,24 @@ class GaitNode(Node):
         traj.header.stamp = stamp if has_stamp else self.get_clock().now().to_msg()
         self.trajectory_pub.publish(traj)
         self.active = gait
-        self.publish_status(DiagnosticStatus.OK, f"active gait from {source}: "
-                            f"{len(table)} points at {self.rate:g} Hz", gait.archive_index)
+        self.publish_status(
+            DiagnosticStatus.OK,
+            f'active gait from {source}: {len(table)} points at {self.rate:g} Hz',
+            gait.archive_index,
+        )
         return True
 
     def reject(self, reason: str, archive_index: int) -> None:
         """Report a refused gait; the previous trajectory stays active."""
-        kept = "previous trajectory kept" if self.active is not None else "no trajectory active"
-        self.publish_status(DiagnosticStatus.ERROR, f"{reason} ({kept})", archive_index)
+        kept = 'previous trajectory kept' if self.active is not None else 'no trajectory active'
+        self.publish_status(DiagnosticStatus.ERROR, f'{reason} ({kept})', archive_index)
 
     def publish_status(self, level: bytes, message: str, archive_index: int) -> None:
         """Log and publish gait/status with the gait's archive index (and the active one's)."""
-        values = {"archive_index": archive_index}
+        values = {'archive_index': archive_index}
         if self.active is not None:
-            values["active_archive_index"] = self.active.archive_index
-        publish_status(self, self.status_pub, level, message, "hexapod", **values)
+            values['active_archive_index'] = self.active.archive_index
+        publish_status(self, self.status_pub, level, message, 'hexapod', **values)
 
 
 def main(args: list[str] | None = None) -> int:
@@ -100,5 +141,5 @@ def main(args: list[str] | None = None) -> int:
     return run_node(GaitNode, args, num_threads=1, parameters=PARAMETERS)
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

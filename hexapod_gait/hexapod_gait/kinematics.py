@@ -1,18 +1,39 @@
-"""Leg kinematics of the thesis (section 3.4.4-3.4.6), vectorised over any number of points.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Leg kinematics of the thesis (section 3.4.4-3.4.6), vectorised over any number of points.
 
 Frames: each leg's frame sits at its coxa joint with x pointing radially out and z up
 (fig. 3.5). Angles are (theta1 coxa, theta2 femur, theta3 tibia) in radians; positive theta2
 lifts the femur, the knee-down branch (s3 <= 0) of eq. 3.43 is used, as on the robot.
 Link lengths come from hexapod_description (the URDF), never retyped here.
 """
+
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
-
-import numpy as np
+import functools
 
 from hexapod_description import load_model
+import numpy as np
 
 
 @dataclass(frozen=True)
@@ -27,11 +48,18 @@ class LegKinematics:
         """Foot position (..., 3) from joint angles (..., 3); eqs. 3.48-3.50."""
         t1, t2, t3 = np.moveaxis(np.asarray(angles, dtype=float), -1, 0)
         reach = self.a1 + self.a3 * np.cos(t2 + t3) + self.a2 * np.cos(t2)
-        return np.stack([np.cos(t1) * reach, np.sin(t1) * reach,
-                         self.a3 * np.sin(t2 + t3) + self.a2 * np.sin(t2)], axis=-1)
+        return np.stack(
+            [
+                np.cos(t1) * reach,
+                np.sin(t1) * reach,
+                self.a3 * np.sin(t2 + t3) + self.a2 * np.sin(t2),
+            ],
+            axis=-1,
+        )
 
     def inverse(self, points: np.ndarray) -> np.ndarray:
-        """Joint angles (..., 3) for foot positions (..., 3); eqs. 3.38-3.43.
+        """
+        Joint angles (..., 3) for foot positions (..., 3); eqs. 3.38-3.43.
 
         Points out of reach give angles whose forward kinematics miss the point (c3 is
         clipped to [-1, 1]); :meth:`reach_error` measures that miss.
@@ -40,7 +68,7 @@ class LegKinematics:
         t1 = np.arctan2(y, x)
         c1, s1 = np.cos(t1), np.sin(t1)
         rho2 = (x - self.a1 * c1) ** 2 + (y - self.a1 * s1) ** 2
-        c3 = (rho2 + z * z - self.a2 ** 2 - self.a3 ** 2) / (2.0 * self.a2 * self.a3)
+        c3 = (rho2 + z * z - self.a2**2 - self.a3**2) / (2.0 * self.a2 * self.a3)
         c3 = np.clip(c3, -1.0, 1.0)
         s3 = -np.sqrt(1.0 - c3 * c3)
         t2 = np.arctan2(z, np.sqrt(rho2)) - np.arctan2(self.a3 * s3, self.a2 + self.a3 * c3)
@@ -48,7 +76,8 @@ class LegKinematics:
         return np.stack([t1, t2, t3], axis=-1)
 
     def joint_velocities(self, angles: np.ndarray, foot_velocities: np.ndarray) -> np.ndarray:
-        """Joint rates (..., 3) [rad/s] for foot velocities (..., 3) [m/s]; eqs. 3.44-3.46.
+        """
+        Joint rates (..., 3) [rad/s] for foot velocities (..., 3) [m/s]; eqs. 3.44-3.46.
 
         Singular where s3 = 0 (leg straight) or the foot is on the coxa axis; callers check
         :meth:`singularity_margin` first.
@@ -67,8 +96,11 @@ class LegKinematics:
         return np.stack([w1, w2, w3], axis=-1)
 
     def singularity_margin(self, angles: np.ndarray) -> np.ndarray:
-        """min(|sin theta3|, horizontal reach from the coxa axis / a1) per point: near 0 the
-        joint-velocity equations blow up."""
+        """
+        min(|sin theta3|, horizontal reach from the coxa axis / a1) per point.
+
+        Near 0 the joint-velocity equations blow up.
+        """
         t2, t3 = np.asarray(angles, dtype=float)[..., 1], np.asarray(angles, dtype=float)[..., 2]
         reach = self.a1 + self.a3 * np.cos(t2 + t3) + self.a2 * np.cos(t2)
         return np.minimum(np.abs(np.sin(t3)), np.abs(reach) / self.a1)

@@ -1,18 +1,39 @@
-"""Gait parameters (thesis table 3.10) as a typed, validated value, and the genotype mapping.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Gait parameters (thesis table 3.10) as a typed, validated value, and the genotype mapping.
 
 A gait is 2 body parameters (velocity, height), 5 parameters per leg (radius, angle offset,
 step height, duty factor, phase offset) and two constants (period, crab angle). MAP-Elites
 searches 32 numbers in [0, 1]; :func:`from_genotype` scales them to the ranges of table 4.1.
 """
+
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
+import math
 from typing import Any, Mapping, Sequence
 
-import numpy as np
-
 from hexapod_description import N_LEGS
+import numpy as np
 
 GENOTYPE_SIZE = 2 + 5 * N_LEGS  # 32
 
@@ -23,52 +44,60 @@ DEFAULT_PERIOD = 1.0
 
 #: Version of the genotype <-> parameters mapping. Archives record it; change it whenever
 #: from_genotype changes so that a map is never read with the wrong meaning.
-GENOTYPE_MAPPING_VERSION = "thesis-4.1/v1"
+GENOTYPE_MAPPING_VERSION = 'thesis-4.1/v1'
 
 #: Allowed ranges, inclusive (table 4.1; period and crab angle are fixed by the mapping but
 #: any value in these ranges is a valid gait for the controller).
 RANGES: dict[str, tuple[float, float]] = {
-    "body_velocity": (0.0, 0.5),          # m/s
-    "body_height": (0.0, 0.2),            # m
-    "period": (0.1, 10.0),                # s
-    "crab_angle": (-math.pi, math.pi),    # rad
-    "radius": (0.0, 0.3),                 # m
-    "angle_offset": (-1.745, 1.745),      # rad
-    "step_height": (0.0, 0.2),            # m
-    "duty_factor": (0.0, 1.0),            # 1
-    "phase_offset": (0.0, 1.0),           # 1
+    'body_velocity': (0.0, 0.5),  # m/s
+    'body_height': (0.0, 0.2),  # m
+    'period': (0.1, 10.0),  # s
+    'crab_angle': (-math.pi, math.pi),  # rad
+    'radius': (0.0, 0.3),  # m
+    'angle_offset': (-1.745, 1.745),  # rad
+    'step_height': (0.0, 0.2),  # m
+    'duty_factor': (0.0, 1.0),  # 1
+    'phase_offset': (0.0, 1.0),  # 1
 }
-UNITS = {"body_velocity": "m/s", "body_height": "m", "period": "s", "crab_angle": "rad",
-         "radius": "m", "angle_offset": "rad", "step_height": "m", "duty_factor": "",
-         "phase_offset": ""}
-SCALAR_FIELDS = ("body_velocity", "body_height", "period", "crab_angle")
-LEG_FIELDS = ("radius", "angle_offset", "step_height", "duty_factor", "phase_offset")
+UNITS = {
+    'body_velocity': 'm/s',
+    'body_height': 'm',
+    'period': 's',
+    'crab_angle': 'rad',
+    'radius': 'm',
+    'angle_offset': 'rad',
+    'step_height': 'm',
+    'duty_factor': '',
+    'phase_offset': '',
+}
+SCALAR_FIELDS = ('body_velocity', 'body_height', 'period', 'crab_angle')
+LEG_FIELDS = ('radius', 'angle_offset', 'step_height', 'duty_factor', 'phase_offset')
 
 
 class GaitParameterError(ValueError):
     """A gait parameter is malformed or out of range; ``field`` names it."""
 
     def __init__(self, field_name: str, message: str):
-        super().__init__(f"{field_name}: {message}")
+        super().__init__(f'{field_name}: {message}')
         self.field = field_name
 
 
 def _range_text(name: str) -> str:
     lo, hi = RANGES[name]
-    unit = f" {UNITS[name]}" if UNITS[name] else ""
-    return f"[{lo:g}, {hi:g}]{unit}"
+    unit = f' {UNITS[name]}' if UNITS[name] else ''
+    return f'[{lo:g}, {hi:g}]{unit}'
 
 
 def _check_scalar(name: str, value: Any) -> float:
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise GaitParameterError(name, f"expected a number, got {value!r}") from None
+        raise GaitParameterError(name, f'expected a number, got {value!r}') from None
     if not math.isfinite(v):
-        raise GaitParameterError(name, f"must be finite, got {v}; allowed {_range_text(name)}")
+        raise GaitParameterError(name, f'must be finite, got {v}; allowed {_range_text(name)}')
     lo, hi = RANGES[name]
     if not lo <= v <= hi:
-        raise GaitParameterError(name, f"{v:g} is outside the allowed range {_range_text(name)}")
+        raise GaitParameterError(name, f'{v:g} is outside the allowed range {_range_text(name)}')
     return v
 
 
@@ -76,23 +105,24 @@ def _check_leg_array(name: str, value: Any) -> np.ndarray:
     try:
         arr = np.array(value, dtype=float).reshape(-1)
     except (TypeError, ValueError):
-        raise GaitParameterError(name, f"expected {N_LEGS} numbers, got {value!r}") from None
+        raise GaitParameterError(name, f'expected {N_LEGS} numbers, got {value!r}') from None
     if arr.size != N_LEGS:
-        raise GaitParameterError(name, f"expected {N_LEGS} values (one per leg), got {arr.size}")
+        raise GaitParameterError(name, f'expected {N_LEGS} values (one per leg), got {arr.size}')
     lo, hi = RANGES[name]
     bad = ~np.isfinite(arr) | (arr < lo) | (arr > hi)
     if bad.any():
         i = int(np.argmax(bad))
         raise GaitParameterError(
-            f"{name}[leg {i + 1}]",
-            f"{arr[i]:g} is outside the allowed range {_range_text(name)}")
+            f'{name}[leg {i + 1}]', f'{arr[i]:g} is outside the allowed range {_range_text(name)}'
+        )
     arr.setflags(write=False)
     return arr
 
 
 @dataclass(frozen=True, eq=False)
 class GaitParameters:
-    """One gait of the kinematic controller (SI units; per-leg arrays are legs 1..6).
+    """
+    One gait of the kinematic controller (SI units; per-leg arrays are legs 1..6).
 
     Construction validates every field and raises :class:`GaitParameterError` naming the
     offending field and its allowed range.
@@ -115,18 +145,25 @@ class GaitParameters:
         for name in LEG_FIELDS:
             object.__setattr__(self, name, _check_leg_array(name, getattr(self, name)))
         try:
-            object.__setattr__(self, "archive_index", int(self.archive_index))
+            object.__setattr__(self, 'archive_index', int(self.archive_index))
         except (TypeError, ValueError):
-            raise GaitParameterError("archive_index", f"expected an integer, got {self.archive_index!r}") from None
+            raise GaitParameterError(
+                'archive_index', f'expected an integer, got {self.archive_index!r}'
+            ) from None
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, GaitParameters):
             return NotImplemented
-        return all(np.array_equal(getattr(self, f), getattr(other, f))
-                   for f in SCALAR_FIELDS + LEG_FIELDS) and self.archive_index == other.archive_index
+        return (
+            all(
+                np.array_equal(getattr(self, f), getattr(other, f))
+                for f in SCALAR_FIELDS + LEG_FIELDS
+            )
+            and self.archive_index == other.archive_index
+        )
 
-    def replace(self, **changes: Any) -> "GaitParameters":
-        """A copy with some fields changed (validated again)."""
+    def replace(self, **changes: Any) -> 'GaitParameters':
+        """Return a copy with some fields changed (validated again)."""
         values = self.to_dict()
         values.update(changes)
         return GaitParameters(**values)
@@ -135,43 +172,56 @@ class GaitParameters:
         """Plain JSON-serialisable dict (lists for per-leg fields)."""
         d: dict[str, Any] = {name: float(getattr(self, name)) for name in SCALAR_FIELDS}
         d.update({name: [float(v) for v in getattr(self, name)] for name in LEG_FIELDS})
-        d["archive_index"] = self.archive_index
+        d['archive_index'] = self.archive_index
         return d
 
     @classmethod
-    def from_dict(cls, values: Mapping[str, Any]) -> "GaitParameters":
-        """Inverse of :meth:`to_dict`; unknown keys are an error, missing ones too
-        (except period, crab_angle and archive_index, which default)."""
-        known = set(SCALAR_FIELDS + LEG_FIELDS + ("archive_index",))
+    def from_dict(cls, values: Mapping[str, Any]) -> 'GaitParameters':
+        """
+        Inverse of :meth:`to_dict`.
+
+        Unknown keys are an error, missing ones too (except period, crab_angle and archive_index,
+        which default).
+        """
+        known = set(SCALAR_FIELDS + LEG_FIELDS + ('archive_index',))
         unknown = set(values) - known
         if unknown:
-            raise GaitParameterError(sorted(unknown)[0], f"unknown gait field; known fields: {sorted(known)}")
-        for name in ("body_velocity", "body_height") + LEG_FIELDS:
+            raise GaitParameterError(
+                sorted(unknown)[0], f'unknown gait field; known fields: {sorted(known)}'
+            )
+        for name in ('body_velocity', 'body_height') + LEG_FIELDS:
             if name not in values:
-                raise GaitParameterError(name, "missing")
+                raise GaitParameterError(name, 'missing')
         return cls(**dict(values))
 
 
 def genotype_fields(genotypes: np.ndarray) -> dict[str, np.ndarray]:
-    """Scale genotypes (G, 32) to gait fields: body_height and body_velocity (G, 1), the
-    per-leg fields (G, 6). The single definition of the mapping, used by from_genotype and by
-    batch computations (e.g. reachability prefilters). No validation."""
+    """
+    Scale genotypes (G, 32) to gait fields.
+
+    body_height and body_velocity (G, 1), the per-leg fields (G, 6). The single definition of the
+    mapping, used by from_genotype and by batch computations (e.g. reachability prefilters). No
+    validation.
+    """
     g = np.asarray(genotypes, dtype=float)
     legs = g[:, 2:].reshape(-1, N_LEGS, 5)
-    lo_off, hi_off = RANGES["angle_offset"]
+    lo_off, hi_off = RANGES['angle_offset']
     return {
-        "body_height": g[:, 0:1] * RANGES["body_height"][1],
-        "body_velocity": g[:, 1:2] * RANGES["body_velocity"][1],
-        "radius": legs[:, :, 0] * RANGES["radius"][1],
-        "angle_offset": lo_off + legs[:, :, 1] * (hi_off - lo_off),
-        "step_height": legs[:, :, 2] * RANGES["step_height"][1],
-        "phase_offset": legs[:, :, 3],
-        "duty_factor": legs[:, :, 4],
+        'body_height': g[:, 0:1] * RANGES['body_height'][1],
+        'body_velocity': g[:, 1:2] * RANGES['body_velocity'][1],
+        'radius': legs[:, :, 0] * RANGES['radius'][1],
+        'angle_offset': lo_off + legs[:, :, 1] * (hi_off - lo_off),
+        'step_height': legs[:, :, 2] * RANGES['step_height'][1],
+        'phase_offset': legs[:, :, 3],
+        'duty_factor': legs[:, :, 4],
     }
 
 
-def from_genotype(genotype: Sequence[float] | np.ndarray, archive_index: int = -1) -> GaitParameters:
-    """Scale a 32-number genotype in [0, 1] to gait parameters (mapping GENOTYPE_MAPPING_VERSION).
+def from_genotype(
+    genotype: Sequence[float] | np.ndarray, archive_index: int = -1
+) -> GaitParameters:
+    """
+    Scale a 32-number genotype in [0, 1] to gait parameters (mapping GENOTYPE_MAPPING_VERSION).
 
     Layout (the thesis code's ``reshape``, so thesis maps import unchanged): g[0] body height,
     g[1] body velocity, then per leg 1..6 five genes: radius, angle offset, step height,
@@ -180,35 +230,52 @@ def from_genotype(genotype: Sequence[float] | np.ndarray, archive_index: int = -
     """
     g = np.asarray(genotype, dtype=float).reshape(-1)
     if g.size != GENOTYPE_SIZE:
-        raise GaitParameterError("genotype", f"expected {GENOTYPE_SIZE} genes, got {g.size}")
+        raise GaitParameterError('genotype', f'expected {GENOTYPE_SIZE} genes, got {g.size}')
     bad = ~np.isfinite(g) | (g < 0.0) | (g > 1.0)
     if bad.any():
         i = int(np.argmax(bad))
-        raise GaitParameterError(f"genotype[{i}]", f"{g[i]:g} is outside the allowed range [0, 1]")
+        raise GaitParameterError(f'genotype[{i}]', f'{g[i]:g} is outside the allowed range [0, 1]')
     fields = genotype_fields(g[None, :])
     return GaitParameters(
-        body_height=fields["body_height"][0, 0], body_velocity=fields["body_velocity"][0, 0],
-        radius=fields["radius"][0], angle_offset=fields["angle_offset"][0],
-        step_height=fields["step_height"][0], phase_offset=fields["phase_offset"][0],
-        duty_factor=fields["duty_factor"][0], archive_index=archive_index,
+        body_height=fields['body_height'][0, 0],
+        body_velocity=fields['body_velocity'][0, 0],
+        radius=fields['radius'][0],
+        angle_offset=fields['angle_offset'][0],
+        step_height=fields['step_height'][0],
+        phase_offset=fields['phase_offset'][0],
+        duty_factor=fields['duty_factor'][0],
+        archive_index=archive_index,
     )
 
 
 def to_genotype(params: GaitParameters) -> np.ndarray:
-    """Inverse of :func:`from_genotype`. Raises if the gait's period or crab angle differ from
-    the mapping's constants (such a gait has no genotype)."""
-    if not math.isclose(params.period, DEFAULT_PERIOD) or not math.isclose(params.crab_angle, DEFAULT_CRAB_ANGLE):
+    """
+    Inverse of :func:`from_genotype`.
+
+    Raises if the gait's period or crab angle differ from the mapping's constants (such a gait has
+    no genotype).
+    """
+    if not math.isclose(params.period, DEFAULT_PERIOD) or not math.isclose(
+        params.crab_angle, DEFAULT_CRAB_ANGLE
+    ):
         raise GaitParameterError(
-            "period/crab_angle",
-            f"only gaits with period {DEFAULT_PERIOD} s and crab angle {DEFAULT_CRAB_ANGLE:.6f} rad "
-            "have a genotype")
-    lo_off, hi_off = RANGES["angle_offset"]
-    legs = np.stack([
-        params.radius / RANGES["radius"][1],
-        (params.angle_offset - lo_off) / (hi_off - lo_off),
-        params.step_height / RANGES["step_height"][1],
-        params.phase_offset,
-        params.duty_factor,
-    ], axis=1)
-    head = [params.body_height / RANGES["body_height"][1], params.body_velocity / RANGES["body_velocity"][1]]
+            'period/crab_angle',
+            f'only gaits with period {DEFAULT_PERIOD} s and crab angle {DEFAULT_CRAB_ANGLE:.6f}'
+            ' rad have a genotype',
+        )
+    lo_off, hi_off = RANGES['angle_offset']
+    legs = np.stack(
+        [
+            params.radius / RANGES['radius'][1],
+            (params.angle_offset - lo_off) / (hi_off - lo_off),
+            params.step_height / RANGES['step_height'][1],
+            params.phase_offset,
+            params.duty_factor,
+        ],
+        axis=1,
+    )
+    head = [
+        params.body_height / RANGES['body_height'][1],
+        params.body_velocity / RANGES['body_velocity'][1],
+    ]
     return np.concatenate([head, legs.reshape(-1)])

@@ -1,4 +1,25 @@
-"""Reference gaits: tripod, wave, quadruped (thesis tables 3.11-3.13) and the control gait.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Reference gaits: tripod, wave, quadruped (thesis tables 3.11-3.13) and the control gait.
 
 The tables give the per-leg parameters only (radius 0.15 m, offset 0, step height 0.06 m,
 phase offsets and duty factors). Body speed and height are chosen here so that all three have
@@ -10,19 +31,24 @@ Table 3.12 lists a duty factor of 1/6 for the wave gait; a wave gait swings one 
 (five legs in stance), which needs beta = 5/6 (as the thesis code uses), so 5/6 is used.
 All presets walk along DEFAULT_CRAB_ANGLE, the map gaits' direction, so speeds compare.
 """
+
 from __future__ import annotations
 
 from hexapod_gait.parameters import GaitParameters
 
-STRIDE = 0.15        # m
-BODY_HEIGHT = 0.14   # m
+STRIDE = 0.15  # m
+BODY_HEIGHT = 0.14  # m
 
 
 def _preset(phase: list[float], duty: float) -> GaitParameters:
     return GaitParameters(
-        body_velocity=STRIDE / duty, body_height=BODY_HEIGHT,
-        radius=[0.15] * 6, angle_offset=[0.0] * 6, step_height=[0.06] * 6,
-        duty_factor=[duty] * 6, phase_offset=phase,
+        body_velocity=STRIDE / duty,
+        body_height=BODY_HEIGHT,
+        radius=[0.15] * 6,
+        angle_offset=[0.0] * 6,
+        step_height=[0.06] * 6,
+        duty_factor=[duty] * 6,
+        phase_offset=phase,
     )
 
 
@@ -42,16 +68,16 @@ def quadruped() -> GaitParameters:
 
 
 def control() -> GaitParameters:
-    """The thesis's control gait (5.2.3): tripod, 0.3 m/s commanded, 140 mm body height."""
+    """Return the thesis's control gait (5.2.3): tripod, 0.3 m/s commanded, 140 mm body height."""
     return tripod()
 
 
-PRESETS = {"tripod": tripod, "wave": wave, "quadruped": quadruped, "control": control}
+PRESETS = {'tripod': tripod, 'wave': wave, 'quadruped': quadruped, 'control': control}
 
 
 def preset(name: str) -> GaitParameters:
-    """A preset by name; ValueError lists the known names."""
+    """Return a preset by name; ValueError lists the known names."""
     try:
         return PRESETS[name]()
     except KeyError:
-        raise ValueError(f"unknown gait preset {name!r}; known: {', '.join(PRESETS)}") from None
+        raise ValueError(f'unknown gait preset {name!r}; known: {", ".join(PRESETS)}') from None

@@ -1,27 +1,56 @@
-"""Conversions between hexapod_gait values and ROS messages (imports message types only,
-not rclpy, so it is usable from any node and from tests)."""
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Conversions between hexapod_gait values and ROS messages.
+
+Imports message types only, not rclpy, so it is usable from any node and from tests.
+"""
+
 from __future__ import annotations
 
 from builtin_interfaces.msg import Duration
+from hexapod_gait.parameters import GaitParameters
+from hexapod_gait.trajectory import JointTable
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
-from hexapod_gait.parameters import GaitParameters
-from hexapod_gait.trajectory import JointTable
-
 
 def gait_from_msg(msg: GaitParametersMsg) -> GaitParameters:
-    """Validated gait from a message; raises GaitParameterError naming the bad field."""
+    """Return the validated gait of a message; GaitParameterError names the bad field."""
     return GaitParameters(
-        body_velocity=msg.body_velocity, body_height=msg.body_height, period=msg.period,
-        crab_angle=msg.crab_angle, radius=list(msg.radius), angle_offset=list(msg.angle_offset),
-        step_height=list(msg.step_height), duty_factor=list(msg.duty_factor),
-        phase_offset=list(msg.phase_offset), archive_index=msg.archive_index,
+        body_velocity=msg.body_velocity,
+        body_height=msg.body_height,
+        period=msg.period,
+        crab_angle=msg.crab_angle,
+        radius=list(msg.radius),
+        angle_offset=list(msg.angle_offset),
+        step_height=list(msg.step_height),
+        duty_factor=list(msg.duty_factor),
+        phase_offset=list(msg.phase_offset),
+        archive_index=msg.archive_index,
     )
 
 
 def gait_to_msg(gait: GaitParameters, msg: GaitParametersMsg | None = None) -> GaitParametersMsg:
-    """A hexapod_msgs/GaitParameters message of a gait."""
+    """Return a hexapod_msgs/GaitParameters message of a gait."""
     out = msg if msg is not None else GaitParametersMsg()
     out.body_velocity = gait.body_velocity
     out.body_height = gait.body_height
@@ -36,15 +65,21 @@ def gait_to_msg(gait: GaitParameters, msg: GaitParametersMsg | None = None) -> G
     return out
 
 
-def table_to_trajectory(table: JointTable, joint_names: tuple[str, ...] | list[str]) -> JointTrajectory:
+def table_to_trajectory(
+    table: JointTable, joint_names: tuple[str, ...] | list[str]
+) -> JointTrajectory:
     """One gait cycle as a JointTrajectory (positions, velocities, time_from_start)."""
     msg = JointTrajectory()
     msg.joint_names = list(joint_names)
     points = []
     for k, (pos, vel) in enumerate(zip(table.positions.tolist(), table.velocities.tolist())):
         ns = int(round(k * 1e9 / table.rate))
-        points.append(JointTrajectoryPoint(
-            positions=pos, velocities=vel,
-            time_from_start=Duration(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000)))
+        points.append(
+            JointTrajectoryPoint(
+                positions=pos,
+                velocities=vel,
+                time_from_start=Duration(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000),
+            )
+        )
     msg.points = points
     return msg

@@ -1,4 +1,25 @@
-"""The ROS glue every node of this workspace shares, in one place:
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+The ROS glue every node of this workspace shares, in one place:.
 
 * the QoS profile of each topic family, one definition used by publishers and subscribers
   alike (a mismatch between the two ends is silent in DDS);
@@ -12,35 +33,52 @@
 It lives in hexapod_gait because that is the bottom of the package graph: every node package
 already depends on it (docs/architecture.md).
 """
+
 from __future__ import annotations
 
+from dataclasses import dataclass
 import re
 import sys
-from dataclasses import dataclass
 from typing import Any, Callable, Sequence
 
-import rclpy
-from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
-from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor, SingleThreadedExecutor
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from geometry_msgs.msg import TransformStamped
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
-from rclpy.parameter import Parameter
+import rclpy
+from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
+from rclpy.executors import (
+    ExternalShutdownException,
+    MultiThreadedExecutor,
+    SingleThreadedExecutor,
+)
 from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+from rclpy.parameter import Parameter
+from rclpy.qos import (
+    DurabilityPolicy,
+    HistoryPolicy,
+    qos_profile_sensor_data,
+    QoSProfile,
+    ReliabilityPolicy,
+)
 
 #: Latched state: the last message is kept for late joiners (gait parameters, the active
 #: trajectory, reset stamps, status topics on the publishing side).
-LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
+LATCHED = QoSProfile(
+    depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE
+)
 #: A latched status topic read as a log: a depth-1 *reader* lets a status be overwritten by the
 #: next one before the executor takes it (two statuses 20 ms apart were lost that way in CI).
-STATUS_LOG = QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
+STATUS_LOG = QoSProfile(
+    depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE
+)
 #: Odometry: trials read it at exact instants (reset, reset + 5 s). In fast mode sim_node sends
 #: ~1000 messages per wall second and a loaded subscriber can lag hundreds behind; a reliable
 #: writer only re-sends what is still in its history, so keep ~5 s of it (KEEP_ALL would make
 #: publish block and then fail when a subscriber stalls).
-ODOM = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000, reliability=ReliabilityPolicy.RELIABLE)
+ODOM = QoSProfile(
+    history=HistoryPolicy.KEEP_LAST, depth=5000, reliability=ReliabilityPolicy.RELIABLE
+)
 #: Sensor streams (joint states, IMU, foot contacts): best effort, latest wins.
 SENSOR = qos_profile_sensor_data
 #: /tf as tf2's broadcasters publish it.
@@ -48,7 +86,7 @@ TF_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
 
 
 def odom_transform(odom: Odometry) -> TransformStamped:
-    """The odometry's pose as the odom -> base_link transform (REP 105), same stamp and frames."""
+    """Return the odometry's pose as the odom -> base_link transform (REP 105), same stamp."""
     t = TransformStamped()
     t.header = odom.header
     t.child_frame_id = odom.child_frame_id
@@ -63,31 +101,37 @@ class ParamSpec:
     """One node parameter: declared from this, and listed by ``<node> --help``."""
 
     name: str
-    default: Any                      # a value, or a rclpy Parameter.Type for "no default"
-    description: str                  # with units
+    default: Any  # a value, or a rclpy Parameter.Type for "no default"
+    description: str  # with units
     read_only: bool = False
-    range: tuple[float, float] | None = None   # inclusive; an IntegerRange for int defaults
+    range: tuple[float, float] | None = None  # noqa: A003 (inclusive; IntegerRange for ints)
 
     def descriptor(self) -> ParameterDescriptor:
-        """The ROS parameter descriptor (description, read-only flag, range)."""
+        """Build the ROS parameter descriptor: description, read-only flag and range."""
         d = ParameterDescriptor(description=self.description, read_only=self.read_only)
         if self.range is not None:
             low, high = self.range
             if isinstance(self.default, int) and not isinstance(self.default, bool):
                 d.integer_range = [IntegerRange(from_value=int(low), to_value=int(high), step=1)]
             else:
-                d.floating_point_range = [FloatingPointRange(from_value=float(low), to_value=float(high))]
+                d.floating_point_range = [
+                    FloatingPointRange(from_value=float(low), to_value=float(high))
+                ]
         return d
 
     def help_line(self) -> str:
         """``name (default ...; range ...; read-only): description``."""
-        default = "no default" if isinstance(self.default, Parameter.Type) else f"default {self.default!r}"
+        default = (
+            'no default'
+            if isinstance(self.default, Parameter.Type)
+            else f'default {self.default!r}'
+        )
         extra = [default]
         if self.range is not None:
-            extra.append(f"range [{self.range[0]:g}, {self.range[1]:g}]")
+            extra.append(f'range [{self.range[0]:g}, {self.range[1]:g}]')
         if self.read_only:
-            extra.append("read-only")
-        return f"  {self.name} ({'; '.join(extra)}): {self.description}"
+            extra.append('read-only')
+        return f'  {self.name} ({"; ".join(extra)}): {self.description}'
 
 
 def declare(node: Node, specs: Sequence[ParamSpec]) -> dict[str, Any]:
@@ -101,47 +145,76 @@ def declare(node: Node, specs: Sequence[ParamSpec]) -> dict[str, Any]:
 
 
 def help_text(executable: str, summary: str, specs: Sequence[ParamSpec]) -> str:
-    """What ``<executable> --help`` prints: the summary and every parameter."""
-    lines = [f"usage: {executable} [--ros-args -p NAME:=VALUE ...]", "", summary.strip(), "", "parameters:"]
+    """Return what ``<executable> --help`` prints: the summary and every parameter."""
+    lines = [
+        f'usage: {executable} [--ros-args -p NAME:=VALUE ...]',
+        '',
+        summary.strip(),
+        '',
+        'parameters:',
+    ]
     lines += [spec.help_line() for spec in specs]
-    return "\n".join(lines)
+    return '\n'.join(lines)
 
 
-def publish_status(node: Node, publisher, level: bytes, message: str, hardware_id: str, **values: object) -> None:
+def publish_status(
+    node: Node, publisher, level: bytes, message: str, hardware_id: str, **values: object
+) -> None:
     """Log ``message`` at the severity of ``level`` and publish it as a DiagnosticStatus."""
-    if level == DiagnosticStatus.ERROR:   # rclpy: one severity per logging call site
+    if level == DiagnosticStatus.ERROR:  # rclpy: one severity per logging call site
         node.get_logger().error(message)
     elif level == DiagnosticStatus.WARN:
         node.get_logger().warning(message)
     else:
         node.get_logger().info(message)
-    publisher.publish(DiagnosticStatus(level=level, name=node.get_fully_qualified_name(), message=message,
-                                       hardware_id=hardware_id,
-                                       values=[KeyValue(key=k, value=str(v)) for k, v in values.items()]))
+    publisher.publish(
+        DiagnosticStatus(
+            level=level,
+            name=node.get_fully_qualified_name(),
+            message=message,
+            hardware_id=hardware_id,
+            values=[KeyValue(key=k, value=str(v)) for k, v in values.items()],
+        )
+    )
 
 
-def run_node(make_node: Callable[[], Node], args: list[str] | None = None, num_threads: int = 1,
-             parameters: Sequence[ParamSpec] | None = None) -> int:
-    """Create the node after ``rclpy.init`` and spin it (multi-threaded if ``num_threads`` > 1).
-    A node whose start-up parameters are unusable raises ValueError from its constructor: that
-    is printed as one line and the process exits with status 2, without a traceback.
-    ``-h`` / ``--help`` (before ``--ros-args``) prints the node's parameters instead of starting."""
+def run_node(
+    make_node: Callable[[], Node],
+    args: list[str] | None = None,
+    num_threads: int = 1,
+    parameters: Sequence[ParamSpec] | None = None,
+) -> int:
+    """
+    Create the node after ``rclpy.init`` and spin it (multi-threaded if ``num_threads`` > 1).
+
+    A node whose start-up parameters are unusable raises ValueError from its constructor: that is
+    printed as one line and the process exits with status 2, without a traceback. ``-h`` /
+    ``--help`` (before ``--ros-args``) prints the node's parameters instead of starting.
+    """
     argv = list(sys.argv[1:] if args is None else args)
-    own = argv[:argv.index("--ros-args")] if "--ros-args" in argv else argv
-    if "-h" in own or "--help" in own:
-        summary = (sys.modules[make_node.__module__].__doc__ or "").split("\n\n")[0]
-        executable = re.sub(r"(?<!^)(?=[A-Z])", "_", getattr(make_node, "__name__", "node")).lower()
+    own = argv[: argv.index('--ros-args')] if '--ros-args' in argv else argv
+    if '-h' in own or '--help' in own:
+        summary = (sys.modules[make_node.__module__].__doc__ or '').split('\n\n')[0]
+        executable = re.sub(
+            r'(?<!^)(?=[A-Z])', '_', getattr(make_node, '__name__', 'node')
+        ).lower()
         print(help_text(executable, summary, parameters or ()))
         return 0
     rclpy.init(args=args)
     node = None
-    executor = MultiThreadedExecutor(num_threads=num_threads) if num_threads > 1 else SingleThreadedExecutor()
+    executor = (
+        MultiThreadedExecutor(num_threads=num_threads)
+        if num_threads > 1
+        else SingleThreadedExecutor()
+    )
     try:
         try:
             node = make_node()
         except (ValueError, InvalidParameterValueException, InvalidParameterTypeException) as exc:
-            name = re.sub(r"(?<!^)(?=[A-Z])", "_", getattr(make_node, "__name__", "node")).lower()   # SimNode -> sim_node
-            print(f"[{name}] refusing to start: {exc}", file=sys.stderr)
+            name = re.sub(
+                r'(?<!^)(?=[A-Z])', '_', getattr(make_node, '__name__', 'node')
+            ).lower()  # SimNode -> sim_node
+            print(f'[{name}] refusing to start: {exc}', file=sys.stderr)
             return 2
         executor.add_node(node)
         executor.spin()
@@ -149,7 +222,7 @@ def run_node(make_node: Callable[[], Node], args: list[str] | None = None, num_t
         pass
     finally:
         if node is not None:
-            shutdown = getattr(node, "shutdown", None)
+            shutdown = getattr(node, 'shutdown', None)
             if callable(shutdown):
                 shutdown()
             node.destroy_node()
@@ -159,25 +232,30 @@ def run_node(make_node: Callable[[], Node], args: list[str] | None = None, num_t
 
 def nodes_named(node: Node, fully_qualified_name: str) -> int:
     """How many nodes in the graph (this one included) carry ``fully_qualified_name``."""
-    name = fully_qualified_name.rstrip("/")
+    name = fully_qualified_name.rstrip('/')
     count = 0
     for other, namespace in node.get_node_names_and_namespaces():
-        if f"{namespace.rstrip('/')}/{other}" == name:
+        if f'{namespace.rstrip("/")}/{other}' == name:
             count += 1
     return count
 
 
 def watch_for_duplicates(node: Node, report: Callable[[str], None], period: float = 2.0) -> None:
-    """Report (once per appearance) when another node with this node's name joins the graph:
-    two simulators or two adaptation servers answering the same services make clients hang."""
-    state = {"reported": False}
+    """
+    Report (once per appearance) when another node with this node's name joins the graph.
+
+    Two simulators or two adaptation servers answering the same services make clients hang.
+    """
+    state = {'reported': False}
 
     def check() -> None:
         count = nodes_named(node, node.get_fully_qualified_name())
-        if count > 1 and not state["reported"]:
-            report(f"{count} nodes named {node.get_fully_qualified_name()} are in the graph: services and topics "
-                   "of that name are ambiguous; stop the extra one or start it with another name "
-                   "(--ros-args -r __node:=NAME)")
-        state["reported"] = count > 1
+        if count > 1 and not state['reported']:
+            report(
+                f'{count} nodes named {node.get_fully_qualified_name()} are in the graph: services'
+                ' and topics of that name are ambiguous; stop the extra one or start it with'
+                ' another name (--ros-args -r __node:=NAME)'
+            )
+        state['reported'] = count > 1
 
     node.create_timer(period, check)

@@ -1,4 +1,25 @@
-"""Foot trajectories and the joint table of one gait cycle (thesis section 3.4.3).
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Foot trajectories and the joint table of one gait cycle (thesis section 3.4.3).
 
 Per leg, in its own cycle time tau in [0, T) (tau = ((t/T - phase_offset) mod 1) * T):
   * support, tau in [0, beta*T): a straight line from p_start to p_end at constant velocity
@@ -12,34 +33,40 @@ Key points (eqs. 3.14-3.18) lie in the leg frame at the coxa joint; the walking 
 (crab angle alpha in base_link) appears in leg n's frame at angle alpha - theta_n.
 Everything is evaluated on arrays (legs x samples); there is no Python loop over time.
 """
+
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
-
-import numpy as np
-
+import functools
 from types import SimpleNamespace
 
-from hexapod_description import N_LEGS, load_model
-from hexapod_gait.kinematics import LegKinematics, default_kinematics
-from hexapod_gait.parameters import DEFAULT_CRAB_ANGLE, DEFAULT_PERIOD, GaitParameters, genotype_fields
+from hexapod_description import load_model, N_LEGS
+from hexapod_gait.kinematics import default_kinematics, LegKinematics
+from hexapod_gait.parameters import (
+    DEFAULT_CRAB_ANGLE,
+    DEFAULT_PERIOD,
+    GaitParameters,
+    genotype_fields,
+)
+import numpy as np
 
 #: Largest FK(IK(p)) - p accepted as "reachable" [m] (section 3.4.5).
 REACH_TOLERANCE = 1e-6
 #: Smallest singularity margin (|sin theta3|, reach/a1) accepted.
 SINGULARITY_TOLERANCE = 1e-4
 _TIME_DECIMALS = 12  # cycle times are compared at 1e-12 s resolution
-SIM_RATE = 240.0     # Hz, PyBullet's step
-ROBOT_RATE = 120.0   # Hz, the robot's gait timer (thesis 4.3.1)
+SIM_RATE = 240.0  # Hz, PyBullet's step
+ROBOT_RATE = 120.0  # Hz, the robot's gait timer (thesis 4.3.1)
 
 
 class ReachabilityError(ValueError):
     """A leg cannot follow its foot path (section 3.4.5); names the leg and the time."""
 
     def __init__(self, leg: int, time: float, period: float, reason: str):
-        super().__init__(f"leg {leg} cannot follow its foot path at t = {time:.4f} s of the "
-                         f"{period:g} s cycle: {reason}")
+        super().__init__(
+            f'leg {leg} cannot follow its foot path at t = {time:.4f} s of the '
+            f'{period:g} s cycle: {reason}'
+        )
         self.leg = leg
         self.time = time
         self.reason = reason
@@ -47,10 +74,14 @@ class ReachabilityError(ValueError):
 
 @dataclass(frozen=True)
 class LegGeometry:
-    """Where the legs are mounted on the body: yaw of each leg frame [rad] and the height of
-    the coxa joints below the base frame origin [m] (both from the URDF)."""
+    """
+    Where the legs are mounted on the body.
 
-    yaw: np.ndarray      # (6,)
+    Yaw of each leg frame [rad] and the height of the coxa joints below the base frame origin [m]
+    (both from the URDF).
+    """
+
+    yaw: np.ndarray  # (6,)
     mount_z: np.ndarray  # (6,)
 
 
@@ -61,36 +92,49 @@ def default_geometry() -> LegGeometry:
     return LegGeometry(np.array([m.yaw for m in mounts]), np.array([m.z for m in mounts]))
 
 
-def key_points(params: GaitParameters, geometry: LegGeometry | None = None
-               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(p_start, p_mid, p_end), each (6, 3), in the leg frames (eqs. 3.14-3.18).
+def key_points(
+    params: GaitParameters, geometry: LegGeometry | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """
+    (p_start, p_mid, p_end), each (6, 3), in the leg frames (eqs. 3.14-3.18).
 
     Also works on batches: any object whose per-leg fields are (G, 6) and whose body fields
     are (G, 1) gives (G, 6, 3) arrays.
     """
     geo = geometry or default_geometry()
-    stride = params.body_velocity * params.period * params.duty_factor          # l_s, eq. 3.17
-    heading = params.crab_angle - geo.yaw                                        # -theta + alpha
+    stride = params.body_velocity * params.period * params.duty_factor  # l_s, eq. 3.17
+    heading = params.crab_angle - geo.yaw  # -theta + alpha
     centre_x = params.radius * np.cos(params.angle_offset)
     centre_y = params.radius * np.sin(params.angle_offset)
     half_x = 0.5 * stride * np.cos(heading)
     half_y = 0.5 * stride * np.sin(heading)
-    ground = -(params.body_height + geo.mount_z) + np.zeros_like(centre_x)      # -h_b + 0.014
+    ground = -(params.body_height + geo.mount_z) + np.zeros_like(centre_x)  # -h_b + 0.014
     start = np.stack([centre_x + half_x, centre_y + half_y, ground], axis=-1)
     end = np.stack([centre_x - half_x, centre_y - half_y, ground], axis=-1)
     mid = np.stack([centre_x, centre_y, ground + params.step_height], axis=-1)
     return start, mid, end
 
 
-def reachable_key_points(genotypes: np.ndarray, kinematics: LegKinematics | None = None,
-                         geometry: LegGeometry | None = None) -> np.ndarray:
-    """(G,) bool: every leg's three key points are reachable. A cheap necessary condition for
-    :func:`build_joint_table` to succeed, for filtering many random genotypes at once."""
+def reachable_key_points(
+    genotypes: np.ndarray,
+    kinematics: LegKinematics | None = None,
+    geometry: LegGeometry | None = None,
+) -> np.ndarray:
+    """
+    (G,) bool: every leg's three key points are reachable.
+
+    A cheap necessary condition for :func:`build_joint_table` to succeed, for filtering many random
+    genotypes at once.
+    """
     kin = kinematics or default_kinematics()
-    batch = SimpleNamespace(period=DEFAULT_PERIOD, crab_angle=DEFAULT_CRAB_ANGLE, **genotype_fields(genotypes))
-    points = np.stack(key_points(batch, geometry), axis=-2)                     # (G, 6, 3, 3)
+    batch = SimpleNamespace(
+        period=DEFAULT_PERIOD, crab_angle=DEFAULT_CRAB_ANGLE, **genotype_fields(genotypes)
+    )
+    points = np.stack(key_points(batch, geometry), axis=-2)  # (G, 6, 3, 3)
     angles = kin.inverse(points)
-    ok = (kin.reach_error(points, angles) <= REACH_TOLERANCE) & (kin.singularity_margin(angles) >= SINGULARITY_TOLERANCE)
+    ok = (kin.reach_error(points, angles) <= REACH_TOLERANCE) & (
+        kin.singularity_margin(angles) >= SINGULARITY_TOLERANCE
+    )
     return ok.all(axis=(-1, -2))
 
 
@@ -109,32 +153,34 @@ def stance_mask(params: GaitParameters, times: np.ndarray) -> np.ndarray:
     return (tau < np.round(params.duty_factor[:, None] * params.period, _TIME_DECIMALS)).T
 
 
-def foot_trajectory(params: GaitParameters, times: np.ndarray, geometry: LegGeometry | None = None
-                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def foot_trajectory(
+    params: GaitParameters, times: np.ndarray, geometry: LegGeometry | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Foot positions (6, N, 3) [m], velocities (6, N, 3) [m/s] and stance (6, N) at times (N,)."""
     start, mid, end = key_points(params, geometry)
     period = params.period
-    tau = leg_cycle_time(params, times)                                          # (6, N)
-    t_support = params.duty_factor[:, None] * period                             # (6, 1)
+    tau = leg_cycle_time(params, times)  # (6, N)
+    t_support = params.duty_factor[:, None] * period  # (6, 1)
     t_swing = period - t_support
     stance = tau < np.round(t_support, _TIME_DECIMALS)
 
     # Support: linear start -> end.
-    support_velocity = np.divide(end - start, t_support, out=np.zeros_like(start),
-                                 where=t_support > 0)                            # (6, 3)
+    support_velocity = np.divide(
+        end - start, t_support, out=np.zeros_like(start), where=t_support > 0
+    )  # (6, 3)
     support_pos = start[:, None, :] + support_velocity[:, None, :] * tau[..., None]
 
     # Swing: polynomial end -> mid -> start in normalised time s.
     tf = np.where(t_swing > 0, t_swing, 1.0)
-    s = np.clip((tau - t_support) / tf, 0.0, 1.0)[..., None]                     # (6, N, 1)
+    s = np.clip((tau - t_support) / tf, 0.0, 1.0)[..., None]  # (6, N, 1)
     dm = (mid - end)[:, None, :]
     de = (start - end)[:, None, :]
     s2 = s * s
     s3 = s2 * s
     one_minus = 1.0 - s
-    pm = 64.0 * s3 * one_minus ** 3
+    pm = 64.0 * s3 * one_minus**3
     pe = s3 * (-22.0 + s * (81.0 + s * (-90.0 + 32.0 * s)))
-    dpm = 192.0 * s2 * one_minus ** 2 * (1.0 - 2.0 * s)
+    dpm = 192.0 * s2 * one_minus**2 * (1.0 - 2.0 * s)
     dpe = s2 * (-66.0 + s * (324.0 + s * (-450.0 + 192.0 * s)))
     swing_pos = end[:, None, :] + dm * pm + de * pe
     swing_vel = (dm * dpm + de * dpe) / tf[..., None]
@@ -147,17 +193,18 @@ def foot_trajectory(params: GaitParameters, times: np.ndarray, geometry: LegGeom
 
 @dataclass(frozen=True)
 class JointTable:
-    """Joint angles and rates of one gait cycle, sampled at ``rate``.
+    """
+    Joint angles and rates of one gait cycle, sampled at ``rate``.
 
     Row k is time k / rate; columns are the 18 joints in URDF order (leg 1..6, each coxa,
     femur, tibia). Playing the rows cyclically walks the gait.
     """
 
-    rate: float               # Hz
-    period: float             # s
-    positions: np.ndarray     # (N, 18) rad
-    velocities: np.ndarray    # (N, 18) rad/s
-    stance: np.ndarray        # (N, 6) bool, legs 1..6
+    rate: float  # Hz
+    period: float  # s
+    positions: np.ndarray  # (N, 18) rad
+    velocities: np.ndarray  # (N, 18) rad/s
+    stance: np.ndarray  # (N, 6) bool, legs 1..6
 
     @property
     def times(self) -> np.ndarray:
@@ -169,41 +216,59 @@ class JointTable:
 
 
 def samples_per_cycle(period: float, rate: float) -> int:
-    """Number of control steps in one cycle; period * rate must be a whole number."""
+    """Return the number of control steps in one cycle; period * rate must be a whole number."""
     n = period * rate
     steps = int(round(n))
     if steps < 2 or abs(n - steps) > 1e-6 * max(1.0, n):
-        raise ValueError(f"period {period:g} s x rate {rate:g} Hz = {n:g} samples: "
-                         "must be a whole number of at least 2")
+        raise ValueError(
+            f'period {period:g} s x rate {rate:g} Hz = {n:g} samples: '
+            'must be a whole number of at least 2'
+        )
     return steps
 
 
-def build_joint_table(params: GaitParameters, rate: float = SIM_RATE,
-                      kinematics: LegKinematics | None = None,
-                      geometry: LegGeometry | None = None) -> JointTable:
-    """Joint table of one cycle at ``rate`` Hz. Raises :class:`ReachabilityError` if a foot
-    point cannot be reached or lies on a kinematic singularity."""
+def build_joint_table(
+    params: GaitParameters,
+    rate: float = SIM_RATE,
+    kinematics: LegKinematics | None = None,
+    geometry: LegGeometry | None = None,
+) -> JointTable:
+    """
+    Joint table of one cycle at ``rate`` Hz.
+
+    Raises :class:`ReachabilityError` if a foot point cannot be reached or lies on a kinematic
+    singularity.
+    """
     kin = kinematics or default_kinematics()
     n = samples_per_cycle(params.period, rate)
     times = np.arange(n) / rate
     feet, foot_vel, stance = foot_trajectory(params, times, geometry)
-    angles = kin.inverse(feet)                                                   # (6, N, 3)
+    angles = kin.inverse(feet)  # (6, N, 3)
 
     bad = kin.reach_error(feet, angles) > REACH_TOLERANCE
     if bad.any():
         leg, k = np.unravel_index(int(np.argmax(bad)), bad.shape)
         miss = float(kin.reach_error(feet[leg, k], angles[leg, k]))
-        raise ReachabilityError(int(leg) + 1, float(times[k]), params.period,
-                                f"foot point out of reach by {miss * 1000:.1f} mm")
+        raise ReachabilityError(
+            int(leg) + 1,
+            float(times[k]),
+            params.period,
+            f'foot point out of reach by {miss * 1000:.1f} mm',
+        )
     margin = kin.singularity_margin(angles)
     bad = margin < SINGULARITY_TOLERANCE
     if bad.any():
         leg, k = np.unravel_index(int(np.argmax(bad)), bad.shape)
-        raise ReachabilityError(int(leg) + 1, float(times[k]), params.period,
-                                "kinematic singularity (leg fully stretched or foot on the coxa axis)")
+        raise ReachabilityError(
+            int(leg) + 1,
+            float(times[k]),
+            params.period,
+            'kinematic singularity (leg fully stretched or foot on the coxa axis)',
+        )
     rates = kin.joint_velocities(angles, foot_vel)
     return JointTable(
-        rate=float(rate), period=params.period,
+        rate=float(rate),
+        period=params.period,
         positions=np.ascontiguousarray(angles.transpose(1, 0, 2).reshape(n, 3 * N_LEGS)),
         velocities=np.ascontiguousarray(rates.transpose(1, 0, 2).reshape(n, 3 * N_LEGS)),
         stance=np.ascontiguousarray(stance.T),

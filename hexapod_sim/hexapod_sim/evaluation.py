@@ -1,4 +1,25 @@
-"""Gait evaluation for MAP-Elites and adaptation (thesis 4.1.1, 4.1.2, 4.1.4, 4.2.5, 5.2.2).
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Gait evaluation for MAP-Elites and adaptation (thesis 4.1.1, 4.1.2, 4.1.4, 4.2.5, 5.2.2).
 
 genotype or gait -> (fitness, descriptor):
   fitness    = distance travelled by the base along the walking direction in ``duration``
@@ -12,19 +33,19 @@ thesis's: fitness 0, descriptor all zeros, with ``valid`` False and a reason.
 Works on any engine through :class:`~hexapod_sim.simulator.Simulator`; :func:`evaluate_gaits`
 hands a whole batch to the engine at once (MuJoCo runs it natively in C).
 """
+
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
+import math
 from typing import Sequence
 
+from hexapod_description import N_LEGS
+from hexapod_gait import build_joint_table, from_genotype, GaitParameters, ReachabilityError
+from hexapod_sim.simulator import JointRows, Simulator
 import numpy as np
 
-from hexapod_description import N_LEGS
-from hexapod_gait import GaitParameters, ReachabilityError, build_joint_table, from_genotype
-from hexapod_sim.simulator import JointRows, Simulator
-
-TRIAL_DURATION = 5.0   # s (thesis 4.1.1)
+TRIAL_DURATION = 5.0  # s (thesis 4.1.1)
 FAILURE_FITNESS = 0.0
 
 GaitLike = GaitParameters | Sequence[float] | np.ndarray
@@ -34,14 +55,14 @@ GaitLike = GaitParameters | Sequence[float] | np.ndarray
 class EvaluationResult:
     """The outcome of one evaluation; the one result type from the simulator to the archive."""
 
-    fitness: float                # m along the walking direction (FAILURE_FITNESS if invalid)
-    descriptor: np.ndarray        # (6,) duty factor per leg, 0..1 (zeros if invalid)
+    fitness: float  # m along the walking direction (FAILURE_FITNESS if invalid)
+    descriptor: np.ndarray  # (6,) duty factor per leg, 0..1 (zeros if invalid)
     valid: bool
-    reason: str                   # why it is invalid; empty if valid
-    duration: float               # simulated seconds
-    collision_steps: int = 0      # steps with a collision (collisions not fatal)
-    contacts: np.ndarray | None = None   # (steps, 6) measured foot contacts, if recorded
-    seconds: float = 0.0          # compute time of this evaluation [s] (for utilisation figures)
+    reason: str  # why it is invalid; empty if valid
+    duration: float  # simulated seconds
+    collision_steps: int = 0  # steps with a collision (collisions not fatal)
+    contacts: np.ndarray | None = None  # (steps, 6) measured foot contacts, if recorded
+    seconds: float = 0.0  # compute time of this evaluation [s] (for utilisation figures)
 
     @property
     def speed(self) -> float:
@@ -50,22 +71,30 @@ class EvaluationResult:
 
 
 def failure(reason: str, duration: float) -> EvaluationResult:
-    """The thesis's failure value with a reason."""
+    """Return the thesis's failure value with a reason."""
     return EvaluationResult(FAILURE_FITNESS, np.zeros(N_LEGS), False, reason, duration)
 
 
-def evaluate_gaits(gaits: Sequence[GaitLike], sim: Simulator, duration: float = TRIAL_DURATION,
-                   collisions_fatal: bool = True, failed_legs: Sequence[int] | None = None,
-                   record_contacts: bool = False) -> list[EvaluationResult]:
-    """Evaluate gaits (or 32-gene genotypes) on ``sim``, one result each, in order;
-    deterministic for a given input. ``failed_legs`` (if given) is applied first and kept."""
+def evaluate_gaits(
+    gaits: Sequence[GaitLike],
+    sim: Simulator,
+    duration: float = TRIAL_DURATION,
+    collisions_fatal: bool = True,
+    failed_legs: Sequence[int] | None = None,
+    record_contacts: bool = False,
+) -> list[EvaluationResult]:
+    """
+    Evaluate gaits (or 32-gene genotypes) on ``sim``, one result each, in order.
+
+    Deterministic for a given input. ``failed_legs`` (if given) is applied first and kept.
+    """
     if not math.isfinite(duration) or duration <= 0:
-        raise ValueError(f"duration must be a positive number of seconds, got {duration!r}")
+        raise ValueError(f'duration must be a positive number of seconds, got {duration!r}')
     if failed_legs is not None:
         sim.set_failed_legs(failed_legs)
     n_steps = int(round(duration / sim.dt))
     if n_steps < 1:
-        raise ValueError(f"duration {duration!r} s is shorter than one time step ({sim.dt:g} s)")
+        raise ValueError(f'duration {duration!r} s is shorter than one time step ({sim.dt:g} s)')
     results: list[EvaluationResult | None] = [None] * len(gaits)
     params: list[GaitParameters] = []
     tables: list[JointRows] = []
@@ -75,15 +104,17 @@ def evaluate_gaits(gaits: Sequence[GaitLike], sim: Simulator, duration: float = 
             g = gait if isinstance(gait, GaitParameters) else from_genotype(gait)
             table = build_joint_table(g, rate=1.0 / sim.dt)
         except ReachabilityError as exc:
-            results[i] = failure(f"unreachable: {exc}", duration)
+            results[i] = failure(f'unreachable: {exc}', duration)
             continue
         except ValueError as exc:
-            results[i] = failure(f"invalid: {exc}", duration)
+            results[i] = failure(f'invalid: {exc}', duration)
             continue
         params.append(g)
         tables.append(JointRows(table.positions, table.velocities))
         slots.append(i)
-    played = sim.rollout(tables, n_steps, stop_on_collision=collisions_fatal, record_contacts=record_contacts)
+    played = sim.rollout(
+        tables, n_steps, stop_on_collision=collisions_fatal, record_contacts=record_contacts
+    )
     for i, g, r in zip(slots, params, played):
         if r.unstable is not None:
             results[i] = failure(r.unstable, duration)
@@ -93,13 +124,25 @@ def evaluate_gaits(gaits: Sequence[GaitLike], sim: Simulator, duration: float = 
             continue
         direction = (math.cos(g.crab_angle), math.sin(g.crab_angle))
         fitness = float(r.final_position[0] * direction[0] + r.final_position[1] * direction[1])
-        results[i] = EvaluationResult(fitness, r.contact_steps.astype(float) / n_steps, True, "", duration,
-                                      r.collision_steps, r.contacts)
+        results[i] = EvaluationResult(
+            fitness,
+            r.contact_steps.astype(float) / n_steps,
+            True,
+            '',
+            duration,
+            r.collision_steps,
+            r.contacts,
+        )
     return [r for r in results if r is not None]
 
 
-def evaluate_gait(gait: GaitLike, sim: Simulator, duration: float = TRIAL_DURATION,
-                  collisions_fatal: bool = True, failed_legs: Sequence[int] | None = None,
-                  record_contacts: bool = False) -> EvaluationResult:
+def evaluate_gait(
+    gait: GaitLike,
+    sim: Simulator,
+    duration: float = TRIAL_DURATION,
+    collisions_fatal: bool = True,
+    failed_legs: Sequence[int] | None = None,
+    record_contacts: bool = False,
+) -> EvaluationResult:
     """Evaluate one gait (or 32-gene genotype) on ``sim``; deterministic for a given input."""
     return evaluate_gaits([gait], sim, duration, collisions_fatal, failed_legs, record_contacts)[0]

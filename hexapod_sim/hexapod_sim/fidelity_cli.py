@@ -1,53 +1,97 @@
-"""``ros2 run hexapod_sim fidelity_table``: the fidelity table (markdown) for one or both
-engines, and with ``--agreement-map`` how well the engines agree over a map's gaits.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+``ros2 run hexapod_sim fidelity_table``.
+
+The fidelity table (markdown) for one or both engines, and with ``--agreement-map`` how well the
+engines agree over a map's gaits.
 
     fidelity_table                                   # both engines side by side
     fidelity_table --engine mujoco
     fidelity_table --agreement-map hexapod_adapt/maps/demo_map.npz
 """
+
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
-
-import numpy as np
+import sys
 
 from hexapod_sim.fidelity import agreement, fidelity_rows, markdown
-from hexapod_sim.simulator import ENGINES, SimConfig, create_simulator
+from hexapod_sim.simulator import create_simulator, ENGINES, SimConfig
+import numpy as np
 
 
 def map_genotypes(path: Path) -> np.ndarray:
-    """The genotypes of the filled niches of an archive file (.npz written by generate_map)."""
+    """Return the genotypes of the filled niches of an archive file (written by generate_map)."""
     try:
         with np.load(path, allow_pickle=False) as data:
-            fitness, genotypes = np.asarray(data["fitness"], dtype=float), np.asarray(data["genotypes"], dtype=float)
+            fitness, genotypes = (
+                np.asarray(data['fitness'], dtype=float),
+                np.asarray(data['genotypes'], dtype=float),
+            )
     except (OSError, KeyError, ValueError) as exc:
-        raise ValueError(f"{path}: not an archive with fitness and genotypes arrays ({exc})") from exc
+        raise ValueError(
+            f'{path}: not an archive with fitness and genotypes arrays ({exc})'
+        ) from exc
     return genotypes[np.isfinite(fitness)]
 
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of ``fidelity_table``; exit status 2 for an unreadable map."""
-    parser = argparse.ArgumentParser(description="Simulated speeds of the reference gaits per failure scenario, "
-                                                 "per engine, and the engines' agreement over a map's gaits.")
-    parser.add_argument("--engine", choices=ENGINES + ("both",), default="both", help="engine(s) to tabulate")
-    parser.add_argument("--agreement-map", type=Path, default=None,
-                        help="archive (.npz) whose gaits the two engines are compared on")
+    parser = argparse.ArgumentParser(
+        description=(
+            'Simulated speeds of the reference gaits per failure scenario, '
+            "per engine, and the engines' agreement over a map's gaits."
+        )
+    )
+    parser.add_argument(
+        '--engine', choices=ENGINES + ('both',), default='both', help='engine(s) to tabulate'
+    )
+    parser.add_argument(
+        '--agreement-map',
+        type=Path,
+        default=None,
+        help='archive (.npz) whose gaits the two engines are compared on',
+    )
     args = parser.parse_args(argv)
-    engines = ENGINES if args.engine == "both" else (args.engine,)
-    sims = {name: create_simulator(SimConfig(engine=name)) for name in ENGINES
-            if name in engines or args.agreement_map}
+    engines = ENGINES if args.engine == 'both' else (args.engine,)
+    sims = {
+        name: create_simulator(SimConfig(engine=name))
+        for name in ENGINES
+        if name in engines or args.agreement_map
+    }
     try:
         rows = [row for name in engines for row in fidelity_rows(sims[name])]
         print(markdown(rows))
         if args.agreement_map:
             genotypes = map_genotypes(args.agreement_map)
-            a = agreement(genotypes, sims["pybullet"], sims["mujoco"])
-            print(f"\nagreement over the {a.gaits} gaits of {args.agreement_map} (collisions not fatal): "
-                  f"Spearman {a.spearman:.3f}, mean |descriptor difference| {a.mean_abs_descriptor:.3f}")
+            a = agreement(genotypes, sims['pybullet'], sims['mujoco'])
+            print(
+                f'\nagreement over the {a.gaits} gaits of {args.agreement_map} (collisions not'
+                f' fatal): Spearman {a.spearman:.3f}, mean |descriptor difference|'
+                f' {a.mean_abs_descriptor:.3f}'
+            )
     except ValueError as exc:
-        print(f"fidelity_table: {exc}", file=sys.stderr)
+        print(f'fidelity_table: {exc}', file=sys.stderr)
         return 2
     finally:
         for sim in sims.values():
@@ -55,5 +99,5 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

@@ -1,4 +1,25 @@
-"""The MuJoCo engine: the fast engine for map generation and large experiments.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+The MuJoCo engine: the fast engine for map generation and large experiments.
 
 The model is built at load time from hexapod_description's URDF with ``MjSpec``, so geometry,
 masses, inertias, joint limits and the effort and velocity limits have one source of truth.
@@ -16,56 +37,73 @@ proportional position servo saturating at the URDF effort limit, plus the motor'
 which makes the URDF velocity limit the no-load speed. The RX firmware has no velocity
 feed-forward, so the table's velocities are not used by this engine.
 """
+
 from __future__ import annotations
 
-import math
-import xml.etree.ElementTree as ET
 from dataclasses import dataclass
+import math
 from typing import Any, Sequence
-
-import mujoco
-import numpy as np
-from mujoco import rollout as mj_rollout
+import xml.etree.ElementTree as ET
 
 from hexapod_description import N_LEGS
-from hexapod_sim.simulator import FAILURE_POSE, JointRows, PlayResult, SimConfig, Simulator, StepReport
+from hexapod_sim.simulator import (
+    FAILURE_POSE,
+    JointRows,
+    PlayResult,
+    SimConfig,
+    Simulator,
+    StepReport,
+)
+import mujoco
+from mujoco import rollout as mj_rollout
+import numpy as np
 
 #: Dynamixel RX position units: 1024 over 300 degrees (both RX-28 and RX-64).
 DYNAMIXEL_RAD_PER_UNIT = math.radians(300.0) / 1024.0
-INTEGRATORS = {"implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
-               "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
-               "euler": mujoco.mjtIntegrator.mjINT_EULER}
-CONES = {"pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL, "elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC}
-SOLVERS = {"newton": mujoco.mjtSolver.mjSOL_NEWTON, "cg": mujoco.mjtSolver.mjSOL_CG,
-           "pgs": mujoco.mjtSolver.mjSOL_PGS}
+INTEGRATORS = {
+    'implicitfast': mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
+    'implicit': mujoco.mjtIntegrator.mjINT_IMPLICIT,
+    'euler': mujoco.mjtIntegrator.mjINT_EULER,
+}
+CONES = {'pyramidal': mujoco.mjtCone.mjCONE_PYRAMIDAL, 'elliptic': mujoco.mjtCone.mjCONE_ELLIPTIC}
+SOLVERS = {
+    'newton': mujoco.mjtSolver.mjSOL_NEWTON,
+    'cg': mujoco.mjtSolver.mjSOL_CG,
+    'pgs': mujoco.mjtSolver.mjSOL_PGS,
+}
 
 
 def _in_range(name: str, value: float, low: float, high: float) -> None:
     if not (isinstance(value, (int, float)) and math.isfinite(value) and low <= value <= high):
-        raise ValueError(f"MuJoCo setting {name} must be in [{low:g}, {high:g}], got {value!r}")
+        raise ValueError(f'MuJoCo setting {name} must be in [{low:g}, {high:g}], got {value!r}')
 
 
 def _choice(name: str, value: str, options: dict) -> None:
     if value not in options:
-        raise ValueError(f"MuJoCo setting {name} must be one of {', '.join(options)}, got {value!r}")
+        raise ValueError(
+            f'MuJoCo setting {name} must be one of {", ".join(options)}, got {value!r}'
+        )
 
 
 @dataclass(frozen=True)
 class MujocoSettings:
-    """Every engine-specific choice of the MuJoCo model, each with its reason
-    (docs/simulator.md shows how the results move when they change)."""
+    """
+    Every engine-specific choice of the MuJoCo model, each with its reason.
+
+    Docs/simulator.md shows how the results move when they change.
+    """
 
     #: 240 Hz: the thesis's step, PyBullet's, and the rate of the gait tables (one row per step).
     time_step: float = 1.0 / 240.0
     #: implicit in the servo damping and back-EMF terms: stiff servos stay stable at 240 Hz.
-    integrator: str = "implicitfast"
+    integrator: str = 'implicitfast'
     #: Newton converges in a few iterations on this small model; 20 is a cap it rarely reaches.
-    solver: str = "newton"
+    solver: str = 'newton'
     iterations: int = 20
     tolerance: float = 1e-8
     #: MuJoCo's default friction cone; elliptic gave the same ranking (Spearman within 0.03) at
     #: 1.6x the cost (docs/simulator.md).
-    cone: str = "pyramidal"
+    cone: str = 'pyramidal'
     #: Dynamixel compliance slope in position units: the error over which the servo's torque
     #: ramps from 0 to its maximum. 32 is the RX-28/RX-64 factory default (the robot's firmware
     #: does not change it). kp = effort / (slope x 300 deg / 1024) = 21.2 (RX-28) and
@@ -86,20 +124,22 @@ class MujocoSettings:
     rolling_friction: float = 0.0001
 
     def __post_init__(self) -> None:
-        _in_range("time_step", self.time_step, 1e-4, 0.01)
-        _choice("integrator", self.integrator, INTEGRATORS)
-        _choice("solver", self.solver, SOLVERS)
-        _choice("cone", self.cone, CONES)
+        _in_range('time_step', self.time_step, 1e-4, 0.01)
+        _choice('integrator', self.integrator, INTEGRATORS)
+        _choice('solver', self.solver, SOLVERS)
+        _choice('cone', self.cone, CONES)
         if isinstance(self.iterations, bool) or not isinstance(self.iterations, int):
-            raise ValueError(f"MuJoCo setting iterations must be an integer, got {self.iterations!r}")
-        _in_range("iterations", self.iterations, 1, 1000)
-        _in_range("tolerance", self.tolerance, 0.0, 1e-2)
-        _in_range("compliance_slope", self.compliance_slope, 1.0, 256.0)
-        _in_range("armature", self.armature, 0.0, 1.0)
-        _in_range("contact_timeconst", self.contact_timeconst, 2 * self.time_step, 1.0)
-        _in_range("contact_dampratio", self.contact_dampratio, 0.1, 10.0)
-        _in_range("torsional_friction", self.torsional_friction, 0.0, 1.0)
-        _in_range("rolling_friction", self.rolling_friction, 0.0, 1.0)
+            raise ValueError(
+                f'MuJoCo setting iterations must be an integer, got {self.iterations!r}'
+            )
+        _in_range('iterations', self.iterations, 1, 1000)
+        _in_range('tolerance', self.tolerance, 0.0, 1e-2)
+        _in_range('compliance_slope', self.compliance_slope, 1.0, 256.0)
+        _in_range('armature', self.armature, 0.0, 1.0)
+        _in_range('contact_timeconst', self.contact_timeconst, 2 * self.time_step, 1.0)
+        _in_range('contact_dampratio', self.contact_dampratio, 0.1, 10.0)
+        _in_range('torsional_friction', self.torsional_friction, 0.0, 1.0)
+        _in_range('rolling_friction', self.rolling_friction, 0.0, 1.0)
 
     def servo_kp(self, effort: float) -> float:
         """Proportional gain [N m/rad] of a servo with this stall torque [N m]."""
@@ -115,17 +155,17 @@ _ALL = 0x7FFFFFFF
 
 def _urdf_with_free_base(path: str) -> str:
     root = ET.parse(path).getroot()
-    ET.SubElement(root, "link", name="hexapod_world_root")
-    joint = ET.SubElement(root, "joint", name="base_free", type="floating")
-    ET.SubElement(joint, "parent", link="hexapod_world_root")
-    ET.SubElement(joint, "child", link="base_link")
-    return ET.tostring(root, encoding="unicode")
+    ET.SubElement(root, 'link', name='hexapod_world_root')
+    joint = ET.SubElement(root, 'joint', name='base_free', type='floating')
+    ET.SubElement(joint, 'parent', link='hexapod_world_root')
+    ET.SubElement(joint, 'child', link='base_link')
+    return ET.tostring(root, encoding='unicode')
 
 
 class MujocoSimulator(Simulator):
     """The hexapod in MuJoCo."""
 
-    engine = "mujoco"
+    engine = 'mujoco'
 
     def __init__(self, config: SimConfig | None = None):
         super().__init__(config)
@@ -137,12 +177,12 @@ class MujocoSimulator(Simulator):
         self._dadr = np.array([m.jnt_dofadr[m.joint(name).id] for name in self.model.joint_names])
         self._act = np.array([m.actuator(name).id for name in self.model.joint_names])
         sensor = {m.sensor(i).name: int(m.sensor_adr[i]) for i in range(m.nsensor)}
-        self._foot_adr = np.array([sensor[f"foot_{leg}"] for leg in range(1, N_LEGS + 1)])
-        self._ground_links = [name for name in self._link_bodies() if not name.endswith("_3")]
-        self._ground_adr = np.array([sensor[f"ground_{name}"] for name in self._ground_links])
-        self._self_adr = sensor["self_collision"]
-        self._coxa_geoms = [self._geoms_of(f"link_{leg}_1") for leg in range(1, N_LEGS + 1)]
-        self._tibia_geoms = [self._geoms_of(f"link_{leg}_3") for leg in range(1, N_LEGS + 1)]
+        self._foot_adr = np.array([sensor[f'foot_{leg}'] for leg in range(1, N_LEGS + 1)])
+        self._ground_links = [name for name in self._link_bodies() if not name.endswith('_3')]
+        self._ground_adr = np.array([sensor[f'ground_{name}'] for name in self._ground_links])
+        self._self_adr = sensor['self_collision']
+        self._coxa_geoms = [self._geoms_of(f'link_{leg}_1') for leg in range(1, N_LEGS + 1)]
+        self._tibia_geoms = [self._geoms_of(f'link_{leg}_3') for leg in range(1, N_LEGS + 1)]
         self._state_spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
         self._nstate = mujoco.mj_stateSize(m, self._state_spec)
         self._renderer: Any = None
@@ -151,7 +191,9 @@ class MujocoSimulator(Simulator):
 
     # -- the model -------------------------------------------------------------------------------
     def _link_bodies(self) -> list[str]:
-        return ["base_link"] + [f"link_{leg}_{k}" for leg in range(1, N_LEGS + 1) for k in (1, 2, 3)]
+        return ['base_link'] + [
+            f'link_{leg}_{k}' for leg in range(1, N_LEGS + 1) for k in (1, 2, 3)
+        ]
 
     def _geoms_of(self, body: str) -> np.ndarray:
         return np.flatnonzero(self.m.geom_bodyid == self.m.body(body).id)
@@ -167,12 +209,20 @@ class MujocoSimulator(Simulator):
         spec.option.tolerance = s.tolerance
         spec.option.gravity = [0.0, 0.0, -9.81]
         friction = [cfg.friction, s.torsional_friction, s.rolling_friction]
-        spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0.0, 0.0, 1.0],
-                                rgba=[0.82, 0.84, 0.86, 1.0])
+        spec.worldbody.add_geom(
+            name='floor',
+            type=mujoco.mjtGeom.mjGEOM_PLANE,
+            size=[0.0, 0.0, 1.0],
+            rgba=[0.82, 0.84, 0.86, 1.0],
+        )
         # for rendered frames only (lights take no part in the physics)
-        spec.worldbody.add_light(name="sun", pos=[0.0, 0.0, 3.0], dir=[0.0, 0.0, -1.0],
-                                 type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
-                                 diffuse=[0.8, 0.8, 0.8])
+        spec.worldbody.add_light(
+            name='sun',
+            pos=[0.0, 0.0, 3.0],
+            dir=[0.0, 0.0, -1.0],
+            type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
+            diffuse=[0.8, 0.8, 0.8],
+        )
         for geom in spec.geoms:
             geom.friction = friction
             # no friction at all is a 1-D (normal-only) contact: a zero-width pyramid is singular
@@ -181,13 +231,15 @@ class MujocoSimulator(Simulator):
             geom.solref = [s.contact_timeconst, s.contact_dampratio]
         # Section 3.5.3: the femurs would hit the base before their joint limits.
         for leg in range(1, N_LEGS + 1):
-            spec.add_exclude(bodyname1="base_link", bodyname2=f"link_{leg}_2")
+            spec.add_exclude(bodyname1='base_link', bodyname2=f'link_{leg}_2')
         for lim in self.model.limits:
             joint = spec.joint(lim.name)
             joint.damping = [lim.effort / lim.velocity if s.back_emf else 0.0, 0.0, 0.0]
             joint.armature = s.armature
             kp = s.servo_kp(lim.effort)
-            act = spec.add_actuator(name=lim.name, target=lim.name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
+            act = spec.add_actuator(
+                name=lim.name, target=lim.name, trntype=mujoco.mjtTrn.mjTRN_JOINT
+            )
             act.gaintype, act.biastype = mujoco.mjtGain.mjGAIN_FIXED, mujoco.mjtBias.mjBIAS_AFFINE
             act.gainprm[0] = kp
             act.biasprm[0], act.biasprm[1], act.biasprm[2] = 0.0, -kp, 0.0
@@ -195,23 +247,29 @@ class MujocoSimulator(Simulator):
             act.forcerange = [-lim.effort, lim.effort]
 
         def contact_sensor(name: str, obj: tuple, ref: tuple) -> None:
-            sensor = spec.add_sensor(name=name, type=mujoco.mjtSensor.mjSENS_CONTACT,
-                                     objtype=obj[0], objname=obj[1], reftype=ref[0], refname=ref[1])
-            sensor.intprm[0] = 1   # data: "found", the number of matching contacts
-            sensor.intprm[1] = 0   # no reduction
-            sensor.intprm[2] = 1   # one slot
+            sensor = spec.add_sensor(
+                name=name,
+                type=mujoco.mjtSensor.mjSENS_CONTACT,
+                objtype=obj[0],
+                objname=obj[1],
+                reftype=ref[0],
+                refname=ref[1],
+            )
+            sensor.intprm[0] = 1  # data: "found", the number of matching contacts
+            sensor.intprm[1] = 0  # no reduction
+            sensor.intprm[2] = 1  # one slot
 
-        floor = (mujoco.mjtObj.mjOBJ_GEOM, "floor")
+        floor = (mujoco.mjtObj.mjOBJ_GEOM, 'floor')
         for leg in range(1, N_LEGS + 1):
-            contact_sensor(f"foot_{leg}", (mujoco.mjtObj.mjOBJ_BODY, f"link_{leg}_3"), floor)
+            contact_sensor(f'foot_{leg}', (mujoco.mjtObj.mjOBJ_BODY, f'link_{leg}_3'), floor)
         for name in self._link_bodies():
-            if not name.endswith("_3"):
-                contact_sensor(f"ground_{name}", (mujoco.mjtObj.mjOBJ_BODY, name), floor)
-        robot = (mujoco.mjtObj.mjOBJ_XBODY, "base_link")   # subtree: the whole robot
-        contact_sensor("self_collision", robot, robot)
+            if not name.endswith('_3'):
+                contact_sensor(f'ground_{name}', (mujoco.mjtObj.mjOBJ_BODY, name), floor)
+        robot = (mujoco.mjtObj.mjOBJ_XBODY, 'base_link')  # subtree: the whole robot
+        contact_sensor('self_collision', robot, robot)
         return spec.compile()
 
-    # -- configuration -----------------------------------------------------------------------------
+    # -- configuration ---------------------------------------------------------------------
     def _apply_failed_legs(self) -> None:
         m = self.m
         for leg in range(1, N_LEGS + 1):
@@ -220,17 +278,26 @@ class MujocoSimulator(Simulator):
                 # In the folded failure pose the tibia overlaps its own coxa (the real servo
                 # clamps near -150 deg there): that one pair does not collide while failed.
                 m.geom_contype[coxa], m.geom_conaffinity[coxa] = 1 << leg, _ALL & ~(1 << (leg + 8))
-                m.geom_contype[tibia], m.geom_conaffinity[tibia] = 1 << (leg + 8), _ALL & ~(1 << leg)
+                m.geom_contype[tibia], m.geom_conaffinity[tibia] = (
+                    1 << (leg + 8),
+                    _ALL & ~(1 << leg),
+                )
             else:
                 m.geom_contype[coxa] = m.geom_contype[tibia] = 1
                 m.geom_conaffinity[coxa] = m.geom_conaffinity[tibia] = _ALL
-        self._failed_slots = np.array([3 * (leg - 1) + k for leg in self.failed_legs for k in range(3)], dtype=int)
+        self._failed_slots = np.array(
+            [3 * (leg - 1) + k for leg in self.failed_legs for k in range(3)], dtype=int
+        )
         if self._failed_slots.size:
-            self.d.ctrl[self._act[self._failed_slots]] = np.tile(FAILURE_POSE, len(self.failed_legs))
+            self.d.ctrl[self._act[self._failed_slots]] = np.tile(
+                FAILURE_POSE, len(self.failed_legs)
+            )
 
     def _reset_state(self, q: np.ndarray, body_height: float) -> None:
         m, d = self.m, self.d
-        mujoco.mj_resetData(m, d)   # zeroes velocities, warm start and time: bit for bit a fresh start
+        mujoco.mj_resetData(
+            m, d
+        )  # zeroes velocities, warm start and time: bit for bit a fresh start
         d.qpos[:7] = [0.0, 0.0, body_height, 1.0, 0.0, 0.0, 0.0]
         d.qpos[self._qadr] = q
         d.ctrl[self._act] = q
@@ -253,7 +320,7 @@ class MujocoSimulator(Simulator):
 
     def step(self) -> StepReport:
         warnings = self.d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number
-        mujoco.mj_step(self.m, self.d)   # sensors and d.contact: the state this step started from
+        mujoco.mj_step(self.m, self.d)  # sensors and d.contact: the state this step started from
         self.time += self.dt
         report = self._report(self.d.sensordata)
         # MuJoCo resets the data after a blow-up and carries on: say so
@@ -269,17 +336,22 @@ class MujocoSimulator(Simulator):
         return r
 
     def _self_collision_pair(self) -> str:
-        """"link_a / link_b" of the first robot-robot contact in ``d.contact``."""
+        """Name 'link_a / link_b' of the first robot-robot contact in ``d.contact``."""
         m, d = self.m, self.d
         for i in range(d.ncon):
             b1, b2 = m.geom_bodyid[d.contact.geom1[i]], m.geom_bodyid[d.contact.geom2[i]]
             if b1 != 0 and b2 != 0:
-                return f"{m.body(b1).name} / {m.body(b2).name}"
-        return "between robot links"
+                return f'{m.body(b1).name} / {m.body(b2).name}'
+        return 'between robot links'
 
-    # -- the native batch ----------------------------------------------------------------------------
-    def rollout(self, tables: Sequence[JointRows], n_steps: int, stop_on_collision: bool = False,
-                record_contacts: bool = False) -> list[PlayResult]:
+    # -- the native batch ------------------------------------------------------------------
+    def rollout(
+        self,
+        tables: Sequence[JointRows],
+        n_steps: int,
+        stop_on_collision: bool = False,
+        record_contacts: bool = False,
+    ) -> list[PlayResult]:
         if not tables:
             return []
         m, d = self.m, self.d
@@ -292,15 +364,27 @@ class MujocoSimulator(Simulator):
             self.reset(table.positions[0])
             mujoco.mj_getState(m, d, initial[i], self._state_spec)
             control[i][:, self._act] = rows[steps % len(rows)]
-        state, sensordata = mj_rollout.rollout(m, d, initial, control, initial_warmstart=np.zeros((n, m.nv)))
+        state, sensordata = mj_rollout.rollout(
+            m, d, initial, control, initial_warmstart=np.zeros((n, m.nv))
+        )
         unstable = self._unstable_steps(initial, state)
         results = []
         for i in range(n):
             if i in unstable:
                 k = unstable[i]
-                results.append(PlayResult(k + 1, np.zeros(N_LEGS, dtype=np.int64), 0, None, np.full(3, np.nan),
-                                          unstable=f"the MuJoCo physics became unstable at t = "
-                                                   f"{(k + 1) * self.dt:.3f} s (settings too stiff for the step)"))
+                results.append(
+                    PlayResult(
+                        k + 1,
+                        np.zeros(N_LEGS, dtype=np.int64),
+                        0,
+                        None,
+                        np.full(3, np.nan),
+                        unstable=(
+                            'the MuJoCo physics became unstable at t = '
+                            f'{(k + 1) * self.dt:.3f} s (settings too stiff for the step)'
+                        ),
+                    )
+                )
                 continue
             sd = sensordata[i]
             feet = sd[:, self._foot_adr] > 0
@@ -312,16 +396,26 @@ class MujocoSimulator(Simulator):
             if hits.size:
                 k = int(hits[0])
                 # the contacts of step k are those of the state it started from: recompute them
-                mujoco.mj_setState(m, d, initial[i] if k == 0 else state[i, k - 1], self._state_spec)
+                mujoco.mj_setState(
+                    m, d, initial[i] if k == 0 else state[i, k - 1], self._state_spec
+                )
                 mujoco.mj_forward(m, d)
-                first = f"{self._report(sd[k]).collision} at t = {(k + 1) * self.dt:.3f} s"
+                first = f'{self._report(sd[k]).collision} at t = {(k + 1) * self.dt:.3f} s'
                 if stop_on_collision:
                     used = k + 1
             last = used - 1
-            # a stop on a collision counts the feet of the steps before it, as the per-step loop does
-            counts = feet[:last if stop_on_collision and hits.size else used].sum(axis=0)
-            results.append(PlayResult(used, counts.astype(np.int64), int(collided[:used].sum()), first,
-                                      state[i, last, 1:4].copy(), feet[:used].copy() if record_contacts else None))
+            # a stop on a collision counts the feet of the steps before it (as the per-step loop)
+            counts = feet[: last if stop_on_collision and hits.size else used].sum(axis=0)
+            results.append(
+                PlayResult(
+                    used,
+                    counts.astype(np.int64),
+                    int(collided[:used].sum()),
+                    first,
+                    state[i, last, 1:4].copy(),
+                    feet[:used].copy() if record_contacts else None,
+                )
+            )
         # leave the simulator in the final state of the last table
         mujoco.mj_setState(m, d, state[n - 1, results[-1].steps - 1], self._state_spec)
         mujoco.mj_forward(m, d)
@@ -329,15 +423,19 @@ class MujocoSimulator(Simulator):
         return results
 
     def _unstable_steps(self, initial: np.ndarray, state: np.ndarray) -> dict[int, int]:
-        """{rollout: first bad step} for the rollouts that blew up. On a numerical blow-up MuJoCo
-        resets the data and carries on, so the simulated time (state[..., 0]) stops counting up
-        from the start, or the state holds NaN; a per-rollout check of the trajectory itself."""
+        """
+        {rollout: first bad step} for the rollouts that blew up.
+
+        On a numerical blow-up MuJoCo resets the data and carries on, so the simulated time
+        (state[..., 0]) stops counting up from the start, or the state holds NaN; a per-rollout
+        check of the trajectory itself.
+        """
         steps = np.arange(1, state.shape[1] + 1) * self.dt
         expected = initial[:, :1] + steps[None, :]
         bad = (np.abs(state[:, :, 0] - expected) > 0.5 * self.dt) | ~np.isfinite(state).all(axis=2)
         return {int(i): int(np.argmax(bad[i])) for i in np.flatnonzero(bad.any(axis=1))}
 
-    # -- readings --------------------------------------------------------------------------------------
+    # -- readings --------------------------------------------------------------------------
     def base_pose(self) -> tuple[np.ndarray, np.ndarray]:
         qpos = self.d.qpos
         return qpos[0:3].copy(), np.array([qpos[4], qpos[5], qpos[6], qpos[3]])
@@ -345,7 +443,7 @@ class MujocoSimulator(Simulator):
     def base_velocity(self) -> tuple[np.ndarray, np.ndarray]:
         # free joint: linear velocity in the world frame, angular velocity in the body frame
         qvel = self.d.qvel
-        return qvel[0:3].copy(), self.d.xmat[self.m.body("base_link").id].reshape(3, 3) @ qvel[3:6]
+        return qvel[0:3].copy(), self.d.xmat[self.m.body('base_link').id].reshape(3, 3) @ qvel[3:6]
 
     def link_poses(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         m, d = self.m, self.d
@@ -354,24 +452,44 @@ class MujocoSimulator(Simulator):
         for name in self._link_bodies():
             body = m.body(name).id
             w, x, y, z = d.xquat[body]
-            poses[name] = (d.xpos[body].copy(), np.array([x, y, z, w]))   # MuJoCo bodies sit at link frames
+            poses[name] = (
+                d.xpos[body].copy(),
+                np.array([x, y, z, w]),
+            )  # MuJoCo bodies sit at link frames
         return poses
 
     def link_masses(self) -> dict[str, float]:
-        return {name: float(self.m.body_mass[self.m.body(name).id]) for name in self._link_bodies()}
+        return {
+            name: float(self.m.body_mass[self.m.body(name).id]) for name in self._link_bodies()
+        }
 
     def joint_states(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         d = self.d
-        return d.qpos[self._qadr].copy(), d.qvel[self._dadr].copy(), d.actuator_force[self._act].copy()
+        return (
+            d.qpos[self._qadr].copy(),
+            d.qvel[self._dadr].copy(),
+            d.actuator_force[self._act].copy(),
+        )
 
-    def render(self, width: int = 480, height: int = 360, distance: float = 0.9,
-               yaw: float = 30.0, pitch: float = -25.0) -> np.ndarray:
-        if self._renderer is None or (self._renderer.height, self._renderer.width) != (height, width):
+    def render(
+        self,
+        width: int = 480,
+        height: int = 360,
+        distance: float = 0.9,
+        yaw: float = 30.0,
+        pitch: float = -25.0,
+    ) -> np.ndarray:
+        if self._renderer is None or (self._renderer.height, self._renderer.width) != (
+            height,
+            width,
+        ):
             try:
                 self._renderer = mujoco.Renderer(self.m, height=height, width=width)
             except Exception as exc:  # no OpenGL context (set MUJOCO_GL=egl or osmesa)
-                raise RuntimeError(f"MuJoCo cannot render here: {exc}. Set MUJOCO_GL=egl (GPU) or "
-                                   "MUJOCO_GL=osmesa (Debian: libosmesa6), or render with --engine pybullet") from exc
+                raise RuntimeError(
+                    f'MuJoCo cannot render here: {exc}. Set MUJOCO_GL=egl (GPU) or '
+                    'MUJOCO_GL=osmesa (Debian: libosmesa6), or render with --engine pybullet'
+                ) from exc
         camera = mujoco.MjvCamera()
         camera.lookat[:] = self.d.qpos[0:3]
         camera.distance, camera.azimuth, camera.elevation = distance, yaw, pitch
@@ -379,7 +497,7 @@ class MujocoSimulator(Simulator):
         return self._renderer.render().copy()
 
     def close(self) -> None:
-        renderer = getattr(self, "_renderer", None)
+        renderer = getattr(self, '_renderer', None)
         if renderer is not None:
             renderer.close()
             self._renderer = None

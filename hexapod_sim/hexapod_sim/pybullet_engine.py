@@ -1,4 +1,25 @@
-"""The PyBullet engine (thesis section 3.5): the reference engine and ``sim_node``'s default.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+The PyBullet engine (thesis section 3.5): the reference engine and ``sim_node``'s default.
 
 One physics client per simulator, reused. A reset rebuilds the world in that client
 (resetSimulation + loading the primitive-shape URDF: 4.4 ms measured) rather than restoring a
@@ -8,27 +29,30 @@ fresh one. The 18 joint commands go out in one call per step. Collision geometry
 hexapod_description's URDF (primitives), loaded with its inertias, self-collision on, the
 massless foot frames merged into the tibias, and the femur-base collision filter of 3.5.3.
 """
+
 from __future__ import annotations
 
 import contextlib
-import os
 from dataclasses import dataclass
+import os
 from typing import Any
 
+from hexapod_description import N_LEGS, urdf_path
+from hexapod_sim.simulator import FAILURE_POSE, GRAVITY, SimConfig, Simulator, StepReport
 import numpy as np
 import pybullet as p
 import pybullet_data
 
-from hexapod_description import N_LEGS, urdf_path
-from hexapod_sim.simulator import FAILURE_POSE, GRAVITY, SimConfig, Simulator, StepReport
-
 
 @dataclass(frozen=True)
 class PyBulletSettings:
-    """PyBullet settings. ``ACCURATE`` is PyBullet's default and the default everywhere.
-    ``FAST`` trades solver iterations for speed; ``make bench-sim`` measured its ranking
-    fidelity against ACCURATE below Spearman 0.95 (docs/simulator.md), so nothing uses it
-    unless asked to."""
+    """
+    PyBullet settings.
+
+    ``ACCURATE`` is PyBullet's default and the default everywhere. ``FAST`` trades solver
+    iterations for speed; ``make bench-sim`` measured its ranking fidelity against ACCURATE below
+    Spearman 0.95 (docs/simulator.md), so nothing uses it unless asked to.
+    """
 
     solver_iterations: int = 50
     time_step: float = 1.0 / 240.0
@@ -41,9 +65,9 @@ class PyBulletSettings:
 
     def __post_init__(self) -> None:
         if self.solver_iterations < 1:
-            raise ValueError(f"solver_iterations must be >= 1, got {self.solver_iterations}")
+            raise ValueError(f'solver_iterations must be >= 1, got {self.solver_iterations}')
         if not 0 < self.time_step <= 0.01:
-            raise ValueError(f"time_step must be in (0, 0.01] s, got {self.time_step}")
+            raise ValueError(f'time_step must be in (0, 0.01] s, got {self.time_step}')
 
 
 ACCURATE = PyBulletSettings()
@@ -52,7 +76,7 @@ FAST = PyBulletSettings(solver_iterations=20)
 
 @contextlib.contextmanager
 def _quiet_stdout():
-    """PyBullet's URDF loader prints link merging to C stdout; silence it while loading."""
+    """Silence C stdout while loading: PyBullet's URDF loader prints link merging there."""
     try:
         saved = os.dup(1)
     except OSError:
@@ -79,7 +103,7 @@ class _Rows:
 class PyBulletSimulator(Simulator):
     """The hexapod in PyBullet."""
 
-    engine = "pybullet"
+    engine = 'pybullet'
 
     def __init__(self, config: SimConfig | None = None):
         super().__init__(config)
@@ -87,15 +111,19 @@ class PyBulletSimulator(Simulator):
         self._urdf = str(self.model.path if self.config.urdf else urdf_path())
         self.client = p.connect(p.GUI if self.config.gui else p.DIRECT)
         if self.client < 0:
-            raise RuntimeError("could not connect to a PyBullet physics server")
+            raise RuntimeError('could not connect to a PyBullet physics server')
         self._build_world()
         cid = self.client
-        by_name = {p.getJointInfo(self.body, i, physicsClientId=cid)[1].decode(): i
-                   for i in range(p.getNumJoints(self.body, physicsClientId=cid))}
+        by_name = {
+            p.getJointInfo(self.body, i, physicsClientId=cid)[1].decode(): i
+            for i in range(p.getNumJoints(self.body, physicsClientId=cid))
+        }
         self.joint_indices = [by_name[name] for name in self.model.joint_names]
-        self._link_names = {i: p.getJointInfo(self.body, i, physicsClientId=cid)[12].decode()
-                            for i in by_name.values()}
-        self._link_names[-1] = "base_link"
+        self._link_names = {
+            i: p.getJointInfo(self.body, i, physicsClientId=cid)[12].decode()
+            for i in by_name.values()
+        }
+        self._link_names[-1] = 'base_link'
         self._foot_links = [self.joint_indices[3 * leg + 2] for leg in range(N_LEGS)]
         self._foot_leg = {link: leg for leg, link in enumerate(self._foot_links)}
         self.efforts = [lim.effort for lim in self.model.limits]
@@ -107,16 +135,25 @@ class PyBulletSimulator(Simulator):
     def _build_world(self) -> None:
         """(Re)create gravity, engine settings, the ground and the robot in this client."""
         cid, eng = self.client, self.settings
-        p.resetSimulation(p.RESET_USE_DISCRETE_DYNAMICS_WORLD if eng.discrete_world else 0, physicsClientId=cid)
+        p.resetSimulation(
+            p.RESET_USE_DISCRETE_DYNAMICS_WORLD if eng.discrete_world else 0, physicsClientId=cid
+        )
         p.setGravity(0.0, 0.0, -GRAVITY, physicsClientId=cid)
         p.setTimeStep(eng.time_step, physicsClientId=cid)
-        p.setPhysicsEngineParameter(numSolverIterations=eng.solver_iterations,
-                                    enableConeFriction=int(eng.cone_friction),
-                                    solverResidualThreshold=eng.residual_threshold,
-                                    deterministicOverlappingPairs=1, physicsClientId=cid)
+        p.setPhysicsEngineParameter(
+            numSolverIterations=eng.solver_iterations,
+            enableConeFriction=int(eng.cone_friction),
+            solverResidualThreshold=eng.residual_threshold,
+            deterministicOverlappingPairs=1,
+            physicsClientId=cid,
+        )
         with _quiet_stdout():
-            self.plane = p.loadURDF(os.path.join(pybullet_data.getDataPath(), "plane.urdf"), physicsClientId=cid)
-            flags = p.URDF_USE_INERTIA_FROM_FILE | p.URDF_USE_SELF_COLLISION | p.URDF_MERGE_FIXED_LINKS
+            self.plane = p.loadURDF(
+                os.path.join(pybullet_data.getDataPath(), 'plane.urdf'), physicsClientId=cid
+            )
+            flags = (
+                p.URDF_USE_INERTIA_FROM_FILE | p.URDF_USE_SELF_COLLISION | p.URDF_MERGE_FIXED_LINKS
+            )
             self.body = p.loadURDF(self._urdf, [0.0, 0.0, 0.3], flags=flags, physicsClientId=cid)
 
     def _configure_world(self) -> None:
@@ -125,10 +162,16 @@ class PyBulletSimulator(Simulator):
         for index, lim in zip(self.joint_indices, self.model.limits):
             p.changeDynamics(self.body, index, maxJointVelocity=lim.velocity, physicsClientId=cid)
         for leg in range(N_LEGS):
-            p.changeDynamics(self.body, self._foot_links[leg], lateralFriction=self.config.friction,
-                             physicsClientId=cid)
+            p.changeDynamics(
+                self.body,
+                self._foot_links[leg],
+                lateralFriction=self.config.friction,
+                physicsClientId=cid,
+            )
             # Section 3.5.3: the femurs would hit the (convex) base before their joint limits.
-            p.setCollisionFilterPair(self.body, self.body, -1, self.joint_indices[3 * leg + 1], 0, physicsClientId=cid)
+            p.setCollisionFilterPair(
+                self.body, self.body, -1, self.joint_indices[3 * leg + 1], 0, physicsClientId=cid
+            )
         p.changeDynamics(self.plane, -1, lateralFriction=self.config.friction, physicsClientId=cid)
         self._apply_failure_filters()
 
@@ -138,8 +181,14 @@ class PyBulletSimulator(Simulator):
             # In the folded failure pose the tibia's bounding box overlaps its own coxa's (the
             # real servo clamps near -150 deg there). A failed leg is a rigid dead weight, so
             # that pair is exempt from collision while the leg is failed.
-            p.setCollisionFilterPair(self.body, self.body, coxa, tibia, int(leg not in self.failed_legs),
-                                     physicsClientId=self.client)
+            p.setCollisionFilterPair(
+                self.body,
+                self.body,
+                coxa,
+                tibia,
+                int(leg not in self.failed_legs),
+                physicsClientId=self.client,
+            )
 
     def _set_active_slots(self) -> None:
         failed_slots = {3 * (leg - 1) + k for leg in self.failed_legs for k in range(3)}
@@ -156,17 +205,23 @@ class PyBulletSimulator(Simulator):
         if not self.failed_legs:
             return
         slots = [3 * (leg - 1) + k for leg in self.failed_legs for k in range(3)]
-        p.setJointMotorControlArray(self.body, [self.joint_indices[s] for s in slots], p.POSITION_CONTROL,
-                                    targetPositions=[FAILURE_POSE[s % 3] for s in slots],
-                                    targetVelocities=[0.0] * len(slots), forces=[self.efforts[s] for s in slots],
-                                    physicsClientId=self.client)
+        p.setJointMotorControlArray(
+            self.body,
+            [self.joint_indices[s] for s in slots],
+            p.POSITION_CONTROL,
+            targetPositions=[FAILURE_POSE[s % 3] for s in slots],
+            targetVelocities=[0.0] * len(slots),
+            forces=[self.efforts[s] for s in slots],
+            physicsClientId=self.client,
+        )
 
     def _reset_state(self, q: np.ndarray, body_height: float) -> None:
         cid = self.client
         self._build_world()
         self._configure_world()
-        p.resetBasePositionAndOrientation(self.body, [0.0, 0.0, body_height], [0.0, 0.0, 0.0, 1.0],
-                                          physicsClientId=cid)
+        p.resetBasePositionAndOrientation(
+            self.body, [0.0, 0.0, body_height], [0.0, 0.0, 0.0, 1.0], physicsClientId=cid
+        )
         p.resetBaseVelocity(self.body, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], physicsClientId=cid)
         for index, value in zip(self.joint_indices, q.tolist()):
             p.resetJointState(self.body, index, value, 0.0, physicsClientId=cid)
@@ -180,19 +235,31 @@ class PyBulletSimulator(Simulator):
         return _Rows(q.tolist(), v.tolist())
 
     def apply_row(self, rows: Any, index: int) -> None:
-        p.setJointMotorControlArray(self.body, self._active_joints, p.POSITION_CONTROL,
-                                    targetPositions=rows.q[index], targetVelocities=rows.v[index],
-                                    forces=self._active_efforts, physicsClientId=self.client)
+        p.setJointMotorControlArray(
+            self.body,
+            self._active_joints,
+            p.POSITION_CONTROL,
+            targetPositions=rows.q[index],
+            targetVelocities=rows.v[index],
+            forces=self._active_efforts,
+            physicsClientId=self.client,
+        )
 
     def set_motor_power(self, on: bool) -> None:
         if on and not self._motors_on:
-            self._command_failure_pose()   # power back: the failed legs' servos hold their pose again
+            # power back: the failed legs' servos hold their pose again
+            self._command_failure_pose()
         self._motors_on = bool(on)
 
     def step(self) -> StepReport:
-        if not self._motors_on:   # servo power off: no motor torque on any joint this step
-            p.setJointMotorControlArray(self.body, self.joint_indices, p.VELOCITY_CONTROL,
-                                        forces=[0.0] * len(self.joint_indices), physicsClientId=self.client)
+        if not self._motors_on:  # servo power off: no motor torque on any joint this step
+            p.setJointMotorControlArray(
+                self.body,
+                self.joint_indices,
+                p.VELOCITY_CONTROL,
+                forces=[0.0] * len(self.joint_indices),
+                physicsClientId=self.client,
+            )
         p.stepSimulation(physicsClientId=self.client)
         self.time += self.dt
         return self._read_contacts()
@@ -207,7 +274,7 @@ class PyBulletSimulator(Simulator):
         for c in p.getContactPoints(bodyA=self.body, physicsClientId=self.client):
             if c[2] == self.body:
                 if r.self_collision is None:
-                    r.self_collision = f"{names.get(c[3], c[3])} / {names.get(c[4], c[4])}"
+                    r.self_collision = f'{names.get(c[3], c[3])} / {names.get(c[4], c[4])}'
             else:
                 leg = foot_leg.get(c[3])
                 if leg is None:
@@ -233,34 +300,48 @@ class PyBulletSimulator(Simulator):
         local_pos, local_orn = p.getDynamicsInfo(self.body, -1, physicsClientId=cid)[3:5]
         inv_pos, inv_orn = p.invertTransform(local_pos, local_orn)
         base_pos, base_orn = p.multiplyTransforms(pos, quat, inv_pos, inv_orn)
-        poses = {"base_link": (np.array(base_pos), np.array(base_orn))}
+        poses = {'base_link': (np.array(base_pos), np.array(base_orn))}
         for index, name in self._link_names.items():
             if index >= 0:
-                state = p.getLinkState(self.body, index, computeForwardKinematics=True, physicsClientId=cid)
-                poses[name] = (np.array(state[4]), np.array(state[5]))     # the URDF link frame
+                state = p.getLinkState(
+                    self.body, index, computeForwardKinematics=True, physicsClientId=cid
+                )
+                poses[name] = (np.array(state[4]), np.array(state[5]))  # the URDF link frame
         return poses
 
     def link_masses(self) -> dict[str, float]:
         cid = self.client
-        return {name: float(p.getDynamicsInfo(self.body, index, physicsClientId=cid)[0])
-                for index, name in self._link_names.items()}
+        return {
+            name: float(p.getDynamicsInfo(self.body, index, physicsClientId=cid)[0])
+            for index, name in self._link_names.items()
+        }
 
     def joint_states(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         states = p.getJointStates(self.body, self.joint_indices, physicsClientId=self.client)
-        return (np.array([s[0] for s in states]), np.array([s[1] for s in states]),
-                np.array([s[3] for s in states]))
+        return (
+            np.array([s[0] for s in states]),
+            np.array([s[1] for s in states]),
+            np.array([s[3] for s in states]),
+        )
 
-    def render(self, width: int = 480, height: int = 360, distance: float = 0.9,
-               yaw: float = 30.0, pitch: float = -25.0) -> np.ndarray:
+    def render(
+        self,
+        width: int = 480,
+        height: int = 360,
+        distance: float = 0.9,
+        yaw: float = 30.0,
+        pitch: float = -25.0,
+    ) -> np.ndarray:
         pos, _ = self.base_pose()
         view = p.computeViewMatrixFromYawPitchRoll(pos.tolist(), distance, yaw, pitch, 0.0, 2)
         proj = p.computeProjectionMatrixFOV(50.0, width / height, 0.01, 20.0)
-        img = p.getCameraImage(width, height, view, proj, renderer=p.ER_TINY_RENDERER,
-                               physicsClientId=self.client)
+        img = p.getCameraImage(
+            width, height, view, proj, renderer=p.ER_TINY_RENDERER, physicsClientId=self.client
+        )
         return np.reshape(np.asarray(img[2], dtype=np.uint8), (height, width, 4))[:, :, :3]
 
     def close(self) -> None:
-        if getattr(self, "client", -1) >= 0:
+        if getattr(self, 'client', -1) >= 0:
             with contextlib.suppress(p.error):
                 p.disconnect(physicsClientId=self.client)
             self.client = -1

@@ -1,25 +1,55 @@
-"""``ros2 run hexapod_sim render_walk``: render a simulated walk to an animated GIF (PyBullet's
-headless TinyRenderer, or MuJoCo's OpenGL renderer with ``--engine mujoco``, which needs
-MUJOCO_GL=egl or osmesa on a machine without a display), and draw its measured footfall (PNG).
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+``ros2 run hexapod_sim render_walk``.
+
+Render a simulated walk to an animated GIF (PyBullet's headless TinyRenderer, or MuJoCo's OpenGL
+renderer with ``--engine mujoco``, which needs MUJOCO_GL=egl or osmesa on a machine without a
+display), and draw its measured footfall (PNG).
 
     render_walk --preset tripod --seconds 3 --out docs/img/walk_tripod.gif
     render_walk --preset wave --failed-legs 1 --out /tmp/wave_s1.gif
 """
+
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
+import sys
 
+from hexapod_gait import build_joint_table, preset, PRESETS
+from hexapod_gait.footfall import plot_footfall
+from hexapod_sim.simulator import create_simulator, ENGINES, SimConfig
 import numpy as np
 
-from hexapod_gait import PRESETS, build_joint_table, preset
-from hexapod_gait.footfall import plot_footfall
-from hexapod_sim.simulator import ENGINES, SimConfig, create_simulator
 
-
-def render_walk(gait_name: str, seconds: float, out: Path, failed_legs: list[int], fps: int = 20,
-                size: tuple[int, int] = (400, 300), engine: str = "pybullet") -> tuple[Path, Path]:
+def render_walk(
+    gait_name: str,
+    seconds: float,
+    out: Path,
+    failed_legs: list[int],
+    fps: int = 20,
+    size: tuple[int, int] = (400, 300),
+    engine: str = 'pybullet',
+) -> tuple[Path, Path]:
     """Write ``out`` (GIF) and ``<out>_footfall.png``; returns both paths."""
     from PIL import Image  # matplotlib's dependency; only this tool needs it
 
@@ -41,33 +71,43 @@ def render_walk(gait_name: str, seconds: float, out: Path, failed_legs: list[int
     out.parent.mkdir(parents=True, exist_ok=True)
     frames[0].save(out, save_all=True, append_images=frames[1:], duration=int(1000 / fps), loop=0)
     times = np.arange(steps) * sim.dt
-    failed = f", legs {failed_legs} failed" if failed_legs else ""
-    footfall = plot_footfall(contacts, times, out.with_name(out.stem + "_footfall.png"),
-                             title=f"{gait_name} gait, measured foot contacts in simulation{failed}")
+    failed = f', legs {failed_legs} failed' if failed_legs else ''
+    footfall = plot_footfall(
+        contacts,
+        times,
+        out.with_name(out.stem + '_footfall.png'),
+        title=f'{gait_name} gait, measured foot contacts in simulation{failed}',
+    )
     return out, footfall
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of ``render_walk``; exit status 2 for bad options or an engine that cannot render."""
-    parser = argparse.ArgumentParser(description="Render a simulated walk to GIF + measured footfall PNG.")
-    parser.add_argument("--preset", choices=sorted(PRESETS), default="tripod", help="gait to walk")
-    parser.add_argument("--seconds", type=float, default=3.0, help="simulated seconds, (0, 60]")
-    parser.add_argument("--failed-legs", type=int, nargs="*", default=[], help="legs 1..6 to fail (at most two)")
-    parser.add_argument("--fps", type=int, default=20, help="GIF frames per second, 1..60")
-    parser.add_argument("--engine", choices=ENGINES, default="pybullet", help="physics engine")
-    parser.add_argument("--out", type=Path, default=Path("walk.gif"), help="GIF to write")
+    """Run ``render_walk``; exit status 2 for bad options or an engine that cannot render."""
+    parser = argparse.ArgumentParser(
+        description='Render a simulated walk to GIF + measured footfall PNG.'
+    )
+    parser.add_argument('--preset', choices=sorted(PRESETS), default='tripod', help='gait to walk')
+    parser.add_argument('--seconds', type=float, default=3.0, help='simulated seconds, (0, 60]')
+    parser.add_argument(
+        '--failed-legs', type=int, nargs='*', default=[], help='legs 1..6 to fail (at most two)'
+    )
+    parser.add_argument('--fps', type=int, default=20, help='GIF frames per second, 1..60')
+    parser.add_argument('--engine', choices=ENGINES, default='pybullet', help='physics engine')
+    parser.add_argument('--out', type=Path, default=Path('walk.gif'), help='GIF to write')
     args = parser.parse_args(argv)
     if not 0 < args.seconds <= 60 or not 1 <= args.fps <= 60:
-        parser.error("--seconds must be in (0, 60] and --fps in [1, 60]")
+        parser.error('--seconds must be in (0, 60] and --fps in [1, 60]')
     try:
-        gif, png = render_walk(args.preset, args.seconds, args.out, args.failed_legs, args.fps, engine=args.engine)
+        gif, png = render_walk(
+            args.preset, args.seconds, args.out, args.failed_legs, args.fps, engine=args.engine
+        )
     except (ValueError, RuntimeError) as exc:
-        print(f"render_walk: {exc}", file=sys.stderr)
+        print(f'render_walk: {exc}', file=sys.stderr)
         return 2
     print(gif)
     print(png)
     return 0
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

@@ -1,34 +1,64 @@
-"""Seeded samplers of random gaits: reachable genotypes, and feasible ones (reachable and
-valid in a map-generation evaluation: no self-collision, no body touching the ground)."""
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Seeded samplers of random gaits.
+
+Reachable genotypes, and feasible ones (reachable and valid in a map-generation evaluation: no
+self-collision, no body touching the ground).
+"""
+
 from __future__ import annotations
 
-import numpy as np
-
-from hexapod_gait import GENOTYPE_SIZE, ReachabilityError, build_joint_table, from_genotype
+from hexapod_gait import build_joint_table, from_genotype, GENOTYPE_SIZE, ReachabilityError
 from hexapod_gait.trajectory import reachable_key_points
-from hexapod_sim.evaluation import EvaluationResult, evaluate_gaits
+from hexapod_sim.evaluation import evaluate_gaits, EvaluationResult
 from hexapod_sim.simulator import Simulator
+import numpy as np
 
 _BATCH = 256
 
 
 def random_reachable_genes(rng: np.random.Generator, max_draws: int = 100_000) -> np.ndarray:
-    """One uniform random genotype whose key points the legs can reach (a vectorised check of
-    microseconds). About 2.4 % of uniform genotypes pass it and only ~0.03 % are feasible gaits,
-    so drawing MAP-Elites' random initialisation from this subset saves ~97 % of the wasted
-    evaluations of thesis-style uniform initialisation without biasing among feasible gaits.
-    Raises RuntimeError if ``max_draws`` uniform draws hold none."""
+    """
+    Draw one uniform random genotype whose key points the legs can reach.
+
+    The check is vectorised and takes microseconds. About 2.4 % of uniform genotypes pass it and
+    only ~0.03 % are feasible gaits, so drawing MAP-Elites' random initialisation from this subset
+    saves ~97 % of the wasted evaluations of thesis-style uniform initialisation without biasing
+    among feasible gaits. Raises RuntimeError if ``max_draws`` uniform draws hold none.
+    """
     for _ in range(max(1, max_draws // _BATCH)):
         batch = rng.random((_BATCH, GENOTYPE_SIZE))
         ok = np.flatnonzero(reachable_key_points(batch))
         if ok.size:
             return batch[ok[0]]
-    raise RuntimeError(f"no reachable genotype in {max_draws} draws")
+    raise RuntimeError(f'no reachable genotype in {max_draws} draws')
 
 
 def random_reachable_genotypes(n: int, seed: int) -> np.ndarray:
-    """(n, 32) random genotypes whose whole gait cycle the controller can follow: key points
-    reachable (:func:`random_reachable_genes`) and every sample of the cycle too."""
+    """
+    (n, 32) random genotypes whose whole gait cycle the controller can follow.
+
+    Key points reachable (:func:`random_reachable_genes`) and every sample of the cycle too.
+    """
     rng = np.random.default_rng(seed)
     found: list[np.ndarray] = []
     while len(found) < n:
@@ -41,10 +71,15 @@ def random_reachable_genotypes(n: int, seed: int) -> np.ndarray:
     return np.array(found).reshape(n, GENOTYPE_SIZE)
 
 
-def random_feasible_genotypes(n: int, seed: int, sim: Simulator,
-                              max_candidates: int = 1_000_000) -> tuple[np.ndarray, list[EvaluationResult]]:
-    """(n, 32) random genotypes that are valid map-generation gaits on ``sim``, with their
-    evaluations. Raises RuntimeError if max_candidates reachable genotypes yield fewer."""
+def random_feasible_genotypes(
+    n: int, seed: int, sim: Simulator, max_candidates: int = 1_000_000
+) -> tuple[np.ndarray, list[EvaluationResult]]:
+    """
+    Draw (n, 32) random genotypes that are valid map-generation gaits on ``sim``.
+
+    Returns them with their evaluations. Raises RuntimeError if max_candidates reachable genotypes
+    yield fewer.
+    """
     rng_seed = seed
     kept: list[np.ndarray] = []
     results: list[EvaluationResult] = []
@@ -60,5 +95,5 @@ def random_feasible_genotypes(n: int, seed: int, sim: Simulator,
                     break
         rng_seed += 1_000_003
         if tried >= max_candidates and len(kept) < n:
-            raise RuntimeError(f"only {len(kept)} feasible gaits in {tried} reachable candidates")
+            raise RuntimeError(f'only {len(kept)} feasible gaits in {tried} reachable candidates')
     return np.array(kept), results

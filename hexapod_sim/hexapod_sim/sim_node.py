@@ -1,12 +1,34 @@
-"""``ros2 run hexapod_sim sim_node``: the simulated hexapod in the ROS graph (PyBullet by default,
-or MuJoCo with ``engine:=mujoco``).
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+``ros2 run hexapod_sim sim_node``.
+
+The simulated hexapod in the ROS graph (PyBullet by default, or MuJoCo with ``engine:=mujoco``).
 
 Subscribes  gait/joint_trajectory  trajectory_msgs/JointTrajectory (latched): one gait cycle,
                                    played cyclically from phase 0 as soon as it arrives
 Publishes   /clock                 rosgraph_msgs/Clock, every step
             joint_states           sensor_msgs/JointState        (sensor-data QoS)
             odom                   nav_msgs/Odometry, odom -> base_link, pose and twist (reliable)
-            /tf                    tf2_msgs/TFMessage: odom -> base_link with every odometry message
+            /tf                    tf2_msgs/TFMessage: odom -> base_link with each odometry
             imu/data               sensor_msgs/Imu               (sensor-data QoS)
             foot_contacts          hexapod_msgs/FootContacts     (sensor-data QoS)
             sim/active_trajectory  std_msgs/Header (latched): stamp of the trajectory being played
@@ -21,6 +43,7 @@ publishes the pose at the origin stamped with the reset time; when a scheduled m
 published with that same stamp, the later one (messages arrive in order) is the post-reset pose.
 The physics runs in its own thread; callbacks hand work to it and wait until it is applied.
 """
+
 from __future__ import annotations
 
 import math
@@ -30,14 +53,30 @@ import threading
 import time
 from typing import Callable
 
-import numpy as np
-import rclpy
 from builtin_interfaces.msg import Time
 from diagnostic_msgs.msg import DiagnosticStatus
+from hexapod_gait import preset
+from hexapod_gait.ros_glue import (
+    declare,
+    LATCHED,
+    ODOM,
+    odom_transform,
+    ParamSpec,
+    publish_status,
+    run_node,
+    SENSOR,
+    TF_QOS,
+    watch_for_duplicates,
+)
+from hexapod_gait.trajectory import build_joint_table
 from hexapod_msgs.msg import FootContacts
 from hexapod_msgs.srv import SetLegFailure
+from hexapod_sim.simulator import create_simulator, SimConfig, validate_failed_legs
+from hexapod_sim.trajectory_input import cycle_from_points, CycleTable, MAX_POINTS, TrajectoryError
 from nav_msgs.msg import Odometry
+import numpy as np
 from rcl_interfaces.msg import SetParametersResult
+import rclpy
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -48,14 +87,6 @@ from std_srvs.srv import Trigger
 from tf2_msgs.msg import TFMessage
 from trajectory_msgs.msg import JointTrajectory
 
-from hexapod_gait import preset
-from hexapod_gait.ros_glue import (LATCHED, ODOM, SENSOR, TF_QOS, ParamSpec, declare, odom_transform,
-                                   publish_status, run_node, watch_for_duplicates)
-from hexapod_gait.trajectory import build_joint_table
-from hexapod_sim.simulator import SimConfig, create_simulator, validate_failed_legs
-from hexapod_sim.trajectory_input import MAX_POINTS, CycleTable, TrajectoryError, cycle_from_points
-
-
 
 def _stamp(seconds: float) -> Time:
     ns = int(round(seconds * 1e9))
@@ -63,83 +94,125 @@ def _stamp(seconds: float) -> Time:
 
 
 PARAMETERS = (
-    ParamSpec("real_time_factor", 1.0, "Simulated seconds per wall-clock second; 0 = as fast as possible",
-              range=(0.0, 100.0)),
-    ParamSpec("engine", "pybullet", "Physics engine: 'pybullet' (the thesis's, the reference) or 'mujoco' (fast)",
-              read_only=True),
-    ParamSpec("gui", False, "Open the PyBullet GUI window (engine pybullet only)", read_only=True),
-    ParamSpec("friction", 1.0, "Lateral friction coefficient of the ground and the feet", read_only=True,
-              range=(0.0, 10.0)),
-    ParamSpec("failed_legs", Parameter.Type.INTEGER_ARRAY, "Legs (1..6, at most two) failed at start-up",
-              read_only=True),
-    ParamSpec("publish_period_steps", 4, "Publish joint_states/odom/imu/foot_contacts every N physics steps "
-              "(1/240 s each). With real_time_factor 0 the node runs ~18x real time; use 24 (10 Hz of sim time) so "
-              "Python consumers keep up. Trials read odometry at reset + N steps exactly.", read_only=True,
-              range=(1, 240)),
-    ParamSpec("odom_frame", "odom", "REP 105 odometry frame", read_only=True),
-    ParamSpec("base_frame", "base_link", "Robot base frame", read_only=True),
+    ParamSpec(
+        'real_time_factor',
+        1.0,
+        'Simulated seconds per wall-clock second; 0 = as fast as possible',
+        range=(0.0, 100.0),
+    ),
+    ParamSpec(
+        'engine',
+        'pybullet',
+        "Physics engine: 'pybullet' (the thesis's, the reference) or 'mujoco' (fast)",
+        read_only=True,
+    ),
+    ParamSpec('gui', False, 'Open the PyBullet GUI window (engine pybullet only)', read_only=True),
+    ParamSpec(
+        'friction',
+        1.0,
+        'Lateral friction coefficient of the ground and the feet',
+        read_only=True,
+        range=(0.0, 10.0),
+    ),
+    ParamSpec(
+        'failed_legs',
+        Parameter.Type.INTEGER_ARRAY,
+        'Legs (1..6, at most two) failed at start-up',
+        read_only=True,
+    ),
+    ParamSpec(
+        'publish_period_steps',
+        4,
+        'Publish joint_states/odom/imu/foot_contacts every N physics steps (1/240 s each). With'
+        ' real_time_factor 0 the node runs ~18x real time; use 24 (10 Hz of sim time) so Python'
+        ' consumers keep up. Trials read odometry at reset + N steps exactly.',
+        read_only=True,
+        range=(1, 240),
+    ),
+    ParamSpec('odom_frame', 'odom', 'REP 105 odometry frame', read_only=True),
+    ParamSpec('base_frame', 'base_link', 'Robot base frame', read_only=True),
 )
 
 
 class SimNode(Node):
     """The simulated hexapod in the ROS graph (see the module docstring)."""
+
     def __init__(self, **kwargs) -> None:
-        super().__init__("sim_node", **kwargs)
+        super().__init__('sim_node', **kwargs)
         declare(self, PARAMETERS)
         self.add_on_set_parameters_callback(self._on_set_parameters)
 
-        self.rtf = float(self.get_parameter("real_time_factor").value)
+        self.rtf = float(self.get_parameter('real_time_factor').value)
         if not (math.isfinite(self.rtf) and 0.0 <= self.rtf <= 100.0):
-            raise ValueError(f"parameter real_time_factor must be in [0, 100], got {self.rtf}")
-        engine = str(self.get_parameter("engine").value)
-        self.sim = create_simulator(SimConfig(
-            engine=engine, friction=float(self.get_parameter("friction").value),
-            gui=bool(self.get_parameter("gui").value)))
-        self.period_steps = int(self.get_parameter("publish_period_steps").value)
-        self.odom_frame = str(self.get_parameter("odom_frame").value)
-        self.base_frame = str(self.get_parameter("base_frame").value)
+            raise ValueError(f'parameter real_time_factor must be in [0, 100], got {self.rtf}')
+        engine = str(self.get_parameter('engine').value)
+        self.sim = create_simulator(
+            SimConfig(
+                engine=engine,
+                friction=float(self.get_parameter('friction').value),
+                gui=bool(self.get_parameter('gui').value),
+            )
+        )
+        self.period_steps = int(self.get_parameter('publish_period_steps').value)
+        self.odom_frame = str(self.get_parameter('odom_frame').value)
+        self.base_frame = str(self.get_parameter('base_frame').value)
 
         group = ReentrantCallbackGroup()
-        self.clock_pub = self.create_publisher(Clock, "/clock", 10)
-        self.joint_pub = self.create_publisher(JointState, "joint_states", SENSOR)
-        self.odom_pub = self.create_publisher(Odometry, "odom", ODOM)
-        self.tf_pub = self.create_publisher(TFMessage, "/tf", TF_QOS)
-        self.imu_pub = self.create_publisher(Imu, "imu/data", SENSOR)
-        self.contacts_pub = self.create_publisher(FootContacts, "foot_contacts", SENSOR)
-        self.active_pub = self.create_publisher(Header, "sim/active_trajectory", LATCHED)
-        self.reset_pub = self.create_publisher(Header, "sim/last_reset", LATCHED)
-        self.status_pub = self.create_publisher(DiagnosticStatus, "sim/status", LATCHED)
-        self.create_subscription(JointTrajectory, "gait/joint_trajectory", self._on_trajectory, LATCHED,
-                                 callback_group=group)
-        self.create_service(SetLegFailure, "~/set_leg_failure", self._on_set_leg_failure, callback_group=group)
-        self.create_service(Trigger, "~/reset", self._on_reset, callback_group=group)
+        self.clock_pub = self.create_publisher(Clock, '/clock', 10)
+        self.joint_pub = self.create_publisher(JointState, 'joint_states', SENSOR)
+        self.odom_pub = self.create_publisher(Odometry, 'odom', ODOM)
+        self.tf_pub = self.create_publisher(TFMessage, '/tf', TF_QOS)
+        self.imu_pub = self.create_publisher(Imu, 'imu/data', SENSOR)
+        self.contacts_pub = self.create_publisher(FootContacts, 'foot_contacts', SENSOR)
+        self.active_pub = self.create_publisher(Header, 'sim/active_trajectory', LATCHED)
+        self.reset_pub = self.create_publisher(Header, 'sim/last_reset', LATCHED)
+        self.status_pub = self.create_publisher(DiagnosticStatus, 'sim/status', LATCHED)
+        self.create_subscription(
+            JointTrajectory,
+            'gait/joint_trajectory',
+            self._on_trajectory,
+            LATCHED,
+            callback_group=group,
+        )
+        self.create_service(
+            SetLegFailure, '~/set_leg_failure', self._on_set_leg_failure, callback_group=group
+        )
+        self.create_service(Trigger, '~/reset', self._on_reset, callback_group=group)
 
         # Until a trajectory arrives the robot stands in the first pose of the control gait.
-        stand = build_joint_table(preset("control"), rate=1.0 / self.sim.dt)
-        self.cycle = CycleTable(stand.positions[:1], np.zeros_like(stand.positions[:1]), self.sim.dt)
+        stand = build_joint_table(preset('control'), rate=1.0 / self.sim.dt)
+        self.cycle = CycleTable(
+            stand.positions[:1], np.zeros_like(stand.positions[:1]), self.sim.dt
+        )
         self.cycle_stamp = Header()
         self._prepare_cycle()
-        initial = self.get_parameter_or("failed_legs", Parameter("failed_legs", value=[])).value or []
+        initial = (
+            self.get_parameter_or('failed_legs', Parameter('failed_legs', value=[])).value or []
+        )
         try:
             self._apply_failure(validate_failed_legs(list(initial)))
-        except ValueError as exc:   # never start an intact robot when a damaged one was asked for
-            raise ValueError(f"parameter failed_legs: {exc}") from None
+        except ValueError as exc:  # never start an intact robot when a damaged one was asked for
+            raise ValueError(f'parameter failed_legs: {exc}') from None
         self._work: queue.Queue[Callable[[], None]] = queue.Queue()
         self._reset_now()
         self._running = True
         self._publish_errors: set[type] = set()
-        self._thread = threading.Thread(target=self._run, name="physics", daemon=True)
+        self._thread = threading.Thread(target=self._run, name='physics', daemon=True)
         self._thread.start()
         watch_for_duplicates(self, lambda text: self._status(DiagnosticStatus.ERROR, text))
-        self.get_logger().info(f"simulating with the {engine} engine at real_time_factor {self.rtf:g}")
+        self.get_logger().info(
+            f'simulating with the {engine} engine at real_time_factor {self.rtf:g}'
+        )
 
     # -- parameters / callbacks (executor threads) ---------------------------------------------
     def _on_set_parameters(self, params: list[Parameter]) -> SetParametersResult:
         for param in params:
-            if param.name == "real_time_factor":
+            if param.name == 'real_time_factor':
                 value = float(param.value)
                 if not math.isfinite(value) or value < 0:
-                    return SetParametersResult(successful=False, reason="real_time_factor must be >= 0")
+                    return SetParametersResult(
+                        successful=False, reason='real_time_factor must be >= 0'
+                    )
                 self.rtf = value
         return SetParametersResult(successful=True)
 
@@ -150,31 +223,38 @@ class SimNode(Node):
 
         def wrapped() -> None:
             try:
-                box["result"] = work()
+                box['result'] = work()
             except Exception as exc:  # handed back to the caller
-                box["error"] = exc
+                box['error'] = exc
             finally:
                 done.set()
 
         self._work.put(wrapped)
         if not done.wait(timeout):
-            raise TimeoutError("the physics thread did not respond")
-        if "error" in box:
-            raise box["error"]  # type: ignore[misc]
-        return box.get("result")
+            raise TimeoutError('the physics thread did not respond')
+        if 'error' in box:
+            raise box['error']  # type: ignore[misc]
+        return box.get('result')
 
     def _on_trajectory(self, msg: JointTrajectory) -> None:
-        if len(msg.points) > MAX_POINTS:   # refuse before copying anything out of the message
-            self._status(DiagnosticStatus.ERROR, f"trajectory rejected: a gait cycle may have at most {MAX_POINTS} "
-                                                 f"points, got {len(msg.points)}; previous gait kept")
+        if len(msg.points) > MAX_POINTS:  # refuse before copying anything out of the message
+            self._status(
+                DiagnosticStatus.ERROR,
+                f'trajectory rejected: a gait cycle may have at most {MAX_POINTS} '
+                f'points, got {len(msg.points)}; previous gait kept',
+            )
             return
         try:
             cycle = cycle_from_points(
-                msg.joint_names, [pt.time_from_start.sec + pt.time_from_start.nanosec * 1e-9 for pt in msg.points],
-                [list(pt.positions) for pt in msg.points], [list(pt.velocities) for pt in msg.points],
-                self.sim.model.joint_names, self.sim.dt)
+                msg.joint_names,
+                [pt.time_from_start.sec + pt.time_from_start.nanosec * 1e-9 for pt in msg.points],
+                [list(pt.positions) for pt in msg.points],
+                [list(pt.velocities) for pt in msg.points],
+                self.sim.model.joint_names,
+                self.sim.dt,
+            )
         except TrajectoryError as exc:
-            self._status(DiagnosticStatus.ERROR, f"trajectory rejected: {exc}; previous gait kept")
+            self._status(DiagnosticStatus.ERROR, f'trajectory rejected: {exc}; previous gait kept')
             return
 
         def switch() -> None:
@@ -185,31 +265,39 @@ class SimNode(Node):
         try:
             self._in_physics_thread(switch)
         except TimeoutError as exc:
-            self._status(DiagnosticStatus.ERROR, f"trajectory not applied: {exc}")
+            self._status(DiagnosticStatus.ERROR, f'trajectory not applied: {exc}')
             return
-        self._status(DiagnosticStatus.OK, f"playing a {len(cycle.positions)}-step cycle of {cycle.period:g} s")
+        self._status(
+            DiagnosticStatus.OK,
+            f'playing a {len(cycle.positions)}-step cycle of {cycle.period:g} s',
+        )
 
-    def _on_set_leg_failure(self, request: SetLegFailure.Request, response: SetLegFailure.Response):
+    def _on_set_leg_failure(
+        self, request: SetLegFailure.Request, response: SetLegFailure.Response
+    ):
         try:
             legs = validate_failed_legs(list(request.failed_legs))
             applied = self._in_physics_thread(lambda: self._apply_failure(legs))
         except ValueError as exc:
-            response.success, response.message = False, f"refused: {exc}"
+            response.success, response.message = False, f'refused: {exc}'
             response.failed_legs = list(self.sim.failed_legs)
             return response
         response.success = True
         response.failed_legs = list(applied)
-        response.message = f"failed legs: {list(applied) or 'none'}"
+        response.message = f'failed legs: {list(applied) or "none"}'
         self._status(DiagnosticStatus.OK, response.message)
         return response
 
     def _on_reset(self, request: Trigger.Request, response: Trigger.Response):
         t = self._in_physics_thread(self._reset_now)
-        response.success, response.message = True, f"reset at t={t:.9f} s; failed legs {list(self.sim.failed_legs) or 'none'}"
+        response.success, response.message = (
+            True,
+            f'reset at t={t:.9f} s; failed legs {list(self.sim.failed_legs) or "none"}',
+        )
         return response
 
     def _status(self, level: bytes, message: str) -> None:
-        publish_status(self, self.status_pub, level, message, "hexapod_sim")
+        publish_status(self, self.status_pub, level, message, 'hexapod_sim')
 
     # -- physics thread ------------------------------------------------------------------------
     def _apply_failure(self, legs: tuple[int, ...]) -> tuple[int, ...]:
@@ -225,7 +313,7 @@ class SimNode(Node):
     def _reset_now(self) -> float:
         q0 = self.cycle.positions[0]
         self.sim.reset(q0)
-        if not hasattr(self, "_sim_time"):
+        if not hasattr(self, '_sim_time'):
             self._sim_time = 0.0
         self._steps_since_reset = 0
         self._unstable_reported = False
@@ -247,10 +335,15 @@ class SimNode(Node):
             sim = self.sim
             sim.apply_row(self._rows, self._row)
             if sim.step().unstable and not self._unstable_reported:
-                self._unstable_reported = True       # once per reset: a bad setting repeats it every step
-                self._status(DiagnosticStatus.ERROR, f"the {sim.engine} physics became unstable at sim time "
-                                                     f"{self._sim_time:.3f} s and was reset; results since the last "
-                                                     "reset are not valid: call ~/reset")
+                self._unstable_reported = (
+                    True  # once per reset: a bad setting repeats it every step
+                )
+                self._status(
+                    DiagnosticStatus.ERROR,
+                    f'the {sim.engine} physics became unstable at sim time '
+                    f'{self._sim_time:.3f} s and was reset; results since the last '
+                    'reset are not valid: call ~/reset',
+                )
             sim.update_imu()
             self._row = (self._row + 1) % self._n_rows
             self._steps_since_reset += 1
@@ -265,7 +358,7 @@ class SimNode(Node):
                 # a failed publish must not stop the physics: report once per kind, go on
                 if type(exc) not in self._publish_errors:
                     self._publish_errors.add(type(exc))
-                    self.get_logger().error(f"publishing failed: {exc} (simulation continues)")
+                    self.get_logger().error(f'publishing failed: {exc} (simulation continues)')
             if self.rtf != rtf_seen:
                 wall_start, sim_start, rtf_seen = time.monotonic(), self._sim_time, self.rtf
             if self.rtf > 0:
@@ -279,10 +372,16 @@ class SimNode(Node):
         pos, quat = sim.base_pose()
         lin_b, ang_b = sim.base_twist_body()
         odom = Odometry()
-        odom.header.stamp, odom.header.frame_id, odom.child_frame_id = stamp, self.odom_frame, self.base_frame
+        odom.header.stamp, odom.header.frame_id, odom.child_frame_id = (
+            stamp,
+            self.odom_frame,
+            self.base_frame,
+        )
         o = odom.pose.pose
         o.position.x, o.position.y, o.position.z = (float(v) for v in pos)
-        o.orientation.x, o.orientation.y, o.orientation.z, o.orientation.w = (float(v) for v in quat)
+        o.orientation.x, o.orientation.y, o.orientation.z, o.orientation.w = (
+            float(v) for v in quat
+        )
         t = odom.twist.twist  # REP: twist is expressed in the child frame
         t.linear.x, t.linear.y, t.linear.z = (float(v) for v in lin_b)
         t.angular.x, t.angular.y, t.angular.z = (float(v) for v in ang_b)
@@ -290,17 +389,33 @@ class SimNode(Node):
         self.tf_pub.publish(TFMessage(transforms=[odom_transform(odom)]))
 
         q, qd, effort = sim.joint_states()
-        self.joint_pub.publish(JointState(header=Header(stamp=stamp, frame_id=self.base_frame),
-                                          name=list(sim.model.joint_names), position=q.tolist(),
-                                          velocity=qd.tolist(), effort=effort.tolist()))
+        self.joint_pub.publish(
+            JointState(
+                header=Header(stamp=stamp, frame_id=self.base_frame),
+                name=list(sim.model.joint_names),
+                position=q.tolist(),
+                velocity=qd.tolist(),
+                effort=effort.tolist(),
+            )
+        )
         iq, iw, ia = sim.imu()
         imu = Imu(header=Header(stamp=stamp, frame_id=self.base_frame))
-        imu.orientation.x, imu.orientation.y, imu.orientation.z, imu.orientation.w = (float(v) for v in iq)
-        imu.angular_velocity.x, imu.angular_velocity.y, imu.angular_velocity.z = (float(v) for v in iw)
-        imu.linear_acceleration.x, imu.linear_acceleration.y, imu.linear_acceleration.z = (float(v) for v in ia)
+        imu.orientation.x, imu.orientation.y, imu.orientation.z, imu.orientation.w = (
+            float(v) for v in iq
+        )
+        imu.angular_velocity.x, imu.angular_velocity.y, imu.angular_velocity.z = (
+            float(v) for v in iw
+        )
+        imu.linear_acceleration.x, imu.linear_acceleration.y, imu.linear_acceleration.z = (
+            float(v) for v in ia
+        )
         self.imu_pub.publish(imu)
-        self.contacts_pub.publish(FootContacts(header=Header(stamp=stamp, frame_id=self.base_frame),
-                                               in_contact=[bool(c) for c in sim.report.contacts]))
+        self.contacts_pub.publish(
+            FootContacts(
+                header=Header(stamp=stamp, frame_id=self.base_frame),
+                in_contact=[bool(c) for c in sim.report.contacts],
+            )
+        )
 
     def shutdown(self) -> None:
         """Stop the physics thread and release the simulator (called by run_node)."""
@@ -315,5 +430,5 @@ def main(args: list[str] | None = None) -> int:
     return run_node(SimNode, args, num_threads=3, parameters=PARAMETERS)
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

@@ -1,4 +1,25 @@
-"""The engine-neutral simulator interface (thesis section 3.5); ROS-free.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+The engine-neutral simulator interface (thesis section 3.5); ROS-free.
 
 Every loop that steps physics (gait evaluation, ``sim_node``, ``render_walk``, the robot
 emulator) talks to a :class:`Simulator`. Two engines implement it:
@@ -11,27 +32,27 @@ Both load ``hexapod_description``'s URDF. Engine internals (clients, bodies, ``M
 the engine modules; nothing else touches them. :func:`create_simulator` picks the engine named in
 :class:`SimConfig`.
 """
+
 from __future__ import annotations
 
 import abc
+from dataclasses import asdict, dataclass, field
 import hashlib
 import json
 import math
-from dataclasses import asdict, dataclass, field
 from typing import Any, Iterable, Sequence
 
-import numpy as np
-
-from hexapod_description import N_LEGS, load_model
+from hexapod_description import load_model, N_LEGS
 from hexapod_description.model import HexapodModel
 from hexapod_gait import default_kinematics
 from hexapod_gait.trajectory import default_geometry
+import numpy as np
 
 #: Failure pose of a leg (thesis table 5.1): coxa 0, femur 90, tibia -165 degrees.
 FAILURE_POSE = (0.0, math.radians(90.0), math.radians(-165.0))
 MAX_FAILED_LEGS = 2
 GRAVITY = 9.81
-ENGINES = ("pybullet", "mujoco")
+ENGINES = ('pybullet', 'mujoco')
 
 
 def validate_failed_legs(legs: Iterable[int]) -> tuple[int, ...]:
@@ -39,91 +60,114 @@ def validate_failed_legs(legs: Iterable[int]) -> tuple[int, ...]:
     out = []
     for leg in legs:
         if isinstance(leg, bool) or not isinstance(leg, (int, np.integer)):
-            raise ValueError(f"leg numbers must be integers 1..6, got {leg!r}")
+            raise ValueError(f'leg numbers must be integers 1..6, got {leg!r}')
         if not 1 <= int(leg) <= N_LEGS:
-            raise ValueError(f"leg {leg} does not exist: legs are numbered 1..6")
+            raise ValueError(f'leg {leg} does not exist: legs are numbered 1..6')
         out.append(int(leg))
     legs_t = tuple(sorted(set(out)))
     if len(legs_t) > MAX_FAILED_LEGS:
-        raise ValueError(f"at most {MAX_FAILED_LEGS} legs can fail (the thesis scenarios S0-S4); "
-                         f"got {len(legs_t)}: {list(legs_t)}")
+        raise ValueError(
+            f'at most {MAX_FAILED_LEGS} legs can fail (the thesis scenarios S0-S4); '
+            f'got {len(legs_t)}: {list(legs_t)}'
+        )
     return legs_t
 
 
 def validate_engine(name: str) -> str:
-    """The engine name, or ValueError listing the known engines."""
+    """Return the engine name, or ValueError listing the known engines."""
     if name not in ENGINES:
-        raise ValueError(f"unknown physics engine {name!r}; choose one of: {', '.join(ENGINES)}")
+        raise ValueError(f'unknown physics engine {name!r}; choose one of: {", ".join(ENGINES)}')
     return name
 
 
 def body_height_from_joints(q: np.ndarray) -> float:
-    """Base height that puts the lowest foot on the ground for joint angles q (18,): the
-    inverse of the controller's foot height -(h_b + mount_z). One definition for every engine,
-    ``sim_node`` and the emulator, so they all start from identical states."""
+    """
+    Return the base height that puts the lowest foot on the ground for joint angles q (18,).
+
+    The inverse of the controller's foot height -(h_b + mount_z). One definition for every engine,
+    ``sim_node`` and the emulator, so they all start from identical states.
+    """
     feet = default_kinematics().forward(np.asarray(q, dtype=float).reshape(N_LEGS, 3))
     return float(np.max(-(feet[:, 2] + default_geometry().mount_z)))
 
 
 @dataclass(frozen=True)
 class SimConfig:
-    """Which engine, with which settings. ``friction`` (ground and feet) is shared by both
-    engines; each engine's own choices live in its settings object."""
+    """
+    Which engine, with which settings.
 
-    engine: str = "pybullet"
+    ``friction`` (ground and feet) is shared by both engines; each engine's own choices live in its
+    settings object.
+    """
+
+    engine: str = 'pybullet'
     friction: float = 1.0
-    pybullet: Any = None        # PyBulletSettings (default: pybullet_engine.ACCURATE)
-    mujoco: Any = None          # MujocoSettings (default: mujoco_engine.DEFAULT_SETTINGS)
-    gui: bool = False           # PyBullet only: open its GUI window
-    urdf: str | None = None     # default: hexapod_description's URDF
+    pybullet: Any = None  # PyBulletSettings (default: pybullet_engine.ACCURATE)
+    mujoco: Any = None  # MujocoSettings (default: mujoco_engine.DEFAULT_SETTINGS)
+    gui: bool = False  # PyBullet only: open its GUI window
+    urdf: str | None = None  # default: hexapod_description's URDF
 
     def __post_init__(self) -> None:
         validate_engine(self.engine)
         if not (math.isfinite(self.friction) and 0.0 <= self.friction <= 10.0):
-            raise ValueError(f"friction must be in [0, 10], got {self.friction}")
+            raise ValueError(f'friction must be in [0, 10], got {self.friction}')
 
     def engine_settings(self) -> Any:
-        """The settings object of the selected engine (its default if none was given)."""
+        """Return the settings object of the selected engine (its default if none was given)."""
         # the engine modules import this one: they are imported on use
-        if self.engine == "pybullet":
+        if self.engine == 'pybullet':
             from hexapod_sim.pybullet_engine import ACCURATE
+
             return self.pybullet or ACCURATE
         from hexapod_sim.mujoco_engine import DEFAULT_SETTINGS
+
         return self.mujoco or DEFAULT_SETTINGS
 
     def fingerprint(self) -> dict[str, Any]:
-        """What a simulated result depends on besides the gait: engine, its settings (and their
-        hash), friction. Recorded in archive metadata."""
+        """
+        Return what a simulated result depends on besides the gait.
+
+        Engine, its settings (and their hash), friction. Recorded in archive metadata.
+        """
         settings = asdict(self.engine_settings())
-        blob = json.dumps({"engine": self.engine, "settings": settings, "friction": self.friction},
-                          sort_keys=True).encode()
-        return {"engine": self.engine, "settings": settings, "friction": self.friction,
-                "settings_sha256": hashlib.sha256(blob).hexdigest()}
+        blob = json.dumps(
+            {'engine': self.engine, 'settings': settings, 'friction': self.friction},
+            sort_keys=True,
+        ).encode()
+        return {
+            'engine': self.engine,
+            'settings': settings,
+            'friction': self.friction,
+            'settings_sha256': hashlib.sha256(blob).hexdigest(),
+        }
 
 
 @dataclass
 class StepReport:
     """What happened in the last step (reused object; copy what you keep)."""
 
-    contacts: list = field(default_factory=lambda: [False] * N_LEGS)   # per leg, foot on ground
-    body_ground: str | None = None        # name of a non-foot link on the ground
-    self_collision: str | None = None     # description of a self-collision
-    unstable: bool = False                # the engine's numbers blew up this step (and were reset)
+    contacts: list = field(default_factory=lambda: [False] * N_LEGS)  # per leg, foot on ground
+    body_ground: str | None = None  # name of a non-foot link on the ground
+    self_collision: str | None = None  # description of a self-collision
+    unstable: bool = False  # the engine's numbers blew up this step (and were reset)
 
     @property
     def collision(self) -> str | None:
-        """A description of the first collision of this step, or None."""
+        """Return a description of the first collision of this step, or None."""
         if self.self_collision is not None:
-            return f"self-collision {self.self_collision}"
+            return f'self-collision {self.self_collision}'
         if self.body_ground is not None:
-            return f"{self.body_ground} touched the ground"
+            return f'{self.body_ground} touched the ground'
         return None
 
 
 @dataclass(frozen=True)
 class JointRows:
-    """A joint table to play cyclically: positions and velocities (N, 18), URDF order, one row
-    per simulator step."""
+    """
+    A joint table to play cyclically.
+
+    Positions and velocities (N, 18), URDF order, one row per simulator step.
+    """
 
     positions: np.ndarray
     velocities: np.ndarray
@@ -133,28 +177,34 @@ class JointRows:
 class PlayResult:
     """The outcome of playing a joint table from a reset (:meth:`Simulator.rollout`)."""
 
-    steps: int                        # steps simulated (fewer than asked if stopped on a collision)
-    contact_steps: np.ndarray         # (6,) steps with each foot on the ground
-    collision_steps: int              # steps with a collision
-    first_collision: str | None       # "<what> at t = <s> s", or None
-    final_position: np.ndarray        # (3,) base position at the end [m]
-    contacts: np.ndarray | None = None   # (steps, 6) bool, if recorded
-    unstable: str | None = None          # why the engine's numbers cannot be trusted, or None
+    steps: int  # steps simulated (fewer than asked if stopped on a collision)
+    contact_steps: np.ndarray  # (6,) steps with each foot on the ground
+    collision_steps: int  # steps with a collision
+    first_collision: str | None  # "<what> at t = <s> s", or None
+    final_position: np.ndarray  # (3,) base position at the end [m]
+    contacts: np.ndarray | None = None  # (steps, 6) bool, if recorded
+    unstable: str | None = None  # why the engine's numbers cannot be trusted, or None
 
 
 def quat_to_matrix(quat: Sequence[float]) -> np.ndarray:
     """Rotation matrix (3, 3) of a unit quaternion (x, y, z, w)."""
     x, y, z, w = (float(v) for v in quat)
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-    ])
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
 
 
 def quat_to_euler(quat: Sequence[float]) -> tuple[float, float, float]:
-    """(roll, pitch, yaw) [rad] of a quaternion (x, y, z, w): rotations about fixed x, y, z
-    applied in that order (the convention of PyBullet's getEulerFromQuaternion and REP 103)."""
+    """
+    (roll, pitch, yaw) [rad] of a quaternion (x, y, z, w).
+
+    Rotations about fixed x, y, z applied in that order (the convention of PyBullet's
+    getEulerFromQuaternion and REP 103).
+    """
     x, y, z, w = (float(v) for v in quat)
     roll = math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
     pitch = math.asin(max(-1.0, min(1.0, 2 * (w * y - z * x))))
@@ -163,7 +213,8 @@ def quat_to_euler(quat: Sequence[float]) -> tuple[float, float, float]:
 
 
 class Simulator(abc.ABC):
-    """The hexapod on a flat plane, stepped at ``dt``: one interface, two engines.
+    """
+    The hexapod on a flat plane, stepped at ``dt``: one interface, two engines.
 
     Joint vectors are 18 long in URDF order (``model.joint_names``). Failed legs (1..6, at most
     two) are held by their servos in the pose of table 5.1 as dead weight; a reset keeps them.
@@ -178,7 +229,9 @@ class Simulator(abc.ABC):
     def __init__(self, config: SimConfig | None) -> None:
         self.config = config or SimConfig(engine=self.engine)
         if self.config.engine != self.engine:
-            raise ValueError(f"{type(self).__name__} runs the {self.engine} engine, not {self.config.engine}")
+            raise ValueError(
+                f'{type(self).__name__} runs the {self.engine} engine, not {self.config.engine}'
+            )
         self.settings = self.config.engine_settings()
         self.dt = float(self.settings.time_step)
         self.model = load_model(self.config.urdf) if self.config.urdf else load_model()
@@ -202,9 +255,12 @@ class Simulator(abc.ABC):
 
     @abc.abstractmethod
     def prepare_rows(self, positions: np.ndarray, velocities: np.ndarray) -> Any:
-        """A joint table (N, 18) in the engine's own form for :meth:`apply_row`: positions
-        clipped to the joint limits, velocities to the velocity limits, the failed legs' joints
-        left to the failure pose. Done once per table, never per step."""
+        """
+        Return a joint table (N, 18) in the engine's own form for :meth:`apply_row`.
+
+        Positions clipped to the joint limits, velocities to the velocity limits, the failed legs'
+        joints left to the failure pose. Done once per table, never per step.
+        """
 
     @abc.abstractmethod
     def apply_row(self, rows: Any, index: int) -> None:
@@ -220,16 +276,19 @@ class Simulator(abc.ABC):
 
     @abc.abstractmethod
     def base_pose(self) -> tuple[np.ndarray, np.ndarray]:
-        """Base position [m] and orientation quaternion (x, y, z, w) in the world frame."""
+        """Return the base position [m] and orientation (x, y, z, w) in the world frame."""
 
     @abc.abstractmethod
     def base_velocity(self) -> tuple[np.ndarray, np.ndarray]:
-        """Base linear [m/s] and angular [rad/s] velocity in the world frame."""
+        """Return the base linear [m/s] and angular [rad/s] velocity in the world frame."""
 
     @abc.abstractmethod
     def link_poses(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-        """World pose of every link frame of the URDF (``base_link`` and ``link_<leg>_<k>``):
-        position [m] and quaternion (x, y, z, w)."""
+        """
+        World pose of every link frame of the URDF (``base_link`` and ``link_<leg>_<k>``).
+
+        Position [m] and quaternion (x, y, z, w).
+        """
 
     @abc.abstractmethod
     def link_masses(self) -> dict[str, float]:
@@ -240,52 +299,83 @@ class Simulator(abc.ABC):
         """Joint positions [rad], velocities [rad/s], servo torques [N m] (URDF order)."""
 
     @abc.abstractmethod
-    def render(self, width: int = 480, height: int = 360, distance: float = 0.9,
-               yaw: float = 30.0, pitch: float = -25.0) -> np.ndarray:
-        """An RGB image (height, width, 3) from a camera following the robot."""
+    def render(
+        self,
+        width: int = 480,
+        height: int = 360,
+        distance: float = 0.9,
+        yaw: float = 30.0,
+        pitch: float = -25.0,
+    ) -> np.ndarray:
+        """Return an RGB image (height, width, 3) from a camera following the robot."""
 
     @abc.abstractmethod
     def close(self) -> None:
         """Release the engine's resources (idempotent)."""
 
-    def rollout(self, tables: Sequence[JointRows], n_steps: int, stop_on_collision: bool = False,
-                record_contacts: bool = False) -> list[PlayResult]:
-        """Play each table cyclically for ``n_steps`` from a reset to its first row (damage
-        kept). The default steps in Python; an engine may run the batch natively. Afterwards
-        the simulator is in the final state of the last table."""
+    def rollout(
+        self,
+        tables: Sequence[JointRows],
+        n_steps: int,
+        stop_on_collision: bool = False,
+        record_contacts: bool = False,
+    ) -> list[PlayResult]:
+        """
+        Play each table cyclically for ``n_steps`` from a reset to its first row (damage kept).
+
+        The default steps in Python; an engine may run the batch natively. Afterwards the simulator
+        is in the final state of the last table.
+        """
         return [self._play(t, n_steps, stop_on_collision, record_contacts) for t in tables]
 
     # -- shared behaviour ------------------------------------------------------------------------
     def set_failed_legs(self, legs: Iterable[int]) -> tuple[int, ...]:
-        """Hold these legs (1..6, at most two) in the failure pose (table 5.1), from now on:
-        their servos drive them to the pose; a reset places them there directly."""
+        """
+        Hold these legs (1..6, at most two) in the failure pose (table 5.1), from now on.
+
+        Their servos drive them to the pose; a reset places them there directly.
+        """
         self.failed_legs = validate_failed_legs(legs)
         self._apply_failed_legs()
         return self.failed_legs
 
     def reset(self, joint_positions: Sequence[float], body_height: float | None = None) -> None:
-        """Robot back at the origin (yaw 0) with the given joint angles (clipped to the limits),
-        failed legs in the failure pose, everything at rest. The base is placed at
-        ``body_height``, by default the height that puts the lowest foot on the ground."""
+        """
+        Put the robot back at the origin (yaw 0), at rest, with the given joint angles.
+
+        Angles are clipped to the limits; failed legs go to the failure pose. The base is placed at
+        ``body_height``, by default the height that puts the lowest foot on the ground.
+        """
         if body_height is None:
             body_height = body_height_from_joints(joint_positions)
         q = np.clip(np.asarray(joint_positions, dtype=float), self.lower, self.upper)
         for leg in self.failed_legs:
-            q[3 * (leg - 1): 3 * leg] = FAILURE_POSE
+            q[slice(3 * (leg - 1), 3 * leg)] = FAILURE_POSE
         self._reset_state(q, float(body_height))
         self.time = 0.0
         self._prev_velocity = np.zeros(3)
         self._accel = np.zeros(3)
 
     def command(self, positions: Sequence[float], velocities: Sequence[float]) -> None:
-        """Servo targets (18 each) for the healthy legs (occasional commands; loops prepare their
-        table once with :meth:`prepare_rows`)."""
-        self.apply_row(self.prepare_rows(np.atleast_2d(np.asarray(positions, dtype=float)),
-                                         np.atleast_2d(np.asarray(velocities, dtype=float))), 0)
+        """
+        Servo targets (18 each) for the healthy legs.
+
+        Occasional commands; loops prepare their table once with :meth:`prepare_rows`.
+        """
+        self.apply_row(
+            self.prepare_rows(
+                np.atleast_2d(np.asarray(positions, dtype=float)),
+                np.atleast_2d(np.asarray(velocities, dtype=float)),
+            ),
+            0,
+        )
 
     def update_imu(self) -> None:
-        """Update the finite-difference base acceleration (call once per step if IMU readings
-        are wanted)."""
+        """
+        Update the finite-difference base acceleration.
+
+        Call once per step if IMU readings are wanted.
+        """
         v = self.base_velocity()[0]
         self._accel = (v - self._prev_velocity) / self.dt
         self._prev_velocity = v
@@ -295,27 +385,31 @@ class Simulator(abc.ABC):
         return quat_to_matrix(self.base_pose()[1])
 
     def base_euler(self) -> tuple[float, float, float]:
-        """Base (roll, pitch, yaw) [rad] in the world frame."""
+        """Return the base (roll, pitch, yaw) [rad] in the world frame."""
         return quat_to_euler(self.base_pose()[1])
 
     def base_twist_body(self) -> tuple[np.ndarray, np.ndarray]:
-        """Base linear [m/s] and angular [rad/s] velocity expressed in the base frame."""
+        """Return the base linear [m/s] and angular [rad/s] velocity in the base frame."""
         rot = self.base_rotation()
         lin, ang = self.base_velocity()
         return rot.T @ lin, rot.T @ ang
 
     def imu(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """IMU-like readings in the base frame: orientation quaternion (x, y, z, w), angular
-        velocity [rad/s], and specific force [m/s^2] (acceleration minus gravity, what an
-        accelerometer measures: +9.81 on z at rest)."""
+        """
+        IMU-like readings in the base frame.
+
+        Orientation quaternion (x, y, z, w), angular velocity [rad/s], and specific force [m/s^2]
+        (acceleration minus gravity, what an accelerometer measures: +9.81 on z at rest).
+        """
         _, quat = self.base_pose()
         rot = quat_to_matrix(quat)
         _, ang_body = self.base_twist_body()
         return quat, ang_body, rot.T @ (self._accel + np.array([0.0, 0.0, GRAVITY]))
 
-    def _play(self, table: JointRows, n_steps: int, stop_on_collision: bool,
-              record_contacts: bool) -> PlayResult:
-        """The per-step loop behind the default :meth:`rollout`."""
+    def _play(
+        self, table: JointRows, n_steps: int, stop_on_collision: bool, record_contacts: bool
+    ) -> PlayResult:
+        """Return the per-step loop behind the default :meth:`rollout`."""
         rows = self.prepare_rows(table.positions, table.velocities)
         n_rows = len(table.positions)
         self.reset(table.positions[0])
@@ -330,17 +424,23 @@ class Simulator(abc.ABC):
             if collided is not None:
                 collision_steps += 1
                 if first is None:
-                    first = f"{collided} at t = {(k + 1) * self.dt:.3f} s"
+                    first = f'{collided} at t = {(k + 1) * self.dt:.3f} s'
                 if stop_on_collision:
                     steps = k + 1
                     break
             counts += report.contacts
             if record is not None:
                 record[k] = report.contacts
-        return PlayResult(steps, counts, collision_steps, first, self.base_pose()[0],
-                          None if record is None else record[:steps])
+        return PlayResult(
+            steps,
+            counts,
+            collision_steps,
+            first,
+            self.base_pose()[0],
+            None if record is None else record[:steps],
+        )
 
-    def __enter__(self) -> "Simulator":
+    def __enter__(self) -> 'Simulator':
         return self
 
     def __exit__(self, *exc: object) -> None:
@@ -354,10 +454,14 @@ class Simulator(abc.ABC):
 
 
 def create_simulator(config: SimConfig | None = None) -> Simulator:
-    """A simulator running the engine named in ``config`` (default: PyBullet)."""
+    """Return a simulator running the engine named in ``config`` (default: PyBullet)."""
     config = config or SimConfig()
-    if config.engine == "mujoco":
-        from hexapod_sim.mujoco_engine import MujocoSimulator  # optional dependency: imported on use
+    if config.engine == 'mujoco':
+        from hexapod_sim.mujoco_engine import (
+            MujocoSimulator,
+        )  # optional dependency: imported on use
+
         return MujocoSimulator(config)
     from hexapod_sim.pybullet_engine import PyBulletSimulator
+
     return PyBulletSimulator(config)

@@ -1,12 +1,35 @@
-"""Turn an incoming joint trajectory (one gait cycle, any joint order) into the simulator's
-control table, with clear errors for anything malformed. ROS-free: takes plain arrays."""
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Turn an incoming joint trajectory into the simulator's control table.
+
+One gait cycle, any joint order; clear errors for anything malformed. ROS-free: takes plain arrays.
+"""
+
 from __future__ import annotations
 
 from dataclasses import dataclass
 from typing import Sequence
 
 import numpy as np
-
 
 
 class TrajectoryError(ValueError):
@@ -22,14 +45,22 @@ MAX_POINTS = 60_000
 @dataclass(frozen=True)
 class CycleTable:
     """One gait cycle at the simulator's step: positions, velocities (N, 18), period."""
-    positions: np.ndarray   # (N, 18) URDF joint order, at the simulator's time step
+
+    positions: np.ndarray  # (N, 18) URDF joint order, at the simulator's time step
     velocities: np.ndarray  # (N, 18)
-    period: float           # s
+    period: float  # s
 
 
-def cycle_from_points(joint_names: Sequence[str], times: Sequence[float], positions: Sequence[Sequence[float]],
-                      velocities: Sequence[Sequence[float]], urdf_joint_names: Sequence[str], dt: float) -> CycleTable:
-    """Validate one cycle of a trajectory and resample it onto the simulator's step ``dt``.
+def cycle_from_points(
+    joint_names: Sequence[str],
+    times: Sequence[float],
+    positions: Sequence[Sequence[float]],
+    velocities: Sequence[Sequence[float]],
+    urdf_joint_names: Sequence[str],
+    dt: float,
+) -> CycleTable:
+    """
+    Validate one cycle of a trajectory and resample it onto the simulator's step ``dt``.
 
     The cycle repeats with period = last time + sample spacing (samples are uniform, as
     gait_node publishes them). Samples already at ``dt`` are used exactly as given; other rates
@@ -38,46 +69,52 @@ def cycle_from_points(joint_names: Sequence[str], times: Sequence[float], positi
     names = list(joint_names)
     expected = list(urdf_joint_names)
     if len(set(names)) != len(names):
-        raise TrajectoryError("duplicate joint names in the trajectory")
+        raise TrajectoryError('duplicate joint names in the trajectory')
     if set(names) != set(expected):
         missing = sorted(set(expected) - set(names))
         unknown = sorted(set(names) - set(expected))
-        raise TrajectoryError(f"joint names must be the robot's {len(expected)} joints; "
-                              f"missing {missing}, unknown {unknown}")
+        raise TrajectoryError(
+            f"joint names must be the robot's {len(expected)} joints; "
+            f'missing {missing}, unknown {unknown}'
+        )
     n = len(times)
     if n < 2:
-        raise TrajectoryError(f"a gait cycle needs at least 2 points, got {n}")
+        raise TrajectoryError(f'a gait cycle needs at least 2 points, got {n}')
     if n > MAX_POINTS:
-        raise TrajectoryError(f"a gait cycle may have at most {MAX_POINTS} points, got {n}")
+        raise TrajectoryError(f'a gait cycle may have at most {MAX_POINTS} points, got {n}')
     if len(positions) != n or (len(velocities) and len(velocities) != n):
-        raise TrajectoryError("positions (and velocities, if given) need one entry per point")
+        raise TrajectoryError('positions (and velocities, if given) need one entry per point')
     t = np.asarray(times, dtype=float)
     try:
         q = np.asarray(positions, dtype=float)
     except ValueError:
-        raise TrajectoryError("every point needs one position per joint") from None
+        raise TrajectoryError('every point needs one position per joint') from None
     if q.shape != (n, len(names)):
-        raise TrajectoryError(f"every point needs {len(names)} positions")
+        raise TrajectoryError(f'every point needs {len(names)} positions')
     if not np.isfinite(q).all():
-        raise TrajectoryError("positions must be finite")
+        raise TrajectoryError('positions must be finite')
     if len(velocities) and any(len(v) for v in velocities):
         try:
             v = np.asarray(velocities, dtype=float)
         except ValueError:
-            raise TrajectoryError("every point needs 0 or one velocity per joint") from None
+            raise TrajectoryError('every point needs 0 or one velocity per joint') from None
         if v.shape != q.shape or not np.isfinite(v).all():
-            raise TrajectoryError("velocities must be finite, one per joint for every point (or none)")
+            raise TrajectoryError(
+                'velocities must be finite, one per joint for every point (or none)'
+            )
     else:
         v = None
     spacing = np.diff(t)
     if not np.isfinite(t).all() or t[0] != 0.0 or np.any(spacing <= 0):
-        raise TrajectoryError("time_from_start must start at 0 and increase strictly")
+        raise TrajectoryError('time_from_start must start at 0 and increase strictly')
     if t[-1] + spacing.mean() > MAX_CYCLE_SECONDS:
-        raise TrajectoryError(f"a gait cycle may last at most {MAX_CYCLE_SECONDS:g} s, got "
-                              f"{t[-1] + spacing.mean():.6g} s")
+        raise TrajectoryError(
+            f'a gait cycle may last at most {MAX_CYCLE_SECONDS:g} s, got '
+            f'{t[-1] + spacing.mean():.6g} s'
+        )
     step = float(spacing.mean())
     if np.abs(spacing - step).max() > 1e-6:
-        raise TrajectoryError("points must be uniformly spaced in time (one sampled gait cycle)")
+        raise TrajectoryError('points must be uniformly spaced in time (one sampled gait cycle)')
     period = t[-1] + step
     order = [names.index(name) for name in expected]
     q = q[:, order]

@@ -1,8 +1,30 @@
-"""Simulated robot: gait_node + sim_node (full ROS 2 Jazzy install).
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Simulated robot: gait_node + sim_node (full ROS 2 Jazzy install).
 
     ros2 launch hexapod_sim sim.launch.py real_time_factor:=0.0 failed_legs:='[1]'
 In this workspace without `launch`: python scripts/launch.py sim
 """
+
 from pathlib import Path
 
 from ament_index_python.packages import get_package_share_directory
@@ -11,26 +33,55 @@ from launch.actions import DeclareLaunchArgument
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 
-
-URDF = Path(get_package_share_directory("hexapod_description")) / "urdf" / "hexapod.urdf"
+URDF = Path(get_package_share_directory('hexapod_description')) / 'urdf' / 'hexapod.urdf'
 
 
 def generate_launch_description() -> LaunchDescription:
-    rtf = LaunchConfiguration("real_time_factor")
-    return LaunchDescription([
-        DeclareLaunchArgument("real_time_factor", default_value="1.0",
-                              description="simulated seconds per wall second; 0 = as fast as possible"),
-        DeclareLaunchArgument("initial_preset", default_value="tripod"),
-        DeclareLaunchArgument("gui", default_value="false"),
-        DeclareLaunchArgument("publish_period_steps", default_value="4",
-                              description="state topics every N 1/240 s steps; 24 suits real_time_factor 0"),
-        Node(package="hexapod_gait", executable="gait_node", output="screen",
-             parameters=[{"initial_preset": LaunchConfiguration("initial_preset"), "control_rate": 240.0,
-                          "use_sim_time": True}]),     # sim_node's /clock: one time base
-        Node(package="hexapod_sim", executable="sim_node", output="screen",
-             parameters=[{"real_time_factor": rtf, "gui": LaunchConfiguration("gui"),
-                          "publish_period_steps": LaunchConfiguration("publish_period_steps")}]),
-        # the leg links on /tf and the latched robot_description (odom -> base_link: sim_node)
-        Node(package="robot_state_publisher", executable="robot_state_publisher", output="screen",
-             parameters=[{"robot_description": URDF.read_text(), "use_sim_time": True}]),
-    ])
+    rtf = LaunchConfiguration('real_time_factor')
+    return LaunchDescription(
+        [
+            DeclareLaunchArgument(
+                'real_time_factor',
+                default_value='1.0',
+                description='simulated seconds per wall second; 0 = as fast as possible',
+            ),
+            DeclareLaunchArgument('initial_preset', default_value='tripod'),
+            DeclareLaunchArgument('gui', default_value='false'),
+            DeclareLaunchArgument(
+                'publish_period_steps',
+                default_value='4',
+                description='state topics every N 1/240 s steps; 24 suits real_time_factor 0',
+            ),
+            Node(
+                package='hexapod_gait',
+                executable='gait_node',
+                output='screen',
+                parameters=[
+                    {
+                        'initial_preset': LaunchConfiguration('initial_preset'),
+                        'control_rate': 240.0,
+                        'use_sim_time': True,
+                    }
+                ],
+            ),  # sim_node's /clock: one time base
+            Node(
+                package='hexapod_sim',
+                executable='sim_node',
+                output='screen',
+                parameters=[
+                    {
+                        'real_time_factor': rtf,
+                        'gui': LaunchConfiguration('gui'),
+                        'publish_period_steps': LaunchConfiguration('publish_period_steps'),
+                    }
+                ],
+            ),
+            # the leg links on /tf and the latched robot_description (odom -> base_link: sim_node)
+            Node(
+                package='robot_state_publisher',
+                executable='robot_state_publisher',
+                output='screen',
+                parameters=[{'robot_description': URDF.read_text(), 'use_sim_time': True}],
+            ),
+        ]
+    )

@@ -1,5 +1,29 @@
-"""Simulator library, both engines: determinism, measured footfall, failures, collisions,
-scenarios, settings."""
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Simulator library, both engines.
+
+Determinism, measured footfall, failures, collisions, scenarios, settings.
+"""
+
 from __future__ import annotations
 
 import json
@@ -7,24 +31,34 @@ import os
 import subprocess
 import sys
 
+from hexapod_gait import preset
+from hexapod_sim import (
+    create_simulator,
+    ENGINES,
+    evaluate_gait,
+    evaluate_gaits,
+    FAILURE_POSE,
+    SimConfig,
+)
+from hexapod_sim.mujoco_engine import MujocoSettings
+from hexapod_sim.sampling import random_reachable_genotypes
 import numpy as np
 import pytest
 
-from hexapod_gait import preset
-from hexapod_sim import (ENGINES, FAILURE_POSE, SimConfig, create_simulator, evaluate_gait, evaluate_gaits)
-from hexapod_sim.mujoco_engine import MujocoSettings
-from hexapod_sim.sampling import random_reachable_genotypes
 
-
-@pytest.fixture(scope="module", params=ENGINES)
+@pytest.fixture(scope='module', params=ENGINES)
 def sim(request):
     with create_simulator(SimConfig(engine=request.param)) as s:
         yield s
 
 
 def _fingerprint(result) -> dict:
-    return {"fitness": result.fitness.hex(), "descriptor": [float(v).hex() for v in result.descriptor],
-            "valid": result.valid, "reason": result.reason}
+    return {
+        'fitness': result.fitness.hex(),
+        'descriptor': [float(v).hex() for v in result.descriptor],
+        'valid': result.valid,
+        'reason': result.reason,
+    }
 
 
 FRESH_PROCESS = """
@@ -42,21 +76,26 @@ print(json.dumps({"fitness": r.fitness.hex(), "descriptor": [float(v).hex() for 
 def test_deterministic_fresh_process_vs_reused_simulator(sim):
     genotypes = random_reachable_genotypes(3, seed=4)
     # warm the reused simulator with other gaits (and a failure) first
-    evaluate_gait(preset("wave"), sim, failed_legs=[2])
+    evaluate_gait(preset('wave'), sim, failed_legs=[2])
     sim.set_failed_legs([])
-    evaluate_gait(preset("quadruped"), sim)
+    evaluate_gait(preset('quadruped'), sim)
     for genes in genotypes:
         reused = _fingerprint(evaluate_gait(genes, sim, collisions_fatal=False))
         again = _fingerprint(evaluate_gait(genes, sim, collisions_fatal=False))
-        out = subprocess.run([sys.executable, "-c", FRESH_PROCESS, json.dumps(genes.tolist()), sim.engine], check=True,
-                             capture_output=True, text=True, env=dict(os.environ)).stdout
+        out = subprocess.run(
+            [sys.executable, '-c', FRESH_PROCESS, json.dumps(genes.tolist()), sim.engine],
+            check=True,
+            capture_output=True,
+            text=True,
+            env=dict(os.environ),
+        ).stdout
         fresh = json.loads(out.strip().splitlines()[-1])
         assert reused == again == fresh
 
 
 def test_measured_tripod_footfall_alternates_the_two_tripods(sim):
-    result = evaluate_gait(preset("tripod"), sim, record_contacts=True)
-    contacts = result.contacts[240:].astype(float)     # skip the first cycle (start-up transient)
+    result = evaluate_gait(preset('tripod'), sim, record_contacts=True)
+    contacts = result.contacts[240:].astype(float)  # skip the first cycle (start-up transient)
     corr = np.corrcoef(contacts.T)
     tripods = ([0, 2, 4], [1, 3, 5])
     within = [corr[i, j] for t in tripods for i in t for j in t if i < j]
@@ -75,77 +114,96 @@ def test_measured_tripod_footfall_alternates_the_two_tripods(sim):
     assert result.valid and result.speed > 0.2
 
 
-@pytest.mark.parametrize("gait,legs", [("wave", (1,)), ("wave", (4,)), ("quadruped", (3,)),
-                                       ("quadruped", (2, 5)), ("wave", (1, 3)), ("quadruped", (2, 4))])
+@pytest.mark.parametrize(
+    'gait,legs',
+    [
+        ('wave', (1,)),
+        ('wave', (4,)),
+        ('quadruped', (3,)),
+        ('quadruped', (2, 5)),
+        ('wave', (1, 3)),
+        ('quadruped', (2, 4)),
+    ],
+)
 def test_failed_leg_holds_its_pose_and_never_touches_the_ground(sim, gait, legs):
-    result = evaluate_gait(preset(gait), sim, failed_legs=legs, collisions_fatal=False, record_contacts=True)
+    result = evaluate_gait(
+        preset(gait), sim, failed_legs=legs, collisions_fatal=False, record_contacts=True
+    )
     q, _, _ = sim.joint_states()
     for leg in legs:
-        assert result.contacts[:, leg - 1].sum() == 0, f"failed leg {leg} touched the ground"
+        assert result.contacts[:, leg - 1].sum() == 0, f'failed leg {leg} touched the ground'
         assert result.descriptor[leg - 1] == 0.0
-        np.testing.assert_allclose(q[3 * (leg - 1): 3 * leg], FAILURE_POSE, atol=np.radians(2))
+        np.testing.assert_allclose(
+            q[slice(3 * (leg - 1), 3 * leg)], FAILURE_POSE, atol=np.radians(2)
+        )
     sim.set_failed_legs([])
 
 
 def test_base_dragging_gait_is_flagged(sim):
-    low = preset("tripod").replace(body_height=0.04, body_velocity=0.1, step_height=[0.02] * 6)
+    low = preset('tripod').replace(body_height=0.04, body_velocity=0.1, step_height=[0.02] * 6)
     result = evaluate_gait(low, sim, collisions_fatal=True)
     assert not result.valid and result.fitness == 0.0 and not result.descriptor.any()
-    assert "base_link touched the ground" in result.reason
+    assert 'base_link touched the ground' in result.reason
     relaxed = evaluate_gait(low, sim, collisions_fatal=False)
     assert relaxed.valid and relaxed.collision_steps > 0
 
 
 def test_self_colliding_gait_is_flagged(sim):
     # legs 1 and 2 turn their foot paths towards each other
-    crossed = preset("tripod").replace(angle_offset=[1.5, -1.5, 0, 0, 0, 0])
+    crossed = preset('tripod').replace(angle_offset=[1.5, -1.5, 0, 0, 0, 0])
     result = evaluate_gait(crossed, sim, collisions_fatal=True)
-    assert not result.valid and "self-collision" in result.reason
-    assert "link_1" in result.reason and "link_2" in result.reason
+    assert not result.valid and 'self-collision' in result.reason
+    assert 'link_1' in result.reason and 'link_2' in result.reason
 
 
 def test_unreachable_gait_returns_the_failure_value(sim):
-    result = evaluate_gait(preset("tripod").replace(radius=[0.3] * 6), sim)
-    assert not result.valid and result.fitness == 0.0 and result.reason.startswith("unreachable: leg")
+    result = evaluate_gait(preset('tripod').replace(radius=[0.3] * 6), sim)
+    assert (
+        not result.valid and result.fitness == 0.0 and result.reason.startswith('unreachable: leg')
+    )
 
 
-@pytest.mark.parametrize("engine", ENGINES)
+@pytest.mark.parametrize('engine', ENGINES)
 def test_friction_is_configurable(engine):
     # Without friction no horizontal force reaches the robot, so its base cannot travel; a little
     # friction already lets it walk (how much depends on how hard the stance feet fight each
     # other: stiff PyBullet servos slip at mu 0.05, compliant MuJoCo servos barely need it).
     with create_simulator(SimConfig(engine=engine, friction=0.0)) as ice:
-        none = evaluate_gait(preset("tripod"), ice, collisions_fatal=False)
+        none = evaluate_gait(preset('tripod'), ice, collisions_fatal=False)
     with create_simulator(SimConfig(engine=engine)) as normal:
-        fast = evaluate_gait(preset("tripod"), normal, collisions_fatal=False).speed
+        fast = evaluate_gait(preset('tripod'), normal, collisions_fatal=False).speed
     assert none.valid and abs(none.speed) < 0.02 and fast > 0.25
-    with pytest.raises(ValueError, match="friction"):
+    with pytest.raises(ValueError, match='friction'):
         SimConfig(friction=-1)
 
 
 def test_a_numerical_blow_up_is_a_failed_evaluation_with_the_reason():
-    stiff = MujocoSettings(back_emf=False, compliance_slope=1, integrator="euler", time_step=0.01)
-    with create_simulator(SimConfig(engine="mujoco", mujoco=stiff)) as sim:
-        result = evaluate_gait(preset("tripod"), sim, collisions_fatal=False)
-    assert not result.valid and result.fitness == 0.0 and "physics became unstable" in result.reason
+    stiff = MujocoSettings(back_emf=False, compliance_slope=1, integrator='euler', time_step=0.01)
+    with create_simulator(SimConfig(engine='mujoco', mujoco=stiff)) as sim:
+        result = evaluate_gait(preset('tripod'), sim, collisions_fatal=False)
+    assert (
+        not result.valid and result.fitness == 0.0 and 'physics became unstable' in result.reason
+    )
 
 
 def test_a_batch_equals_one_gait_at_a_time(sim):
-    genotypes = list(random_reachable_genotypes(4, seed=11)) + [preset("tripod"), preset("wave")]
+    genotypes = list(random_reachable_genotypes(4, seed=11)) + [preset('tripod'), preset('wave')]
     batch = evaluate_gaits(genotypes, sim, collisions_fatal=False)
     single = [evaluate_gait(g, sim, collisions_fatal=False) for g in reversed(genotypes)][::-1]
     assert [_fingerprint(r) for r in batch] == [_fingerprint(r) for r in single]
 
 
 def test_unknown_engine_is_refused_with_the_known_ones():
-    with pytest.raises(ValueError, match="unknown physics engine 'ode'; choose one of: pybullet, mujoco"):
-        SimConfig(engine="ode")
+    with pytest.raises(
+        ValueError, match="unknown physics engine 'ode'; choose one of: pybullet, mujoco"
+    ):
+        SimConfig(engine='ode')
 
 
 def test_motor_power_off_lets_the_robot_sag_and_on_holds_it_again():
     for engine in ENGINES:
         with create_simulator(SimConfig(engine=engine)) as sim:
-            q0 = preset("tripod")
+            q0 = preset('tripod')
             from hexapod_gait import build_joint_table
 
             table = build_joint_table(q0, rate=1.0 / sim.dt)
@@ -159,11 +217,11 @@ def test_motor_power_off_lets_the_robot_sag_and_on_holds_it_again():
             for _ in range(240):
                 sim.apply_row(rows, 0)
                 sim.step()
-            assert sim.base_pose()[0][2] < standing - 0.02, engine     # no servo torque: it collapses
+            assert sim.base_pose()[0][2] < standing - 0.02, engine  # no servo torque: it collapses
             sim.set_motor_power(True)
 
 
-@pytest.mark.parametrize("duration", [0.0, -1.0, float("nan"), 1e-4])
+@pytest.mark.parametrize('duration', [0.0, -1.0, float('nan'), 1e-4])
 def test_a_duration_without_a_single_step_is_refused(sim, duration):
-    with pytest.raises(ValueError, match="duration"):
-        evaluate_gait(preset("tripod"), sim, duration=duration)
+    with pytest.raises(ValueError, match='duration'):
+        evaluate_gait(preset('tripod'), sim, duration=duration)

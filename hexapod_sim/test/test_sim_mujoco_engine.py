@@ -1,87 +1,147 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
 """The MuJoCo engine's own choices: settings ranges, servo model, blow-up detection."""
+
 from __future__ import annotations
 
+from hexapod_gait import preset
+from hexapod_sim import create_simulator, evaluate_gait, evaluate_gaits, SimConfig
+from hexapod_sim.mujoco_engine import MujocoSettings
 import numpy as np
 import pytest
 
-from hexapod_gait import preset
-from hexapod_sim import SimConfig, create_simulator, evaluate_gait, evaluate_gaits
-from hexapod_sim.mujoco_engine import MujocoSettings
 
-
-@pytest.mark.parametrize("field,value,match", [
-    ("compliance_slope", 0.0, r"compliance_slope must be in \[1, 256\]"),
-    ("time_step", 0.5, r"time_step must be in"),
-    ("contact_timeconst", 0.001, r"contact_timeconst must be in"),     # < 2 time steps: unstable
-    ("iterations", 0, r"iterations must be in \[1, 1000\]"),
-    ("iterations", 2.5, r"iterations must be an integer"),
-    ("armature", float("nan"), r"armature must be in"),
-    ("cone", "round", r"cone must be one of pyramidal, elliptic"),
-    ("integrator", "rk9", r"integrator must be one of"),
-])
+@pytest.mark.parametrize(
+    'field,value,match',
+    [
+        ('compliance_slope', 0.0, r'compliance_slope must be in \[1, 256\]'),
+        ('time_step', 0.5, r'time_step must be in'),
+        ('contact_timeconst', 0.001, r'contact_timeconst must be in'),  # < 2 time steps: unstable
+        ('iterations', 0, r'iterations must be in \[1, 1000\]'),
+        ('iterations', 2.5, r'iterations must be an integer'),
+        ('armature', float('nan'), r'armature must be in'),
+        ('cone', 'round', r'cone must be one of pyramidal, elliptic'),
+        ('integrator', 'rk9', r'integrator must be one of'),
+    ],
+)
 def test_mujoco_settings_out_of_range_are_refused(field, value, match):
     with pytest.raises(ValueError, match=match):
         MujocoSettings(**{field: value})
 
 
 def test_mujoco_servos_respect_the_urdf_effort_limits():
-    with create_simulator(SimConfig(engine="mujoco")) as sim:
-        result = evaluate_gait(preset("tripod"), sim, collisions_fatal=False)
+    with create_simulator(SimConfig(engine='mujoco')) as sim:
+        result = evaluate_gait(preset('tripod'), sim, collisions_fatal=False)
         efforts = np.array([lim.effort for lim in sim.model.limits])
         _, _, torque = sim.joint_states()
         assert result.valid and np.all(np.abs(torque) <= efforts + 1e-9)
-        # the servo gain follows from the stall torque and the compliance slope (32 units of 0.29 deg)
+        # the servo gain follows from the stall torque and the compliance slope (32 x 0.29 deg)
         assert sim.settings.servo_kp(3.464) == pytest.approx(3.464 / (32 * np.radians(300 / 1024)))
 
 
-#: A demo-map gait that blows up MuJoCo when the servos have no back-EMF damping (found by a sweep).
+#: A demo-map gait that blows up MuJoCo when the servos have no back-EMF damping (from a sweep).
 BLOWS_UP_WITHOUT_BACK_EMF = [
-    0.411886736030811, 0.014057925788723155, 0.788538185685143, 0.42221799967350887, 0.7504814782561686,
-    0.05494747988027441, 0.988851117596404, 0.6918646326468704, 0.3921038615837734, 0.10614140681501028,
-    0.4466289770636665, 0.9648471310128469, 0.2128056869356695, 0.33351348221912314, 0.32741824778381523,
-    1.0, 1.0, 0.7830856788941308, 0.41782029280566696, 0.10673254783136216, 0.0, 0.982857411531142,
-    0.8269588476197195, 0.7634901616330082, 0.18557554116538633, 0.7397557562481006, 0.513996287413884,
-    0.890498664296602, 0.6862991581832442, 0.027866336417504918, 0.012786569430227029, 0.10752555490201114]
+    0.411886736030811,
+    0.014057925788723155,
+    0.788538185685143,
+    0.42221799967350887,
+    0.7504814782561686,
+    0.05494747988027441,
+    0.988851117596404,
+    0.6918646326468704,
+    0.3921038615837734,
+    0.10614140681501028,
+    0.4466289770636665,
+    0.9648471310128469,
+    0.2128056869356695,
+    0.33351348221912314,
+    0.32741824778381523,
+    1.0,
+    1.0,
+    0.7830856788941308,
+    0.41782029280566696,
+    0.10673254783136216,
+    0.0,
+    0.982857411531142,
+    0.8269588476197195,
+    0.7634901616330082,
+    0.18557554116538633,
+    0.7397557562481006,
+    0.513996287413884,
+    0.890498664296602,
+    0.6862991581832442,
+    0.027866336417504918,
+    0.012786569430227029,
+    0.10752555490201114,
+]
 
 
 def test_a_blow_up_inside_a_batch_fails_only_that_gait():
-    """MuJoCo resets itself after a blow-up and carries on; each rollout's own time line tells."""
-    with create_simulator(SimConfig(engine="mujoco", mujoco=MujocoSettings(back_emf=False))) as sim:
+    """Check each rollout's own time line: MuJoCo resets itself after a blow-up, carrying on."""
+    with create_simulator(
+        SimConfig(engine='mujoco', mujoco=MujocoSettings(back_emf=False))
+    ) as sim:
         alone = evaluate_gait(BLOWS_UP_WITHOUT_BACK_EMF, sim, collisions_fatal=False)
-        batch = evaluate_gaits([BLOWS_UP_WITHOUT_BACK_EMF, preset("tripod"), preset("wave")], sim,
-                               collisions_fatal=False)
-    assert not alone.valid and "physics became unstable" in alone.reason
+        batch = evaluate_gaits(
+            [BLOWS_UP_WITHOUT_BACK_EMF, preset('tripod'), preset('wave')],
+            sim,
+            collisions_fatal=False,
+        )
+    assert not alone.valid and 'physics became unstable' in alone.reason
     assert [r.valid for r in batch] == [False, True, True]
     assert batch[0].reason == alone.reason
 
 
 def test_mujoco_model_takes_limits_from_the_urdf():
-    """Joint ranges and servo force limits of the compiled model are the URDF's (tables 3.8, 3.9)."""
-    with create_simulator(SimConfig(engine="mujoco")) as sim:
+    """The compiled model's joint ranges and servo force limits are the URDF's (tables 3.8-9)."""
+    with create_simulator(SimConfig(engine='mujoco')) as sim:
         for lim in sim.model.limits:
-            np.testing.assert_allclose(sim.m.joint(lim.name).range, (lim.lower, lim.upper), err_msg=lim.name)
-            np.testing.assert_allclose(sim.m.actuator(lim.name).forcerange, (-lim.effort, lim.effort),
-                                       err_msg=lim.name)
+            np.testing.assert_allclose(
+                sim.m.joint(lim.name).range, (lim.lower, lim.upper), err_msg=lim.name
+            )
+            np.testing.assert_allclose(
+                sim.m.actuator(lim.name).forcerange, (-lim.effort, lim.effort), err_msg=lim.name
+            )
             # back-EMF: the URDF velocity limit is the no-load speed
-            assert sim.m.dof_damping[sim.m.joint(lim.name).dofadr[0]] == pytest.approx(lim.effort / lim.velocity)
+            assert sim.m.dof_damping[sim.m.joint(lim.name).dofadr[0]] == pytest.approx(
+                lim.effort / lim.velocity
+            )
 
 
 def test_mujoco_renders_the_robot():
     """A frame from MuJoCo's renderer (OSMesa headless, set up by the bootstrap and env.sh)."""
-    with create_simulator(SimConfig(engine="mujoco")) as sim:
+    with create_simulator(SimConfig(engine='mujoco')) as sim:
         sim.reset(np.zeros(len(sim.model.joint_names)))
         frame = sim.render(160, 120)
     assert frame.shape == (120, 160, 3) and frame.dtype == np.uint8
-    assert frame.std() > 10          # not a blank image: robot, floor and shadow differ
+    assert frame.std() > 10  # not a blank image: robot, floor and shadow differ
 
 
 def test_the_per_step_path_reports_a_blow_up_too():
     """sim_node and the emulator step one at a time: the step that blew up says so."""
-    stiff = MujocoSettings(back_emf=False, compliance_slope=1, integrator="euler", time_step=0.01)
-    with create_simulator(SimConfig(engine="mujoco", mujoco=stiff)) as sim:
+    stiff = MujocoSettings(back_emf=False, compliance_slope=1, integrator='euler', time_step=0.01)
+    with create_simulator(SimConfig(engine='mujoco', mujoco=stiff)) as sim:
         from hexapod_gait import build_joint_table
 
-        table = build_joint_table(preset("tripod"), rate=1.0 / sim.dt)
+        table = build_joint_table(preset('tripod'), rate=1.0 / sim.dt)
         rows = sim.prepare_rows(table.positions, table.velocities)
         sim.reset(table.positions[0])
         flagged = []

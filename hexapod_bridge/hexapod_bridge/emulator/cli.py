@@ -1,5 +1,28 @@
-"""``ros2 run hexapod_bridge robot_emulator``: the robot's side of the radio link (and an
-emulated Xsens MTi) on pseudo-terminals, for running bridge_node without hardware.
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+``ros2 run hexapod_bridge robot_emulator``.
+
+The robot's side of the radio link (and an emulated Xsens MTi) on pseudo-terminals, for running
+bridge_node without hardware.
 
     robot_emulator --radio-link /tmp/hexapod_radio --imu-link /tmp/hexapod_imu --sim
 
@@ -8,6 +31,7 @@ simulator's own measurement when a walk ends. SIGUSR1 makes the radio port vanis
 closed and its link removed), SIGUSR2 brings a new one back at the same link path - the
 fault-injection handle the reliability tests use. SIGINT/SIGTERM end it.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -20,7 +44,7 @@ import time
 import tty
 
 from hexapod_bridge.emulator.firmware import ImuNoise, RobotFirmware
-from hexapod_sim import ENGINES, SimConfig, create_simulator
+from hexapod_sim import create_simulator, ENGINES, SimConfig
 
 
 class PtyPort:
@@ -31,14 +55,14 @@ class PtyPort:
         self.master: int | None = None
         self.slave: int | None = None
 
-    def open(self) -> str:
+    def open(self) -> str:  # noqa: A003 (the pty pair is opened, as a file is)
         """Create the pseudo-terminal and its symlink at ``link``."""
         self.master, self.slave = os.openpty()
         tty.setraw(self.master)
         tty.setraw(self.slave)
         os.set_blocking(self.master, False)
         path = os.ttyname(self.slave)
-        tmp = f"{self.link}.tmp{os.getpid()}"
+        tmp = f'{self.link}.tmp{os.getpid()}'
         if os.path.lexists(tmp):
             os.unlink(tmp)
         os.symlink(path, tmp)
@@ -64,47 +88,65 @@ class PtyPort:
         try:
             os.write(self.master, data)
         except (BlockingIOError, OSError):
-            pass   # nobody reading: bytes are lost, as on a radio with no receiver
+            pass  # nobody reading: bytes are lost, as on a radio with no receiver
 
     def read(self) -> bytes:
         """Bytes the host wrote since the last call (b'' if none)."""
         if self.master is None:
-            return b""
+            return b''
         try:
             return os.read(self.master, 4096)
         except (BlockingIOError, OSError):
-            return b""
+            return b''
 
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of ``robot_emulator``: serve the emulated robot until Ctrl-C."""
-    parser = argparse.ArgumentParser(description="Emulate the hexapod's firmware on pseudo-terminals.")
-    parser.add_argument("--radio-link", default="/tmp/hexapod_radio", help="symlink path of the radio port")
-    parser.add_argument("--imu-link", default="", help="symlink path of an emulated Xsens port ('' = none)")
-    parser.add_argument("--sim", action="store_true", help="drive a simulator (the robot walks)")
-    parser.add_argument("--engine", choices=ENGINES, default="pybullet",
-                        help="physics engine of the emulated robot with --sim")
-    parser.add_argument("--imu-noise", action="store_true", help="add Xsens-like noise and bias to the IMU")
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--walk-duration", type=float, default=5.0)
-    parser.add_argument("--failsafe-windows", type=int, default=11)
+    parser = argparse.ArgumentParser(
+        description="Emulate the hexapod's firmware on pseudo-terminals."
+    )
+    parser.add_argument(
+        '--radio-link', default='/tmp/hexapod_radio', help='symlink path of the radio port'
+    )
+    parser.add_argument(
+        '--imu-link', default='', help="symlink path of an emulated Xsens port ('' = none)"
+    )
+    parser.add_argument('--sim', action='store_true', help='drive a simulator (the robot walks)')
+    parser.add_argument(
+        '--engine',
+        choices=ENGINES,
+        default='pybullet',
+        help='physics engine of the emulated robot with --sim',
+    )
+    parser.add_argument(
+        '--imu-noise', action='store_true', help='add Xsens-like noise and bias to the IMU'
+    )
+    parser.add_argument('--seed', type=int, default=0)
+    parser.add_argument('--walk-duration', type=float, default=5.0)
+    parser.add_argument('--failsafe-windows', type=int, default=11)
     args = parser.parse_args(argv)
 
     sim = None
     if args.sim:
         sim = create_simulator(SimConfig(engine=args.engine))
     start = time.monotonic()
-    firmware = RobotFirmware(sim=sim, walk_duration=args.walk_duration, failsafe_windows=args.failsafe_windows,
-                             imu_noise=ImuNoise() if args.imu_noise else None, seed=args.seed, now=0.0)
+    firmware = RobotFirmware(
+        sim=sim,
+        walk_duration=args.walk_duration,
+        failsafe_windows=args.failsafe_windows,
+        imu_noise=ImuNoise() if args.imu_noise else None,
+        seed=args.seed,
+        now=0.0,
+    )
     radio = PtyPort(args.radio_link)
     imu = PtyPort(args.imu_link) if args.imu_link else None
-    print(f"RADIO {radio.open()}", flush=True)
+    print(f'RADIO {radio.open()}', flush=True)
     if imu is not None:
-        print(f"IMU {imu.open()}", flush=True)
+        print(f'IMU {imu.open()}', flush=True)
 
     requests: list[str] = []
-    signal.signal(signal.SIGUSR1, lambda *_: requests.append("vanish"))
-    signal.signal(signal.SIGUSR2, lambda *_: requests.append("return"))
+    signal.signal(signal.SIGUSR1, lambda *_: requests.append('vanish'))
+    signal.signal(signal.SIGUSR2, lambda *_: requests.append('return'))
     running = [True]
     signal.signal(signal.SIGTERM, lambda *_: running.__setitem__(0, False))
     reported = 0
@@ -112,25 +154,28 @@ def main(argv: list[str] | None = None) -> int:
         while running[0]:
             while requests:
                 what = requests.pop(0)
-                if what == "vanish" and radio.master is not None:
+                if what == 'vanish' and radio.master is not None:
                     radio.close()
-                    print("RADIO gone", flush=True)
+                    print('RADIO gone', flush=True)
                     print_stats(firmware)
-                elif what == "return" and radio.master is None:
-                    print(f"RADIO {radio.open()}", flush=True)
+                elif what == 'return' and radio.master is None:
+                    print(f'RADIO {radio.open()}', flush=True)
             fds = [radio.master] if radio.master is not None else []
             ready = select.select(fds, [], [], 0.002)[0] if fds else (time.sleep(0.002) or [])
             now = time.monotonic() - start
             if ready:
                 firmware.receive(radio.read(), now)
             if imu is not None:
-                imu.read()        # commands to the IMU are accepted and ignored
+                imu.read()  # commands to the IMU are accepted and ignored
             out_radio, out_imu = firmware.advance(now)
             radio.write(out_radio)
             if imu is not None:
                 imu.write(out_imu)
-            while reported < len(firmware.trials) and firmware.trials[reported].end_position is not None:
-                print("TRIAL " + json.dumps(firmware.trials[reported].summary()), flush=True)
+            while (
+                reported < len(firmware.trials)
+                and firmware.trials[reported].end_position is not None
+            ):
+                print('TRIAL ' + json.dumps(firmware.trials[reported].summary()), flush=True)
                 reported += 1
     except KeyboardInterrupt:
         pass
@@ -145,10 +190,13 @@ def main(argv: list[str] | None = None) -> int:
 def print_stats(firmware: RobotFirmware) -> None:
     """Print the firmware's frame and link counters."""
     stats = firmware.stats
-    print(f"STATS pings={stats.pings} failsafe_trips={stats.failsafe_trips} "
-          f"missed_windows={stats.missed_windows} frames={stats.frames} duplicates={stats.duplicates} "
-          f"resyncs={firmware.receiver.stats.resyncs}", flush=True)
+    print(
+        f'STATS pings={stats.pings} failsafe_trips={stats.failsafe_trips}'
+        f' missed_windows={stats.missed_windows} frames={stats.frames}'
+        f' duplicates={stats.duplicates} resyncs={firmware.receiver.stats.resyncs}',
+        flush=True,
+    )
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

@@ -1,27 +1,49 @@
-"""The robot's firmware side of the radio protocol (legacy frames + extension v1), for tests and
-the robot_emulator. Time is passed in explicitly, so it runs in real time over a pseudo-
-terminal or faster in unit tests. Optionally drives a simulator (hexapod_sim's Simulator
-interface, either engine) so the emulated robot
-really walks the gait it was sent, and emulates the Xsens MTi (Xbus MTData at 100 Hz).
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+The robot's firmware side of the radio protocol (legacy frames + extension v1).
+
+For tests and the robot_emulator. Time is passed in explicitly, so it runs in real time over a
+pseudo-terminal or faster in unit tests. Optionally drives a simulator (hexapod_sim's Simulator
+interface, either engine) so the emulated robot really walks the gait it was sent, and emulates
+the Xsens MTi (Xbus MTData at 100 Hz).
 
 Firmware behaviour reproduced from robot-facts.md: a ~50 ms timer tick; telemetry every 10
 ticks; a ping check every 50 ticks, and after ``failsafe_windows`` consecutive check windows
 without a ping the walk stops; a walk lasts ``walk_duration`` (5 s) after a reset (movement
 function 55) or START_TRIAL; valid movement frames are acknowledged with FF <checksum>.
 """
+
 from __future__ import annotations
 
+from dataclasses import dataclass
 import math
 import struct
-from dataclasses import dataclass
-
-import numpy as np
 
 from hexapod_bridge import extension as ext
 from hexapod_bridge import legacy, xbus
 from hexapod_bridge.stream import LegacyCommand, PingFrame, RobotReceiver
-from hexapod_gait import RANGES, ROBOT_RATE, ReachabilityError, build_joint_table, preset
+from hexapod_gait import build_joint_table, preset, RANGES, ReachabilityError, ROBOT_RATE
 from hexapod_sim.simulator import quat_to_euler, quat_to_matrix
+import numpy as np
 
 TICK = 0.05
 
@@ -30,15 +52,16 @@ TICK = 0.05
 class ImuNoise:
     """Xsens-like errors: white noise, a constant accelerometer bias, orientation noise."""
 
-    acc_sigma: float = 0.02       # m/s^2 per sample
-    acc_bias: float = 0.03        # m/s^2, constant per axis (random sign/size up to this)
-    gyro_sigma: float = 0.005     # rad/s
-    euler_sigma: float = 0.3      # deg
+    acc_sigma: float = 0.02  # m/s^2 per sample
+    acc_bias: float = 0.03  # m/s^2, constant per axis (random sign/size up to this)
+    gyro_sigma: float = 0.005  # rad/s
+    euler_sigma: float = 0.3  # deg
 
 
 @dataclass
 class FirmwareStats:
     """Counters of the emulated firmware (pings, failsafe trips, frames, duplicates)."""
+
     pings: int = 0
     failsafe_trips: int = 0
     missed_windows: int = 0
@@ -49,26 +72,46 @@ class FirmwareStats:
 @dataclass
 class TrialRecord:
     """One walk of the emulated robot, with the true displacement for tests."""
+
     gait_id: int
     crab_angle: float
     duration: float
     start_position: np.ndarray
     end_position: np.ndarray | None = None
-    state: str = "walking"
+    state: str = 'walking'
 
     def summary(self) -> dict:
-        """The walk as a dict: gait id, end state, duration, distance and speed along the walk."""
-        d = (self.end_position - self.start_position)[:2] if self.end_position is not None else np.zeros(2)
+        """Return the walk as a dict: gait id, end state, duration, distance and speed."""
+        d = (
+            (self.end_position - self.start_position)[:2]
+            if self.end_position is not None
+            else np.zeros(2)
+        )
         distance = float(d[0] * math.cos(self.crab_angle) + d[1] * math.sin(self.crab_angle))
-        return {"gait_id": self.gait_id, "state": self.state, "duration": self.duration,
-                "distance": distance, "speed": distance / self.duration}
+        return {
+            'gait_id': self.gait_id,
+            'state': self.state,
+            'duration': self.duration,
+            'distance': distance,
+            'speed': distance / self.duration,
+        }
 
 
 class RobotFirmware:
     """The robot's firmware side of the radio protocol, in emulated time (module docstring)."""
-    def __init__(self, sim=None, walk_duration: float = 5.0, failsafe_windows: int = 11,
-                 telemetry_ticks: int = 10, ping_check_ticks: int = 50, imu_rate: float = 100.0,
-                 imu_noise: ImuNoise | None = None, seed: int = 0, now: float = 0.0) -> None:
+
+    def __init__(
+        self,
+        sim=None,
+        walk_duration: float = 5.0,
+        failsafe_windows: int = 11,
+        telemetry_ticks: int = 10,
+        ping_check_ticks: int = 50,
+        imu_rate: float = 100.0,
+        imu_noise: ImuNoise | None = None,
+        seed: int = 0,
+        now: float = 0.0,
+    ) -> None:
         self.receiver = RobotReceiver()
         self.sim = sim
         self.walk_duration = walk_duration
@@ -78,9 +121,11 @@ class RobotFirmware:
         self.stats = FirmwareStats()
         self.rng = np.random.default_rng(seed)
         self.imu_noise = imu_noise
-        self.acc_bias = (self.rng.uniform(-1, 1, 3) * imu_noise.acc_bias) if imu_noise else np.zeros(3)
+        self.acc_bias = (
+            (self.rng.uniform(-1, 1, 3) * imu_noise.acc_bias) if imu_noise else np.zeros(3)
+        )
         self.imu_period = 1.0 / imu_rate
-        self.gait = preset("control")          # the firmware's hard-coded tripod
+        self.gait = preset('control')  # the firmware's hard-coded tripod
         self.gait_id = 0
         self.staged: list[float | None] = [None] * ext.N_PARAMS
         self.motors_on = True
@@ -89,7 +134,7 @@ class RobotFirmware:
         self.walk_end = 0.0
         self.trial_seq = 0
         self.trials: list[TrialRecord] = []
-        self._recent: dict[tuple[int, int], bytes] = {}     # (type, seq) -> ack sent
+        self._recent: dict[tuple[int, int], bytes] = {}  # (type, seq) -> ack sent
         self._tick_count = 0
         self._next_tick = now
         self._pings_in_window = 0
@@ -101,13 +146,15 @@ class RobotFirmware:
         self._walk_start = 0.0
         self._table = None
         self._row = 0
-        self._hold_row = None     # prepared rows of the pose to stand in
+        self._hold_row = None  # prepared rows of the pose to stand in
         self.out_radio = bytearray()
         self.out_imu = bytearray()
         if sim is not None:
             self._load_table()
             sim.reset(self._table.positions[0])
-            self._hold_row = sim.prepare_rows(self._table.positions[:1], np.zeros_like(self._table.positions[:1]))
+            self._hold_row = sim.prepare_rows(
+                self._table.positions[:1], np.zeros_like(self._table.positions[:1])
+            )
 
     # -- receiving ---------------------------------------------------------------------------
     def receive(self, data: bytes, now: float) -> None:
@@ -128,21 +175,24 @@ class RobotFirmware:
 
     def _on_movement(self, m: legacy.Movement, now: float) -> None:
         if m.function == legacy.Function.RESET:
-            self.out_radio += legacy.encode_text("RESET")
+            self.out_radio += legacy.encode_text('RESET')
             self.start_walk(now, self.walk_duration)
         elif m.function == legacy.Function.STAND or m.direction == legacy.Direction.STOP:
-            self._stop_walk("stopped")
+            self._stop_walk('stopped')
         elif m.function == legacy.Function.WALK and m.direction in legacy.DIRECTION_ANGLE:
             try:
-                self.gait = self.gait.replace(body_velocity=m.speed, body_height=m.height_mm / 1000.0,
-                                              crab_angle=legacy.DIRECTION_ANGLE[legacy.Direction(m.direction)])
+                self.gait = self.gait.replace(
+                    body_velocity=m.speed,
+                    body_height=m.height_mm / 1000.0,
+                    crab_angle=legacy.DIRECTION_ANGLE[legacy.Direction(m.direction)],
+                )
                 self._load_table()
             except ValueError:
-                self.out_radio += legacy.encode_text("BAD MOVEMENT")
+                self.out_radio += legacy.encode_text('BAD MOVEMENT')
 
     def _on_legacy_command(self, cmd: LegacyCommand, now: float) -> None:
         if cmd.code == 0xDD:
-            period = struct.unpack("<f", cmd.raw[2:6])[0]
+            period = struct.unpack('<f', cmd.raw[2:6])[0]
             if math.isfinite(period) and 0.05 <= period <= 60.0:
                 self.telemetry_ticks = max(1, int(round(period / TICK)))
         if cmd.code == 0xFA:
@@ -150,10 +200,14 @@ class RobotFirmware:
             if self.motors_on:
                 self.estopped = False
             else:
-                self._stop_walk("stopped")
+                self._stop_walk('stopped')
 
     def _ack(self, frame: ext.CommandFrame, status: ext.Status, value: int = 0) -> None:
-        ack = ext.encode_report(ext.Report.ACK, frame.seq, bytes([frame.type, int(status)]) + struct.pack(">H", value & 0xFFFF))
+        ack = ext.encode_report(
+            ext.Report.ACK,
+            frame.seq,
+            bytes([frame.type, int(status)]) + struct.pack('>H', value & 0xFFFF),
+        )
         self._recent[(frame.type, frame.seq)] = ack
         if len(self._recent) > 64:
             self._recent.pop(next(iter(self._recent)))
@@ -162,22 +216,22 @@ class RobotFirmware:
     def _on_extension(self, f: ext.CommandFrame, now: float) -> None:
         repeat = self._recent.get((f.type, f.seq))
         if repeat is not None and f.type != ext.Cmd.ESTOP:
-            self.stats.duplicates += 1        # a retransmission: answer again, apply once
+            self.stats.duplicates += 1  # a retransmission: answer again, apply once
             self.out_radio += repeat
             return
         if f.type == ext.Cmd.SET_PARAM:
             index = f.payload[0]
             if index >= ext.N_PARAMS:
                 return self._ack(f, ext.Status.BAD_INDEX, index)
-            value = struct.unpack("<f", f.payload[1:5])[0]
-            name = ext.PARAM_NAMES[index].split("[")[0]
-            lo, hi = RANGES.get(name, (-1.0, 2.0 ** 24))
+            value = struct.unpack('<f', f.payload[1:5])[0]
+            name = ext.PARAM_NAMES[index].split('[')[0]
+            lo, hi = RANGES.get(name, (-1.0, 2.0**24))
             if not (math.isfinite(value) and lo <= value <= hi):
                 return self._ack(f, ext.Status.OUT_OF_RANGE, index)
             self.staged[index] = value
             return self._ack(f, ext.Status.OK, index)
         if f.type == ext.Cmd.COMMIT:
-            count, set_crc, gait_id = f.payload[0], *struct.unpack(">HH", f.payload[1:5])
+            count, set_crc, gait_id = f.payload[0], *struct.unpack('>HH', f.payload[1:5])
             if count != ext.N_PARAMS or any(v is None for v in self.staged):
                 return self._ack(f, ext.Status.SET_INCOMPLETE, gait_id)
             if ext.values_crc(self.staged) != set_crc:
@@ -188,17 +242,17 @@ class RobotFirmware:
                 gait = ext.gait_from_values(self.staged)
                 self._check_reachable(gait)
             except ReachabilityError:
-                self.out_radio += legacy.encode_text("GAIT REJECTED")
+                self.out_radio += legacy.encode_text('GAIT REJECTED')
                 return self._ack(f, ext.Status.UNREACHABLE, gait_id)
             except ValueError:
-                self.out_radio += legacy.encode_text("GAIT REJECTED")
+                self.out_radio += legacy.encode_text('GAIT REJECTED')
                 return self._ack(f, ext.Status.OUT_OF_RANGE, gait_id)
             self.gait, self.gait_id = gait, gait_id
             self.staged = [None] * ext.N_PARAMS
             self._load_table()
             return self._ack(f, ext.Status.OK, gait_id)
         if f.type == ext.Cmd.START_TRIAL:
-            ms, gait_id, _flags = struct.unpack(">HHB", f.payload)
+            ms, gait_id, _flags = struct.unpack('>HHB', f.payload)
             if self.estopped or not self.motors_on:
                 return self._ack(f, ext.Status.ESTOPPED, gait_id)
             if gait_id != self.gait_id:
@@ -210,21 +264,22 @@ class RobotFirmware:
             return None
         if f.type == ext.Cmd.STOP_TRIAL:
             self._ack(f, ext.Status.OK)
-            self._stop_walk("stopped")
+            self._stop_walk('stopped')
             return None
         if f.type == ext.Cmd.ESTOP:
             self.estopped, self.motors_on = True, False
-            self._stop_walk("estopped")
+            self._stop_walk('estopped')
             self._ack(f, ext.Status.OK)
             return None
         if f.type == ext.Cmd.HELLO:
-            self.out_radio += ext.encode_report(ext.Report.VERSION, f.seq,
-                                                bytes([ext.PROTOCOL_MAJOR, ext.PROTOCOL_MINOR, 0, 1]))
+            self.out_radio += ext.encode_report(
+                ext.Report.VERSION, f.seq, bytes([ext.PROTOCOL_MAJOR, ext.PROTOCOL_MINOR, 0, 1])
+            )
             return None
         return self._ack(f, ext.Status.UNKNOWN_TYPE)
 
     def _check_reachable(self, gait) -> None:
-        build_joint_table(gait, rate=ROBOT_RATE)   # the firmware's own IK check, at its 120 Hz
+        build_joint_table(gait, rate=ROBOT_RATE)  # the firmware's own IK check, at its 120 Hz
 
     # -- walking -----------------------------------------------------------------------------
     def _load_table(self) -> None:
@@ -233,7 +288,7 @@ class RobotFirmware:
             self._rows = self.sim.prepare_rows(self._table.positions, self._table.velocities)
 
     def start_walk(self, now: float, duration: float) -> None:
-        """Walk the current gait for ``duration`` seconds from ``now`` (a reset or START_TRIAL does this)."""
+        """Walk the current gait for ``duration`` s from ``now`` (as reset and START_TRIAL do)."""
         self.walking, self._walk_start, self.walk_end = True, now, now + duration
         self._row = 0
         position = self.sim.base_pose()[0] if self.sim is not None else np.zeros(3)
@@ -251,17 +306,24 @@ class RobotFirmware:
         if self.sim is not None and self._table is not None:
             # stand still in the pose the walk stopped in
             row = self._row % len(self._table)
-            hold = self._table.positions[row:row + 1]
+            hold = self._table.positions[[row]]
             self._hold_row = self.sim.prepare_rows(hold, np.zeros_like(hold))
-        state_code = {"done": ext.TrialState.DONE, "stopped": ext.TrialState.STOPPED,
-                      "estopped": ext.TrialState.ESTOPPED, "failsafe": ext.TrialState.FAILSAFE}[state]
-        self._trial_report(state_code, self.walk_end if state == "done" else self._sim_time)
+        state_code = {
+            'done': ext.TrialState.DONE,
+            'stopped': ext.TrialState.STOPPED,
+            'estopped': ext.TrialState.ESTOPPED,
+            'failsafe': ext.TrialState.FAILSAFE,
+        }[state]
+        self._trial_report(state_code, self.walk_end if state == 'done' else self._sim_time)
 
     def _trial_report(self, state: ext.TrialState, now: float) -> None:
         elapsed = max(0, int(round((now - self._walk_start) * 1000)))
         self.trial_seq = (self.trial_seq + 1) & 0xFF
-        self.out_radio += ext.encode_report(ext.Report.TRIAL, self.trial_seq,
-                                            bytes([int(state)]) + min(elapsed, 0xFFFFFF).to_bytes(3, "big"))
+        self.out_radio += ext.encode_report(
+            ext.Report.TRIAL,
+            self.trial_seq,
+            bytes([int(state)]) + min(elapsed, 0xFFFFFF).to_bytes(3, 'big'),
+        )
 
     # -- time ----------------------------------------------------------------------------------
     def advance(self, now: float) -> tuple[bytes, bytes]:
@@ -272,7 +334,7 @@ class RobotFirmware:
         if self.sim is not None:
             self._step_sim(now)
         elif self.walking and now >= self.walk_end:
-            self._stop_walk("done")
+            self._stop_walk('done')
         radio, imu = bytes(self.out_radio), bytes(self.out_imu)
         self.out_radio.clear()
         self.out_imu.clear()
@@ -282,7 +344,9 @@ class RobotFirmware:
         self._tick_count += 1
         if self._tick_count % self.telemetry_ticks == 0:
             pitch, roll, yaw = self._attitude()
-            self.out_radio += legacy.encode_telemetry(legacy.Telemetry(float(self._tick_count), pitch, roll, yaw, 0.0, 0.0))
+            self.out_radio += legacy.encode_telemetry(
+                legacy.Telemetry(float(self._tick_count), pitch, roll, yaw, 0.0, 0.0)
+            )
         if self._tick_count % self.ping_check_ticks == 0:
             if self._pings_in_window == 0:
                 self._missed += 1
@@ -292,7 +356,7 @@ class RobotFirmware:
             self._pings_in_window = 0
             if self._missed >= self.failsafe_windows and self.walking:
                 self.stats.failsafe_trips += 1
-                self._stop_walk("failsafe")
+                self._stop_walk('failsafe')
 
     def _attitude(self) -> tuple[float, float, float]:
         if self.sim is None:
@@ -304,7 +368,7 @@ class RobotFirmware:
         sim = self.sim
         while self._sim_time + sim.dt <= now:
             if self.walking and self._sim_time >= self.walk_end - 1e-9:
-                self._stop_walk("done")
+                self._stop_walk('done')
             if self.walking:
                 row = self._row % len(self._table)
                 sim.apply_row(self._rows, row)
@@ -337,5 +401,12 @@ class RobotFirmware:
             euler = euler + self.rng.normal(0, self.imu_noise.euler_sigma, 3)
         euler[2] = (euler[2] + 180.0) % 360.0 - 180.0
         self._imu_counter = (self._imu_counter + 1) & 0xFFFF
-        self.out_imu += xbus.encode_mtdata(xbus.MTData(tuple(acc), tuple(gyro), (0.0, 0.0, 0.0),
-                                                       tuple(float(v) for v in euler), self._imu_counter))
+        self.out_imu += xbus.encode_mtdata(
+            xbus.MTData(
+                tuple(acc),
+                tuple(gyro),
+                (0.0, 0.0, 0.0),
+                tuple(float(v) for v in euler),
+                self._imu_counter,
+            )
+        )
