@@ -32,7 +32,11 @@ setup(
         ('share/ament_index/resource_index/packages', [f'resource/{package_name}']),
         (f'share/{package_name}', ['package.xml']),
         (f'share/{package_name}/launch', glob('launch/*.py')),
-        (f'share/{package_name}/maps', glob('maps/*.npz')),
+        # the shipped maps, not a map generation's checkpoint (.ckpt.npz)
+        (
+            f'share/{package_name}/maps',
+            [m for m in glob('maps/*.npz') if not m.endswith('.ckpt.npz')],
+        ),
     ],
     install_requires=['setuptools'],
     zip_safe=True,

@@ -218,7 +218,7 @@ def bench_adapt() -> None:
 
     adapt_mboa_step_ms: one M-BOA step (observe a trial + pick the next gait) on a 40 000-gait
     map after 19 trials (median of 20 runs' last steps). Then thesis experiment 5.2 on the
-    default map (``BENCH_ADAPT_MAP`` overrides it; the demo map if the default is not made yet):
+    default map (``BENCH_ADAPT_MAP`` overrides it):
     every orientation of S1-S4 with trials on the map's engine, and again across engines
     (suffix _cross). Per run: the best speed found, the trials, the control tripod with the same
     damage. adapt_beats_control: runs whose adapted gait beats the damaged control tripod.
@@ -228,6 +228,7 @@ def bench_adapt() -> None:
 
     from hexapod_adapt.adaptation import run_experiment
     from hexapod_adapt.archive import load_archive
+    from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
     from hexapod_adapt.mboa import Mboa, MboaConfig
     from hexapod_adapt.simulation import archive_engine
     from hexapod_sim import ENGINES
@@ -244,13 +245,8 @@ def bench_adapt() -> None:
         steps.append(time.perf_counter() - t0)
     print(f'BENCH adapt_mboa_step_ms {np.median(steps) * 1e3:.2f} ms')
 
-    maps = Path(__file__).resolve().parent.parent / 'hexapod_adapt' / 'maps'
-    path = Path(os.environ.get('BENCH_ADAPT_MAP', maps / 'default_map.npz'))
-    if not path.is_file():
-        print(
-            f'# {path.name} is not made yet: the experiment runs on the demo map', file=sys.stderr
-        )
-        path = maps / 'demo_map.npz'
+    path = Path(os.environ.get('BENCH_ADAPT_MAP', shipped_map(DEFAULT_MAP)))
+    print(f'# experiment on {path}', file=sys.stderr)
     archive = load_archive(path)
     print(f'BENCH adapt_map_gaits {archive.n_filled} gaits')
     map_engine = archive_engine(archive.metadata) or 'pybullet'

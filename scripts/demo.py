@@ -22,13 +22,14 @@
 """
 `make demo`: Intelligent Trial & Error end to end on the simulated hexapod, in about a minute.
 
-1. The robot model and the behaviour-performance map shipped for demos
-   (hexapod_adapt/maps/demo_map.npz, written by generate_map; see docs/adaptation.md).
+1. The robot model and the shipped default behaviour-performance map
+   (hexapod_adapt/maps/default_map.npz, written by generate_map; see docs/adaptation.md).
 2. The damage: legs 1 and 4 fail (held in the failure pose of table 5.1). The control tripod
    gait, the robot's original gait, no longer walks forwards.
-3. Adaptation through the ROS graph: gait_node + sim_node (legs failed, as fast as possible)
-   + adapt_node as separate processes, and adapt_client calling the `adapt` service the way
-   an operator would from the base station. Each 5 s trial is printed as it completes.
+3. Adaptation through the ROS graph: gait_node + sim_node (the map's engine, legs failed, as
+   fast as possible) + adapt_node as separate processes, and adapt_client calling the `adapt`
+   service the way an operator would from the base station. Each 5 s trial is printed as it
+   completes.
 4. The run's MCAP recording, read back.
 """
 
@@ -43,7 +44,6 @@ import time
 
 T0 = time.perf_counter()
 WS = Path(__file__).resolve().parent.parent
-MAP = WS / 'hexapod_adapt' / 'maps' / 'demo_map.npz'
 FAILED_LEGS = [1, 4]  # scenario S2: two opposite legs, where the tripod gait stops walking
 
 
@@ -57,10 +57,12 @@ def exe(pkg: str, name: str) -> str:
 
 def main() -> int:
     from hexapod_adapt.archive import load_archive
+    from hexapod_adapt.maps import shipped_map
     from hexapod_adapt.recording import read_messages
+    from hexapod_adapt.simulation import archive_engine
     from hexapod_description import load_model, summary
     from hexapod_gait import preset
-    from hexapod_sim import create_simulator, evaluate_gait
+    from hexapod_sim import create_simulator, evaluate_gait, SimConfig
 
     out = WS / 'out' / 'demo'
     out.mkdir(parents=True, exist_ok=True)
@@ -68,25 +70,28 @@ def main() -> int:
     print(summary(load_model()))
 
     section('behaviour-performance map (hexapod_adapt)')
-    archive = load_archive(MAP)
+    path = shipped_map()  # what adapt_node loads by default
+    archive = load_archive(path)
+    engine = archive_engine(archive.metadata) or 'pybullet'
     s = archive.stats()
     speeds = archive.speeds()[archive.filled]
     print(
-        f'{MAP.relative_to(WS)}: {s.filled} gaits in {archive.n_niches} niches after'
-        f' {archive.metadata["evaluations"]} simulated evaluations (seed'
+        f'{path.relative_to(WS) if path.is_relative_to(WS) else path}: {s.filled} gaits in'
+        f' {archive.n_niches} niches after {archive.metadata["evaluations"]} {engine} evaluations'
+        ' (seed'
         f' {archive.metadata["seed"]}); speeds {speeds.min():.3f} .. {speeds.max():.3f} m/s,'
         f' median {float(sorted(speeds)[len(speeds) // 2]):.3f}'
     )
 
     legs = ' and '.join(map(str, FAILED_LEGS))
     section(f'damage: legs {legs} fail')
-    with create_simulator() as sim:
+    with create_simulator(SimConfig(engine=engine)) as sim:
         intact = evaluate_gait(preset('control'), sim, collisions_fatal=False).speed
         damaged = evaluate_gait(
             preset('control'), sim, collisions_fatal=False, failed_legs=FAILED_LEGS
         ).speed
     print(
-        f"control tripod gait (the robot's original gait): {intact:.3f} m/s intact, "
+        f"control tripod gait (the robot's original gait) on {engine}: {intact:.3f} m/s intact, "
         f'{damaged:.3f} m/s with legs {legs} failed'
     )
 
@@ -125,6 +130,8 @@ def main() -> int:
                 'publish_period_steps:=24',
                 '-p',
                 f'failed_legs:=[{",".join(map(str, FAILED_LEGS))}]',
+                '-p',
+                f'engine:={engine}',  # trials on the engine that made the map
             ],
             env=env,
             stdout=logs['sim_node'],
@@ -132,10 +139,8 @@ def main() -> int:
         ),
         subprocess.Popen(
             [
-                exe('hexapod_adapt', 'adapt_node'),
+                exe('hexapod_adapt', 'adapt_node'),  # no archive parameter: the default map
                 '--ros-args',
-                '-p',
-                f'archive:={MAP}',
                 '-p',
                 f'record_dir:={out / "runs"}',
                 '-p',

@@ -26,12 +26,14 @@ The equivalent of the launch files for this environment, which has no `ros2 laun
 output is prefixed with its name; Ctrl-C stops them all.
 
     python scripts/launch.py sim [--rtf 0] [--failed-legs 1 4] [--preset wave]
-    python scripts/launch.py adapt-sim --archive MAP [--failed-legs 1]   # + adapt_node, fast mode
+    python scripts/launch.py adapt-sim [--archive MAP] [--failed-legs 1]  # + adapt_node, fast
+    python scripts/launch.py sim --engine mujoco                          # the other engine
     # robot_emulator (PyBullet) + bridge_node:
-    python scripts/launch.py emulated-robot [--archive MAP]
+    python scripts/launch.py emulated-robot [--archive [MAP]]
     python scripts/launch.py robot --port /dev/ttyUSB0 [--imu-port /dev/ttyUSB1] \\
-        [--archive MAP [--manual]]
+        [--archive [MAP] [--manual]]
 With --archive the robot profiles also start adapt_node (mode robot, or manual with --manual).
+Without a MAP adapt_node loads the shipped default map.
 """
 
 from __future__ import annotations
@@ -79,13 +81,22 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument('profile', choices=['sim', 'adapt-sim', 'emulated-robot', 'robot'])
     parser.add_argument(
-        '--archive', default='', help='archive for adapt_node (adapt-sim, robot profiles)'
+        '--archive',
+        nargs='?',
+        const='',
+        default=None,
+        help='start adapt_node with this map (adapt-sim always does); no MAP = the default map',
     )
     parser.add_argument(
         '--manual', action='store_true', help='adapt_node takes tape-measured distances'
     )
     parser.add_argument(
         '--rtf', type=float, default=1.0, help='sim real_time_factor (0 = as fast as possible)'
+    )
+    parser.add_argument(
+        '--engine',
+        choices=['pybullet', 'mujoco'],
+        help="sim_node's physics engine (default: pybullet; adapt-sim: mujoco, the default map's)",
     )
     parser.add_argument('--preset', default='tripod', help='gait_node initial preset')
     parser.add_argument('--failed-legs', type=int, nargs='*', default=[])
@@ -95,13 +106,14 @@ def main(argv: list[str] | None = None) -> int:
 
     commands: list[tuple[str, list[str]]] = []
     if args.profile == 'adapt-sim':
-        if not args.archive:
-            parser.error('adapt-sim needs --archive (a map written by generate_map)')
         args.rtf, args.preset = 0.0, ''
+        args.engine = args.engine or 'mujoco'  # the engine that made the shipped default map
     if args.profile in ('sim', 'adapt-sim'):
         sim_params = {'real_time_factor': args.rtf}
         if args.rtf == 0:
             sim_params['publish_period_steps'] = 24  # 10 Hz of sim time: consumers keep up at ~18x
+        if args.engine:
+            sim_params['engine'] = args.engine
         if args.failed_legs:
             sim_params['failed_legs'] = '[' + ','.join(map(str, args.failed_legs)) + ']'
         # one time base: every node but the clock source (sim_node) runs on sim time
@@ -146,7 +158,7 @@ def main(argv: list[str] | None = None) -> int:
                 + ros_args({'port': args.port, 'imu_port': args.imu_port}),
             )
         ]
-    if args.archive:
+    if args.archive is not None or args.profile == 'adapt-sim':
         mode = (
             'sim'
             if args.profile in ('sim', 'adapt-sim')
@@ -158,7 +170,7 @@ def main(argv: list[str] | None = None) -> int:
                 [exe('hexapod_adapt', 'adapt_node')]
                 + ros_args(
                     {
-                        'archive': str(Path(args.archive).resolve()),
+                        'archive': str(Path(args.archive).resolve()) if args.archive else '',
                         'mode': mode,
                         'use_sim_time': mode == 'sim',
                     }

@@ -136,6 +136,28 @@ def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive):
     assert node.alive() and sim.alive() and gait.alive()
 
 
+def test_without_an_archive_parameter_the_node_adapts_on_the_default_map(ros, launch):
+    from hexapod_adapt.archive import load_archive
+    from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
+
+    default = load_archive(shipped_map(DEFAULT_MAP))
+    sim = launch(
+        'hexapod_sim',
+        'sim_node',
+        params={'real_time_factor': 0.0, 'publish_period_steps': 24, 'engine': 'mujoco'},
+    )
+    gait = launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
+    node = launch('hexapod_adapt', 'adapt_node', params={'record_dir': ''})
+    trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
+    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=1), timeout=180)
+    assert response.trials == 1, response.message
+    wait_for(lambda: len(trials) == 1, 10, 'the trial message')
+    t = trials[0]
+    assert default.filled[t.archive_index]
+    assert t.map_speed == pytest.approx(default.speeds()[t.archive_index])
+    assert node.alive() and sim.alive() and gait.alive()
+
+
 def test_archive_for_another_simulator_is_refused(ros, launch, tmp_path, small_archive):
     path, archive, _ = small_archive
     foreign = Archive(

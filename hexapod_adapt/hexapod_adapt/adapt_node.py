@@ -21,10 +21,10 @@
 """
 ``ros2 run hexapod_adapt adapt_node``: Intelligent Trial & Error on the simulator or the robot.
 
-Loads an archive (``archive`` parameter; refused, with the reason, if its genotype mapping --
-and in ``sim`` mode its URDF and trial duration -- differ from this installation's) and
-runs M-BOA when its ``adapt`` service is called. Each trial publishes the gait on
-``gait/parameters`` and measures its speed along the walking direction:
+Loads an archive (``archive`` parameter, by default the shipped default map; refused, with the
+reason, if its genotype mapping -- and in ``sim`` mode its URDF and trial duration -- differ from
+this installation's) and runs M-BOA when its ``adapt`` service is called. Each trial publishes the
+gait on ``gait/parameters`` and measures its speed along the walking direction:
 
   mode ``sim``     through gait_node + sim_node: wait until sim_node plays the gait
                    (``sim/active_trajectory`` carries the gait's stamp), call ``<sim>/reset``,
@@ -53,6 +53,7 @@ import traceback
 
 from hexapod_adapt.adaptation import adapt, TrialAborted
 from hexapod_adapt.archive import Archive, ArchiveError, compatibility_problems, load_archive
+from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
 from hexapod_adapt.mboa import (
     ALPHA_RANGE,
     KAPPA_RANGE,
@@ -162,8 +163,8 @@ PARAMETERS = (
     ParamSpec(
         'archive',
         '',
-        'Archive file (.npz from generate_map); may be changed at run time, a file that '
-        'fails to load is refused and the last good one kept',
+        "Archive file (.npz from generate_map; '' = the shipped default map); may be changed at "
+        'run time, a file that fails to load is refused and the last good one kept',
     ),
     ParamSpec('mode', 'sim', 'Trials on: sim | robot | manual', read_only=True),
     ParamSpec('max_trials', 20, 'Default maximum trials per run', range=(1, MAX_TRIALS_LIMIT)),
@@ -309,7 +310,7 @@ class AdaptNode(Node):
     # -- archive ----------------------------------------------------------------------------
     def _try_load(self, path: str) -> tuple[Archive | None, str]:
         if not path:
-            return None, "no archive loaded: set the 'archive' parameter"
+            path = str(shipped_map(DEFAULT_MAP))
         try:
             archive = load_archive(os.path.expanduser(path))
         except ArchiveError as exc:
@@ -322,11 +323,11 @@ class AdaptNode(Node):
         return archive, ''
 
     def _load_archive(self, path: str) -> None:
+        path = path or str(shipped_map(DEFAULT_MAP))
         archive, problem = self._try_load(path)
         if archive is None:
             self.archive_problem = problem
-            if path:
-                self.get_logger().error(problem)
+            self.get_logger().error(problem)
         else:
             self.archive, self.archive_problem = archive, ''
             self.get_logger().info(

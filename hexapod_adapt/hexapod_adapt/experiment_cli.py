@@ -21,8 +21,8 @@
 """
 ``run_experiment``: the thesis's simulated adaptation experiment (5.2) on one map.
 
-    ros2 run hexapod_adapt run_experiment --archive map.npz [--scenarios S1 S3] [--out runs.csv]
-    run_experiment --archive map.npz --cross-engine --out-dir docs/experiment  # all of it
+    ros2 run hexapod_adapt run_experiment [--archive map.npz] [--scenarios S1 S3] [--out runs.csv]
+    run_experiment --cross-engine --out-dir docs/experiment  # all of it, on the default map
 
 For every orientation of each failure scenario: one M-BOA run with simulated trials (leg
 failures as in table 5.1, collisions not fatal), next to the control tripod gait with the same
@@ -44,6 +44,7 @@ import sys
 
 from hexapod_adapt.adaptation import ExperimentRow, run_experiment
 from hexapod_adapt.archive import ArchiveError, atomic_write_bytes, load_archive
+from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
 from hexapod_adapt.mboa import MboaConfig
 from hexapod_adapt.plots import plot_experiment
 from hexapod_adapt.simulation import archive_engine
@@ -99,7 +100,12 @@ def main(argv: list[str] | None = None) -> int:
         description=__doc__.split('\n\n')[0],
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    ap.add_argument('--archive', type=Path, required=True, help='the map (.npz)')
+    ap.add_argument(
+        '--archive',
+        type=Path,
+        default=None,
+        help='the map (.npz; default: the shipped default map)',
+    )
     ap.add_argument(
         '--scenarios',
         nargs='+',
@@ -129,7 +135,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     args = ap.parse_args(argv)
     try:
-        archive = load_archive(args.archive)
+        archive = load_archive(args.archive or shipped_map(DEFAULT_MAP))
         config = MboaConfig(
             max_trials=args.max_trials,
             alpha=args.alpha,

@@ -21,7 +21,7 @@
 """
 Adaptation on the real robot: bridge_node + adapt_node (full ROS 2 Jazzy install).
 
-    ros2 launch hexapod_adapt adapt_robot.launch.py archive:=/path/map.npz port:=/dev/ttyUSB0 \
+    ros2 launch hexapod_adapt adapt_robot.launch.py [archive:=/path/map.npz] port:=/dev/ttyUSB0 \
         imu_port:=/dev/ttyUSB1            # mode robot: trial speeds from the IMU estimate
     ... mode:=manual                      # no IMU: report tape-measured distances with
                                           # ros2 service call /adapt_node/report_distance ...
@@ -37,7 +37,11 @@ from launch_ros.actions import Node
 def generate_launch_description() -> LaunchDescription:
     return LaunchDescription(
         [
-            DeclareLaunchArgument('archive'),
+            DeclareLaunchArgument(
+                'archive',
+                default_value='',
+                description="archive file written by generate_map ('' = the shipped default map)",
+            ),
             DeclareLaunchArgument('port', default_value='/dev/ttyUSB0'),
             DeclareLaunchArgument('imu_port', default_value=''),
             DeclareLaunchArgument(

@@ -21,7 +21,7 @@
 """
 Adaptation on the simulated robot: gait_node + sim_node + adapt_node (full ROS 2 Jazzy install).
 
-    ros2 launch hexapod_adapt adapt_sim.launch.py archive:=/path/map.npz failed_legs:='[1]'
+    ros2 launch hexapod_adapt adapt_sim.launch.py [archive:=/path/map.npz] failed_legs:='[1]'
     ros2 service call /adapt hexapod_msgs/srv/Adapt "{max_trials: 20}"
 In this workspace without `launch`:
     python scripts/launch.py adapt-sim --archive MAP --failed-legs 1
@@ -41,11 +41,20 @@ URDF = Path(get_package_share_directory('hexapod_description')) / 'urdf' / 'hexa
 def generate_launch_description() -> LaunchDescription:
     return LaunchDescription(
         [
-            DeclareLaunchArgument('archive', description='archive file written by generate_map'),
+            DeclareLaunchArgument(
+                'archive',
+                default_value='',
+                description="archive file written by generate_map ('' = the shipped default map)",
+            ),
             DeclareLaunchArgument(
                 'failed_legs', default_value='[]', description='legs (1-6) failed in the simulator'
             ),
             DeclareLaunchArgument('record_dir', default_value='adaptation_runs'),
+            DeclareLaunchArgument(
+                'engine',
+                default_value='mujoco',
+                description="sim_node's physics engine (mujoco made the shipped default map)",
+            ),
             # one time base: every node but the clock source (sim_node) runs on sim time
             Node(
                 package='hexapod_gait',
@@ -62,6 +71,7 @@ def generate_launch_description() -> LaunchDescription:
                         'real_time_factor': 0.0,
                         'publish_period_steps': 24,
                         'failed_legs': LaunchConfiguration('failed_legs'),
+                        'engine': LaunchConfiguration('engine'),
                     }
                 ],
             ),

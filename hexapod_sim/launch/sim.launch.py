@@ -48,6 +48,9 @@ def generate_launch_description() -> LaunchDescription:
             DeclareLaunchArgument('initial_preset', default_value='tripod'),
             DeclareLaunchArgument('gui', default_value='false'),
             DeclareLaunchArgument(
+                'engine', default_value='pybullet', description='physics engine: pybullet | mujoco'
+            ),
+            DeclareLaunchArgument(
                 'publish_period_steps',
                 default_value='4',
                 description='state topics every N 1/240 s steps; 24 suits real_time_factor 0',
@@ -72,6 +75,7 @@ def generate_launch_description() -> LaunchDescription:
                     {
                         'real_time_factor': rtf,
                         'gui': LaunchConfiguration('gui'),
+                        'engine': LaunchConfiguration('engine'),
                         'publish_period_steps': LaunchConfiguration('publish_period_steps'),
                     }
                 ],

@@ -1,0 +1,60 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+The maps shipped with hexapod_adapt: where they are, installed or in the source tree.
+
+The default map (10,000 niches, 1,000,000 MuJoCo evaluations; hexapod_adapt/maps/README.md says
+how it was made) is what adapt_node, the launch files, run_experiment and ``make demo`` use
+unless told otherwise. The small demo map is kept for tests.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+PACKAGE = 'hexapod_adapt'
+DEFAULT_MAP = 'default_map.npz'
+DEMO_MAP = 'demo_map.npz'
+
+
+def _candidates(name: str) -> list[Path]:
+    found = []
+    try:
+        from ament_index_python.packages import get_package_share_directory, PackageNotFoundError
+
+        try:
+            found.append(Path(get_package_share_directory(PACKAGE)) / 'maps' / name)
+        except PackageNotFoundError:
+            pass
+    except ImportError:  # running from the source tree without ROS
+        pass
+    found.append(Path(__file__).resolve().parent.parent / 'maps' / name)
+    return found
+
+
+def shipped_map(name: str = DEFAULT_MAP) -> Path:
+    """
+    Return the path of a shipped map: the installed share directory's copy, else the source tree's.
+
+    The path is returned even when no copy exists, so that loading it gives an error naming it.
+    """
+    candidates = _candidates(name)
+    return next((p for p in candidates if p.is_file()), candidates[0])
