@@ -63,9 +63,9 @@ def bench_gait() -> None:
 
 def bench_sim() -> None:
     """
-    Both engines in one run, on one pinned core, interleaved gait by gait..
+    Both engines in one run, on one pinned core, interleaved gait by gait.
 
-    im_eval_ms (PyBullet) and sim_eval_mujoco_ms: median time of one whole 5 s evaluation (reset,
+    sim_eval_ms (PyBullet) and sim_eval_mujoco_ms: median time of one whole 5 s evaluation (reset,
     contacts and collision checks included; one gait per call) over seeded random feasible gaits;
     sim_eval_mujoco_batch8_ms: the same gaits in MuJoCo batches of 8 (what a map-generation worker
     does); sim_engine_speedup: PyBullet ms / MuJoCo ms. sim_engine_spearman: rank correlation of

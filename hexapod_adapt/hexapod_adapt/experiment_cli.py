@@ -68,7 +68,7 @@ def rows_csv(rows: list[ExperimentRow]) -> bytes:
 
 def summary(rows: list[ExperimentRow]) -> str:
     """
-    Per trial engine and scenario.
+    Summarise the runs per trial engine and scenario.
 
     Runs, trials (median / max), adapted speed (median / mean), runs beating the damaged control
     tripod, the control speeds.
