@@ -221,7 +221,8 @@ def bench_adapt() -> None:
     default map (``BENCH_ADAPT_MAP`` overrides it):
     every orientation of S1-S4 with trials on the map's engine, and again across engines
     (suffix _cross). Per run: the best speed found, the trials, the control tripod with the same
-    damage. adapt_beats_control: runs whose adapted gait beats the damaged control tripod.
+    damage. adapt_beats_control: runs whose adapted gait beats the damaged control tripod. Runs
+    end by M-BOA's stopping rule, capped at EXPERIMENT_MAX_TRIALS (100) trials.
     """
     import os
     from pathlib import Path
@@ -273,6 +274,12 @@ def bench_adapt() -> None:
         )
         print(
             f'BENCH adapt_within_24_trials{suffix} {sum(r.trials <= 24 for r in rows)} of'
+            f' {len(rows)} runs'
+        )
+        print(f'BENCH adapt_trials_max{suffix} {max(r.trials for r in rows)} trials')
+        # the stopping rule ended the run (not the EXPERIMENT_MAX_TRIALS cap)
+        print(
+            f'BENCH adapt_stopped_by_rule{suffix} {sum(r.success for r in rows)} of'
             f' {len(rows)} runs'
         )
 

@@ -42,7 +42,7 @@ import io
 from pathlib import Path
 import sys
 
-from hexapod_adapt.adaptation import ExperimentRow, run_experiment
+from hexapod_adapt.adaptation import EXPERIMENT_MAX_TRIALS, ExperimentRow, run_experiment
 from hexapod_adapt.archive import ArchiveError, atomic_write_bytes, load_archive
 from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
 from hexapod_adapt.mboa import MboaConfig
@@ -124,7 +124,12 @@ def main(argv: list[str] | None = None) -> int:
         action='store_true',
         help="run on the map's engine and again on the other engine",
     )
-    ap.add_argument('--max-trials', type=int, default=20, help='trials per run at most')
+    ap.add_argument(
+        '--max-trials',
+        type=int,
+        default=EXPERIMENT_MAX_TRIALS,
+        help='trials per run at most (a cap; the stopping rule ends the runs)',
+    )
     ap.add_argument('--alpha', type=float, default=0.9, help='stop ratio')
     ap.add_argument('--kappa', type=float, default=0.05, help='UCB weight on the posterior std')
     ap.add_argument('--length-scale', type=float, default=0.4, help='Matern length scale rho')
