@@ -43,6 +43,7 @@ import matplotlib
 
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402 - after choosing the headless backend
+from matplotlib.ticker import EngFormatter, MaxNLocator  # noqa: E402
 import numpy as np  # noqa: E402
 
 TWO_MINUTES_OF_TRIALS = 24  # 24 trials of 5 s = 2 minutes of walking (thesis 5.3.2)
@@ -101,6 +102,8 @@ def plot_progress(
     axes[2].set_ylabel('QD-score (sum of elite fitness, m)')
     for ax in axes:
         ax.set_xlabel('evaluations')
+        ax.xaxis.set_major_locator(MaxNLocator(5))
+        ax.xaxis.set_major_formatter(EngFormatter(sep=''))  # 200k, 1M: long counts overlap
         ax.grid(alpha=0.3)
     fig.suptitle(title or 'map generation progress')
     return _save(fig, out)
