@@ -160,7 +160,7 @@ def plot_experiment(
     colours = ['tab:blue', 'tab:orange', 'tab:green']
     figures = []
     for quantity, ylabel in (('best_speed', 'adapted speed (m/s)'), ('trials', 'trials')):
-        fig, ax = plt.subplots(figsize=(2.2 + 1.6 * len(scenarios), 4.5))
+        fig, ax = plt.subplots(figsize=(2.2 + 1.6 * len(scenarios), 5.2))
         for k, engine in enumerate(engines):
             data = [
                 [
@@ -177,6 +177,8 @@ def plot_experiment(
                 widths=width * 0.85,
                 patch_artist=True,
                 manage_ticks=False,
+                showmeans=True,  # the thesis's figures mark the mean too
+                meanprops={'marker': '^', 'markerfacecolor': 'tab:green', 'markeredgecolor': 'k'},
             )
             for patch in box['boxes']:
                 patch.set_facecolor(colours[k % len(colours)])
@@ -224,6 +226,8 @@ def plot_experiment(
         ax.set_xlabel('failure scenario')
         ax.set_ylabel(ylabel)
         ax.grid(axis='y', alpha=0.3)
-        ax.legend(fontsize=7, loc='best')
+        # below the axes: inside, it hides reference lines at either end of the range
+        ax.legend(fontsize=7, loc='upper center', bbox_to_anchor=(0.5, -0.14), ncol=2)
+        fig.tight_layout()
         figures.append(fig)
     return _save(figures[0], out_speed), _save(figures[1], out_trials)
