@@ -32,10 +32,11 @@ setup(
         ('share/ament_index/resource_index/packages', [f'resource/{package_name}']),
         (f'share/{package_name}', ['package.xml']),
         (f'share/{package_name}/launch', glob('launch/*.py')),
-        # the shipped maps, not a map generation's checkpoint (.ckpt.npz)
+        # the shipped maps with their generation logs (plot_map draws them), not a checkpoint
         (
             f'share/{package_name}/maps',
-            [m for m in glob('maps/*.npz') if not m.endswith('.ckpt.npz')],
+            [m for m in glob('maps/*.npz') if not m.endswith('.ckpt.npz')]
+            + glob('maps/*.log.jsonl'),
         ),
     ],
     install_requires=['setuptools'],
