@@ -28,6 +28,7 @@ Writes the archive atomically to ``out``; while running, a checkpoint ``<out>.ck
 archive plus the candidates in flight) every ``checkpoint_every`` seconds, and one JSON line per
 ``log_every`` seconds to the log file. ``resume=True`` continues from the checkpoint exactly:
 the map is a function of (seed, configuration) only, whatever the backend or worker count.
+Without a checkpoint, ``resume=True`` with more evaluations continues a finished map ``out``.
 """
 
 from __future__ import annotations
@@ -40,7 +41,7 @@ import os
 from pathlib import Path
 from typing import Callable, Iterator
 
-from hexapod_adapt.archive import Archive, ArchiveError, compatibility_problems
+from hexapod_adapt.archive import Archive, ArchiveError, compatibility_problems, load_archive
 from hexapod_adapt.cvt import cached_cvt, cvt_cache_path
 from hexapod_adapt.map_elites import load_checkpoint, MapElitesConfig, Progress, run_map_elites
 from hexapod_adapt.simulation import DEFAULT_MAP_ENGINE, SimulateGenotypes, simulation_fingerprint
@@ -198,8 +199,17 @@ def generate_map(
     fingerprint = simulation_fingerprint(config.engine)
     engine = config.engine_config()
     pending = None
+    source = None  # the file a resumed run continues
     if config.resume and config.checkpoint_path.is_file():
-        archive, pending = load_checkpoint(config.checkpoint_path)
+        source = config.checkpoint_path
+        archive, pending = load_checkpoint(source)
+    elif config.resume and out.is_file():
+        # a finished map without its checkpoint: no candidate was in flight when it finished, so
+        # it continues from its archive (not bit-identical to one longer run: the first lag
+        # candidates after it see the final archive)
+        source = out
+        archive, pending = load_archive(out), {}
+    if source is not None:
         saved = archive.metadata.get('map_elites', {})
         # Candidate k depends on (seed, k, lag, settings) and the results before it, never on the
         # total: a run may be resumed with MORE evaluations and equals a run made that long at
@@ -209,19 +219,19 @@ def generate_map(
             k: v for k, v in wanted.items() if k != 'evaluations'
         }:
             raise ArchiveError(
-                f'{config.checkpoint_path}: written with MAP-Elites settings {saved}, not'
+                f'{source}: written with MAP-Elites settings {saved}, not'
                 f' {wanted}: resume with the same'
                 ' --seed/--lag/--chunk/--random-init/--with-presets/--engine'
             )
         if saved and engine.evaluations < archive.metadata.get('evaluations', 0):
             raise ArchiveError(
-                f'{config.checkpoint_path}: already has {archive.metadata["evaluations"]}'
+                f'{source}: already has {archive.metadata["evaluations"]}'
                 f' evaluations, more than the {engine.evaluations} asked for'
             )
         problems = compatibility_problems(archive, fingerprint)
         if problems:
             raise ArchiveError(
-                f'{config.checkpoint_path}: cannot resume a map made with another simulator,'
+                f'{source}: cannot resume a map made with another simulator,'
                 ' engine or URDF: ' + '; '.join(problems)
             )
     else:

@@ -113,7 +113,9 @@ def build_parser() -> argparse.ArgumentParser:
         '--log', type=Path, default=None, help='JSON-lines progress log (default <out>.log.jsonl)'
     )
     ap.add_argument(
-        '--resume', action='store_true', help='continue from <out>.ckpt.npz if present'
+        '--resume',
+        action='store_true',
+        help='continue from <out>.ckpt.npz if present, else a finished <out> (more --evaluations)',
     )
     ap.add_argument(
         '--with-presets',

@@ -21,10 +21,11 @@
 """generate_map: the command, its files, backends that agree, resume, refusals."""
 
 import json
+from pathlib import Path
 import subprocess
 import sys
 
-from hexapod_adapt.archive import load_archive
+from hexapod_adapt.archive import ArchiveError, load_archive
 from hexapod_adapt.generate import generate_map, GenerateConfig
 from hexapod_adapt.simulation import simulation_fingerprint
 import numpy as np
@@ -188,3 +189,21 @@ def test_orphaned_temporaries_are_removed_on_start_and_resume(tmp_path):
     )
     assert not any(p.exists() for p in left)
     assert r.returncode in (0, 1)
+
+
+def test_a_finished_map_without_its_checkpoint_continues_with_more_evaluations(tmp_path):
+    out = tmp_path / 'map.npz'
+    first = generate_map(GenerateConfig(out=out, workers=1, **SMALL))
+    Path(f'{out}.ckpt.npz').unlink()
+    more = generate_map(
+        GenerateConfig(out=out, workers=1, resume=True, **{**SMALL, 'evaluations': 200})
+    )
+    assert more.metadata['evaluations'] == 200
+    np.testing.assert_array_equal(more.centroids, first.centroids)
+    # an elite is only ever replaced by a fitter gait
+    kept = first.filled
+    assert np.all(more.filled[kept])
+    assert np.all(more.fitness[kept] >= first.fitness[kept])
+    with pytest.raises(ArchiveError, match='more than the 120 asked for'):
+        Path(f'{out}.ckpt.npz').unlink()
+        generate_map(GenerateConfig(out=out, workers=1, resume=True, **SMALL))
