@@ -75,6 +75,18 @@ def pump(name: str, stream) -> None:
         sys.stdout.flush()
 
 
+def map_engine(archive: str | None) -> str | None:
+    """Return the engine that made ``archive`` (None/'' = the default map); None if unreadable."""
+    from hexapod_adapt.archive import ArchiveError, load_archive
+    from hexapod_adapt.maps import shipped_map
+    from hexapod_adapt.simulation import archive_engine
+
+    try:
+        return archive_engine(load_archive(archive or shipped_map()).metadata)
+    except ArchiveError:  # adapt_node refuses it with the reason; sim_node keeps its default
+        return None
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
         description='Start the hexapod node graph (no `ros2 launch` needed).'
@@ -96,7 +108,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         '--engine',
         choices=['pybullet', 'mujoco'],
-        help="sim_node's physics engine (default: pybullet; adapt-sim: mujoco, the default map's)",
+        help="sim_node's physics engine (default: pybullet; adapt-sim: the map's)",
     )
     parser.add_argument('--preset', default='tripod', help='gait_node initial preset')
     parser.add_argument('--failed-legs', type=int, nargs='*', default=[])
@@ -107,7 +119,7 @@ def main(argv: list[str] | None = None) -> int:
     commands: list[tuple[str, list[str]]] = []
     if args.profile == 'adapt-sim':
         args.rtf, args.preset = 0.0, ''
-        args.engine = args.engine or 'mujoco'  # the engine that made the shipped default map
+        args.engine = args.engine or map_engine(args.archive)  # trials on the map's engine
     if args.profile in ('sim', 'adapt-sim'):
         sim_params = {'real_time_factor': args.rtf}
         if args.rtf == 0:

@@ -259,9 +259,8 @@ class AdaptNode(Node):
                 qos,
                 callback_group=recorded,
             )
-        self._latched: dict[
-            str, object
-        ] = {}  # latest latched message of each topic, recorded at a start
+        # latest latched message of each topic, recorded at a start
+        self._latched: dict[str, object] = {}
         for msg_type, topic in ((TFMessage, '/tf_static'), (String, 'robot_description')):
             self.create_subscription(
                 msg_type,
@@ -308,11 +307,14 @@ class AdaptNode(Node):
             recorder.close()
 
     # -- archive ----------------------------------------------------------------------------
+    @staticmethod
+    def _archive_path(value: str) -> str:
+        """Return the file the ``archive`` parameter names ('' = the shipped default map)."""
+        return os.path.expanduser(value) if value else str(shipped_map(DEFAULT_MAP))
+
     def _try_load(self, path: str) -> tuple[Archive | None, str]:
-        if not path:
-            path = str(shipped_map(DEFAULT_MAP))
         try:
-            archive = load_archive(os.path.expanduser(path))
+            archive = load_archive(path)
         except ArchiveError as exc:
             return None, str(exc)
         problems = compatibility_problems(archive, expected_metadata(self.mode))
@@ -322,8 +324,8 @@ class AdaptNode(Node):
             return None, f'{path} has no gaits'
         return archive, ''
 
-    def _load_archive(self, path: str) -> None:
-        path = path or str(shipped_map(DEFAULT_MAP))
+    def _load_archive(self, value: str) -> None:
+        path = self._archive_path(value)
         archive, problem = self._try_load(path)
         if archive is None:
             self.archive_problem = problem
@@ -341,11 +343,10 @@ class AdaptNode(Node):
                     return SetParametersResult(successful=False, reason=self.archive_problem)
                 if self.busy.locked():
                     return SetParametersResult(successful=False, reason='an adaptation is running')
-                archive, problem = self._try_load(param.value)
+                archive, problem = self._try_load(self._archive_path(param.value))
                 if archive is None:
-                    return SetParametersResult(
-                        successful=False, reason=problem
-                    )  # the old archive stays
+                    # the old archive stays
+                    return SetParametersResult(successful=False, reason=problem)
                 self.archive, self.archive_problem = archive, ''
             elif param.name == 'trial_timeout' and param.value <= 0:
                 return SetParametersResult(successful=False, reason='trial_timeout must be > 0')
@@ -413,11 +414,12 @@ class AdaptNode(Node):
         recorder = self.recorder
         if recorder is not None:
             try:
+                # one time base
                 recorder.record(
                     self.resolve_topic_name(topic),
                     msg,
                     log_time_ns=self.get_clock().now().nanoseconds,
-                )  # one time base
+                )
             except (OSError, RuntimeError) as exc:
                 self.get_logger().error(
                     f'recording to {recorder.path} failed: {exc}; recording stopped'

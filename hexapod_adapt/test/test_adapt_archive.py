@@ -156,9 +156,8 @@ def test_insert_says_what_happened():
     assert (
         a.insert(0, 0.5, d, np.zeros(32)) is InsertStatus.NOT_IMPROVED and a.genotypes[0, 0] == 0.5
     )
-    assert (
-        a.insert(0, 1.0, d, np.zeros(32)) is InsertStatus.NOT_IMPROVED
-    )  # a tie keeps the incumbent
+    # a tie keeps the incumbent
+    assert a.insert(0, 1.0, d, np.zeros(32)) is InsertStatus.NOT_IMPROVED
     assert a.insert(0, 2.0, d, np.zeros(32)) is InsertStatus.IMPROVED and a.fitness[0] == 2.0
     s = a.stats()
     assert (s.filled, s.coverage, s.max, s.qd_score) == (1, 0.5, 2.0, 2.0)

@@ -102,9 +102,8 @@ def test_plot_map_draws_a_map_and_a_log_in_progress(tmp_path):
         }
         for k in range(1, 6)
     ]
-    log.write_text(
-        '\n'.join(json.dumps(r) for r in rows) + '\n{"evaluations": 6'
-    )  # torn last line
+    # torn last line
+    log.write_text('\n'.join(json.dumps(r) for r in rows) + '\n{"evaluations": 6')
     r = subprocess.run(
         [
             sys.executable,

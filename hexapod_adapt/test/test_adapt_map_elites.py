@@ -73,9 +73,8 @@ def test_cvt_is_seeded_cached_and_in_the_unit_cube(tmp_path):
     assert not np.array_equal(c1, compute_cvt(30, samples=1500, seed=6))
     cached = cached_cvt(tmp_path, 30, samples=1500, seed=5)
     assert (tmp_path / 'centroids_30_6.dat').is_file()
-    np.testing.assert_allclose(
-        cached_cvt(tmp_path, 30, seed=99), cached
-    )  # read back, not recomputed
+    # read back, not recomputed
+    np.testing.assert_allclose(cached_cvt(tmp_path, 30, seed=99), cached)
 
 
 def test_same_seed_same_map_inline_pool_and_out_of_order_completion():

@@ -179,9 +179,8 @@ def test_leg_map_places_each_legs_values_in_the_robots_slot():
     gait = preset('tripod').replace(radius=[0.11, 0.12, 0.13, 0.14, 0.15, 0.16])
     values = ext.gait_values(gait, ext.MIRRORED_LEG_MAP)
     radius = values[4:10]
-    assert radius == pytest.approx(
-        [0.11, 0.16, 0.15, 0.14, 0.13, 0.12]
-    )  # URDF leg 2 is firmware leg 6
+    # URDF leg 2 is firmware leg 6
+    assert radius == pytest.approx([0.11, 0.16, 0.15, 0.14, 0.13, 0.12])
     assert ext.gait_values(gait)[4:10] == pytest.approx([0.11, 0.12, 0.13, 0.14, 0.15, 0.16])
     for bad in ([1, 2, 3], [1, 1, 2, 3, 4, 5], ['a'] * 6, [0, 1, 2, 3, 4, 5]):
         with pytest.raises(ext.ExtensionError, match='leg map'):

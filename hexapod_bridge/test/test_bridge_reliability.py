@@ -50,9 +50,8 @@ def noisy_channel(
     """1 % byte substitution, 0.1 % insertion/deletion (half each), per byte."""
     arr = np.frombuffer(data, dtype=np.uint8).copy()
     sub = rng.random(arr.size) < p_sub
-    arr[sub] = (arr[sub].astype(np.int32) + rng.integers(1, 256, sub.sum())).astype(
-        np.uint8
-    )  # always a change
+    # always a change
+    arr[sub] = (arr[sub].astype(np.int32) + rng.integers(1, 256, sub.sum())).astype(np.uint8)
     u = rng.random(arr.size)
     deleted = u < p_indel / 2
     inserted = (u >= p_indel / 2) & (u < p_indel)
@@ -195,9 +194,8 @@ def test_legacy_frames_false_accept_rate_is_measured_and_implausible_values_reje
         )
     for f in charger:
         assert 0 <= f.voltage <= 60
-    assert (
-        rate_c < 0.02
-    )  # an 8-bit sum lets through roughly 1/256 of corruptions plus resync artefacts
+    # an 8-bit sum lets through roughly 1/256 of corruptions plus resync artefacts
+    assert rate_c < 0.02
     # PC -> robot movement frames (8-bit sum): false accepts counted by the robot side
     moves = [
         legacy.encode_movement(

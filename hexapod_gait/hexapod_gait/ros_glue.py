@@ -211,9 +211,8 @@ def run_node(
         try:
             node = make_node()
         except (ValueError, InvalidParameterValueException, InvalidParameterTypeException) as exc:
-            name = re.sub(
-                r'(?<!^)(?=[A-Z])', '_', getattr(make_node, '__name__', 'node')
-            ).lower()  # SimNode -> sim_node
+            # SimNode -> sim_node
+            name = re.sub(r'(?<!^)(?=[A-Z])', '_', getattr(make_node, '__name__', 'node')).lower()
             print(f'[{name}] refusing to start: {exc}', file=sys.stderr)
             return 2
         executor.add_node(node)

@@ -165,9 +165,10 @@ def foot_trajectory(
     stance = tau < np.round(t_support, _TIME_DECIMALS)
 
     # Support: linear start -> end.
+    # (6, 3)
     support_velocity = np.divide(
         end - start, t_support, out=np.zeros_like(start), where=t_support > 0
-    )  # (6, 3)
+    )
     support_pos = start[:, None, :] + support_velocity[:, None, :] * tau[..., None]
 
     # Swing: polynomial end -> mid -> start in normalised time s.

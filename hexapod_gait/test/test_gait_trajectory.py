@@ -83,9 +83,8 @@ def test_support_is_a_straight_line_at_constant_velocity_matching_body_speed():
         v = vel[leg][stance[leg]]
         np.testing.assert_allclose(v, np.broadcast_to(v[0], v.shape), atol=1e-12)
         assert np.linalg.norm(v[0][:2]) == pytest.approx(0.25)  # foot moves at body speed
-        assert np.all(
-            pos[leg][stance[leg]][:, 2] == pos[leg][stance[leg]][0, 2]
-        )  # flat on the ground
+        # flat on the ground
+        assert np.all(pos[leg][stance[leg]][:, 2] == pos[leg][stance[leg]][0, 2])
     # swing lifts the foot to exactly the step height above the ground
     assert pos[:, :, 2].max(axis=1) - pos[:, :, 2].min(axis=1) == pytest.approx(
         g.step_height, abs=1e-6

@@ -295,9 +295,8 @@ class MujocoSimulator(Simulator):
 
     def _reset_state(self, q: np.ndarray, body_height: float) -> None:
         m, d = self.m, self.d
-        mujoco.mj_resetData(
-            m, d
-        )  # zeroes velocities, warm start and time: bit for bit a fresh start
+        # zeroes velocities, warm start and time: bit for bit a fresh start
+        mujoco.mj_resetData(m, d)
         d.qpos[:7] = [0.0, 0.0, body_height, 1.0, 0.0, 0.0, 0.0]
         d.qpos[self._qadr] = q
         d.ctrl[self._act] = q
@@ -452,10 +451,11 @@ class MujocoSimulator(Simulator):
         for name in self._link_bodies():
             body = m.body(name).id
             w, x, y, z = d.xquat[body]
+            # MuJoCo bodies sit at link frames
             poses[name] = (
                 d.xpos[body].copy(),
                 np.array([x, y, z, w]),
-            )  # MuJoCo bodies sit at link frames
+            )
         return poses
 
     def link_masses(self) -> dict[str, float]:

@@ -457,9 +457,10 @@ def create_simulator(config: SimConfig | None = None) -> Simulator:
     """Return a simulator running the engine named in ``config`` (default: PyBullet)."""
     config = config or SimConfig()
     if config.engine == 'mujoco':
+        # optional dependency: imported on use
         from hexapod_sim.mujoco_engine import (
             MujocoSimulator,
-        )  # optional dependency: imported on use
+        )
 
         return MujocoSimulator(config)
     from hexapod_sim.pybullet_engine import PyBulletSimulator
