@@ -190,7 +190,9 @@ def main(argv: list[str] | None = None) -> int:
             )
         )
 
-    env = dict(os.environ, PYTHONUNBUFFERED='1')
+    from hexapod_description.middleware import profile_environment
+
+    env = dict(os.environ, PYTHONUNBUFFERED='1', **profile_environment(os.environ))
     # Ctrl-C and SIGTERM stop the graph even when this process was started with SIGINT ignored
     # (a background job of a non-interactive shell inherits SIG_IGN, and Python keeps it).
     stop = threading.Event()

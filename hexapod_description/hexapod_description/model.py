@@ -39,28 +39,37 @@ N_LEGS = 6
 JOINTS_PER_LEG = 3
 
 
-def urdf_path() -> Path:
+def share_path(*parts: str) -> Path:
     """
-    Path of the hexapod URDF.
+    Path of a file this package installs in its share directory (``urdf/...``, ``config/...``).
 
-    Order of lookup: ``$HEXAPOD_URDF``; the package's share directory in the ament index
-    (installed workspace); the source tree next to this module.
+    The installed share directory (ament index) when it holds the file, else the source tree
+    next to this module.
     """
-    override = os.environ.get('HEXAPOD_URDF')
-    if override:
-        return Path(override)
     try:
         from ament_index_python.packages import get_package_share_directory, PackageNotFoundError
 
         try:
-            candidate = Path(get_package_share_directory(PACKAGE)) / 'urdf' / 'hexapod.urdf'
+            candidate = Path(get_package_share_directory(PACKAGE)).joinpath(*parts)
             if candidate.is_file():
                 return candidate
         except (PackageNotFoundError, OSError):  # OSError: no AMENT_PREFIX_PATH at all
             pass
     except ImportError:  # plain Python without the ROS wheels
         pass
-    return Path(__file__).resolve().parent.parent / 'urdf' / 'hexapod.urdf'
+    return Path(__file__).resolve().parent.parent.joinpath(*parts)
+
+
+def urdf_path() -> Path:
+    """
+    Path of the hexapod URDF.
+
+    ``$HEXAPOD_URDF`` if set, else the package's ``urdf/hexapod.urdf`` (see :func:`share_path`).
+    """
+    override = os.environ.get('HEXAPOD_URDF')
+    if override:
+        return Path(override)
+    return share_path('urdf', 'hexapod.urdf')
 
 
 @dataclass(frozen=True)
