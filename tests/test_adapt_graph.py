@@ -416,6 +416,27 @@ def test_two_simulators_with_one_name_are_reported_not_waited_on(ros, launch, sm
     assert node.alive() and first.alive() and second.alive()
 
 
+def test_a_twin_that_joins_during_a_run_stops_it_with_the_reason(ros, launch, small_archive):
+    path, _archive, _ = small_archive
+    launch('hexapod_sim', 'sim_node', params={'real_time_factor': 0.0})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'mode': 'sim', 'record_dir': '', 'trial_timeout': 300.0},
+    )
+    client = ros.node.create_client(Adapt, 'adapt')
+    assert client.wait_for_service(timeout_sec=30)
+    # without gait_node the first trial waits (up to trial_timeout) for its gait to play
+    running = client.call_async(Adapt.Request(max_trials=2))
+    wait_for(lambda: 'adaptation started' in node.log(), 30, 'the run to start')
+    launch('hexapod_sim', 'sim_node', params={'real_time_factor': 0.0})
+    wait_for(running.done, 60, 'the run to stop on the twin')
+    answer = running.result()
+    assert not answer.success and answer.trials == 0, answer.message
+    assert '2 nodes named /sim_node' in answer.message
+    assert node.alive()
+
+
 def test_every_nonsensical_adapt_request_is_refused_with_a_reason(ros, launch, small_archive):
     """
     Each field of Adapt is refused when NaN, infinite, negative, tiny or huge.

@@ -438,13 +438,25 @@ class AdaptNode(Node):
                 self.recorder = None
 
     def _wait(self, predicate, timeout: float, what: str):
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
+        """
+        Poll ``predicate`` until it is truthy; raise TrialAborted on timeout or shutdown.
+
+        A node name taken twice also stops the wait (checked every second): a twin that joins
+        during a run, or one discovered only after the run was accepted, on a loaded machine.
+        """
+        now = time.monotonic()
+        deadline, next_check = now + timeout, now + 1.0
+        while (now := time.monotonic()) < deadline:
             if not rclpy.ok(context=self.context):
                 raise TrialAborted('shutting down')
             value = predicate()
             if value:
                 return value
+            if now >= next_check:
+                next_check = now + 1.0
+                duplicates = self._duplicate_peers()
+                if duplicates:
+                    raise TrialAborted(duplicates)
             time.sleep(0.005)
         raise TrialAborted(f'timed out after {timeout:g} s waiting for {what}')
 
