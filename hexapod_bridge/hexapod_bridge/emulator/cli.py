@@ -28,8 +28,9 @@ bridge_node without hardware.
 
 Prints ``RADIO <path>`` and ``IMU <path>`` once the ports exist, and ``TRIAL {json}`` with the
 simulator's own measurement when a walk ends. SIGUSR1 makes the radio port vanish (the pty is
-closed and its link removed), SIGUSR2 brings a new one back at the same link path - the
-fault-injection handle the reliability tests use. SIGINT/SIGTERM end it.
+closed and its link removed; it prints ``RADIO gone at <seconds on CLOCK_MONOTONIC>``), SIGUSR2
+brings a new one back at the same link path - the fault-injection handle the reliability tests
+use. SIGINT/SIGTERM end it.
 """
 
 from __future__ import annotations
@@ -156,7 +157,7 @@ def main(argv: list[str] | None = None) -> int:
                 what = requests.pop(0)
                 if what == 'vanish' and radio.master is not None:
                     radio.close()
-                    print('RADIO gone', flush=True)
+                    print(f'RADIO gone at {time.monotonic():.6f}', flush=True)
                     print_stats(firmware)
                 elif what == 'return' and radio.master is None:
                     print(f'RADIO {radio.open()}', flush=True)
