@@ -130,7 +130,8 @@ def bench_bridge() -> None:
 
     Robot->PC frames (extension reports) the host parser decodes per second; bridge_upload_ms: one
     gait upload (35 SET_PARAM + COMMIT, acknowledged) over an emulated clean 19200-baud link,
-    emulated time.
+    emulated time; bridge_link_down_max_ms / bridge_link_up_max_ms: the slowest of 10 radio-port
+    losses to be reported, and of 10 returns to bring telemetry back, through the ROS graph.
     """
     from hexapod_bridge import extension as ext
     from hexapod_bridge.emulator.firmware import RobotFirmware
@@ -166,6 +167,116 @@ def bench_bridge() -> None:
         assert op.ok, op.message
         durations.append(t)
     print(f'BENCH bridge_upload_ms {np.median(durations) * 1e3:.0f} ms')
+    down, up = _port_loss_latencies()
+    print(f'BENCH bridge_link_down_max_ms {max(down) * 1e3:.0f} ms')
+    print(f'BENCH bridge_link_up_max_ms {max(up) * 1e3:.0f} ms')
+
+
+def _port_loss_latencies(cycles: int = 10) -> tuple[list[float], list[float]]:
+    """
+    Time radio-port losses and returns through the ROS graph (seconds, one per cycle).
+
+    Down: from the port vanishing to a "not connected" LinkStatus; up: from its return to the
+    next IMU message; ``cycles`` losses of 1 s. robot_emulator and bridge_node run as processes
+    on a private DDS domain; the port's changes are timed by the emulator's own CLOCK_MONOTONIC
+    stamps, not by the signals that cause them.
+    """
+    import os
+    from pathlib import Path
+    import signal
+    import subprocess
+    import tempfile
+
+    from hexapod_bridge.bridge_node import reports_down_since
+    from hexapod_bridge.emulator.cli import radio_gone_times
+    from hexapod_msgs.msg import LinkStatus
+    import rclpy
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.qos import qos_profile_sensor_data
+    from sensor_msgs.msg import Imu
+
+    domain = 91 + os.getpid() % 10  # the tests use 1-40, make demo 60-89
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
+    down: list[float] = []
+    up: list[float] = []
+    with tempfile.TemporaryDirectory() as tmp:
+        radio, log = f'{tmp}/radio', Path(tmp) / 'emulator.log'
+        procs = []
+        context = rclpy.Context()
+        rclpy.init(context=context, domain_id=domain)
+        try:
+            with log.open('w') as out:
+                procs.append(
+                    subprocess.Popen(
+                        ['robot_emulator', '--radio-link', radio, '--imu-link', f'{tmp}/imu'],
+                        stdout=out,
+                        stderr=subprocess.STDOUT,
+                        env=env,
+                    )
+                )
+            node = rclpy.create_node('bench_port_loss', context=context)
+            executor = SingleThreadedExecutor(context=context)
+            executor.add_node(node)
+            links: list = []
+            imu_times: list[float] = []
+            node.create_subscription(LinkStatus, 'bridge_node/link_status', links.append, 10)
+            node.create_subscription(
+                Imu,
+                'imu/data',
+                lambda _: imu_times.append(time.monotonic()),
+                qos_profile_sensor_data,
+            )
+
+            def spin_until(predicate, timeout: float, what: str) -> None:
+                deadline = time.monotonic() + timeout
+                while not predicate():
+                    if time.monotonic() > deadline:
+                        raise RuntimeError(f'port-loss benchmark: no {what} within {timeout:g} s')
+                    executor.spin_once(timeout_sec=0.005)
+
+            spin_until(lambda: os.path.exists(radio), 60, 'emulated radio port')
+            procs.append(
+                subprocess.Popen(
+                    [
+                        'bridge_node',
+                        '--ros-args',
+                        '-p',
+                        f'port:={radio}',
+                        '-p',
+                        'arm_on_start:=true',
+                    ]
+                    + ['-p', 'telemetry_period:=0.2'],
+                    stdout=subprocess.DEVNULL,
+                    stderr=subprocess.DEVNULL,
+                    env=env,
+                )
+            )
+            spin_until(lambda: imu_times, 60, 'first telemetry')
+            for cycle in range(cycles):
+                wall = time.time()
+                procs[0].send_signal(signal.SIGUSR1)
+                spin_until(lambda: len(radio_gone_times(log.read_text())) > cycle, 10, 'loss')
+                t_gone = radio_gone_times(log.read_text())[cycle]
+                spin_until(
+                    lambda: links and reports_down_since(links[-1], wall), 5, 'link-down report'
+                )
+                down.append(time.monotonic() - t_gone)
+                spin_until(lambda: time.monotonic() > t_gone + 1.0, 2, 'pause')
+                procs[0].send_signal(signal.SIGUSR2)
+                spin_until(lambda: log.read_text().count('RADIO /') > cycle + 1, 10, 'return')
+                t_back = time.monotonic()
+                spin_until(lambda: imu_times[-1] > t_back, 5, 'telemetry after the return')
+                up.append(time.monotonic() - t_back)
+        finally:
+            for proc in reversed(procs):
+                proc.send_signal(signal.SIGINT)
+                try:
+                    proc.wait(10)
+                except subprocess.TimeoutExpired:
+                    proc.kill()
+                    proc.wait()
+            rclpy.try_shutdown(context=context)
+    return down, up
 
 
 def bench_map() -> None:

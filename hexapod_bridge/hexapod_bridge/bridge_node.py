@@ -657,6 +657,12 @@ class BridgeNode(Node):
             self.imu_port.close()
 
 
+def reports_down_since(status: LinkStatus, wall_time: float) -> bool:
+    """Return True if ``status`` says "not connected" and was stamped after ``wall_time`` [s]."""
+    stamp = status.header.stamp.sec + status.header.stamp.nanosec * 1e-9
+    return not status.connected and stamp > wall_time
+
+
 def main(args: list[str] | None = None) -> int:
     """Entry point of ``ros2 run hexapod_bridge bridge_node``."""
     return run_node(BridgeNode, args, num_threads=4, parameters=PARAMETERS)

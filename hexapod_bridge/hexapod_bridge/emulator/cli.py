@@ -47,6 +47,19 @@ import tty
 from hexapod_bridge.emulator.firmware import ImuNoise, RobotFirmware
 from hexapod_sim import create_simulator, ENGINES, SimConfig
 
+# The line the emulator prints when its radio port vanishes, followed by the time on
+# CLOCK_MONOTONIC (comparable with time.monotonic() in any process on the machine).
+RADIO_GONE = 'RADIO gone at '
+
+
+def radio_gone_times(output: str) -> list[float]:
+    """When the radio port vanished, on CLOCK_MONOTONIC, read from the emulator's output."""
+    return [
+        float(line.removeprefix(RADIO_GONE))
+        for line in output.splitlines()
+        if line.startswith(RADIO_GONE)
+    ]
+
 
 class PtyPort:
     """The robot end of a pseudo-terminal, published at a stable symlink path."""
@@ -157,7 +170,7 @@ def main(argv: list[str] | None = None) -> int:
                 what = requests.pop(0)
                 if what == 'vanish' and radio.master is not None:
                     radio.close()
-                    print(f'RADIO gone at {time.monotonic():.6f}', flush=True)
+                    print(f'{RADIO_GONE}{time.monotonic():.6f}', flush=True)
                     print_stats(firmware)
                 elif what == 'return' and radio.master is None:
                     print(f'RADIO {radio.open()}', flush=True)
