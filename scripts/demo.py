@@ -61,7 +61,6 @@ def main() -> int:
     from hexapod_adapt.recording import read_messages
     from hexapod_adapt.simulation import archive_engine
     from hexapod_description import load_model, summary
-    from hexapod_description.middleware import profile_environment
     from hexapod_gait import preset
     from hexapod_sim import create_simulator, evaluate_gait, SimConfig
 
@@ -102,7 +101,6 @@ def main() -> int:
         ROS_DOMAIN_ID=str(60 + os.getpid() % 30),
         ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST',
         PYTHONUNBUFFERED='1',
-        **profile_environment(os.environ),
     )
     logs = {
         name: open(out / f'{name}.log', 'w') for name in ('gait_node', 'sim_node', 'adapt_node')

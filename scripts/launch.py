@@ -190,9 +190,7 @@ def main(argv: list[str] | None = None) -> int:
             )
         )
 
-    from hexapod_description.middleware import profile_environment
-
-    env = dict(os.environ, PYTHONUNBUFFERED='1', **profile_environment(os.environ))
+    env = dict(os.environ, PYTHONUNBUFFERED='1')
     # Ctrl-C and SIGTERM stop the graph even when this process was started with SIGINT ignored
     # (a background job of a non-interactive shell inherits SIG_IGN, and Python keeps it).
     stop = threading.Event()

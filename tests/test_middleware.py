@@ -132,3 +132,51 @@ def test_a_service_waits_for_a_client_discovered_late_only_with_the_profile(ros,
     print(f'answer spacing: {with_profile:.3f} s with the profile, {without:.3f} s without')
     assert with_profile >= 1.5, f'the profile did not take effect ({with_profile:.2f} s)'
     assert without < 1.0, f'Fast DDS waited {without:.2f} s without the profile'
+
+
+@pytest.mark.parametrize('own_profile', [False, True])
+def test_a_node_started_without_the_variable_uses_the_profile_unless_one_is_set(
+    ros, tmp_path, own_profile
+):
+    """run_node sets the profile itself, so `ros2 run` on a full install gets it too."""
+    from rcl_interfaces.srv import GetParameters
+    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+
+    env = {k: v for k, v in os.environ.items() if k != PROFILES_ENV}
+    if own_profile:  # a user's profile without the 'service' entry: Fast DDS's 100 ms
+        (tmp_path / 'own.xml').write_text(
+            '<?xml version="1.0" encoding="UTF-8"?>\n'
+            '<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles"><profiles/></dds>\n'
+        )
+        env[PROFILES_ENV] = str(tmp_path / 'own.xml')
+    exe = WS / 'install' / 'hexapod_gait' / 'lib' / 'hexapod_gait' / 'gait_node'
+    with (tmp_path / 'gait_node.log').open('w') as log:
+        node = subprocess.Popen([str(exe)], stdout=log, stderr=subprocess.STDOUT, env=env)
+    try:
+        good = ros.node.create_client(GetParameters, 'gait_node/get_parameters')
+        assert good.wait_for_service(timeout_sec=30)
+        deaf = ros.node.create_client(
+            GetParameters,
+            'gait_node/get_parameters',
+            qos_profile=QoSProfile(
+                depth=10,
+                durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                reliability=ReliabilityPolicy.RELIABLE,
+            ),
+        )
+        time.sleep(1.0)  # the deaf client's requests are discovered too
+        deaf.call_async(GetParameters.Request(names=['x']))
+        deaf.call_async(GetParameters.Request(names=['x']))
+        time.sleep(0.05)
+        t0 = time.monotonic()
+        # gait_node's one executor thread answers in turn: after two unanswerable requests
+        answer = good.call_async(GetParameters.Request(names=['x']))
+        wait_for(answer.done, 30, "gait_node's answer")
+        waited = time.monotonic() - t0
+    finally:
+        node.kill()
+        node.wait()
+    if own_profile:
+        assert waited < 1.0, waited
+    else:
+        assert waited >= 3.0, waited  # 2 x 2 s

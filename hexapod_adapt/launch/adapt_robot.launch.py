@@ -28,11 +28,8 @@ Adaptation on the real robot: bridge_node + adapt_node (full ROS 2 Jazzy install
 Arm the bridge first: ros2 service call /bridge_node/arm std_srvs/srv/SetBool "{data: true}"
 """
 
-import os
-
-from hexapod_description.middleware import profile_environment
 from launch import LaunchDescription
-from launch.actions import DeclareLaunchArgument, SetEnvironmentVariable
+from launch.actions import DeclareLaunchArgument
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 
@@ -40,8 +37,6 @@ from launch_ros.actions import Node
 def generate_launch_description() -> LaunchDescription:
     return LaunchDescription(
         [
-            # the Fast DDS profile (services answer clients discovered late), unless one is set
-            *(SetEnvironmentVariable(k, v) for k, v in profile_environment(os.environ).items()),
             DeclareLaunchArgument(
                 'archive',
                 default_value='',

@@ -27,13 +27,11 @@ In this workspace without `launch`:
     python scripts/launch.py adapt-sim --archive MAP --failed-legs 1
 """
 
-import os
 from pathlib import Path
 
 from ament_index_python.packages import get_package_share_directory
-from hexapod_description.middleware import profile_environment
 from launch import LaunchDescription
-from launch.actions import DeclareLaunchArgument, SetEnvironmentVariable
+from launch.actions import DeclareLaunchArgument
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 
@@ -43,8 +41,6 @@ URDF = Path(get_package_share_directory('hexapod_description')) / 'urdf' / 'hexa
 def generate_launch_description() -> LaunchDescription:
     return LaunchDescription(
         [
-            # the Fast DDS profile (services answer clients discovered late), unless one is set
-            *(SetEnvironmentVariable(k, v) for k, v in profile_environment(os.environ).items()),
             DeclareLaunchArgument(
                 'archive',
                 default_value='',

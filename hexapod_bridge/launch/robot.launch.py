@@ -25,11 +25,8 @@ Real robot: bridge_node on the radio (and optionally an Xsens) port (full ROS 2 
 In this workspace without `launch`: python scripts/launch.py robot --port /dev/ttyUSB0
 """
 
-import os
-
-from hexapod_description.middleware import profile_environment
 from launch import LaunchDescription
-from launch.actions import DeclareLaunchArgument, SetEnvironmentVariable
+from launch.actions import DeclareLaunchArgument
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 
@@ -37,8 +34,6 @@ from launch_ros.actions import Node
 def generate_launch_description() -> LaunchDescription:
     return LaunchDescription(
         [
-            # the Fast DDS profile (services answer clients discovered late), unless one is set
-            *(SetEnvironmentVariable(k, v) for k, v in profile_environment(os.environ).items()),
             DeclareLaunchArgument('port', default_value='/dev/ttyUSB0'),
             DeclareLaunchArgument('imu_port', default_value=''),
             DeclareLaunchArgument('firmware', default_value='v2'),

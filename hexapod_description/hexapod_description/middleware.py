@@ -24,8 +24,9 @@ The middleware settings the hexapod's nodes run with.
 ``config/fastdds.xml`` lets a service wait up to 2 s (Fast DDS's default: 100 ms) for a new
 client to be discovered before it answers, so that a first call from a base station, or any call
 on a loaded machine, gets its answer (the file says why). Fast DDS reads it from the environment
-variable :data:`PROFILES_ENV`; ``scripts/env.sh`` and the launch files set it through
-:func:`profile_environment`, never over a profile the user chose.
+variable :data:`PROFILES_ENV`; every node sets it at start through :func:`profile_environment`
+(``hexapod_gait.ros_glue.run_node``) and ``scripts/env.sh`` exports it, never over a profile the
+user chose.
 """
 
 from __future__ import annotations

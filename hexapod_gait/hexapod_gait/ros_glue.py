@@ -37,12 +37,14 @@ already depends on it (docs/architecture.md).
 from __future__ import annotations
 
 from dataclasses import dataclass
+import os
 import re
 import sys
 from typing import Any, Callable, Sequence
 
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from geometry_msgs.msg import TransformStamped
+from hexapod_description.middleware import profile_environment
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 import rclpy
@@ -193,13 +195,15 @@ def run_node(
     """
     argv = list(sys.argv[1:] if args is None else args)
     own = argv[: argv.index('--ros-args')] if '--ros-args' in argv else argv
+    # SimNode -> sim_node
+    executable = re.sub(r'(?<!^)(?=[A-Z])', '_', getattr(make_node, '__name__', 'node')).lower()
     if '-h' in own or '--help' in own:
         summary = (sys.modules[make_node.__module__].__doc__ or '').split('\n\n')[0]
-        executable = re.sub(
-            r'(?<!^)(?=[A-Z])', '_', getattr(make_node, '__name__', 'node')
-        ).lower()
         print(help_text(executable, summary, parameters or ()))
         return 0
+    # the project's Fast DDS profile (services answer clients discovered late), unless one is set:
+    # read when rclpy.init creates the DDS participant, however the node was started
+    os.environ.update(profile_environment(os.environ))
     rclpy.init(args=args)
     node = None
     executor = (
@@ -211,9 +215,7 @@ def run_node(
         try:
             node = make_node()
         except (ValueError, InvalidParameterValueException, InvalidParameterTypeException) as exc:
-            # SimNode -> sim_node
-            name = re.sub(r'(?<!^)(?=[A-Z])', '_', getattr(make_node, '__name__', 'node')).lower()
-            print(f'[{name}] refusing to start: {exc}', file=sys.stderr)
+            print(f'[{executable}] refusing to start: {exc}', file=sys.stderr)
             return 2
         executor.add_node(node)
         executor.spin()

@@ -458,9 +458,7 @@ def create_simulator(config: SimConfig | None = None) -> Simulator:
     config = config or SimConfig()
     if config.engine == 'mujoco':
         # optional dependency: imported on use
-        from hexapod_sim.mujoco_engine import (
-            MujocoSimulator,
-        )
+        from hexapod_sim.mujoco_engine import MujocoSimulator
 
         return MujocoSimulator(config)
     from hexapod_sim.pybullet_engine import PyBulletSimulator

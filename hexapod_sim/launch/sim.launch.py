@@ -25,13 +25,11 @@ Simulated robot: gait_node + sim_node (full ROS 2 Jazzy install).
 In this workspace without `launch`: python scripts/launch.py sim
 """
 
-import os
 from pathlib import Path
 
 from ament_index_python.packages import get_package_share_directory
-from hexapod_description.middleware import profile_environment
 from launch import LaunchDescription
-from launch.actions import DeclareLaunchArgument, SetEnvironmentVariable
+from launch.actions import DeclareLaunchArgument
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 
@@ -42,8 +40,6 @@ def generate_launch_description() -> LaunchDescription:
     rtf = LaunchConfiguration('real_time_factor')
     return LaunchDescription(
         [
-            # the Fast DDS profile (services answer clients discovered late), unless one is set
-            *(SetEnvironmentVariable(k, v) for k, v in profile_environment(os.environ).items()),
             DeclareLaunchArgument(
                 'real_time_factor',
                 default_value='1.0',
