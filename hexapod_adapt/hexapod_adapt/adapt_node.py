@@ -62,7 +62,7 @@ from hexapod_adapt.mboa import (
     MboaConfig,
     NOISE_RANGE,
 )
-from hexapod_adapt.recording import create_recording, McapRecorder
+from hexapod_adapt.recording import create_recording, McapRecorder, RecordingClosed
 from hexapod_adapt.simulation import archive_engine, simulation_fingerprint
 from hexapod_gait import from_genotype
 from hexapod_gait.ros_conversions import gait_to_msg
@@ -112,6 +112,9 @@ def _ns(stamp) -> int:
 
 RUN_SETTINGS = ('max_trials', 'trial_duration', 'alpha', 'kappa', 'length_scale', 'noise')
 
+
+#: How long a recorded run waits at its start for the URDF and static frames (latched topics).
+LATCHED_GRACE_S = 5.0
 
 #: A trial must cover at least one gait cycle of the controller's default 1 s period.
 TRIAL_DURATION_RANGE = (1.0, 120.0)
@@ -208,6 +211,7 @@ class AdaptNode(Node):
 
     def __init__(self) -> None:
         super().__init__('adapt_node')
+        self.started_at = time.monotonic()  # discovery of the graph begins here
         declare(self, PARAMETERS)
         self.mode = self.get_parameter('mode').value
         self.archive: Archive | None = None
@@ -261,8 +265,10 @@ class AdaptNode(Node):
             )
         # latest latched message of each topic, recorded at a start
         self._latched: dict[str, object] = {}
+        self._latched_lock = threading.Lock()  # a recording starts with every latched message
+        self._latched_subs = {}
         for msg_type, topic in ((TFMessage, '/tf_static'), (String, 'robot_description')):
-            self.create_subscription(
+            self._latched_subs[topic] = self.create_subscription(
                 msg_type,
                 topic,
                 lambda msg, topic=topic: self._on_latched(topic, msg),
@@ -370,8 +376,9 @@ class AdaptNode(Node):
             self._record('odom', msg)
 
     def _on_latched(self, topic: str, msg) -> None:
-        self._latched[topic] = msg
-        self._record(topic, msg)
+        with self._latched_lock:
+            self._latched[topic] = msg
+            self._record(topic, msg)
 
     def _on_active(self, msg: Header) -> None:
         self.active_stamp = _ns(msg.stamp)
@@ -405,26 +412,30 @@ class AdaptNode(Node):
         return response
 
     # -- helpers ----------------------------------------------------------------------------
-    def _record(self, topic: str, msg) -> None:
+    def _write(self, recorder: McapRecorder, topic: str, msg) -> None:
         """
-        Record ``msg`` under the fully qualified name of ``topic``.
+        Write ``msg`` to ``recorder`` under the fully qualified name of ``topic``, at node time.
 
         Relative names resolve in this node's namespace, as its publishers and subscribers do.
         """
+        recorder.record(
+            self.resolve_topic_name(topic), msg, log_time_ns=self.get_clock().now().nanoseconds
+        )
+
+    def _record(self, topic: str, msg) -> None:
+        """Record ``msg`` in this run's recording, if one is open; a failure stops recording."""
         recorder = self.recorder
         if recorder is not None:
             try:
-                # one time base
-                recorder.record(
-                    self.resolve_topic_name(topic),
-                    msg,
-                    log_time_ns=self.get_clock().now().nanoseconds,
-                )
+                self._write(recorder, topic, msg)
+            except RecordingClosed:
+                pass  # a sensor message that came as the run ended: the run's file is complete
             except (OSError, RuntimeError) as exc:
                 self.get_logger().error(
                     f'recording to {recorder.path} failed: {exc}; recording stopped'
                 )
-                self.recorder = None
+                if self.recorder is recorder:
+                    self.recorder = None
 
     def _checkpoint_recording(self) -> None:
         recorder = self.recorder
@@ -459,6 +470,40 @@ class AdaptNode(Node):
                     raise TrialAborted(duplicates)
             time.sleep(0.005)
         raise TrialAborted(f'timed out after {timeout:g} s waiting for {what}')
+
+    def _await_latched(self, grace: float) -> None:
+        """
+        Give the latched topics (URDF, static frames) up to ``grace`` s to arrive before recording.
+
+        A publisher this node has not yet discovered (a loaded machine, a run asked for right after
+        the node started) has delivered nothing. Topics with a publisher are waited for up to
+        ``grace``; topics with none only for the first second of the run, or until this node has
+        been up ``grace`` s. One that arrives later in the run is still recorded when it comes.
+        """
+
+        def missing() -> list[str]:
+            return [
+                topic
+                for topic, sub in self._latched_subs.items()
+                if topic not in self._latched
+                and (sub.get_publisher_count() > 0 or time.monotonic() < discovery_deadline)
+            ]
+
+        now = time.monotonic()
+        deadline = now + grace
+        discovery_deadline = min(deadline, max(now + 1.0, self.started_at + grace))
+        while missing() and time.monotonic() < deadline and rclpy.ok(context=self.context):
+            time.sleep(0.01)
+        left = [
+            f'{topic} ({self._latched_subs[topic].get_publisher_count()} publishers seen)'
+            for topic in self._latched_subs
+            if topic not in self._latched
+        ]
+        if left:
+            self.get_logger().warning(
+                f'recording starts without {", ".join(left)}: nothing received in {grace:g} s '
+                '(is a state publisher running?); it is recorded if it comes during the run'
+            )
 
     def _call(self, client, what: str, timeout: float = 10.0) -> Trigger.Response:
         if not client.wait_for_service(timeout_sec=timeout):
@@ -670,11 +715,14 @@ class AdaptNode(Node):
                 response.success, response.message = False, f'run not started: {exc}'
                 return response
         if record_dir:
+            self._await_latched(LATCHED_GRACE_S)
             try:
-                self.recorder = create_recording(Path(record_dir).expanduser())
-                response.mcap_path = str(self.recorder.path.resolve())
-                for topic, msg in list(self._latched.items()):  # the URDF and the static frames
-                    self._record(topic, msg)
+                recorder = create_recording(Path(record_dir).expanduser())
+                response.mcap_path = str(recorder.path.resolve())
+                with self._latched_lock:  # the URDF and the static frames come first
+                    for topic, msg in self._latched.items():
+                        self._write(recorder, topic, msg)
+                    self.recorder = recorder
             except OSError as exc:
                 self.get_logger().error(
                     f'cannot record in {record_dir}: {exc}; running without a recording'

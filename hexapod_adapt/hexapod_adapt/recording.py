@@ -127,6 +127,10 @@ def _type_name(msg: Any) -> str:
     return f'{module}/msg/{type(msg).__name__}'
 
 
+class RecordingClosed(RuntimeError):
+    """A message came for a recording that has already been finished."""
+
+
 class McapRecorder:
     """
     Write ROS 2 messages to one new MCAP file (``record(topic, msg)``).
@@ -154,7 +158,7 @@ class McapRecorder:
 
     def _record(self, topic: str, msg: Any, data: bytes, log_time_ns: int | None) -> None:
         if self._closed:
-            raise RuntimeError(f'{self.path} is closed')
+            raise RecordingClosed(f'{self.path} is closed')
         type_name = _type_name(msg)
         if type_name not in self._schemas:
             self._schemas[type_name] = self._writer.register_schema(

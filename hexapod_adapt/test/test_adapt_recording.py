@@ -29,7 +29,7 @@ import subprocess
 import sys
 import textwrap
 
-from hexapod_adapt.recording import McapRecorder, read_messages, schema_text
+from hexapod_adapt.recording import McapRecorder, read_messages, RecordingClosed, schema_text
 from hexapod_msgs.msg import AdaptationTrial
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
@@ -66,7 +66,7 @@ def test_round_trip_through_our_reader_and_mcap_ros2(tmp_path):
         assert reader.get_summary() is not None  # finished: indexed
         decoded = [(c.topic, d) for _, c, _, d in reader.iter_decoded_messages()]
     assert decoded[1][1].trial == 2 and decoded[3][1].pose.pose.position.x == 1.25
-    with pytest.raises(RuntimeError, match='closed'):
+    with pytest.raises(RecordingClosed):
         rec.record('odom', o)
 
 
