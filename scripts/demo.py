@@ -26,15 +26,16 @@
    (hexapod_adapt/maps/default_map.npz, written by generate_map; see docs/adaptation.md).
 2. The damage: legs 1 and 4 fail (held in the failure pose of table 5.1). The control tripod
    gait, the robot's original gait, no longer walks forwards.
-3. Adaptation through the ROS graph: gait_node + sim_node (the map's engine, legs failed, as
-   fast as possible) + adapt_node as separate processes, and adapt_client calling the `adapt`
-   service the way an operator would from the base station. Each 5 s trial is printed as it
-   completes.
-4. The run's MCAP recording, read back.
+3. Adaptation through the ROS graph: gait_node + state_publisher + sim_node (the map's engine,
+   legs failed, as fast as possible) + adapt_node as separate processes, and adapt_client calling
+   the `adapt` service the way an operator would from the base station. Each 5 s trial is printed
+   as it completes.
+4. The run's MCAP recording (with the URDF and frames for a 3D replay), read back.
 """
 
 from __future__ import annotations
 
+import argparse
 import os
 from pathlib import Path
 import signal
@@ -55,7 +56,15 @@ def exe(pkg: str, name: str) -> str:
     return str(WS / 'install' / pkg / 'lib' / pkg / name)
 
 
-def main() -> int:
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description='The main job, end to end, in a few seconds.')
+    parser.add_argument(
+        '--out',
+        type=Path,
+        default=WS / 'out' / 'demo',
+        help='where node logs and the recording go',
+    )
+    out = parser.parse_args(argv).out
     from hexapod_adapt.archive import load_archive
     from hexapod_adapt.maps import shipped_map
     from hexapod_adapt.recording import read_messages
@@ -64,7 +73,6 @@ def main() -> int:
     from hexapod_gait import preset
     from hexapod_sim import create_simulator, evaluate_gait, SimConfig
 
-    out = WS / 'out' / 'demo'
     out.mkdir(parents=True, exist_ok=True)
     section('robot model (hexapod_description)')
     print(summary(load_model()))
@@ -102,54 +110,34 @@ def main() -> int:
         ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST',
         PYTHONUNBUFFERED='1',
     )
-    logs = {
-        name: open(out / f'{name}.log', 'w') for name in ('gait_node', 'sim_node', 'adapt_node')
-    }
+    logs: list = []
+
+    def start(pkg: str, name: str, **params: str) -> subprocess.Popen:
+        """Start ``name`` with ``params`` (ROS parameter values), logging to out/<name>.log."""
+        logs.append(open(out / f'{name}.log', 'w'))
+        args = [a for key, value in params.items() for a in ('-p', f'{key}:={value}')]
+        return subprocess.Popen(
+            [exe(pkg, name), '--ros-args', *args],
+            env=env,
+            stdout=logs[-1],
+            stderr=subprocess.STDOUT,
+        )
+
+    # one time base: every node but sim_node runs on sim_node's /clock
     nodes = [
-        # one time base: gait_node and adapt_node run on sim_node's /clock
-        subprocess.Popen(
-            [
-                exe('hexapod_gait', 'gait_node'),
-                '--ros-args',
-                '-p',
-                "initial_preset:=''",
-                '-p',
-                'use_sim_time:=true',
-            ],
-            env=env,
-            stdout=logs['gait_node'],
-            stderr=subprocess.STDOUT,
+        start('hexapod_gait', 'gait_node', initial_preset="''", use_sim_time='true'),
+        # the URDF and the leg frames, so the recording replays in Foxglove's 3D panel
+        start('hexapod_gait', 'state_publisher', use_sim_time='true'),
+        start(
+            'hexapod_sim',
+            'sim_node',
+            real_time_factor='0.0',
+            publish_period_steps='24',
+            failed_legs=f'[{",".join(map(str, FAILED_LEGS))}]',
+            engine=engine,  # trials on the engine that made the map
         ),
-        subprocess.Popen(
-            [
-                exe('hexapod_sim', 'sim_node'),
-                '--ros-args',
-                '-p',
-                'real_time_factor:=0.0',
-                '-p',
-                'publish_period_steps:=24',
-                '-p',
-                f'failed_legs:=[{",".join(map(str, FAILED_LEGS))}]',
-                '-p',
-                f'engine:={engine}',  # trials on the engine that made the map
-            ],
-            env=env,
-            stdout=logs['sim_node'],
-            stderr=subprocess.STDOUT,
-        ),
-        subprocess.Popen(
-            [
-                exe('hexapod_adapt', 'adapt_node'),  # no archive parameter: the default map
-                '--ros-args',
-                '-p',
-                f'record_dir:={out / "runs"}',
-                '-p',
-                'use_sim_time:=true',
-            ],
-            env=env,
-            stdout=logs['adapt_node'],
-            stderr=subprocess.STDOUT,
-        ),
+        # no archive parameter: the default map
+        start('hexapod_adapt', 'adapt_node', record_dir=str(out / 'runs'), use_sim_time='true'),
     ]
     mcap = None
     try:
@@ -168,10 +156,7 @@ def main() -> int:
             if line.startswith('recording: '):
                 mcap = line.split(': ', 1)[1]
         if client.returncode not in (0, 3):
-            print(
-                f'adapt_client failed (exit {client.returncode}); node logs in'
-                f' {out.relative_to(WS)}/'
-            )
+            print(f'adapt_client failed (exit {client.returncode}); node logs in {out}/')
             return 1
     finally:
         for p in nodes:
@@ -182,7 +167,7 @@ def main() -> int:
             except subprocess.TimeoutExpired:
                 p.kill()
                 p.wait()
-        for f in logs.values():
+        for f in logs:
             f.close()
 
     if mcap:
@@ -191,7 +176,7 @@ def main() -> int:
         best = None
         for topic, msg, _ in read_messages(mcap):
             counts[topic] = counts.get(topic, 0) + 1
-            if topic == 'adapt/trials':
+            if topic == '/adapt/trials':
                 best = msg
         print(
             f'{Path(mcap).relative_to(WS) if Path(mcap).is_relative_to(WS) else mcap}: '
