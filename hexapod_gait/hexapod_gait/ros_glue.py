@@ -221,6 +221,11 @@ def run_node(
         executor.spin()
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
+    except RuntimeError:
+        if rclpy.ok():
+            raise
+        # Ctrl-C shut the context down while the executor was taking a message: rclpy raises
+        # RuntimeError from take_message then (ros/joint_state_publisher#117); a clean stop
     finally:
         if node is not None:
             shutdown = getattr(node, 'shutdown', None)

@@ -1,0 +1,69 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""run_node: how a node process ends (its exit status is what a launcher sees)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import textwrap
+
+NODE = textwrap.dedent(
+    """
+    import sys
+
+    import rclpy
+    from rclpy.node import Node
+
+    from hexapod_gait.ros_glue import run_node
+
+
+    class Failing(Node):
+        def __init__(self):
+            super().__init__('failing_node')
+            self.create_timer(0.01, self.tick)
+
+        def tick(self):
+            if sys.argv[1] == 'after-shutdown':
+                rclpy.shutdown()  # as Ctrl-C does, from rclpy's signal handler
+            raise RuntimeError('taking a message failed')
+
+
+    sys.exit(run_node(Failing, ['--ros-args', '-r', '__ns:=/run_node_test']))
+    """
+)
+
+
+def run(case: str) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, '-c', NODE, case], capture_output=True, text=True, timeout=60
+    )
+
+
+def test_an_error_from_the_executor_during_ctrl_c_is_a_clean_stop():
+    done = run('after-shutdown')
+    assert done.returncode == 0, done.stderr
+
+
+def test_an_error_while_running_is_not_hidden():
+    done = run('while-running')
+    assert done.returncode != 0
+    assert 'RuntimeError: taking a message failed' in done.stderr
