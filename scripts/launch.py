@@ -28,7 +28,7 @@ output is prefixed with its name; Ctrl-C stops them all.
     python scripts/launch.py sim [--rtf 0] [--failed-legs 1 4] [--preset wave]
     python scripts/launch.py adapt-sim [--archive MAP] [--failed-legs 1]  # + adapt_node, fast
     python scripts/launch.py sim --engine mujoco                          # the other engine
-    # robot_emulator (PyBullet) + bridge_node:
+    # robot_emulator (PyBullet) + bridge_node (+ state_publisher, as on the robot):
     python scripts/launch.py emulated-robot [--archive [MAP]]
     python scripts/launch.py robot --port /dev/ttyUSB0 [--imu-port /dev/ttyUSB1] \\
         [--archive [MAP] [--manual]]
@@ -170,6 +170,9 @@ def main(argv: list[str] | None = None) -> int:
                 + ros_args({'port': args.port, 'imu_port': args.imu_port}),
             )
         ]
+    if args.profile in ('emulated-robot', 'robot'):
+        # the latched robot_description and /tf_static, so recordings replay in 3D
+        commands.append(('state_publisher', [exe('hexapod_gait', 'state_publisher')]))
     if args.archive is not None or args.profile == 'adapt-sim':
         mode = (
             'sim'
