@@ -189,6 +189,7 @@ def _port_loss_latencies(cycles: int = 10) -> tuple[list[float], list[float]]:
 
     from hexapod_bridge.bridge_node import reports_down_since
     from hexapod_bridge.emulator.cli import radio_gone_times
+    from hexapod_gait.ros_glue import ros_args
     from hexapod_msgs.msg import LinkStatus
     import rclpy
     from rclpy.executors import SingleThreadedExecutor
@@ -237,15 +238,8 @@ def _port_loss_latencies(cycles: int = 10) -> tuple[list[float], list[float]]:
             spin_until(lambda: os.path.exists(radio), 60, 'emulated radio port')
             procs.append(
                 subprocess.Popen(
-                    [
-                        'bridge_node',
-                        '--ros-args',
-                        '-p',
-                        f'port:={radio}',
-                        '-p',
-                        'arm_on_start:=true',
-                    ]
-                    + ['-p', 'telemetry_period:=0.2'],
+                    ['bridge_node']
+                    + ros_args({'port': radio, 'arm_on_start': True, 'telemetry_period': 0.2}),
                     stdout=subprocess.DEVNULL,
                     stderr=subprocess.DEVNULL,
                     env=env,

@@ -71,6 +71,7 @@ def main(argv: list[str] | None = None) -> int:
     from hexapod_adapt.simulation import archive_engine
     from hexapod_description import load_model, summary
     from hexapod_gait import preset
+    from hexapod_gait.ros_glue import ros_args
     from hexapod_sim import create_simulator, evaluate_gait, SimConfig
 
     out.mkdir(parents=True, exist_ok=True)
@@ -112,12 +113,11 @@ def main(argv: list[str] | None = None) -> int:
     )
     logs: list = []
 
-    def start(pkg: str, name: str, **params: str) -> subprocess.Popen:
+    def start(pkg: str, name: str, **params) -> subprocess.Popen:
         """Start ``name`` with ``params`` (ROS parameter values), logging to out/<name>.log."""
         logs.append(open(out / f'{name}.log', 'w'))
-        args = [a for key, value in params.items() for a in ('-p', f'{key}:={value}')]
         return subprocess.Popen(
-            [exe(pkg, name), '--ros-args', *args],
+            [exe(pkg, name), *ros_args(params)],
             env=env,
             stdout=logs[-1],
             stderr=subprocess.STDOUT,
@@ -125,19 +125,19 @@ def main(argv: list[str] | None = None) -> int:
 
     # one time base: every node but sim_node runs on sim_node's /clock
     nodes = [
-        start('hexapod_gait', 'gait_node', initial_preset="''", use_sim_time='true'),
+        start('hexapod_gait', 'gait_node', initial_preset='', use_sim_time=True),
         # the URDF and the leg frames, so the recording replays in Foxglove's 3D panel
-        start('hexapod_gait', 'state_publisher', use_sim_time='true'),
+        start('hexapod_gait', 'state_publisher', use_sim_time=True),
         start(
             'hexapod_sim',
             'sim_node',
-            real_time_factor='0.0',
-            publish_period_steps='24',
-            failed_legs=f'[{",".join(map(str, FAILED_LEGS))}]',
+            real_time_factor=0.0,
+            publish_period_steps=24,
+            failed_legs=FAILED_LEGS,
             engine=engine,  # trials on the engine that made the map
         ),
         # no archive parameter: the default map
-        start('hexapod_adapt', 'adapt_node', record_dir=str(out / 'runs'), use_sim_time='true'),
+        start('hexapod_adapt', 'adapt_node', record_dir=str(out / 'runs'), use_sim_time=True),
     ]
     mcap = None
     try:

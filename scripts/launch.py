@@ -57,18 +57,6 @@ def exe(pkg: str, name: str) -> str:
     return str(path)
 
 
-def ros_args(params: dict) -> list[str]:
-    out = ['--ros-args']
-    for key, value in params.items():
-        text = (
-            str(value).lower()
-            if isinstance(value, bool)
-            else ("''" if value == '' else str(value))
-        )
-        out += ['-p', f'{key}:={text}']
-    return out
-
-
 def pump(name: str, stream) -> None:
     for line in iter(stream.readline, ''):
         sys.stdout.write(f'[{name}] {line}')
@@ -88,6 +76,8 @@ def map_engine(archive: str | None) -> str | None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    from hexapod_gait.ros_glue import ros_args
+
     parser = argparse.ArgumentParser(
         description='Start the hexapod node graph (no `ros2 launch` needed).'
     )
@@ -120,25 +110,21 @@ def main(argv: list[str] | None = None) -> int:
     if args.profile == 'adapt-sim':
         args.rtf, args.preset = 0.0, ''
         args.engine = args.engine or map_engine(args.archive)  # trials on the map's engine
-    if args.profile in ('sim', 'adapt-sim'):
+    simulated = args.profile in ('sim', 'adapt-sim')  # every node but sim_node on its /clock
+    if simulated:
         sim_params = {'real_time_factor': args.rtf}
         if args.rtf == 0:
             sim_params['publish_period_steps'] = 24  # 10 Hz of sim time: consumers keep up at ~18x
         if args.engine:
             sim_params['engine'] = args.engine
         if args.failed_legs:
-            sim_params['failed_legs'] = '[' + ','.join(map(str, args.failed_legs)) + ']'
+            sim_params['failed_legs'] = args.failed_legs
         # one time base: every node but the clock source (sim_node) runs on sim time
         commands = [
             (
                 'gait_node',
                 [exe('hexapod_gait', 'gait_node')]
                 + ros_args({'initial_preset': args.preset, 'use_sim_time': True}),
-            ),
-            # robot_state_publisher's job: leg links on /tf, latched robot_description
-            (
-                'state_publisher',
-                [exe('hexapod_gait', 'state_publisher')] + ros_args({'use_sim_time': True}),
             ),
             ('sim_node', [exe('hexapod_sim', 'sim_node')] + ros_args(sim_params)),
         ]
@@ -170,15 +156,15 @@ def main(argv: list[str] | None = None) -> int:
                 + ros_args({'port': args.port, 'imu_port': args.imu_port}),
             )
         ]
-    if args.profile in ('emulated-robot', 'robot'):
-        # the latched robot_description and /tf_static, so recordings replay in 3D
-        commands.append(('state_publisher', [exe('hexapod_gait', 'state_publisher')]))
-    if args.archive is not None or args.profile == 'adapt-sim':
-        mode = (
-            'sim'
-            if args.profile in ('sim', 'adapt-sim')
-            else ('manual' if args.manual else 'robot')
+    # robot_state_publisher's job: leg links on /tf, latched robot_description and /tf_static
+    commands.append(
+        (
+            'state_publisher',
+            [exe('hexapod_gait', 'state_publisher')] + ros_args({'use_sim_time': simulated}),
         )
+    )
+    if args.archive is not None or args.profile == 'adapt-sim':
+        mode = 'sim' if simulated else ('manual' if args.manual else 'robot')
         commands.append(
             (
                 'adapt_node',

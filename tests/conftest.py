@@ -55,16 +55,6 @@ def executable(pkg: str, exe: str) -> Path:
     return WS / 'install' / pkg / 'lib' / pkg / exe
 
 
-def _param_text(value: Any) -> str:
-    if isinstance(value, bool):
-        return 'true' if value else 'false'
-    if isinstance(value, str) and value == '':
-        return "''"  # YAML empty string
-    if isinstance(value, (list, tuple)):
-        return '[' + ','.join(_param_text(v) for v in value) + ']'
-    return str(value)
-
-
 class NodeProcess:
     """A node started from install/<pkg>/lib/<pkg>/<exe> (what `ros2 run` executes)."""
 
@@ -81,9 +71,9 @@ class NodeProcess:
         self.log_path = log_dir / f'{exe}.log'
         cmd = [str(executable(pkg, exe))] + list(args or [])
         if params:
-            cmd.append('--ros-args')
-            for key, value in params.items():
-                cmd += ['-p', f'{key}:={_param_text(value)}']
+            from hexapod_gait.ros_glue import ros_args
+
+            cmd += ros_args(params)
         full_env = dict(
             os.environ,
             ROS_DOMAIN_ID=str(domain_id),

@@ -28,15 +28,11 @@ Adaptation on the real robot: bridge_node + adapt_node (full ROS 2 Jazzy install
 Arm the bridge first: ros2 service call /bridge_node/arm std_srvs/srv/SetBool "{data: true}"
 """
 
-from pathlib import Path
-
-from ament_index_python.packages import get_package_share_directory
+from hexapod_description.launch_actions import state_publisher
 from launch import LaunchDescription
 from launch.actions import DeclareLaunchArgument
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
-
-URDF = Path(get_package_share_directory('hexapod_description')) / 'urdf' / 'hexapod.urdf'
 
 
 def generate_launch_description() -> LaunchDescription:
@@ -76,11 +72,6 @@ def generate_launch_description() -> LaunchDescription:
             ),
             # the latched robot_description and /tf_static, so recordings replay in 3D; the
             # odom -> base_link transform comes from bridge_node's IMU odometry
-            Node(
-                package='robot_state_publisher',
-                executable='robot_state_publisher',
-                output='screen',
-                parameters=[{'robot_description': URDF.read_text()}],
-            ),
+            state_publisher(),
         ]
     )

@@ -27,15 +27,11 @@ In this workspace without `launch`:
     python scripts/launch.py adapt-sim --archive MAP --failed-legs 1
 """
 
-from pathlib import Path
-
-from ament_index_python.packages import get_package_share_directory
+from hexapod_description.launch_actions import state_publisher
 from launch import LaunchDescription
 from launch.actions import DeclareLaunchArgument
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
-
-URDF = Path(get_package_share_directory('hexapod_description')) / 'urdf' / 'hexapod.urdf'
 
 
 def generate_launch_description() -> LaunchDescription:
@@ -89,11 +85,6 @@ def generate_launch_description() -> LaunchDescription:
                 ],
             ),
             # the leg links on /tf and the latched robot_description (odom -> base_link: sim_node)
-            Node(
-                package='robot_state_publisher',
-                executable='robot_state_publisher',
-                output='screen',
-                parameters=[{'robot_description': URDF.read_text(), 'use_sim_time': True}],
-            ),
+            state_publisher(use_sim_time=True),
         ]
     )

@@ -27,21 +27,13 @@ Without robot_state_publisher, ``ros2 run hexapod_gait state_publisher`` does th
     ros2 launch hexapod_description display.launch.py
 """
 
-from pathlib import Path
-
-from ament_index_python.packages import get_package_share_directory
+from hexapod_description.launch_actions import state_publisher
 from launch import LaunchDescription
-from launch_ros.actions import Node
 
 
 def generate_launch_description() -> LaunchDescription:
-    urdf = Path(get_package_share_directory('hexapod_description')) / 'urdf' / 'hexapod.urdf'
     return LaunchDescription(
         [
-            Node(
-                package='robot_state_publisher',
-                executable='robot_state_publisher',
-                parameters=[{'robot_description': urdf.read_text()}],
-            ),
+            state_publisher(),
         ]
     )

@@ -146,6 +146,24 @@ def declare(node: Node, specs: Sequence[ParamSpec]) -> dict[str, Any]:
     return values
 
 
+def parameter_text(value: Any) -> str:
+    """Return ``value`` as a ``-p name:=value`` command line writes it (YAML)."""
+    if isinstance(value, bool):
+        return 'true' if value else 'false'
+    if isinstance(value, str) and value == '':
+        return "''"  # YAML's empty string
+    if isinstance(value, (list, tuple)):
+        return '[' + ','.join(parameter_text(v) for v in value) + ']'
+    return str(value)
+
+
+def ros_args(params: dict[str, Any]) -> list[str]:
+    """Return the ``--ros-args -p name:=value ...`` that start a node with ``params``."""
+    return ['--ros-args'] + [
+        a for k, v in params.items() for a in ('-p', f'{k}:={parameter_text(v)}')
+    ]
+
+
 def help_text(executable: str, summary: str, specs: Sequence[ParamSpec]) -> str:
     """Return what ``<executable> --help`` prints: the summary and every parameter."""
     lines = [
