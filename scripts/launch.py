@@ -211,12 +211,17 @@ def main(argv: list[str] | None = None) -> int:
         for signum, grace in ((signal.SIGINT, 10.0), (signal.SIGTERM, 5.0), (signal.SIGKILL, 5.0)):
             alive = [p for p in procs if p.poll() is None]
             for p in alive:
+                if signum != signal.SIGINT:
+                    name = commands[procs.index(p)][0]
+                    print(f'[launch] {name} still running: sending {signum.name}', flush=True)
                 p.send_signal(signum)
             deadline = time.monotonic() + grace
             while alive and time.monotonic() < deadline:
                 alive = [p for p in alive if p.poll() is None]
                 time.sleep(0.05)
-    return max((p.returncode or 0) for p in procs)
+    # the first failure (a node killed by a signal counts, as 128 + its number), else 0
+    codes = [p.returncode for p in procs if p.returncode]
+    return (codes[0] if codes[0] > 0 else 128 - codes[0]) if codes else 0
 
 
 if __name__ == '__main__':

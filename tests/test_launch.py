@@ -48,7 +48,14 @@ def test_launch_files_compile(path: Path):
 
 
 @pytest.mark.ros
-def test_launcher_starts_the_sim_graph_and_stops_on_ctrl_c(ros, domain_id, tmp_path):
+@pytest.mark.parametrize('ctrl_c', ['launcher', 'terminal'])
+def test_launcher_starts_the_sim_graph_and_stops_on_ctrl_c(ros, domain_id, tmp_path, ctrl_c):
+    """
+    Ctrl-C stops every node cleanly.
+
+    'terminal': the SIGINT reaches the launcher and every node (one process group), and the
+    launcher forwards one more: the second must not break the nodes' clean-up.
+    """
     odom = ros.collect(
         Odometry, 'odom', QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
     )
@@ -75,7 +82,10 @@ def test_launcher_starts_the_sim_graph_and_stops_on_ctrl_c(ros, domain_id, tmp_p
         # the tripod walks: odometry moves away from the origin
         wait_for(lambda: odom and math_dist(odom[-1]) > 0.2, 60, 'the simulated robot walking')
     finally:
-        proc.send_signal(signal.SIGINT)
+        if ctrl_c == 'terminal':
+            os.killpg(proc.pid, signal.SIGINT)
+        else:
+            proc.send_signal(signal.SIGINT)
         try:
             code = proc.wait(40)
         except subprocess.TimeoutExpired:
@@ -86,6 +96,7 @@ def test_launcher_starts_the_sim_graph_and_stops_on_ctrl_c(ros, domain_id, tmp_p
     text = (tmp_path / 'launch.log').read_text()
     assert '[sim_node]' in text and '[gait_node]' in text
     assert code == 0, text[-2000:]
+    assert 'Traceback' not in text, text[text.index('Traceback') - 200 :][:3000]
 
 
 def math_dist(o: Odometry) -> float:

@@ -39,7 +39,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 import os
 import re
+import signal
 import sys
+import threading
+import time
 from typing import Any, Callable, Sequence
 
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
@@ -198,6 +201,31 @@ def publish_status(
     )
 
 
+#: Ctrl-Cs this soon after the first are the same stop (a terminal's and a launcher's).
+SAME_CTRL_C_S = 2.0
+
+
+def _ctrl_c_handler() -> Callable[[int, Any], None]:
+    """
+    Python's SIGINT handler for a node process.
+
+    rclpy's own handler runs first and shuts the context down, which stops the executor cleanly.
+    This one raises no KeyboardInterrupt for the Ctrl-Cs of the first ``SAME_CTRL_C_S`` s, so a
+    terminal's and a launcher's together cannot cut the node's clean-up (closing a recording)
+    short; a Ctrl-C after that still interrupts a node that does not stop.
+    """
+    first: list[float] = []
+
+    def on_sigint(signum: int, frame: Any) -> None:
+        now = time.monotonic()
+        if not first:
+            first.append(now)
+        elif now - first[0] > SAME_CTRL_C_S:
+            raise KeyboardInterrupt
+
+    return on_sigint
+
+
 def run_node(
     make_node: Callable[[], Node],
     args: list[str] | None = None,
@@ -222,6 +250,8 @@ def run_node(
     # the project's Fast DDS profile (services answer clients discovered late), unless one is set:
     # read when rclpy.init creates the DDS participant, however the node was started
     os.environ.update(profile_environment(os.environ))
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, _ctrl_c_handler())
     rclpy.init(args=args)
     node = None
     executor = (

@@ -22,9 +22,13 @@
 
 from __future__ import annotations
 
+import signal
 import subprocess
 import sys
 import textwrap
+import time
+
+from hexapod_gait.ros_glue import SAME_CTRL_C_S
 
 NODE = textwrap.dedent(
     """
@@ -67,3 +71,60 @@ def test_an_error_while_running_is_not_hidden():
     done = run('while-running')
     assert done.returncode != 0
     assert 'RuntimeError: taking a message failed' in done.stderr
+
+
+SPINNING = textwrap.dedent(
+    """
+    import sys
+    import time
+
+    from rclpy.node import Node
+
+    from hexapod_gait.ros_glue import run_node
+
+
+    class Spinning(Node):
+        def __init__(self):
+            super().__init__('spinning_node')
+            self.create_timer(0.001, lambda: None)
+            print('spinning', flush=True)
+
+        def shutdown(self):
+            print('clean-up', flush=True)
+            time.sleep(float(sys.argv[1]))  # e.g. closing a recording
+            print('cleaned up', flush=True)
+
+
+    sys.exit(run_node(Spinning, ['--ros-args', '-r', '__ns:=/run_node_test']))
+    """
+)
+
+
+def ctrl_c_twice(clean_up_s: float, gap_s: float) -> tuple[int, str, str]:
+    """Start a spinning node, send SIGINT twice ``gap_s`` apart; return its (status, out, err)."""
+    proc = subprocess.Popen(
+        [sys.executable, '-c', SPINNING, str(clean_up_s)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert proc.stdout.readline() == 'spinning\n'
+    proc.send_signal(signal.SIGINT)
+    assert proc.stdout.readline() == 'clean-up\n'
+    time.sleep(gap_s)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=30)
+    return proc.returncode, out, err
+
+
+def test_a_terminals_and_a_launchers_ctrl_c_together_let_the_clean_up_finish():
+    code, out, err = ctrl_c_twice(clean_up_s=0.5, gap_s=0.01)
+    assert code == 0, err
+    assert out.endswith('cleaned up\n')
+    assert 'Traceback' not in err
+
+
+def test_a_later_ctrl_c_still_interrupts_a_node_that_does_not_stop():
+    code, out, _ = ctrl_c_twice(clean_up_s=60.0, gap_s=SAME_CTRL_C_S + 0.5)
+    assert code != 0
+    assert 'cleaned up' not in out

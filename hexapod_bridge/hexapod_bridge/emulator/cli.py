@@ -162,7 +162,8 @@ def main(argv: list[str] | None = None) -> int:
     signal.signal(signal.SIGUSR1, lambda *_: requests.append('vanish'))
     signal.signal(signal.SIGUSR2, lambda *_: requests.append('return'))
     running = [True]
-    signal.signal(signal.SIGTERM, lambda *_: running.__setitem__(0, False))
+    for signum in (signal.SIGINT, signal.SIGTERM):  # a second Ctrl-C cannot cut the clean-up short
+        signal.signal(signum, lambda *_: running.__setitem__(0, False))
     reported = 0
     try:
         while running[0]:
@@ -191,8 +192,6 @@ def main(argv: list[str] | None = None) -> int:
             ):
                 print('TRIAL ' + json.dumps(firmware.trials[reported].summary()), flush=True)
                 reported += 1
-    except KeyboardInterrupt:
-        pass
     finally:
         radio.close()
         if imu is not None:
