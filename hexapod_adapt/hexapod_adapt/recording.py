@@ -47,7 +47,7 @@ import threading
 import time
 from typing import Any, Iterator
 
-from ament_index_python.packages import get_package_share_directory
+from ament_index_python.packages import get_package_share_directory, PackageNotFoundError
 from hexapod_adapt.archive import atomic_output
 from mcap.exceptions import McapError
 from mcap.records import Channel, Message, Schema
@@ -76,9 +76,26 @@ _BUILTIN = {
 _SEPARATOR = '=' * 80
 
 
-def _msg_file(full_type: str) -> Path:
+class SchemaUnavailable(LookupError):
+    """The definition of a message type (or of a type nested in it) cannot be found."""
+
+    def __init__(self, type_name: str, why: str):
+        super().__init__(f'no definition of {type_name}: {why}')
+        self.type_name = type_name
+        self.why = why
+
+
+def _msg_text(full_type: str) -> str:
+    """Return the text of ``pkg/msg/Type.msg`` from its package's share directory."""
     pkg, _, name = full_type.split('/')
-    return Path(get_package_share_directory(pkg)) / 'msg' / f'{name}.msg'
+    try:
+        return (Path(get_package_share_directory(pkg)) / 'msg' / f'{name}.msg').read_text()
+    except PackageNotFoundError:
+        raise SchemaUnavailable(
+            full_type, f"package '{pkg}' is not in the ament index (AMENT_PREFIX_PATH)"
+        ) from None
+    except OSError as exc:
+        raise SchemaUnavailable(full_type, f'{exc.strerror}: {exc.filename}') from None
 
 
 def _dependencies(full_type: str, text: str) -> list[str]:
@@ -105,8 +122,9 @@ def schema_text(full_type: str) -> str:
     Return the ros2msg schema of ``pkg/msg/Type``.
 
     Its definition, then every nested type's after a separator line (the layout rosbag2 writes).
+    :class:`SchemaUnavailable` names the type whose definition is missing.
     """
-    main = _msg_file(full_type).read_text()
+    main = _msg_text(full_type)
     seen: set[str] = {full_type}
     parts: list[str] = [main.rstrip('\n')]
     queue = _dependencies(full_type, main)
@@ -115,16 +133,17 @@ def schema_text(full_type: str) -> str:
         if dep in seen:
             continue
         seen.add(dep)
-        text = _msg_file(dep).read_text()
+        text = _msg_text(dep)
         pkg, _, name = dep.split('/')
         parts.append(f'{_SEPARATOR}\nMSG: {pkg}/{name}\n{text.rstrip(chr(10))}')
         queue.extend(_dependencies(dep, text))
     return '\n'.join(parts) + '\n'
 
 
-def _type_name(msg: Any) -> str:
-    module = type(msg).__module__.split('.')[0]
-    return f'{module}/msg/{type(msg).__name__}'
+def type_name(msg_or_class: Any) -> str:
+    """Return ``pkg/msg/Type`` of a message or message class."""
+    cls = msg_or_class if isinstance(msg_or_class, type) else type(msg_or_class)
+    return f'{cls.__module__.split(".")[0]}/msg/{cls.__name__}'
 
 
 class RecordingClosed(RuntimeError):
@@ -159,17 +178,31 @@ class McapRecorder:
     def _record(self, topic: str, msg: Any, data: bytes, log_time_ns: int | None) -> None:
         if self._closed:
             raise RecordingClosed(f'{self.path} is closed')
-        type_name = _type_name(msg)
-        if type_name not in self._schemas:
-            self._schemas[type_name] = self._writer.register_schema(
-                type_name, 'ros2msg', schema_text(type_name).encode()
-            )
+        name = type_name(msg)
+        if name not in self._schemas:
+            self._register(name)
         if topic not in self._channels:
             self._channels[topic] = self._writer.register_channel(
-                topic, 'cdr', self._schemas[type_name]
+                topic, 'cdr', self._schemas[name]
             )
         now = log_time_ns if log_time_ns is not None else time.time_ns()
         self._writer.add_message(self._channels[topic], log_time=now, data=data, publish_time=now)
+
+    def register_type(self, name: str) -> None:
+        """
+        Resolve and store the schema of ``pkg/msg/Type`` now, before any message of it comes.
+
+        :class:`SchemaUnavailable` names the type whose definition is missing.
+        """
+        with self._lock:
+            if self._closed:
+                raise RecordingClosed(f'{self.path} is closed')
+            if name not in self._schemas:
+                self._register(name)
+
+    def _register(self, name: str) -> None:
+        text = schema_text(name)  # may raise SchemaUnavailable: nothing is written then
+        self._schemas[name] = self._writer.register_schema(name, 'ros2msg', text.encode())
 
     def checkpoint(self) -> None:
         """End the chunk in progress and fsync: what was recorded survives a kill or power loss."""

@@ -22,9 +22,9 @@
 
 import json
 
-from hexapod_adapt.adapt_node import expected_metadata
 from hexapod_adapt.archive import compatibility_problems, load_archive
 from hexapod_adapt.maps import DEFAULT_MAP, DEMO_MAP, shipped_map
+from hexapod_adapt.run_config import expected_metadata
 from hexapod_adapt.simulation import archive_engine
 import numpy as np
 

@@ -1,0 +1,289 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+The ROS side of trials and recordings, shared by the nodes that walk the robot through the graph.
+
+:class:`GraphPort` is :class:`hexapod_adapt.trials.TrialPort` over rclpy: it publishes gaits,
+reads sim_node's trial stamps and the odometry, and calls sim_node's and bridge_node's services.
+:class:`RecordedTopics` subscribes to what a run records beside its own messages (the frames,
+joint states, IMU, foot contacts, and the latched URDF and static frames) and feeds a
+:class:`hexapod_adapt.run_recording.RunRecording`. The policies live in those library modules;
+this module only converts messages.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Callable
+
+from hexapod_adapt.adaptation import TrialAborted
+from hexapod_adapt.recording import type_name
+from hexapod_adapt.run_recording import RunRecording
+from hexapod_adapt.trials import OdomLog, OdomSample, Upload
+from hexapod_gait import GaitParameters
+from hexapod_gait.ros_conversions import gait_to_msg
+from hexapod_gait.ros_glue import LATCHED, ODOM, SENSOR, TF_QOS
+from hexapod_msgs.msg import AdaptationTrial, FootContacts
+from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
+from hexapod_msgs.srv import UploadGait
+from nav_msgs.msg import Odometry
+from rcl_interfaces.msg import ParameterType
+from rcl_interfaces.srv import GetParameters
+import rclpy
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
+from rclpy.node import Node
+from sensor_msgs.msg import Imu, JointState
+from std_msgs.msg import Header, String
+from std_srvs.srv import Trigger
+from tf2_msgs.msg import TFMessage
+
+#: Topics recorded while a run records, besides the node's own: a trial replays in 3D from them.
+SENSOR_TOPICS = (
+    (TFMessage, '/tf', TF_QOS),
+    (JointState, 'joint_states', SENSOR),
+    (Imu, 'imu/data', SENSOR),
+    (FootContacts, 'foot_contacts', SENSOR),
+)
+#: Latched topics: the latest message of each opens every recording.
+LATCHED_TOPICS = ((TFMessage, '/tf_static'), (String, 'robot_description'))
+#: Every topic a run records, with its type: resolved when a recording starts.
+RECORDED_TYPES = {
+    topic: type_name(cls)
+    for cls, topic in (
+        *((cls, topic) for cls, topic, _ in SENSOR_TOPICS),
+        *LATCHED_TOPICS,
+        (Odometry, 'odom'),
+        (GaitParametersMsg, 'gait/parameters'),
+        (AdaptationTrial, 'adapt/trials'),
+    )
+}
+
+
+def stamp_ns(stamp) -> int:
+    """Nanoseconds of a builtin_interfaces/Time."""
+    return stamp.sec * 1_000_000_000 + stamp.nanosec
+
+
+def qualified(node: Node, name: str) -> str:
+    """Fully qualify a node name (relative names resolve in ``node``'s namespace)."""
+    if name.startswith('/'):
+        return name
+    return f'{node.get_namespace().rstrip("/")}/{name}'
+
+
+class GraphPort:
+    """
+    Trials through gait_node + sim_node, or bridge_node, over rclpy.
+
+    ``gait_of(niche)`` gives the gait to try; ``wait`` is the node's :class:`Waiter`.until.
+    """
+
+    def __init__(
+        self,
+        node: Node,
+        sim_name: str,
+        bridge_name: str,
+        odom: OdomLog,
+        recording: RunRecording,
+    ) -> None:
+        self.node, self.odom, self.recording = node, odom, recording
+        self.gait_of: Callable[[int], GaitParameters] | None = None
+        self.wait: Callable | None = None
+        self._active: int | None = None
+        self._reset: int | None = None
+        self._last_stamp = 0
+        sensors, work = MutuallyExclusiveCallbackGroup(), ReentrantCallbackGroup()
+        self.gait_pub = node.create_publisher(GaitParametersMsg, 'gait/parameters', LATCHED)
+        node.create_subscription(Odometry, 'odom', self._on_odom, ODOM, callback_group=sensors)
+        node.create_subscription(
+            Header, 'sim/active_trajectory', self._on_active, LATCHED, callback_group=sensors
+        )
+        node.create_subscription(
+            Header, 'sim/last_reset', self._on_reset, LATCHED, callback_group=sensors
+        )
+        self.reset_client = node.create_client(Trigger, f'{sim_name}/reset', callback_group=work)
+        self.start_client = node.create_client(
+            Trigger, f'{bridge_name}/start_trial', callback_group=work
+        )
+        self.upload_client = node.create_client(
+            UploadGait, f'{bridge_name}/upload_gait', callback_group=work
+        )
+        self.sim_params_client = node.create_client(
+            GetParameters, f'{sim_name}/get_parameters', callback_group=work
+        )
+
+    # -- inputs -----------------------------------------------------------------------------
+    def _on_odom(self, msg: Odometry) -> None:
+        p, t = msg.pose.pose.position, msg.twist.twist.linear
+        self.odom.append(
+            OdomSample(stamp_ns(msg.header.stamp), p.x, p.y, t.x, t.y, time.monotonic())
+        )
+        self.recording.record('odom', msg)
+
+    def _on_active(self, msg: Header) -> None:
+        self._active = stamp_ns(msg.stamp)
+
+    def _on_reset(self, msg: Header) -> None:
+        self._reset = stamp_ns(msg.stamp)
+
+    # -- TrialPort --------------------------------------------------------------------------
+    def active_stamp(self) -> int | None:
+        """Stamp of the gait sim_node plays."""
+        return self._active
+
+    def reset_stamp(self) -> int | None:
+        """Stamp of sim_node's latest reset."""
+        return self._reset
+
+    def gait_msg(self, niche: int) -> GaitParametersMsg:
+        """
+        Return the message of the gait of ``niche``, stamped by the node's clock, made unique.
+
+        sim_node echoes the stamp of the gait it plays: that echo is how a trial knows its gait is
+        on.
+        """
+        msg = gait_to_msg(self.gait_of(niche))
+        stamp = max(self.node.get_clock().now().nanoseconds, self._last_stamp + 1)
+        self._last_stamp = stamp
+        msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(stamp, 1_000_000_000)
+        return msg
+
+    def publish(self, msg: GaitParametersMsg) -> None:
+        """Publish (and record) a gait on gait/parameters."""
+        self.gait_pub.publish(msg)
+        self.recording.record('gait/parameters', msg)
+
+    def publish_gait(self, niche: int) -> tuple[int, float]:
+        """Publish the gait of ``niche``: (its stamp [ns], its crab angle [rad])."""
+        msg = self.gait_msg(niche)
+        self.publish(msg)
+        return stamp_ns(msg.header.stamp), msg.crab_angle
+
+    def call(self, client, what: str, timeout: float = 10.0) -> Trigger.Response:
+        """Call a Trigger service; TrialAborted if it is not there or does not answer."""
+        if not client.wait_for_service(timeout_sec=timeout):
+            raise TrialAborted(f'service {client.srv_name} is not available ({what})')
+        future = client.call_async(Trigger.Request())
+        self.wait(future.done, timeout, f'{client.srv_name} to answer')
+        return future.result()
+
+    def reset(self) -> tuple[bool, str]:
+        """Reset the simulation (the damage stays)."""
+        answer = self.call(self.reset_client, 'reset the simulation')
+        return answer.success, answer.message
+
+    def start_trial(self) -> tuple[bool, str]:
+        """Start a trial on the robot."""
+        answer = self.call(self.start_client, 'start the trial')
+        return answer.success, answer.message
+
+    def upload_msg(self, msg: GaitParametersMsg, timeout: float) -> UploadGait.Response:
+        """
+        Upload through bridge_node's ~/upload_gait service.
+
+        Only its typed answer confirms an upload (a status text, or any other publisher, cannot).
+        """
+        if not self.upload_client.wait_for_service(timeout_sec=min(timeout, 10.0)):
+            raise TrialAborted(
+                f'service {self.upload_client.srv_name} is not available (is bridge_node running?)'
+            )
+        future = self.upload_client.call_async(UploadGait.Request(gait=msg, timeout=timeout))
+        self.wait(future.done, timeout + 5.0, 'bridge_node to upload the gait')
+        return future.result()
+
+    def upload(self, niche: int, timeout: float) -> tuple[Upload, float]:
+        """Upload the gait of ``niche``: (bridge_node's answer, its crab angle [rad])."""
+        msg = self.gait_msg(niche)
+        self.recording.record('gait/parameters', msg)
+        answer = self.upload_msg(msg, timeout)
+        return Upload(answer.success, answer.message, answer.archive_index), msg.crab_angle
+
+    def sim_engine(self) -> str | None:
+        """sim_node's ``engine`` parameter (None if it does not answer)."""
+        if not self.sim_params_client.wait_for_service(timeout_sec=2.0):
+            return None
+        future = self.sim_params_client.call_async(GetParameters.Request(names=['engine']))
+        try:
+            self.wait(future.done, 5.0, "sim_node's parameters")
+        except TrialAborted:
+            return None
+        values = future.result().values
+        if values and values[0].type == ParameterType.PARAMETER_STRING:
+            return values[0].string_value
+        return None
+
+
+class RecordedTopics:
+    """Subscriptions that feed a run's recording: sensors while it records, latched always."""
+
+    def __init__(self, node: Node, recording: RunRecording) -> None:
+        self.node, self.recording = node, recording
+        self.started_at = time.monotonic()  # discovery of the graph begins here
+        group = MutuallyExclusiveCallbackGroup()
+        for msg_type, topic, qos in SENSOR_TOPICS:
+            node.create_subscription(
+                msg_type,
+                topic,
+                lambda msg, topic=topic: recording.record(topic, msg),
+                qos,
+                callback_group=group,
+            )
+        self.latched_subs = {
+            topic: node.create_subscription(
+                msg_type,
+                topic,
+                lambda msg, topic=topic: recording.on_latched(topic, msg),
+                LATCHED,
+                callback_group=group,
+            )
+            for msg_type, topic in LATCHED_TOPICS
+        }
+
+    def await_latched(self, grace: float) -> list[str]:
+        """
+        Give the latched topics (URDF, static frames) ``grace`` s to arrive; return those missing.
+
+        A publisher this node has not yet discovered (a loaded machine, a run asked for right after
+        the node started) has delivered nothing. Topics with a publisher are waited for up to
+        ``grace``; topics with none only for the first second of the run, or until this node has
+        been up ``grace`` s. One that arrives later in the run is still recorded when it comes.
+        """
+        now = time.monotonic()
+        deadline = now + grace
+        discovery_deadline = min(deadline, max(now + 1.0, self.started_at + grace))
+
+        def missing() -> list[str]:
+            have = self.recording.latched_topics
+            return [
+                topic
+                for topic, sub in self.latched_subs.items()
+                if topic not in have
+                and (sub.get_publisher_count() > 0 or time.monotonic() < discovery_deadline)
+            ]
+
+        while missing() and time.monotonic() < deadline and rclpy.ok(context=self.node.context):
+            time.sleep(0.01)
+        have = self.recording.latched_topics
+        return [
+            f'{topic} ({sub.get_publisher_count()} publishers seen)'
+            for topic, sub in self.latched_subs.items()
+            if topic not in have
+        ]

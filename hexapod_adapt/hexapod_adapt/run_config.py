@@ -1,0 +1,104 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+What a run of adapt_node is configured by, checked without ROS.
+
+The six run settings (a request's fields, else the node's parameters) and what an archive must
+match to be used for trials in a mode.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+from hexapod_adapt.archive import Archive, ArchiveError, compatibility_problems, load_archive
+from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
+from hexapod_adapt.mboa import MboaConfig
+from hexapod_adapt.simulation import archive_engine, simulation_fingerprint
+
+#: The Adapt request's fields that default to the node's parameter of the same name.
+RUN_SETTINGS = ('max_trials', 'trial_duration', 'alpha', 'kappa', 'length_scale', 'noise')
+
+#: A trial must cover at least one gait cycle of the controller's default 1 s period.
+TRIAL_DURATION_RANGE = (1.0, 120.0)
+
+
+def run_settings(values: dict) -> tuple[MboaConfig, float]:
+    """
+    (M-BOA configuration, trial duration [s]) from the six run settings.
+
+    ValueError says which is out of range and what the range is.
+    """
+    duration = float(values['trial_duration'])
+    low, high = TRIAL_DURATION_RANGE
+    if not (math.isfinite(duration) and low <= duration <= high):
+        raise ValueError(f'trial_duration must be in [{low:g}, {high:g}] s, got {duration!r}')
+    config = MboaConfig(
+        max_trials=int(values['max_trials']),
+        alpha=float(values['alpha']),
+        kappa=float(values['kappa']),
+        length_scale=float(values['length_scale']),
+        noise=float(values['noise']),
+    )
+    return config, duration
+
+
+def expected_metadata(mode: str) -> dict:
+    """
+    Return what an archive must match to be used in ``mode``: the gait mapping always.
+
+    The URDF and trial duration too when trials run on the simulator. The engine that made the map
+    need not be the trials' engine: that is a reality gap, which M-BOA exists to cross (see
+    :func:`engine_note`).
+    """
+    fp = simulation_fingerprint()
+    if mode != 'sim':
+        return {'genotype_mapping': fp['genotype_mapping']}
+    return {key: fp[key] for key in ('genotype_mapping', 'urdf_sha256', 'trial_duration')}
+
+
+def engine_note(archive: Archive, trial_engine: str | None) -> str:
+    """Say when the map was made on another engine than the trials run on ('' if not)."""
+    made_on = archive_engine(archive.metadata) or 'an unrecorded engine'
+    if trial_engine is None or made_on == trial_engine:
+        return ''
+    return f'map made on {made_on}, trials on {trial_engine}: adapting across that gap'
+
+
+def archive_path(value: str) -> str:
+    """Return the file an ``archive`` parameter names ('' = the shipped default map)."""
+    return os.path.expanduser(value) if value else str(shipped_map(DEFAULT_MAP))
+
+
+def load_for_mode(value: str, mode: str) -> tuple[Archive | None, str]:
+    """Load what an ``archive`` parameter names: (archive, '') or (None, why it cannot be used)."""
+    path = archive_path(value)
+    try:
+        archive = load_archive(path)
+    except ArchiveError as exc:
+        return None, str(exc)
+    problems = compatibility_problems(archive, expected_metadata(mode))
+    if problems:
+        return None, f'{path} does not fit this installation: ' + '; '.join(problems)
+    if archive.n_filled == 0:
+        return None, f'{path} has no gaits'
+    return archive, ''

@@ -1,0 +1,343 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Trials through a ROS graph, without ROS: the sim, robot and manual trial procedures.
+
+A trial function (``trial(niche) -> speed``, what :func:`hexapod_adapt.adaptation.adapt` calls)
+is built from a :class:`TrialPort` -- the few things a trial does to the graph, implemented over
+rclpy by :mod:`hexapod_adapt.graph_port` -- the odometry received so far (:class:`OdomLog`) and
+a :class:`Waiter`. Speeds are measured along the gait's walking direction (its crab angle):
+
+``sim``     publish the gait, wait until sim_node plays it (it echoes the gait's stamp), reset,
+            then take the odometry at exactly reset + duration of sim time;
+``robot``   upload through bridge_node (its typed answer confirms it), stand still, start the
+            trial, take the trial's odometry message (the bridge's IMU estimate);
+``manual``  upload, then wait for the operator's tape-measured distance.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass
+import math
+import threading
+import time
+from typing import Callable, Protocol
+
+from hexapod_adapt.adaptation import TrialAborted
+
+MODES = ('sim', 'robot', 'manual')
+
+#: A reported trial distance beyond this is a typo, not a walk [m].
+MAX_REPORTED_DISTANCE = 50.0
+
+
+@dataclass(frozen=True)
+class OdomSample:
+    """One odometry message as a trial reads it."""
+
+    stamp_ns: int  # header stamp
+    x: float  # position in the odom frame [m]
+    y: float
+    vx: float  # twist (the bridge's trial-mean velocity) [m/s]
+    vy: float
+    received: float  # time.monotonic() when it arrived
+
+
+class OdomLog:
+    """The odometry received so far (the latest ``maxlen`` messages), shared between threads."""
+
+    def __init__(self, maxlen: int = 20000) -> None:
+        self._samples: deque[OdomSample] = deque(maxlen=maxlen)
+        self._lock = threading.Lock()
+
+    def append(self, sample: OdomSample) -> None:
+        """Add one message."""
+        with self._lock:
+            self._samples.append(sample)
+
+    def snapshot(self) -> list[OdomSample]:
+        """Return every message kept, oldest first."""
+        with self._lock:
+            return list(self._samples)
+
+    def latest(self) -> OdomSample | None:
+        """Return the newest message, if any."""
+        with self._lock:
+            return self._samples[-1] if self._samples else None
+
+    def received_after(self, t: float) -> OdomSample | None:
+        """Return the first message received after monotonic time ``t``."""
+        with self._lock:
+            return next((s for s in self._samples if s.received > t), None)
+
+
+class Waiter:
+    """
+    Polls a condition until it holds, or raises :class:`TrialAborted` saying what did not come.
+
+    ``alive()`` false (the node shuts down) stops the wait; ``check()`` (every ``check_period``
+    s) returns a reason to stop ('' to go on), e.g. a node name taken twice in the graph.
+    """
+
+    def __init__(
+        self,
+        alive: Callable[[], bool],
+        check: Callable[[], str] | None = None,
+        check_period: float = 1.0,
+        poll: float = 0.005,
+        clock: Callable[[], float] = time.monotonic,
+        sleep: Callable[[float], None] = time.sleep,
+    ) -> None:
+        self.alive, self.check, self.check_period = alive, check, check_period
+        self.poll, self.clock, self.sleep = poll, clock, sleep
+
+    def until(self, predicate: Callable[[], object], timeout: float, what: str):
+        """Return ``predicate()``'s first truthy value within ``timeout`` s."""
+        now = self.clock()
+        deadline, next_check = now + timeout, now + self.check_period
+        while (now := self.clock()) < deadline:
+            if not self.alive():
+                raise TrialAborted('shutting down')
+            value = predicate()
+            if value:
+                return value
+            if self.check is not None and now >= next_check:
+                next_check = now + self.check_period
+                reason = self.check()
+                if reason:
+                    raise TrialAborted(reason)
+            self.sleep(self.poll)
+        raise TrialAborted(f'timed out after {timeout:g} s waiting for {what}')
+
+
+def along(dx: float, dy: float, crab: float) -> float:
+    """Component of (dx, dy) along the walking direction ``crab`` [rad]."""
+    return dx * math.cos(crab) + dy * math.sin(crab)
+
+
+def sim_trial_speed(
+    samples: list[OdomSample], t0_ns: int, duration: float, crab: float
+) -> float | None:
+    """
+    Speed [m/s] from the odometry stamped at the reset and at reset + ``duration``.
+
+    None if either sample was lost in transport (the trial must be repeated).
+    """
+    end = t0_ns + int(round(duration * 1e9))
+    start = [s for s in samples if s.stamp_ns == t0_ns]
+    finish = [s for s in samples if abs(s.stamp_ns - end) < 1000]
+    if not (start and finish):
+        return None
+    return along(finish[-1].x - start[-1].x, finish[-1].y - start[-1].y, crab) / duration
+
+
+@dataclass(frozen=True)
+class Upload:
+    """bridge_node's answer to an upload."""
+
+    ok: bool
+    message: str
+    archive_index: int
+
+
+class TrialPort(Protocol):
+    """What a trial does to the graph (:class:`hexapod_adapt.graph_port.GraphPort` over rclpy)."""
+
+    def publish_gait(self, niche: int) -> tuple[int, float]:
+        """Publish the gait of ``niche`` on gait/parameters: (unique stamp [ns], crab [rad])."""
+
+    def active_stamp(self) -> int | None:
+        """Stamp of the gait sim_node plays (sim/active_trajectory)."""
+
+    def reset_stamp(self) -> int | None:
+        """Stamp of sim_node's latest reset (sim/last_reset)."""
+
+    def reset(self) -> tuple[bool, str]:
+        """Call sim_node's reset; TrialAborted if it does not answer."""
+
+    def upload(self, niche: int, timeout: float) -> tuple[Upload, float]:
+        """Upload the gait of ``niche`` through bridge_node: (its answer, crab [rad])."""
+
+    def start_trial(self) -> tuple[bool, str]:
+        """Call bridge_node's start_trial; TrialAborted if it does not answer."""
+
+
+@dataclass(frozen=True)
+class TrialTiming:
+    """How long trials last and wait."""
+
+    duration: float  # s of walking measured
+    timeout: float  # wall-clock limit of one wait [s]
+    stand_still: float = 1.0  # robot modes: rest before the start (clean IMU window) [s]
+
+
+class SimTrials:
+    """Mode ``sim``: trials through gait_node + sim_node on sim time."""
+
+    ATTEMPTS = 3
+
+    def __init__(
+        self,
+        port: TrialPort,
+        odom: OdomLog,
+        waiter: Waiter,
+        timing: TrialTiming,
+        warn: Callable[[str], None],
+    ):
+        self.port, self.odom, self.waiter, self.timing, self.warn = (
+            port,
+            odom,
+            waiter,
+            timing,
+            warn,
+        )
+
+    def __call__(self, niche: int) -> float:
+        """Measure the speed of the gait of ``niche`` [m/s]."""
+        duration, timeout, wait = self.timing.duration, self.timing.timeout, self.waiter.until
+        for attempt in range(self.ATTEMPTS):
+            stamp, crab = self.port.publish_gait(niche)
+            wait(
+                lambda: self.port.active_stamp() == stamp,
+                timeout,
+                'sim_node to play the gait (are gait_node and sim_node running?)',
+            )
+            before = self.port.reset_stamp() or -1
+            ok, message = self.port.reset()
+            if not ok:
+                raise TrialAborted(f'sim_node refused the reset: {message}')
+            t0 = wait(
+                lambda: r if (r := self.port.reset_stamp() or -1) > before else None,
+                timeout,
+                'the reset to take effect',
+            )
+            end = t0 + int(round(duration * 1e9))
+            wait(
+                lambda: (s := self.odom.latest()) is not None and s.stamp_ns >= end,
+                timeout,
+                f'{duration:g} s of simulated odometry',
+            )
+            speed = sim_trial_speed(self.odom.snapshot(), t0, duration, crab)
+            if speed is not None:
+                return speed
+            self.warn(
+                f'odometry sample lost in transport; repeating the trial (attempt {attempt + 2})'
+            )
+        raise TrialAborted(
+            "odometry samples kept getting lost (is sim_node's publish_period_steps a divisor "
+            'of the trial length in steps?)'
+        )
+
+
+def _uploaded(port: TrialPort, niche: int, timeout: float) -> float:
+    """Upload the gait of ``niche``; return its crab angle, or raise with the robot's reason."""
+    answer, crab = port.upload(niche, timeout)
+    if not answer.ok:
+        raise TrialAborted(answer.message or 'the robot did not confirm the upload')
+    if answer.archive_index != niche:
+        raise TrialAborted(
+            f'the robot did not confirm the upload of archive gait {niche} (it confirmed '
+            f'{answer.archive_index})'
+        )
+    return crab
+
+
+class RobotTrials:
+    """Mode ``robot``: trials through bridge_node, measured by its IMU odometry."""
+
+    def __init__(
+        self,
+        port: TrialPort,
+        odom: OdomLog,
+        waiter: Waiter,
+        timing: TrialTiming,
+        sleep: Callable[[float], None] = time.sleep,
+        clock: Callable[[], float] = time.monotonic,
+    ):
+        self.port, self.odom, self.waiter, self.timing = port, odom, waiter, timing
+        self.sleep, self.clock = sleep, clock
+
+    def __call__(self, niche: int) -> float:
+        """Measure the speed of the gait of ``niche`` [m/s]."""
+        crab = _uploaded(self.port, niche, self.timing.timeout)
+        self.sleep(max(0.0, self.timing.stand_still))
+        ok, message = self.port.start_trial()
+        if not ok:
+            raise TrialAborted(f'bridge_node did not start the trial: {message}')
+        started = self.clock()
+        sample = self.waiter.until(
+            lambda: self.odom.received_after(started),
+            self.timing.duration + self.timing.timeout,
+            "the trial's odometry from bridge_node",
+        )
+        return along(sample.vx, sample.vy, crab)
+
+
+def reported_distance_problem(distance: float) -> str:
+    """Why an operator's reported distance [m] cannot be a trial's ('' if it can)."""
+    if not math.isfinite(distance) or abs(distance) > MAX_REPORTED_DISTANCE:
+        return f'distance {distance!r} m is not a plausible trial distance'
+    return ''
+
+
+class ManualTrials:
+    """Mode ``manual``: the robot walks the uploaded gait; the operator reports the distance."""
+
+    def __init__(
+        self,
+        port: TrialPort,
+        waiter: Waiter,
+        timing: TrialTiming,
+        prompt: Callable[[str], None],
+    ):
+        self.port, self.waiter, self.timing, self.prompt = port, waiter, timing, prompt
+        self._reported: list[float] = []
+        self.waiting = False
+
+    def report(self, distance: float) -> str:
+        """Take the operator's distance [m]; return why it was refused ('' if taken)."""
+        problem = reported_distance_problem(distance)
+        if problem:
+            return problem
+        if not self.waiting:
+            return 'no manual trial is waiting for a distance'
+        self._reported.append(float(distance))
+        return ''
+
+    def __call__(self, niche: int) -> float:
+        """Measure the speed of the gait of ``niche`` [m/s] from the operator's distance."""
+        _uploaded(self.port, niche, self.timing.timeout)
+        self._reported.clear()
+        self.waiting = True
+        self.prompt(
+            f'trial with archive gait {niche}: start the robot, then report the distance '
+            'walked with ~/report_distance'
+        )
+        try:
+            distance = self.waiter.until(
+                lambda: self._reported[-1] if self._reported else None,
+                max(self.timing.timeout, 600.0),
+                "the operator's distance (~/report_distance)",
+            )
+        finally:
+            self.waiting = False
+        return float(distance) / self.timing.duration
