@@ -219,8 +219,13 @@ def main(argv: list[str] | None = None) -> int:
             while alive and time.monotonic() < deadline:
                 alive = [p for p in alive if p.poll() is None]
                 time.sleep(0.05)
-    # the first failure (a node killed by a signal counts, as 128 + its number), else 0
-    codes = [p.returncode for p in procs if p.returncode]
+    # the first failure (a node killed by a signal counts, as 128 + its number), else 0; a command
+    # that reports the Ctrl-C it was stopped with (128 + SIGINT) stopped cleanly
+    codes = [
+        p.returncode
+        for p in procs
+        if p.returncode and not (stop.is_set() and p.returncode == 128 + signal.SIGINT)
+    ]
     return (codes[0] if codes[0] > 0 else 128 - codes[0]) if codes else 0
 
 

@@ -492,7 +492,10 @@ def test_adapt_client_honours_its_timeout(domain_id):
         text=True,
         timeout=60,
     )
-    assert bad.returncode == 2 and '--max-trials must be in [0, 1000]' in bad.stderr
+    assert (
+        bad.returncode == 2
+        and "--max-trials: must be 0 (the node's default) or in [1, 1000]" in bad.stderr
+    )
 
 
 def test_a_simulated_graph_has_one_time_base(ros, launch, tmp_path, small_archive):
@@ -560,3 +563,62 @@ def test_a_simulated_graph_has_one_time_base(ros, launch, tmp_path, small_archiv
 
 def _ns(stamp) -> int:
     return stamp.sec * 1_000_000_000 + stamp.nanosec
+
+
+def _prefix_without(package: str, tmp_path) -> str:
+    """
+    AMENT_PREFIX_PATH with ``package`` missing from the ament index (its Python module stays).
+
+    What a shell that sourced only install/setup.bash sees for a package of the wheels: the
+    message class imports, but its definition cannot be found.
+    """
+    import os
+    from pathlib import Path
+
+    prefixes = os.environ['AMENT_PREFIX_PATH'].split(os.pathsep)
+    underlay = next(
+        Path(p) for p in prefixes if (Path(p) / 'share' / package / 'package.xml').exists()
+    )
+    fake = tmp_path / 'prefix'
+    index = underlay / 'share' / 'ament_index' / 'resource_index'
+    for kind in index.iterdir():
+        (fake / 'share' / 'ament_index' / 'resource_index' / kind.name).mkdir(parents=True)
+        for marker in kind.iterdir():
+            if marker.name != package:
+                link = fake / 'share' / 'ament_index' / 'resource_index' / kind.name / marker.name
+                link.symlink_to(marker.resolve())
+    for share in (underlay / 'share').iterdir():
+        if share.name not in (package, 'ament_index'):
+            (fake / 'share' / share.name).symlink_to(share.resolve())
+    (fake / 'lib').symlink_to((underlay / 'lib').resolve())
+    return os.pathsep.join(str(fake) if Path(p) == underlay else p for p in prefixes)
+
+
+def test_a_recorded_type_without_a_definition_is_refused_and_the_run_goes_on(
+    ros, launch, tmp_path, small_archive
+):
+    path, archive, _ = small_archive
+    sim = launch(
+        'hexapod_sim',
+        'sim_node',
+        params={'real_time_factor': 0.0, 'publish_period_steps': 24, 'failed_legs': FAILED},
+    )
+    launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'record_dir': str(tmp_path / 'runs')},
+        env={'AMENT_PREFIX_PATH': _prefix_without('nav_msgs', tmp_path)},
+    )
+    trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
+    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=2, alpha=1.0), timeout=300)
+    assert response.trials == 2, response.message
+    why = 'not recording odom: no definition of nav_msgs/msg/Odometry'
+    assert why in response.message
+    wait_for(lambda: len(trials) == 2, 10, 'both AdaptationTrials')
+    assert all(why in t.recording for t in trials)
+    assert why in node.log()
+    topics = {topic for topic, _, _ in read_messages(response.mcap_path)}
+    assert '/adapt/trials' in topics and '/odom' not in topics
+    again = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=1), timeout=120)
+    assert again.trials == 1 and node.alive() and sim.alive()

@@ -31,65 +31,108 @@ full ROS install).
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 import time
 
-from hexapod_adapt.mboa import MAX_TRIALS_LIMIT
+from hexapod_adapt.mboa import (
+    ALPHA_RANGE,
+    KAPPA_RANGE,
+    LENGTH_SCALE_RANGE,
+    MAX_TRIALS_LIMIT,
+    NOISE_RANGE,
+)
+from hexapod_adapt.run_config import TRIAL_DURATION_RANGE
+from hexapod_description.cli import interval, number, run_command
 from hexapod_msgs.msg import AdaptationTrial
 from hexapod_msgs.srv import Adapt
 import rclpy
+from rclpy.signals import SignalHandlerOptions
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Parse the options, call the adapt service, print each trial; exit status 0 on success."""
+def _default_or(low: float, high: float, kind: type = float):
+    """Return an argparse type: 0 means "the node's default", else a value in [low, high]."""
+    check = number(kind, low, high)
+
+    def parse(text: str):
+        value = number(kind)(text)  # a number at all (the same message as any option)
+        if value == 0:
+            return value
+        try:
+            return check(text)
+        except argparse.ArgumentTypeError:
+            raise argparse.ArgumentTypeError(
+                f"must be 0 (the node's default) or in {interval(low, high)}, got {text}"
+            ) from None
+
+    parse.__name__ = kind.__name__
+    return parse
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the command-line options of ``adapt_client``."""
     ap = argparse.ArgumentParser(
         prog='adapt_client', description='Run one adaptation and print its trials.'
     )
     ap.add_argument(
         '--max-trials',
-        type=int,
+        type=_default_or(1, MAX_TRIALS_LIMIT, int),
         default=0,
         help=f"stop after this many trials, 1..{MAX_TRIALS_LIMIT} (0 = the node's default)",
     )
     ap.add_argument(
         '--trial-duration',
-        type=float,
+        type=_default_or(*TRIAL_DURATION_RANGE),
         default=0.0,
         help="seconds per trial (0 = the node's default)",
     )
     ap.add_argument(
-        '--alpha', type=float, default=0.0, help="stop ratio in [0.05, 1] (0 = the node's default)"
+        '--alpha',
+        type=_default_or(*ALPHA_RANGE),
+        default=0.0,
+        help="stop ratio in [0.05, 1] (0 = the node's default)",
     )
     ap.add_argument(
-        '--kappa', type=float, default=0.0, help='UCB weight on the posterior std (0 = default)'
+        '--kappa',
+        type=_default_or(*KAPPA_RANGE),
+        default=0.0,
+        help='UCB weight on the posterior std (0 = default)',
     )
     ap.add_argument(
-        '--length-scale', type=float, default=0.0, help='Matern length scale rho (0 = default)'
+        '--length-scale',
+        type=_default_or(*LENGTH_SCALE_RANGE),
+        default=0.0,
+        help='Matern length scale rho (0 = default)',
     )
     ap.add_argument(
-        '--noise', type=float, default=0.0, help='GP noise variance [(m/s)^2] (0 = default)'
+        '--noise',
+        type=_default_or(*NOISE_RANGE),
+        default=0.0,
+        help='GP noise variance [(m/s)^2] (0 = default)',
     )
     ap.add_argument('--service', default='adapt', help='name of the adapt service')
     ap.add_argument(
         '--timeout',
-        type=float,
+        type=number(float, 0, 10**6, low_open=True),
         default=3600.0,
         help='give up after this many seconds, waiting for the service included',
     )
-    args, ros_args = ap.parse_known_args(argv)
-    if not 0 <= args.max_trials <= MAX_TRIALS_LIMIT:
-        print(
-            f"adapt_client: --max-trials must be in [0, {MAX_TRIALS_LIMIT}] (0 = the node's"
-            f' default), got {args.max_trials}',
-            file=sys.stderr,
-        )
-        return 2
-    if not (math.isfinite(args.timeout) and args.timeout > 0):
-        print(f'adapt_client: --timeout must be > 0 s, got {args.timeout}', file=sys.stderr)
-        return 2
+    return ap
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Parse the options, call the adapt service, print each trial; exit status 0 on success."""
+    args, ros_args = build_parser().parse_known_args(argv)
+    return run_command(
+        'adapt_client',
+        lambda: _call(args, ros_args),
+        'a run it started goes on in adapt_node (~/cancel stops it)',
+    )
+
+
+def _call(args: argparse.Namespace, ros_args: list[str]) -> int:
     deadline = time.monotonic() + args.timeout
-    rclpy.init(args=ros_args)
+    # Python's own handlers: Ctrl-C and SIGTERM stop the client the same way (run_command)
+    rclpy.init(args=ros_args, signal_handler_options=SignalHandlerOptions.NO)
     node = rclpy.create_node('adapt_client')
     try:
         node.create_subscription(
@@ -137,8 +180,6 @@ def main(argv: list[str] | None = None) -> int:
         if r.mcap_path:
             print(f'recording: {r.mcap_path}')
         return 0 if r.success else 3
-    except KeyboardInterrupt:
-        return 130
     finally:
         node.destroy_node()
         rclpy.try_shutdown()

@@ -39,15 +39,22 @@ import argparse
 import csv
 from dataclasses import asdict
 import io
-from pathlib import Path
 import sys
 
 from hexapod_adapt.adaptation import EXPERIMENT_MAX_TRIALS, ExperimentRow, run_experiment
 from hexapod_adapt.archive import ArchiveError, atomic_write_bytes, load_archive
 from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
-from hexapod_adapt.mboa import MboaConfig
+from hexapod_adapt.mboa import (
+    ALPHA_RANGE,
+    KAPPA_RANGE,
+    LENGTH_SCALE_RANGE,
+    MAX_TRIALS_LIMIT,
+    MboaConfig,
+    NOISE_RANGE,
+)
 from hexapod_adapt.plots import plot_experiment
 from hexapod_adapt.simulation import archive_engine
+from hexapod_description.cli import input_file, number, output_dir, output_file, run_command
 from hexapod_sim import ENGINES
 import numpy as np
 
@@ -102,7 +109,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     ap.add_argument(
         '--archive',
-        type=Path,
+        type=input_file,
         default=None,
         help='the map (.npz; default: the shipped default map)',
     )
@@ -126,19 +133,40 @@ def main(argv: list[str] | None = None) -> int:
     )
     ap.add_argument(
         '--max-trials',
-        type=int,
+        type=number(int, 1, MAX_TRIALS_LIMIT),
         default=EXPERIMENT_MAX_TRIALS,
         help='trials per run at most (a cap; the stopping rule ends the runs)',
     )
-    ap.add_argument('--alpha', type=float, default=0.9, help='stop ratio')
-    ap.add_argument('--kappa', type=float, default=0.05, help='UCB weight on the posterior std')
-    ap.add_argument('--length-scale', type=float, default=0.4, help='Matern length scale rho')
-    ap.add_argument('--noise', type=float, default=0.001, help='GP noise variance [(m/s)^2]')
-    ap.add_argument('--out', type=Path, help='CSV file of the runs')
+    ap.add_argument('--alpha', type=number(float, *ALPHA_RANGE), default=0.9, help='stop ratio')
     ap.add_argument(
-        '--out-dir', type=Path, help='directory for runs.csv, adapted_speed.png and trials.png'
+        '--kappa',
+        type=number(float, *KAPPA_RANGE),
+        default=0.05,
+        help='UCB weight on the posterior std',
+    )
+    ap.add_argument(
+        '--length-scale',
+        type=number(float, *LENGTH_SCALE_RANGE),
+        default=0.4,
+        help='Matern length scale rho',
+    )
+    ap.add_argument(
+        '--noise',
+        type=number(float, *NOISE_RANGE),
+        default=0.001,
+        help='GP noise variance [(m/s)^2]',
+    )
+    ap.add_argument('--out', type=output_file, help='CSV file of the runs')
+    ap.add_argument(
+        '--out-dir',
+        type=output_dir,
+        help='directory for runs.csv, adapted_speed.png and trials.png',
     )
     args = ap.parse_args(argv)
+    return run_command('run_experiment', lambda: _experiment(args))
+
+
+def _experiment(args: argparse.Namespace) -> int:
     try:
         archive = load_archive(args.archive or shipped_map(DEFAULT_MAP))
         config = MboaConfig(
@@ -164,23 +192,32 @@ def main(argv: list[str] | None = None) -> int:
         )
 
     rows: list[ExperimentRow] = []
-    for engine in engines:
-        rows += run_experiment(archive, args.scenarios, config, on_row=show, trial_engine=engine)
+    try:
+        for engine in engines:
+            rows += run_experiment(
+                archive, args.scenarios, config, on_row=show, trial_engine=engine
+            )
+    except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the completed runs are kept
+        if rows:
+            _write_csv(args, rows)
+        raise
     print()
     print(summary(rows))
-    if args.out:
-        atomic_write_bytes(args.out, rows_csv(rows))
-        print(f'wrote {args.out}')
+    _write_csv(args, rows)
     if args.out_dir:
-        atomic_write_bytes(args.out_dir / 'runs.csv', rows_csv(rows))
-        for path in (
-            args.out_dir / 'runs.csv',
-            *plot_experiment(
-                rows, args.out_dir / 'adapted_speed.png', args.out_dir / 'trials.png'
-            ),
+        for path in plot_experiment(
+            rows, args.out_dir / 'adapted_speed.png', args.out_dir / 'trials.png'
         ):
             print(f'wrote {path}')
     return 0
+
+
+def _write_csv(args: argparse.Namespace, rows: list[ExperimentRow]) -> None:
+    """Write the runs to --out and to --out-dir/runs.csv, if asked for."""
+    for path in (args.out, args.out_dir / 'runs.csv' if args.out_dir else None):
+        if path is not None:
+            atomic_write_bytes(path, rows_csv(rows))
+            print(f'wrote {path} ({len(rows)} runs)', flush=True)
 
 
 if __name__ == '__main__':

@@ -52,6 +52,19 @@ from hexapod_sim.sampling import random_reachable_genes
 BACKENDS = ('local', 'dask', 'mpi', 'inline')
 
 
+#: Inclusive ranges of GenerateConfig's numbers, checked by it and by generate_map's options.
+LIMITS = {
+    'niches': (2, 10_000_000),
+    'evaluations': (1, 10**12),
+    'seed': (0, 2**32 - 1),
+    'workers': (0, 4096),  # 0 = every core
+    'lag': (0, 1_000_000),  # 0 = max(64, 4 x workers)
+    'chunk': (0, 100_000),  # 0 = the engine's default
+    'random_init': (0.0, 1.0),
+    'cvt_samples': (1, 10**9),
+}
+
+
 @dataclass(frozen=True)
 class GenerateConfig:
     """Everything a ``generate_map`` run needs; ValueError names a bad setting."""
@@ -78,12 +91,13 @@ class GenerateConfig:
     def __post_init__(self) -> None:
         if self.backend not in BACKENDS:
             raise ValueError(f'backend must be one of {", ".join(BACKENDS)}, got {self.backend!r}')
-        if self.niches < 2:
-            raise ValueError(f'niches must be >= 2, got {self.niches}')
-        if self.workers < 0:
-            raise ValueError(f'workers must be >= 0, got {self.workers}')
-        if self.chunk < 0:
-            raise ValueError(f'chunk must be >= 0, got {self.chunk}')
+        for name, (low, high) in LIMITS.items():
+            value = getattr(self, name)
+            if value is not None and not low <= value <= high:
+                raise ValueError(f'{name} must be in [{low:g}, {high:g}], got {value!r}')
+        for name in ('checkpoint_every', 'log_every'):
+            if not getattr(self, name) > 0:
+                raise ValueError(f'{name} must be > 0 s, got {getattr(self, name)!r}')
         validate_engine(self.engine)
 
     @property

@@ -33,12 +33,17 @@ Thin front end of hexapod_adapt.generate.
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 import sys
 
-from hexapod_adapt.generate import BACKENDS, EmptyMapError, generate_map, GenerateConfig
+from hexapod_adapt.generate import BACKENDS, EmptyMapError, generate_map, GenerateConfig, LIMITS
+from hexapod_description.cli import number, output_dir, output_file, run_command
 from hexapod_sim import ENGINES
 from tqdm import tqdm
+
+
+def _limited(name: str):
+    kind = float if isinstance(LIMITS[name][0], float) else int
+    return number(kind, *LIMITS[name])
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -48,14 +53,19 @@ def build_parser() -> argparse.ArgumentParser:
         description=__doc__.split('\n\n')[0],
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    ap.add_argument('--out', type=Path, required=True, help='archive file to write (.npz)')
-    ap.add_argument('--niches', type=int, default=10000, help='CVT niches (thesis: 40000)')
+    ap.add_argument('--out', type=output_file, required=True, help='archive file to write (.npz)')
     ap.add_argument(
-        '--evaluations', type=int, default=1_000_000, help='total evaluations (thesis: 4e7)'
+        '--niches', type=_limited('niches'), default=10000, help='CVT niches (thesis: 40000)'
+    )
+    ap.add_argument(
+        '--evaluations',
+        type=_limited('evaluations'),
+        default=1_000_000,
+        help='total evaluations (thesis: 4e7)',
     )
     ap.add_argument(
         '--seed',
-        type=int,
+        type=_limited('seed'),
         default=0,
         help="seed of the CVT and of every candidate (the map's identity)",
     )
@@ -75,18 +85,21 @@ def build_parser() -> argparse.ArgumentParser:
         help='local process pool, a Dask cluster, MPI, or inline in this process',
     )
     ap.add_argument(
-        '--workers', type=int, default=0, help='local worker processes (0 = every core)'
+        '--workers',
+        type=_limited('workers'),
+        default=0,
+        help='local worker processes (0 = every core)',
     )
     ap.add_argument('--scheduler', help='Dask scheduler address (default: a local Dask cluster)')
     ap.add_argument(
         '--lag',
-        type=int,
+        type=_limited('lag'),
         default=0,
         help="candidates in flight; part of the map's identity (0 = max(64, 4 x workers))",
     )
     ap.add_argument(
         '--chunk',
-        type=int,
+        type=_limited('chunk'),
         default=0,
         help=(
             "candidates per worker call; part of the map's identity (0 = 8 for mujoco, 1 for"
@@ -94,23 +107,40 @@ def build_parser() -> argparse.ArgumentParser:
         ),
     )
     ap.add_argument(
-        '--random-init', type=float, default=0.01, help='fraction of niches filled at random first'
+        '--random-init',
+        type=_limited('random_init'),
+        default=0.01,
+        help='fraction of niches filled at random first',
     )
     ap.add_argument(
-        '--cvt-samples', type=int, default=None, help='K-means samples (default 25 per niche)'
+        '--cvt-samples',
+        type=_limited('cvt_samples'),
+        default=None,
+        help='K-means samples (default 25 per niche)',
     )
     ap.add_argument(
         '--cvt-dir',
-        type=Path,
+        type=output_dir,
         default=None,
         help='where centroids_<n>_6.dat is cached (default: next to --out)',
     )
     ap.add_argument(
-        '--checkpoint-every', type=float, default=600.0, help='seconds between checkpoints'
+        '--checkpoint-every',
+        type=number(float, 0, None, low_open=True),
+        default=600.0,
+        help='seconds between checkpoints',
     )
-    ap.add_argument('--log-every', type=float, default=30.0, help='seconds between log lines')
     ap.add_argument(
-        '--log', type=Path, default=None, help='JSON-lines progress log (default <out>.log.jsonl)'
+        '--log-every',
+        type=number(float, 0, None, low_open=True),
+        default=30.0,
+        help='seconds between log lines',
+    )
+    ap.add_argument(
+        '--log',
+        type=output_file,
+        default=None,
+        help='JSON-lines progress log (default <out>.log.jsonl)',
     )
     ap.add_argument(
         '--resume',
@@ -132,6 +162,14 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of ``generate_map``; exit status 1 for a failed run, 2 for bad options."""
     args = build_parser().parse_args(argv)
+    return run_command(
+        'generate_map',
+        lambda: _generate(args),
+        f'the last checkpoint is kept; continue with --resume ({args.out}.ckpt.npz)',
+    )
+
+
+def _generate(args: argparse.Namespace) -> int:
     try:
         config = GenerateConfig(
             out=args.out,
@@ -191,21 +229,12 @@ def main(argv: list[str] | None = None) -> int:
 
     try:
         archive = generate_map(config, on_progress=show)
-    except EmptyMapError as exc:
+    except (EmptyMapError, RuntimeError) as exc:
         print(f'generate_map: {exc}', file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print(
-            'generate_map: interrupted; continue with --resume (checkpoint'
-            f' {config.checkpoint_path})',
-            file=sys.stderr,
-        )
-        return 130
-    except (ValueError, RuntimeError) as exc:
-        print(f'generate_map: {exc}', file=sys.stderr)
-        return 1
-    if bar is not None:
-        bar.close()
+    finally:
+        if bar is not None:
+            bar.close()
     s = archive.stats()
     print(
         f'wrote {config.out}: {s.filled} of {archive.n_niches} niches, max {s.max:.3f} m'

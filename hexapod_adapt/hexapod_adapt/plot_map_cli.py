@@ -36,6 +36,7 @@ import sys
 
 from hexapod_adapt.archive import ArchiveError, load_archive
 from hexapod_adapt.plots import plot_progress, plot_projections, read_log
+from hexapod_description.cli import input_file, output_dir, run_command
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -46,17 +47,24 @@ def main(argv: list[str] | None = None) -> int:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     ap.add_argument(
-        '--archive', type=Path, required=True, help='map (.npz) or its checkpoint (.ckpt.npz)'
+        '--archive',
+        type=input_file,
+        required=True,
+        help='map (.npz) or its checkpoint (.ckpt.npz)',
     )
     ap.add_argument(
         '--log',
-        type=Path,
+        type=input_file,
         default=None,
         help='JSON-lines progress log (default: <map>.log.jsonl beside the map)',
     )
-    ap.add_argument('--out-dir', type=Path, default=Path('.'), help='where the PNG files go')
+    ap.add_argument('--out-dir', type=output_dir, default=Path('.'), help='where the PNG files go')
     ap.add_argument('--name', default=None, help="file name stem (default: the map's)")
     args = ap.parse_args(argv)
+    return run_command('plot_map', lambda: _plot(args))
+
+
+def _plot(args: argparse.Namespace) -> int:
     stem = args.name or args.archive.name.split('.')[0]
     base = Path(str(args.archive).replace('.ckpt.npz', ''))
     candidates = [base.with_name(base.name + '.log.jsonl'), base.with_name(stem + '.log.jsonl')]
@@ -79,7 +87,7 @@ def main(argv: list[str] | None = None) -> int:
                 f'plot_map: no progress log at {log}; drawing the projections only',
                 file=sys.stderr,
             )
-    except (ArchiveError, ValueError, OSError) as exc:
+    except (ArchiveError, ValueError) as exc:
         print(f'plot_map: {exc}', file=sys.stderr)
         return 2
     for path in written:

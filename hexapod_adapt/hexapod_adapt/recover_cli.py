@@ -32,10 +32,10 @@ the kill).
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 import sys
 
 from hexapod_adapt.recording import recover
+from hexapod_description.cli import input_file, output_file, run_command
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -45,24 +45,21 @@ def main(argv: list[str] | None = None) -> int:
         description=__doc__.split('\n\n')[0],
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    ap.add_argument('recording', type=Path, help='the MCAP file to recover')
+    ap.add_argument('recording', type=input_file, help='the MCAP file to recover')
     ap.add_argument(
         '--out',
-        type=Path,
+        type=output_file,
         default=None,
         help='where to write the recovered file (default: replace the input, atomically)',
     )
     args = ap.parse_args(argv)
-    if not args.recording.is_file():
-        print(f'recover_recording: {args.recording}: no such file', file=sys.stderr)
-        return 2
-    try:
+
+    def recover_file() -> int:
         result = recover(args.recording, args.out)
-    except OSError as exc:
-        print(f'recover_recording: {exc}', file=sys.stderr)
-        return 1
-    print(f'wrote {result.out}: {result.messages} messages on {result.channels} topics')
-    return 0
+        print(f'wrote {result.out}: {result.messages} messages on {result.channels} topics')
+        return 0
+
+    return run_command('recover_recording', recover_file)
 
 
 if __name__ == '__main__':

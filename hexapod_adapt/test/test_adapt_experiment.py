@@ -54,7 +54,7 @@ def test_scenario_s2_runs_in_every_orientation_and_writes_csv(tmp_path):
 
 def test_bad_inputs_are_refused(tmp_path):
     r = _run('--archive', str(tmp_path / 'missing.npz'))
-    assert r.returncode == 2 and 'no such archive' in r.stderr
+    assert r.returncode == 2 and 'missing.npz: no such file' in r.stderr
     r = _run('--archive', str(DEMO_MAP), '--alpha', '0')
     assert r.returncode == 2 and 'alpha' in r.stderr
 
@@ -135,4 +135,4 @@ def test_plot_map_draws_a_map_and_a_log_in_progress(tmp_path):
         text=True,
         timeout=60,
     )
-    assert bad.returncode == 2 and 'no such archive' in bad.stderr
+    assert bad.returncode == 2 and ': no such file' in bad.stderr

@@ -77,9 +77,9 @@ def test_command_writes_archive_log_and_cvt_and_refuses_a_changed_resume(tmp_pat
 
 def test_bad_arguments_are_refused_with_reasons(tmp_path):
     r = _run_cli('--out', str(tmp_path / 'm.npz'), '--niches', '1')
-    assert r.returncode == 2 and 'niches must be >= 2' in r.stderr
+    assert r.returncode == 2 and 'argument --niches: must be in [2, ' in r.stderr
     r = _run_cli('--out', str(tmp_path / 'm.npz'), '--random-init', '2')
-    assert r.returncode == 2 and 'random_init' in r.stderr
+    assert r.returncode == 2 and 'argument --random-init: must be in [0, 1]' in r.stderr
     assert not (tmp_path / 'm.npz').exists()
 
 

@@ -147,7 +147,10 @@ def _origin(joint: ET.Element) -> tuple[tuple[float, ...], tuple[float, ...]]:
 
 def parse_model(path: Path) -> HexapodModel:
     """Parse a hexapod URDF. Raises ValueError naming what is missing or malformed."""
-    root = ET.parse(path).getroot()
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError as exc:
+        raise ValueError(f'{path} is not a URDF (XML): {exc}') from None
     joints = {j.get('name'): j for j in root.findall('joint')}
     links = {link.get('name'): link for link in root.findall('link')}
 

@@ -31,6 +31,7 @@ import argparse
 from pathlib import Path
 import sys
 
+from hexapod_description.cli import number, output_dir, run_command
 from hexapod_gait.footfall import plot_footfall
 from hexapod_gait.presets import preset, PRESETS
 from hexapod_gait.trajectory import SIM_RATE, stance_mask
@@ -46,11 +47,18 @@ def main(argv: list[str] | None = None) -> int:
         action='append',
         help='preset to draw (repeatable; default: tripod, wave, quadruped)',
     )
-    parser.add_argument('--cycles', type=float, default=3.0, help='gait cycles to draw')
-    parser.add_argument('--out', type=Path, default=Path('.'), help='output directory')
+    parser.add_argument(
+        '--cycles',
+        type=number(float, 0, 100, low_open=True),
+        default=3.0,
+        help='gait cycles to draw, (0, 100]',
+    )
+    parser.add_argument('--out', type=output_dir, default=Path('.'), help='output directory')
     args = parser.parse_args(argv)
-    if args.cycles <= 0:
-        parser.error('--cycles must be positive')
+    return run_command('footfall', lambda: _draw(args))
+
+
+def _draw(args: argparse.Namespace) -> int:
     for name in args.preset or ['tripod', 'wave', 'quadruped']:
         gait = preset(name)
         times = np.arange(int(round(args.cycles * gait.period * SIM_RATE))) / SIM_RATE

@@ -35,6 +35,7 @@ import argparse
 from pathlib import Path
 import sys
 
+from hexapod_description.cli import input_file, run_command
 from hexapod_sim.fidelity import agreement, fidelity_rows, markdown
 from hexapod_sim.simulator import create_simulator, ENGINES, SimConfig
 import numpy as np
@@ -68,11 +69,15 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument(
         '--agreement-map',
-        type=Path,
+        type=input_file,
         default=None,
         help='archive (.npz) whose gaits the two engines are compared on',
     )
     args = parser.parse_args(argv)
+    return run_command('fidelity_table', lambda: _tabulate(args))
+
+
+def _tabulate(args: argparse.Namespace) -> int:
     engines = ENGINES if args.engine == 'both' else (args.engine,)
     sims = {
         name: create_simulator(SimConfig(engine=name))

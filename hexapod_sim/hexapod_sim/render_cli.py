@@ -35,6 +35,8 @@ import argparse
 from pathlib import Path
 import sys
 
+from hexapod_description import N_LEGS
+from hexapod_description.cli import number, output_file, run_command
 from hexapod_gait import build_joint_table, preset, PRESETS
 from hexapod_gait.footfall import plot_footfall
 from hexapod_sim.simulator import create_simulator, ENGINES, SimConfig
@@ -87,26 +89,39 @@ def main(argv: list[str] | None = None) -> int:
         description='Render a simulated walk to GIF + measured footfall PNG.'
     )
     parser.add_argument('--preset', choices=sorted(PRESETS), default='tripod', help='gait to walk')
-    parser.add_argument('--seconds', type=float, default=3.0, help='simulated seconds, (0, 60]')
     parser.add_argument(
-        '--failed-legs', type=int, nargs='*', default=[], help='legs 1..6 to fail (at most two)'
+        '--seconds',
+        type=number(float, 0, 60, low_open=True),
+        default=3.0,
+        help='simulated seconds, (0, 60]',
     )
-    parser.add_argument('--fps', type=int, default=20, help='GIF frames per second, 1..60')
+    parser.add_argument(
+        '--failed-legs',
+        type=number(int, 1, N_LEGS),
+        nargs='*',
+        default=[],
+        help='legs 1..6 to fail (at most two)',
+    )
+    parser.add_argument(
+        '--fps', type=number(int, 1, 60), default=20, help='GIF frames per second, 1..60'
+    )
     parser.add_argument('--engine', choices=ENGINES, default='pybullet', help='physics engine')
-    parser.add_argument('--out', type=Path, default=Path('walk.gif'), help='GIF to write')
+    parser.add_argument('--out', type=output_file, default=Path('walk.gif'), help='GIF to write')
     args = parser.parse_args(argv)
-    if not 0 < args.seconds <= 60 or not 1 <= args.fps <= 60:
-        parser.error('--seconds must be in (0, 60] and --fps in [1, 60]')
-    try:
-        gif, png = render_walk(
-            args.preset, args.seconds, args.out, args.failed_legs, args.fps, engine=args.engine
-        )
-    except (ValueError, RuntimeError) as exc:
-        print(f'render_walk: {exc}', file=sys.stderr)
-        return 2
-    print(gif)
-    print(png)
-    return 0
+
+    def render() -> int:
+        try:
+            gif, png = render_walk(
+                args.preset, args.seconds, args.out, args.failed_legs, args.fps, engine=args.engine
+            )
+        except RuntimeError as exc:  # an engine that cannot render here
+            print(f'render_walk: {exc}', file=sys.stderr)
+            return 2
+        print(gif)
+        print(png)
+        return 0
+
+    return run_command('render_walk', render)
 
 
 if __name__ == '__main__':

@@ -45,6 +45,7 @@ import time
 import tty
 
 from hexapod_bridge.emulator.firmware import ImuNoise, RobotFirmware
+from hexapod_description.cli import number, run_command
 from hexapod_sim import create_simulator, ENGINES, SimConfig
 
 # The line the emulator prints when its radio port vanishes, followed by the time on
@@ -135,10 +136,26 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         '--imu-noise', action='store_true', help='add Xsens-like noise and bias to the IMU'
     )
-    parser.add_argument('--seed', type=int, default=0)
-    parser.add_argument('--walk-duration', type=float, default=5.0)
-    parser.add_argument('--failsafe-windows', type=int, default=11)
+    parser.add_argument(
+        '--seed', type=number(int, 0, 2**32 - 1), default=0, help='seed of the IMU noise'
+    )
+    parser.add_argument(
+        '--walk-duration',
+        type=number(float, 0, 600, low_open=True),
+        default=5.0,
+        help="seconds a walk lasts after the robot's reset (firmware: 5), (0, 600]",
+    )
+    parser.add_argument(
+        '--failsafe-windows',
+        type=number(int, 1, 1000),
+        default=11,
+        help='ping check windows without a ping before a walk stops (firmware: 11), 1..1000',
+    )
     args = parser.parse_args(argv)
+    return run_command('robot_emulator', lambda: _serve(args))
+
+
+def _serve(args: argparse.Namespace) -> int:
 
     sim = None
     if args.sim:
@@ -161,12 +178,12 @@ def main(argv: list[str] | None = None) -> int:
     requests: list[str] = []
     signal.signal(signal.SIGUSR1, lambda *_: requests.append('vanish'))
     signal.signal(signal.SIGUSR2, lambda *_: requests.append('return'))
-    running = [True]
+    stopped_by: list[int] = []
     for signum in (signal.SIGINT, signal.SIGTERM):  # a second Ctrl-C cannot cut the clean-up short
-        signal.signal(signum, lambda *_: running.__setitem__(0, False))
+        signal.signal(signum, lambda number, _: stopped_by.append(number))
     reported = 0
     try:
-        while running[0]:
+        while not stopped_by:
             while requests:
                 what = requests.pop(0)
                 if what == 'vanish' and radio.master is not None:
@@ -197,7 +214,9 @@ def main(argv: list[str] | None = None) -> int:
         if imu is not None:
             imu.close()
         print_stats(firmware)
-    return 0
+    name = signal.Signals(stopped_by[0]).name
+    print(f'robot_emulator: stopped by {name}', file=sys.stderr, flush=True)
+    return 128 + stopped_by[0]
 
 
 def print_stats(firmware: RobotFirmware) -> None:

@@ -1,0 +1,204 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+What every console command of the project does the same way (no ROS needed).
+
+* Numbers: :func:`number` is an argparse ``type`` that refuses a value outside its range, or not
+  finite, with the range in the message (argparse then exits with status 2).
+* Paths: :func:`input_file`, :func:`output_file` and :func:`output_dir` check a path before any
+  work starts: a missing file, a directory where a file is expected, a file where a directory is
+  expected, or a place that cannot be written, each named.
+* :func:`run_command` runs a command's body so that bad input and the normal signals end it with
+  one line on stderr that names the problem, and a non-zero status: an OSError or ValueError
+  (status 1), Ctrl-C / SIGINT (130) and SIGTERM (143). SIGTERM is raised as :class:`Terminated`,
+  a KeyboardInterrupt, so the clean-up a command does for Ctrl-C (a map's last checkpoint kept, a
+  recording finished) runs for it too. A programming error still shows its traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+from pathlib import Path
+import signal
+import sys
+import tempfile
+import threading
+from typing import Callable
+
+#: Exit status of a command ended by SIGINT (Ctrl-C) or SIGTERM: 128 + the signal number.
+STATUS_INTERRUPTED = 128 + signal.SIGINT
+STATUS_TERMINATED = 128 + signal.SIGTERM
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM: stops a command the way Ctrl-C does."""
+
+
+def number(
+    kind: type = float,
+    low: float | None = None,
+    high: float | None = None,
+    *,
+    low_open: bool = False,
+    high_open: bool = False,
+) -> Callable[[str], float]:
+    """
+    Return an argparse ``type``: a finite ``kind`` in [low, high] (or open at either end).
+
+    The refusal says the range: ``must be in (0, 60], got 61``.
+    """
+
+    def parse(text: str):
+        try:
+            value = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f'{"an integer" if kind is int else "a number"} expected, got {text!r}'
+            ) from None
+        if kind is float and not math.isfinite(value):
+            raise argparse.ArgumentTypeError(f'a finite number expected, got {text!r}')
+        below = low is not None and (value <= low if low_open else value < low)
+        above = high is not None and (value >= high if high_open else value > high)
+        if below or above:
+            raise argparse.ArgumentTypeError(
+                f'must be in {interval(low, high, low_open, high_open)}, got {text}'
+            )
+        return value
+
+    parse.__name__ = kind.__name__  # argparse names the type in its messages
+    return parse
+
+
+def interval(low, high, low_open: bool = False, high_open: bool = False) -> str:
+    """Return a range as written in messages: ``[1, 60]``, ``(0, inf)``."""
+    lo = '-inf' if low is None else _text(low)
+    hi = 'inf' if high is None else _text(high)
+    opening = '(' if low_open or low is None else '['
+    closing = ')' if high_open or high is None else ']'
+    return f'{opening}{lo}, {hi}{closing}'
+
+
+def _text(value: float) -> str:
+    return str(value) if isinstance(value, int) else f'{value:g}'
+
+
+def _writable_dir_problem(directory: Path) -> str:
+    """Say why files cannot be created in ``directory`` (created if missing; '' if they can)."""
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+    except FileExistsError:
+        return f'{directory} is not a directory'
+    except OSError as exc:
+        return f'cannot create directory {directory}: {exc.strerror}'
+    if not directory.is_dir():
+        return f'{directory} is not a directory'
+    try:  # os.access says yes to root on a read-only file system: try it
+        with tempfile.TemporaryFile(dir=directory):
+            pass
+    except OSError as exc:
+        return f'cannot write in {directory}: {exc.strerror}'
+    return ''
+
+
+def input_file(text: str) -> Path:
+    """Argparse ``type``: an existing, readable file."""
+    path = Path(text).expanduser()
+    if path.is_dir():
+        raise argparse.ArgumentTypeError(f'{path} is a directory, not a file')
+    if not path.is_file():
+        raise argparse.ArgumentTypeError(f'{path}: no such file')
+    if not os.access(path, os.R_OK):
+        raise argparse.ArgumentTypeError(f'{path}: permission denied')
+    return path
+
+
+def output_file(text: str) -> Path:
+    """Argparse ``type``: a file that can be written (its directory is created if missing)."""
+    path = Path(text).expanduser()
+    if path.is_dir():
+        raise argparse.ArgumentTypeError(f'{path} is a directory, not a file')
+    problem = _writable_dir_problem(path.parent)
+    if problem:
+        raise argparse.ArgumentTypeError(problem)
+    return path
+
+
+def output_dir(text: str) -> Path:
+    """Argparse ``type``: a directory files can be written in (created if missing)."""
+    path = Path(text).expanduser()
+    problem = _writable_dir_problem(path)
+    if problem:
+        raise argparse.ArgumentTypeError(problem)
+    return path
+
+
+def os_error_text(exc: OSError) -> str:
+    """Return an OSError as one line: what failed and on which path."""
+    if exc.filename is not None and exc.strerror:
+        if exc.filename2 is not None:  # symlink, rename: name both
+            return f'{exc.strerror}: {exc.filename} -> {exc.filename2}'
+        return f'{exc.strerror}: {exc.filename}'
+    return str(exc) or type(exc).__name__
+
+
+def _raise_terminated(signum, frame) -> None:
+    raise Terminated()
+
+
+def run_command(prog: str, body: Callable[[], int], stopped_note: str = '') -> int:
+    """
+    Run a command's ``body`` and return its exit status; see the module docstring.
+
+    ``stopped_note`` is added to the line printed when a signal stops the command (e.g. how to
+    resume).
+    """
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        previous = signal.signal(signal.SIGTERM, _raise_terminated)
+    note = f'; {stopped_note}' if stopped_note else ''
+    try:
+        return body()
+    except Terminated:
+        _say(prog, f'terminated (SIGTERM){note}')
+        return STATUS_TERMINATED
+    except KeyboardInterrupt:
+        _say(prog, f'interrupted (SIGINT){note}')
+        return STATUS_INTERRUPTED
+    except OSError as exc:
+        _say(prog, os_error_text(exc))
+        return 1
+    except ValueError as exc:
+        _say(prog, str(exc) or type(exc).__name__)
+        return 1
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _say(prog: str, text: str) -> None:
+    """Print ``prog: text`` on stderr as one line."""
+    line = ' '.join(text.split())
+    try:
+        print(f'{prog}: {line}', file=sys.stderr, flush=True)
+    except OSError:
+        pass  # stderr is gone (a closed pipe): the status still says it

@@ -1,0 +1,104 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""The console commands' shared behaviour: bounded numbers, paths, signals, one-line errors."""
+
+import argparse
+import os
+import signal
+
+from hexapod_description.cli import (
+    input_file,
+    interval,
+    number,
+    output_dir,
+    output_file,
+    run_command,
+    STATUS_INTERRUPTED,
+    STATUS_TERMINATED,
+)
+import pytest
+
+
+def test_number_takes_its_bounds_and_refuses_just_outside():
+    fps = number(int, 1, 60)
+    assert fps('1') == 1 and fps('60') == 60
+    for text in ('0', '61', '1.5', 'x'):
+        with pytest.raises(argparse.ArgumentTypeError):
+            fps(text)
+    seconds = number(float, 0, 60, low_open=True)
+    assert seconds('1e-9') == 1e-9 and seconds('60') == 60.0
+    with pytest.raises(argparse.ArgumentTypeError, match=r'must be in \(0, 60\], got 0'):
+        seconds('0')
+    for text in ('nan', 'inf', '-inf'):
+        with pytest.raises(argparse.ArgumentTypeError, match='finite'):
+            seconds(text)
+    assert interval(None, None) == '(-inf, inf)' and interval(2, 10_000_000) == '[2, 10000000]'
+
+
+def test_paths_are_checked_before_any_work(tmp_path):
+    a_file = tmp_path / 'file'
+    a_file.write_text('x')
+    assert input_file(str(a_file)) == a_file
+    with pytest.raises(argparse.ArgumentTypeError, match='no such file'):
+        input_file(str(tmp_path / 'missing'))
+    with pytest.raises(argparse.ArgumentTypeError, match='is a directory, not a file'):
+        input_file(str(tmp_path))
+    assert output_file(str(tmp_path / 'new' / 'out.npz')) == tmp_path / 'new' / 'out.npz'
+    assert (tmp_path / 'new').is_dir()  # created, as the command would
+    with pytest.raises(argparse.ArgumentTypeError, match='is a directory, not a file'):
+        output_file(str(tmp_path))
+    with pytest.raises(argparse.ArgumentTypeError, match='is not a directory'):
+        output_file(str(a_file / 'out.npz'))
+    with pytest.raises(argparse.ArgumentTypeError, match='is not a directory'):
+        output_dir(str(a_file))
+    with pytest.raises(argparse.ArgumentTypeError, match='cannot write in /proc'):
+        output_dir('/proc')
+
+
+def test_run_command_turns_bad_input_and_signals_into_one_line(capsys):
+    def missing():
+        open('/nonexistent/hexapod/x')
+
+    assert run_command('cmd', missing) == 1
+    assert capsys.readouterr().err == 'cmd: No such file or directory: /nonexistent/hexapod/x\n'
+    assert run_command('cmd', lambda: int('seven')) == 1
+    assert 'invalid literal' in capsys.readouterr().err
+
+    def interrupted():
+        raise KeyboardInterrupt
+
+    assert run_command('cmd', interrupted, 'resume with --resume') == STATUS_INTERRUPTED
+    assert capsys.readouterr().err == 'cmd: interrupted (SIGINT); resume with --resume\n'
+
+    def terminated():
+        os.kill(os.getpid(), signal.SIGTERM)
+        raise AssertionError('SIGTERM did not stop the body')
+
+    before = signal.getsignal(signal.SIGTERM)
+    assert run_command('cmd', terminated) == STATUS_TERMINATED
+    assert capsys.readouterr().err == 'cmd: terminated (SIGTERM)\n'
+    assert signal.getsignal(signal.SIGTERM) is before  # restored
+
+    def bug():
+        raise KeyError('a programming error keeps its traceback')
+
+    with pytest.raises(KeyError):
+        run_command('cmd', bug)

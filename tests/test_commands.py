@@ -1,0 +1,307 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Every console command on bad input and on the normal signals.
+
+Each ends with one line naming the problem, a non-zero status, no traceback, and loses nothing.
+Table-driven: the numeric options at their bounds and just outside (in-process, through each
+command's own ``main``), bad paths (through the installed executables), and SIGINT / SIGTERM
+while each long-running command runs (real processes; the signal is sent once the command has
+installed its handler, read from /proc, so no case depends on timing).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+import os
+from pathlib import Path
+import signal
+import subprocess
+from typing import Callable
+
+from conftest import executable, wait_for
+import pytest
+
+PACKAGE = {
+    'generate_map': 'hexapod_adapt',
+    'adapt_client': 'hexapod_adapt',
+    'run_experiment': 'hexapod_adapt',
+    'plot_map': 'hexapod_adapt',
+    'recover_recording': 'hexapod_adapt',
+    'robot_emulator': 'hexapod_bridge',
+    'render_walk': 'hexapod_sim',
+    'fidelity_table': 'hexapod_sim',
+    'footfall': 'hexapod_gait',
+    'describe': 'hexapod_description',
+}
+DEMO_MAP = str(Path(__file__).resolve().parents[1] / 'hexapod_adapt' / 'maps' / 'demo_map.npz')
+
+
+def _main(command: str) -> Callable[[list[str]], int]:
+    """The function a command's executable runs (adapt_client: its parser only, no ROS)."""
+    if command == 'generate_map':
+        from hexapod_adapt.generate_cli import main
+    elif command == 'adapt_client':
+        from hexapod_adapt.adapt_client import build_parser
+
+        return lambda argv: build_parser().parse_args(argv)
+    elif command == 'run_experiment':
+        from hexapod_adapt.experiment_cli import main
+    elif command == 'robot_emulator':
+        from hexapod_bridge.emulator.cli import main
+    elif command == 'render_walk':
+        from hexapod_sim.render_cli import main
+    elif command == 'footfall':
+        from hexapod_gait.footfall_cli import main
+    else:
+        raise KeyError(command)
+    return main
+
+
+@dataclass(frozen=True)
+class Bound:
+    """A numeric option's range as its command states it."""
+
+    command: str
+    option: str
+    low: float | None
+    high: float | None
+    integer: bool = True
+    low_open: bool = False
+    zero_means_default: bool = False
+
+
+BOUNDS = [
+    Bound('generate_map', '--niches', 2, 10_000_000),
+    Bound('generate_map', '--evaluations', 1, 10**12),
+    Bound('generate_map', '--seed', 0, 2**32 - 1),
+    Bound('generate_map', '--workers', 0, 4096),
+    Bound('generate_map', '--lag', 0, 1_000_000),
+    Bound('generate_map', '--chunk', 0, 100_000),
+    Bound('generate_map', '--random-init', 0.0, 1.0, integer=False),
+    Bound('generate_map', '--cvt-samples', 1, 10**9),
+    Bound('generate_map', '--checkpoint-every', 0.0, None, integer=False, low_open=True),
+    Bound('generate_map', '--log-every', 0.0, None, integer=False, low_open=True),
+    Bound('adapt_client', '--max-trials', 1, 1000, zero_means_default=True),
+    Bound('adapt_client', '--trial-duration', 1.0, 120.0, False, zero_means_default=True),
+    Bound('adapt_client', '--alpha', 0.05, 1.0, False, zero_means_default=True),
+    Bound('adapt_client', '--kappa', 0.0, 100.0, False),
+    Bound('adapt_client', '--length-scale', 1e-3, 10.0, False, zero_means_default=True),
+    Bound('adapt_client', '--noise', 1e-9, 1.0, False, zero_means_default=True),
+    Bound('adapt_client', '--timeout', 0.0, 1e6, False, low_open=True),
+    Bound('run_experiment', '--max-trials', 1, 1000),
+    Bound('run_experiment', '--alpha', 0.05, 1.0, False),
+    Bound('run_experiment', '--kappa', 0.0, 100.0, False),
+    Bound('run_experiment', '--length-scale', 1e-3, 10.0, False),
+    Bound('run_experiment', '--noise', 1e-9, 1.0, False),
+    Bound('robot_emulator', '--seed', 0, 2**32 - 1),
+    Bound('robot_emulator', '--walk-duration', 0.0, 600.0, False, low_open=True),
+    Bound('robot_emulator', '--failsafe-windows', 1, 1000),
+    Bound('render_walk', '--seconds', 0.0, 60.0, False, low_open=True),
+    Bound('render_walk', '--fps', 1, 60),
+    Bound('render_walk', '--failed-legs', 1, 6),
+    Bound('footfall', '--cycles', 0.0, 100.0, False, low_open=True),
+]
+REQUIRED = {'generate_map': ['--out', '{tmp}/map.npz']}
+
+
+def _cases():
+    for b in BOUNDS:
+        for end, value in (('low', b.low), ('high', b.high)):
+            if value is None:
+                continue
+            step = 1 if b.integer else (abs(value) * 1e-3 or 1e-6)
+            if end == 'low':
+                inside = value + step if b.low_open else value
+                outside = value if b.low_open else value - step
+            else:
+                inside, outside = value, value + step
+            yield b, inside, True
+            yield b, outside, outside == 0 and b.zero_means_default
+
+
+def _text(value: float, integer: bool) -> str:
+    return str(int(value)) if integer else repr(float(value))
+
+
+@pytest.mark.parametrize(
+    'bound, value, accepted',
+    list(_cases()),
+    ids=[f'{b.command}{b.option}={v:g}' for b, v, _ in _cases()],
+)
+def test_numeric_options_at_their_bounds_and_just_outside(
+    bound, value, accepted, tmp_path, capsys
+):
+    required = [a.format(tmp=tmp_path) for a in REQUIRED.get(bound.command, [])]
+    # an unknown option after the one under test: argparse converts (and checks) every value in
+    # order, then refuses the unknown one, so nothing runs either way
+    argv = [*required, f'{bound.option}={_text(value, bound.integer)}', '--zzz-not-an-option']
+    with pytest.raises(SystemExit) as info:
+        _main(bound.command)(argv)
+    error = capsys.readouterr().err.strip().splitlines()[-1]
+    assert info.value.code == 2
+    if accepted:
+        assert 'unrecognized arguments: --zzz-not-an-option' in error, error
+    else:
+        assert f'argument {bound.option}:' in error and 'must be' in error, error
+
+
+# -- paths, through the installed executables -------------------------------------------------
+def _run(command: str, *args: str, timeout: float = 120) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [str(executable(PACKAGE[command], command)), *args],
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        env=dict(os.environ, PYTHONUNBUFFERED='1'),
+        stdin=subprocess.DEVNULL,
+    )
+
+
+def _last_line(proc) -> str:
+    lines = [line for line in proc.stderr.splitlines() if line.strip()]
+    return lines[-1] if lines else ''
+
+
+PATHS = [
+    ('generate_map', ['--out', '{dir}'], 'is a directory, not a file'),
+    ('generate_map', ['--out', '{file}/map.npz'], 'is not a directory'),
+    ('generate_map', ['--out', '/proc/hexapod/map.npz'], 'cannot create directory /proc/hexapod'),
+    ('generate_map', ['--out', '/proc/map.npz'], 'cannot write in /proc'),
+    ('generate_map', ['--out', '{dir}/m.npz', '--cvt-dir', '{file}'], 'is not a directory'),
+    ('generate_map', ['--out', '{dir}/m.npz', '--log', '{dir}'], 'is a directory, not a file'),
+    ('run_experiment', ['--archive', '{missing}'], 'no such file'),
+    ('run_experiment', ['--archive', '{dir}'], 'is a directory, not a file'),
+    ('run_experiment', ['--archive', '{garbage}'], 'garbage'),
+    ('run_experiment', ['--out-dir', '{file}'], 'is not a directory'),
+    ('run_experiment', ['--out', '{dir}'], 'is a directory, not a file'),
+    ('plot_map', ['--archive', '{missing}'], 'no such file'),
+    ('plot_map', ['--archive', '{garbage}'], 'garbage'),
+    ('plot_map', ['--archive', DEMO_MAP, '--out-dir', '{file}'], 'is not a directory'),
+    ('plot_map', ['--archive', DEMO_MAP, '--log', '{dir}'], 'is a directory, not a file'),
+    ('recover_recording', ['{missing}'], 'no such file'),
+    ('recover_recording', ['{dir}'], 'is a directory, not a file'),
+    ('recover_recording', ['{garbage}', '--out', '{dir}'], 'is a directory, not a file'),
+    ('recover_recording', ['{garbage}', '--out', '/proc/x.mcap'], 'cannot write in /proc'),
+    ('robot_emulator', ['--radio-link', '{file}/radio'], 'Not a directory'),
+    ('robot_emulator', ['--radio-link', '/proc/hexapod_radio'], 'hexapod_radio'),
+    ('render_walk', ['--out', '{dir}'], 'is a directory, not a file'),
+    ('render_walk', ['--out', '{file}/walk.gif'], 'is not a directory'),
+    ('fidelity_table', ['--agreement-map', '{missing}'], 'no such file'),
+    ('fidelity_table', ['--agreement-map', '{dir}'], 'is a directory, not a file'),
+    ('footfall', ['--out', '{file}'], 'is not a directory'),
+    ('footfall', ['--out', '/proc/footfall'], 'cannot create directory /proc/footfall'),
+    ('describe', ['--urdf', '{missing}'], 'no such file'),
+    ('describe', ['--urdf', '{dir}'], 'is a directory, not a file'),
+    ('describe', ['--urdf', '{garbage}'], 'garbage'),
+]
+
+
+@pytest.mark.parametrize(
+    'command, args, says', PATHS, ids=[f'{c}-{" ".join(a)}' for c, a, _ in PATHS]
+)
+def test_bad_paths_end_with_one_line_that_names_them(command, args, says, tmp_path):
+    places = {
+        'dir': tmp_path / 'a_directory',
+        'file': tmp_path / 'a_file',
+        'missing': tmp_path / 'missing.npz',
+        'garbage': tmp_path / 'garbage.npz',
+    }
+    places['dir'].mkdir()
+    places['file'].write_text('a file, not a directory\n')
+    places['garbage'].write_bytes(b'\x00garbage' * 10)
+    proc = _run(command, *(a.format(**places) for a in args))
+    line = _last_line(proc)
+    assert proc.returncode != 0, (proc.stdout, proc.stderr)
+    assert 'Traceback' not in proc.stderr, proc.stderr
+    assert line.startswith(f'{command}: ') and says in line, proc.stderr
+
+
+# -- signals, through the installed executables ------------------------------------------------
+def _handles_sigterm(pid: int) -> bool:
+    """Whether the process has installed its SIGTERM handler (it is past start-up)."""
+    try:
+        status = Path(f'/proc/{pid}/status').read_text()
+    except OSError:
+        return False
+    caught = int(
+        next(line for line in status.splitlines() if line.startswith('SigCgt:')).split()[1], 16
+    )
+    return bool(caught & (1 << (signal.SIGTERM - 1)))
+
+
+RUNNING = {
+    'generate_map': [
+        '--out',
+        '{tmp}/map.npz',
+        '--niches',
+        '20',
+        '--evaluations',
+        '100000000',
+        '--checkpoint-every',
+        '0.2',
+        '--workers',
+        '1',
+        '--quiet',
+    ],
+    'adapt_client': ['--timeout', '600'],
+    'run_experiment': ['--archive', DEMO_MAP, '--trial-engine', 'pybullet'],
+    'robot_emulator': ['--radio-link', '{tmp}/radio', '--sim'],
+    'render_walk': ['--seconds', '60', '--out', '{tmp}/walk.gif'],
+    'fidelity_table': ['--engine', 'pybullet'],
+}
+
+
+@pytest.mark.parametrize('signum', [signal.SIGINT, signal.SIGTERM], ids=['SIGINT', 'SIGTERM'])
+@pytest.mark.parametrize('command', sorted(RUNNING))
+def test_a_signal_while_running_ends_with_one_line_and_its_status(
+    command, signum, tmp_path, domain_id
+):
+    args = [a.format(tmp=tmp_path) for a in RUNNING[command]]
+    proc = subprocess.Popen(
+        [str(executable(PACKAGE[command], command)), *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        stdin=subprocess.DEVNULL,
+        env=dict(os.environ, PYTHONUNBUFFERED='1'),
+    )
+    try:
+        wait_for(lambda: _handles_sigterm(proc.pid), 60, f'{command} to install its handlers')
+        if command == 'generate_map':  # a checkpoint exists: it must survive the signal
+            checkpoint = tmp_path / 'map.npz.ckpt.npz'
+            wait_for(checkpoint.exists, 120, 'the first checkpoint')
+        proc.send_signal(signum)
+        out, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    lines = [line for line in err.splitlines() if line.strip()]
+    name = signal.Signals(signum).name
+    assert proc.returncode == 128 + signum, (out, err)
+    assert 'Traceback' not in err, err
+    assert lines and lines[-1].startswith(f'{command}: ') and name in lines[-1], err
+    if command == 'generate_map':
+        from hexapod_adapt.map_elites import load_checkpoint
+
+        load_checkpoint(checkpoint)  # intact: --resume continues from it
+        assert '--resume' in lines[-1]
