@@ -235,12 +235,13 @@ class PyBulletSimulator(Simulator):
         return _Rows(q.tolist(), v.tolist())
 
     def apply_row(self, rows: Any, index: int) -> None:
+        # position targets only, as the thesis's simulator commands them (its listing 3.6) and
+        # the firmware drives the servos: no velocity feed-forward (the target velocity is 0)
         p.setJointMotorControlArray(
             self.body,
             self._active_joints,
             p.POSITION_CONTROL,
             targetPositions=rows.q[index],
-            targetVelocities=rows.v[index],
             forces=self._active_efforts,
             physicsClientId=self.client,
         )

@@ -71,7 +71,12 @@ from hexapod_gait.ros_glue import (
 from hexapod_gait.trajectory import build_joint_table
 from hexapod_msgs.msg import FootContacts
 from hexapod_msgs.srv import SetLegFailure
-from hexapod_sim.simulator import create_simulator, SimConfig, validate_failed_legs
+from hexapod_sim.simulator import (
+    create_simulator,
+    DEFAULT_FRICTION,
+    SimConfig,
+    validate_failed_legs,
+)
 from hexapod_sim.trajectory_input import cycle_from_points, CycleTable, MAX_POINTS, TrajectoryError
 from nav_msgs.msg import Odometry
 import numpy as np
@@ -109,8 +114,10 @@ PARAMETERS = (
     ParamSpec('gui', False, 'Open the PyBullet GUI window (engine pybullet only)', read_only=True),
     ParamSpec(
         'friction',
-        1.0,
-        'Lateral friction coefficient of the ground and the feet',
+        Parameter.Type.DOUBLE,
+        "Lateral friction coefficient of the ground and the feet (unset = the engine's default: "
+        + ', '.join(f'{engine} {value:g}' for engine, value in DEFAULT_FRICTION.items())
+        + ')',
         read_only=True,
         range=(0.0, 10.0),
     ),
@@ -146,10 +153,11 @@ class SimNode(Node):
         if not (math.isfinite(self.rtf) and 0.0 <= self.rtf <= 100.0):
             raise ValueError(f'parameter real_time_factor must be in [0, 100], got {self.rtf}')
         engine = str(self.get_parameter('engine').value)
+        friction = self.get_parameter_or('friction', Parameter('friction', value=None)).value
         self.sim = create_simulator(
             SimConfig(
                 engine=engine,
-                friction=float(self.get_parameter('friction').value),
+                friction=None if friction is None else float(friction),
                 gui=bool(self.get_parameter('gui').value),
             )
         )

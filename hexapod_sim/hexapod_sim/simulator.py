@@ -91,17 +91,25 @@ def body_height_from_joints(q: np.ndarray) -> float:
     return float(np.max(-(feet[:, 2] + default_geometry().mount_z)))
 
 
+#: Friction coefficient given to the ground and the feet when SimConfig.friction is not set.
+#: PyBullet: 0.7, what the thesis's simulator sets on its ground plane and tibias (its text, 3.5.4,
+#: says 1); Bullet multiplies the two surfaces' coefficients, so foot and ground meet at 0.49.
+#: MuJoCo: 1.0 (it takes the larger of the two: 1.0 between foot and ground), which already
+#: reproduces the thesis simulator's damaged tripod (docs/simulator.md, "The damaged tripod").
+DEFAULT_FRICTION = {'pybullet': 0.7, 'mujoco': 1.0}
+
+
 @dataclass(frozen=True)
 class SimConfig:
     """
     Which engine, with which settings.
 
-    ``friction`` (ground and feet) is shared by both engines; each engine's own choices live in its
-    settings object.
+    ``friction`` is the coefficient given to the ground and the feet (None: the engine's default,
+    :data:`DEFAULT_FRICTION`); each engine's own choices live in its settings object.
     """
 
     engine: str = 'pybullet'
-    friction: float = 1.0
+    friction: float | None = None
     pybullet: Any = None  # PyBulletSettings (default: pybullet_engine.ACCURATE)
     mujoco: Any = None  # MujocoSettings (default: mujoco_engine.DEFAULT_SETTINGS)
     gui: bool = False  # PyBullet only: open its GUI window
@@ -109,6 +117,8 @@ class SimConfig:
 
     def __post_init__(self) -> None:
         validate_engine(self.engine)
+        if self.friction is None:
+            object.__setattr__(self, 'friction', DEFAULT_FRICTION[self.engine])
         if not (math.isfinite(self.friction) and 0.0 <= self.friction <= 10.0):
             raise ValueError(f'friction must be in [0, 10], got {self.friction}')
 
