@@ -213,7 +213,7 @@ def test_adaptation_on_the_emulated_robot_uses_the_bridge_odometry(
 ):
     import json
 
-    from hexapod_bridge.bridge_node import SPEED_ACCURACY
+    from hexapod_bridge.odometry import SPEED_ACCURACY
     from std_srvs.srv import SetBool
 
     # the preset gaits: the IMU estimate's stated accuracy was measured on such calm gaits (a

@@ -71,12 +71,19 @@ class FirmwareStats:
 
 @dataclass
 class TrialRecord:
-    """One walk of the emulated robot, with the true displacement for tests."""
+    """
+    One walk of the emulated robot, with the true displacement for tests.
+
+    The distance is measured along the gait's walking direction in the frame the robot started
+    the walk in (its heading then, plus the crab angle), the frame of the bridge's odometry and
+    of a simulated evaluation, which starts every gait heading along x.
+    """
 
     gait_id: int
     crab_angle: float
     duration: float
     start_position: np.ndarray
+    start_yaw: float = 0.0  # heading when the walk started [rad]
     end_position: np.ndarray | None = None
     state: str = 'walking'
 
@@ -87,7 +94,8 @@ class TrialRecord:
             if self.end_position is not None
             else np.zeros(2)
         )
-        distance = float(d[0] * math.cos(self.crab_angle) + d[1] * math.sin(self.crab_angle))
+        heading = self.start_yaw + self.crab_angle
+        distance = float(d[0] * math.cos(heading) + d[1] * math.sin(heading))
         return {
             'gait_id': self.gait_id,
             'state': self.state,
@@ -95,6 +103,12 @@ class TrialRecord:
             'distance': distance,
             'speed': distance / self.duration,
         }
+
+
+#: Standing between walks, a newly loaded gait's first pose is reached in this long (joint
+#: targets interpolated from the pose the robot stands in), so every walk starts from its
+#: gait's own first pose, as a simulated evaluation does after its reset.
+POSE_TRANSITION_S = 0.5
 
 
 class RobotFirmware:
@@ -146,15 +160,15 @@ class RobotFirmware:
         self._walk_start = 0.0
         self._table = None
         self._row = 0
-        self._hold_row = None  # prepared rows of the pose to stand in
+        self._hold_row = None  # prepared rows of the poses to stand in (the last one is held)
+        self._hold_count = 0
+        self._hold_index = 0
         self.out_radio = bytearray()
         self.out_imu = bytearray()
         if sim is not None:
-            self._load_table()
+            self._table = build_joint_table(self.gait, rate=1.0 / sim.dt)
             sim.reset(self._table.positions[0])
-            self._hold_row = sim.prepare_rows(
-                self._table.positions[:1], np.zeros_like(self._table.positions[:1])
-            )
+            self._load_table()
 
     # -- receiving ---------------------------------------------------------------------------
     def receive(self, data: bytes, now: float) -> None:
@@ -286,13 +300,26 @@ class RobotFirmware:
         if self.sim is not None:
             self._table = build_joint_table(self.gait, rate=1.0 / self.sim.dt)
             self._rows = self.sim.prepare_rows(self._table.positions, self._table.velocities)
+            if not self.walking:
+                self._stand(self._table.positions[0], POSE_TRANSITION_S)
+
+    def _stand(self, pose: np.ndarray, within: float) -> None:
+        """Move the legs from where they are to ``pose`` in ``within`` s, then hold it."""
+        start = self.sim.joint_states()[0]
+        n = max(1, int(round(within / self.sim.dt)))
+        path = start + np.linspace(1.0 / n, 1.0, n)[:, None] * (np.asarray(pose) - start)
+        self._hold_row = self.sim.prepare_rows(path, np.zeros_like(path))
+        self._hold_count, self._hold_index = n, 0
 
     def start_walk(self, now: float, duration: float) -> None:
         """Walk the current gait for ``duration`` s from ``now`` (as reset and START_TRIAL do)."""
         self.walking, self._walk_start, self.walk_end = True, now, now + duration
         self._row = 0
         position = self.sim.base_pose()[0] if self.sim is not None else np.zeros(3)
-        self.trials.append(TrialRecord(self.gait_id, self.gait.crab_angle, duration, position))
+        yaw = self.sim.base_euler()[2] if self.sim is not None else 0.0
+        self.trials.append(
+            TrialRecord(self.gait_id, self.gait.crab_angle, duration, position, float(yaw))
+        )
         self._trial_report(ext.TrialState.WALKING, now)
 
     def _stop_walk(self, state: str) -> None:
@@ -305,9 +332,7 @@ class RobotFirmware:
             record.end_position = self.sim.base_pose()[0] if self.sim is not None else np.zeros(3)
         if self.sim is not None and self._table is not None:
             # stand still in the pose the walk stopped in
-            row = self._row % len(self._table)
-            hold = self._table.positions[[row]]
-            self._hold_row = self.sim.prepare_rows(hold, np.zeros_like(hold))
+            self._stand(self._table.positions[self._row % len(self._table)], 0.0)
         state_code = {
             'done': ext.TrialState.DONE,
             'stopped': ext.TrialState.STOPPED,
@@ -374,7 +399,8 @@ class RobotFirmware:
                 sim.apply_row(self._rows, row)
                 self._row += 1
             elif self._hold_row is not None:
-                sim.apply_row(self._hold_row, 0)
+                sim.apply_row(self._hold_row, min(self._hold_index, self._hold_count - 1))
+                self._hold_index += 1
             sim.set_motor_power(self.motors_on)
             sim.step()
             sim.update_imu()

@@ -1,0 +1,419 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+The base station's side of the robot link, without ROS: what bridge_node does, as a library.
+
+:class:`BaseStation` owns the radio port (and an Xsens on this PC, if any), the link protocol
+(:class:`hexapod_bridge.link.RobotLink`), the IMU history and the trial being measured. Two
+threads serve the ports; commands come from any thread and answer with typed results. What it
+hears is handed to callbacks (IMU samples, the robot's attitude telemetry, a port lost or back),
+and a finished trial comes back from :meth:`BaseStation.finished_trial` as a
+:class:`TrialResult`: the IMU estimate of its displacement in the frame the robot started in.
+bridge_node only turns those into messages.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass, field
+import math
+import threading
+import time
+from typing import Callable
+
+from hexapod_bridge import legacy, xbus
+from hexapod_bridge.extension import TrialState
+from hexapod_bridge.link import Operation, RobotLink
+from hexapod_bridge.odometry import TrialEstimate, TrialOdometry
+from hexapod_bridge.serial_port import ReconnectingPort
+
+#: The robot's reports that end a trial.
+FINAL_STATES = (TrialState.DONE, TrialState.STOPPED, TrialState.FAILSAFE, TrialState.ESTOPPED)
+#: A trial with no report this long after its walk should have ended is closed anyway [s].
+OVERDUE_S = 3.0
+
+
+def _setting(default, description: str, range=None, read_only: bool = True):  # noqa: A002
+    """Declare a StationConfig field with what bridge_node's parameter says of it."""
+    return field(
+        default=default,
+        metadata={'description': description, 'range': range, 'read_only': read_only},
+    )
+
+
+@dataclass(frozen=True)
+class StationConfig:
+    """How the base station reaches the robot: bridge_node's parameters are these fields."""
+
+    port: str = _setting('/tmp/hexapod_radio', 'Serial port of the 433 MHz radio module')
+    baud: int = _setting(19200, 'Radio UART baud rate (the RF1100 modules run 19200 8N1)')
+    imu_port: str = _setting('', "Serial port of an Xsens MTi wired to this PC ('' = none)")
+    imu_baud: int = _setting(115200, 'Xsens baud rate')
+    firmware: str = _setting('v2', "'v2' (gait-upload extension) or 'legacy' (today's firmware)")
+    ping_period: float = _setting(
+        1.0, 'Keep-alive period [s]; the robot stops after ~27 s without pings', range=(0.1, 2.5)
+    )
+    trial_duration: float = _setting(5.0, 'Walk duration of a trial [s]', range=(0.5, 60.0))
+    settle_time: float = _setting(
+        0.5, 'Rest after the walk before the odometry window closes [s]', range=(0.0, 10.0)
+    )
+    pre_trial_buffer: float = _setting(
+        0.3, 'IMU history before a start command in the window [s]', range=(0.0, 5.0)
+    )
+    imu_rate: float = _setting(
+        100.0, "Xsens output rate [Hz] (its sample counter's clock)", range=(1.0, 1000.0)
+    )
+    telemetry_period: float = _setting(
+        0.5,
+        'Robot attitude telemetry period requested on every (re)connect [s] '
+        '(firmware default 0.5)',
+        range=(0.05, 60.0),
+    )
+    reconnect_max_backoff: float = _setting(
+        0.25, 'Longest wait between attempts to reopen a lost port [s]', range=(0.01, 5.0)
+    )
+    arm_on_start: bool = _setting(False, 'Arm (allow transmission) at start-up')
+    leg_map: tuple[int, ...] = _setting(
+        (1, 2, 3, 4, 5, 6),
+        "Robot's leg number for URDF legs 1..6 (a permutation); "
+        '[1, 6, 5, 4, 3, 2] if the firmware keeps its clockwise numbering (unverified)',
+    )
+
+
+@dataclass
+class ActiveTrial:
+    """The trial the station is measuring."""
+
+    odometry: TrialOdometry
+    start: float  # monotonic s when the start was sent
+    crab: float  # walking direction of the gait [rad]
+    duration: float  # s
+    generation: int  # RobotLink.trial_generation once the robot acknowledged this start
+    done_at: float | None = None
+
+
+@dataclass(frozen=True)
+class TrialResult:
+    """A finished trial: the robot's last word on it and the IMU estimate (if any)."""
+
+    state: str  # the robot's final trial state, or NO_REPORT
+    duration: float  # s walked
+    estimate: TrialEstimate | None = None
+    x: float = 0.0  # displacement in the frame the robot started in [m]
+    y: float = 0.0
+    problem: str = ''  # why there is no estimate ('' if there is)
+
+
+@dataclass(frozen=True)
+class LinkSnapshot:
+    """The link's health at one moment (LinkStatus)."""
+
+    connected: bool
+    armed: bool
+    seconds_since_heard: float
+    frames_ok: int
+    checksum_errors: int
+    resyncs: int
+    bytes_dropped: int
+    frames_sent: int
+    retries: int
+    last_error: str
+
+
+class BaseStation:
+    """The robot link, the IMU and the trial in progress (see the module docstring)."""
+
+    def __init__(
+        self,
+        config: StationConfig,
+        on_imu: Callable[[xbus.MTData], None] = lambda m: None,
+        on_attitude: Callable[[legacy.Telemetry], None] = lambda t: None,
+        on_connection: Callable[[bool, str], None] = lambda up, why: None,
+        log_error: Callable[[str], None] = print,
+    ) -> None:
+        self.config = config
+        self.on_imu, self.on_attitude = on_imu, on_attitude
+        self.on_connection, self.log_error = on_connection, log_error
+        self.lock = threading.RLock()
+        # a wrong firmware or leg map must not silently become the default: refuse to start
+        self.link = RobotLink(
+            baud=int(config.baud),
+            ping_period=float(config.ping_period),
+            firmware=str(config.firmware),
+            leg_map=list(config.leg_map),
+        )
+        backoff = float(config.reconnect_max_backoff)
+        self.radio = ReconnectingPort(str(config.port), int(config.baud), backoff)
+        self.imu_port = (
+            ReconnectingPort(str(config.imu_port), int(config.imu_baud), backoff)
+            if config.imu_port
+            else None
+        )
+        self.xbus = xbus.XbusParser()
+        self.gait_id: int | None = None
+        self.gait_crab = 0.0
+        history = int(max(1, config.pre_trial_buffer * config.imu_rate)) + 1
+        self.imu_history: deque = deque(maxlen=history)
+        self.trial: ActiveTrial | None = None
+        self._configured_connects = 0
+        self._was_connected = False
+        self._counter_base = 0
+        self._last_counter: int | None = None
+        if config.arm_on_start:
+            self.link.arm(True, time.monotonic())
+        self._running = True
+        self._threads = [threading.Thread(target=self._radio_loop, name='radio', daemon=True)]
+        if self.imu_port is not None:
+            self._threads.append(threading.Thread(target=self._imu_loop, name='imu', daemon=True))
+
+    def start(self) -> None:
+        """Start serving the ports."""
+        for thread in self._threads:
+            thread.start()
+
+    def stop(self) -> None:
+        """Stop the I/O threads and close the ports."""
+        self._running = False
+        for thread in self._threads:
+            if thread.is_alive():
+                thread.join(timeout=2.0)
+        self.radio.close()
+        if self.imu_port is not None:
+            self.imu_port.close()
+
+    # -- commands ----------------------------------------------------------------------------
+    def wait(
+        self, op: Operation, timeout: float, alive: Callable[[], bool] = lambda: True
+    ) -> bool:
+        """Wait up to ``timeout`` s for the robot to answer ``op``; True if it did."""
+        deadline = time.monotonic() + timeout
+        while not op.done and time.monotonic() < deadline and self._running and alive():
+            time.sleep(0.005)
+        return op.done
+
+    def arm(self, on: bool) -> None:
+        """Allow transmission (or go silent)."""
+        with self.lock:
+            self.link.arm(on, time.monotonic())
+
+    @property
+    def armed(self) -> bool:
+        """Whether the station may transmit."""
+        return self.link.armed
+
+    def upload(self, gait) -> Operation:
+        """Queue a gait for the robot: it goes out once the station is armed."""
+        with self.lock:
+            return self.link.upload(gait)
+
+    def uploaded(self, op: Operation, gait) -> None:
+        """Record a confirmed upload: trials now walk ``gait``."""
+        with self.lock:
+            self.gait_id, self.gait_crab = op.result['gait_id'], gait.crab_angle
+
+    def start_trial(self, alive: Callable[[], bool] = lambda: True) -> tuple[bool, str]:
+        """Start a trial of the uploaded gait; return (started, what happened)."""
+        with self.lock:
+            if not self.link.armed:
+                return False, 'not armed: call ~/arm first'
+            if self.link.firmware == 'v2' and self.gait_id is None:
+                return False, 'no gait uploaded yet: publish gait/parameters first'
+            if self.trial is not None:
+                return False, 'a trial is already running'
+            odometry = TrialOdometry()
+            for sample in self.imu_history:
+                odometry.add(*sample)
+            duration = self.config.trial_duration
+            op = self.link.start_trial(duration, self.gait_id or 0)
+            self.trial = ActiveTrial(
+                odometry,
+                time.monotonic(),
+                self.gait_crab,
+                duration,
+                generation=self.link.trial_generation + 1,
+            )
+        if not self.wait(op, 3.0, alive) or not op.ok:
+            with self.lock:
+                self.trial = None
+            return False, f'robot did not start the trial: {op.message or "no acknowledgement"}'
+        return True, f'trial started: gait {self.gait_id}, {duration:g} s'
+
+    def stop_trial(self) -> tuple[bool, str]:
+        """Stop the walk."""
+        with self.lock:
+            op = self.link.stop_trial()
+        ok = self.wait(op, 3.0) and op.ok
+        return ok, op.message or 'no acknowledgement'
+
+    def emergency_stop(self) -> None:
+        """Send the emergency stop (armed or not) and disarm."""
+        with self.lock:
+            self.link.emergency_stop()
+            self.link.arm(False, time.monotonic())
+
+    def motor_power(self, on: bool) -> Operation:
+        """Servo power on or off; on also clears a latched e-stop."""
+        with self.lock:
+            return self.link.motor_power(on)
+
+    # -- state -------------------------------------------------------------------------------
+    def snapshot(self, now: float) -> LinkSnapshot:
+        """Return the link's health now."""
+        with self.lock:
+            s, p = self.link.stats, self.link.parser.stats
+            heard = self.link.last_heard
+            return LinkSnapshot(
+                connected=self.radio.connected,
+                armed=self.link.armed,
+                seconds_since_heard=(now - heard) if math.isfinite(heard) else math.inf,
+                frames_ok=p.frames_ok,
+                checksum_errors=p.checksum_errors + p.implausible,
+                resyncs=p.resyncs,
+                bytes_dropped=p.bytes_dropped,
+                frames_sent=s.frames_sent,
+                retries=s.retries,
+                last_error=self.radio.last_error,
+            )
+
+    def take_events(self) -> list[tuple[str, object]]:
+        """Return (and forget) what the robot reported since the last call."""
+        with self.lock:
+            events = list(self.link.events)
+            self.link.events.clear()
+        return events
+
+    def finished_trial(self, now: float) -> TrialResult | None:
+        """
+        Return the trial that has just finished, once its settle time is over (else None).
+
+        Only the robot's reports about THIS trial (its acknowledged start) can end it; a trial
+        the robot never reports on ends ``OVERDUE_S`` after its walk should have.
+        """
+        with self.lock:
+            trial = self.trial
+            if trial is None:
+                return None
+            ours = self.link.trial_generation == trial.generation
+            finished = ours and self.link.trial_state in FINAL_STATES
+            overdue = now - trial.start > trial.duration + OVERDUE_S
+            if trial.done_at is None and (finished or overdue):
+                trial.done_at = now
+            if trial.done_at is None or now - trial.done_at < self.config.settle_time:
+                return None
+            self.trial = None
+            state = self.link.trial_state.name if ours else 'NO_REPORT'
+        if self.imu_port is None:
+            return TrialResult(state, trial.duration, problem='no IMU configured')
+        try:
+            est = trial.odometry.estimate(trial.crab, trial.duration)
+        except ValueError as exc:
+            return TrialResult(state, trial.duration, problem=f'no odometry: {exc}')
+        if not (math.isfinite(est.speed) and math.isfinite(est.distance)):
+            return TrialResult(
+                state,
+                trial.duration,
+                problem=f'the IMU estimate is not finite (speed {est.speed!r} m/s)',
+            )
+        # the world displacement, rotated into the frame the robot started the trial in
+        yaw0 = trial.odometry.yaw0 or 0.0
+        c, s = math.cos(-yaw0), math.sin(-yaw0)
+        dx, dy = (float(v) for v in est.displacement)
+        return TrialResult(state, trial.duration, est, c * dx - s * dy, s * dx + c * dy)
+
+    # -- I/O threads -----------------------------------------------------------------------
+    def _guarded(self, body, name: str) -> None:
+        """
+        Run a thread's loop body until stopped.
+
+        An unexpected error is logged (once per kind) and the loop goes on.
+        """
+        seen: set[type] = set()
+        while self._running:
+            try:
+                body()
+            except Exception as exc:  # keep the link alive whatever one iteration hit
+                if not self._running:
+                    return
+                if type(exc) not in seen:
+                    seen.add(type(exc))
+                    self.log_error(f'{name} thread: {exc!r} (continuing)')
+                time.sleep(0.01)
+
+    def _radio_loop(self) -> None:
+        self._guarded(self._radio_once, 'radio')
+
+    def _imu_loop(self) -> None:
+        self._guarded(self._imu_once, 'imu')
+
+    def _radio_once(self) -> None:
+        """One turn of the radio thread: (re)open, read, hand bytes to the link, write."""
+        now = time.monotonic()
+        self._report_connection_change()
+        if not self.radio.ensure_open(now):
+            time.sleep(0.02)
+            return
+        self._report_connection_change()
+        data = self.radio.read(0.005)
+        now = time.monotonic()
+        with self.lock:
+            if self.radio.connects != self._configured_connects:
+                self._configured_connects = self.radio.connects
+                self.link.set_telemetry_period(float(self.config.telemetry_period))
+            frames = self.link.receive(data, now) if data else []
+            out = self.link.poll(now)
+        for frame in out:
+            if not self.radio.write(frame):
+                break
+        for frame in frames:
+            if isinstance(frame, legacy.Telemetry) and self.imu_port is None:
+                self.on_attitude(frame)
+
+    def _report_connection_change(self) -> None:
+        """Tell at once (not at the next status tick) when the port goes or comes."""
+        connected = self.radio.connected
+        if connected != self._was_connected:
+            self._was_connected = connected
+            self.on_connection(connected, self.radio.last_error)
+
+    def _imu_once(self) -> None:
+        now = time.monotonic()
+        if not self.imu_port.ensure_open(now):
+            time.sleep(0.02)
+            return
+        if self.imu_port.connects and self._last_counter is None:
+            self.imu_port.write(xbus.GO_TO_MEASUREMENT)
+        data = self.imu_port.read(0.01)
+        for message in self.xbus.feed(data) if data else []:
+            if isinstance(message, xbus.MTData):
+                self.add_imu(message)
+
+    def add_imu(self, m: xbus.MTData) -> None:
+        """Take one Xsens sample: the IMU history, the trial's window, then ``on_imu``."""
+        # unwrap the uint16 sample counter into a monotonic IMU clock
+        if self._last_counter is not None and m.counter < self._last_counter:
+            self._counter_base += 0x10000
+        self._last_counter = m.counter
+        sample = ((self._counter_base + m.counter) / self.config.imu_rate, m.acc, m.euler)
+        with self.lock:
+            self.imu_history.append(sample)
+            if self.trial is not None:
+                self.trial.odometry.add(*sample)
+        self.on_imu(m)

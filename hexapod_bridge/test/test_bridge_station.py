@@ -1,0 +1,145 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+The base station without ROS: bridge_node's logic against the robot emulator over real ptys.
+
+``robot_emulator`` runs as its own process (PyBullet robot, Xsens on a second pty); the
+:class:`BaseStation` here uploads a gait, refuses what it must, runs a trial and reports it.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from pathlib import Path
+import signal
+import subprocess
+import sys
+import time
+
+from hexapod_bridge.odometry import STEADY_GAIT_ACCURACY
+from hexapod_bridge.station import BaseStation, StationConfig
+from hexapod_gait import preset
+import pytest
+
+
+def _until(predicate, timeout: float, what: str):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(0.01)
+    raise AssertionError(f'timed out after {timeout:g} s waiting for {what}')
+
+
+@pytest.fixture
+def emulator(tmp_path):
+    radio, imu = tmp_path / 'radio', tmp_path / 'imu'
+    log = open(tmp_path / 'emulator.log', 'w')
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            '-m',
+            'hexapod_bridge.emulator.cli',
+            '--radio-link',
+            str(radio),
+            '--imu-link',
+            str(imu),
+            '--sim',
+        ],
+        stdout=log,
+        stderr=subprocess.STDOUT,
+        env=dict(os.environ, PYTHONUNBUFFERED='1'),
+    )
+    try:
+        _until(lambda: radio.exists() and imu.exists(), 60, 'the emulator ports')
+        yield radio, imu, tmp_path / 'emulator.log'
+    finally:
+        proc.send_signal(signal.SIGINT)
+        proc.wait(30)
+        log.close()
+
+
+def test_a_trial_through_the_station_measures_what_the_robot_walked(emulator):
+    radio, imu, log = emulator
+    lost: list[bool] = []
+    station = BaseStation(
+        StationConfig(port=str(radio), imu_port=str(imu)),
+        on_connection=lambda up, why: lost.append(not up),
+    )
+    station.start()
+    try:
+        assert station.start_trial() == (False, 'not armed: call ~/arm first')
+        station.arm(True)
+        assert station.start_trial() == (
+            False,
+            'no gait uploaded yet: publish gait/parameters first',
+        )
+        gait = preset('tripod').replace(crab_angle=0.5)
+        op = station.upload(gait)
+        assert station.wait(op, 20) and op.ok, op.message
+        station.uploaded(op, gait)
+        time.sleep(1.0)  # the robot takes the gait's first pose, then stands still
+        ok, message = station.start_trial()
+        assert ok, message
+        assert station.start_trial() == (False, 'a trial is already running')
+        result = _until(lambda: station.finished_trial(time.monotonic()), 30, 'the trial')
+        assert result.state == 'DONE' and result.problem == '' and result.duration == 5.0
+        truth = json.loads(
+            next(line for line in log.read_text().splitlines() if line.startswith('TRIAL '))[6:]
+        )
+        assert abs(result.estimate.speed - truth['speed']) <= STEADY_GAIT_ACCURACY
+        # the displacement in the start frame points along the gait's walking direction
+        along = result.x * math.cos(0.5) + result.y * math.sin(0.5)
+        assert along == pytest.approx(result.estimate.distance, abs=1e-9)
+        snap = station.snapshot(time.monotonic())
+        assert snap.connected and snap.armed and snap.frames_ok > 0 and not any(lost)
+    finally:
+        station.stop()
+
+
+def test_without_an_imu_a_finished_trial_says_so(emulator):
+    radio, _imu, _log = emulator
+    station = BaseStation(StationConfig(port=str(radio), arm_on_start=True))
+    station.start()
+    try:
+        op = station.upload(preset('tripod'))
+        assert station.wait(op, 20) and op.ok, op.message
+        station.uploaded(op, preset('tripod'))
+        assert station.start_trial()[0]
+        result = _until(lambda: station.finished_trial(time.monotonic()), 30, 'the trial')
+        assert result.estimate is None and result.problem == 'no IMU configured'
+    finally:
+        station.stop()
+
+
+def test_a_port_that_is_not_there_is_reported_not_raised(tmp_path):
+    station = BaseStation(StationConfig(port=str(tmp_path / 'nothing'), arm_on_start=True))
+    station.start()
+    try:
+        time.sleep(0.3)
+        snap = station.snapshot(time.monotonic())
+        assert not snap.connected and 'nothing' in snap.last_error
+        assert math.isinf(snap.seconds_since_heard)
+    finally:
+        station.stop()
