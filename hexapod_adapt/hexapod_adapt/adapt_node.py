@@ -42,21 +42,20 @@ import traceback
 
 from hexapod_adapt.adaptation import adapt, TrialAborted
 from hexapod_adapt.archive import Archive
-from hexapod_adapt.graph_port import GraphPort, qualified, RECORDED_TYPES, RecordedTopics
-from hexapod_adapt.mboa import (
-    ALPHA_RANGE,
-    KAPPA_RANGE,
-    LENGTH_SCALE_RANGE,
-    MAX_TRIALS_LIMIT,
-    MboaConfig,
-    NOISE_RANGE,
+from hexapod_adapt.graph_port import (
+    GraphPort,
+    qualified,
+    RECORDED_TYPES,
+    RecordedTopics,
+    trial_msg,
 )
+from hexapod_adapt.mboa import MboaConfig
 from hexapod_adapt.run_config import (
     engine_note,
     load_for_mode,
     RUN_SETTINGS,
     run_settings,
-    TRIAL_DURATION_RANGE,
+    SETTINGS,
 )
 from hexapod_adapt.run_recording import RunRecording
 from hexapod_adapt.trials import (
@@ -83,47 +82,9 @@ from std_srvs.srv import Trigger
 #: How long a recorded run waits at its start for the URDF and static frames (latched topics).
 LATCHED_GRACE_S = 5.0
 
-PARAMETERS = (
-    ParamSpec(
-        'archive',
-        '',
-        "Archive file (.npz from generate_map; '' = the shipped default map); may be changed at "
-        'run time, a file that fails to load is refused and the last good one kept',
-    ),
-    ParamSpec('mode', 'sim', 'Trials on: sim | robot | manual', read_only=True),
-    ParamSpec('max_trials', 20, 'Default maximum trials per run', range=(1, MAX_TRIALS_LIMIT)),
-    ParamSpec('trial_duration', 5.0, 'Default trial duration [s]', range=TRIAL_DURATION_RANGE),
-    ParamSpec(
-        'alpha',
-        0.9,
-        'Default stop ratio: stop when the best measured speed reaches alpha x the highest '
-        'predicted one',
-        range=ALPHA_RANGE,
-    ),
-    ParamSpec('kappa', 0.05, 'Default UCB weight on the posterior std', range=KAPPA_RANGE),
-    ParamSpec(
-        'length_scale',
-        0.4,
-        'Default Matern length scale rho [descriptor units]',
-        range=LENGTH_SCALE_RANGE,
-    ),
-    ParamSpec('noise', 0.001, 'Default observation noise variance [(m/s)^2]', range=NOISE_RANGE),
-    ParamSpec('record_dir', 'adaptation_runs', "MCAP files go here ('' = no recording)"),
-    ParamSpec('sim_node', 'sim_node', 'Name of the simulator node (mode sim)', read_only=True),
-    ParamSpec(
-        'bridge_node',
-        'bridge_node',
-        'Name of the bridge node (modes robot, manual)',
-        read_only=True,
-    ),
-    ParamSpec('trial_timeout', 120.0, 'Wall-clock limit for one trial [s]', range=(1.0, 3600.0)),
-    ParamSpec(
-        'stand_still',
-        1.0,
-        'Robot modes: seconds the robot stands still before each trial (clean '
-        'zero-velocity IMU window) [s]',
-        range=(0.0, 60.0),
-    ),
+PARAMETERS = tuple(
+    ParamSpec(x.name, x.default, x.description, read_only=x.read_only, range=x.range)
+    for x in SETTINGS
 )
 
 
@@ -330,13 +291,8 @@ class AdaptNode(Node):
         niches = archive.elite_indices()  # M-BOA's candidate index -> niche
 
         def on_trial(trial, niche, opt) -> None:
-            best = opt.best()
-            msg = AdaptationTrial(trial=trial.number, archive_index=int(niche))
+            msg = trial_msg(trial, niche, niches[opt.best().index], opt.best().measured, archive)
             msg.header.stamp = self.get_clock().now().to_msg()
-            msg.map_speed, msg.predicted_speed = trial.predicted, trial.gp_mean
-            msg.predicted_speed_std, msg.measured_speed = trial.gp_std, trial.measured
-            msg.best_speed, msg.best_archive_index = best.measured, int(niches[best.index])
-            msg.descriptor = [float(x) for x in archive.descriptors[niche]]
             msg.gait = gait_to_msg(self.port.gait_of(niche))
             msg.recording = self.recording.problem
             self.trial_pub.publish(msg)
@@ -370,16 +326,9 @@ class AdaptNode(Node):
 
     def _leave_on_best_gait(self, msg, timeout: float) -> None:
         """Leave the robot (or the simulator) walking the best gait found."""
-        if self.mode == 'sim':
-            self.port.gait_pub.publish(msg)
-            return
-        try:
-            answer = self.port.upload_msg(msg, timeout)
-        except TrialAborted as exc:
-            self.get_logger().error(f'could not upload the best gait: {exc}')
-            return
-        if not answer.success:
-            self.get_logger().error(f'could not upload the best gait: {answer.message}')
+        problem = self.port.leave_on(msg, timeout, upload=self.mode != 'sim')
+        if problem:
+            self.get_logger().error(f'could not upload the best gait: {problem}')
 
 
 def main(args: list[str] | None = None) -> int:

@@ -216,6 +216,17 @@ class GraphPort:
         answer = self.upload_msg(msg, timeout)
         return Upload(answer.success, answer.message, answer.archive_index), msg.crab_angle
 
+    def leave_on(self, msg: GaitParametersMsg, timeout: float, upload: bool) -> str:
+        """Leave the simulator (publish) or the robot (``upload``) on a gait; '' or why not."""
+        if not upload:
+            self.gait_pub.publish(msg)
+            return ''
+        try:
+            answer = self.upload_msg(msg, timeout)
+        except TrialAborted as exc:
+            return str(exc)
+        return '' if answer.success else answer.message
+
     def sim_engine(self) -> str | None:
         """sim_node's ``engine`` parameter (None if it does not answer)."""
         if not self.sim_params_client.wait_for_service(timeout_sec=2.0):
@@ -229,6 +240,16 @@ class GraphPort:
         if values and values[0].type == ParameterType.PARAMETER_STRING:
             return values[0].string_value
         return None
+
+
+def trial_msg(trial, niche: int, best_niche: int, best_speed: float, archive) -> AdaptationTrial:
+    """Return the AdaptationTrial of an M-BOA trial (stamp, gait and recording left to fill)."""
+    msg = AdaptationTrial(trial=trial.number, archive_index=int(niche))
+    msg.map_speed, msg.predicted_speed = trial.predicted, trial.gp_mean
+    msg.predicted_speed_std, msg.measured_speed = trial.gp_std, trial.measured
+    msg.best_speed, msg.best_archive_index = best_speed, int(best_niche)
+    msg.descriptor = [float(x) for x in archive.descriptors[niche]]
+    return msg
 
 
 class RecordedTopics:

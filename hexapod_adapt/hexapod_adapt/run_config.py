@@ -27,12 +27,20 @@ match to be used for trials in a mode.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 import math
 import os
 
 from hexapod_adapt.archive import Archive, ArchiveError, compatibility_problems, load_archive
 from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
-from hexapod_adapt.mboa import MboaConfig
+from hexapod_adapt.mboa import (
+    ALPHA_RANGE,
+    KAPPA_RANGE,
+    LENGTH_SCALE_RANGE,
+    MAX_TRIALS_LIMIT,
+    MboaConfig,
+    NOISE_RANGE,
+)
 from hexapod_adapt.simulation import archive_engine, simulation_fingerprint
 
 #: The Adapt request's fields that default to the node's parameter of the same name.
@@ -40,6 +48,66 @@ RUN_SETTINGS = ('max_trials', 'trial_duration', 'alpha', 'kappa', 'length_scale'
 
 #: A trial must cover at least one gait cycle of the controller's default 1 s period.
 TRIAL_DURATION_RANGE = (1.0, 120.0)
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One of adapt_node's parameters: its default, what it means (units) and its range."""
+
+    name: str
+    default: object
+    description: str
+    range: tuple[float, float] | None = None  # noqa: A003 (inclusive)
+    read_only: bool = False
+
+
+_MBOA = MboaConfig()
+
+#: adapt_node's parameters (the run settings default to M-BOA's own defaults).
+SETTINGS = (
+    Setting(
+        'archive',
+        '',
+        "Archive file (.npz from generate_map; '' = the shipped default map); may be changed at "
+        'run time, a file that fails to load is refused and the last good one kept',
+    ),
+    Setting('mode', 'sim', 'Trials on: sim | robot | manual', read_only=True),
+    Setting(
+        'max_trials', _MBOA.max_trials, 'Default maximum trials per run', (1, MAX_TRIALS_LIMIT)
+    ),
+    Setting('trial_duration', 5.0, 'Default trial duration [s]', TRIAL_DURATION_RANGE),
+    Setting(
+        'alpha',
+        _MBOA.alpha,
+        'Default stop ratio: stop when the best measured speed reaches alpha x the highest '
+        'predicted one',
+        ALPHA_RANGE,
+    ),
+    Setting('kappa', _MBOA.kappa, 'Default UCB weight on the posterior std', KAPPA_RANGE),
+    Setting(
+        'length_scale',
+        _MBOA.length_scale,
+        'Default Matern length scale rho [descriptor units]',
+        LENGTH_SCALE_RANGE,
+    ),
+    Setting('noise', _MBOA.noise, 'Default observation noise variance [(m/s)^2]', NOISE_RANGE),
+    Setting('record_dir', 'adaptation_runs', "MCAP files go here ('' = no recording)"),
+    Setting('sim_node', 'sim_node', 'Name of the simulator node (mode sim)', read_only=True),
+    Setting(
+        'bridge_node',
+        'bridge_node',
+        'Name of the bridge node (modes robot, manual)',
+        read_only=True,
+    ),
+    Setting('trial_timeout', 120.0, 'Wall-clock limit for one trial [s]', (1.0, 3600.0)),
+    Setting(
+        'stand_still',
+        1.0,
+        'Robot modes: seconds the robot stands still after an upload, before the trial: the '
+        "robot's 0.5 s move to the gait's first pose plus the bridge's IMU rest window [s]",
+        (0.0, 60.0),
+    ),
+)
 
 
 def run_settings(values: dict) -> tuple[MboaConfig, float]:
