@@ -1,0 +1,244 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+What a map holds under a damage: every one of its gaits evaluated with that damage applied.
+
+The best of them is the ceiling an adaptation run under that damage is measured against (regret:
+adapted speed / ceiling speed). Evaluations are as in adaptation: the trial engine, collisions
+not fatal, the map's trial duration. A ceiling costs one evaluation per gait (about 3 min of one
+core per damage case for the default map on MuJoCo), so each is cached in its own file, keyed by
+what it depends on: the map's gaits, the engine and its settings, the URDF, the gait mapping,
+the trial duration and the damage (:func:`ceiling_key`). A cached file is checked against its
+key when read; a damaged or foreign one is recomputed, never trusted.
+
+    python -m hexapod_adapt.ceiling --scenarios S1 S2 S3 S4 --engine mujoco --workers 2
+"""
+
+from __future__ import annotations
+
+import argparse
+import concurrent.futures as cf
+from dataclasses import dataclass
+import hashlib
+import io
+import json
+import os
+from pathlib import Path
+import sys
+import time
+from typing import Sequence
+import zipfile
+
+from hexapod_adapt.archive import Archive, atomic_write_bytes, load_archive
+from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
+from hexapod_adapt.simulation import simulation_fingerprint, worker_simulator
+from hexapod_description.cli import input_file, number, output_dir, run_command
+from hexapod_sim import ENGINES, evaluate_gaits, validate_failed_legs
+from hexapod_sim.scenarios import scenario, SCENARIO_NAMES
+import numpy as np
+
+FORMAT = 'hexapod-ceiling/v1'
+
+
+@dataclass(frozen=True)
+class Ceiling:
+    """Every elite of a map evaluated under one damage."""
+
+    failed_legs: tuple[int, ...]
+    engine: str
+    niches: np.ndarray  # (n,) archive niche of each elite
+    speeds: np.ndarray  # (n,) m/s along the walking direction, with the damage
+
+    @property
+    def best_index(self) -> int:
+        """Position (in ``niches``) of the fastest gait under the damage."""
+        return int(np.argmax(self.speeds))
+
+    @property
+    def best_speed(self) -> float:
+        """Return the ceiling: the fastest any gait of the map walks with the damage [m/s]."""
+        return float(self.speeds[self.best_index])
+
+    @property
+    def best_niche(self) -> int:
+        """Niche of the fastest gait under the damage."""
+        return int(self.niches[self.best_index])
+
+    def beating(self, speed: float) -> int:
+        """How many gaits walk faster than ``speed`` [m/s] with the damage."""
+        return int(np.sum(self.speeds > speed))
+
+
+def map_digest(archive: Archive) -> str:
+    """SHA-256 of what a ceiling depends on in a map: its elites' niches and genotypes."""
+    niches = archive.elite_indices()
+    h = hashlib.sha256()
+    h.update(np.ascontiguousarray(niches, dtype='<i8').tobytes())
+    h.update(np.ascontiguousarray(archive.genotypes[niches], dtype='<f8').tobytes())
+    return h.hexdigest()
+
+
+def ceiling_key(archive: Archive, failed_legs: Sequence[int], engine: str) -> dict:
+    """Return everything a ceiling depends on (its cache key, stored in the file)."""
+    fp = simulation_fingerprint(engine)
+    return {
+        'format': FORMAT,
+        'map_sha256': map_digest(archive),
+        'engine': engine,
+        'settings_sha256': fp['simulator']['settings_sha256'],
+        'urdf_sha256': fp['urdf_sha256'],
+        'genotype_mapping': fp['genotype_mapping'],
+        'trial_duration': archive.trial_duration,
+        'failed_legs': list(validate_failed_legs(failed_legs)),
+        'collisions_fatal': False,
+    }
+
+
+def cache_path(directory: str | os.PathLike, key: dict) -> Path:
+    """Return the file a ceiling with ``key`` is cached in."""
+    digest = hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()[:16]
+    legs = ''.join(map(str, key['failed_legs'])) or 'intact'
+    return Path(directory) / f'ceiling_{key["engine"]}_legs{legs}_{digest}.npz'
+
+
+def _evaluate(args: tuple[str, tuple[int, ...], float, np.ndarray]) -> np.ndarray:
+    engine, legs, duration, genes = args
+    results = evaluate_gaits(
+        list(genes),
+        worker_simulator(engine),
+        duration=duration,
+        collisions_fatal=False,
+        failed_legs=legs,
+    )
+    return np.array([r.speed for r in results])
+
+
+def compute_ceiling(
+    archive: Archive,
+    failed_legs: Sequence[int],
+    engine: str,
+    workers: int = 1,
+    chunk: int = 64,
+) -> Ceiling:
+    """Evaluate every elite of ``archive`` with ``failed_legs`` on ``engine`` (no cache)."""
+    legs = validate_failed_legs(failed_legs)
+    niches = archive.elite_indices()
+    genes = archive.genotypes[niches]
+    jobs = [
+        (engine, legs, archive.trial_duration, part)
+        for part in np.split(genes, range(chunk, len(genes), chunk))
+        if len(part)
+    ]
+    if workers <= 1:
+        parts = [_evaluate(job) for job in jobs]
+    else:
+        with cf.ProcessPoolExecutor(workers) as pool:
+            parts = list(pool.map(_evaluate, jobs))
+    speeds = np.concatenate(parts) if parts else np.zeros(0)
+    return Ceiling(legs, engine, niches, speeds)
+
+
+def _read(path: Path, key: dict) -> Ceiling | None:
+    """Return the cached ceiling at ``path`` if it is one for ``key`` (None if absent or not)."""
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            stored = json.loads(str(data['key']))
+            niches, speeds = np.asarray(data['niches']), np.asarray(data['speeds'], dtype=float)
+    except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile):
+        return None
+    if stored != key or niches.shape != speeds.shape or not np.all(np.isfinite(speeds)):
+        return None
+    return Ceiling(tuple(key['failed_legs']), key['engine'], niches, speeds)
+
+
+def ceiling(
+    archive: Archive,
+    failed_legs: Sequence[int],
+    engine: str,
+    cache_dir: str | os.PathLike | None = None,
+    workers: int = 1,
+) -> Ceiling:
+    """Return the ceiling of ``archive`` under ``failed_legs`` on ``engine`` (cached if asked)."""
+    key = ceiling_key(archive, failed_legs, engine)
+    path = cache_path(cache_dir, key) if cache_dir is not None else None
+    if path is not None:
+        cached = _read(path, key)
+        if cached is not None and np.array_equal(cached.niches, archive.elite_indices()):
+            return cached
+    result = compute_ceiling(archive, failed_legs, engine, workers)
+    if path is not None:
+        buf = io.BytesIO()
+        np.savez_compressed(
+            buf,
+            key=np.array(json.dumps(key, sort_keys=True)),
+            niches=result.niches,
+            speeds=result.speeds,
+        )
+        atomic_write_bytes(path, buf.getvalue())
+    return result
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the command-line options of ``python -m hexapod_adapt.ceiling``."""
+    ap = argparse.ArgumentParser(
+        prog='ceiling', description='Cache the ceilings of a map: every gait under each damage.'
+    )
+    ap.add_argument(
+        '--archive', type=input_file, default=None, help='map (default: the shipped default map)'
+    )
+    ap.add_argument('--engine', choices=ENGINES, default='mujoco', help='trial engine')
+    ap.add_argument(
+        '--scenarios',
+        nargs='+',
+        choices=SCENARIO_NAMES,
+        default=['S1', 'S2', 'S3', 'S4'],
+        help='failure scenarios (every orientation of each)',
+    )
+    ap.add_argument(
+        '--cache-dir', type=output_dir, required=True, help='where ceilings are cached'
+    )
+    ap.add_argument('--workers', type=number(int, 1, 256), default=1, help='worker processes')
+    return ap
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Compute (or find in the cache) every ceiling asked for; one line per damage case."""
+    args = build_parser().parse_args(argv)
+
+    def run() -> int:
+        archive = load_archive(args.archive or shipped_map(DEFAULT_MAP))
+        for name in args.scenarios:
+            for legs in scenario(name):
+                t0 = time.monotonic()
+                c = ceiling(archive, legs, args.engine, args.cache_dir, args.workers)
+                print(
+                    f'{args.engine} {name} legs {",".join(map(str, legs)) or "-":4s} ceiling'
+                    f' {c.best_speed:.3f} m/s (gait {c.best_niche}), {len(c.speeds)} gaits,'
+                    f' {time.monotonic() - t0:.0f} s',
+                    flush=True,
+                )
+        return 0
+
+    return run_command('ceiling', run, 'finished damage cases are cached; run again to go on')
+
+
+if __name__ == '__main__':
+    sys.exit(main())
