@@ -38,6 +38,8 @@ setup(
             [m for m in glob('maps/*.npz') if not m.endswith('.ckpt.npz')]
             + glob('maps/*.log.jsonl'),
         ),
+        # the default map's cached ceilings (hexapod_adapt.ceiling; maps/make_ceilings.sh)
+        (f'share/{package_name}/maps/ceilings', glob('maps/ceilings/*.npz')),
     ],
     install_requires=['setuptools'],
     zip_safe=True,

@@ -30,7 +30,6 @@ from __future__ import annotations
 import json
 import math
 import os
-from pathlib import Path
 import signal
 import subprocess
 import sys
