@@ -334,10 +334,12 @@ def bench_adapt() -> None:
 
     from hexapod_adapt.adaptation import run_experiment
     from hexapod_adapt.archive import load_archive
-    from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
+    from hexapod_adapt.ceiling import cache_path, ceiling, ceiling_key
+    from hexapod_adapt.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
     from hexapod_adapt.mboa import Mboa, MboaConfig
     from hexapod_adapt.simulation import archive_engine
     from hexapod_sim import ENGINES
+    from hexapod_sim.scenarios import scenario
 
     rng = np.random.default_rng(0)
     descriptors, prior = rng.random((40000, 6)), rng.uniform(0.1, 0.45, 40000)
@@ -357,8 +359,34 @@ def bench_adapt() -> None:
     print(f'BENCH adapt_map_gaits {archive.n_filled} gaits')
     map_engine = archive_engine(archive.metadata) or 'pybullet'
     other = next(e for e in ENGINES if e != map_engine)
+    cached = shipped_ceilings()
+
+    def ceilings(legs, engine):  # cached ones only: a missing PyBullet ceiling costs 20 min
+        key = ceiling_key(archive, legs, engine)
+        return (
+            ceiling(archive, legs, engine, cached) if cache_path(cached, key).is_file() else None
+        )
+
     for engine, suffix in ((map_engine, ''), (other, '_cross')):
-        rows = run_experiment(archive, trial_engine=engine)
+        have = all(
+            ceilings(legs, engine) is not None
+            for name in ('S1', 'S2', 'S3', 'S4')
+            for legs in scenario(name)
+        )
+        rows = run_experiment(archive, trial_engine=engine, ceilings=ceilings if have else None)
+        if have:
+            ratios = {r.scenario: [] for r in rows}
+            for r in rows:
+                ratios[r.scenario].append(r.ratio)
+            for name, values in ratios.items():
+                print(f'BENCH adapt_ceiling_ratio_median_{name}{suffix} {np.median(values):.3f} 1')
+            print(f'BENCH adapt_ceiling_ratio_min{suffix} {min(r.ratio for r in rows):.3f} 1')
+        else:
+            print(f'# no cached ceilings for {engine} in {cached}: no ratios', file=sys.stderr)
+        print(
+            f'BENCH adapt_walking_s_median{suffix}'
+            f' {np.median([r.walking_time for r in rows]):.1f} s'
+        )
         best = np.array([r.best_speed for r in rows])
         control = np.array([r.control_speed for r in rows])
         print(f'BENCH adapt_speed_mean{suffix} {best.mean():.3f} m/s')

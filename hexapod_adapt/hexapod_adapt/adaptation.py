@@ -29,10 +29,10 @@ or, in ``adapt_node``, a trial through the ROS graph on the simulator or the rob
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 import math
 import time
-from typing import Callable, Sequence
+from typing import Callable, Sequence, TYPE_CHECKING
 
 from hexapod_adapt.archive import Archive
 from hexapod_adapt.mboa import Mboa, MboaConfig, StopReason, Trial
@@ -41,6 +41,9 @@ from hexapod_gait import preset
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig, Simulator
 from hexapod_sim.scenarios import scenario as orientations_of
 import numpy as np
+
+if TYPE_CHECKING:  # the ceiling module imports this one's siblings only
+    from hexapod_adapt.ceiling import Ceiling
 
 
 @dataclass
@@ -163,6 +166,11 @@ class ExperimentRow:
     elapsed: float  # wall-clock seconds of the run (simulated trials)
     map_engine: str  # engine that made the map
     trial_engine: str  # engine the trials ran on (another one: a stand-in for the reality gap)
+    walking_time: float = 0.0  # s walked in trials (trials x trial duration)
+    ceiling_speed: float = float('nan')  # the map's best gait with this damage [m/s] (if asked)
+    ceiling_niche: int = -1
+    ratio: float = float('nan')  # best_speed / ceiling_speed (regret = 1 - ratio)
+    gaits_beating_intact_control: int = -1  # map gaits faster than the intact tripod, damaged
 
 
 def run_experiment(
@@ -171,6 +179,7 @@ def run_experiment(
     config: MboaConfig | None = None,
     on_row: Callable[[ExperimentRow], None] | None = None,
     trial_engine: str | None = None,
+    ceilings: Callable[[Sequence[int], str], 'Ceiling'] | None = None,
 ) -> list[ExperimentRow]:
     """
     Thesis experiment 5.2 on one map.
@@ -178,7 +187,9 @@ def run_experiment(
     Adapt in every orientation of each failure scenario (library trials in the simulator,
     collisions not fatal), next to the control tripod gait. Trials run on ``trial_engine``
     (default: the engine that made the map). Without ``config``: the thesis's settings with
-    :data:`EXPERIMENT_MAX_TRIALS`.
+    :data:`EXPERIMENT_MAX_TRIALS`. With ``ceilings(failed_legs, engine)`` (e.g.
+    :func:`hexapod_adapt.ceiling.ceiling` over a cache), each row also gets the map's ceiling
+    under its damage and the adapted/ceiling ratio.
     """
     config = config or MboaConfig(max_trials=EXPERIMENT_MAX_TRIALS)
     map_engine = archive_engine(archive.metadata) or 'pybullet'
@@ -206,7 +217,17 @@ def run_experiment(
                     result.elapsed,
                     map_engine,
                     trial_engine,
+                    walking_time=len(result.trials) * archive.trial_duration,
                 )
+                if ceilings is not None:
+                    c = ceilings(legs, trial_engine)
+                    row = replace(
+                        row,
+                        ceiling_speed=c.best_speed,
+                        ceiling_niche=c.best_niche,
+                        ratio=result.best_speed / c.best_speed,
+                        gaits_beating_intact_control=c.beating(intact),
+                    )
                 rows.append(row)
                 if on_row:
                     on_row(row)

@@ -43,6 +43,7 @@ import sys
 
 from hexapod_adapt.adaptation import EXPERIMENT_MAX_TRIALS, ExperimentRow, run_experiment
 from hexapod_adapt.archive import ArchiveError, atomic_write_bytes, load_archive
+from hexapod_adapt.ceiling import ceiling
 from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
 from hexapod_adapt.mboa import (
     ALPHA_RANGE,
@@ -82,7 +83,7 @@ def summary(rows: list[ExperimentRow]) -> str:
     """
     lines = [
         'trials on  scenario  runs  trials med/max  adapted med/mean m/s  beat control  control'
-        ' m/s  intact m/s'
+        ' m/s  intact m/s  adapted/ceiling med/min'
     ]
     for engine in dict.fromkeys(r.trial_engine for r in rows):
         for name in dict.fromkeys(r.scenario for r in rows):
@@ -96,6 +97,12 @@ def summary(rows: list[ExperimentRow]) -> str:
                 f' / {max(r.trials for r in sel):3d}      {np.median(best):+.3f} /'
                 f' {np.mean(best):+.3f}      {int(np.sum(best > control)):3d} of {len(sel):2d}   '
                 f' {np.mean(control):+.3f}       {sel[0].intact_control_speed:+.3f}'
+                + (
+                    f'      {np.median([r.ratio for r in sel]):.2f} /'
+                    f' {min(r.ratio for r in sel):.2f}'
+                    if all(r.ceiling_niche >= 0 for r in sel)
+                    else ''
+                )
             )
     return '\n'.join(lines)
 
@@ -156,6 +163,17 @@ def main(argv: list[str] | None = None) -> int:
         default=0.001,
         help='GP noise variance [(m/s)^2]',
     )
+    ap.add_argument(
+        '--ceilings',
+        type=output_dir,
+        default=None,
+        help="cache of the map's ceilings (every gait under each damage; computed if missing, "
+        "about 3 min of one core per damage case on MuJoCo, 20 on PyBullet): adds each run's "
+        'ceiling and adapted/ceiling ratio',
+    )
+    ap.add_argument(
+        '--workers', type=number(int, 1, 256), default=1, help='processes for missing ceilings'
+    )
     ap.add_argument('--out', type=output_file, help='CSV file of the runs')
     ap.add_argument(
         '--out-dir',
@@ -187,15 +205,31 @@ def _experiment(args: argparse.Namespace) -> int:
         print(
             f'{r.trial_engine:8s} {r.scenario} legs {",".join(map(str, r.failed_legs)):4s}'
             f' {r.trials:3d} trials  adapted {r.best_speed:+.3f} m/s  control'
-            f' {r.control_speed:+.3f} m/s',
+            f' {r.control_speed:+.3f} m/s'
+            + (
+                f'  ceiling {r.ceiling_speed:.3f} m/s, ratio {r.ratio:.2f}'
+                if r.ceiling_niche >= 0
+                else ''
+            ),
             flush=True,
         )
+
+    ceilings = None
+    if args.ceilings is not None:
+
+        def ceilings(legs, engine):
+            return ceiling(archive, legs, engine, args.ceilings, args.workers)
 
     rows: list[ExperimentRow] = []
     try:
         for engine in engines:
             rows += run_experiment(
-                archive, args.scenarios, config, on_row=show, trial_engine=engine
+                archive,
+                args.scenarios,
+                config,
+                on_row=show,
+                trial_engine=engine,
+                ceilings=ceilings,
             )
     except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the completed runs are kept
         if rows:
@@ -206,7 +240,10 @@ def _experiment(args: argparse.Namespace) -> int:
     _write_csv(args, rows)
     if args.out_dir:
         for path in plot_experiment(
-            rows, args.out_dir / 'adapted_speed.png', args.out_dir / 'trials.png'
+            rows,
+            args.out_dir / 'adapted_speed.png',
+            args.out_dir / 'trials.png',
+            args.out_dir / 'ceiling_ratio.png',
         ):
             print(f'wrote {path}')
     return 0

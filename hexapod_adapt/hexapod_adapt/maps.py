@@ -33,6 +33,7 @@ from pathlib import Path
 PACKAGE = 'hexapod_adapt'
 DEFAULT_MAP = 'default_map.npz'
 DEMO_MAP = 'demo_map.npz'
+CEILINGS = 'ceilings'  # the default map's cached ceilings (hexapod_adapt.ceiling)
 
 
 def _candidates(name: str) -> list[Path]:
@@ -58,3 +59,9 @@ def shipped_map(name: str = DEFAULT_MAP) -> Path:
     """
     candidates = _candidates(name)
     return next((p for p in candidates if p.is_file()), candidates[0])
+
+
+def shipped_ceilings() -> Path:
+    """Return where the shipped maps' ceilings are cached: installed, else the source tree."""
+    candidates = _candidates(CEILINGS)
+    return next((p for p in candidates if p.is_dir()), candidates[-1])

@@ -149,9 +149,17 @@ def plot_projections(archive: Archive, out: str | Path, bins: int = 20, title: s
 
 
 def plot_experiment(
-    rows: Sequence[Any], out_speed: str | Path, out_trials: str | Path
-) -> tuple[Path, Path]:
-    """Box plots of an adaptation experiment (rows: hexapod_adapt.adaptation.ExperimentRow)."""
+    rows: Sequence[Any],
+    out_speed: str | Path,
+    out_trials: str | Path,
+    out_ratio: str | Path | None = None,
+) -> tuple[Path, ...]:
+    """
+    Box plots of an adaptation experiment (rows: hexapod_adapt.adaptation.ExperimentRow).
+
+    Adapted speed and trials; with ``out_ratio`` and rows that carry ceilings, adapted/ceiling
+    too.
+    """
     if not rows:
         raise ValueError('no experiment rows to draw')
     scenarios = sorted({r.scenario for r in rows})
@@ -159,7 +167,11 @@ def plot_experiment(
     width = 0.8 / len(engines)
     colours = ['tab:blue', 'tab:orange', 'tab:green']
     figures = []
-    for quantity, ylabel in (('best_speed', 'adapted speed (m/s)'), ('trials', 'trials')):
+    quantities = [('best_speed', 'adapted speed (m/s)'), ('trials', 'trials')]
+    with_ratio = out_ratio is not None and all(r.ceiling_niche >= 0 for r in rows)
+    if with_ratio:
+        quantities.append(('ratio', "adapted / the map's best gait with the damage"))
+    for quantity, ylabel in quantities:
         fig, ax = plt.subplots(figsize=(2.2 + 1.6 * len(scenarios), 5.2))
         for k, engine in enumerate(engines):
             data = [
@@ -218,10 +230,13 @@ def plot_experiment(
                     lw=1.2,
                     label=f'control tripod, intact ({engine})',
                 )
-        else:
+        elif quantity == 'trials':
             ax.axhline(
                 TWO_MINUTES_OF_TRIALS, color='tab:red', ls='--', label='24 trials = 2 minutes'
             )
+        else:
+            ax.axhline(1.0, color='k', ls=':', lw=1.0, label='the ceiling')
+            ax.axhline(0.9, color='tab:red', ls='--', lw=1.0, label='0.9 of the ceiling')
         ax.set_xticks(range(len(scenarios)), scenarios)
         ax.set_xlabel('failure scenario')
         ax.set_ylabel(ylabel)
@@ -230,4 +245,5 @@ def plot_experiment(
         ax.legend(fontsize=7, loc='upper center', bbox_to_anchor=(0.5, -0.14), ncol=2)
         fig.tight_layout()
         figures.append(fig)
-    return _save(figures[0], out_speed), _save(figures[1], out_trials)
+    saved = (_save(figures[0], out_speed), _save(figures[1], out_trials))
+    return saved + ((_save(figures[2], out_ratio),) if with_ratio else ())

@@ -136,3 +136,32 @@ def test_plot_map_draws_a_map_and_a_log_in_progress(tmp_path):
         timeout=60,
     )
     assert bad.returncode == 2 and ': no such file' in bad.stderr
+
+
+def test_each_run_is_measured_against_the_maps_ceiling_under_its_damage(tmp_path):
+    # the command line: ceilings computed into a cache, ratios in the CSV, a ratio plot
+    r = _run(
+        '--archive',
+        str(DEMO_MAP),
+        '--scenarios',
+        'S2',
+        '--trial-engine',
+        'mujoco',
+        '--max-trials',
+        '4',
+        '--ceilings',
+        str(tmp_path / 'ceilings'),
+        '--out-dir',
+        str(tmp_path / 'out'),
+    )
+    assert r.returncode == 0, r.stderr
+    rows = list(csv.DictReader((tmp_path / 'out' / 'runs.csv').open()))
+    assert len(list((tmp_path / 'ceilings').glob('ceiling_mujoco_legs*.npz'))) == 3
+    for row in rows:
+        best, ceiling = float(row['best_speed']), float(row['ceiling_speed'])
+        # same engine, same evaluation: the adapted gait is one of the gaits the ceiling ranks
+        assert 0 < best <= ceiling and float(row['ratio']) == pytest.approx(best / ceiling)
+        assert float(row['walking_time']) == 5.0 * int(row['trials'])
+        assert int(row['gaits_beating_intact_control']) >= 0
+    assert (tmp_path / 'out' / 'ceiling_ratio.png').is_file()
+    assert 'adapted/ceiling med/min' in r.stdout
