@@ -214,11 +214,8 @@ def _experiment(args: argparse.Namespace) -> int:
             flush=True,
         )
 
-    ceilings = None
-    if args.ceilings is not None:
-
-        def ceilings(legs, engine):
-            return ceiling(archive, legs, engine, args.ceilings, args.workers)
+    def ceilings(legs, engine):
+        return ceiling(archive, legs, engine, args.ceilings, args.workers)
 
     rows: list[ExperimentRow] = []
     try:
@@ -229,7 +226,7 @@ def _experiment(args: argparse.Namespace) -> int:
                 config,
                 on_row=show,
                 trial_engine=engine,
-                ceilings=ceilings,
+                ceilings=ceilings if args.ceilings is not None else None,
             )
     except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the completed runs are kept
         if rows:
