@@ -361,15 +361,13 @@ def bench_adapt() -> None:
     other = next(e for e in ENGINES if e != map_engine)
     cached = shipped_ceilings()
 
-    def ceilings(legs, engine):  # cached ones only: a missing PyBullet ceiling costs 20 min
-        key = ceiling_key(archive, legs, engine)
-        return (
-            ceiling(archive, legs, engine, cached) if cache_path(cached, key).is_file() else None
-        )
+    def ceilings(legs, engine):
+        return ceiling(archive, legs, engine, cached)
 
     for engine, suffix in ((map_engine, ''), (other, '_cross')):
+        # cached ceilings only: a missing PyBullet ceiling costs 20 min of one core
         have = all(
-            ceilings(legs, engine) is not None
+            cache_path(cached, ceiling_key(archive, legs, engine)).is_file()
             for name in ('S1', 'S2', 'S3', 'S4')
             for legs in scenario(name)
         )

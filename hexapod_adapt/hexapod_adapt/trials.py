@@ -36,11 +36,11 @@ a :class:`Waiter`. Speeds are measured along the gait's walking direction (its c
 from __future__ import annotations
 
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 import math
 import threading
 import time
-from typing import Callable, Protocol
+from typing import Callable, ClassVar, Protocol
 
 from hexapod_adapt.adaptation import TrialAborted
 
@@ -190,26 +190,17 @@ class TrialTiming:
     stand_still: float = 1.0  # robot modes: rest before the start (clean IMU window) [s]
 
 
+@dataclass
 class SimTrials:
     """Mode ``sim``: trials through gait_node + sim_node on sim time."""
 
-    ATTEMPTS = 3
+    ATTEMPTS: ClassVar[int] = 3
 
-    def __init__(
-        self,
-        port: TrialPort,
-        odom: OdomLog,
-        waiter: Waiter,
-        timing: TrialTiming,
-        warn: Callable[[str], None],
-    ):
-        self.port, self.odom, self.waiter, self.timing, self.warn = (
-            port,
-            odom,
-            waiter,
-            timing,
-            warn,
-        )
+    port: TrialPort
+    odom: OdomLog
+    waiter: Waiter
+    timing: TrialTiming
+    warn: Callable[[str], None]
 
     def __call__(self, niche: int) -> float:
         """Measure the speed of the gait of ``niche`` [m/s]."""
@@ -261,20 +252,16 @@ def _uploaded(port: TrialPort, niche: int, timeout: float) -> float:
     return crab
 
 
+@dataclass
 class RobotTrials:
     """Mode ``robot``: trials through bridge_node, measured by its IMU odometry."""
 
-    def __init__(
-        self,
-        port: TrialPort,
-        odom: OdomLog,
-        waiter: Waiter,
-        timing: TrialTiming,
-        sleep: Callable[[float], None] = time.sleep,
-        clock: Callable[[], float] = time.monotonic,
-    ):
-        self.port, self.odom, self.waiter, self.timing = port, odom, waiter, timing
-        self.sleep, self.clock = sleep, clock
+    port: TrialPort
+    odom: OdomLog
+    waiter: Waiter
+    timing: TrialTiming
+    sleep: Callable[[float], None] = time.sleep
+    clock: Callable[[], float] = time.monotonic
 
     def __call__(self, niche: int) -> float:
         """Measure the speed of the gait of ``niche`` [m/s]."""
@@ -299,19 +286,16 @@ def reported_distance_problem(distance: float) -> str:
     return ''
 
 
+@dataclass
 class ManualTrials:
     """Mode ``manual``: the robot walks the uploaded gait; the operator reports the distance."""
 
-    def __init__(
-        self,
-        port: TrialPort,
-        waiter: Waiter,
-        timing: TrialTiming,
-        prompt: Callable[[str], None],
-    ):
-        self.port, self.waiter, self.timing, self.prompt = port, waiter, timing, prompt
-        self._reported: list[float] = []
-        self.waiting = False
+    port: TrialPort
+    waiter: Waiter
+    timing: TrialTiming
+    prompt: Callable[[str], None]
+    waiting: bool = False
+    _reported: list[float] = field(default_factory=list)
 
     def report(self, distance: float) -> str:
         """Take the operator's distance [m]; return why it was refused ('' if taken)."""

@@ -42,38 +42,8 @@ import numpy as np
 
 
 def run_trial(sim: Simulator, gait, seed: int, noise: ImuNoise | None) -> tuple[float, float]:
-    fw = RobotFirmware(sim=sim, imu_noise=noise, seed=seed)
-    link, xp, history = RobotLink(), XbusParser(), deque(maxlen=31)
-    t, odometry, start, done_at, uploaded_at = 0.0, None, None, None, None
-    link.arm(True, t)
-    upload = link.upload(gait)
-    while t < 12.0:
-        t += 0.002
-        for frame in link.poll(t):
-            fw.receive(frame, t)
-        radio, imu = fw.advance(t)
-        link.receive(radio, t)
-        for m in xp.feed(imu):
-            if isinstance(m, MTData):
-                sample = (m.counter / 100.0, m.acc, m.euler)
-                history.append(sample)
-                if odometry is not None:
-                    odometry.add(*sample)
-        if upload.done and uploaded_at is None:
-            uploaded_at = t  # the robot takes the gait's first pose, then stands still
-        # adapt_node stands the robot still 1 s after an upload before it starts a trial
-        if uploaded_at is not None and start is None and t > uploaded_at + 1.0:
-            assert upload.ok, upload.message
-            odometry = TrialOdometry()
-            for sample in history:  # bridge_node opens the window 0.3 s early
-                odometry.add(*sample)
-            start = link.start_trial(5.0, upload.result['gait_id'])
-        if start is not None and done_at is None and link.trial_state.name == 'DONE':
-            done_at = t
-        if done_at is not None and t > done_at + 0.5:
-            break
-    truth = fw.trials[-1].summary()['speed']
-    return truth, odometry.estimate(gait.crab_angle, 5.0).speed
+    """Walk one trial of ``gait`` on a fresh emulated robot: (its true speed, the IMU's) [m/s]."""
+    return ConsecutiveTrials(sim, seed, noise).trial(gait)
 
 
 def test_imu_speed_estimate_accuracy():
@@ -106,9 +76,9 @@ class ConsecutiveTrials:
     walk done (settle_time).
     """
 
-    def __init__(self, sim: Simulator, seed: int) -> None:
+    def __init__(self, sim: Simulator, seed: int, noise: ImuNoise | None = ImuNoise()) -> None:
         self.sim = sim
-        self.fw = RobotFirmware(sim=sim, imu_noise=ImuNoise(), seed=seed)
+        self.fw = RobotFirmware(sim=sim, imu_noise=noise, seed=seed)
         self.link, self.xp, self.history = RobotLink(), XbusParser(), deque(maxlen=31)
         self.t = 0.0
         self.odometry: TrialOdometry | None = None

@@ -94,10 +94,9 @@ def _quiet_stdout():
 
 @dataclass(frozen=True)
 class _Rows:
-    """Prepared rows: the healthy legs' targets as Python lists (what PyBullet takes fastest)."""
+    """Prepared rows: the healthy legs' position targets as Python lists (PyBullet's fastest)."""
 
     q: list
-    v: list
 
 
 class PyBulletSimulator(Simulator):
@@ -231,8 +230,8 @@ class PyBulletSimulator(Simulator):
     def prepare_rows(self, positions: np.ndarray, velocities: np.ndarray) -> _Rows:
         slots = self._active_slots
         q = np.clip(np.atleast_2d(positions), self.lower, self.upper)[:, slots]
-        v = np.clip(np.atleast_2d(velocities), -self.max_velocity, self.max_velocity)[:, slots]
-        return _Rows(q.tolist(), v.tolist())
+        # ``velocities`` go unused: the servos get position targets only (see apply_row)
+        return _Rows(q.tolist())
 
     def apply_row(self, rows: Any, index: int) -> None:
         # position targets only, as the thesis's simulator commands them (its listing 3.6) and
