@@ -21,13 +21,18 @@
 """
 The behaviour-performance map (archive) file: one self-describing ``.npz`` (ROS-free).
 
-An archive has one row per niche (a CVT centroid in the 6-D duty-factor space):
+An archive has one row per niche (a CVT centroid in its descriptor space). Its metadata
+``kind`` (:data:`MAP_KINDS`) says which space; a gait map (the thesis's, the default) is:
 
     centroids   (n, 6)   niche centres, 0..1
     fitness     (n,)     metres walked along the walking direction in ``trial_duration``
                          seconds (thesis 4.1.1); NaN where the niche is empty
     descriptors (n, 6)   measured duty factor per leg of the elite (eq. 4.2); NaN if empty
     genotypes   (n, 32)  the elite's genes, 0..1 (mapping ``genotype_mapping``); NaN if empty
+
+A navigation repertoire (docs/navigation.md) has 2-D descriptors (the body's displacement in
+its start frame, scaled to 0..1), 34-gene omni genotypes, and as fitness minus the heading
+change [rad].
 
 plus a JSON metadata record (format version, evaluations, seed, centroid hash, genotype
 mapping version, URDF and simulator fingerprints, creation time, tool version, ...).
@@ -54,11 +59,48 @@ import tempfile
 from typing import Any, BinaryIO, Iterator, Mapping
 
 from hexapod_gait import GENOTYPE_MAPPING_VERSION, GENOTYPE_SIZE
+from hexapod_gait.parameters import OMNI_GENOTYPE_SIZE, OMNI_MAPPING_VERSION
 import numpy as np
 
 FORMAT = 'hexapod-archive'
 FORMAT_VERSION = 1
-DESCRIPTOR_DIM = 6
+DESCRIPTOR_DIM = 6  # a gait map's (thesis 4.2.1)
+
+
+@dataclass(frozen=True)
+class MapKind:
+    """What an archive's rows mean: its descriptor space and its genotype mapping."""
+
+    name: str
+    descriptor_dim: int
+    genotype_mapping: str
+    genotype_size: int
+    fitness: str  # what the fitness measures, for people
+
+
+#: The kinds of map; an archive without ``kind`` in its metadata is a gait map.
+MAP_KINDS: dict[str, MapKind] = {
+    'gait': MapKind(
+        'gait',
+        DESCRIPTOR_DIM,
+        GENOTYPE_MAPPING_VERSION,
+        GENOTYPE_SIZE,
+        'metres walked along the walking direction',
+    ),
+    'navigation': MapKind(
+        'navigation', 2, OMNI_MAPPING_VERSION, OMNI_GENOTYPE_SIZE, 'minus the heading change [rad]'
+    ),
+}
+
+
+def map_kind(name: Any) -> MapKind:
+    """Return the kind an archive names; ArchiveError lists the known ones."""
+    kind = MAP_KINDS.get(name) if isinstance(name, str) else None
+    if kind is None:
+        raise ArchiveError(f'unknown map kind {name!r}; known: {", ".join(MAP_KINDS)}')
+    return kind
+
+
 TOOL_VERSION = 'hexapod_adapt 0.1.0'
 _ARRAYS = ('centroids', 'fitness', 'descriptors', 'genotypes')
 
@@ -108,25 +150,33 @@ class Archive:
         self.fitness = np.asarray(self.fitness, dtype=float)
         self.descriptors = np.asarray(self.descriptors, dtype=float)
         self.genotypes = np.asarray(self.genotypes, dtype=float)
-        _check_arrays(self.centroids, self.fitness, self.descriptors, self.genotypes)
+        kind = map_kind(self.metadata.get('kind', 'gait'))
+        _check_arrays(self.centroids, self.fitness, self.descriptors, self.genotypes, kind)
         self.metadata.setdefault('format', FORMAT)
         self.metadata.setdefault('format_version', FORMAT_VERSION)
         self.metadata['niches'] = int(len(self.centroids))
         self.metadata['centroid_hash'] = centroid_hash(self.centroids)
-        self.metadata.setdefault('genotype_mapping', GENOTYPE_MAPPING_VERSION)
+        self.metadata.setdefault('genotype_mapping', kind.genotype_mapping)
         self.metadata.setdefault('trial_duration', 5.0)
 
     @classmethod
     def empty(cls, centroids: np.ndarray, metadata: Mapping[str, Any] | None = None) -> 'Archive':
-        """Return an archive with these centroids and no elite."""
+        """Return an archive with these centroids and no elite (its kind from ``metadata``)."""
         n = len(centroids)
+        meta = dict(metadata or {})
+        kind = map_kind(meta.get('kind', 'gait'))
         return cls(
             np.asarray(centroids, dtype=float),
             np.full(n, np.nan),
-            np.full((n, DESCRIPTOR_DIM), np.nan),
-            np.full((n, GENOTYPE_SIZE), np.nan),
-            dict(metadata or {}),
+            np.full((n, kind.descriptor_dim), np.nan),
+            np.full((n, kind.genotype_size), np.nan),
+            meta,
         )
+
+    @property
+    def kind(self) -> MapKind:
+        """Return what the rows mean (metadata ``kind``; a gait map if it does not say)."""
+        return map_kind(self.metadata.get('kind', 'gait'))
 
     # -- views ------------------------------------------------------------------------------
     @property
@@ -230,17 +280,20 @@ def _check_arrays(
     fitness: np.ndarray,
     descriptors: np.ndarray,
     genotypes: np.ndarray,
+    kind: MapKind,
     where: str = 'archive',
 ) -> None:
-    if centroids.ndim != 2 or centroids.shape[1] != DESCRIPTOR_DIM or len(centroids) == 0:
+    dim = kind.descriptor_dim
+    if centroids.ndim != 2 or centroids.shape[1] != dim or len(centroids) == 0:
         raise ArchiveError(
-            f'{where}: centroids must be (n, {DESCRIPTOR_DIM}) with n >= 1, got {centroids.shape}'
+            f'{where}: centroids of a {kind.name} map must be (n, {dim}) with n >= 1, got'
+            f' {centroids.shape}'
         )
     n = len(centroids)
     for name, arr, shape in (
         ('fitness', fitness, (n,)),
-        ('descriptors', descriptors, (n, DESCRIPTOR_DIM)),
-        ('genotypes', genotypes, (n, GENOTYPE_SIZE)),
+        ('descriptors', descriptors, (n, dim)),
+        ('genotypes', genotypes, (n, kind.genotype_size)),
     ):
         if arr.shape != shape:
             raise ArchiveError(
@@ -387,11 +440,21 @@ def load_archive(path: str | os.PathLike) -> Archive:
     except (json.JSONDecodeError, RecursionError) as exc:
         raise ArchiveError(f'{path}: metadata is not valid JSON ({exc})') from exc
     meta = check_metadata(meta, str(path))
+    try:
+        kind = map_kind(meta.get('kind', 'gait'))
+    except ArchiveError as exc:
+        raise ArchiveError(f'{path}: {exc}') from None
+    if meta.get('genotype_mapping', kind.genotype_mapping) != kind.genotype_mapping:
+        raise ArchiveError(
+            f'{path}: a {kind.name} map holds {kind.genotype_mapping} genotypes, not'
+            f' {meta.get("genotype_mapping")!r}'
+        )
     _check_arrays(
         arrays['centroids'],
         arrays['fitness'],
         arrays['descriptors'],
         arrays['genotypes'],
+        kind,
         where=str(path),
     )
     if meta.get('centroid_hash') != centroid_hash(arrays['centroids']):
@@ -418,17 +481,15 @@ def compatibility_problems(archive: Archive, expected: Mapping[str, Any]) -> lis
 
 
 # -- thesis / pymap_elites text files -----------------------------------------------------------
-def load_centroids(path: str | os.PathLike) -> np.ndarray:
+def load_centroids(path: str | os.PathLike, dim: int = DESCRIPTOR_DIM) -> np.ndarray:
     """Return a ``centroids_<n>_<dim>.dat`` file: one centroid per row, whitespace separated."""
     path = Path(path)
     try:
         c = np.loadtxt(path, ndmin=2)
     except (OSError, ValueError) as exc:
         raise ArchiveError(f'{path}: cannot read centroids ({exc})') from exc
-    if c.shape[1] != DESCRIPTOR_DIM:
-        raise ArchiveError(
-            f'{path}: centroids must have {DESCRIPTOR_DIM} columns, got {c.shape[1]}'
-        )
+    if c.shape[1] != dim:
+        raise ArchiveError(f'{path}: centroids must have {dim} columns, got {c.shape[1]}')
     return c
 
 
@@ -484,7 +545,12 @@ def import_thesis_map(
         raise ArchiveError(f'{path}: two rows claim the same niche')
     archive.fitness[idx], archive.descriptors[idx], archive.genotypes[idx] = fit, desc, genes
     _check_arrays(
-        archive.centroids, archive.fitness, archive.descriptors, archive.genotypes, where=str(path)
+        archive.centroids,
+        archive.fitness,
+        archive.descriptors,
+        archive.genotypes,
+        archive.kind,
+        where=str(path),
     )
     return archive
 

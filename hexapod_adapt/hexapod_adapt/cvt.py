@@ -79,7 +79,7 @@ def cached_cvt(
     """
     path = cvt_cache_path(directory, n_niches, dim)
     if path.is_file():
-        c = load_centroids(path)
+        c = load_centroids(path, dim)
         if c.shape == (n_niches, dim):
             return c
         raise ValueError(

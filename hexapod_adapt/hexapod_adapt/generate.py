@@ -36,14 +36,22 @@ from __future__ import annotations
 import concurrent.futures as cf
 import contextlib
 from dataclasses import asdict, dataclass
+import functools
 import json
 import os
 from pathlib import Path
 from typing import Callable, Iterator
 
-from hexapod_adapt.archive import Archive, ArchiveError, compatibility_problems, load_archive
+from hexapod_adapt.archive import (
+    Archive,
+    ArchiveError,
+    compatibility_problems,
+    load_archive,
+    map_kind,
+)
 from hexapod_adapt.cvt import cached_cvt, cvt_cache_path
 from hexapod_adapt.map_elites import load_checkpoint, MapElitesConfig, Progress, run_map_elites
+from hexapod_adapt.repertoire import preset_genotypes, repertoire_fingerprint, SimulateSteps
 from hexapod_adapt.simulation import DEFAULT_MAP_ENGINE, SimulateGenotypes, simulation_fingerprint
 from hexapod_gait import preset, PRESETS, to_genotype
 from hexapod_sim import validate_engine
@@ -87,8 +95,13 @@ class GenerateConfig:
     log: Path | None = None  # default: <out>.log.jsonl
     resume: bool = False
     with_presets: bool = False  # try the preset gaits (control, tripod, wave, quadruped) first
+    kind: str = 'gait'  # 'gait' (the thesis map) or 'navigation' (a repertoire, repertoire.py)
 
     def __post_init__(self) -> None:
+        try:
+            map_kind(self.kind)
+        except ArchiveError as exc:
+            raise ValueError(str(exc)) from None
         if self.backend not in BACKENDS:
             raise ValueError(f'backend must be one of {", ".join(BACKENDS)}, got {self.backend!r}')
         for name, (low, high) in LIMITS.items():
@@ -124,7 +137,9 @@ class GenerateConfig:
         chunk = self.chunk or (8 if self.engine == 'mujoco' else 1)
         lag = self.lag or max(64, 4 * chunk * self.worker_count())
         initial: tuple = ()
-        if self.with_presets:
+        if self.with_presets and self.kind == 'navigation':
+            initial = preset_genotypes()
+        elif self.with_presets:
             initial = tuple(tuple(float(g) for g in to_genotype(preset(name))) for name in PRESETS)
         return MapElitesConfig(
             evaluations=self.evaluations,
@@ -210,7 +225,13 @@ def generate_map(
     out = Path(config.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     remove_orphaned_temporaries(out)
-    fingerprint = simulation_fingerprint(config.engine)
+    kind = map_kind(config.kind)
+    if kind.name == 'navigation':
+        fingerprint = repertoire_fingerprint(config.engine)
+        evaluate = SimulateSteps(config.engine)
+    else:
+        fingerprint = simulation_fingerprint(config.engine)
+        evaluate = SimulateGenotypes(config.engine)
     engine = config.engine_config()
     pending = None
     source = None  # the file a resumed run continues
@@ -229,13 +250,22 @@ def generate_map(
         # total: a run may be resumed with MORE evaluations and equals a run made that long at
         # once.
         wanted = json.loads(json.dumps(asdict(engine)))  # as stored: tuples became lists
-        if saved and {k: v for k, v in saved.items() if k != 'evaluations'} != {
-            k: v for k, v in wanted.items() if k != 'evaluations'
-        }:
+        differ = sorted(
+            k
+            for k in set(saved) | set(wanted)
+            if k != 'evaluations' and saved.get(k) != wanted.get(k)
+        )
+        if saved and differ:
+
+            def show(settings: dict, key: str) -> str:
+                value = settings.get(key)
+                return f'{len(value)} genotypes' if key == 'initial' else repr(value)
+
             raise ArchiveError(
-                f'{source}: written with MAP-Elites settings {saved}, not'
-                f' {wanted}: resume with the same'
-                ' --seed/--lag/--chunk/--random-init/--with-presets/--engine'
+                f'{source}: written with other MAP-Elites settings ('
+                + '; '.join(f'{k} {show(saved, k)}, not {show(wanted, k)}' for k in differ)
+                + '): resume with the same'
+                ' --seed/--lag/--chunk/--random-init/--with-presets/--engine/--kind'
             )
         if saved and engine.evaluations < archive.metadata.get('evaluations', 0):
             raise ArchiveError(
@@ -251,10 +281,11 @@ def generate_map(
     else:
         # one CVT per study, as in the thesis: reused from centroids_<n>_6.dat when present
         cvt_dir = Path(config.cvt_dir or out.parent)
-        cvt_file = cvt_cache_path(cvt_dir, config.niches)
+        dim = kind.descriptor_dim
+        cvt_file = cvt_cache_path(cvt_dir, config.niches, dim)
         reused = cvt_file.is_file()
         centroids = cached_cvt(
-            cvt_dir, config.niches, samples=config.cvt_samples, seed=config.seed
+            cvt_dir, config.niches, dim, samples=config.cvt_samples, seed=config.seed
         )
         cvt_info = {'file': cvt_file.name, 'reused': reused}
         if not reused:
@@ -276,7 +307,7 @@ def generate_map(
         archive = run_map_elites(
             archive,
             engine,
-            SimulateGenotypes(config.engine),
+            evaluate,
             executor=executor,
             workers=workers,
             checkpoint=config.checkpoint_path,
@@ -284,7 +315,7 @@ def generate_map(
             pending=pending,
             on_progress=progress,
             progress_every=config.log_every,
-            random_genes=random_reachable_genes,
+            random_genes=functools.partial(random_reachable_genes, size=kind.genotype_size),
         )
     if archive.n_filled == 0:
         raise EmptyMapError(

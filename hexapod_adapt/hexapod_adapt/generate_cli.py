@@ -28,6 +28,7 @@ Thin front end of hexapod_adapt.generate.
     generate_map ... --backend dask --scheduler tcp://head:8786  # a Dask cluster (dask-jobqueue)
     mpiexec -n 64 python -m mpi4py.futures -m hexapod_adapt.generate_cli ... --backend mpi
     generate_map ... --resume                                    # continue after a queue limit
+    generate_map --kind navigation --out maps/navigation.npz ...  # a navigation repertoire
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from hexapod_adapt.archive import MAP_KINDS
 from hexapod_adapt.generate import BACKENDS, EmptyMapError, generate_map, GenerateConfig, LIMITS
 from hexapod_description.cli import number, output_dir, output_file, run_command
 from hexapod_sim import ENGINES
@@ -54,6 +56,15 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     ap.add_argument('--out', type=output_file, required=True, help='archive file to write (.npz)')
+    ap.add_argument(
+        '--kind',
+        choices=tuple(MAP_KINDS),
+        default='gait',
+        help=(
+            'gait: the thesis map (duty-factor niches, speed); navigation: a repertoire of'
+            ' omnidirectional gaits by displacement (docs/navigation.md)'
+        ),
+    )
     ap.add_argument(
         '--niches', type=_limited('niches'), default=10000, help='CVT niches (thesis: 40000)'
     )
@@ -190,6 +201,7 @@ def _generate(args: argparse.Namespace) -> int:
             resume=args.resume,
             with_presets=args.with_presets,
             engine=args.engine,
+            kind=args.kind,
         )
         config.engine_config()
     except ValueError as exc:
@@ -236,10 +248,13 @@ def _generate(args: argparse.Namespace) -> int:
         if bar is not None:
             bar.close()
     s = archive.stats()
+    if archive.kind.name == 'navigation':
+        best = f'median heading change {-s.median:.3f} rad'
+    else:
+        best = f'max {s.max:.3f} m ({s.max / archive.trial_duration:.3f} m/s)'
     print(
-        f'wrote {config.out}: {s.filled} of {archive.n_niches} niches, max {s.max:.3f} m'
-        f' ({s.max / archive.trial_duration:.3f} m/s), {archive.metadata["evaluations"]}'
-        ' evaluations'
+        f'wrote {config.out}: {s.filled} of {archive.n_niches} niches, {best},'
+        f' {archive.metadata["evaluations"]} evaluations'
     )
     return 0
 

@@ -48,7 +48,6 @@ import time
 from typing import Callable, Protocol, Sequence
 
 from hexapod_adapt.archive import Archive, ArchiveError, InsertStatus, load_archive
-from hexapod_gait import GENOTYPE_SIZE
 import numpy as np
 
 
@@ -74,21 +73,21 @@ class MapElitesConfig:
             raise ValueError(f'random_init must be a fraction in [0, 1], got {self.random_init}')
         if self.sigma_iso < 0 or self.sigma_line < 0:
             raise ValueError('sigma_iso and sigma_line must be >= 0')
-        for genes in self.initial:
-            if len(genes) != GENOTYPE_SIZE or not all(0.0 <= g <= 1.0 for g in genes):
-                raise ValueError(f'initial genotypes must have {GENOTYPE_SIZE} genes in [0, 1]')
+        sizes = {len(genes) for genes in self.initial}
+        if len(sizes) > 1 or not all(0.0 <= g <= 1.0 for genes in self.initial for g in genes):
+            raise ValueError('initial genotypes must all have the same number of genes, in [0, 1]')
 
 
 class Evaluation(Protocol):
     """What MAP-Elites needs of one candidate's result (hexapod_sim's EvaluationResult is one)."""
 
     fitness: float
-    descriptor: np.ndarray  # (6,)
+    descriptor: np.ndarray  # (the archive's descriptor dimension,)
     valid: bool
     seconds: float  # worker compute time (for the utilisation figure)
 
 
-EvaluateFn = Callable[[np.ndarray], Sequence[Evaluation]]  # (m, 32) genes -> m evaluations
+EvaluateFn = Callable[[np.ndarray], Sequence[Evaluation]]  # (m, genes) -> m evaluations
 
 
 class MapElites:
@@ -104,7 +103,13 @@ class MapElites:
 
         self.archive = archive
         self.config = config
-        self.random_genes = random_genes or (lambda rng: rng.random(GENOTYPE_SIZE))
+        self.size = archive.genotypes.shape[1]  # genes per genotype (the archive's mapping)
+        for genes in config.initial:
+            if len(genes) != self.size:
+                raise ValueError(
+                    f'initial genotypes have {len(genes)} genes; this archive holds {self.size}'
+                )
+        self.random_genes = random_genes or (lambda rng: rng.random(self.size))
         self._tree = cKDTree(archive.centroids)
         self.told = int(archive.metadata.get('evaluations') or 0)  # results inserted so far
 
@@ -123,7 +128,7 @@ class MapElites:
         x1, x2 = self.archive.genotypes[rng.choice(elites, 2)]
         child = (
             x1
-            + self.config.sigma_iso * rng.standard_normal(GENOTYPE_SIZE)
+            + self.config.sigma_iso * rng.standard_normal(self.size)
             + self.config.sigma_line * rng.standard_normal() * (x2 - x1)
         )
         return np.clip(child, 0.0, 1.0)
@@ -157,7 +162,7 @@ def save_checkpoint(
     """
     engine.sync_metadata()
     ks = np.array(sorted(pending), dtype=np.int64)
-    genes = np.array([pending[k] for k in ks]).reshape(len(ks), GENOTYPE_SIZE)
+    genes = np.array([pending[k] for k in ks]).reshape(len(ks), engine.size)
     engine.archive.save(path, {'pending_index': ks, 'pending_genes': genes})
 
 

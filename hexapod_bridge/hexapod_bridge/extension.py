@@ -53,7 +53,7 @@ from hexapod_gait import GaitParameters
 
 MARKER = 0xE7
 FRAME_LEN = 10
-PROTOCOL_MAJOR, PROTOCOL_MINOR = 1, 0
+PROTOCOL_MAJOR, PROTOCOL_MINOR = 1, 1  # 1.1: parameter 35, the turn rate
 
 PARAM_NAMES: tuple[str, ...] = (
     ('body_velocity', 'body_height', 'period', 'crab_angle')
@@ -62,9 +62,9 @@ PARAM_NAMES: tuple[str, ...] = (
         for field in ('radius', 'angle_offset', 'step_height', 'duty_factor', 'phase_offset')
         for leg in range(1, 7)
     )
-    + ('archive_index',)
+    + ('archive_index', 'turn_rate')
 )
-N_PARAMS = len(PARAM_NAMES)  # 35
+N_PARAMS = len(PARAM_NAMES)  # 36
 
 
 class Cmd(IntEnum):
@@ -217,6 +217,7 @@ def gait_values(gait, leg_map=IDENTITY_LEG_MAP) -> list[float]:
             per_leg[robot_leg - 1] = float(getattr(gait, field)[urdf_leg])
         values.extend(per_leg)
     values.append(float(gait.archive_index))
+    values.append(float(gait.turn_rate))
     return values
 
 
@@ -260,6 +261,7 @@ def gait_from_values(values: Sequence[float]):
         period=v[2],
         crab_angle=v[3],
         archive_index=int(v[34]),
+        turn_rate=v[35],
         **legs,
     )
 

@@ -48,10 +48,10 @@ def test_upload_frames_and_values_round_trip():
     gait = preset('wave').replace(archive_index=1234)
     values = ext.gait_values(gait)
     frames = ext.upload_frames(values, gait_id=7, first_seq=250)
-    assert len(frames) == ext.N_PARAMS + 1 == 36
+    assert len(frames) == ext.N_PARAMS + 1 == 37
     assert [f[2] for f in frames[:7]] == [250, 251, 252, 253, 254, 255, 0]
     commit = ext.decode_command(frames[-1])
-    assert commit.type == ext.Cmd.COMMIT and commit.payload[0] == 35
+    assert commit.type == ext.Cmd.COMMIT and commit.payload[0] == 36
     assert struct.unpack('>H', commit.payload[1:3])[0] == ext.values_crc(ext.quantise(values))
     back = ext.gait_from_values(ext.quantise(values))
     assert back.archive_index == 1234

@@ -24,13 +24,17 @@ Gait parameters (thesis table 3.10) as a typed, validated value, and the genotyp
 A gait is 2 body parameters (velocity, height), 5 parameters per leg (radius, angle offset,
 step height, duty factor, phase offset) and two constants (period, crab angle). MAP-Elites
 searches 32 numbers in [0, 1]; :func:`from_genotype` scales them to the ranges of table 4.1.
+
+One extension beyond the thesis: ``turn_rate``, the body's commanded yaw rate [rad/s] (0 in every
+thesis gait). With it each leg's stride follows its own direction, the one the body's motion
+gives its foot (docs/navigation.md, "Omnidirectional gaits").
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 import math
-from typing import Any, Mapping, Sequence
+from typing import Any, Callable, Mapping, Sequence
 
 from hexapod_description import N_LEGS
 import numpy as np
@@ -53,6 +57,7 @@ RANGES: dict[str, tuple[float, float]] = {
     'body_height': (0.0, 0.2),  # m
     'period': (0.1, 10.0),  # s
     'crab_angle': (-math.pi, math.pi),  # rad
+    'turn_rate': (-1.0, 1.0),  # rad/s (our extension; 0 in the thesis)
     'radius': (0.0, 0.3),  # m
     'angle_offset': (-1.745, 1.745),  # rad
     'step_height': (0.0, 0.2),  # m
@@ -64,13 +69,14 @@ UNITS = {
     'body_height': 'm',
     'period': 's',
     'crab_angle': 'rad',
+    'turn_rate': 'rad/s',
     'radius': 'm',
     'angle_offset': 'rad',
     'step_height': 'm',
     'duty_factor': '',
     'phase_offset': '',
 }
-SCALAR_FIELDS = ('body_velocity', 'body_height', 'period', 'crab_angle')
+SCALAR_FIELDS = ('body_velocity', 'body_height', 'period', 'crab_angle', 'turn_rate')
 LEG_FIELDS = ('radius', 'angle_offset', 'step_height', 'duty_factor', 'phase_offset')
 
 
@@ -137,6 +143,7 @@ class GaitParameters:
     phase_offset: np.ndarray
     period: float = DEFAULT_PERIOD
     crab_angle: float = DEFAULT_CRAB_ANGLE
+    turn_rate: float = 0.0
     archive_index: int = field(default=-1)
 
     def __post_init__(self) -> None:
@@ -180,8 +187,8 @@ class GaitParameters:
         """
         Inverse of :meth:`to_dict`.
 
-        Unknown keys are an error, missing ones too (except period, crab_angle and archive_index,
-        which default).
+        Unknown keys are an error, missing ones too (except period, crab_angle, turn_rate and
+        archive_index, which default).
         """
         known = set(SCALAR_FIELDS + LEG_FIELDS + ('archive_index',))
         unknown = set(values) - known
@@ -197,16 +204,16 @@ class GaitParameters:
 
 def genotype_fields(genotypes: np.ndarray) -> dict[str, np.ndarray]:
     """
-    Scale genotypes (G, 32) to gait fields.
+    Scale genotypes (G, 32) or (G, 34) to gait fields.
 
-    body_height and body_velocity (G, 1), the per-leg fields (G, 6). The single definition of the
-    mapping, used by from_genotype and by batch computations (e.g. reachability prefilters). No
-    validation.
+    body_height and body_velocity (G, 1), the per-leg fields (G, 6); for 34-gene (omni) genotypes
+    also crab_angle and turn_rate (G, 1). The single definition of both mappings, used by the
+    decoders and by batch computations (e.g. reachability prefilters). No validation.
     """
     g = np.asarray(genotypes, dtype=float)
-    legs = g[:, 2:].reshape(-1, N_LEGS, 5)
+    legs = g[:, 2:GENOTYPE_SIZE].reshape(-1, N_LEGS, 5)
     lo_off, hi_off = RANGES['angle_offset']
-    return {
+    fields = {
         'body_height': g[:, 0:1] * RANGES['body_height'][1],
         'body_velocity': g[:, 1:2] * RANGES['body_velocity'][1],
         'radius': legs[:, :, 0] * RANGES['radius'][1],
@@ -215,6 +222,35 @@ def genotype_fields(genotypes: np.ndarray) -> dict[str, np.ndarray]:
         'phase_offset': legs[:, :, 3],
         'duty_factor': legs[:, :, 4],
     }
+    if g.shape[1] == OMNI_GENOTYPE_SIZE:
+        lo_c, hi_c = RANGES['crab_angle']
+        lo_t, hi_t = OMNI_TURN_RANGE
+        crab, turn = g[:, GENOTYPE_SIZE, None], g[:, GENOTYPE_SIZE + 1, None]
+        fields['crab_angle'] = lo_c + crab * (hi_c - lo_c)
+        fields['turn_rate'] = lo_t + turn * (hi_t - lo_t)
+    return fields
+
+
+def _checked_genes(genotype: Sequence[float] | np.ndarray, size: int) -> np.ndarray:
+    g = np.asarray(genotype, dtype=float).reshape(-1)
+    if g.size != size:
+        raise GaitParameterError('genotype', f'expected {size} genes, got {g.size}')
+    bad = ~np.isfinite(g) | (g < 0.0) | (g > 1.0)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise GaitParameterError(f'genotype[{i}]', f'{g[i]:g} is outside the allowed range [0, 1]')
+    return g
+
+
+def _gait_of_fields(fields: dict[str, np.ndarray], archive_index: int) -> GaitParameters:
+    scalars = {
+        name: fields[name][0, 0]
+        for name in ('body_height', 'body_velocity', 'crab_angle', 'turn_rate')
+        if name in fields
+    }
+    return GaitParameters(
+        **scalars, **{name: fields[name][0] for name in LEG_FIELDS}, archive_index=archive_index
+    )
 
 
 def from_genotype(
@@ -228,41 +264,11 @@ def from_genotype(
     phase offset, duty factor. Period and crab angle are the constants DEFAULT_PERIOD and
     DEFAULT_CRAB_ANGLE.
     """
-    g = np.asarray(genotype, dtype=float).reshape(-1)
-    if g.size != GENOTYPE_SIZE:
-        raise GaitParameterError('genotype', f'expected {GENOTYPE_SIZE} genes, got {g.size}')
-    bad = ~np.isfinite(g) | (g < 0.0) | (g > 1.0)
-    if bad.any():
-        i = int(np.argmax(bad))
-        raise GaitParameterError(f'genotype[{i}]', f'{g[i]:g} is outside the allowed range [0, 1]')
-    fields = genotype_fields(g[None, :])
-    return GaitParameters(
-        body_height=fields['body_height'][0, 0],
-        body_velocity=fields['body_velocity'][0, 0],
-        radius=fields['radius'][0],
-        angle_offset=fields['angle_offset'][0],
-        step_height=fields['step_height'][0],
-        phase_offset=fields['phase_offset'][0],
-        duty_factor=fields['duty_factor'][0],
-        archive_index=archive_index,
-    )
+    g = _checked_genes(genotype, GENOTYPE_SIZE)
+    return _gait_of_fields(genotype_fields(g[None, :]), archive_index)
 
 
-def to_genotype(params: GaitParameters) -> np.ndarray:
-    """
-    Inverse of :func:`from_genotype`.
-
-    Raises if the gait's period or crab angle differ from the mapping's constants (such a gait has
-    no genotype).
-    """
-    if not math.isclose(params.period, DEFAULT_PERIOD) or not math.isclose(
-        params.crab_angle, DEFAULT_CRAB_ANGLE
-    ):
-        raise GaitParameterError(
-            'period/crab_angle',
-            f'only gaits with period {DEFAULT_PERIOD} s and crab angle {DEFAULT_CRAB_ANGLE:.6f}'
-            ' rad have a genotype',
-        )
+def _leg_genes(params: GaitParameters) -> list[np.ndarray]:
     lo_off, hi_off = RANGES['angle_offset']
     legs = np.stack(
         [
@@ -278,4 +284,85 @@ def to_genotype(params: GaitParameters) -> np.ndarray:
         params.body_height / RANGES['body_height'][1],
         params.body_velocity / RANGES['body_velocity'][1],
     ]
-    return np.concatenate([head, legs.reshape(-1)])
+    return [np.asarray(head), legs.reshape(-1)]
+
+
+def to_genotype(params: GaitParameters) -> np.ndarray:
+    """
+    Inverse of :func:`from_genotype`.
+
+    Raises if the gait's period, crab angle or turn rate differ from the mapping's constants (such
+    a gait has no thesis genotype).
+    """
+    if (
+        not math.isclose(params.period, DEFAULT_PERIOD)
+        or not math.isclose(params.crab_angle, DEFAULT_CRAB_ANGLE)
+        or params.turn_rate != 0.0
+    ):
+        raise GaitParameterError(
+            'period/crab_angle/turn_rate',
+            f'only gaits with period {DEFAULT_PERIOD} s, crab angle {DEFAULT_CRAB_ANGLE:.6f}'
+            ' rad and no turn have a genotype',
+        )
+    return np.concatenate(_leg_genes(params))
+
+
+# -- the omnidirectional genotype (navigation repertoires) -------------------------------------
+#: Version of the omnidirectional mapping: the thesis's 32 genes, then the crab angle over
+#: [-pi, pi] and the turn rate over OMNI_TURN_RANGE. Period fixed at DEFAULT_PERIOD.
+OMNI_MAPPING_VERSION = 'omni/v1'
+OMNI_GENOTYPE_SIZE = GENOTYPE_SIZE + 2  # 34
+#: Turn rates a repertoire gait may use [rad/s]: enough to cancel a gait's own drift in heading.
+OMNI_TURN_RANGE = (-0.5, 0.5)
+
+
+def from_omni_genotype(
+    genotype: Sequence[float] | np.ndarray, archive_index: int = -1
+) -> GaitParameters:
+    """Scale a 34-number omni genotype in [0, 1] to gait parameters (OMNI_MAPPING_VERSION)."""
+    g = _checked_genes(genotype, OMNI_GENOTYPE_SIZE)
+    return _gait_of_fields(genotype_fields(g[None, :]), archive_index)
+
+
+def to_omni_genotype(params: GaitParameters) -> np.ndarray:
+    """Inverse of :func:`from_omni_genotype`; raises for a period or turn rate it cannot hold."""
+    lo_t, hi_t = OMNI_TURN_RANGE
+    if not math.isclose(params.period, DEFAULT_PERIOD) or not lo_t <= params.turn_rate <= hi_t:
+        raise GaitParameterError(
+            'period/turn_rate',
+            f'an omni genotype holds period {DEFAULT_PERIOD} s and turn rates in'
+            f' [{lo_t:g}, {hi_t:g}] rad/s',
+        )
+    lo_c, hi_c = RANGES['crab_angle']
+    extra = [(params.crab_angle - lo_c) / (hi_c - lo_c), (params.turn_rate - lo_t) / (hi_t - lo_t)]
+    return np.concatenate(_leg_genes(params) + [np.asarray(extra)])
+
+
+@dataclass(frozen=True)
+class GenotypeMapping:
+    """One genotype <-> gait mapping, named by the version string that archives record."""
+
+    version: str
+    size: int
+    decode: Callable[..., GaitParameters]  # (genes, archive_index=-1) -> gait
+    encode: Callable[[GaitParameters], np.ndarray]
+
+
+MAPPINGS: dict[str, GenotypeMapping] = {
+    GENOTYPE_MAPPING_VERSION: GenotypeMapping(
+        GENOTYPE_MAPPING_VERSION, GENOTYPE_SIZE, from_genotype, to_genotype
+    ),
+    OMNI_MAPPING_VERSION: GenotypeMapping(
+        OMNI_MAPPING_VERSION, OMNI_GENOTYPE_SIZE, from_omni_genotype, to_omni_genotype
+    ),
+}
+
+
+def genotype_mapping(version: str) -> GenotypeMapping:
+    """Return the mapping an archive names; ValueError lists the known ones."""
+    try:
+        return MAPPINGS[version]
+    except (KeyError, TypeError):
+        raise ValueError(
+            f'unknown genotype mapping {version!r}; known: {", ".join(MAPPINGS)}'
+        ) from None

@@ -40,6 +40,7 @@ def gait_from_msg(msg: GaitParametersMsg) -> GaitParameters:
         body_height=msg.body_height,
         period=msg.period,
         crab_angle=msg.crab_angle,
+        turn_rate=msg.turn_rate,
         radius=list(msg.radius),
         angle_offset=list(msg.angle_offset),
         step_height=list(msg.step_height),
@@ -56,6 +57,7 @@ def gait_to_msg(gait: GaitParameters, msg: GaitParametersMsg | None = None) -> G
     out.body_height = gait.body_height
     out.period = gait.period
     out.crab_angle = gait.crab_angle
+    out.turn_rate = gait.turn_rate
     out.radius = gait.radius.tolist()
     out.angle_offset = gait.angle_offset.tolist()
     out.step_height = gait.step_height.tolist()

@@ -30,7 +30,9 @@ Per leg, in its own cycle time tau in [0, T) (tau = ((t/T - phase_offset) mod 1)
         p(s) = P0 + dm * 64 s^3 (1 - s)^3 + de * (-22 s^3 + 81 s^4 - 90 s^5 + 32 s^6),
     dm = p_mid - P0, de = P1 - P0: the same polynomial as the a0..a6 of eqs. 3.21-3.27.
 Key points (eqs. 3.14-3.18) lie in the leg frame at the coxa joint; the walking direction
-(crab angle alpha in base_link) appears in leg n's frame at angle alpha - theta_n.
+(crab angle alpha in base_link) appears in leg n's frame at angle alpha - theta_n. With a turn
+rate omega (our extension) each leg strides along the motion the body gives its foot-path centre
+c: v (cos alpha, sin alpha) + omega z x c, the chord of the arc (omega = 0: the thesis's stride).
 Everything is evaluated on arrays (legs x samples); there is no Python loop over time.
 """
 
@@ -83,13 +85,18 @@ class LegGeometry:
 
     yaw: np.ndarray  # (6,)
     mount_z: np.ndarray  # (6,)
+    mount_xy: np.ndarray  # (6, 2) coxa joint positions in base_link [m]
 
 
 @functools.lru_cache(maxsize=1)
 def default_geometry() -> LegGeometry:
     """Leg mount yaws and heights of the installed hexapod URDF."""
     mounts = load_model().mounts
-    return LegGeometry(np.array([m.yaw for m in mounts]), np.array([m.z for m in mounts]))
+    return LegGeometry(
+        np.array([m.yaw for m in mounts]),
+        np.array([m.z for m in mounts]),
+        np.array([(m.x, m.y) for m in mounts]),
+    )
 
 
 def key_points(
@@ -102,12 +109,19 @@ def key_points(
     are (G, 1) gives (G, 6, 3) arrays.
     """
     geo = geometry or default_geometry()
-    stride = params.body_velocity * params.period * params.duty_factor  # l_s, eq. 3.17
-    heading = params.crab_angle - geo.yaw  # -theta + alpha
     centre_x = params.radius * np.cos(params.angle_offset)
     centre_y = params.radius * np.sin(params.angle_offset)
-    half_x = 0.5 * stride * np.cos(heading)
-    half_y = 0.5 * stride * np.sin(heading)
+    # body velocity at each foot-path centre, in base_link: v (cos a, sin a) + omega z x c
+    cos_yaw, sin_yaw = np.cos(geo.yaw), np.sin(geo.yaw)
+    base_cx = geo.mount_xy[:, 0] + cos_yaw * centre_x - sin_yaw * centre_y
+    base_cy = geo.mount_xy[:, 1] + sin_yaw * centre_x + cos_yaw * centre_y
+    turn = getattr(params, 'turn_rate', 0.0)
+    vx = params.body_velocity * np.cos(params.crab_angle) - turn * base_cy
+    vy = params.body_velocity * np.sin(params.crab_angle) + turn * base_cx
+    # the stride (eq. 3.17 with that velocity) turned into the leg frame
+    scale = params.period * params.duty_factor
+    half_x = 0.5 * scale * (cos_yaw * vx + sin_yaw * vy)
+    half_y = 0.5 * scale * (-sin_yaw * vx + cos_yaw * vy)
     ground = -(params.body_height + geo.mount_z) + np.zeros_like(centre_x)  # -h_b + 0.014
     start = np.stack([centre_x + half_x, centre_y + half_y, ground], axis=-1)
     end = np.stack([centre_x - half_x, centre_y - half_y, ground], axis=-1)
@@ -127,9 +141,9 @@ def reachable_key_points(
     genotypes at once.
     """
     kin = kinematics or default_kinematics()
-    batch = SimpleNamespace(
-        period=DEFAULT_PERIOD, crab_angle=DEFAULT_CRAB_ANGLE, **genotype_fields(genotypes)
-    )
+    fields = {'crab_angle': DEFAULT_CRAB_ANGLE, 'turn_rate': 0.0}
+    fields.update(genotype_fields(genotypes))  # an omni genotype brings its own
+    batch = SimpleNamespace(period=DEFAULT_PERIOD, **fields)
     points = np.stack(key_points(batch, geometry), axis=-2)  # (G, 6, 3, 3)
     angles = kin.inverse(points)
     ok = (kin.reach_error(points, angles) <= REACH_TOLERANCE) & (

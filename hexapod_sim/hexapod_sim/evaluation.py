@@ -38,11 +38,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 import math
-from typing import Sequence
+from typing import Callable, Sequence
 
 from hexapod_description import N_LEGS
 from hexapod_gait import build_joint_table, from_genotype, GaitParameters, ReachabilityError
-from hexapod_sim.simulator import JointRows, Simulator
+from hexapod_sim.simulator import JointRows, PlayResult, quat_to_euler, Simulator
 import numpy as np
 
 TRIAL_DURATION = 5.0  # s (thesis 4.1.1)
@@ -75,6 +75,61 @@ def failure(reason: str, duration: float) -> EvaluationResult:
     return EvaluationResult(FAILURE_FITNESS, np.zeros(N_LEGS), False, reason, duration)
 
 
+@dataclass(frozen=True)
+class _Played:
+    """One gait's rollout, or why it never ran (the shared first half of every evaluation)."""
+
+    gait: GaitParameters | None
+    play: PlayResult | None
+    reason: str  # why it is invalid ('' if it played without an engine failure)
+
+
+def _play_gaits(
+    gaits: Sequence[GaitLike],
+    sim: Simulator,
+    duration: float,
+    collisions_fatal: bool,
+    failed_legs: Sequence[int] | None,
+    record_contacts: bool,
+    decode: Callable[[Sequence[float]], GaitParameters],
+) -> tuple[int, list[_Played]]:
+    if not math.isfinite(duration) or duration <= 0:
+        raise ValueError(f'duration must be a positive number of seconds, got {duration!r}')
+    if failed_legs is not None:
+        sim.set_failed_legs(failed_legs)
+    n_steps = int(round(duration / sim.dt))
+    if n_steps < 1:
+        raise ValueError(f'duration {duration!r} s is shorter than one time step ({sim.dt:g} s)')
+    out: list[_Played | None] = [None] * len(gaits)
+    params: list[GaitParameters] = []
+    tables: list[JointRows] = []
+    slots: list[int] = []
+    for i, gait in enumerate(gaits):
+        try:
+            g = gait if isinstance(gait, GaitParameters) else decode(gait)
+            table = build_joint_table(g, rate=1.0 / sim.dt)
+        except ReachabilityError as exc:
+            out[i] = _Played(None, None, f'unreachable: {exc}')
+            continue
+        except ValueError as exc:
+            out[i] = _Played(None, None, f'invalid: {exc}')
+            continue
+        params.append(g)
+        tables.append(JointRows(table.positions, table.velocities))
+        slots.append(i)
+    played = sim.rollout(
+        tables, n_steps, stop_on_collision=collisions_fatal, record_contacts=record_contacts
+    )
+    for i, g, r in zip(slots, params, played):
+        if r.unstable is not None:
+            out[i] = _Played(g, r, r.unstable)
+        elif collisions_fatal and r.first_collision is not None:
+            out[i] = _Played(g, r, r.first_collision)
+        else:
+            out[i] = _Played(g, r, '')
+    return n_steps, [p for p in out if p is not None]
+
+
 def evaluate_gaits(
     gaits: Sequence[GaitLike],
     sim: Simulator,
@@ -88,52 +143,82 @@ def evaluate_gaits(
 
     Deterministic for a given input. ``failed_legs`` (if given) is applied first and kept.
     """
-    if not math.isfinite(duration) or duration <= 0:
-        raise ValueError(f'duration must be a positive number of seconds, got {duration!r}')
-    if failed_legs is not None:
-        sim.set_failed_legs(failed_legs)
-    n_steps = int(round(duration / sim.dt))
-    if n_steps < 1:
-        raise ValueError(f'duration {duration!r} s is shorter than one time step ({sim.dt:g} s)')
-    results: list[EvaluationResult | None] = [None] * len(gaits)
-    params: list[GaitParameters] = []
-    tables: list[JointRows] = []
-    slots: list[int] = []
-    for i, gait in enumerate(gaits):
-        try:
-            g = gait if isinstance(gait, GaitParameters) else from_genotype(gait)
-            table = build_joint_table(g, rate=1.0 / sim.dt)
-        except ReachabilityError as exc:
-            results[i] = failure(f'unreachable: {exc}', duration)
-            continue
-        except ValueError as exc:
-            results[i] = failure(f'invalid: {exc}', duration)
-            continue
-        params.append(g)
-        tables.append(JointRows(table.positions, table.velocities))
-        slots.append(i)
-    played = sim.rollout(
-        tables, n_steps, stop_on_collision=collisions_fatal, record_contacts=record_contacts
+    n_steps, played = _play_gaits(
+        gaits, sim, duration, collisions_fatal, failed_legs, record_contacts, from_genotype
     )
-    for i, g, r in zip(slots, params, played):
-        if r.unstable is not None:
-            results[i] = failure(r.unstable, duration)
+    results = []
+    for p in played:
+        if p.reason:
+            results.append(failure(p.reason, duration))
             continue
-        if collisions_fatal and r.first_collision is not None:
-            results[i] = failure(r.first_collision, duration)
-            continue
+        g, r = p.gait, p.play
         direction = (math.cos(g.crab_angle), math.sin(g.crab_angle))
         fitness = float(r.final_position[0] * direction[0] + r.final_position[1] * direction[1])
-        results[i] = EvaluationResult(
-            fitness,
-            r.contact_steps.astype(float) / n_steps,
-            True,
-            '',
-            duration,
-            r.collision_steps,
-            r.contacts,
+        results.append(
+            EvaluationResult(
+                fitness,
+                r.contact_steps.astype(float) / n_steps,
+                True,
+                '',
+                duration,
+                r.collision_steps,
+                r.contacts,
+            )
         )
-    return [r for r in results if r is not None]
+    return results
+
+
+@dataclass(frozen=True)
+class Displacement:
+    """
+    Where one execution of a gait from rest took the body, in its start frame.
+
+    The start frame is the robot at the origin, yaw 0 (every rollout starts there).
+    """
+
+    x: float  # m
+    y: float  # m
+    yaw: float  # heading change [rad], in (-pi, pi]
+    valid: bool
+    reason: str  # why it is invalid; empty if valid
+    duration: float  # simulated seconds
+    collision_steps: int = 0
+
+
+def evaluate_displacements(
+    gaits: Sequence[GaitLike],
+    sim: Simulator,
+    duration: float,
+    collisions_fatal: bool = True,
+    failed_legs: Sequence[int] | None = None,
+    decode: Callable[[Sequence[float]], GaitParameters] = from_genotype,
+) -> list[Displacement]:
+    """
+    Play each gait (or genotype, read with ``decode``) for ``duration`` s from rest.
+
+    One :class:`Displacement` each, in order; invalid gaits (unreachable, colliding when
+    ``collisions_fatal``, unstable physics) carry zeros and the reason. Deterministic.
+    """
+    _, played = _play_gaits(gaits, sim, duration, collisions_fatal, failed_legs, False, decode)
+    out = []
+    for p in played:
+        if p.reason:
+            out.append(Displacement(0.0, 0.0, 0.0, False, p.reason, duration))
+            continue
+        r = p.play
+        yaw = quat_to_euler(r.final_orientation)[2]
+        out.append(
+            Displacement(
+                float(r.final_position[0]),
+                float(r.final_position[1]),
+                float(yaw),
+                True,
+                '',
+                duration,
+                r.collision_steps,
+            )
+        )
+    return out
 
 
 def evaluate_gait(

@@ -413,6 +413,8 @@ class MujocoSimulator(Simulator):
                     first,
                     state[i, last, 1:4].copy(),
                     feet[:used].copy() if record_contacts else None,
+                    # qpos[3:7] is (w, x, y, z)
+                    final_orientation=state[i, last, [5, 6, 7, 4]].copy(),
                 )
             )
         # leave the simulator in the final state of the last table

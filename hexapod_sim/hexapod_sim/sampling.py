@@ -36,9 +36,13 @@ import numpy as np
 _BATCH = 256
 
 
-def random_reachable_genes(rng: np.random.Generator, max_draws: int = 100_000) -> np.ndarray:
+def random_reachable_genes(
+    rng: np.random.Generator, max_draws: int = 100_000, size: int = GENOTYPE_SIZE
+) -> np.ndarray:
     """
     Draw one uniform random genotype whose key points the legs can reach.
+
+    ``size`` is 32 (a thesis genotype) or 34 (an omni genotype, hexapod_gait.parameters).
 
     The check is vectorised and takes microseconds. About 2.4 % of uniform genotypes pass it and
     only ~0.03 % are feasible gaits, so drawing MAP-Elites' random initialisation from this subset
@@ -46,7 +50,7 @@ def random_reachable_genes(rng: np.random.Generator, max_draws: int = 100_000) -
     among feasible gaits. Raises RuntimeError if ``max_draws`` uniform draws hold none.
     """
     for _ in range(max(1, max_draws // _BATCH)):
-        batch = rng.random((_BATCH, GENOTYPE_SIZE))
+        batch = rng.random((_BATCH, size))
         ok = np.flatnonzero(reachable_key_points(batch))
         if ok.size:
             return batch[ok[0]]

@@ -194,6 +194,7 @@ class PlayResult:
     final_position: np.ndarray  # (3,) base position at the end [m]
     contacts: np.ndarray | None = None  # (steps, 6) bool, if recorded
     unstable: str | None = None  # why the engine's numbers cannot be trusted, or None
+    final_orientation: np.ndarray | None = None  # (4,) base quaternion (x, y, z, w) at the end
 
 
 def quat_to_matrix(quat: Sequence[float]) -> np.ndarray:
@@ -448,6 +449,7 @@ class Simulator(abc.ABC):
             first,
             self.base_pose()[0],
             None if record is None else record[:steps],
+            final_orientation=self.base_pose()[1],
         )
 
     def __enter__(self) -> 'Simulator':

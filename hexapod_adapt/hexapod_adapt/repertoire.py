@@ -1,0 +1,174 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+"""
+The navigation repertoire: gaits indexed by where one execution takes the body (ROS-free).
+
+As in reset-free trial and error (Chatzilygeroudis, Vassiliades and Mouret 2018), each elite is
+an omnidirectional gait (34-gene ``omni/v1`` genotype) and its niche is the body's displacement
+(x, y) in its start frame after one execution of :data:`STEP_DURATION` seconds from rest. The
+fitness is minus the heading change: of the gaits that reach a place, the one that keeps its
+heading wins. (RTE rewards the heading of the circular arc to the end point, which suits a robot
+that must face where it goes; a hexapod crab-walks, so the heading that fits any path is the one
+it started with.)
+
+Descriptors are scaled to [0, 1]: (x, y) / (2 REACH) + 0.5, clipped at the border.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+import hashlib
+from pathlib import Path
+import time
+from typing import Any
+
+from hexapod_adapt.archive import Archive, ArchiveError
+from hexapod_adapt.simulation import DEFAULT_MAP_ENGINE, worker_simulator
+from hexapod_description import urdf_path
+from hexapod_gait import GaitParameters, preset, PRESETS
+from hexapod_gait.parameters import from_omni_genotype, OMNI_MAPPING_VERSION, to_omni_genotype
+from hexapod_sim import SimConfig, validate_engine
+from hexapod_sim.evaluation import Displacement, evaluate_displacements
+import numpy as np
+
+#: Seconds of one gait execution: the repertoire's descriptor and the navigator's step. Two gait
+#: cycles: short enough to correct the course often, long enough to walk a cycle after the start.
+STEP_DURATION = 2.0
+#: Half the side of the descriptor square [m]: 0.44 m/s, the fastest map gait, covers 0.88 m.
+REACH = 1.0
+#: Crab angles the preset gaits are tried at first (--with-presets): eight directions.
+PRESET_DIRECTIONS = tuple(k * np.pi / 4 for k in range(-3, 5))
+
+
+def to_descriptor(x: float | np.ndarray, y: float | np.ndarray) -> np.ndarray:
+    """Return the descriptor (..., 2) in [0, 1] of displacements [m] (clipped at REACH)."""
+    d = np.stack([np.asarray(x, dtype=float), np.asarray(y, dtype=float)], axis=-1)
+    return np.clip(d / (2.0 * REACH) + 0.5, 0.0, 1.0)
+
+
+def from_descriptor(descriptor: np.ndarray) -> np.ndarray:
+    """Return the displacements (..., 2) [m] of descriptors (inverse of to_descriptor)."""
+    return (np.asarray(descriptor, dtype=float) - 0.5) * 2.0 * REACH
+
+
+@dataclass(frozen=True)
+class StepEvaluation:
+    """One repertoire candidate's evaluation (what MAP-Elites needs, and the displacement)."""
+
+    fitness: float  # minus the heading change [rad]
+    descriptor: np.ndarray  # (2,)
+    valid: bool
+    seconds: float  # compute time [s]
+    displacement: Displacement
+
+
+class SimulateSteps:
+    """
+    Picklable MAP-Elites evaluation function of a navigation repertoire.
+
+    (m, 34) omni genotypes -> m :class:`StepEvaluation`, one execution of STEP_DURATION seconds
+    each from rest on an intact robot, collisions fatal (as for gait maps).
+    """
+
+    def __init__(self, engine: str = DEFAULT_MAP_ENGINE) -> None:
+        self.engine = validate_engine(engine)
+
+    def __call__(self, genes: np.ndarray) -> list[StepEvaluation]:
+        genes = np.atleast_2d(genes)
+        t = time.perf_counter()
+        moves = evaluate_displacements(
+            list(genes),
+            worker_simulator(self.engine),
+            STEP_DURATION,
+            collisions_fatal=True,
+            failed_legs=(),
+            decode=from_omni_genotype,
+        )
+        each = (time.perf_counter() - t) / max(len(moves), 1)
+        return [
+            StepEvaluation(-abs(m.yaw), to_descriptor(m.x, m.y), m.valid, each, m) for m in moves
+        ]
+
+
+def repertoire_fingerprint(engine: str = DEFAULT_MAP_ENGINE) -> dict[str, Any]:
+    """Return what a repertoire's cells depend on besides the genes (stored in its metadata)."""
+    sim = SimConfig(engine=validate_engine(engine)).fingerprint()
+    return {
+        'kind': 'navigation',
+        'genotype_mapping': OMNI_MAPPING_VERSION,
+        'urdf_sha256': hashlib.sha256(Path(urdf_path()).read_bytes()).hexdigest(),
+        'simulator': {**sim, 'collisions_fatal': True},
+        'trial_duration': STEP_DURATION,
+        'descriptor': {'name': 'displacement', 'reach_m': REACH},
+    }
+
+
+def preset_genotypes() -> tuple[tuple[float, ...], ...]:
+    """Return the preset gaits at the eight PRESET_DIRECTIONS as omni genotypes (tried first)."""
+    return tuple(
+        tuple(float(g) for g in to_omni_genotype(preset(name).replace(crab_angle=float(a))))
+        for name in PRESETS
+        for a in PRESET_DIRECTIONS
+    )
+
+
+@dataclass(frozen=True)
+class Repertoire:
+    """
+    A navigation repertoire ready for planning: its elites as arrays.
+
+    ``moves`` (n, 2) is each elite's displacement [m] in its start frame after one step of
+    ``step_duration`` s; ``heading_error`` (n,) the size of its heading change [rad] (the sign is
+    not stored; the navigator learns it). ``niches`` (n,) are the archive rows.
+    """
+
+    niches: np.ndarray
+    moves: np.ndarray
+    heading_error: np.ndarray
+    genotypes: np.ndarray
+    step_duration: float
+    digest: str
+
+    @classmethod
+    def from_archive(cls, archive: Archive) -> 'Repertoire':
+        """Return the repertoire of a navigation archive; ArchiveError for any other map."""
+        if archive.kind.name != 'navigation':
+            raise ArchiveError(
+                f'a {archive.kind.name} map is not a navigation repertoire (make one with'
+                ' generate_map --kind navigation)'
+            )
+        idx = archive.elite_indices()
+        if idx.size == 0:
+            raise ArchiveError('the navigation repertoire holds no gait')
+        return cls(
+            idx,
+            from_descriptor(archive.descriptors[idx]),
+            -archive.fitness[idx],
+            archive.genotypes[idx],
+            archive.trial_duration,
+            archive.metadata['centroid_hash'][:12],
+        )
+
+    def __len__(self) -> int:
+        return len(self.niches)
+
+    def gait(self, i: int) -> GaitParameters:
+        """Return elite ``i`` (a row of the arrays, not a niche) as gait parameters."""
+        return from_omni_genotype(self.genotypes[i], archive_index=int(self.niches[i]))
