@@ -58,6 +58,8 @@ setup(
             'run_experiment = hexapod_adapt.experiment_cli:main',
             'recover_recording = hexapod_adapt.recover_cli:main',
             'plot_map = hexapod_adapt.plot_map_cli:main',
+            'navigate_node = hexapod_adapt.navigate_node:main',
+            'run_navigation = hexapod_adapt.navigation_cli:main',
         ]
     },
 )

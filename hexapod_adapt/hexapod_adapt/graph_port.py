@@ -161,10 +161,15 @@ class GraphPort:
         on.
         """
         msg = gait_to_msg(self.gait_of(niche))
+        self.stamp(msg)
+        return msg
+
+    def stamp(self, msg: GaitParametersMsg) -> int:
+        """Stamp a gait message by the node's clock, later than any before; return the stamp."""
         stamp = max(self.node.get_clock().now().nanoseconds, self._last_stamp + 1)
         self._last_stamp = stamp
         msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(stamp, 1_000_000_000)
-        return msg
+        return stamp
 
     def publish(self, msg: GaitParametersMsg) -> None:
         """Publish (and record) a gait on gait/parameters."""

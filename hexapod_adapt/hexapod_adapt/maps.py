@@ -33,6 +33,7 @@ from pathlib import Path
 PACKAGE = 'hexapod_adapt'
 DEFAULT_MAP = 'default_map.npz'
 DEMO_MAP = 'demo_map.npz'
+NAVIGATION_MAP = 'navigation_map.npz'  # the navigation repertoire (make_navigation_map.sh)
 CEILINGS = 'ceilings'  # the default map's cached ceilings (hexapod_adapt.ceiling)
 
 

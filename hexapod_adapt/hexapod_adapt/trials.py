@@ -40,11 +40,12 @@ from dataclasses import dataclass, field
 import math
 import threading
 import time
-from typing import Callable, ClassVar, Protocol
+from typing import Callable, ClassVar, Generic, Protocol, TypeVar
 
 from hexapod_adapt.adaptation import TrialAborted
 
 MODES = ('sim', 'robot', 'manual')
+T = TypeVar('T')
 
 #: A reported trial distance beyond this is a typo, not a walk [m].
 MAX_REPORTED_DISTANCE = 50.0
@@ -62,32 +63,36 @@ class OdomSample:
     received: float  # time.monotonic() when it arrived
 
 
-class OdomLog:
-    """The odometry received so far (the latest ``maxlen`` messages), shared between threads."""
+class SampleLog(Generic[T]):
+    """The latest ``maxlen`` messages of a topic, shared between threads."""
 
     def __init__(self, maxlen: int = 20000) -> None:
-        self._samples: deque[OdomSample] = deque(maxlen=maxlen)
+        self._samples: deque[T] = deque(maxlen=maxlen)
         self._lock = threading.Lock()
 
-    def append(self, sample: OdomSample) -> None:
+    def append(self, sample: T) -> None:
         """Add one message."""
         with self._lock:
             self._samples.append(sample)
 
-    def snapshot(self) -> list[OdomSample]:
+    def snapshot(self) -> list[T]:
         """Return every message kept, oldest first."""
         with self._lock:
             return list(self._samples)
 
-    def latest(self) -> OdomSample | None:
+    def latest(self) -> T | None:
         """Return the newest message, if any."""
         with self._lock:
             return self._samples[-1] if self._samples else None
 
-    def received_after(self, t: float) -> OdomSample | None:
-        """Return the first message received after monotonic time ``t``."""
+    def received_after(self, t: float) -> T | None:
+        """Return the first message received after monotonic time ``t`` (its ``received``)."""
         with self._lock:
             return next((s for s in self._samples if s.received > t), None)
+
+
+class OdomLog(SampleLog[OdomSample]):
+    """The odometry received so far."""
 
 
 class Waiter:

@@ -1,0 +1,514 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Reaching a goal with a damaged robot, learning while it walks, with no resets (ROS-free).
+
+Reset-free trial and error (Chatzilygeroudis, Vassiliades and Mouret 2018), adapted to a
+crab-walking hexapod:
+
+* a :class:`~hexapod_adapt.repertoire.Repertoire` of omnidirectional gaits, each indexed by the
+  displacement one step (one execution, ``step_duration`` s) gives the intact robot;
+* :class:`CorrectionGP`: one Gaussian process per displacement dimension (x, y, heading) over
+  the repertoire's descriptor, learning from every step how the damage changes the steps;
+* a planner (:class:`RepertoirePolicy`) that picks the step whose predicted end lies nearest
+  the goal, from the pose the robot is actually in;
+* :func:`run_episode`, the loop shared by the experiment (:class:`SimBody`, a simulator) and the
+  ``navigate`` action (a body over the ROS graph). It stops as soon as the robot is within the
+  tolerance, the walking time is spent, the robot leaves the arena, or the caller cancels.
+
+The baseline :class:`SteeredTripod` is what the robot's firmware can do: the control tripod,
+steered every cycle toward the goal in the nearest of its eight crab directions.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+import enum
+import math
+from typing import Callable, Protocol, Sequence
+
+from hexapod_adapt.repertoire import REACH, Repertoire
+from hexapod_gait import build_joint_table, GaitParameters, preset
+from hexapod_sim.simulator import Simulator
+import numpy as np
+
+
+def wrap_angle(a: float) -> float:
+    """Return ``a`` [rad] wrapped into (-pi, pi]."""
+    return math.pi - (math.pi - a) % (2.0 * math.pi)
+
+
+@dataclass(frozen=True)
+class Pose2D:
+    """A planar pose in the odom frame: position [m] and heading [rad]."""
+
+    x: float
+    y: float
+    yaw: float
+
+    def distance_to(self, x: float, y: float) -> float:
+        """Return the distance from this pose's position to (x, y) [m]."""
+        return math.hypot(x - self.x, y - self.y)
+
+    def relative(self, later: 'Pose2D') -> tuple[float, float, float]:
+        """Return ``later`` in this pose's frame: (dx, dy) [m] and the heading change [rad]."""
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        dx, dy = later.x - self.x, later.y - self.y
+        return c * dx + s * dy, -s * dx + c * dy, wrap_angle(later.yaw - self.yaw)
+
+    def moved(self, dx: float, dy: float, dyaw: float) -> 'Pose2D':
+        """Return the pose reached by a step (dx, dy, dyaw) given in this pose's frame."""
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        return Pose2D(self.x + c * dx - s * dy, self.y + s * dx + c * dy, self.yaw + dyaw)
+
+
+# -- settings and goals ------------------------------------------------------------------------
+@dataclass(frozen=True)
+class NavigationConfig:
+    """How a goal is pursued; ValueError names a bad setting."""
+
+    tolerance: float = 0.15  # m: reached when this close
+    time_limit: float = 90.0  # s of walking
+    max_range: float = 10.0  # m: farther goals are refused
+    arena: float | None = None  # m: leaving the square |x|, |y| <= arena fails the goal
+    learn: bool = True  # the GP correction (False: the repertoire as it was measured intact)
+    length_scale: float = 0.15  # GP kernel length scale, in descriptor units (2 REACH = 1)
+    signal_std_xy: float = 0.2  # m: how far damage may move a step's end, a priori
+    signal_std_yaw: float = 0.5  # rad: how much damage may turn a step, a priori
+    noise_std_xy: float = 0.03  # m: repeatability of one step
+    noise_std_yaw: float = 0.05  # rad
+    #: prior std of a linear change of every step (damage that shrinks or turns all steps alike):
+    #: the kernel's linear part, on the intact displacement in metres (0: none)
+    linear_std: float = 0.5
+    #: weight of the predicted variance in the planner's cost (1: the expected squared distance
+    #: to the goal after the step; 0: the distance of the predicted end alone)
+    uncertainty_weight: float = 1.0
+
+    def __post_init__(self) -> None:
+        for name in (
+            'tolerance',
+            'time_limit',
+            'max_range',
+            'length_scale',
+            'signal_std_xy',
+            'signal_std_yaw',
+            'noise_std_xy',
+            'noise_std_yaw',
+        ):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise ValueError(f'{name} must be a positive finite number, got {value!r}')
+        for name in ('uncertainty_weight', 'linear_std'):
+            w = getattr(self, name)
+            if not (isinstance(w, (int, float)) and math.isfinite(w) and w >= 0):
+                raise ValueError(f'{name} must be a finite number >= 0, got {w!r}')
+        if self.arena is not None and not (math.isfinite(self.arena) and self.arena > 0):
+            raise ValueError(f'arena must be a positive finite half-width [m], got {self.arena!r}')
+
+
+def goal_problem(x: float, y: float, start: Pose2D, config: NavigationConfig) -> str:
+    """Why a goal (x, y) in odom cannot be pursued from ``start`` ('' if it can)."""
+    if not (math.isfinite(x) and math.isfinite(y)):
+        return f'the goal ({x}, {y}) is not a finite position'
+    far = start.distance_to(x, y)
+    if far > config.max_range:
+        return (
+            f'the goal is {far:.2f} m away, beyond the configured range of {config.max_range:g} m'
+        )
+    if config.arena is not None and max(abs(x), abs(y)) > config.arena:
+        return (
+            f'the goal ({x:.2f}, {y:.2f}) lies outside the arena (|x|, |y| <= {config.arena:g} m)'
+        )
+    return ''
+
+
+# -- the learned correction --------------------------------------------------------------------
+class CorrectionGP:
+    """
+    Learned change of every repertoire step under damage: one GP per dimension (x, y, heading).
+
+    Inputs are the repertoire's descriptors (each step's intact displacement); the prior mean is
+    the intact step itself (heading change 0), so with no data the prediction is the repertoire.
+    The kernel is a squared exponential (local changes) plus a linear kernel on the intact
+    displacement (a change common to every step, e.g. all steps shorter or turned: learned from
+    a few steps for the whole repertoire). Hyperparameters from NavigationConfig.
+    """
+
+    def __init__(self, repertoire: Repertoire, config: NavigationConfig) -> None:
+        self.prior = np.column_stack([repertoire.moves, np.zeros(len(repertoire))])
+        self.inputs = repertoire.moves / (2.0 * REACH)  # descriptor units
+        self.config = config
+        self.signal = np.array([config.signal_std_xy] * 2 + [config.signal_std_yaw]) ** 2
+        self.noise = np.array([config.noise_std_xy] * 2 + [config.noise_std_yaw]) ** 2
+        self.observed: list[int] = []
+        self.residuals: list[np.ndarray] = []
+        self._mean = self.prior.copy()
+        self._var = np.tile(self.signal, (len(repertoire), 1))
+        lin = config.linear_std**2 * np.sum(repertoire.moves**2, axis=1)
+        self._var[:, :2] += lin[:, None]
+
+    def _kernels(self, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Return the unit squared-exponential and the linear kernel between descriptor rows."""
+        d2 = np.sum((a[:, None, :] - b[None, :, :]) ** 2, axis=-1)
+        metres = (2.0 * REACH) ** 2
+        return np.exp(-0.5 * d2 / self.config.length_scale**2), metres * (a @ b.T)
+
+    def add(self, index: int, observed: Sequence[float]) -> None:
+        """Learn one executed step: repertoire row ``index`` moved (dx, dy, dyaw)."""
+        self.observed.append(int(index))
+        self.residuals.append(np.asarray(observed, dtype=float) - self.prior[index])
+        x = self.inputs[self.observed]
+        se_xx, lin_xx = self._kernels(x, x)
+        se_sx, lin_sx = self._kernels(self.inputs, x)  # (n, m)
+        lin_ss = (2.0 * REACH) ** 2 * np.sum(self.inputs**2, axis=1)
+        r = np.array(self.residuals)  # (m, 3)
+        lin = self.config.linear_std**2
+        for d in range(3):
+            # per dimension: K_d = s_d * SE + l * linear (the linear part: x and y only)
+            ld = lin if d < 2 else 0.0
+            a = self.signal[d] * se_xx + ld * lin_xx + self.noise[d] * np.eye(len(x))
+            k_sx = self.signal[d] * se_sx + ld * lin_sx
+            chol = np.linalg.cholesky(a)
+            alpha = np.linalg.solve(chol.T, np.linalg.solve(chol, r[:, d]))
+            self._mean[:, d] = self.prior[:, d] + k_sx @ alpha
+            v = np.linalg.solve(chol, k_sx.T)  # (m, n)
+            prior_var = self.signal[d] + ld * lin_ss
+            self._var[:, d] = np.maximum(prior_var - np.sum(v * v, axis=0), 1e-12)
+
+    def predict(self) -> tuple[np.ndarray, np.ndarray]:
+        """Return every step's predicted (dx, dy, dyaw) (n, 3) and its variance (n, 3)."""
+        return self._mean, self._var
+
+
+# -- policies ----------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Step:
+    """The next step a policy wants: a gait, how long, and where it expects to end."""
+
+    gait: GaitParameters
+    duration: float  # s
+    predicted: Pose2D  # expected pose at the end (odom)
+    index: int = -1  # repertoire row, -1 for a baseline's gait
+
+
+class Policy(Protocol):
+    """Chooses steps toward a goal, and hears how each went."""
+
+    def next_step(self, pose: Pose2D, goal: tuple[float, float]) -> Step:
+        """Return the step to take from ``pose``."""
+
+    def observe(self, step: Step, start: Pose2D, end: Pose2D, completed: bool) -> float | None:
+        """Learn from a step; return its prediction error [m] (None if not predicted)."""
+
+
+class RepertoirePolicy:
+    """The repertoire planner, with (``config.learn``) or without the GP correction."""
+
+    def __init__(self, repertoire: Repertoire, config: NavigationConfig) -> None:
+        self.repertoire = repertoire
+        self.config = config
+        self.gp = CorrectionGP(repertoire, config)
+        self._gaits: dict[int, GaitParameters] = {}
+
+    def next_step(self, pose: Pose2D, goal: tuple[float, float]) -> Step:
+        """
+        Return the step expected to end nearest the goal (greedy, one step ahead).
+
+        The cost is the squared distance from the predicted end to the goal plus
+        ``uncertainty_weight`` times the predicted variance of the end: with weight 1, the
+        expected squared distance after the step.
+        """
+        mean, var = self.gp.predict()
+        c, s = math.cos(pose.yaw), math.sin(pose.yaw)
+        ex = pose.x + c * mean[:, 0] - s * mean[:, 1]
+        ey = pose.y + s * mean[:, 0] + c * mean[:, 1]
+        cost = (goal[0] - ex) ** 2 + (goal[1] - ey) ** 2
+        cost += self.config.uncertainty_weight * (var[:, 0] + var[:, 1])
+        i = int(np.argmin(cost))
+        if i not in self._gaits:
+            self._gaits[i] = self.repertoire.gait(i)
+        predicted = pose.moved(*mean[i])
+        return Step(self._gaits[i], self.repertoire.step_duration, predicted, i)
+
+    def observe(self, step: Step, start: Pose2D, end: Pose2D, completed: bool) -> float | None:
+        """Learn a whole step (a cut-short one teaches nothing); return its prediction error."""
+        if not completed:
+            return None
+        error = end.distance_to(step.predicted.x, step.predicted.y)
+        if self.config.learn:
+            self.gp.add(step.index, start.relative(end))
+        return error
+
+
+#: The firmware's eight crab directions (robot-facts.md, movement frame), in base_link.
+FIRMWARE_DIRECTIONS = tuple(k * math.pi / 4 for k in range(8))
+
+
+class SteeredTripod:
+    """
+    Baseline: the control tripod steered toward the goal every cycle, as the firmware can walk.
+
+    Each cycle it walks the crab direction of the eight nearest the goal's bearing.
+    """
+
+    def __init__(self) -> None:
+        self._base = preset('control')
+        self._gaits: dict[int, GaitParameters] = {}
+
+    def next_step(self, pose: Pose2D, goal: tuple[float, float]) -> Step:
+        """Return one cycle toward the goal."""
+        bearing = wrap_angle(math.atan2(goal[1] - pose.y, goal[0] - pose.x) - pose.yaw)
+        k = round(bearing / (math.pi / 4)) % 8
+        if k not in self._gaits:
+            self._gaits[k] = self._base.replace(crab_angle=wrap_angle(FIRMWARE_DIRECTIONS[k]))
+        gait = self._gaits[k]
+        reach = gait.body_velocity * gait.period
+        heading = pose.yaw + gait.crab_angle
+        predicted = Pose2D(
+            pose.x + reach * math.cos(heading), pose.y + reach * math.sin(heading), pose.yaw
+        )
+        return Step(gait, gait.period, predicted)
+
+    def observe(self, step: Step, start: Pose2D, end: Pose2D, completed: bool) -> float | None:
+        """Nothing is learned; return the cycle's error against the commanded stride."""
+        return end.distance_to(step.predicted.x, step.predicted.y) if completed else None
+
+
+# -- bodies and the episode --------------------------------------------------------------------
+@dataclass(frozen=True)
+class StepOutcome:
+    """What one step did."""
+
+    start: Pose2D
+    end: Pose2D
+    elapsed: float  # s walked
+    completed: bool  # walked the whole duration (not stopped early)
+    path: tuple[Pose2D, ...]  # poses sampled during the step, end included
+
+
+class Body(Protocol):
+    """The robot as the navigator sees it (a simulator, or the ROS graph)."""
+
+    def pose(self) -> Pose2D:
+        """Return the current pose estimate in odom."""
+
+    def walk(
+        self, gait: GaitParameters, duration: float, stop: Callable[[Pose2D], bool]
+    ) -> StepOutcome:
+        """Walk ``gait`` for ``duration`` s from where it stands, or until ``stop(pose)``."""
+
+    def halt(self) -> None:
+        """Stop walking (stand)."""
+
+
+class Outcome(enum.Enum):
+    """How a navigation ended."""
+
+    REACHED = 'reached'
+    TIME_LIMIT = 'time_limit'
+    LEFT_ARENA = 'left_arena'
+    CANCELED = 'canceled'
+    FAILED = 'failed'  # the body could not walk (see the reason)
+
+
+@dataclass(frozen=True)
+class Feedback:
+    """Progress after each step."""
+
+    pose: Pose2D
+    distance_left: float  # m
+    steps: int
+    prediction_error: float  # m, of the last whole step (NaN if none yet)
+    walking_time: float  # s so far
+
+
+@dataclass
+class NavigationResult:
+    """The end of one goal."""
+
+    outcome: Outcome
+    reason: str
+    walking_time: float  # s
+    path_length: float  # m
+    steps: int
+    start: Pose2D
+    end: Pose2D
+    goal: tuple[float, float]
+    path: list[Pose2D] = field(default_factory=list)
+    prediction_errors: list[float] = field(default_factory=list)
+
+    @property
+    def reached(self) -> bool:
+        """Return True if the goal was reached."""
+        return self.outcome is Outcome.REACHED
+
+    @property
+    def efficiency(self) -> float:
+        """Straight-line distance from start to end / path length (NaN if it did not move)."""
+        direct = self.start.distance_to(self.end.x, self.end.y)
+        return direct / self.path_length if self.path_length > 0 else float('nan')
+
+
+class BodyFailure(RuntimeError):
+    """The body could not take a step (the robot refused, a topic went silent, ...)."""
+
+
+def path_length(path: Sequence[Pose2D]) -> float:
+    """Return the length of a sampled path [m]."""
+    return float(sum(a.distance_to(b.x, b.y) for a, b in zip(path, path[1:])))
+
+
+def run_episode(
+    body: Body,
+    policy: Policy,
+    goal: tuple[float, float],
+    config: NavigationConfig,
+    cancelled: Callable[[], bool] = lambda: False,
+    feedback: Callable[[Feedback], None] | None = None,
+) -> NavigationResult:
+    """
+    Walk toward ``goal`` (odom), step by step; return how it ended.
+
+    It ends when the robot is within the tolerance, the walking time is spent, the robot leaves
+    the arena, or the caller cancels. The body is left standing.
+    """
+    start = body.pose()
+    path = [start]
+    errors: list[float] = []
+    walked, steps = 0.0, 0
+    tol = config.tolerance
+
+    def outside(p: Pose2D) -> bool:
+        return config.arena is not None and max(abs(p.x), abs(p.y)) > config.arena
+
+    def finish(outcome: Outcome, reason: str) -> NavigationResult:
+        body.halt()
+        return NavigationResult(
+            outcome, reason, walked, path_length(path), steps, start, path[-1], goal, path, errors
+        )
+
+    while True:
+        pose = path[-1]
+        if pose.distance_to(*goal) <= tol:
+            return finish(Outcome.REACHED, f'within {tol:g} m of the goal')
+        if outside(pose):
+            return finish(Outcome.LEFT_ARENA, f'left the arena (|x|, |y| <= {config.arena:g} m)')
+        if cancelled():
+            return finish(Outcome.CANCELED, 'canceled')
+        left = config.time_limit - walked
+        if left <= 1e-9:
+            return finish(
+                Outcome.TIME_LIMIT,
+                f'{config.time_limit:g} s of walking spent; {pose.distance_to(*goal):.2f} m left',
+            )
+        step = policy.next_step(pose, goal)
+        try:
+            outcome = body.walk(
+                step.gait,
+                min(step.duration, left),
+                lambda p: p.distance_to(*goal) <= tol or outside(p) or cancelled(),
+            )
+        except BodyFailure as exc:
+            return finish(Outcome.FAILED, str(exc))
+        walked += outcome.elapsed
+        steps += 1
+        path.extend(outcome.path)
+        completed = outcome.completed and outcome.elapsed >= step.duration - 1e-9
+        error = policy.observe(step, outcome.start, outcome.end, completed)
+        if error is not None:
+            errors.append(error)
+        if feedback is not None:
+            feedback(
+                Feedback(
+                    outcome.end,
+                    outcome.end.distance_to(*goal),
+                    steps,
+                    errors[-1] if errors else float('nan'),
+                    walked,
+                )
+            )
+
+
+def standing_gait() -> GaitParameters:
+    """Return the gait that stands still where the robot is (the control tripod's stance)."""
+    return preset('control').replace(body_velocity=0.0, step_height=[0.0] * 6)
+
+
+class SimBody:
+    """
+    A :class:`Body` on a simulator: steps follow each other with no reset.
+
+    A new gait starts at its table's first row from wherever the legs are (the servos move them
+    there, as on the robot). Poses are sampled every ``sample_period`` s.
+    """
+
+    def __init__(self, sim: Simulator, sample_period: float = 0.05) -> None:
+        self.sim = sim
+        self.every = max(1, int(round(sample_period / sim.dt)))
+        self._tables: dict[int, tuple[object, int]] = {}
+        self._stand = standing_gait()
+
+    def start(self, gait: GaitParameters | None = None) -> None:
+        """Put the robot at the origin, standing in the first pose of ``gait`` (or the tripod)."""
+        table = build_joint_table(gait or preset('control'), rate=1.0 / self.sim.dt)
+        self.sim.reset(table.positions[0])
+
+    def pose(self) -> Pose2D:
+        """Return where the base is, in the plane (ground truth)."""
+        position, _ = self.sim.base_pose()
+        return Pose2D(float(position[0]), float(position[1]), float(self.sim.base_euler()[2]))
+
+    def _rows(self, gait: GaitParameters) -> tuple[object, int]:
+        key = id(gait)
+        if key not in self._tables:
+            table = build_joint_table(gait, rate=1.0 / self.sim.dt)
+            self._tables[key] = (
+                self.sim.prepare_rows(table.positions, table.velocities),
+                len(table),
+            )
+        return self._tables[key]
+
+    def walk(
+        self, gait: GaitParameters, duration: float, stop: Callable[[Pose2D], bool]
+    ) -> StepOutcome:
+        """Play ``gait`` for ``duration`` s (or until ``stop``), sampling the pose."""
+        rows, n_rows = self._rows(gait)
+        start = self.pose()
+        path: list[Pose2D] = []
+        n_steps = int(round(duration / self.sim.dt))
+        k = 0
+        while k < n_steps:
+            self.sim.apply_row(rows, k % n_rows)
+            report = self.sim.step()
+            if report.unstable:
+                raise BodyFailure('the physics became unstable')
+            k += 1
+            if k % self.every == 0 or k == n_steps:
+                path.append(self.pose())
+                if k < n_steps and stop(path[-1]):
+                    break
+        end = path[-1] if path else start
+        return StepOutcome(start, end, k * self.sim.dt, k >= n_steps, tuple(path))
+
+    def halt(self) -> None:
+        """Stand: command the standing pose (nothing is simulated until the next walk)."""
+        rows, _ = self._rows(self._stand)
+        self.sim.apply_row(rows, 0)

@@ -1,0 +1,222 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+The navigator's bodies through a ROS graph, without ROS: sim_node, or bridge_node (the robot).
+
+Like :mod:`hexapod_adapt.trials`, these are built over a small port (:class:`NavigationPort`,
+implemented over rclpy by the node) and a :class:`PoseLog` the node fills from its pose source:
+``odom`` (sim_node's ground truth, or the bridge's IMU odometry) or an external pose topic
+(motion capture, a camera).
+
+``SimGraphBody``    publish the gait; sim_node plays it from where the robot stands; the step lasts
+                    ``duration`` s of the pose source's time and stops early when asked;
+``RobotGraphBody``  upload the gait through bridge_node, walk one trial of the bridge's trial
+                    duration, and compose the pose from each trial's odometry (the trial's
+                    displacement in the frame the robot started it in), unless an external pose
+                    source is given.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+import time
+from typing import Callable, Protocol
+
+from hexapod_adapt.adaptation import TrialAborted
+from hexapod_adapt.navigation import BodyFailure, Pose2D, standing_gait, StepOutcome
+from hexapod_adapt.trials import SampleLog, Waiter
+from hexapod_gait import GaitParameters
+
+
+@dataclass(frozen=True)
+class PoseSample:
+    """One pose message."""
+
+    stamp_ns: int  # header stamp (sim time in simulation)
+    pose: Pose2D
+    received: float  # time.monotonic() when it arrived
+
+
+class PoseLog(SampleLog[PoseSample]):
+    """The poses received so far from the pose source."""
+
+
+class NavigationPort(Protocol):
+    """What a navigation step does to the graph (the node implements it over rclpy)."""
+
+    def publish_gait(self, gait: GaitParameters) -> int:
+        """Publish a gait on gait/parameters; return its unique stamp [ns]."""
+
+    def active_stamp(self) -> int | None:
+        """Return the stamp of the gait sim_node plays (sim/active_trajectory)."""
+
+    def upload(self, gait: GaitParameters, timeout: float) -> tuple[bool, str]:
+        """Upload a gait through bridge_node: (confirmed, its message)."""
+
+    def start_trial(self) -> tuple[bool, str]:
+        """Start a trial on the robot."""
+
+    def stop_trial(self) -> tuple[bool, str]:
+        """Stop the robot's trial."""
+
+
+class SimGraphBody:
+    """A navigator's body through gait_node + sim_node (or any body that plays published gaits)."""
+
+    def __init__(
+        self, port: NavigationPort, poses: PoseLog, waiter: Waiter, timeout: float = 10.0
+    ) -> None:
+        self.port, self.poses, self.waiter, self.timeout = port, poses, waiter, timeout
+        self._stand = standing_gait()
+        self._last_end_ns: int | None = None
+
+    def pose(self) -> Pose2D:
+        """Return where the pose source last put the robot (waits for its first message)."""
+        sample = self.poses.latest() or self.waiter.until(
+            self.poses.latest, self.timeout, 'a pose (is the pose source publishing?)'
+        )
+        return sample.pose
+
+    def _play(self, gait: GaitParameters) -> None:
+        stamp = self.port.publish_gait(gait)
+        self.waiter.until(
+            lambda: self.port.active_stamp() == stamp,
+            self.timeout,
+            'sim_node to play the gait (are gait_node and sim_node running?)',
+        )
+
+    def walk(
+        self, gait: GaitParameters, duration: float, stop: Callable[[Pose2D], bool]
+    ) -> StepOutcome:
+        """Play ``gait`` for ``duration`` s of the pose source's time, or until ``stop``."""
+        try:
+            self._play(gait)
+            confirmed = time.monotonic()
+            first = self.waiter.until(
+                lambda: self.poses.received_after(confirmed), self.timeout, 'a pose after the gait'
+            )
+        except TrialAborted as exc:
+            raise BodyFailure(str(exc)) from None
+        start, t0 = first.pose, first.stamp_ns
+        since = self._last_end_ns if self._last_end_ns is not None else t0
+        end_ns = t0 + int(round(duration * 1e9))
+        path, last = [start], first
+        completed = False
+        while True:
+            try:
+                last = self.waiter.until(
+                    lambda: (
+                        s if (s := self.poses.latest()) and s.stamp_ns > last.stamp_ns else None
+                    ),
+                    self.timeout,
+                    'the next pose',
+                )
+            except TrialAborted as exc:
+                raise BodyFailure(str(exc)) from None
+            path.append(last.pose)
+            if last.stamp_ns >= end_ns:
+                completed = True
+                break
+            if stop(last.pose):
+                break
+        self._last_end_ns = last.stamp_ns
+        return StepOutcome(start, last.pose, (last.stamp_ns - since) / 1e9, completed, tuple(path))
+
+    def halt(self) -> None:
+        """Stand still (the standing gait); a body that does not answer is left as it is."""
+        self._last_end_ns = None
+        try:
+            self._play(self._stand)
+        except TrialAborted:
+            pass
+
+
+class RobotGraphBody:
+    """
+    A navigator's body through bridge_node: one trial per step.
+
+    Without an external pose source (``external`` False) the pose is dead reckoning: each trial's
+    odometry (its displacement in the frame the robot started the trial in) composed onto the
+    previous pose; the heading is not measured by the bridge's odometry and stays as it was.
+    """
+
+    def __init__(
+        self,
+        port: NavigationPort,
+        poses: PoseLog,
+        trials: PoseLog,
+        waiter: Waiter,
+        trial_duration: float,
+        external: bool,
+        timeout: float = 10.0,
+        stand_still: float = 1.0,
+        sleep: Callable[[float], None] = time.sleep,
+    ) -> None:
+        self.port, self.poses, self.trials, self.waiter = port, poses, trials, waiter
+        self.trial_duration, self.external, self.timeout = trial_duration, external, timeout
+        self.stand_still, self.sleep = stand_still, sleep
+        self._dead_reckoned = Pose2D(0.0, 0.0, 0.0)
+
+    def pose(self) -> Pose2D:
+        """Return the external pose, or the dead-reckoned one."""
+        if not self.external:
+            return self._dead_reckoned
+        sample = self.poses.latest() or self.waiter.until(
+            self.poses.latest, self.timeout, 'a pose from the external pose topic'
+        )
+        return sample.pose
+
+    def walk(
+        self, gait: GaitParameters, duration: float, stop: Callable[[Pose2D], bool]
+    ) -> StepOutcome:
+        """Upload ``gait`` and walk one trial (the bridge's ``trial_duration``)."""
+        try:
+            ok, message = self.port.upload(gait, self.timeout)
+            if not ok:
+                raise BodyFailure(f'the robot did not take the gait: {message}')
+            self.sleep(max(0.0, self.stand_still))  # a clean IMU rest window
+            start = self.pose()
+            ok, message = self.port.start_trial()
+            if not ok:
+                raise BodyFailure(f'bridge_node did not start the trial: {message}')
+            started = time.monotonic()
+            trial = self.waiter.until(
+                lambda: self.trials.received_after(started),
+                self.trial_duration + self.timeout,
+                "the trial's odometry from bridge_node",
+            )
+        except TrialAborted as exc:
+            raise BodyFailure(str(exc)) from None
+        if self.external:
+            end = self.pose()
+        else:
+            d = trial.pose
+            end = self._dead_reckoned = start.moved(d.x, d.y, d.yaw)
+        return StepOutcome(
+            start, end, self.trial_duration, duration >= self.trial_duration, (end,)
+        )
+
+    def halt(self) -> None:
+        """Stop the robot's trial (it stands after a trial anyway)."""
+        try:
+            self.port.stop_trial()
+        except TrialAborted:
+            pass

@@ -1,0 +1,142 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+``run_navigation``: the navigation experiment (docs/navigation.md) on a repertoire.
+
+    ros2 run hexapod_adapt run_navigation --out-dir docs/navigation [--goal-seed 0]
+
+Every orientation of the damage scenarios (S0-S4) x ``--goals`` seeded goals at 1-3 m x three
+methods: the repertoire with the learned correction, without it, and the firmware-style control
+tripod steered every cycle. Prints the success rate, median walking time and path efficiency per
+scenario and method; ``--out-dir`` writes runs.csv, paths.json, summary.json, paths.png (top
+views) and boxes.png.
+"""
+
+from __future__ import annotations
+
+import argparse
+from dataclasses import asdict
+import sys
+
+from hexapod_adapt.archive import ArchiveError, load_archive
+from hexapod_adapt.maps import NAVIGATION_MAP, shipped_map
+from hexapod_adapt.navigation import NavigationConfig
+from hexapod_adapt.navigation_experiment import (
+    METHODS,
+    NavigationSettings,
+    run_navigation,
+    summarise,
+    write_results,
+)
+from hexapod_adapt.plots import plot_navigation_boxes, plot_navigation_paths
+from hexapod_adapt.repertoire import Repertoire
+from hexapod_description.cli import input_file, number, output_dir, run_command
+from hexapod_sim import ENGINES, SCENARIO_NAMES
+
+_DEFAULT = NavigationConfig()
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the command-line options of ``run_navigation``."""
+    ap = argparse.ArgumentParser(
+        prog='run_navigation',
+        description=__doc__.split('\n\n')[0],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    ap.add_argument('--repertoire', type=input_file, default=None, help='default: the shipped one')
+    ap.add_argument('--engine', choices=ENGINES, default='mujoco', help='the engine walked on')
+    ap.add_argument('--scenarios', nargs='+', choices=SCENARIO_NAMES, default=list(SCENARIO_NAMES))
+    ap.add_argument('--methods', nargs='+', choices=METHODS, default=list(METHODS))
+    ap.add_argument('--goals', type=number(int, 1, 1000), default=10, help='goals per damage case')
+    ap.add_argument(
+        '--goal-seed', type=number(int, 0, 2**32 - 1), default=0, help='seed of the goals'
+    )
+    ap.add_argument(
+        '--tolerance', type=number(float, 0, 10, low_open=True), default=_DEFAULT.tolerance
+    )
+    ap.add_argument(
+        '--time-limit', type=number(float, 0, 3600, low_open=True), default=_DEFAULT.time_limit
+    )
+    ap.add_argument(
+        '--length-scale', type=number(float, 0, 10, low_open=True), default=_DEFAULT.length_scale
+    )
+    ap.add_argument(
+        '--signal-xy', type=number(float, 0, 10, low_open=True), default=_DEFAULT.signal_std_xy
+    )
+    ap.add_argument(
+        '--noise-xy', type=number(float, 0, 10, low_open=True), default=_DEFAULT.noise_std_xy
+    )
+    ap.add_argument('--workers', type=number(int, 1, 256), default=2)
+    ap.add_argument(
+        '--out-dir', type=output_dir, default=None, help='write results and plots here'
+    )
+    return ap
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of ``run_navigation``; exit status 2 for bad inputs."""
+    args = build_parser().parse_args(argv)
+    return run_command('run_navigation', lambda: _run(args))
+
+
+def _run(args: argparse.Namespace) -> int:
+    path = args.repertoire or shipped_map(NAVIGATION_MAP)
+    try:
+        Repertoire.from_archive(load_archive(path))
+    except ArchiveError as exc:
+        print(f'run_navigation: {exc}', file=sys.stderr)
+        return 2
+    config = NavigationConfig(
+        **{
+            **asdict(_DEFAULT),
+            'tolerance': args.tolerance,
+            'time_limit': args.time_limit,
+            'length_scale': args.length_scale,
+            'signal_std_xy': args.signal_xy,
+            'noise_std_xy': args.noise_xy,
+        }
+    )
+    settings = NavigationSettings(
+        repertoire=path,
+        engine=args.engine,
+        scenarios=tuple(args.scenarios),
+        goals=args.goals,
+        goal_seed=args.goal_seed,
+        methods=tuple(args.methods),
+        config=config,
+    )
+    rows, paths = run_navigation(settings, workers=args.workers)
+    print('scenario  method        goals  reached  median walking s  median efficiency')
+    for s in summarise(rows):
+        print(
+            f'{s.scenario:8s}  {s.method:12s}  {s.episodes:5d}  {100 * s.success_rate:6.1f} %'
+            f'  {s.median_walking_time:16.1f}  {s.median_efficiency:17.2f}'
+        )
+    if args.out_dir is not None:
+        write_results(args.out_dir, settings, rows, paths)
+        plot_navigation_paths(rows, paths, args.out_dir / 'paths.png')
+        plot_navigation_boxes(rows, args.out_dir / 'boxes.png')
+        print(f'wrote {args.out_dir}/runs.csv, paths.json, summary.json, paths.png, boxes.png')
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,268 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+The navigation experiment (issue 18): every damage case x seeded goals x three methods; ROS-free.
+
+Each goal is pursued from a fresh start (robot at the origin, heading 0, a new GP): the case of a
+robot that was just damaged. Methods:
+
+``repertoire``   the navigation repertoire with the learned correction (what ``navigate`` does);
+``no_learning``  the same planner on the repertoire as it was measured intact;
+``tripod``       the firmware-style control tripod, steered every cycle (navigation.SteeredTripod).
+
+Goals are drawn once from ``goal_seed`` (distance uniform in [1, 3] m, direction uniform) and
+reused for every damage case, so the cases compare goal by goal.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import csv
+from dataclasses import asdict, dataclass, field
+import io
+import json
+import math
+from pathlib import Path
+from typing import Sequence
+
+from hexapod_adapt.archive import atomic_write_bytes, load_archive
+from hexapod_adapt.navigation import (
+    NavigationConfig,
+    NavigationResult,
+    Policy,
+    RepertoirePolicy,
+    run_episode,
+    SimBody,
+    SteeredTripod,
+)
+from hexapod_adapt.repertoire import Repertoire
+from hexapod_sim import create_simulator, scenario, SCENARIO_NAMES, SimConfig
+import numpy as np
+
+METHODS = ('repertoire', 'no_learning', 'tripod')
+GOAL_DISTANCE = (1.0, 3.0)  # m
+
+
+def draw_goals(n: int, seed: int) -> list[tuple[float, float]]:
+    """Return ``n`` goals (x, y) [m]: distance uniform in GOAL_DISTANCE, direction uniform."""
+    rng = np.random.default_rng(seed)
+    r = rng.uniform(*GOAL_DISTANCE, n)
+    a = rng.uniform(-math.pi, math.pi, n)
+    return [(float(x), float(y)) for x, y in zip(r * np.cos(a), r * np.sin(a))]
+
+
+@dataclass(frozen=True)
+class NavigationSettings:
+    """One experiment: which repertoire, engine, damage, goals and navigation settings."""
+
+    repertoire: Path
+    engine: str = 'mujoco'
+    scenarios: tuple[str, ...] = SCENARIO_NAMES
+    goals: int = 10
+    goal_seed: int = 0
+    methods: tuple[str, ...] = METHODS
+    config: NavigationConfig = field(default_factory=NavigationConfig)
+
+    def __post_init__(self) -> None:
+        unknown = [m for m in self.methods if m not in METHODS]
+        if unknown:
+            raise ValueError(f'unknown method {unknown[0]!r}; known: {", ".join(METHODS)}')
+        for name in self.scenarios:
+            scenario(name)  # ValueError names an unknown one
+        if self.goals < 1:
+            raise ValueError(f'goals must be >= 1, got {self.goals}')
+
+
+@dataclass(frozen=True)
+class NavigationRow:
+    """One episode, as a row of runs.csv."""
+
+    scenario: str
+    failed_legs: str  # e.g. "1+4", "" for none
+    goal: int
+    goal_x: float
+    goal_y: float
+    method: str
+    outcome: str
+    reached: bool
+    walking_time: float  # s
+    path_length: float  # m
+    efficiency: float  # straight line / path
+    steps: int
+    distance_left: float  # m
+    median_prediction_error: float  # m (NaN if none)
+
+
+def policy_for(method: str, repertoire: Repertoire, config: NavigationConfig) -> Policy:
+    """Return a fresh policy of ``method``."""
+    if method == 'repertoire':
+        return RepertoirePolicy(repertoire, config)
+    if method == 'no_learning':
+        return RepertoirePolicy(repertoire, NavigationConfig(**{**asdict(config), 'learn': False}))
+    return SteeredTripod()
+
+
+def _case(
+    settings: NavigationSettings, name: str, legs: tuple[int, ...]
+) -> list[tuple[NavigationRow, list[tuple[float, float]]]]:
+    repertoire = Repertoire.from_archive(load_archive(settings.repertoire))
+    sim = create_simulator(SimConfig(engine=settings.engine))
+    sim.set_failed_legs(legs)
+    body = SimBody(sim)
+    out = []
+    for k, goal in enumerate(draw_goals(settings.goals, settings.goal_seed)):
+        for method in settings.methods:
+            body.start()
+            result = run_episode(
+                body, policy_for(method, repertoire, settings.config), goal, settings.config
+            )
+            out.append((row_of(name, legs, k, method, result), [(p.x, p.y) for p in result.path]))
+    sim.close()
+    return out
+
+
+def row_of(
+    name: str, legs: Sequence[int], k: int, method: str, r: NavigationResult
+) -> NavigationRow:
+    """Return the runs.csv row of one episode."""
+    errors = r.prediction_errors
+    return NavigationRow(
+        name,
+        '+'.join(str(leg) for leg in legs),
+        k,
+        r.goal[0],
+        r.goal[1],
+        method,
+        r.outcome.value,
+        r.reached,
+        r.walking_time,
+        r.path_length,
+        r.efficiency,
+        r.steps,
+        r.end.distance_to(*r.goal),
+        float(np.median(errors)) if errors else float('nan'),
+    )
+
+
+def cases(settings: NavigationSettings) -> list[tuple[str, tuple[int, ...]]]:
+    """Return every (scenario, failed legs) of the experiment."""
+    return [(name, legs) for name in settings.scenarios for legs in scenario(name)]
+
+
+def run_navigation(
+    settings: NavigationSettings, workers: int = 1
+) -> tuple[list[NavigationRow], list[list[tuple[float, float]]]]:
+    """Run every episode; return the rows and each episode's path (x, y), in case order."""
+    todo = cases(settings)
+    if workers > 1:
+        with cf.ProcessPoolExecutor(workers) as pool:
+            done = list(pool.map(_case, [settings] * len(todo), *zip(*todo)))
+    else:
+        done = [_case(settings, name, legs) for name, legs in todo]
+    rows = [row for case in done for row, _ in case]
+    paths = [path for case in done for _, path in case]
+    return rows, paths
+
+
+# -- summaries and files -----------------------------------------------------------------------
+@dataclass(frozen=True)
+class MethodSummary:
+    """One method in one scenario."""
+
+    scenario: str
+    method: str
+    episodes: int
+    success_rate: float
+    median_walking_time: float  # s, reached goals only (NaN if none)
+    median_efficiency: float  # reached goals only
+
+
+def summarise(rows: Sequence[NavigationRow]) -> list[MethodSummary]:
+    """Return success rate, median walking time and efficiency per (scenario, method)."""
+    out = []
+    keys = sorted(
+        {(r.scenario, r.method) for r in rows}, key=lambda k: (k[0], METHODS.index(k[1]))
+    )
+    for name, method in keys:
+        sel = [r for r in rows if r.scenario == name and r.method == method]
+        ok = [r for r in sel if r.reached]
+        out.append(
+            MethodSummary(
+                name,
+                method,
+                len(sel),
+                len(ok) / len(sel),
+                float(np.median([r.walking_time for r in ok])) if ok else float('nan'),
+                float(np.median([r.efficiency for r in ok])) if ok else float('nan'),
+            )
+        )
+    return out
+
+
+def write_results(
+    out: Path,
+    settings: NavigationSettings,
+    rows: Sequence[NavigationRow],
+    paths: Sequence[Sequence[tuple[float, float]]],
+) -> None:
+    """Write runs.csv, paths.json and summary.json into ``out`` (each atomically)."""
+    out.mkdir(parents=True, exist_ok=True)
+    buf = io.StringIO()
+    names = list(NavigationRow.__dataclass_fields__)
+    writer = csv.writer(buf)
+    writer.writerow(names)
+    for r in rows:
+        writer.writerow([getattr(r, n) for n in names])
+    atomic_write_bytes(out / 'runs.csv', buf.getvalue().encode())
+    atomic_write_bytes(
+        out / 'paths.json',
+        json.dumps([[[round(x, 4), round(y, 4)] for x, y in p] for p in paths]).encode(),
+    )
+    summary = {
+        'settings': {
+            **{k: v for k, v in asdict(settings).items() if k != 'config'},
+            'repertoire': str(settings.repertoire),
+            'config': asdict(settings.config),
+        },
+        'summary': [asdict(s) for s in summarise(rows)],
+    }
+    atomic_write_bytes(out / 'summary.json', json.dumps(summary, indent=1, default=str).encode())
+
+
+def read_rows(path: Path) -> list[NavigationRow]:
+    """Read runs.csv back into rows."""
+    types = {n: f.type for n, f in NavigationRow.__dataclass_fields__.items()}
+    rows = []
+    with open(path, newline='', encoding='utf-8') as fh:
+        for raw in csv.DictReader(fh):
+            values = {}
+            for name, text in raw.items():
+                kind = types[name]
+                if kind == 'bool':
+                    values[name] = text == 'True'
+                elif kind == 'int':
+                    values[name] = int(text)
+                elif kind == 'float':
+                    values[name] = float(text)
+                else:
+                    values[name] = text
+            rows.append(NavigationRow(**values))
+    return rows

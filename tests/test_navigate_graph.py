@@ -1,0 +1,201 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""navigate_node with gait_node + sim_node, or bridge_node + robot_emulator, as processes."""
+
+from __future__ import annotations
+
+import math
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+
+from conftest import status_log_qos, wait_for
+from diagnostic_msgs.msg import DiagnosticStatus
+from hexapod_msgs.action import Navigate
+from nav_msgs.msg import Odometry
+import pytest
+from rclpy.action import ActionClient
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+from std_srvs.srv import SetBool
+from visualization_msgs.msg import Marker
+
+pytestmark = pytest.mark.ros
+SIM = {'engine': 'mujoco', 'real_time_factor': 4.0, 'publish_period_steps': 12}
+ODOM = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
+
+
+@pytest.fixture
+def graph(ros, launch):
+    """sim_node (MuJoCo, 4x real time) + gait_node + navigate_node, and an action client."""
+    launch('hexapod_sim', 'sim_node', params=SIM)
+    launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
+    nav = launch('hexapod_adapt', 'navigate_node', params={'max_range': 5.0})
+    client = ActionClient(ros.node, Navigate, 'navigate')
+    assert client.wait_for_server(timeout_sec=60)
+    return nav, client
+
+
+class Goal:
+    """One goal sent through the action client, with its feedback and result."""
+
+    def __init__(self, ros, client, x, y, **fields):
+        self.feedback = []
+        future = client.send_goal_async(
+            Navigate.Goal(x=float(x), y=float(y), **fields),
+            feedback_callback=lambda m: self.feedback.append(m.feedback),
+        )
+        self.handle = wait_for(lambda: future.done() and future.result(), 30, 'the goal response')
+        self._result = self.handle.get_result_async() if self.handle.accepted else None
+
+    def result(self, timeout=120):
+        """Return (status, result) when the goal ends."""
+        wait_for(self._result.done, timeout, 'the goal to end')
+        r = self._result.result()
+        return r.status, r.result
+
+
+def test_a_goal_is_reached_through_the_graph(ros, graph):
+    _nav, client = graph
+    markers = ros.collect(Marker, 'navigate/goal', status_log_qos())
+    odom = ros.collect(Odometry, 'odom', ODOM)
+    wait_for(lambda: odom, 30, 'odometry')
+    goal = Goal(ros, client, 1.0, -0.6)
+    assert goal.handle.accepted
+    status, result = goal.result()
+    assert result.reached and result.outcome == Navigate.Result.REACHED, result.reason
+    assert status == 4  # GoalStatus.STATUS_SUCCEEDED
+    assert result.distance_left <= 0.15 and result.steps >= 1 and result.walking_time > 0
+    # the node's final pose is the simulator's
+    p = odom[-1].pose.pose.position
+    assert math.hypot(p.x - 1.0, p.y + 0.6) <= 0.2
+    assert goal.feedback and goal.feedback[-1].steps == result.steps
+    wait_for(lambda: markers, 10, 'the goal marker')
+    assert markers[-1].pose.position.x == 1.0 and markers[-1].header.frame_id == 'odom'
+
+
+def test_invalid_goals_are_rejected_with_a_reason_and_the_node_goes_on(ros, graph):
+    nav, client = graph
+    status = ros.collect(DiagnosticStatus, 'navigate/status', status_log_qos())
+    for x, y, fields, reason in (
+        (math.nan, 0.0, {}, 'not a finite position'),
+        (40.0, 0.0, {}, 'beyond the configured range of 5 m'),
+        (1.0, 0.0, {'tolerance': -1.0}, 'tolerance must be'),
+        (1.0, 0.0, {'time_limit': math.inf}, 'time_limit must be'),
+    ):
+        assert not Goal(ros, client, x, y, **fields).handle.accepted
+        wait_for(lambda: any(reason in s.message for s in status), 10, reason)
+    assert nav.alive()
+    ok = Goal(ros, client, 0.5, 0.0)
+    assert ok.handle.accepted and ok.result()[1].reached
+
+
+def test_cancel_stops_the_robot_and_a_new_goal_preempts(ros, graph):
+    _nav, client = graph
+    odom = ros.collect(Odometry, 'odom', ODOM)
+    wait_for(lambda: odom, 30, 'odometry')
+    far = Goal(ros, client, 3.0, 1.0)
+    wait_for(lambda: far.feedback, 60, 'the first step')
+    far.handle.cancel_goal_async()
+    status, result = far.result()
+    assert result.outcome == Navigate.Result.CANCELED and status == 5  # STATUS_CANCELED
+    # within one gait cycle (1 s of sim time) of the result the robot stands
+    t_end = odom[-1].header.stamp.sec + odom[-1].header.stamp.nanosec * 1e-9
+    wait_for(
+        lambda: odom[-1].header.stamp.sec + odom[-1].header.stamp.nanosec * 1e-9 > t_end + 2.0,
+        30,
+        '2 s more of simulated time',
+    )
+
+    def position_at(t):
+        m = next(m for m in odom if m.header.stamp.sec + m.header.stamp.nanosec * 1e-9 >= t)
+        return m.pose.pose.position
+
+    a, b = position_at(t_end + 1.0), position_at(t_end + 2.0)
+    assert math.hypot(a.x - b.x, a.y - b.y) < 0.02
+
+    first = Goal(ros, client, -3.0, 0.0)
+    wait_for(lambda: first.feedback, 60, 'the first step')
+    second = Goal(ros, client, 0.3, 0.3)
+    assert second.handle.accepted
+    status, result = first.result()
+    assert result.outcome == Navigate.Result.PREEMPTED and status == 6  # STATUS_ABORTED
+    assert second.result()[1].reached
+
+
+def test_the_node_survives_a_client_that_vanishes(ros, graph, domain_id):
+    nav, client = graph
+    script = textwrap.dedent(
+        """
+        import rclpy, time
+        from rclpy.action import ActionClient
+        from hexapod_msgs.action import Navigate
+        rclpy.init()
+        node = rclpy.create_node('vanishing_client')
+        c = ActionClient(node, Navigate, 'navigate')
+        c.wait_for_server(timeout_sec=30)
+        c.send_goal_async(Navigate.Goal(x=2.0, y=0.0))
+        end = time.monotonic() + 60
+        while time.monotonic() < end:
+            rclpy.spin_once(node, timeout_sec=0.1)
+        """
+    )
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain_id))
+    proc = subprocess.Popen([sys.executable, '-c', script], env=env)
+    status = ros.collect(DiagnosticStatus, 'navigate/status', status_log_qos())
+    wait_for(lambda: any('navigating to (2.00' in s.message for s in status), 60, 'its goal')
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    goal = Goal(ros, client, 0.0, 0.5)
+    assert goal.handle.accepted and goal.result()[1].reached
+    assert nav.alive()
+
+
+def test_the_robot_path_walks_its_first_gait_through_the_bridge(ros, launch, tmp_path):
+    radio, imu = str(tmp_path / 'radio'), str(tmp_path / 'imu')
+    launch(
+        'hexapod_bridge',
+        'robot_emulator',
+        args=['--radio-link', radio, '--imu-link', imu, '--sim', '--imu-noise', '--seed', '3'],
+    )
+    wait_for(lambda: os.path.exists(radio) and os.path.exists(imu), 60, 'emulator ports')
+    launch(
+        'hexapod_bridge',
+        'bridge_node',
+        params={'port': radio, 'imu_port': imu, 'trial_duration': 2.0},
+    )
+    assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
+    nav = launch('hexapod_adapt', 'navigate_node', params={'mode': 'robot', 'trial_duration': 2.0})
+    client = ActionClient(ros.node, Navigate, 'navigate')
+    assert client.wait_for_server(timeout_sec=60)
+    odom = ros.collect(Odometry, 'odom', ODOM)
+    goal = Goal(ros, client, 3.0, 0.0)
+    assert goal.handle.accepted
+    wait_for(lambda: goal.feedback, 90, 'the first executed gait')
+    first = goal.feedback[0]
+    assert first.steps == 1 and odom  # one trial, measured by the bridge's IMU odometry
+    o = odom[0].pose.pose.position
+    p = first.current_pose.pose.position
+    assert (p.x, p.y) == pytest.approx((o.x, o.y))  # dead reckoning from the trial's odometry
+    goal.handle.cancel_goal_async()
+    assert goal.result(timeout=60)[1].outcome == Navigate.Result.CANCELED
+    assert nav.alive()
