@@ -154,8 +154,8 @@ class RobotGraphBody:
     A navigator's body through bridge_node: one trial per step.
 
     Without an external pose source (``external`` False) the pose is dead reckoning: each trial's
-    odometry (its displacement in the frame the robot started the trial in) composed onto the
-    previous pose; the heading is not measured by the bridge's odometry and stays as it was.
+    odometry (its displacement in the frame the robot started the trial in, and the IMU's heading
+    change) composed onto the previous pose.
     """
 
     def __init__(

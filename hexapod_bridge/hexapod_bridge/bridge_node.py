@@ -27,8 +27,9 @@ Publishes   imu/data          sensor_msgs/Imu: from the Xsens on ``imu_port`` at
                               the robot's 2 Hz attitude telemetry (orientation only)
             odom              nav_msgs/Odometry: one message per trial, the IMU estimate of the
                               displacement since the trial started (odom frame = the robot's
-                              pose at the start), twist = mean velocity, covariances = the
-                              estimate's stated accuracy
+                              pose at the start), orientation = the heading change over the
+                              trial, twist = mean velocity, covariances = the estimate's stated
+                              accuracy
             ~/link_status     hexapod_msgs/LinkStatus at ``status_rate``
             bridge/status     diagnostic_msgs/DiagnosticStatus (latched): uploads, trials, errors
 Services    ~/arm             std_srvs/SetBool: nothing is transmitted unless armed
@@ -282,7 +283,9 @@ class BridgeNode(Node):
         odom.header.stamp = self.get_clock().now().to_msg()
         odom.header.frame_id, odom.child_frame_id = self.frames['odom'], self.frames['base']
         odom.pose.pose.position.x, odom.pose.pose.position.y = r.x, r.y
-        odom.pose.pose.orientation.w = 1.0
+        # the orientation is the heading change over the trial (the IMU's yaw)
+        odom.pose.pose.orientation.z = math.sin(r.yaw / 2.0)
+        odom.pose.pose.orientation.w = math.cos(r.yaw / 2.0)
         odom.twist.twist.linear.x, odom.twist.twist.linear.y = r.x / r.duration, r.y / r.duration
         odom.pose.covariance[0] = odom.pose.covariance[7] = (SPEED_ACCURACY * r.duration) ** 2
         odom.twist.covariance[0] = odom.twist.covariance[7] = SPEED_ACCURACY**2

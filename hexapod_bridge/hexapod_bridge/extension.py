@@ -49,7 +49,8 @@ import struct
 from typing import Sequence
 
 from hexapod_bridge.crc import crc16
-from hexapod_gait import GaitParameters
+from hexapod_gait import GaitParameters, RANGES
+import numpy as np
 
 MARKER = 0xE7
 FRAME_LEN = 10
@@ -218,7 +219,23 @@ def gait_values(gait, leg_map=IDENTITY_LEG_MAP) -> list[float]:
         values.extend(per_leg)
     values.append(float(gait.archive_index))
     values.append(float(gait.turn_rate))
-    return values
+    return [_float32_inside(name, v) for name, v in zip(PARAM_NAMES, values)]
+
+
+def _float32_inside(name: str, value: float) -> float:
+    """
+    Return ``value`` as the float32 the robot will store, kept inside the parameter's range.
+
+    A bound such as pi has no float32: the nearest float32 lies just outside the range and the
+    robot would refuse it, so such a value moves one float32 step inwards.
+    """
+    lo, hi = RANGES.get(name.split('[')[0], (-math.inf, math.inf))
+    v = np.float32(value)
+    if float(v) > hi:  # compared in float64 (NumPy would compare in float32)
+        v = np.nextafter(v, np.float32(-np.inf))
+    elif float(v) < lo:
+        v = np.nextafter(v, np.float32(np.inf))
+    return float(v)
 
 
 def values_crc(values: Sequence[float]) -> int:

@@ -77,6 +77,7 @@ class TrialEstimate:
     displacement: np.ndarray  # (2,) world x, y [m] over the window
     samples: int
     drift_velocity: float  # |velocity| removed by the end-of-window zero-velocity update [m/s]
+    yaw_change: float = 0.0  # heading at the window's end minus at its start [rad], (-pi, pi]
 
 
 class TrialOdometry:
@@ -86,6 +87,7 @@ class TrialOdometry:
         self.times: list[float] = []
         self.accel_world: list[np.ndarray] = []
         self.yaw0: float | None = None
+        self.yaw: float | None = None  # the latest heading [rad]
 
     def add(
         self,
@@ -101,10 +103,18 @@ class TrialOdometry:
         rot = rotation_from_euler_deg(*euler_deg)
         if self.yaw0 is None:
             self.yaw0 = math.radians(euler_deg[2])
+        self.yaw = math.radians(euler_deg[2])
         a = rot @ np.asarray(acc_sensor, dtype=float)
         a[2] -= GRAVITY
         self.times.append(float(t))
         self.accel_world.append(a)
+
+    def in_start_frame(self, displacement: np.ndarray) -> tuple[float, float]:
+        """Return a world displacement (x, y) in the frame the robot started the window in."""
+        yaw0 = self.yaw0 or 0.0
+        c, s = math.cos(yaw0), math.sin(yaw0)
+        dx, dy = (float(v) for v in displacement)
+        return c * dx + s * dy, -s * dx + c * dy
 
     def position_so_far(self) -> np.ndarray:
         """Plain double integration up to now (no drift correction): the live estimate."""
@@ -139,6 +149,12 @@ class TrialOdometry:
         displacement = np.sum(0.5 * (v[1:] + v[:-1]) * dt[:, None], axis=0)
         heading = (self.yaw0 or 0.0) + crab_angle
         distance = float(displacement[0] * math.cos(heading) + displacement[1] * math.sin(heading))
+        turned = (self.yaw or 0.0) - (self.yaw0 or 0.0)
         return TrialEstimate(
-            distance, distance / walk_duration, displacement, len(t), float(np.linalg.norm(drift))
+            distance,
+            distance / walk_duration,
+            displacement,
+            len(t),
+            float(np.linalg.norm(drift)),
+            math.pi - (math.pi - turned) % (2.0 * math.pi),
         )

@@ -120,6 +120,7 @@ class TrialResult:
     x: float = 0.0  # displacement in the frame the robot started in [m]
     y: float = 0.0
     problem: str = ''  # why there is no estimate ('' if there is)
+    yaw: float = 0.0  # heading change over the trial (the IMU's yaw) [rad]
 
 
 @dataclass(frozen=True)
@@ -332,11 +333,8 @@ class BaseStation:
                 trial.duration,
                 problem=f'the IMU estimate is not finite (speed {est.speed!r} m/s)',
             )
-        # the world displacement, rotated into the frame the robot started the trial in
-        yaw0 = trial.odometry.yaw0 or 0.0
-        c, s = math.cos(-yaw0), math.sin(-yaw0)
-        dx, dy = (float(v) for v in est.displacement)
-        return TrialResult(state, trial.duration, est, c * dx - s * dy, s * dx + c * dy)
+        x, y = trial.odometry.in_start_frame(est.displacement)
+        return TrialResult(state, trial.duration, est, x, y, yaw=est.yaw_change)
 
     # -- I/O threads -----------------------------------------------------------------------
     def _guarded(self, body, name: str) -> None:

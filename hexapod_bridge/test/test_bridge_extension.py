@@ -22,6 +22,7 @@
 
 from __future__ import annotations
 
+import math
 import struct
 
 from hexapod_bridge import extension as ext
@@ -56,3 +57,13 @@ def test_upload_frames_and_values_round_trip():
     back = ext.gait_from_values(ext.quantise(values))
     assert back.archive_index == 1234
     assert back.duty_factor[0] == pytest.approx(5 / 6, abs=1e-6)
+
+
+@pytest.mark.parametrize('crab', [math.pi, -math.pi])
+def test_a_value_on_a_bound_without_a_float32_is_sent_just_inside_it(crab):
+    # float32(pi) > pi: sent as it is, the robot would refuse the omni gaits that walk straight back
+    gait = preset('tripod').replace(crab_angle=crab, turn_rate=0.2)
+    values = ext.gait_values(gait)
+    assert abs(values[3]) <= math.pi and values[3] == pytest.approx(crab, abs=1e-6)
+    robot = ext.gait_from_values(ext.quantise(values))
+    assert robot.crab_angle == values[3] and robot.turn_rate == pytest.approx(0.2)

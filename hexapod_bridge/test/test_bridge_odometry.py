@@ -29,12 +29,9 @@ walked from rest, odometry.SPEED_ACCURACY for fast gaits walked one after anothe
 
 from __future__ import annotations
 
-from collections import deque
-
-from hexapod_bridge.emulator.firmware import ImuNoise, RobotFirmware
-from hexapod_bridge.link import RobotLink
-from hexapod_bridge.odometry import SPEED_ACCURACY, STEADY_GAIT_ACCURACY, TrialOdometry
-from hexapod_bridge.xbus import MTData, XbusParser
+from hexapod_bridge.emulator.consecutive import ConsecutiveTrials
+from hexapod_bridge.emulator.firmware import ImuNoise
+from hexapod_bridge.odometry import SPEED_ACCURACY, STEADY_GAIT_ACCURACY
 from hexapod_gait import from_genotype, preset
 from hexapod_sim import create_simulator, Simulator
 from hexapod_sim.sampling import random_reachable_genotypes
@@ -65,58 +62,6 @@ def test_imu_speed_estimate_accuracy():
         f' stated accuracy {STEADY_GAIT_ACCURACY} m/s'
     )
     assert noisy.max() <= STEADY_GAIT_ACCURACY and clean.max() <= STEADY_GAIT_ACCURACY
-
-
-class ConsecutiveTrials:
-    """
-    One emulated robot walking trial after trial with no reset, as on the real robot.
-
-    The bridge's procedure: upload, stand still (adapt_node's stand_still, 1 s), open the IMU
-    window 0.3 s before the start (pre_trial_buffer), close it 0.5 s after the robot reports the
-    walk done (settle_time).
-    """
-
-    def __init__(self, sim: Simulator, seed: int, noise: ImuNoise | None = ImuNoise()) -> None:
-        self.sim = sim
-        self.fw = RobotFirmware(sim=sim, imu_noise=noise, seed=seed)
-        self.link, self.xp, self.history = RobotLink(), XbusParser(), deque(maxlen=31)
-        self.t = 0.0
-        self.odometry: TrialOdometry | None = None
-        self.link.arm(True, self.t)
-
-    def step(self) -> None:
-        self.t += 0.002
-        for frame in self.link.poll(self.t):
-            self.fw.receive(frame, self.t)
-        radio, imu = self.fw.advance(self.t)
-        self.link.receive(radio, self.t)
-        for m in self.xp.feed(imu):
-            if isinstance(m, MTData):
-                sample = (m.counter / 100.0, m.acc, m.euler)
-                self.history.append(sample)
-                if self.odometry is not None:
-                    self.odometry.add(*sample)
-
-    def trial(self, gait) -> tuple[float, float]:
-        """Walk one 5 s trial of ``gait``: (the emulator's true speed, the IMU estimate) [m/s]."""
-        upload = self.link.upload(gait)
-        while not upload.done:
-            self.step()
-        assert upload.ok, upload.message
-        stand_until = self.t + 1.0
-        while self.t < stand_until:
-            self.step()
-        self.odometry = TrialOdometry()
-        for sample in self.history:
-            self.odometry.add(*sample)
-        start, done_at = self.link.start_trial(5.0, upload.result['gait_id']), None
-        while done_at is None or self.t < done_at + 0.5:
-            self.step()
-            if done_at is None and start.done and self.link.trial_state.name == 'DONE':
-                done_at = self.t
-        estimate = self.odometry.estimate(gait.crab_angle, 5.0).speed
-        self.odometry = None
-        return self.fw.trials[-1].summary()['speed'], estimate
 
 
 def test_fast_gaits_walked_one_after_another_are_measured_within_the_stated_accuracy():

@@ -1,0 +1,147 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+An emulated robot walking trial after trial with no reset, measured as bridge_node measures it.
+
+The bridge's procedure, in one process and on emulated time: upload, stand still (1 s, as
+adapt_node and navigate_node do), open the IMU window 0.3 s before the start (pre_trial_buffer),
+close it 0.5 s after the robot reports the walk done (settle_time). Real bytes through the link,
+the firmware model and the Xbus parser; the simulator's pose is the truth.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass
+import math
+
+from hexapod_bridge.emulator.firmware import ImuNoise, RobotFirmware
+from hexapod_bridge.link import RobotLink
+from hexapod_bridge.odometry import TrialOdometry
+from hexapod_bridge.xbus import MTData, XbusParser
+from hexapod_sim import Simulator
+
+
+@dataclass(frozen=True)
+class MeasuredTrial:
+    """One trial: the simulator's truth and the IMU estimate, in the frame the trial started in."""
+
+    true_speed: float  # m/s along the walking direction (the firmware's record)
+    estimated_speed: float
+    true_move: tuple[float, float, float]  # dx, dy [m], heading change [rad]
+    estimated_move: tuple[float, float, float]
+
+
+class ConsecutiveTrials:
+    """One emulated robot walking trial after trial with no reset, as on the real robot."""
+
+    def __init__(self, sim: Simulator, seed: int, noise: ImuNoise | None = ImuNoise()) -> None:
+        self.sim = sim
+        self.fw = RobotFirmware(sim=sim, imu_noise=noise, seed=seed)
+        self.link, self.xp, self.history = RobotLink(), XbusParser(), deque(maxlen=31)
+        self.t = 0.0
+        self.odometry: TrialOdometry | None = None
+        self.link.arm(True, self.t)
+
+    def step(self) -> None:
+        """Advance the link, the firmware and the IMU parser by 2 ms."""
+        self.t += 0.002
+        for frame in self.link.poll(self.t):
+            self.fw.receive(frame, self.t)
+        radio, imu = self.fw.advance(self.t)
+        self.link.receive(radio, self.t)
+        for m in self.xp.feed(imu):
+            if isinstance(m, MTData):
+                sample = (m.counter / 100.0, m.acc, m.euler)
+                self.history.append(sample)
+                if self.odometry is not None:
+                    self.odometry.add(*sample)
+
+    def _pose(self) -> tuple[float, float, float]:
+        position, _ = self.sim.base_pose()
+        return float(position[0]), float(position[1]), float(self.sim.base_euler()[2])
+
+    def measure(self, gait, duration: float = 5.0) -> MeasuredTrial:
+        """Upload ``gait``, stand 1 s, walk one trial of ``duration`` s; return what happened."""
+        upload = self.link.upload(gait)
+        while not upload.done:
+            self.step()
+        if not upload.ok:
+            raise RuntimeError(f'the emulated robot refused the gait: {upload.message}')
+        stand_until = self.t + 1.0
+        while self.t < stand_until:
+            self.step()
+        self.odometry = TrialOdometry()
+        for sample in self.history:
+            self.odometry.add(*sample)
+        x0, y0, yaw0 = self._pose()
+        start, done_at = self.link.start_trial(duration, upload.result['gait_id']), None
+        while done_at is None or self.t < done_at + 0.5:
+            self.step()
+            if done_at is None and start.done and self.link.trial_state.name == 'DONE':
+                done_at = self.t
+        x1, y1, yaw1 = self._pose()
+        est = self.odometry.estimate(gait.crab_angle, duration)
+        ex, ey = self.odometry.in_start_frame(est.displacement)
+        self.odometry = None
+        c, s = math.cos(yaw0), math.sin(yaw0)
+        true_move = (
+            c * (x1 - x0) + s * (y1 - y0),
+            -s * (x1 - x0) + c * (y1 - y0),
+            math.pi - (math.pi - (yaw1 - yaw0)) % (2.0 * math.pi),
+        )
+        return MeasuredTrial(
+            self.fw.trials[-1].summary()['speed'], est.speed, true_move, (ex, ey, est.yaw_change)
+        )
+
+    def trial(self, gait) -> tuple[float, float]:
+        """Walk one 5 s trial of ``gait``: (the emulator's true speed, the IMU estimate) [m/s]."""
+        m = self.measure(gait, 5.0)
+        return m.true_speed, m.estimated_speed
+
+
+@dataclass(frozen=True)
+class DeadReckoning:
+    """How far dead reckoning from the bridge's trial odometry drifts from the truth."""
+
+    step_errors: tuple[float, ...]  # m: |estimated - true| displacement of each trial
+    yaw_errors: tuple[float, ...]  # rad: estimated - true heading change of each trial
+    drift: tuple[float, ...]  # m: |dead-reckoned - true position| after 1, 2, ... trials
+
+
+def dead_reckoning(sim: Simulator, gaits, duration: float, seed: int) -> DeadReckoning:
+    """Walk ``gaits`` one after another on an emulated robot; compose both poses; compare."""
+    robot = ConsecutiveTrials(sim, seed)
+    true_pose, est_pose = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
+    steps, yaws, drift = [], [], []
+    for gait in gaits:
+        m = robot.measure(gait, duration)
+        steps.append(
+            math.hypot(m.estimated_move[0] - m.true_move[0], m.estimated_move[1] - m.true_move[1])
+        )
+        yaws.append(m.estimated_move[2] - m.true_move[2])
+        for pose, move in ((true_pose, m.true_move), (est_pose, m.estimated_move)):
+            c, s = math.cos(pose[2]), math.sin(pose[2])
+            pose[0] += c * move[0] - s * move[1]
+            pose[1] += s * move[0] + c * move[1]
+            pose[2] += move[2]
+        drift.append(math.hypot(est_pose[0] - true_pose[0], est_pose[1] - true_pose[1]))
+    return DeadReckoning(tuple(steps), tuple(yaws), tuple(drift))
