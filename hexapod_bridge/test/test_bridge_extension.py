@@ -61,7 +61,7 @@ def test_upload_frames_and_values_round_trip():
 
 @pytest.mark.parametrize('crab', [math.pi, -math.pi])
 def test_a_value_on_a_bound_without_a_float32_is_sent_just_inside_it(crab):
-    # float32(pi) > pi: sent as it is, the robot would refuse the omni gaits that walk straight back
+    # float32(pi) > pi: sent as is, the robot would refuse the omni gaits that walk straight back
     gait = preset('tripod').replace(crab_angle=crab, turn_rate=0.2)
     values = ext.gait_values(gait)
     assert abs(values[3]) <= math.pi and values[3] == pytest.approx(crab, abs=1e-6)
