@@ -4,8 +4,8 @@ SHELL := /bin/bash
 ENV := source scripts/env.sh
 PYTEST_ARGS ?=
 
-.PHONY: all bootstrap build demo test test-unit test-integration lint format bench bench-gait bench-sim \
-        bench-map bench-adapt bench-bridge pictures clean
+.PHONY: all bootstrap build demo demo-navigate test test-unit test-integration lint format bench bench-gait bench-sim \
+        bench-map bench-adapt bench-bridge bench-navigate pictures clean
 
 all: build
 
@@ -17,6 +17,10 @@ build:
 
 demo: bootstrap
 	@$(ENV) && python scripts/demo.py
+
+# A robot with two dead legs walks to three goals through the ROS graph, recorded to MCAP.
+demo-navigate: bootstrap
+	@$(ENV) && python scripts/demo_navigate.py
 
 test: bootstrap
 	@$(ENV) && python -m pytest $(PYTEST_ARGS)
@@ -43,7 +47,7 @@ bench: bootstrap
 	@$(ENV) && python scripts/bench.py all
 
 # Explicit targets: make applies no pattern rule to a .PHONY target.
-BENCH_AREAS := gait sim map adapt bridge
+BENCH_AREAS := gait sim map adapt bridge navigate
 $(addprefix bench-,$(BENCH_AREAS)): bench-%: bootstrap
 	@$(ENV) && python scripts/bench.py $*
 

@@ -35,7 +35,9 @@ geometry_msgs/PoseStamped or nav_msgs/Odometry, e.g. motion capture).
 * What was learned about the damage is kept from goal to goal; ``~/forget`` drops it (after a
   repair, or new damage).
 
-Publishes ``navigate/goal`` (visualization_msgs/Marker, latched) and ``navigate/status``.
+Publishes ``navigate/goal`` (visualization_msgs/Marker, latched) and ``navigate/status``. With
+``record_dir`` set, each goal is recorded to an MCAP file there (odometry, frames, joint states,
+gaits, the goal marker, the URDF): its path replays in Foxglove.
 """
 
 from __future__ import annotations
@@ -51,7 +53,7 @@ from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import PoseStamped
 from hexapod_adapt.adaptation import TrialAborted
 from hexapod_adapt.archive import ArchiveError, load_archive
-from hexapod_adapt.graph_port import GraphPort, stamp_ns
+from hexapod_adapt.graph_port import GraphPort, RECORDED_TYPES, RecordedTopics, stamp_ns
 from hexapod_adapt.maps import NAVIGATION_MAP, shipped_map
 from hexapod_adapt.navigate_msgs import OUTCOME_CODES, pose_msg, yaw_of
 from hexapod_adapt.navigation import (
@@ -64,6 +66,7 @@ from hexapod_adapt.navigation import (
     run_episode,
 )
 from hexapod_adapt.navigation_bodies import PoseLog, PoseSample, RobotGraphBody, SimGraphBody
+from hexapod_adapt.recording import type_name
 from hexapod_adapt.repertoire import Repertoire
 from hexapod_adapt.run_recording import RunRecording
 from hexapod_adapt.trials import OdomLog, Waiter
@@ -79,6 +82,12 @@ from std_srvs.srv import Trigger
 from visualization_msgs.msg import Marker
 
 MODES = ('sim', 'robot')
+#: What a goal's recording holds: the sensors and frames an adaptation run records, and the goal.
+RECORDED = {
+    **{topic: name for topic, name in RECORDED_TYPES.items() if topic != 'adapt/trials'},
+    'navigate/goal': type_name(Marker),
+}
+LATCHED_GRACE_S = 5.0  # how long a recording waits at its start for the URDF and static frames
 FIRST_POSE_WAIT_S = 5.0  # how long a goal waits for the pose source's first message
 _DEFAULTS = NavigationConfig()
 #: NavigationConfig's fields that are node parameters (the GP's settings and the limits).
@@ -107,6 +116,7 @@ PARAMETERS = (
     ParamSpec('arena', 0.0, 'half-width of the square arena around odom [m]; 0 = none'),
     ParamSpec('learn', True, 'learn the damage while walking (false: the repertoire as measured)'),
     ParamSpec('timeout', 10.0, 'longest wait for the graph to answer [s]', range=(0.1, 600.0)),
+    ParamSpec('record_dir', '', 'record each goal to an MCAP file here; empty = no recording'),
     *(
         ParamSpec(name, float(getattr(_DEFAULTS, name)), f'NavigationConfig.{name}')
         for name in CONFIG_PARAMS
@@ -143,14 +153,16 @@ class NavigateNode(Node):
         self.marker_pub = self.create_publisher(Marker, 'navigate/goal', LATCHED)
         self.poses, self.trial_poses = PoseLog(), PoseLog()
         self.waiter = Waiter(lambda: rclpy.ok(context=self.context))
-        recording = RunRecording(
+        self.recording = RunRecording(
             self.resolve_topic_name,
             lambda: self.get_clock().now().nanoseconds,
             self.get_logger().error,
         )
         self.port = GraphPort(
-            self, values['sim_node'], values['bridge_node'], OdomLog(), recording
+            self, values['sim_node'], values['bridge_node'], OdomLog(), self.recording
         )
+        self.recorded = RecordedTopics(self, self.recording)
+        self.record_dir = values['record_dir']
         self.port.wait = self.waiter.until
         self.stop_client = self.create_client(Trigger, f'{values["bridge_node"]}/stop_trial')
         sensors = MutuallyExclusiveCallbackGroup()
@@ -302,6 +314,7 @@ class NavigateNode(Node):
                 }
             )
             self.policy.config = config
+            path = self._start_recording()
             self._marker(goal.x, goal.y, config.tolerance)
 
             def stopped() -> bool:
@@ -312,6 +325,7 @@ class NavigateNode(Node):
                 )
 
             def feedback(f: Feedback) -> None:
+                self.recording.checkpoint()  # every step survives a kill or a power loss
                 msg = Navigate.Feedback(distance_remaining=f.distance_left, steps=f.steps)
                 msg.current_pose = pose_msg(f.pose, self.get_clock().now().to_msg())
                 msg.prediction_error = f.prediction_error
@@ -329,11 +343,13 @@ class NavigateNode(Node):
             except TrialAborted as exc:  # the graph stopped answering while standing up
                 result = None
                 reason = str(exc)
+            finally:
+                self.recording.stop()
             with self._lock:
                 preempted = self._key(handle) in self._preempted
                 self._preempted.discard(self._key(handle))
                 self._active = None
-        out = Navigate.Result()
+        out = Navigate.Result(recording=str(path) if path else '')
         if result is None:
             out.outcome, out.reason = Navigate.Result.FAILED, reason
             handle.abort()
@@ -362,6 +378,19 @@ class NavigateNode(Node):
         )
         return out
 
+    def _start_recording(self):
+        """Open this goal's MCAP file (None if the node does not record, or cannot)."""
+        if not self.record_dir:
+            return None
+        left = self.recorded.await_latched(LATCHED_GRACE_S)
+        if left:
+            self.get_logger().warning(f'recording starts without {", ".join(left)}')
+        return self.recording.start(self.record_dir, RECORDED, prefix='navigate')
+
+    def shutdown(self) -> None:
+        """Ctrl-C / SIGTERM mid-goal: finish the MCAP file (called by run_node)."""
+        self.recording.stop()
+
     def _marker(self, x: float, y: float, tolerance: float) -> None:
         m = Marker(ns='navigate', id=0, type=Marker.CYLINDER, action=Marker.ADD)
         m.header.frame_id = 'odom'
@@ -371,6 +400,7 @@ class NavigateNode(Node):
         m.scale.z = 0.02
         m.color.r, m.color.g, m.color.a = 0.1, 0.8, 0.6
         self.marker_pub.publish(m)
+        self.recording.record('navigate/goal', m)
 
     def _on_forget(self, request, response):
         if self._driving.locked():

@@ -84,9 +84,13 @@ class RunRecording:
             self._latched[topic] = msg
             self._write(topic, msg)
 
-    def start(self, directory: str | os.PathLike, types: Mapping[str, str]) -> Path | None:
+    def start(
+        self, directory: str | os.PathLike, types: Mapping[str, str], prefix: str = 'adapt'
+    ) -> Path | None:
         """
         Open a new file in ``directory`` for a run that records ``types`` (topic -> pkg/msg/Type).
+
+        The file is named ``<prefix>_<UTC date-time>.mcap``.
 
         Returns its path, or None when nothing can be recorded (:attr:`problem` says why). The
         latched messages are written first.
@@ -94,7 +98,7 @@ class RunRecording:
         self.stop()
         self.problem = ''
         try:
-            recorder = create_recording(Path(directory).expanduser())
+            recorder = create_recording(Path(directory).expanduser(), prefix)
         except OSError as exc:
             return self._fail(f'cannot record in {directory}: {exc}; running without a recording')
         refused: dict[str, list[str]] = {}
