@@ -44,6 +44,7 @@ PACKAGE = {
     'generate_map': 'hexapod_adapt',
     'adapt_client': 'hexapod_adapt',
     'run_experiment': 'hexapod_adapt',
+    'run_navigation': 'hexapod_adapt',
     'plot_map': 'hexapod_adapt',
     'recover_recording': 'hexapod_adapt',
     'robot_emulator': 'hexapod_bridge',
@@ -65,6 +66,8 @@ def _main(command: str) -> Callable[[list[str]], int]:
         return lambda argv: build_parser().parse_args(argv)
     elif command == 'run_experiment':
         from hexapod_adapt.experiment_cli import main
+    elif command == 'run_navigation':
+        from hexapod_adapt.navigation_cli import main
     elif command == 'robot_emulator':
         from hexapod_bridge.emulator.cli import main
     elif command == 'render_walk':
@@ -112,6 +115,12 @@ BOUNDS = [
     Bound('run_experiment', '--kappa', 0.0, 100.0, False),
     Bound('run_experiment', '--length-scale', 1e-3, 10.0, False),
     Bound('run_experiment', '--noise', 1e-9, 1.0, False),
+    Bound('run_navigation', '--goals', 1, 1000),
+    Bound('run_navigation', '--goal-seed', 0, 2**32 - 1),
+    Bound('run_navigation', '--workers', 1, 256),
+    Bound('run_navigation', '--tolerance', 0.0, 10.0, False, low_open=True),
+    Bound('run_navigation', '--time-limit', 0.0, 3600.0, False, low_open=True),
+    Bound('run_navigation', '--length-scale', 0.0, 10.0, False, low_open=True),
     Bound('robot_emulator', '--seed', 0, 2**32 - 1),
     Bound('robot_emulator', '--walk-duration', 0.0, 600.0, False, low_open=True),
     Bound('robot_emulator', '--failsafe-windows', 1, 1000),
@@ -193,6 +202,11 @@ PATHS = [
     ('run_experiment', ['--archive', '{garbage}'], 'garbage'),
     ('run_experiment', ['--out-dir', '{file}'], 'is not a directory'),
     ('run_experiment', ['--out', '{dir}'], 'is a directory, not a file'),
+    ('run_navigation', ['--repertoire', '{missing}'], 'no such file'),
+    ('run_navigation', ['--repertoire', '{dir}'], 'is a directory, not a file'),
+    ('run_navigation', ['--repertoire', '{garbage}'], 'garbage'),
+    ('run_navigation', ['--repertoire', DEMO_MAP], 'not a navigation repertoire'),
+    ('run_navigation', ['--out-dir', '{file}'], 'is not a directory'),
     ('plot_map', ['--archive', '{missing}'], 'no such file'),
     ('plot_map', ['--archive', '{garbage}'], 'garbage'),
     ('plot_map', ['--archive', DEMO_MAP, '--out-dir', '{file}'], 'is not a directory'),
@@ -264,6 +278,7 @@ RUNNING = {
     ],
     'adapt_client': ['--timeout', '600'],
     'run_experiment': ['--archive', DEMO_MAP, '--trial-engine', 'pybullet'],
+    'run_navigation': ['--workers', '1', '--engine', 'pybullet'],
     'robot_emulator': ['--radio-link', '{tmp}/radio', '--sim'],
     'render_walk': ['--seconds', '60', '--out', '{tmp}/walk.gif'],
     'fidelity_table': ['--engine', 'pybullet'],

@@ -21,8 +21,9 @@
 """
 ``plot_map``: pictures of a map.
 
-QD progress from its generation log and the 6-D map as 2-D projections. Works on a finished map, a
-checkpoint, and the log of a run still in progress.
+QD progress from its generation log and the 6-D map as 2-D projections (a navigation repertoire:
+where its steps end, and its progress). Works on a finished map, a checkpoint, and the log of a
+run still in progress.
 
     ros2 run hexapod_adapt plot_map --archive hexapod_adapt/maps/default_map.npz --out-dir docs/img
     plot_map --archive map.npz.ckpt.npz --log map.npz.log.jsonl --out-dir /tmp/progress
@@ -35,7 +36,13 @@ from pathlib import Path
 import sys
 
 from hexapod_adapt.archive import ArchiveError, load_archive
-from hexapod_adapt.plots import plot_progress, plot_projections, read_log
+from hexapod_adapt.plots import (
+    plot_progress,
+    plot_projections,
+    plot_repertoire,
+    plot_repertoire_progress,
+    read_log,
+)
 from hexapod_description.cli import input_file, output_dir, run_command
 
 
@@ -72,21 +79,18 @@ def _plot(args: argparse.Namespace) -> int:
     try:
         archive = load_archive(args.archive)
         rows = read_log(log) if log.is_file() else []
-        written = [plot_projections(archive, args.out_dir / f'{stem}_projections.png')]
-        if rows:
-            written.append(
-                plot_progress(
-                    rows,
-                    args.out_dir / f'{stem}_progress.png',
-                    archive.trial_duration,
-                    title=f'{stem}: {rows[-1]["evaluations"]} evaluations',
-                )
-            )
+        title = f'{stem}: {rows[-1]["evaluations"]} evaluations' if rows else ''
+        progress = args.out_dir / f'{stem}_progress.png'
+        if archive.kind.name == 'navigation':
+            written = [plot_repertoire(archive, args.out_dir / f'{stem}_steps.png')]
+            if rows:
+                written.append(plot_repertoire_progress(rows, progress, title=title))
         else:
-            print(
-                f'plot_map: no progress log at {log}; drawing the projections only',
-                file=sys.stderr,
-            )
+            written = [plot_projections(archive, args.out_dir / f'{stem}_projections.png')]
+            if rows:
+                written.append(plot_progress(rows, progress, archive.trial_duration, title=title))
+        if not rows:
+            print(f'plot_map: no progress log at {log}; drawing the map only', file=sys.stderr)
     except (ArchiveError, ValueError) as exc:
         print(f'plot_map: {exc}', file=sys.stderr)
         return 2

@@ -348,3 +348,57 @@ def plot_navigation_boxes(rows: Sequence[Any], out: str | Path) -> Path:
     axes[2].axhline(85, color='k', lw=0.8, ls='--')
     axes[2].legend(fontsize=8)
     return _save(fig, out)
+
+
+def plot_repertoire(archive: Archive, out: str | Path, title: str = '') -> Path:
+    """A navigation repertoire: where each elite's step ends, coloured by its heading change."""
+    from hexapod_adapt.repertoire import from_descriptor
+
+    if not archive.filled.any():
+        raise ValueError('the repertoire has no gaits to draw')
+    idx = archive.elite_indices()
+    xy = from_descriptor(archive.descriptors[idx])
+    fig, ax = plt.subplots(figsize=(6.2, 5.4))
+    image = ax.scatter(
+        xy[:, 0], xy[:, 1], c=np.degrees(-archive.fitness[idx]), s=9, cmap='magma_r', vmin=0
+    )
+    fig.colorbar(image, ax=ax, label='heading change over the step [deg]')
+    ax.plot(0, 0, 'k+', ms=10)
+    ax.set_aspect('equal')
+    ax.set_xlabel('x after one step [m] (start frame)')
+    ax.set_ylabel('y [m]')
+    ax.grid(alpha=0.3)
+    ax.set_title(
+        title
+        or f'{len(idx)} gaits of {archive.n_niches} niches, {archive.trial_duration:g} s steps'
+    )
+    return _save(fig, out)
+
+
+def plot_repertoire_progress(
+    rows: Sequence[dict[str, Any]], out: str | Path, title: str = ''
+) -> Path:
+    """A navigation repertoire's generation: filled niches and the elites' heading changes."""
+    if not rows:
+        raise ValueError('the log has no progress rows yet')
+    ev = np.array([r['evaluations'] for r in rows], dtype=float)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    axes[0].plot(ev, [r['filled'] for r in rows], color='tab:blue')
+    axes[0].set_ylabel('filled niches (places one step reaches)')
+    for key, label, style in (
+        ('mean', 'mean', '--'),
+        ('median', 'median', '-.'),
+        ('p5', 'worst 5 %', ':'),
+    ):
+        axes[1].plot(
+            ev, -np.degrees(np.array([r[key] for r in rows], dtype=float)), style, label=label
+        )
+    axes[1].set_ylabel('heading change of the elites [deg]')
+    axes[1].legend(loc='upper right', fontsize=8)
+    for ax in axes:
+        ax.set_xlabel('evaluations')
+        ax.xaxis.set_major_locator(MaxNLocator(5))
+        ax.xaxis.set_major_formatter(EngFormatter(sep=''))
+        ax.grid(alpha=0.3)
+    fig.suptitle(title or 'navigation repertoire generation progress')
+    return _save(fig, out)

@@ -1,0 +1,91 @@
+#!/usr/bin/env python3
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+How navigate's settings were chosen (docs/navigation.md, "Tuning").
+
+A grid of settings on the tuning goals (seed 100), never on the reported experiment's goals
+(seed 0).
+
+    python scripts/tune_navigation.py [--repertoire FILE] [--workers 2]
+
+For each setting: the repertoire method over every damage case of S0-S4 x 10 tuning goals; the
+success rate over the damaged cases and the median walking time of the reached goals.
+"""
+
+from __future__ import annotations
+
+import argparse
+from dataclasses import asdict, replace
+from pathlib import Path
+import sys
+
+import numpy as np
+
+TUNING_GOAL_SEED = 100
+GRID = (
+    {},
+    {'uncertainty_weight': 0.0},
+    {'uncertainty_weight': 4.0},
+    {'linear_std': 0.0},
+    {'linear_std': 1.0},
+    {'length_scale': 0.08},
+    {'length_scale': 0.3},
+    {'signal_std_xy': 0.4},
+)
+
+
+def main(argv: list[str] | None = None) -> int:
+    from hexapod_adapt.maps import NAVIGATION_MAP, shipped_map
+    from hexapod_adapt.navigation import NavigationConfig
+    from hexapod_adapt.navigation_experiment import NavigationSettings, run_navigation, summarise
+
+    ap = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
+    ap.add_argument('--repertoire', type=Path, default=shipped_map(NAVIGATION_MAP))
+    ap.add_argument('--workers', type=int, default=2)
+    args = ap.parse_args(argv)
+    base = NavigationConfig()
+    print(f'defaults: {asdict(base)}')
+    print('changed from the defaults          damaged reached  median s  per scenario')
+    for change in GRID:
+        settings = NavigationSettings(
+            repertoire=args.repertoire,
+            goal_seed=TUNING_GOAL_SEED,
+            methods=('repertoire',),
+            config=replace(base, **change),
+        )
+        rows, _ = run_navigation(settings, workers=args.workers)
+        damaged = [r for r in rows if r.scenario != 'S0']
+        times = [r.walking_time for r in damaged if r.reached]
+        per = ' '.join(
+            f'{s.scenario} {100 * s.success_rate:.0f}%/{s.median_walking_time:.1f}s'
+            for s in summarise(rows)
+        )
+        print(
+            f'{str(change or "(defaults)"):34s} {100 * len(times) / len(damaged):6.1f} %'
+            f'  {np.median(times):8.1f}  {per}',
+            flush=True,
+        )
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
