@@ -27,13 +27,15 @@ output is prefixed with its name; Ctrl-C stops them all.
 
     python scripts/launch.py sim [--rtf 0] [--failed-legs 1 4] [--preset wave]
     python scripts/launch.py adapt-sim [--archive MAP] [--failed-legs 1]  # + adapt_node, fast
+    python scripts/launch.py navigate-sim [--failed-legs 1 2]  # + navigate_node (MuJoCo)
     python scripts/launch.py sim --engine mujoco                          # the other engine
     # robot_emulator (PyBullet) + bridge_node (+ state_publisher, as on the robot):
     python scripts/launch.py emulated-robot [--archive [MAP]]
     python scripts/launch.py robot --port /dev/ttyUSB0 [--imu-port /dev/ttyUSB1] \\
         [--archive [MAP] [--manual]]
 With --archive the robot profiles also start adapt_node (mode robot, or manual with --manual).
-Without a MAP adapt_node loads the shipped default map.
+Without a MAP adapt_node loads the shipped default map. With --navigate they also start
+navigate_node (mode robot): the navigate action on the real radio and IMU odometry.
 """
 
 from __future__ import annotations
@@ -81,7 +83,14 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
         description='Start the hexapod node graph (no `ros2 launch` needed).'
     )
-    parser.add_argument('profile', choices=['sim', 'adapt-sim', 'emulated-robot', 'robot'])
+    parser.add_argument(
+        'profile', choices=['sim', 'adapt-sim', 'navigate-sim', 'emulated-robot', 'robot']
+    )
+    parser.add_argument(
+        '--navigate',
+        action='store_true',
+        help='robot profiles: also start navigate_node (mode robot) for the navigate action',
+    )
     parser.add_argument(
         '--archive',
         nargs='?',
@@ -110,7 +119,11 @@ def main(argv: list[str] | None = None) -> int:
     if args.profile == 'adapt-sim':
         args.rtf, args.preset = 0.0, ''
         args.engine = args.engine or map_engine(args.archive)  # trials on the map's engine
-    simulated = args.profile in ('sim', 'adapt-sim')  # every node but sim_node on its /clock
+    if args.profile == 'navigate-sim':
+        # the repertoire's engine; real time by default (--rtf): steps follow each other unplanned
+        # walking between them grows with the speed-up
+        args.preset, args.engine = '', args.engine or 'mujoco'
+    simulated = args.profile in ('sim', 'adapt-sim', 'navigate-sim')  # sim_node's /clock
     if simulated:
         sim_params = {'real_time_factor': args.rtf}
         if args.rtf == 0:
@@ -176,6 +189,16 @@ def main(argv: list[str] | None = None) -> int:
                         'use_sim_time': mode == 'sim',
                     }
                 ),
+            )
+        )
+
+    if args.profile == 'navigate-sim' or args.navigate:
+        mode = 'sim' if simulated else 'robot'
+        commands.append(
+            (
+                'navigate_node',
+                [exe('hexapod_adapt', 'navigate_node')]
+                + ros_args({'mode': mode, 'use_sim_time': mode == 'sim'}),
             )
         )
 

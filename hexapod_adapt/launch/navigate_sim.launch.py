@@ -1,0 +1,78 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Walking to goals on the simulated robot: gait_node + sim_node + navigate_node (full install).
+
+    ros2 launch hexapod_adapt navigate_sim.launch.py failed_legs:='[1, 2]'
+    ros2 action send_goal /navigate hexapod_msgs/action/Navigate "{x: 1.5, y: 0.5}" --feedback
+In this workspace without `launch`:
+    python scripts/launch.py navigate-sim --failed-legs 1 2
+"""
+
+from hexapod_description.launch_actions import state_publisher
+from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument
+from launch.substitutions import LaunchConfiguration
+from launch_ros.actions import Node
+
+
+def generate_launch_description() -> LaunchDescription:
+    return LaunchDescription(
+        [
+            DeclareLaunchArgument(
+                'failed_legs', default_value='[]', description='legs (1-6) failed in the simulator'
+            ),
+            DeclareLaunchArgument(
+                'record_dir', default_value='', description="record each goal here ('' = none)"
+            ),
+            # one time base: every node but the clock source (sim_node) runs on sim time
+            Node(
+                package='hexapod_gait',
+                executable='gait_node',
+                output='screen',
+                parameters=[{'initial_preset': '', 'use_sim_time': True}],
+            ),
+            Node(
+                package='hexapod_sim',
+                executable='sim_node',
+                output='screen',
+                parameters=[
+                    {
+                        'engine': 'mujoco',  # the engine that made the shipped repertoire
+                        'failed_legs': LaunchConfiguration('failed_legs'),
+                    }
+                ],
+            ),
+            state_publisher(use_sim_time=True),
+            Node(
+                package='hexapod_adapt',
+                executable='navigate_node',
+                output='screen',
+                parameters=[
+                    {
+                        'mode': 'sim',
+                        'record_dir': LaunchConfiguration('record_dir'),
+                        'use_sim_time': True,
+                    }
+                ],
+            ),
+        ]
+    )
