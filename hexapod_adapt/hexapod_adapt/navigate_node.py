@@ -55,7 +55,7 @@ from hexapod_adapt.adaptation import TrialAborted
 from hexapod_adapt.archive import ArchiveError, load_archive
 from hexapod_adapt.graph_port import GraphPort, RECORDED_TYPES, RecordedTopics, stamp_ns
 from hexapod_adapt.maps import NAVIGATION_MAP, shipped_map
-from hexapod_adapt.navigate_msgs import OUTCOME_CODES, pose_msg, yaw_of
+from hexapod_adapt.navigate_msgs import OUTCOME_CODES, pose_msg
 from hexapod_adapt.navigation import (
     Feedback,
     goal_problem,
@@ -73,6 +73,7 @@ from hexapod_adapt.trials import OdomLog, Waiter
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_gait.ros_glue import declare, LATCHED, ODOM, ParamSpec, publish_status, run_node
 from hexapod_msgs.action import Navigate
+from hexapod_sim.simulator import quat_to_euler
 from nav_msgs.msg import Odometry
 import rclpy
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
@@ -228,8 +229,9 @@ class NavigateNode(Node):
     @staticmethod
     def _sample(msg, pose) -> PoseSample:
         p, q = pose.position, pose.orientation
+        roll, pitch, yaw = quat_to_euler((q.x, q.y, q.z, q.w))
         return PoseSample(
-            stamp_ns(msg.header.stamp), Pose2D(p.x, p.y, yaw_of(q)), time.monotonic()
+            stamp_ns(msg.header.stamp), Pose2D(p.x, p.y, yaw), time.monotonic(), roll, pitch
         )
 
     def _log(self, log: PoseLog, msg: Odometry) -> None:

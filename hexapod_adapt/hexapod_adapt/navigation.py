@@ -42,11 +42,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 import enum
+import json
 import math
 from typing import Callable, Protocol, Sequence
 
 from hexapod_adapt.repertoire import REACH, Repertoire
 from hexapod_gait import build_joint_table, GaitParameters, preset
+from hexapod_gait.trajectory import POSE_TRANSITION_S, transition
 from hexapod_sim.simulator import Simulator
 import numpy as np
 
@@ -98,9 +100,15 @@ class NavigationConfig:
     #: prior std of a linear change of every step (damage that shrinks or turns all steps alike):
     #: the kernel's linear part, on the intact displacement in metres (0: none)
     linear_std: float = 0.5
-    #: weight of the predicted variance in the planner's cost (1: the expected squared distance
-    #: to the goal after the step; 0: the distance of the predicted end alone)
-    uncertainty_weight: float = 1.0
+    #: optimism of the planner: it takes the step whose predicted end, moved ``optimism``
+    #: standard deviations toward the goal, lies nearest it (a lower confidence bound on the
+    #: distance left, as GP-UCB). 0: the predicted end alone, which can settle on a step known
+    #: to go nowhere once every step is predicted short.
+    optimism: float = 1.0
+    #: only gaits that keep at least this many feet on the ground at every instant of their
+    #: cycle: most repertoire gaits have airborne phases, and a damaged robot tips over on them
+    #: (3: chosen on the tuning goals, docs/navigation.md "Tuning")
+    min_stance_legs: int = 3
 
     def __post_init__(self) -> None:
         for name in (
@@ -116,10 +124,12 @@ class NavigationConfig:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f'{name} must be a positive finite number, got {value!r}')
-        for name in ('uncertainty_weight', 'linear_std'):
+        for name in ('optimism', 'linear_std'):
             w = getattr(self, name)
             if not (isinstance(w, (int, float)) and math.isfinite(w) and w >= 0):
                 raise ValueError(f'{name} must be a finite number >= 0, got {w!r}')
+        if not (isinstance(self.min_stance_legs, int) and 0 <= self.min_stance_legs <= 6):
+            raise ValueError(f'min_stance_legs must be 0..6, got {self.min_stance_legs!r}')
         if self.arena is not None and not (math.isfinite(self.arena) and self.arena > 0):
             raise ValueError(f'arena must be a positive finite half-width [m], got {self.arena!r}')
 
@@ -227,22 +237,26 @@ class RepertoirePolicy:
         self.config = config
         self.gp = CorrectionGP(repertoire, config)
         self._gaits: dict[int, GaitParameters] = {}
+        self.allowed = repertoire.min_stance() >= config.min_stance_legs
+        if not self.allowed.any():
+            raise ValueError(
+                f'no repertoire gait keeps {config.min_stance_legs} feet on the ground throughout'
+            )
 
     def next_step(self, pose: Pose2D, goal: tuple[float, float]) -> Step:
         """
-        Return the step expected to end nearest the goal (greedy, one step ahead).
+        Return the step that may end nearest the goal (greedy, one step ahead).
 
-        The cost is the squared distance from the predicted end to the goal plus
-        ``uncertainty_weight`` times the predicted variance of the end: with weight 1, the
-        expected squared distance after the step.
+        The cost is a lower confidence bound on the distance left after the step: the predicted
+        end's distance minus ``optimism`` times its standard deviation.
         """
         mean, var = self.gp.predict()
         c, s = math.cos(pose.yaw), math.sin(pose.yaw)
         ex = pose.x + c * mean[:, 0] - s * mean[:, 1]
         ey = pose.y + s * mean[:, 0] + c * mean[:, 1]
-        cost = (goal[0] - ex) ** 2 + (goal[1] - ey) ** 2
-        cost += self.config.uncertainty_weight * (var[:, 0] + var[:, 1])
-        i = int(np.argmin(cost))
+        cost = np.hypot(goal[0] - ex, goal[1] - ey)
+        cost -= self.config.optimism * np.sqrt(var[:, 0] + var[:, 1])
+        i = int(np.argmin(np.where(self.allowed, cost, np.inf)))
         if i not in self._gaits:
             self._gaits[i] = self.repertoire.gait(i)
         predicted = pose.moved(*mean[i])
@@ -368,7 +382,19 @@ class NavigationResult:
 
 
 class BodyFailure(RuntimeError):
-    """The body could not take a step (the robot refused, a topic went silent, ...)."""
+    """The body could not take a step (the robot refused, a topic went silent, it tipped over)."""
+
+
+#: Roll or pitch beyond this [deg] means the robot has tipped over: the goal fails.
+TIP_OVER_DEG = 60.0
+
+
+def tipped_over(roll: float, pitch: float) -> str:
+    """Say how the robot tipped over ('' if it stands): roll and pitch in radians."""
+    r, p = math.degrees(roll), math.degrees(pitch)
+    if max(abs(r), abs(p)) > TIP_OVER_DEG:
+        return f'the robot tipped over (roll {r:.0f} deg, pitch {p:.0f} deg)'
+    return ''
 
 
 def path_length(path: Sequence[Pose2D]) -> float:
@@ -456,53 +482,69 @@ class SimBody:
     """
     A :class:`Body` on a simulator: steps follow each other with no reset.
 
-    A new gait starts at its table's first row from wherever the legs are (the servos move them
-    there, as on the robot). Poses are sampled every ``sample_period`` s.
+    A new gait starts with the legs moving from wherever they are to its table's first row in
+    POSE_TRANSITION_S (as the robot's firmware does); the same gait again simply goes on. The
+    transition is walking time too. Poses are sampled every ``sample_period`` s.
     """
 
     def __init__(self, sim: Simulator, sample_period: float = 0.05) -> None:
         self.sim = sim
         self.every = max(1, int(round(sample_period / sim.dt)))
-        self._tables: dict[int, tuple[object, int]] = {}
+        self._tables: dict[str, tuple[object, int, np.ndarray]] = {}
         self._stand = standing_gait()
+        self._current: GaitParameters | None = None
 
     def start(self, gait: GaitParameters | None = None) -> None:
         """Put the robot at the origin, standing in the first pose of ``gait`` (or the tripod)."""
         table = build_joint_table(gait or preset('control'), rate=1.0 / self.sim.dt)
         self.sim.reset(table.positions[0])
+        self._current = None
 
     def pose(self) -> Pose2D:
         """Return where the base is, in the plane (ground truth)."""
         position, _ = self.sim.base_pose()
         return Pose2D(float(position[0]), float(position[1]), float(self.sim.base_euler()[2]))
 
-    def _rows(self, gait: GaitParameters) -> tuple[object, int]:
-        key = id(gait)
+    def _rows(self, gait: GaitParameters) -> tuple[object, int, np.ndarray]:
+        # keyed by the gait's values: an id() would be reused by a later gait once this one is
+        # collected, and would play that gait the wrong table
+        key = json.dumps(gait.to_dict(), sort_keys=True)
         if key not in self._tables:
             table = build_joint_table(gait, rate=1.0 / self.sim.dt)
-            self._tables[key] = (
-                self.sim.prepare_rows(table.positions, table.velocities),
-                len(table),
-            )
+            rows = self.sim.prepare_rows(table.positions, table.velocities)
+            self._tables[key] = (rows, len(table), table.positions[0])
         return self._tables[key]
 
     def walk(
         self, gait: GaitParameters, duration: float, stop: Callable[[Pose2D], bool]
     ) -> StepOutcome:
         """Play ``gait`` for ``duration`` s (or until ``stop``), sampling the pose."""
-        rows, n_rows = self._rows(gait)
+        rows, n_rows, first = self._rows(gait)
         start = self.pose()
         path: list[Pose2D] = []
+        moving = None
+        if gait is not self._current:
+            q = transition(self.sim.joint_states()[0], first, POSE_TRANSITION_S, 1.0 / self.sim.dt)
+            moving = self.sim.prepare_rows(q, np.zeros_like(q))
+        self._current = gait
+        n_move = 0 if moving is None else len(moving)
         n_steps = int(round(duration / self.sim.dt))
         k = 0
         while k < n_steps:
-            self.sim.apply_row(rows, k % n_rows)
+            if k < n_move:
+                self.sim.apply_row(moving, k)
+            else:
+                self.sim.apply_row(rows, (k - n_move) % n_rows)
             report = self.sim.step()
             if report.unstable:
                 raise BodyFailure('the physics became unstable')
             k += 1
             if k % self.every == 0 or k == n_steps:
                 path.append(self.pose())
+                roll, pitch, _ = self.sim.base_euler()
+                fallen = tipped_over(roll, pitch)
+                if fallen:
+                    raise BodyFailure(fallen)
                 if k < n_steps and stop(path[-1]):
                     break
         end = path[-1] if path else start
@@ -510,5 +552,6 @@ class SimBody:
 
     def halt(self) -> None:
         """Stand: command the standing pose (nothing is simulated until the next walk)."""
-        rows, _ = self._rows(self._stand)
+        rows, _, _ = self._rows(self._stand)
         self.sim.apply_row(rows, 0)
+        self._current = None

@@ -41,7 +41,7 @@ import time
 from typing import Callable, Protocol
 
 from hexapod_adapt.adaptation import TrialAborted
-from hexapod_adapt.navigation import BodyFailure, Pose2D, standing_gait, StepOutcome
+from hexapod_adapt.navigation import BodyFailure, Pose2D, standing_gait, StepOutcome, tipped_over
 from hexapod_adapt.trials import SampleLog, Waiter
 from hexapod_gait import GaitParameters
 
@@ -53,6 +53,8 @@ class PoseSample:
     stamp_ns: int  # header stamp (sim time in simulation)
     pose: Pose2D
     received: float  # time.monotonic() when it arrived
+    roll: float = 0.0  # rad (tip-over detection)
+    pitch: float = 0.0
 
 
 class PoseLog(SampleLog[PoseSample]):
@@ -132,6 +134,9 @@ class SimGraphBody:
             except TrialAborted as exc:
                 raise BodyFailure(str(exc)) from None
             path.append(last.pose)
+            fallen = tipped_over(last.roll, last.pitch)
+            if fallen:
+                raise BodyFailure(fallen)
             if last.stamp_ns >= end_ns:
                 completed = True
                 break

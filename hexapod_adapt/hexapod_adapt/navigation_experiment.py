@@ -58,6 +58,7 @@ from hexapod_sim import create_simulator, scenario, SCENARIO_NAMES, SimConfig
 import numpy as np
 
 METHODS = ('repertoire', 'no_learning', 'tripod')
+PATH_THINNING = 10  # paths.json keeps every 10th pose sample
 GOAL_DISTANCE = (1.0, 3.0)  # m
 
 
@@ -232,9 +233,13 @@ def write_results(
     for r in rows:
         writer.writerow([getattr(r, n) for n in names])
     atomic_write_bytes(out / 'runs.csv', buf.getvalue().encode())
+    # every 10th pose (0.5 s apart, 1 mm) and the last: enough to draw, small enough to keep
+    thinned = [
+        list(p[::PATH_THINNING]) + ([p[-1]] if len(p) % PATH_THINNING != 1 else []) for p in paths
+    ]
     atomic_write_bytes(
         out / 'paths.json',
-        json.dumps([[[round(x, 4), round(y, 4)] for x, y in p] for p in paths]).encode(),
+        json.dumps([[[round(x, 3), round(y, 3)] for x, y in p] for p in thinned]).encode(),
     )
     summary = {
         'settings': {

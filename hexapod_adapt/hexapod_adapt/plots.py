@@ -351,7 +351,7 @@ def plot_navigation_boxes(rows: Sequence[Any], out: str | Path) -> Path:
 
 
 def plot_repertoire(archive: Archive, out: str | Path, title: str = '') -> Path:
-    """A navigation repertoire: where each elite's step ends, coloured by its heading change."""
+    """Draw where each step of a navigation repertoire ends, coloured by its heading change."""
     from hexapod_adapt.repertoire import from_descriptor
 
     if not archive.filled.any():
@@ -378,7 +378,7 @@ def plot_repertoire(archive: Archive, out: str | Path, title: str = '') -> Path:
 def plot_repertoire_progress(
     rows: Sequence[dict[str, Any]], out: str | Path, title: str = ''
 ) -> Path:
-    """A navigation repertoire's generation: filled niches and the elites' heading changes."""
+    """Draw a navigation repertoire's generation: filled niches and the elites' heading changes."""
     if not rows:
         raise ValueError('the log has no progress rows yet')
     ev = np.array([r['evaluations'] for r in rows], dtype=float)

@@ -59,6 +59,16 @@ SINGULARITY_TOLERANCE = 1e-4
 _TIME_DECIMALS = 12  # cycle times are compared at 1e-12 s resolution
 SIM_RATE = 240.0  # Hz, PyBullet's step
 ROBOT_RATE = 120.0  # Hz, the robot's gait timer (thesis 4.3.1)
+#: A newly loaded gait's first pose is reached in this long, the joint targets interpolated from
+#: where the legs are (the robot's firmware, docs/radio-protocol.md; the navigator in simulation).
+POSE_TRANSITION_S = 0.5
+
+
+def transition(start: np.ndarray, pose: np.ndarray, duration: float, rate: float) -> np.ndarray:
+    """Return joint targets (N, 18) moving linearly from ``start`` to ``pose`` in ``duration``."""
+    n = max(1, int(round(duration * rate)))
+    start = np.asarray(start, dtype=float)
+    return start + np.linspace(1.0 / n, 1.0, n)[:, None] * (np.asarray(pose) - start)
 
 
 class ReachabilityError(ValueError):

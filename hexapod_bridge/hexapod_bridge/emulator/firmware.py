@@ -42,6 +42,7 @@ from hexapod_bridge import extension as ext
 from hexapod_bridge import legacy, xbus
 from hexapod_bridge.stream import LegacyCommand, PingFrame, RobotReceiver
 from hexapod_gait import build_joint_table, preset, RANGES, ReachabilityError, ROBOT_RATE
+from hexapod_gait.trajectory import POSE_TRANSITION_S, transition
 from hexapod_sim.simulator import quat_to_euler, quat_to_matrix
 import numpy as np
 
@@ -103,12 +104,6 @@ class TrialRecord:
             'distance': distance,
             'speed': distance / self.duration,
         }
-
-
-#: Standing between walks, a newly loaded gait's first pose is reached in this long (joint
-#: targets interpolated from the pose the robot stands in), so every walk starts from its
-#: gait's own first pose, as a simulated evaluation does after its reset.
-POSE_TRANSITION_S = 0.5
 
 
 class RobotFirmware:
@@ -301,15 +296,15 @@ class RobotFirmware:
             self._table = build_joint_table(self.gait, rate=1.0 / self.sim.dt)
             self._rows = self.sim.prepare_rows(self._table.positions, self._table.velocities)
             if not self.walking:
+                # standing between walks, a new gait's first pose is reached first, so every walk
+                # starts from its gait's own first pose, as a simulated evaluation does
                 self._stand(self._table.positions[0], POSE_TRANSITION_S)
 
     def _stand(self, pose: np.ndarray, within: float) -> None:
         """Move the legs from where they are to ``pose`` in ``within`` s, then hold it."""
-        start = self.sim.joint_states()[0]
-        n = max(1, int(round(within / self.sim.dt)))
-        path = start + np.linspace(1.0 / n, 1.0, n)[:, None] * (np.asarray(pose) - start)
+        path = transition(self.sim.joint_states()[0], pose, within, 1.0 / self.sim.dt)
         self._hold_row = self.sim.prepare_rows(path, np.zeros_like(path))
-        self._hold_count, self._hold_index = n, 0
+        self._hold_count, self._hold_index = len(path), 0
 
     def start_walk(self, now: float, duration: float) -> None:
         """Walk the current gait for ``duration`` s from ``now`` (as reset and START_TRIAL do)."""
