@@ -119,7 +119,8 @@ PARAMETERS = (
     ParamSpec('timeout', 10.0, 'longest wait for the graph to answer [s]', range=(0.1, 600.0)),
     ParamSpec('record_dir', '', 'record each goal to an MCAP file here; empty = no recording'),
     *(
-        ParamSpec(name, float(getattr(_DEFAULTS, name)), f'NavigationConfig.{name}')
+        # each of the type of its default (min_stance_legs is a whole number)
+        ParamSpec(name, getattr(_DEFAULTS, name), f'NavigationConfig.{name}')
         for name in CONFIG_PARAMS
     ),
 )

@@ -224,7 +224,7 @@ def gait_values(gait, leg_map=IDENTITY_LEG_MAP) -> list[float]:
 
 def _float32_inside(name: str, value: float) -> float:
     """
-    Return ``value`` as the float32 the robot will store, kept inside the parameter's range.
+    Return ``value``, or if its float32 falls outside the parameter's range, the float32 inside.
 
     A bound such as pi has no float32: the nearest float32 lies just outside the range and the
     robot would refuse it, so such a value moves one float32 step inwards.
@@ -232,10 +232,10 @@ def _float32_inside(name: str, value: float) -> float:
     lo, hi = RANGES.get(name.split('[')[0], (-math.inf, math.inf))
     v = np.float32(value)
     if float(v) > hi:  # compared in float64 (NumPy would compare in float32)
-        v = np.nextafter(v, np.float32(-np.inf))
-    elif float(v) < lo:
-        v = np.nextafter(v, np.float32(np.inf))
-    return float(v)
+        return float(np.nextafter(v, np.float32(-np.inf)))
+    if float(v) < lo:
+        return float(np.nextafter(v, np.float32(np.inf)))
+    return value  # sent as float32 anyway
 
 
 def values_crc(values: Sequence[float]) -> int:
