@@ -124,6 +124,12 @@ def main(argv: list[str] | None = None) -> int:
         # walking between them grows with the speed-up
         args.preset, args.engine = '', args.engine or 'mujoco'
     simulated = args.profile in ('sim', 'adapt-sim', 'navigate-sim')  # sim_node's /clock
+    # navigation on the robot: one bridge trial is one repertoire step
+    bridge_trial = {}
+    if args.navigate:
+        from hexapod_adapt.repertoire import STEP_DURATION
+
+        bridge_trial = {'trial_duration': STEP_DURATION}
     if simulated:
         sim_params = {'real_time_factor': args.rtf}
         if args.rtf == 0:
@@ -158,7 +164,9 @@ def main(argv: list[str] | None = None) -> int:
             (
                 'bridge_node',
                 [exe('hexapod_bridge', 'bridge_node')]
-                + ros_args({'port': '/tmp/hexapod_radio', 'imu_port': '/tmp/hexapod_imu'}),
+                + ros_args(
+                    {'port': '/tmp/hexapod_radio', 'imu_port': '/tmp/hexapod_imu', **bridge_trial}
+                ),
             ),
         ]
     else:
@@ -166,7 +174,7 @@ def main(argv: list[str] | None = None) -> int:
             (
                 'bridge_node',
                 [exe('hexapod_bridge', 'bridge_node')]
-                + ros_args({'port': args.port, 'imu_port': args.imu_port}),
+                + ros_args({'port': args.port, 'imu_port': args.imu_port, **bridge_trial}),
             )
         ]
     # robot_state_publisher's job: leg links on /tf, latched robot_description and /tf_static
@@ -198,7 +206,10 @@ def main(argv: list[str] | None = None) -> int:
             (
                 'navigate_node',
                 [exe('hexapod_adapt', 'navigate_node')]
-                + ros_args({'mode': mode, 'use_sim_time': mode == 'sim'}),
+                + ros_args(
+                    {'mode': mode, 'use_sim_time': mode == 'sim'}
+                    | ({} if simulated else {'trial_duration': bridge_trial['trial_duration']})
+                ),
             )
         )
 
