@@ -298,6 +298,9 @@ def test_a_signal_while_running_ends_with_one_line_and_its_status(
         text=True,
         stdin=subprocess.DEVNULL,
         env=dict(os.environ, PYTHONUNBUFFERED='1'),
+        # as from a terminal: a suite started in the background (nohup ... &) ignores SIGINT, and
+        # its children would inherit that
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     try:
         wait_for(lambda: _handles_sigterm(proc.pid), 60, f'{command} to install its handlers')

@@ -27,7 +27,9 @@ implemented over rclpy by the node) and a :class:`PoseLog` the node fills from i
 (motion capture, a camera).
 
 ``SimGraphBody``    publish the gait; sim_node plays it from where the robot stands; the step lasts
-                    ``duration`` s of the pose source's time and stops early when asked;
+                    ``duration`` s of the pose source's time and stops early when asked; then
+                    the robot stands while the next step is planned (sim_node may run faster
+                    than real time: a gait left on would walk on unplanned);
 ``RobotGraphBody``  upload the gait through bridge_node, walk one trial of the bridge's trial
                     duration, and compose the pose from each trial's odometry (the trial's
                     displacement in the frame the robot started it in), unless an external pose
@@ -88,7 +90,6 @@ class SimGraphBody:
     ) -> None:
         self.port, self.poses, self.waiter, self.timeout = port, poses, waiter, timeout
         self._stand = standing_gait()
-        self._last_end_ns: int | None = None
 
     def pose(self) -> Pose2D:
         """Return where the pose source last put the robot (waits for its first message)."""
@@ -118,7 +119,6 @@ class SimGraphBody:
         except TrialAborted as exc:
             raise BodyFailure(str(exc)) from None
         start, t0 = first.pose, first.stamp_ns
-        since = self._last_end_ns if self._last_end_ns is not None else t0
         end_ns = t0 + int(round(duration * 1e9))
         path, last = [start], first
         completed = False
@@ -142,12 +142,11 @@ class SimGraphBody:
                 break
             if stop(last.pose):
                 break
-        self._last_end_ns = last.stamp_ns
-        return StepOutcome(start, last.pose, (last.stamp_ns - since) / 1e9, completed, tuple(path))
+        self.halt()
+        return StepOutcome(start, last.pose, (last.stamp_ns - t0) / 1e9, completed, tuple(path))
 
     def halt(self) -> None:
         """Stand still (the standing gait); a body that does not answer is left as it is."""
-        self._last_end_ns = None
         try:
             self._play(self._stand)
         except TrialAborted:
