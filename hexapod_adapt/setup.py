@@ -59,6 +59,7 @@ setup(
             'recover_recording = hexapod_adapt.recover_cli:main',
             'plot_map = hexapod_adapt.plot_map_cli:main',
             'navigate_node = hexapod_adapt.navigate_node:main',
+            'navigate_client = hexapod_adapt.navigate_client:main',
             'run_navigation = hexapod_adapt.navigation_cli:main',
         ]
     },

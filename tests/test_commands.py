@@ -45,6 +45,7 @@ PACKAGE = {
     'adapt_client': 'hexapod_adapt',
     'run_experiment': 'hexapod_adapt',
     'run_navigation': 'hexapod_adapt',
+    'navigate_client': 'hexapod_adapt',
     'plot_map': 'hexapod_adapt',
     'recover_recording': 'hexapod_adapt',
     'robot_emulator': 'hexapod_bridge',
@@ -68,6 +69,10 @@ def _main(command: str) -> Callable[[list[str]], int]:
         from hexapod_adapt.experiment_cli import main
     elif command == 'run_navigation':
         from hexapod_adapt.navigation_cli import main
+    elif command == 'navigate_client':
+        from hexapod_adapt.navigate_client import build_parser
+
+        return lambda argv: build_parser().parse_args(argv)
     elif command == 'robot_emulator':
         from hexapod_bridge.emulator.cli import main
     elif command == 'render_walk':
@@ -121,6 +126,9 @@ BOUNDS = [
     Bound('run_navigation', '--tolerance', 0.0, 10.0, False, low_open=True),
     Bound('run_navigation', '--time-limit', 0.0, 3600.0, False, low_open=True),
     Bound('run_navigation', '--length-scale', 0.0, 10.0, False, low_open=True),
+    Bound('navigate_client', '--tolerance', 0.0, 10.0, False),
+    Bound('navigate_client', '--time-limit', 0.0, 3600.0, False),
+    Bound('navigate_client', '--timeout', 0.0, 1e6, False, low_open=True),
     Bound('robot_emulator', '--seed', 0, 2**32 - 1),
     Bound('robot_emulator', '--walk-duration', 0.0, 600.0, False, low_open=True),
     Bound('robot_emulator', '--failsafe-windows', 1, 1000),
@@ -129,7 +137,7 @@ BOUNDS = [
     Bound('render_walk', '--failed-legs', 1, 6),
     Bound('footfall', '--cycles', 0.0, 100.0, False, low_open=True),
 ]
-REQUIRED = {'generate_map': ['--out', '{tmp}/map.npz']}
+REQUIRED = {'generate_map': ['--out', '{tmp}/map.npz'], 'navigate_client': ['1.0', '0.5']}
 
 
 def _cases():

@@ -29,7 +29,7 @@ import subprocess
 import sys
 import textwrap
 
-from conftest import status_log_qos, wait_for
+from conftest import executable, status_log_qos, wait_for
 from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_msgs.action import Navigate
 from nav_msgs.msg import Odometry
@@ -198,4 +198,35 @@ def test_the_robot_path_walks_its_first_gait_through_the_bridge(ros, launch, tmp
     assert (p.x, p.y) == pytest.approx((o.x, o.y))  # dead reckoning from the trial's odometry
     goal.handle.cancel_goal_async()
     assert goal.result(timeout=60)[1].outcome == Navigate.Result.CANCELED
+    assert nav.alive()
+
+
+def test_navigate_client_reaches_a_goal_and_ctrl_c_cancels_it(ros, graph, domain_id):
+    nav, _ = graph
+    exe = str(executable('hexapod_adapt', 'navigate_client'))
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain_id), PYTHONUNBUFFERED='1')
+    done = subprocess.run(
+        [exe, '0.6', '-0.3'], env=env, capture_output=True, text=True, timeout=120
+    )
+    assert done.returncode == 0, done.stderr
+    assert 'step   1:' in done.stdout and 'REACHED: within 0.15 m of the goal' in done.stdout
+    status = ros.collect(DiagnosticStatus, 'navigate/status', status_log_qos())
+    far = subprocess.Popen(
+        [exe, '3.0', '3.0'],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+    try:
+        assert far.stdout.readline().startswith('step   1:')
+        far.send_signal(signal.SIGINT)
+        _, err = far.communicate(timeout=60)
+    finally:
+        if far.poll() is None:
+            far.kill()
+            far.wait()
+    assert far.returncode == 130 and 'navigate_client: ' in err.splitlines()[-1], err
+    wait_for(lambda: any('canceled after' in s.message for s in status), 30, 'the goal cancelled')
     assert nav.alive()

@@ -1,0 +1,159 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+``ros2 run hexapod_adapt navigate_client X Y``.
+
+Send a goal to the ``navigate`` action from a base-station PC, print its feedback after every
+step and its result (the same as ``ros2 action send_goal /navigate hexapod_msgs/action/Navigate
+"{x: X, y: Y}" --feedback`` on a full ROS install). Ctrl-C cancels the goal, then exits.
+
+    navigate_client 1.5 0.5 [--tolerance 0.15] [--time-limit 90]
+
+Exit status 0 when the goal is reached, 3 when the navigation ended without reaching it, 4 when
+the node rejected the goal (its reason is on ``navigate/status``), 1 when no server answered.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+
+from hexapod_description.cli import number, run_command
+from hexapod_msgs.action import Navigate
+import rclpy
+from rclpy.action import ActionClient
+from rclpy.signals import SignalHandlerOptions
+
+OUTCOMES = {
+    getattr(Navigate.Result, name): name
+    for name in ('REACHED', 'TIME_LIMIT', 'LEFT_ARENA', 'CANCELED', 'PREEMPTED', 'FAILED')
+}
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the command-line options of ``navigate_client``."""
+    ap = argparse.ArgumentParser(
+        prog='navigate_client', description='Walk the robot to (x, y) in odom; print each step.'
+    )
+    ap.add_argument('x', type=number(float), help='goal x in odom [m]')
+    ap.add_argument('y', type=number(float), help='goal y in odom [m]')
+    ap.add_argument(
+        '--tolerance',
+        type=number(float, 0, 10),
+        default=0.0,
+        help="reached within this distance [m] (0 = the node's default)",
+    )
+    ap.add_argument(
+        '--time-limit',
+        type=number(float, 0, 3600),
+        default=0.0,
+        help="seconds of walking allowed (0 = the node's default)",
+    )
+    ap.add_argument('--action', default='navigate', help='name of the navigate action')
+    ap.add_argument(
+        '--timeout',
+        type=number(float, 0, 10**6, low_open=True),
+        default=3600.0,
+        help='give up after this many seconds, waiting for the server included',
+    )
+    return ap
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Parse the options, send the goal, print feedback and the result."""
+    args, ros_args = build_parser().parse_known_args(argv)
+    return run_command(
+        'navigate_client', lambda: _send(args, ros_args), 'the goal was cancelled first'
+    )
+
+
+def _send(args: argparse.Namespace, ros_args: list[str]) -> int:
+    deadline = time.monotonic() + args.timeout
+    rclpy.init(args=ros_args, signal_handler_options=SignalHandlerOptions.NO)
+    node = rclpy.create_node('navigate_client')
+    handle = None
+    try:
+        client = ActionClient(node, Navigate, args.action)
+        if not client.wait_for_server(timeout_sec=max(0.0, deadline - time.monotonic())):
+            print(
+                f'navigate_client: action {args.action} not available within {args.timeout:g} s'
+                ' (is navigate_node running?)',
+                file=sys.stderr,
+            )
+            return 1
+
+        def show(msg) -> None:
+            f = msg.feedback
+            p = f.current_pose.pose.position
+            print(
+                f'step {f.steps:>3d}: at ({p.x:+.2f}, {p.y:+.2f}), {f.distance_remaining:.2f} m'
+                f' left, prediction error {f.prediction_error:.2f} m,'
+                f' {f.navigation_time.sec + f.navigation_time.nanosec * 1e-9:.1f} s walked',
+                flush=True,
+            )
+
+        goal = Navigate.Goal(
+            x=args.x, y=args.y, tolerance=args.tolerance, time_limit=args.time_limit
+        )
+        sent = client.send_goal_async(goal, feedback_callback=show)
+        while not sent.done() and time.monotonic() < deadline:
+            rclpy.spin_once(node, timeout_sec=0.1)
+        handle = sent.result() if sent.done() else None
+        if handle is None:
+            print(f'navigate_client: no answer within {args.timeout:g} s', file=sys.stderr)
+            return 1
+        if not handle.accepted:
+            print(
+                f'navigate_client: goal ({args.x}, {args.y}) rejected; the reason is on'
+                ' navigate/status and in the node log',
+                file=sys.stderr,
+            )
+            return 4
+        done = handle.get_result_async()
+        while not done.done() and time.monotonic() < deadline:
+            rclpy.spin_once(node, timeout_sec=0.1)
+        if not done.done():
+            print(f'navigate_client: no result within {args.timeout:g} s', file=sys.stderr)
+            return 1
+        r = done.result().result
+        print(
+            f'{OUTCOMES.get(r.outcome, r.outcome)}: {r.reason}; {r.walking_time:.1f} s of walking,'
+            f' {r.steps} steps, path {r.path_length:.2f} m, {r.distance_left:.2f} m from the goal'
+        )
+        if r.recording:
+            print(f'recording: {r.recording}')
+        handle = None
+        return 0 if r.reached else 3
+    except KeyboardInterrupt:  # Ctrl-C or SIGTERM: cancel the goal before leaving
+        if handle is not None:
+            cancel = handle.cancel_goal_async()
+            end = time.monotonic() + 5.0
+            while not cancel.done() and time.monotonic() < end:
+                rclpy.spin_once(node, timeout_sec=0.1)
+        raise
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+
+
+if __name__ == '__main__':
+    sys.exit(main())
