@@ -230,3 +230,22 @@ def test_navigate_client_reaches_a_goal_and_ctrl_c_cancels_it(ros, graph, domain
     assert far.returncode == 130 and 'navigate_client: ' in err.splitlines()[-1], err
     wait_for(lambda: any('canceled after' in s.message for s in status), 30, 'the goal cancelled')
     assert nav.alive()
+
+
+def test_the_robot_path_refuses_goals_when_the_bridge_walks_other_trials(ros, launch, tmp_path):
+    radio, imu = str(tmp_path / 'radio'), str(tmp_path / 'imu')
+    launch(
+        'hexapod_bridge',
+        'robot_emulator',
+        args=['--radio-link', radio, '--imu-link', imu, '--sim'],
+    )
+    wait_for(lambda: os.path.exists(radio) and os.path.exists(imu), 60, 'emulator ports')
+    launch('hexapod_bridge', 'bridge_node', params={'port': radio, 'imu_port': imu})  # 5 s trials
+    nav = launch('hexapod_adapt', 'navigate_node', params={'mode': 'robot', 'trial_duration': 2.0})
+    client = ActionClient(ros.node, Navigate, 'navigate')
+    assert client.wait_for_server(timeout_sec=60)
+    status = ros.collect(DiagnosticStatus, 'navigate/status', status_log_qos())
+    assert not Goal(ros, client, 1.0, 0.0).handle.accepted
+    says = 'bridge_node walks 5 s per trial but navigate_node steps are 2 s'
+    wait_for(lambda: any(says in s.message for s in status), 10, 'the reason')
+    assert nav.alive()

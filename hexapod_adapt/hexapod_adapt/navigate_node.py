@@ -75,6 +75,8 @@ from hexapod_gait.ros_glue import declare, LATCHED, ODOM, ParamSpec, publish_sta
 from hexapod_msgs.action import Navigate
 from hexapod_sim.simulator import quat_to_euler
 from nav_msgs.msg import Odometry
+from rcl_interfaces.msg import ParameterType
+from rcl_interfaces.srv import GetParameters
 import rclpy
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
@@ -167,6 +169,10 @@ class NavigateNode(Node):
         self.record_dir = values['record_dir']
         self.port.wait = self.waiter.until
         self.stop_client = self.create_client(Trigger, f'{values["bridge_node"]}/stop_trial')
+        self.bridge_params = self.create_client(
+            GetParameters, f'{values["bridge_node"]}/get_parameters'
+        )
+        self.trial_duration = values['trial_duration']
         sensors = MutuallyExclusiveCallbackGroup()
         external = bool(values['pose_topic'])
         if external:
@@ -269,9 +275,33 @@ class NavigateNode(Node):
         return answer.success, answer.message
 
     # -- the action ----------------------------------------------------------------------------
+    def _bridge_trial_problem(self) -> str:
+        """Robot mode: why bridge_node's trials do not fit this node's steps ('' if they do)."""
+        if not self.bridge_params.wait_for_service(timeout_sec=2.0):
+            return ''  # not up yet: the upload will say so, with its own reason
+        future = self.bridge_params.call_async(GetParameters.Request(names=['trial_duration']))
+        try:
+            self.waiter.until(future.done, 5.0, "bridge_node's parameters")
+        except TrialAborted:
+            return ''
+        values = future.result().values
+        if not values or values[0].type != ParameterType.PARAMETER_DOUBLE:
+            return ''
+        bridge = values[0].double_value
+        if abs(bridge - self.trial_duration) > 1e-6:
+            return (
+                f'bridge_node walks {bridge:g} s per trial but navigate_node steps are'
+                f' {self.trial_duration:g} s: set both trial_duration parameters alike'
+            )
+        return ''
+
     def _goal_problem(self, goal) -> str:
         if self.policy is None:
             return self.problem
+        if self.mode == 'robot':
+            problem = self._bridge_trial_problem()
+            if problem:
+                return problem
         for name in ('tolerance', 'time_limit'):
             value = getattr(goal, name)
             if not math.isfinite(value) or value < 0:
