@@ -80,7 +80,7 @@ def main(argv: list[str] | None = None) -> int:
             'hexapod_sim',
             'sim_node',
             engine='mujoco',
-            real_time_factor=4.0,
+            real_time_factor=1.0,  # faster, the node's step timing lags (docs/navigation.md)
             publish_period_steps=12,
             failed_legs=FAILED_LEGS,
         ),

@@ -40,7 +40,11 @@ from std_srvs.srv import SetBool
 from visualization_msgs.msg import Marker
 
 pytestmark = pytest.mark.ros
-SIM = {'engine': 'mujoco', 'real_time_factor': 4.0, 'publish_period_steps': 12}
+SIM = {
+    'engine': 'mujoco',
+    'real_time_factor': 1.0,
+    'publish_period_steps': 12,
+}  # see docs/navigation.md
 ODOM = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
 
 

@@ -165,8 +165,10 @@ class NavigateNode(Node):
         self.port = GraphPort(
             self, values['sim_node'], values['bridge_node'], OdomLog(), self.recording
         )
-        self.recorded = RecordedTopics(self, self.recording)
         self.record_dir = values['record_dir']
+        # the sensor subscriptions only when recording: at sim_node's faster-than-real-time rates
+        # their callbacks delayed the odometry the steps are timed by
+        self.recorded = RecordedTopics(self, self.recording) if self.record_dir else None
         self.port.wait = self.waiter.until
         self.stop_client = self.create_client(Trigger, f'{values["bridge_node"]}/stop_trial')
         self.bridge_params = self.create_client(
