@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 
 from builtin_interfaces.msg import Time
-from geometry_msgs.msg import PoseStamped, Quaternion
+from geometry_msgs.msg import PoseStamped
 from hexapod_adapt.navigation import Outcome, Pose2D
 from hexapod_msgs.action import Navigate
 
@@ -37,11 +37,6 @@ OUTCOME_CODES = {
     Outcome.CANCELED: Navigate.Result.CANCELED,
     Outcome.FAILED: Navigate.Result.FAILED,
 }
-
-
-def yaw_of(q: Quaternion) -> float:
-    """Return the heading [rad] of an orientation (rotation about z, REP 103)."""
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 
 
 def pose_msg(pose: Pose2D, stamp: Time, frame: str = 'odom') -> PoseStamped:

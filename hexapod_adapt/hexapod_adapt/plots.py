@@ -77,6 +77,15 @@ def _save(fig: Any, out: str | Path) -> Path:
     return out
 
 
+def _evaluation_axes(axes: Any) -> None:
+    """Label every axis's x as evaluations, in engineering notation, with a light grid."""
+    for ax in axes:
+        ax.set_xlabel('evaluations')
+        ax.xaxis.set_major_locator(MaxNLocator(5))
+        ax.xaxis.set_major_formatter(EngFormatter(sep=''))  # 200k, 1M: long counts overlap
+        ax.grid(alpha=0.3)
+
+
 def plot_progress(
     rows: Sequence[dict[str, Any]], out: str | Path, trial_duration: float = 5.0, title: str = ''
 ) -> Path:
@@ -100,11 +109,7 @@ def plot_progress(
     axes[1].legend(loc='lower right', fontsize=8)
     axes[2].plot(ev, [r['qd_score'] for r in rows], color='tab:green')
     axes[2].set_ylabel('QD-score (sum of elite fitness, m)')
-    for ax in axes:
-        ax.set_xlabel('evaluations')
-        ax.xaxis.set_major_locator(MaxNLocator(5))
-        ax.xaxis.set_major_formatter(EngFormatter(sep=''))  # 200k, 1M: long counts overlap
-        ax.grid(alpha=0.3)
+    _evaluation_axes(axes)
     fig.suptitle(title or 'map generation progress')
     return _save(fig, out)
 
@@ -395,10 +400,6 @@ def plot_repertoire_progress(
         )
     axes[1].set_ylabel('heading change of the elites [deg]')
     axes[1].legend(loc='upper right', fontsize=8)
-    for ax in axes:
-        ax.set_xlabel('evaluations')
-        ax.xaxis.set_major_locator(MaxNLocator(5))
-        ax.xaxis.set_major_formatter(EngFormatter(sep=''))
-        ax.grid(alpha=0.3)
+    _evaluation_axes(axes)
     fig.suptitle(title or 'navigation repertoire generation progress')
     return _save(fig, out)

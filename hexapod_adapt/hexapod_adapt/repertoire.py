@@ -43,7 +43,7 @@ from typing import Any
 from hexapod_adapt.archive import Archive, ArchiveError
 from hexapod_adapt.simulation import DEFAULT_MAP_ENGINE, worker_simulator
 from hexapod_description import urdf_path
-from hexapod_gait import GaitParameters, preset, PRESETS, stance_mask
+from hexapod_gait import DEFAULT_PERIOD, GaitParameters, preset, PRESETS, SIM_RATE, stance_mask
 from hexapod_gait.parameters import from_omni_genotype, OMNI_MAPPING_VERSION, to_omni_genotype
 from hexapod_sim import SimConfig, validate_engine
 from hexapod_sim.evaluation import Displacement, evaluate_displacements
@@ -172,7 +172,8 @@ class Repertoire:
 
     def min_stance(self) -> np.ndarray:
         """Return, per elite, the fewest feet on the ground at any instant of its cycle (n,)."""
-        times = np.arange(240) / 240.0  # one cycle of the fixed 1 s period, at the sim rate
+        # one cycle of the fixed period, at the simulator's rate
+        times = np.arange(int(round(DEFAULT_PERIOD * SIM_RATE))) / SIM_RATE
         return np.array(
             [stance_mask(self.gait(i), times).sum(axis=1).min() for i in range(len(self))]
         )
