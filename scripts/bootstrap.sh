@@ -65,7 +65,7 @@ base_paths=(.)
 if ! "$VENV/bin/python" -c 'import tf2_msgs' >/dev/null 2>&1; then
   base_paths+=(third_party/tf2_msgs)
 fi
-fingerprint="$( { find colcon.meta hexapod_* third_party -type f \
+fingerprint="$( { find colcon.meta hexapod_* firmware third_party -type f \
       -not -path '*/__pycache__/*' -not -name '*.pyc' -not -path '*.egg-info/*' \
       -printf '%p %s %T@\n' | sort; cat requirements.txt; } | sha256sum | cut -d' ' -f1)"
 build_stamp="$WS/install/.hexapod-build"

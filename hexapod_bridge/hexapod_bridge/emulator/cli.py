@@ -25,6 +25,12 @@ The robot's side of the radio link (and an emulated Xsens MTi) on pseudo-termina
 bridge_node without hardware.
 
     robot_emulator --radio-link /tmp/hexapod_radio --imu-link /tmp/hexapod_imu --sim
+    robot_emulator ... --sim --firmware native --dead-servo 5 --dead-servo 14
+
+``--firmware native`` runs the C++ firmware module (firmware/, package hexapod_firmware) in place
+of the Python model. ``--dead-servo ID`` makes a servo not answer pings (the firmware reports it
+as FF FD 0B <id>) and, with --sim, its leg hang in the failure pose (the robot's leg numbering
+taken as the simulator's: bridge_node's default identity leg_map).
 
 Prints ``RADIO <path>`` and ``IMU <path>`` once the ports exist, and ``TRIAL {json}`` with the
 simulator's own measurement when a walk ends. SIGUSR1 makes the radio port vanish (the pty is
@@ -44,7 +50,9 @@ import sys
 import time
 import tty
 
-from hexapod_bridge.emulator.firmware import ImuNoise, RobotFirmware
+from hexapod_bridge.emulator.firmware import FirmwareTiming, ImuNoise, RobotFirmware
+from hexapod_bridge.emulator.native import NativeRobotFirmware
+from hexapod_bridge.servos import SERVO_IDS, servo_place
 from hexapod_description.cli import number, run_command
 from hexapod_sim import create_simulator, ENGINES, SimConfig
 
@@ -151,23 +159,43 @@ def main(argv: list[str] | None = None) -> int:
         default=11,
         help='ping check windows without a ping before a walk stops (firmware: 11), 1..1000',
     )
+    parser.add_argument(
+        '--firmware',
+        choices=FIRMWARES,
+        default='python',
+        help="the robot's firmware: the Python model or the C++ module (firmware/)",
+    )
+    parser.add_argument(
+        '--dead-servo',
+        type=number(int, SERVO_IDS[0], SERVO_IDS[-1]),
+        action='append',
+        default=[],
+        metavar='ID',
+        help=f'a servo that does not answer pings ({SERVO_IDS[0]}..{SERVO_IDS[-1]}; repeatable);'
+        ' with --sim its leg hangs in the failure pose (at most two legs)',
+    )
     args = parser.parse_args(argv)
+    legs = sorted({servo_place(s).robot_leg for s in args.dead_servo})
+    if len(legs) > 2:
+        parser.error(f'--dead-servo names servos on {len(legs)} legs: at most 2 legs can fail')
     return run_command('robot_emulator', lambda: _serve(args))
 
 
 def _serve(args: argparse.Namespace) -> int:
 
     sim = None
+    dead = frozenset(args.dead_servo)
     if args.sim:
         sim = create_simulator(SimConfig(engine=args.engine))
+        sim.set_failed_legs(sorted({servo_place(s).robot_leg for s in dead}))
     start = time.monotonic()
-    firmware = RobotFirmware(
+    firmware = make_firmware(
+        args.firmware,
         sim=sim,
-        walk_duration=args.walk_duration,
-        failsafe_windows=args.failsafe_windows,
+        timing=FirmwareTiming(args.walk_duration, args.failsafe_windows),
         imu_noise=ImuNoise() if args.imu_noise else None,
         seed=args.seed,
-        now=0.0,
+        servo_ping=lambda servo: servo not in dead,
     )
     radio = PtyPort(args.radio_link)
     imu = PtyPort(args.imu_link) if args.imu_link else None
@@ -219,13 +247,42 @@ def _serve(args: argparse.Namespace) -> int:
     return 128 + stopped_by[0]
 
 
-def print_stats(firmware: RobotFirmware) -> None:
+FIRMWARES = ('python', 'native')
+
+
+def make_firmware(
+    kind: str,
+    sim,
+    timing: FirmwareTiming,
+    imu_noise: ImuNoise | None,
+    seed: int,
+    servo_ping,
+) -> RobotFirmware | NativeRobotFirmware:
+    """Return the emulated robot's firmware: the Python model or the C++ module."""
+    if kind == 'native':
+        return NativeRobotFirmware(
+            sim, timing, imu_noise=imu_noise, seed=seed, now=0.0, servo_ping=servo_ping
+        )
+    return RobotFirmware(
+        sim=sim,
+        walk_duration=timing.walk_duration,
+        failsafe_windows=timing.failsafe_windows,
+        telemetry_ticks=timing.telemetry_ticks,
+        ping_check_ticks=timing.ping_check_ticks,
+        imu_noise=imu_noise,
+        seed=seed,
+        now=0.0,
+        servo_ping=servo_ping,
+    )
+
+
+def print_stats(firmware: RobotFirmware | NativeRobotFirmware) -> None:
     """Print the firmware's frame and link counters."""
     stats = firmware.stats
     print(
         f'STATS pings={stats.pings} failsafe_trips={stats.failsafe_trips}'
         f' missed_windows={stats.missed_windows} frames={stats.frames}'
-        f' duplicates={stats.duplicates} resyncs={firmware.receiver.stats.resyncs}',
+        f' duplicates={stats.duplicates} resyncs={firmware.resyncs}',
         flush=True,
     )
 

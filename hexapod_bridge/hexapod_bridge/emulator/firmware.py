@@ -30,6 +30,14 @@ Firmware behaviour reproduced from robot-facts.md: a ~50 ms timer tick; telemetr
 ticks; a ping check every 50 ticks, and after ``failsafe_windows`` consecutive check windows
 without a ping the walk stops; a walk lasts ``walk_duration`` (5 s) after a reset (movement
 function 55) or START_TRIAL; valid movement frames are acknowledged with FF <checksum>.
+
+Added with the firmware module (firmware/, issue 20), and specified by this model: the clock is
+whole milliseconds (the firmware's HAL tick); bytes are taken one at a time, as the UART
+interrupt takes them; a legacy movement that makes the gait unreachable is refused ("BAD
+MOVEMENT"); and a servo health check pings the 18 servos between walks (at start-up, after every
+walk, after HELLO; never while walking or with motor power off), reporting each one that does
+not answer as ``FF FD 0B <servo id>``. The C++ module must produce the same bytes from the same
+input: firmware/test and tests/test_firmware_native.py check it.
 """
 
 from __future__ import annotations
@@ -37,9 +45,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 import math
 import struct
+from typing import Callable
 
 from hexapod_bridge import extension as ext
 from hexapod_bridge import legacy, xbus
+from hexapod_bridge.servos import SERVO_IDS, SERVO_PING_FAILED
 from hexapod_bridge.stream import LegacyCommand, PingFrame, RobotReceiver
 from hexapod_gait import build_joint_table, preset, RANGES, ReachabilityError, ROBOT_RATE
 from hexapod_gait.trajectory import POSE_TRANSITION_S, transition
@@ -47,6 +57,29 @@ from hexapod_sim.simulator import quat_to_euler, quat_to_matrix
 import numpy as np
 
 TICK = 0.05
+#: VERSION's capability bits: bit 0, gait upload (extension v1).
+CAPABILITIES = 1
+
+
+@dataclass(frozen=True)
+class FirmwareTiming:
+    """The firmware's timing constants (robot-facts.md) and their defaults here."""
+
+    walk_duration: float = 5.0  # s a walk lasts after a reset
+    failsafe_windows: int = 11
+    telemetry_ticks: int = 10
+    ping_check_ticks: int = 50
+
+
+def param_range(index: int) -> tuple[float, float]:
+    """Return the inclusive range SET_PARAM accepts for parameter ``index`` (float32 value)."""
+    name = ext.PARAM_NAMES[index].split('[')[0]
+    return RANGES.get(name, (-1.0, 2.0**24))  # archive_index: -1 (none) or an index
+
+
+def to_ms(now: float) -> int:
+    """Return a time in seconds as the firmware's clock reads it: whole milliseconds."""
+    return int(round(now * 1000.0))
 
 
 @dataclass(frozen=True)
@@ -57,6 +90,47 @@ class ImuNoise:
     acc_bias: float = 0.03  # m/s^2, constant per axis (random sign/size up to this)
     gyro_sigma: float = 0.005  # rad/s
     euler_sigma: float = 0.3  # deg
+
+
+class EmulatedImu:
+    """An Xsens MTi on the simulated body: MTData samples at ``rate`` Hz, optionally noisy."""
+
+    def __init__(self, rate: float = 100.0, noise: ImuNoise | None = None, seed: int = 0):
+        self.rng = np.random.default_rng(seed)
+        self.noise = noise
+        self.acc_bias = (self.rng.uniform(-1, 1, 3) * noise.acc_bias) if noise else np.zeros(3)
+        self.period = 1.0 / rate
+        self._counter = 0
+        self._velocity = np.zeros(3)
+
+    def sample(self, sim) -> bytes:
+        """Return one Xbus MTData message of the simulator's body now."""
+        quat, gyro, _ = sim.imu()
+        # An MTi filters internally: its output is the mean acceleration over the sample
+        # interval, i.e. the change of velocity over it (point samples of the 240 Hz
+        # finite difference would alias the foot-impact spikes).
+        velocity = sim.base_velocity()[0]
+        a_world = (velocity - self._velocity) / self.period
+        self._velocity = velocity
+        rot = quat_to_matrix(quat)
+        acc = rot.T @ (a_world + np.array([0.0, 0.0, 9.81])) + self.acc_bias
+        roll, pitch, yaw = (math.degrees(a) for a in quat_to_euler(quat))
+        euler = np.array([roll, pitch, yaw])
+        if self.noise is not None:
+            acc = acc + self.rng.normal(0, self.noise.acc_sigma, 3)
+            gyro = gyro + self.rng.normal(0, self.noise.gyro_sigma, 3)
+            euler = euler + self.rng.normal(0, self.noise.euler_sigma, 3)
+        euler[2] = (euler[2] + 180.0) % 360.0 - 180.0
+        self._counter = (self._counter + 1) & 0xFFFF
+        return xbus.encode_mtdata(
+            xbus.MTData(
+                tuple(acc),
+                tuple(gyro),
+                (0.0, 0.0, 0.0),
+                tuple(float(v) for v in euler),
+                self._counter,
+            )
+        )
 
 
 @dataclass
@@ -112,47 +186,48 @@ class RobotFirmware:
     def __init__(
         self,
         sim=None,
-        walk_duration: float = 5.0,
-        failsafe_windows: int = 11,
-        telemetry_ticks: int = 10,
-        ping_check_ticks: int = 50,
+        walk_duration: float = FirmwareTiming.walk_duration,
+        failsafe_windows: int = FirmwareTiming.failsafe_windows,
+        telemetry_ticks: int = FirmwareTiming.telemetry_ticks,
+        ping_check_ticks: int = FirmwareTiming.ping_check_ticks,
         imu_rate: float = 100.0,
         imu_noise: ImuNoise | None = None,
         seed: int = 0,
         now: float = 0.0,
+        servo_ping: Callable[[int], bool] | None = None,
     ) -> None:
         self.receiver = RobotReceiver()
+        # the health check's hook: does servo <id> answer a ping? (None: every servo answers)
+        self.servo_ping = servo_ping or (lambda servo: True)
+        self._health_pending = True  # at start-up
         self.sim = sim
         self.walk_duration = walk_duration
         self.failsafe_windows = failsafe_windows
         self.telemetry_ticks = telemetry_ticks
         self.ping_check_ticks = ping_check_ticks
         self.stats = FirmwareStats()
-        self.rng = np.random.default_rng(seed)
-        self.imu_noise = imu_noise
-        self.acc_bias = (
-            (self.rng.uniform(-1, 1, 3) * imu_noise.acc_bias) if imu_noise else np.zeros(3)
-        )
-        self.imu_period = 1.0 / imu_rate
+        self.imu = EmulatedImu(imu_rate, imu_noise, seed)
         self.gait = preset('control')  # the firmware's hard-coded tripod
         self.gait_id = 0
+        # the gait table at the robot's 120 Hz (the firmware's own; the sim plays its own rate)
+        self.robot_table = build_joint_table(self.gait, rate=ROBOT_RATE)
         self.staged: list[float | None] = [None] * ext.N_PARAMS
         self.motors_on = True
         self.estopped = False
         self.walking = False
         self.walk_end = 0.0
         self.trial_seq = 0
+        self.trial_state = ext.TrialState.IDLE  # of the last TRIAL report
         self.trials: list[TrialRecord] = []
         self._recent: dict[tuple[int, int], bytes] = {}  # (type, seq) -> ack sent
         self._tick_count = 0
-        self._next_tick = now
+        self._now_ms = to_ms(now)
+        self._next_tick_ms = self._now_ms
+        self._walk_start_ms = self._walk_end_ms = 0
         self._pings_in_window = 0
         self._missed = 0
         self._sim_time = now
         self._next_imu = now
-        self._imu_counter = 0
-        self._imu_velocity = np.zeros(3)
-        self._walk_start = 0.0
         self._table = None
         self._row = 0
         self._hold_row = None  # prepared rows of the poses to stand in (the last one is held)
@@ -165,22 +240,32 @@ class RobotFirmware:
             sim.reset(self._table.positions[0])
             self._load_table()
 
+    @property
+    def resyncs(self) -> int:
+        """Return how often the receiver slid to find the next frame."""
+        return self.receiver.stats.resyncs
+
     # -- receiving ---------------------------------------------------------------------------
     def receive(self, data: bytes, now: float) -> None:
-        """Bytes from the radio at time ``now``: parse frames and act on them."""
-        for frame in self.receiver.feed(data):
-            self.stats.frames += 1
-            if isinstance(frame, PingFrame):
-                self.stats.pings += 1
-                self._pings_in_window += 1
-                self.out_radio += bytes([0xFF, 0xFA])
-            elif isinstance(frame, legacy.Movement):
-                self.out_radio += legacy.encode_ack(self.receiver.last_checksum)
-                self._on_movement(frame, now)
-            elif isinstance(frame, LegacyCommand):
-                self._on_legacy_command(frame, now)
-            elif isinstance(frame, ext.CommandFrame):
-                self._on_extension(frame, now)
+        """Bytes from the radio at time ``now``: parse frames and act on them, byte by byte."""
+        self._now_ms = to_ms(now)
+        for byte in data:
+            for frame in self.receiver.feed(bytes((byte,))):
+                self._on_frame(frame, now)
+
+    def _on_frame(self, frame, now: float) -> None:
+        self.stats.frames += 1
+        if isinstance(frame, PingFrame):
+            self.stats.pings += 1
+            self._pings_in_window += 1
+            self.out_radio += bytes([0xFF, 0xFA])
+        elif isinstance(frame, legacy.Movement):
+            self.out_radio += legacy.encode_ack(self.receiver.last_checksum)
+            self._on_movement(frame, now)
+        elif isinstance(frame, LegacyCommand):
+            self._on_legacy_command(frame, now)
+        elif isinstance(frame, ext.CommandFrame):
+            self._on_extension(frame, now)
 
     def _on_movement(self, m: legacy.Movement, now: float) -> None:
         if m.function == legacy.Function.RESET:
@@ -190,14 +275,17 @@ class RobotFirmware:
             self._stop_walk('stopped')
         elif m.function == legacy.Function.WALK and m.direction in legacy.DIRECTION_ANGLE:
             try:
-                self.gait = self.gait.replace(
+                gait = self.gait.replace(
                     body_velocity=m.speed,
                     body_height=m.height_mm / 1000.0,
                     crab_angle=legacy.DIRECTION_ANGLE[legacy.Direction(m.direction)],
                 )
-                self._load_table()
-            except ValueError:
+                table = self._check_reachable(gait)
+            except ValueError:  # out of range, or unreachable: the gait is kept
                 self.out_radio += legacy.encode_text('BAD MOVEMENT')
+                return
+            self.gait, self.robot_table = gait, table
+            self._load_table()
 
     def _on_legacy_command(self, cmd: LegacyCommand, now: float) -> None:
         if cmd.code == 0xDD:
@@ -233,8 +321,7 @@ class RobotFirmware:
             if index >= ext.N_PARAMS:
                 return self._ack(f, ext.Status.BAD_INDEX, index)
             value = struct.unpack('<f', f.payload[1:5])[0]
-            name = ext.PARAM_NAMES[index].split('[')[0]
-            lo, hi = RANGES.get(name, (-1.0, 2.0**24))
+            lo, hi = param_range(index)
             if not (math.isfinite(value) and lo <= value <= hi):
                 return self._ack(f, ext.Status.OUT_OF_RANGE, index)
             self.staged[index] = value
@@ -249,14 +336,14 @@ class RobotFirmware:
                 return self._ack(f, ext.Status.BUSY, gait_id)
             try:
                 gait = ext.gait_from_values(self.staged)
-                self._check_reachable(gait)
+                table = self._check_reachable(gait)
             except ReachabilityError:
                 self.out_radio += legacy.encode_text('GAIT REJECTED')
                 return self._ack(f, ext.Status.UNREACHABLE, gait_id)
             except ValueError:
                 self.out_radio += legacy.encode_text('GAIT REJECTED')
                 return self._ack(f, ext.Status.OUT_OF_RANGE, gait_id)
-            self.gait, self.gait_id = gait, gait_id
+            self.gait, self.gait_id, self.robot_table = gait, gait_id, table
             self.staged = [None] * ext.N_PARAMS
             self._load_table()
             return self._ack(f, ext.Status.OK, gait_id)
@@ -282,13 +369,17 @@ class RobotFirmware:
             return None
         if f.type == ext.Cmd.HELLO:
             self.out_radio += ext.encode_report(
-                ext.Report.VERSION, f.seq, bytes([ext.PROTOCOL_MAJOR, ext.PROTOCOL_MINOR, 0, 1])
+                ext.Report.VERSION,
+                f.seq,
+                bytes([ext.PROTOCOL_MAJOR, ext.PROTOCOL_MINOR]) + struct.pack('>H', CAPABILITIES),
             )
+            self._health_pending = True  # a host that says hello hears of every dead servo
             return None
         return self._ack(f, ext.Status.UNKNOWN_TYPE)
 
-    def _check_reachable(self, gait) -> None:
-        build_joint_table(gait, rate=ROBOT_RATE)  # the firmware's own IK check, at its 120 Hz
+    def _check_reachable(self, gait):
+        """Return the gait's table at 120 Hz: the firmware's own IK check (raises its errors)."""
+        return build_joint_table(gait, rate=ROBOT_RATE)
 
     # -- walking -----------------------------------------------------------------------------
     def _load_table(self) -> None:
@@ -308,19 +399,22 @@ class RobotFirmware:
 
     def start_walk(self, now: float, duration: float) -> None:
         """Walk the current gait for ``duration`` s from ``now`` (as reset and START_TRIAL do)."""
-        self.walking, self._walk_start, self.walk_end = True, now, now + duration
+        self._walk_start_ms = to_ms(now)
+        self._walk_end_ms = self._walk_start_ms + to_ms(duration)
+        self.walking, self.walk_end = True, self._walk_end_ms / 1000.0
         self._row = 0
         position = self.sim.base_pose()[0] if self.sim is not None else np.zeros(3)
         yaw = self.sim.base_euler()[2] if self.sim is not None else 0.0
         self.trials.append(
             TrialRecord(self.gait_id, self.gait.crab_angle, duration, position, float(yaw))
         )
-        self._trial_report(ext.TrialState.WALKING, now)
+        self._trial_report(ext.TrialState.WALKING, self._walk_start_ms)
 
     def _stop_walk(self, state: str) -> None:
         if not self.walking:
             return
         self.walking = False
+        self._health_pending = True
         if self.trials:
             record = self.trials[-1]
             record.state = state
@@ -334,10 +428,11 @@ class RobotFirmware:
             'estopped': ext.TrialState.ESTOPPED,
             'failsafe': ext.TrialState.FAILSAFE,
         }[state]
-        self._trial_report(state_code, self.walk_end if state == 'done' else self._sim_time)
+        self._trial_report(state_code, self._walk_end_ms if state == 'done' else self._now_ms)
 
-    def _trial_report(self, state: ext.TrialState, now: float) -> None:
-        elapsed = max(0, int(round((now - self._walk_start) * 1000)))
+    def _trial_report(self, state: ext.TrialState, now_ms: int) -> None:
+        elapsed = max(0, now_ms - self._walk_start_ms)
+        self.trial_state = state
         self.trial_seq = (self.trial_seq + 1) & 0xFF
         self.out_radio += ext.encode_report(
             ext.Report.TRIAL,
@@ -348,19 +443,20 @@ class RobotFirmware:
     # -- time ----------------------------------------------------------------------------------
     def advance(self, now: float) -> tuple[bytes, bytes]:
         """Run timers, the walk and the simulation up to ``now``; return (radio, imu) bytes."""
-        while self._next_tick <= now:
-            self._timer_tick(self._next_tick)
-            self._next_tick += TICK
+        self._now_ms = now_ms = to_ms(now)
+        while self._next_tick_ms <= now_ms:
+            self._timer_tick()
+            self._next_tick_ms += to_ms(TICK)
         if self.sim is not None:
             self._step_sim(now)
-        elif self.walking and now >= self.walk_end:
+        elif self.walking and now_ms >= self._walk_end_ms:
             self._stop_walk('done')
         radio, imu = bytes(self.out_radio), bytes(self.out_imu)
         self.out_radio.clear()
         self.out_imu.clear()
         return radio, imu
 
-    def _timer_tick(self, t: float) -> None:
+    def _timer_tick(self) -> None:
         self._tick_count += 1
         if self._tick_count % self.telemetry_ticks == 0:
             pitch, roll, yaw = self._attitude()
@@ -377,6 +473,15 @@ class RobotFirmware:
             if self._missed >= self.failsafe_windows and self.walking:
                 self.stats.failsafe_trips += 1
                 self._stop_walk('failsafe')
+        if self._health_pending and not self.walking and self.motors_on:
+            self._health_check()
+
+    def _health_check(self) -> None:
+        """Ping every servo; report each one that does not answer (FF FD 0B <servo id>)."""
+        self._health_pending = False
+        for servo in SERVO_IDS:
+            if not self.servo_ping(servo):
+                self.out_radio += legacy.encode_error(SERVO_PING_FAILED, servo)
 
     def _attitude(self) -> tuple[float, float, float]:
         if self.sim is None:
@@ -401,33 +506,5 @@ class RobotFirmware:
             sim.update_imu()
             self._sim_time += sim.dt
             if self._sim_time >= self._next_imu - 1e-9:
-                self._next_imu += self.imu_period
-                self._emit_imu()
-
-    def _emit_imu(self) -> None:
-        quat, gyro, _ = self.sim.imu()
-        # An MTi filters internally: its output is the mean acceleration over the sample
-        # interval, i.e. the change of velocity over it (point samples of the 240 Hz
-        # finite difference would alias the foot-impact spikes).
-        velocity = self.sim.base_velocity()[0]
-        a_world = (velocity - self._imu_velocity) / self.imu_period
-        self._imu_velocity = velocity
-        rot = quat_to_matrix(quat)
-        acc = rot.T @ (a_world + np.array([0.0, 0.0, 9.81])) + self.acc_bias
-        roll, pitch, yaw = (math.degrees(a) for a in quat_to_euler(quat))
-        euler = np.array([roll, pitch, yaw])
-        if self.imu_noise is not None:
-            acc = acc + self.rng.normal(0, self.imu_noise.acc_sigma, 3)
-            gyro = gyro + self.rng.normal(0, self.imu_noise.gyro_sigma, 3)
-            euler = euler + self.rng.normal(0, self.imu_noise.euler_sigma, 3)
-        euler[2] = (euler[2] + 180.0) % 360.0 - 180.0
-        self._imu_counter = (self._imu_counter + 1) & 0xFFFF
-        self.out_imu += xbus.encode_mtdata(
-            xbus.MTData(
-                tuple(acc),
-                tuple(gyro),
-                (0.0, 0.0, 0.0),
-                tuple(float(v) for v in euler),
-                self._imu_counter,
-            )
-        )
+                self._next_imu += self.imu.period
+                self.out_imu += self.imu.sample(sim)
