@@ -32,6 +32,12 @@ Publishes   imu/data          sensor_msgs/Imu: from the Xsens on ``imu_port`` at
                               accuracy
             ~/link_status     hexapod_msgs/LinkStatus at ``status_rate``
             bridge/status     diagnostic_msgs/DiagnosticStatus (latched): uploads, trials, errors
+            servo_failures    hexapod_msgs/ServoFailure (the last 64 kept for late joiners): a
+                              servo that did not answer the robot's ping (FF FD 0B <id>), with
+                              its leg in both numberings; the robot checks its servos at
+                              start-up, after every walk and after a HELLO. A
+                              report naming a servo the robot does not have is logged, never
+                              published
 Services    ~/arm             std_srvs/SetBool: nothing is transmitted unless armed
             ~/upload_gait     hexapod_msgs/UploadGait: upload, answer when the robot acknowledged
             ~/start_trial     std_srvs/Trigger: walk the uploaded gait for ``trial_duration``
@@ -55,12 +61,14 @@ import time
 from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_bridge.link import Operation
 from hexapod_bridge.odometry import SPEED_ACCURACY
+from hexapod_bridge.servos import SERVO_IDS, servo_place
 from hexapod_bridge.station import BaseStation, StationConfig, TrialResult
 from hexapod_description.tf_tree import quat_from_rpy
 from hexapod_gait.parameters import GaitParameterError
 from hexapod_gait.ros_conversions import gait_from_msg
 from hexapod_gait.ros_glue import (
     declare,
+    EVENTS,
     LATCHED,
     ODOM,
     odom_transform,
@@ -71,7 +79,7 @@ from hexapod_gait.ros_glue import (
     TF_QOS,
 )
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
-from hexapod_msgs.msg import LinkStatus
+from hexapod_msgs.msg import LinkStatus, ServoFailure
 from hexapod_msgs.srv import UploadGait
 from nav_msgs.msg import Odometry
 import rclpy
@@ -121,6 +129,9 @@ class BridgeNode(Node):
         self.tf_pub = self.create_publisher(TFMessage, '/tf', TF_QOS)
         self.link_pub = self.create_publisher(LinkStatus, '~/link_status', 10)
         self.status_pub = self.create_publisher(DiagnosticStatus, 'bridge/status', LATCHED)
+        # every servo-failure report; kept for late joiners (an adapt node started afterwards)
+        self.servo_pub = self.create_publisher(ServoFailure, 'servo_failures', EVENTS)
+        self.unknown_servo_reports = 0
         self.create_subscription(
             GaitParametersMsg, 'gait/parameters', self._on_gait, LATCHED, callback_group=group
         )
@@ -259,11 +270,35 @@ class BridgeNode(Node):
         for kind, value in self.station.take_events():
             if kind == 'error':
                 self._status(DiagnosticStatus.ERROR, f'robot reports: {value}')
+            elif kind == 'servo_failure':
+                self._on_servo_failure(value)
             elif kind == 'text':
                 self._status(DiagnosticStatus.OK, f'robot says: {value}')
         result = self.station.finished_trial(time.monotonic())
         if result is not None:
             self._report_trial(result)
+
+    def _on_servo_failure(self, servo: int) -> None:
+        place = servo_place(servo)
+        if place is None:  # a corrupted report, or firmware that numbers servos differently
+            self.unknown_servo_reports += 1
+            self.get_logger().warning(
+                f'robot reports servo {servo} failed its ping, but the robot has no servo {servo}'
+                f' (ids {SERVO_IDS[0]}..{SERVO_IDS[-1]}): no leg is marked failed'
+            )
+            return
+        leg = self.station.config.leg_map.index(place.robot_leg) + 1
+        msg = ServoFailure(servo_id=servo, robot_leg=place.robot_leg, leg=leg, joint=place.joint)
+        msg.header.stamp = self.get_clock().now().to_msg()
+        msg.header.frame_id = self.frames['base']
+        self.servo_pub.publish(msg)
+        self._status(
+            DiagnosticStatus.ERROR,
+            f'servo {servo} ({place.joint} of leg {leg}, robot leg {place.robot_leg}) did not'
+            ' answer its ping',
+            servo=str(servo),
+            leg=str(leg),
+        )
 
     def _report_trial(self, r: TrialResult) -> None:
         if r.estimate is None:

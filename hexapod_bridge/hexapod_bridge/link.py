@@ -47,6 +47,7 @@ from typing import Any
 
 from hexapod_bridge import extension as ext
 from hexapod_bridge import legacy
+from hexapod_bridge.servos import SERVO_PING_FAILED
 from hexapod_bridge.stream import AMBIGUOUS_ACKS, HostParser
 
 PRIORITY_ESTOP, PRIORITY_PING, PRIORITY_TRIAL, PRIORITY_MOVE, PRIORITY_UPLOAD = range(5)
@@ -372,7 +373,10 @@ class RobotLink:
             self.last_telemetry = frame
             self.events.append(('telemetry', frame))
         elif isinstance(frame, legacy.ErrorReport):
-            self.events.append(('error', frame.describe()))
+            if frame.location == SERVO_PING_FAILED:
+                self.events.append(('servo_failure', frame.code))
+            else:
+                self.events.append(('error', frame.describe()))
         elif isinstance(frame, legacy.Text):
             self.events.append(('text', frame.text))
         elif isinstance(frame, legacy.ChargerStatus):

@@ -36,6 +36,7 @@ from typing import Union
 
 from hexapod_bridge import extension as ext
 from hexapod_bridge import legacy
+from hexapod_bridge.servos import SERVO_PING_FAILED
 
 MAX_TEXT = 64  # longest text frame accepted (robot messages are short, e.g. "LOW BATTERY")
 CHUNK = 256  # input is processed in slices of at most this many bytes
@@ -127,7 +128,9 @@ def _telemetry_plausible(t: legacy.Telemetry) -> bool:
 
 
 def _error_plausible(loc: int, code: int) -> bool:
-    return (loc in (1, 2, 3) and 1 <= code <= 0x1F) or (loc == 11 and 2 <= code <= 19)
+    # a failed servo ping names any Dynamixel id (0..253): the bridge, not the parser, refuses
+    # ids the robot does not have, so such a report is seen and logged
+    return (loc in (1, 2, 3) and 1 <= code <= 0x1F) or (loc == SERVO_PING_FAILED and code <= 253)
 
 
 class HostParser(ResyncBuffer):

@@ -84,6 +84,10 @@ STATUS_LOG = QoSProfile(
 ODOM = QoSProfile(
     history=HistoryPolicy.KEEP_LAST, depth=5000, reliability=ReliabilityPolicy.RELIABLE
 )
+#: Events a late joiner must still see (servo-failure reports): reliable, the last 64 kept.
+EVENTS = QoSProfile(
+    depth=64, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE
+)
 #: Sensor streams (joint states, IMU, foot contacts): best effort, latest wins.
 SENSOR = qos_profile_sensor_data
 #: /tf as tf2's broadcasters publish it.
