@@ -5,7 +5,7 @@ ENV := source scripts/env.sh
 PYTEST_ARGS ?=
 
 .PHONY: all bootstrap build demo demo-navigate test test-unit test-integration lint format bench bench-gait bench-sim \
-        bench-map bench-adapt bench-bridge bench-navigate pictures clean
+        bench-map bench-adapt bench-bridge bench-navigate bench-firmware pictures clean
 
 all: build
 
@@ -47,7 +47,7 @@ bench: bootstrap
 	@$(ENV) && python scripts/bench.py all
 
 # Explicit targets: make applies no pattern rule to a .PHONY target.
-BENCH_AREAS := gait sim map adapt bridge navigate
+BENCH_AREAS := gait sim map adapt bridge navigate firmware
 $(addprefix bench-,$(BENCH_AREAS)): bench-%: bootstrap
 	@$(ENV) && python scripts/bench.py $*
 

@@ -46,6 +46,7 @@ setup(
         'console_scripts': [
             'bridge_node = hexapod_bridge.bridge_node:main',
             'robot_emulator = hexapod_bridge.emulator.cli:main',
+            'firmware_fuzz = hexapod_bridge.emulator.differential:main',
         ]
     },
 )

@@ -22,7 +22,7 @@
 """
 Benchmarks. Each figure is printed on its own line as ``BENCH <name> <value> <unit>``.
 
-python scripts/bench.py all|gait|sim|map|adapt|bridge|navigate
+python scripts/bench.py all|gait|sim|map|adapt|bridge|navigate|firmware
 """
 
 from __future__ import annotations
@@ -463,6 +463,42 @@ def bench_navigate() -> None:
         print(f'BENCH navigate_odometry_drift_m_after_{k} {d.drift[k - 1]:.4f} m')
 
 
+def bench_firmware() -> None:
+    """
+    The C++ firmware module (issue 20; firmware/INTEGRATION.md).
+
+    The STM32F407 cross build's flash and RAM; with qemu-system-arm installed, instruction counts
+    on QEMU's Cortex-M4 board (startup, one frame, a COMMIT of a 1 s gait, the worst COMMIT) and
+    the time per table row at 168 MHz; then the differential fuzz's rate on this machine
+    (firmware_fuzz_frames_per_s, 20,000 frames, seed 0).
+    """
+    import os
+    from pathlib import Path
+    import shutil
+    import subprocess
+    import tempfile
+
+    from hexapod_bridge.emulator.differential import fuzz
+
+    root = Path(__file__).resolve().parents[1]
+    target = 'arm-counts' if shutil.which('qemu-system-arm') else 'arm'
+    if target == 'arm':
+        print('# qemu-system-arm not installed: no instruction counts', file=sys.stderr)
+    with tempfile.TemporaryDirectory() as build:
+        out = subprocess.run(
+            ['make', '-s', '-C', str(root / 'firmware'), target, f'BUILD={build}'],
+            capture_output=True,
+            text=True,
+            check=True,
+            env=os.environ,
+        ).stdout
+    print('\n'.join(line for line in out.splitlines() if line.startswith(('BENCH', '#'))))
+    result = fuzz(seed=0, frames=20_000)
+    if result.divergence is not None:
+        raise SystemExit(f'the firmware module diverged from the model: {result.divergence}')
+    print(f'BENCH firmware_fuzz_frames_per_s {result.frames / result.seconds:.0f} frames/s')
+
+
 AREAS = {
     'gait': bench_gait,
     'sim': bench_sim,
@@ -470,6 +506,7 @@ AREAS = {
     'adapt': bench_adapt,
     'bridge': bench_bridge,
     'navigate': bench_navigate,
+    'firmware': bench_firmware,
 }
 
 

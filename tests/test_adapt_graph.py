@@ -207,13 +207,32 @@ def _emulated_robot(launch, tmp_path, *extra):
     return emu, radio, imu
 
 
+def _every_trial_measured_within_the_stated_accuracy(emu, trials, n: int) -> None:
+    """Each of the run's ``n`` trials: walked to its end, its speed within the IMU's accuracy."""
+    import json
+
+    from hexapod_bridge.odometry import SPEED_ACCURACY
+
+    wait_for(
+        lambda: len(trials) == n and emu.log().count('TRIAL ') >= n, 20, 'every trial reported'
+    )
+    truths = [
+        json.loads(line.split('TRIAL ', 1)[1])
+        for line in emu.log().splitlines()
+        if 'TRIAL ' in line
+    ]
+    for t, truth in zip(trials, truths):
+        assert truth['state'] == 'done'
+        assert abs(t.measured_speed - truth['speed']) <= SPEED_ACCURACY, (
+            t.measured_speed,
+            truth['speed'],
+        )
+
+
 @pytest.mark.slow
 def test_adaptation_on_the_emulated_robot_uses_the_bridge_odometry(
     ros, launch, tmp_path, small_archive
 ):
-    import json
-
-    from hexapod_bridge.odometry import SPEED_ACCURACY
     from std_srvs.srv import SetBool
 
     # the preset gaits: the IMU estimate's stated accuracy was measured on such calm gaits (a
@@ -232,21 +251,64 @@ def test_adaptation_on_the_emulated_robot_uses_the_bridge_odometry(
     # one trial suffices when the measured speed beats every prediction (the tripod walks
     # ~0.288 m/s, as mapped)
     assert 1 <= response.trials <= 2, response.message
-    n = response.trials
-    wait_for(
-        lambda: len(trials) == n and emu.log().count('TRIAL ') >= n, 20, 'every trial reported'
+    _every_trial_measured_within_the_stated_accuracy(emu, trials, response.trials)
+    assert node.alive() and bridge.alive() and emu.alive()
+
+
+@pytest.mark.slow
+def test_two_failed_legs_adapted_on_the_robot_running_the_cpp_firmware(ros, launch, tmp_path):
+    """
+    The whole robot path with the C++ firmware module: robot_emulator --firmware native.
+
+    Two servos dead (legs 1 and 4 hang in the failure pose), adapt_node in robot mode: every
+    gait goes out as an upload the module validates and compiles, every trial is walked by the
+    module's table, measured by the bridge's IMU odometry, and the run ends on the best gait.
+    """
+    from hexapod_msgs.msg import ServoFailure
+    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+    from std_srvs.srv import SetBool
+
+    path = _preset_archive(tmp_path)
+    emu, radio, imu = _emulated_robot(
+        launch,
+        tmp_path,
+        '--sim',
+        '--imu-noise',
+        '--seed',
+        '4',
+        '--firmware',
+        'native',
+        '--dead-servo',
+        '3',
+        '--dead-servo',
+        '12',
     )
-    truths = [
-        json.loads(line.split('TRIAL ', 1)[1])
-        for line in emu.log().splitlines()
-        if 'TRIAL ' in line
-    ]
-    for t, truth in zip(trials, truths):
-        assert truth['state'] == 'done'
-        assert abs(t.measured_speed - truth['speed']) <= SPEED_ACCURACY, (
-            t.measured_speed,
-            truth['speed'],
-        )
+    bridge = launch('hexapod_bridge', 'bridge_node', params={'port': radio, 'imu_port': imu})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'mode': 'robot', 'record_dir': ''},
+    )
+    failures = ros.collect(
+        ServoFailure,
+        'servo_failures',
+        QoSProfile(
+            depth=64,
+            durability=DurabilityPolicy.TRANSIENT_LOCAL,
+            reliability=ReliabilityPolicy.RELIABLE,
+        ),
+    )
+    trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
+    assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
+    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=3, alpha=1.0), timeout=180)
+    assert response.trials >= 1, response.message
+    _every_trial_measured_within_the_stated_accuracy(emu, trials, response.trials)
+    best = max(trials, key=lambda t: t.measured_speed)
+    assert response.best_archive_index == best.archive_index
+    assert response.best_speed == pytest.approx(best.measured_speed)
+    # the module's health check after each walk named both dead servos, on the right legs
+    wait_for(lambda: {f.servo_id for f in failures} == {3, 12}, 20, 'servo failure reports')
+    assert {(f.servo_id, f.leg, f.joint) for f in failures} == {(3, 1, 'femur'), (12, 4, 'femur')}
     assert node.alive() and bridge.alive() and emu.alive()
 
 

@@ -35,6 +35,7 @@ from hexapod_bridge.emulator.cli import radio_gone_times
 from hexapod_bridge.odometry import SPEED_ACCURACY
 from hexapod_gait import preset
 from hexapod_gait.ros_conversions import gait_to_msg
+from hexapod_gait.ros_glue import EVENTS
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.msg import LinkStatus
 from nav_msgs.msg import Odometry
@@ -59,8 +60,11 @@ def _emulator(launch, tmp_path, *extra):
     return emu, radio, imu
 
 
-def test_upload_and_trial_end_to_end_over_pseudo_terminals(ros, launch, tmp_path):
-    emu, radio, imu = _emulator(launch, tmp_path, '--sim', '--imu-noise', '--seed', '7')
+@pytest.mark.parametrize('firmware', ['python', 'native'])
+def test_upload_and_trial_end_to_end_over_pseudo_terminals(ros, launch, tmp_path, firmware):
+    emu, radio, imu = _emulator(
+        launch, tmp_path, '--sim', '--imu-noise', '--seed', '7', '--firmware', firmware
+    )
     bridge = launch('hexapod_bridge', 'bridge_node', params={'port': radio, 'imu_port': imu})
     status = ros.collect(DiagnosticStatus, 'bridge/status', status_log_qos())
     odom = ros.collect(
@@ -84,6 +88,46 @@ def test_upload_and_trial_end_to_end_over_pseudo_terminals(ros, launch, tmp_path
     print(f'bridge odom {bridge_speed:.4f} m/s vs simulator {truth["speed"]:.4f} m/s')
     assert truth['state'] == 'done' and abs(bridge_speed - truth['speed']) <= SPEED_ACCURACY
     assert bridge.alive() and emu.alive()
+
+
+def test_servo_failure_reports_are_published_with_their_leg_and_bad_ones_are_not(
+    ros, launch, tmp_path
+):
+    import pty
+    import tty
+
+    from hexapod_msgs.msg import ServoFailure
+
+    master, slave = pty.openpty()
+    tty.setraw(master)
+    tty.setraw(slave)
+    link = tmp_path / 'radio'
+    os.symlink(os.ttyname(slave), link)
+    # the robot's leg 2 is URDF leg 6 under the mirrored numbering
+    bridge = launch(
+        'hexapod_bridge', 'bridge_node', params={'port': str(link), 'leg_map': [1, 6, 5, 4, 3, 2]}
+    )
+    failures = ros.collect(ServoFailure, 'servo_failures', EVENTS)
+    status = ros.collect(DiagnosticStatus, 'bridge/status', status_log_qos())
+    link_status = ros.collect(LinkStatus, 'bridge_node/link_status', 10)
+    wait_for(lambda: any(m.connected for m in link_status), 30, 'the bridge on the port')
+    try:
+        # servo 0x40 does not exist (ids 2..19): logged, no leg marked; then servo 5, twice
+        os.write(master, bytes([0xFF, 0xFD, 0x0B, 0x40, 0xFF, 0xFD, 0x0B, 0x05]))
+        wait_for(lambda: failures, 20, 'a servo failure report')
+        os.write(master, bytes([0xFF, 0xFD, 0x0B, 0x05]))
+        wait_for(lambda: len(failures) == 2, 20, 'the repeated report')
+        time.sleep(0.5)
+        assert [(f.servo_id, f.robot_leg, f.leg, f.joint) for f in failures] == [
+            (5, 2, 6, 'coxa'),
+            (5, 2, 6, 'coxa'),
+        ]
+        assert failures[0].header.stamp.sec > 0
+        assert any('servo 5 (coxa of leg 6, robot leg 2)' in s.message for s in status)
+        assert bridge.alive()
+    finally:
+        os.close(master)
+        os.close(slave)
 
 
 def test_bad_requests_are_refused_with_reasons(ros, launch, tmp_path):

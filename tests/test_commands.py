@@ -49,6 +49,7 @@ PACKAGE = {
     'plot_map': 'hexapod_adapt',
     'recover_recording': 'hexapod_adapt',
     'robot_emulator': 'hexapod_bridge',
+    'firmware_fuzz': 'hexapod_bridge',
     'render_walk': 'hexapod_sim',
     'fidelity_table': 'hexapod_sim',
     'footfall': 'hexapod_gait',
@@ -75,6 +76,8 @@ def _main(command: str) -> Callable[[list[str]], int]:
         return lambda argv: build_parser().parse_args(argv)
     elif command == 'robot_emulator':
         from hexapod_bridge.emulator.cli import main
+    elif command == 'firmware_fuzz':
+        from hexapod_bridge.emulator.differential import main
     elif command == 'render_walk':
         from hexapod_sim.render_cli import main
     elif command == 'footfall':
@@ -132,6 +135,11 @@ BOUNDS = [
     Bound('robot_emulator', '--seed', 0, 2**32 - 1),
     Bound('robot_emulator', '--walk-duration', 0.0, 600.0, False, low_open=True),
     Bound('robot_emulator', '--failsafe-windows', 1, 1000),
+    Bound('robot_emulator', '--dead-servo', 2, 19),
+    Bound('firmware_fuzz', '--frames', 1, 10**8),
+    Bound('firmware_fuzz', '--seed', 0, 2**31),
+    Bound('firmware_fuzz', '--chunk', 1000, 10**7),
+    Bound('firmware_fuzz', '--dead-servo', 2, 19),
     Bound('render_walk', '--seconds', 0.0, 60.0, False, low_open=True),
     Bound('render_walk', '--fps', 1, 60),
     Bound('render_walk', '--failed-legs', 1, 6),

@@ -34,7 +34,11 @@ uint16_t read_u16_be(const uint8_t* p) { return static_cast<uint16_t>((p[0] << 8
 
 void Firmware::begin(const Hooks& hooks, const Config& config, uint32_t now_ms) {
   hooks_ = hooks;
-  config_ = config;
+  walk_duration_ms_ = config.walk_duration_ms;
+  failsafe_windows_ = config.failsafe_windows;
+  ping_check_ticks_ = config.ping_check_ticks;
+  motors_on_ = true;
+  last_row_ = -1;
   now_ms_ = now_ms;
   next_tick_ms_ = now_ms;
   telemetry_ticks_ = config.telemetry_ticks;
@@ -101,7 +105,7 @@ void Firmware::on_movement(const uint8_t* f) {
   const uint8_t direction = f[1], function = f[8];
   if (function == kFunctionReset) {
     text("RESET");
-    start_walk(config_.walk_duration_ms);
+    start_walk(walk_duration_ms_);
   } else if (function == kFunctionStand || direction == 0) {
     stop_walk(kTrialStopped);
   } else if (function == kFunctionWalk) {  // direction is 1..8 (the receiver checked it)
@@ -343,7 +347,7 @@ void Firmware::timer_tick() {
     for (int i = 0; i < 6; ++i) write_f32_le(values[i], frame + 2 + 4 * i);
     send(frame, sizeof frame);
   }
-  if (tick_count_ % config_.ping_check_ticks == 0) {
+  if (tick_count_ % ping_check_ticks_ == 0) {
     if (pings_in_window_ == 0) {
       ++missed_;
       ++stats_.missed_windows;
@@ -351,7 +355,7 @@ void Firmware::timer_tick() {
       missed_ = 0;
     }
     pings_in_window_ = 0;
-    if (missed_ >= config_.failsafe_windows && walking_) {
+    if (missed_ >= failsafe_windows_ && walking_) {
       ++stats_.failsafe_trips;
       stop_walk(kTrialFailsafe);
     }

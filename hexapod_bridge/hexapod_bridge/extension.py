@@ -50,6 +50,7 @@ from typing import Sequence
 
 from hexapod_bridge.crc import crc16
 from hexapod_gait import GaitParameters, RANGES
+from hexapod_gait import ROBOT_RATE as ROBOT_TABLE_RATE
 import numpy as np
 
 MARKER = 0xE7
@@ -281,6 +282,26 @@ def gait_from_values(values: Sequence[float]):
         turn_rate=v[35],
         **legs,
     )
+
+
+#: The period of the gait a robot holds after start-up (the firmware's compiled-in tripod) [s].
+FIRMWARE_GAIT_PERIOD = 1.0
+#: Upper estimate of the time the firmware module (firmware/) takes to compile one row of a gait's
+#: 120 Hz table on the robot's 168 MHz Cortex-M4 [s]: soft-float double precision, measured as
+#: instruction counts on QEMU (docs/benchmarks.md, firmware), at 1.5 cycles per instruction,
+#: rounded up.
+COMMIT_SECONDS_PER_ROW = 0.002
+
+
+def commit_compile_time(period: float, previous_period: float) -> float:
+    """
+    Return how long a robot may take to answer a COMMIT of a gait with this period [s].
+
+    It compiles the new gait's table; if that fails at its last row, it compiles the previous
+    gait's table again (the last good state), and only then acknowledges.
+    """
+    rows = sum(max(2, round(p * ROBOT_TABLE_RATE)) for p in (period, previous_period))
+    return rows * COMMIT_SECONDS_PER_ROW
 
 
 def start_payload(duration_s: float, gait_id: int, stand_first: bool = False) -> bytes:

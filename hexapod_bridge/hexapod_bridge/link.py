@@ -64,6 +64,7 @@ class Outgoing:
     attempts: int = 0
     sent_at: float = -math.inf
     operation: 'Operation | None' = None
+    ack_timeout: float | None = None  # None: the link's; a COMMIT waits for its compilation
 
 
 @dataclass
@@ -139,6 +140,7 @@ class RobotLink:
         self._upload_backlog: deque[Outgoing] = deque()
         self._movement_acks: dict[int, Operation] = {}
         self._gait_ids = itertools.count(1)
+        self._robot_period = ext.FIRMWARE_GAIT_PERIOD  # of the gait the robot holds
         self._last_report_seq: int | None = None
 
     # -- commands ----------------------------------------------------------------------------
@@ -180,11 +182,18 @@ class RobotLink:
         gait_id = next(self._gait_ids) & 0xFFFF
         values = ext.gait_values(gait, self.leg_map)
         frames = ext.upload_frames(values, gait_id, self._next_seq(ext.N_PARAMS + 1))
+        # the robot answers a COMMIT once it compiled the table (and, if it fails, the last one
+        # again): wait that long before sending it again
+        compile_time = ext.commit_compile_time(gait.period, self._robot_period)
         for frame in frames:
             op.pending += 1
+            timeout = self.ack_timeout + compile_time if frame[1] == ext.Cmd.COMMIT else None
             self._upload_backlog.append(
-                Outgoing(frame, PRIORITY_UPLOAD, frame[2], frame[1], operation=op)
+                Outgoing(
+                    frame, PRIORITY_UPLOAD, frame[2], frame[1], operation=op, ack_timeout=timeout
+                )
             )
+        op.result['period'] = gait.period
         op.result['gait_id'] = gait_id
         op.result['values'] = ext.quantise(values)
         return op
@@ -318,7 +327,8 @@ class RobotLink:
 
     def _expire(self, now: float) -> None:
         for seq, item in list(self._in_flight.items()):
-            if now - item.sent_at < self.ack_timeout:
+            timeout = self.ack_timeout if item.ack_timeout is None else item.ack_timeout
+            if now - item.sent_at < timeout:
                 continue
             del self._in_flight[seq]
             if item.attempts > self.max_retries:
@@ -395,6 +405,8 @@ class RobotLink:
             if status == ext.Status.OK:
                 self.trial_generation += 1
                 self.trial_state, self.trial_elapsed = ext.TrialState.WALKING, 0.0
+        if item.kind == ext.Cmd.COMMIT and status == ext.Status.OK and op is not None:
+            self._robot_period = op.result.get('period', self._robot_period)
         if status != ext.Status.OK:
             name = ext.Status(status).name if status < len(ext.Status) else str(status)
             detail = ''

@@ -93,8 +93,12 @@ class Firmware {
   void begin_transition();
   void set_motors(bool on);
 
+  // Every member starts as zero, so a static instance lives in .bss (no flash image of it);
+  // begin() sets the real values.
   Hooks hooks_ = {};
-  Config config_ = {};
+  uint32_t walk_duration_ms_ = 0;
+  uint16_t failsafe_windows_ = 0;
+  uint16_t ping_check_ticks_ = 0;
   Receiver receiver_;
   Stats stats_ = {};
   uint32_t now_ms_ = 0;
@@ -116,12 +120,12 @@ class Firmware {
   // walking and standing
   bool walking_ = false;
   bool estopped_ = false;
-  bool motors_on_ = true;
+  bool motors_on_ = false;
   uint8_t trial_state_ = kTrialIdle;
   uint8_t trial_seq_ = 0;
   uint32_t walk_start_ms_ = 0;
   uint32_t walk_end_ms_ = 0;
-  int32_t last_row_ = -1;  // the walk's last written row (counted from its start)
+  int32_t last_row_ = 0;  // the walk's last written row (counted from its start; -1: none)
   float pose_[kJoints] = {};             // the targets last written
   float transition_from_[kJoints] = {};  // standing: from here to the table's first row
   bool transition_ = false;
@@ -132,10 +136,10 @@ class Firmware {
   // timer tick, keep-alive, telemetry, health check
   uint32_t tick_count_ = 0;
   uint32_t next_tick_ms_ = 0;
-  uint16_t telemetry_ticks_ = kTelemetryTicks;
+  uint16_t telemetry_ticks_ = 0;
   uint32_t pings_in_window_ = 0;
   uint32_t missed_ = 0;
-  bool health_pending_ = true;
+  bool health_pending_ = false;
 };
 
 }  // namespace hexapod_fw

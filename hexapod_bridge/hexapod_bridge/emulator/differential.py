@@ -467,3 +467,199 @@ def fuzz_script(
             now += int(rng.integers(0, 40))
             script.poll(now)
     return script
+
+
+#: The link faults of the bridge's link tests, each replayable through both firmwares.
+LINK_FAULTS = ('clean', 'garbage', 'truncation', 'duplicates', 'lost_acks', 'port_vanishes')
+
+
+def link_session_script(fault: str, seed: int = 0) -> Script:
+    """
+    Record what the robot receives in a bridge session over a faulty link; return it as a Script.
+
+    The host is hexapod_bridge's RobotLink, armed, uploading the four presets and two random
+    reachable gaits, walking a 1 s trial of each, stopping one early, then an emergency stop and
+    power on. Its partner while recording is the Python model (sim=None); the channel applies
+    ``fault`` (LINK_FAULTS): random garbage bursts, frames cut short, every frame sent twice,
+    the robot's replies lost at 20 % (so the host retransmits), or the port gone for 2 s
+    mid-session.
+    """
+    from hexapod_bridge.link import RobotLink
+    from hexapod_gait import preset, PRESETS
+
+    if fault not in LINK_FAULTS:
+        raise ValueError(f'unknown fault {fault!r}; known: {", ".join(LINK_FAULTS)}')
+    rng = np.random.default_rng(seed)
+    fuzzer = _Fuzzer(seed)
+    gaits = [preset(name) for name in sorted(PRESETS)]
+    gaits += [ext.gait_from_values(fuzzer._random_gait_values()) for _ in range(2)]
+    script = Script()
+    robot = RobotFirmware(now=0.0)
+    link = RobotLink()
+    t, step = 0.0, 0.004
+    link.arm(True, t)
+
+    def deliver(data: bytes) -> None:
+        if fault == 'garbage' and rng.random() < 0.05:
+            data = bytes(rng.integers(0, 256, int(rng.integers(1, 12)), dtype=np.uint8)) + data
+        if fault == 'truncation' and rng.random() < 0.05 and len(data) > 1:
+            data = data[: int(rng.integers(1, len(data)))]
+        if fault == 'duplicates':
+            data = data + data
+        if fault == 'port_vanishes' and 6.0 <= t < 8.0:
+            return  # the port is gone: nothing reaches the robot
+        if data:
+            ms = round(t * 1000)
+            script.receive(ms, data)
+            robot.receive(data, ms / 1000.0)
+
+    def run(seconds: float) -> None:
+        nonlocal t
+        end = t + seconds
+        while t < end:
+            t += step
+            for frame in link.poll(t):
+                deliver(frame)
+            ms = round(t * 1000)
+            script.poll(ms)
+            robot.receive(b'', ms / 1000.0)
+            radio, _ = robot.advance(ms / 1000.0)
+            if fault == 'lost_acks':
+                radio = bytes(b for b in radio if rng.random() >= 0.02)
+            link.receive(radio, t)
+
+    for k, gait in enumerate(gaits):
+        op = link.upload(gait)
+        run(1.0)
+        if op.ok:
+            script.table()
+            link.start_trial(1.0, op.result['gait_id'])
+            run(0.5 if k == 1 else 1.6)
+            if k == 1:
+                link.stop_trial()
+                run(0.5)
+    link.emergency_stop()
+    run(0.5)
+    link.arm(True, t)
+    link.motor_power(True)
+    run(1.0)
+    return script
+
+
+@dataclass(frozen=True)
+class FuzzResult:
+    """One differential fuzz run: what it sent and whether the two firmwares agreed."""
+
+    frames: int
+    events: int
+    tables: int
+    commits_ok: int
+    trials: int
+    seconds: float
+    max_position_error: float
+    max_velocity_error: float
+    divergence: Divergence | None
+
+
+def _count_reports(lines: list[str]) -> tuple[int, int]:
+    """Return (accepted COMMITs, started walks) in a model output."""
+    from hexapod_bridge.stream import HostParser
+
+    parser, commits, walks = HostParser(), 0, 0
+    for line in lines:
+        if not line.startswith('E ') or line.split()[1] == '-':
+            continue
+        for frame in parser.feed(bytes.fromhex(line.split()[1])):
+            if not isinstance(frame, ext.ReportFrame):
+                continue
+            if frame.type == ext.Report.ACK and frame.payload[:2] == bytes([ext.Cmd.COMMIT, 0]):
+                commits += 1
+            if frame.type == ext.Report.TRIAL and frame.payload[0] == ext.TrialState.WALKING:
+                walks += 1
+    return commits, walks
+
+
+def fuzz(seed: int, frames: int, dead_servos: frozenset[int] = frozenset()) -> FuzzResult:
+    """Run one seeded fuzz script through the model and the module and compare them."""
+    import time
+
+    t0 = time.monotonic()
+    script = fuzz_script(seed, frames, dead_servos)
+    model = run_model(script)
+    native = run_native(script)
+    result = compare(model, native)
+    commits, walks = _count_reports(model)
+    return FuzzResult(
+        frames,
+        result.events,
+        result.tables,
+        commits,
+        walks,
+        time.monotonic() - t0,
+        result.max_position_error,
+        result.max_velocity_error,
+        result.divergence,
+    )
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of ``firmware_fuzz``: the differential fuzz, in scripts of --chunk frames."""
+    import argparse
+
+    from hexapod_description.cli import number, run_command
+
+    parser = argparse.ArgumentParser(
+        description='Differential fuzz of the C++ firmware module against the Python model.'
+    )
+    parser.add_argument('--frames', type=number(int, 1, 10**8), default=100_000)
+    parser.add_argument('--seed', type=number(int, 0, 2**31), default=0, help='first seed')
+    parser.add_argument(
+        '--chunk',
+        type=number(int, 1000, 10**7),
+        default=100_000,
+        help='frames per script (seeds seed, seed + 1, ...)',
+    )
+    parser.add_argument(
+        '--dead-servo', type=number(int, 2, 19), action='append', default=[], metavar='ID'
+    )
+    args = parser.parse_args(argv)
+
+    def run() -> int:
+        total = FuzzResult(0, 0, 0, 0, 0, 0.0, 0.0, 0.0, None)
+        seed, left = args.seed, args.frames
+        while left > 0:
+            n = min(args.chunk, left)
+            r = fuzz(seed, n, frozenset(args.dead_servo))
+            print(
+                f'seed {seed}: {r.frames} frames, {r.events} events, {r.commits_ok} gaits'
+                f' committed, {r.trials} walks, {r.tables} tables compared (max error'
+                f' {r.max_position_error:.2e} rad, {r.max_velocity_error:.2e} rad/s),'
+                f' {r.seconds:.0f} s: {"DIVERGED" if r.divergence else "same output"}',
+                flush=True,
+            )
+            if r.divergence is not None:
+                d = r.divergence
+                print(f'  first divergence at output line {d.line} (event {d.event}):')
+                print(f'  model : {d.model[:300]}')
+                print(f'  native: {d.native[:300]}')
+                return 1
+            total = FuzzResult(
+                total.frames + r.frames,
+                total.events + r.events,
+                total.tables + r.tables,
+                total.commits_ok + r.commits_ok,
+                total.trials + r.trials,
+                total.seconds + r.seconds,
+                max(total.max_position_error, r.max_position_error),
+                max(total.max_velocity_error, r.max_velocity_error),
+                None,
+            )
+            seed, left = seed + 1, left - n
+        print(
+            f'TOTAL {total.frames} frames, {total.events} events, {total.commits_ok} gaits'
+            f' committed, {total.trials} walks, {total.tables} tables: 0 divergences'
+            f' ({total.seconds:.0f} s)'
+        )
+        return 0
+
+    return run_command('firmware_fuzz', run)

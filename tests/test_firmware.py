@@ -1,0 +1,184 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+The C++ firmware module (firmware/) against the Python model it implements.
+
+Generated constants, the STM32F407 cross build, and the differential tests (same bytes, states
+and gait tables out).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+import re
+import subprocess
+import sys
+
+from hexapod_bridge import extension as ext
+from hexapod_bridge import legacy
+from hexapod_bridge.emulator.differential import (
+    compare,
+    fuzz,
+    LINK_FAULTS,
+    link_session_script,
+    replay_tool,
+    run_model,
+    run_native,
+    Script,
+    TABLE_TOLERANCE,
+    VELOCITY_LIMIT,
+)
+from hexapod_bridge.emulator.native import NativeFirmware
+from hexapod_gait import build_joint_table, preset, PRESETS, ROBOT_RATE
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+FIRMWARE = ROOT / 'firmware'
+
+
+def test_generated_constants_are_up_to_date():
+    result = subprocess.run(
+        [sys.executable, str(FIRMWARE / 'tools' / 'gen_constants.py'), '--check'],
+        capture_output=True,
+        text=True,
+    )
+    assert result.returncode == 0, result.stderr
+
+
+@pytest.mark.slow
+def test_cross_build_for_the_stm32f407_fails_on_no_warning_and_fits(tmp_path):
+    result = subprocess.run(
+        ['make', '-C', str(FIRMWARE), 'arm', f'BUILD={tmp_path}'],
+        capture_output=True,
+        text=True,
+    )
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    bench = dict(re.findall(r'^BENCH (\S+) (\d+) bytes$', result.stdout, re.M))
+    print(
+        '\n'.join(line for line in result.stdout.splitlines() if line.startswith(('BENCH', '#')))
+    )
+    objects = sorted(p.name for p in tmp_path.glob('*.o'))
+    assert objects == ['crc16.o', 'firmware.o', 'gait.o', 'receiver.o']
+    # the STM32F407: 1 MiB flash, 128 KiB SRAM (+64 KiB CCM); the module must leave room
+    assert int(bench['firmware_flash_linked']) < 64 * 1024
+    assert int(bench['firmware_ram_instance']) < 96 * 1024
+    assert int(bench['firmware_ram_module_static']) == 0  # everything lives in the instance
+
+
+def test_the_replay_tool_is_built_with_the_sanitizers():
+    symbols = subprocess.run(['nm', replay_tool()], capture_output=True, text=True).stdout
+    assert '__asan_init' in symbols and '__ubsan_handle' in symbols
+
+
+@pytest.mark.parametrize('name', sorted(PRESETS))
+def test_compiled_tables_match_hexapod_gait_joint_by_joint(name):
+    """Each preset (and an omnidirectional, turning gait) uploaded: the module's table."""
+    gait = preset(name)
+    values = ext.gait_values(gait)
+    fw = NativeFirmware(now_ms=0)
+    for frame in ext.upload_frames(values, 3, 1):
+        fw.receive(frame, 1)
+    assert fw.state().gait_id == 3, fw.out_radio.hex()
+    positions, velocities = fw.table()
+    expected = build_joint_table(ext.gait_from_values(ext.quantise(values)), rate=ROBOT_RATE)
+    assert positions.shape == expected.positions.shape == (120, 18)
+    dp = np.abs(positions - expected.positions).max(axis=0)
+    dv = np.abs(velocities - np.clip(expected.velocities, -VELOCITY_LIMIT, VELOCITY_LIMIT))
+    print(f'{name}: max |position error| per joint {np.round(dp, 6).tolist()}')
+    assert dp.max() <= TABLE_TOLERANCE['position']
+    assert dv.max() <= TABLE_TOLERANCE['velocity']
+
+
+def test_a_turning_crabbing_gait_matches_too():
+    gait = preset('tripod').replace(crab_angle=2.0, turn_rate=0.4, body_velocity=0.1)
+    fw = NativeFirmware()
+    for frame in ext.upload_frames(ext.gait_values(gait), 9, 1):
+        fw.receive(frame, 1)
+    positions, _ = fw.table()
+    expected = build_joint_table(ext.gait_from_values(ext.quantise(ext.gait_values(gait))))
+    assert fw.state().gait_id == 9
+    assert np.abs(positions - expected.positions[::2]).max() <= TABLE_TOLERANCE['position']
+
+
+@pytest.mark.parametrize('fault', LINK_FAULTS)
+def test_a_bridge_session_gives_the_same_bytes_states_and_tables(fault):
+    script = link_session_script(fault, seed=1)
+    model = run_model(script)
+    result = compare(model, run_native(script))
+    assert result.divergence is None, result.divergence
+    assert result.events == sum(e[0] != 'T' for e in script.events)
+    assert result.tables >= 1  # at least one upload got through and its tables were compared
+
+
+def test_dead_servos_are_reported_by_both_between_walks():
+    script = Script(dead_servos=frozenset({3, 14}))
+    script.poll(0)  # start-up: the first tick checks the servos
+    start = ext.encode_command(ext.Cmd.START_TRIAL, 1, ext.start_payload(0.2, 0))
+    script.receive(10, start)
+    for ms in range(20, 400, 20):
+        script.poll(ms)
+    model, native = run_model(script), run_native(script)
+    assert compare(model, native).divergence is None
+    sent = b''.join(
+        bytes.fromhex(line.split()[1])
+        for line in model
+        if line.startswith('E ') and line.split()[1] != '-'  # '-': nothing sent
+    )
+    failed = legacy.encode_error(0x0B, 3) + legacy.encode_error(0x0B, 14)
+    assert sent.count(failed) == 2  # at start-up and after the walk, never while walking
+
+
+def test_the_comparison_finds_a_changed_byte_and_a_table_off_by_a_unit():
+    script = link_session_script('clean')
+    model = run_model(script)
+    native = run_native(script)
+    assert compare(model, native).divergence is None
+    first_event = next(
+        i for i, line in enumerate(native) if line.startswith('E ') and line.split()[1] != '-'
+    )
+    changed = list(native)
+    changed[first_event] = changed[first_event].replace(' ', ' ff', 1)
+    assert compare(model, changed).divergence.line == first_event
+    table = next(i for i, line in enumerate(native) if line.startswith('T ')) + 1
+    row = native[table].split()
+    row[4] = repr(float(row[4]) + 2.5e-4)
+    shifted = list(native)
+    shifted[table] = ' '.join(row)
+    assert compare(model, shifted).divergence.line == table
+
+
+@pytest.mark.slow
+def test_seeded_fuzz_of_100000_frames_finds_no_crash_and_no_divergence():
+    result = fuzz(seed=2026, frames=100_000, dead_servos=frozenset({7}))
+    print(result)
+    assert result.divergence is None, result.divergence
+    # the fuzz reached the paths that matter, not only rejections
+    assert result.commits_ok >= 100 and result.trials >= 100 and result.tables >= 50
+
+
+def test_the_emulator_refuses_dead_servos_on_three_legs(capsys):
+    from hexapod_bridge.emulator.cli import main
+
+    with pytest.raises(SystemExit) as exit_info:
+        main(['--dead-servo', '2', '--dead-servo', '5', '--dead-servo', '8'])
+    assert exit_info.value.code == 2
+    assert 'servos on 3 legs: at most 2 legs can fail' in capsys.readouterr().err
