@@ -22,7 +22,10 @@ demo: bootstrap
 demo-navigate: bootstrap
 	@$(ENV) && python scripts/demo_navigate.py
 
+# The firmware module's STM32F407 cross build first (its flash and RAM as BENCH lines; the host
+# build is part of the colcon build), then every test.
 test: bootstrap
+	@$(MAKE) -s -C firmware arm BUILD=$(CURDIR)/build/hexapod_firmware_arm
 	@$(ENV) && python -m pytest $(PYTEST_ARGS)
 
 test-unit: bootstrap

@@ -133,7 +133,26 @@ def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive):
     assert not result.successful and 'truncated' in result.reason
     again = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=1), timeout=120)
     assert again.trials == 1
+
+    # a success floor no gait of the damaged robot reaches: the run says so, unsuccessful
+    assert not _set_min_speed(ros, -0.5).successful
+    assert _set_min_speed(ros, 1.5).successful
+    floored = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=2, alpha=0.05), timeout=120)
+    assert not floored.success and floored.trials == 2
+    assert 'below the success floor 1.500 m/s' in floored.message
     assert node.alive() and sim.alive() and gait.alive()
+
+
+def _set_min_speed(ros, value: float):
+    req = SetParameters.Request(
+        parameters=[
+            Parameter(
+                name='min_speed',
+                value=ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=value),
+            )
+        ]
+    )
+    return ros.call(SetParameters, 'adapt_node/set_parameters', req).results[0]
 
 
 def test_without_an_archive_parameter_the_node_adapts_on_the_default_map(ros, launch):

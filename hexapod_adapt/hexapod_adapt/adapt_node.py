@@ -36,6 +36,7 @@ problem never stops a run). Services: ``adapt`` (hexapod_msgs/Adapt), ``~/report
 
 from __future__ import annotations
 
+from dataclasses import replace
 import sys
 import threading
 import traceback
@@ -216,6 +217,7 @@ class AdaptNode(Node):
             config, duration = run_settings(
                 {n: getattr(request, n) or self.get_parameter(n).value for n in RUN_SETTINGS}
             )
+            config = replace(config, min_speed=float(self.get_parameter('min_speed').value))
         except ValueError as exc:
             response.success, response.message = False, f'bad request: {exc}'
             return response

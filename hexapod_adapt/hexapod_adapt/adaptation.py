@@ -35,7 +35,7 @@ import time
 from typing import Callable, Sequence, TYPE_CHECKING
 
 from hexapod_adapt.archive import Archive
-from hexapod_adapt.mboa import Mboa, MboaConfig, StopReason, Trial
+from hexapod_adapt.mboa import Mboa, MboaConfig, MIN_SPEED_RANGE, StopReason, Trial
 from hexapod_adapt.simulation import archive_engine
 from hexapod_gait import preset
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig, Simulator
@@ -81,10 +81,21 @@ def adapt(
     config: MboaConfig | None = None,
     on_trial: Callable[[Trial, int, Mboa], None] | None = None,
     should_cancel: Callable[[], bool] | None = None,
+    floor: Callable[[], float] | None = None,
 ) -> AdaptationResult:
-    """Run M-BOA until it stops (never more than ``config.max_trials`` trials)."""
+    """
+    Run M-BOA until it stops (never more than ``config.max_trials`` trials).
+
+    ``floor``, if given, measures a reference before the first trial, e.g. the damaged control
+    tripod (:func:`tripod_floor`): success then also needs the best gait to walk at least that
+    fast (and at least ``config.min_speed``).
+    """
     config = config or MboaConfig()
     niches, descriptors, prior = candidates(archive)
+    if floor is not None:
+        reference = float(floor())
+        if math.isfinite(reference) and reference > config.min_speed:
+            config = replace(config, min_speed=min(reference, MIN_SPEED_RANGE[1]))
     opt = Mboa(descriptors, prior, config)
     t0 = time.monotonic()
     result = AdaptationResult(False, '')

@@ -29,6 +29,11 @@ variance ``noise`` (0.001 in the papers -- set explicitly, never a library defau
     next trial  = argmax_x  mu_t(x) + kappa * sigma_t(x)            (UCB, sigma = std dev)
     stop when   max measured >= alpha * max_x mu_t(x), or after max_trials trials
 
+Our addition, a success floor (``min_speed``, 0 in the thesis): the relative rule alone can call
+a near-standstill a success once poor trials pull the whole posterior down, so success also needs
+the best measured speed to reach the floor. Below it the run goes on, and ends unsuccessful at
+the trial budget or when the map is used up.
+
 An elite already tried is not offered again: the next-best untried elite is (re-testing the
 same gait would only average its noise; see ``MboaConfig.exclude_tested``).
 Speeds are in m/s throughout.
@@ -56,6 +61,7 @@ class StopReason(enum.Enum):
 
 #: Documented limits of the run settings (the Adapt service refuses values outside them).
 MAX_TRIALS_LIMIT = 1000  # the thesis's longest real run took 35 trials
+MIN_SPEED_RANGE = (0.0, 2.0)  # m/s: the success floor (no gait of this robot walks 2 m/s)
 LENGTH_SCALE_RANGE = (1e-3, 10.0)  # descriptor units: the duty-factor cube's diagonal is 2.45
 NOISE_RANGE = (1e-9, 1.0)  # (m/s)^2: a trial speed's variance, 1 = +/-1 m/s
 KAPPA_RANGE = (0.0, 100.0)
@@ -72,6 +78,7 @@ class MboaConfig:
     length_scale: float = 0.4  # rho, in descriptor units (duty factor, 0..1)
     noise: float = 0.001  # observation noise variance [(m/s)^2]
     exclude_tested: bool = True
+    min_speed: float = 0.0  # success floor [m/s]: no success while the best is slower
 
     def __post_init__(self) -> None:
         problems = []
@@ -95,6 +102,7 @@ class MboaConfig:
         within('kappa', self.kappa, *KAPPA_RANGE)
         within('length_scale (rho)', self.length_scale, *LENGTH_SCALE_RANGE, ' descriptor units')
         within('noise variance', self.noise, *NOISE_RANGE, ' (m/s)^2')
+        within('min_speed (success floor)', self.min_speed, *MIN_SPEED_RANGE, ' m/s')
         if problems:
             raise ValueError('; '.join(problems))
 
@@ -210,7 +218,11 @@ class Mboa:
         if len(self.trials) >= self.config.max_trials:
             return StopReason.MAX_TRIALS
         best = self.best()
-        if best is not None and best.measured >= self.config.alpha * float(np.max(self._mu)):
+        if (
+            best is not None
+            and best.measured >= self.config.alpha * float(np.max(self._mu))
+            and best.measured >= self.config.min_speed
+        ):
             return StopReason.ALPHA_REACHED
         if self.config.exclude_tested and len(self.tested()) == len(self.prior):
             return StopReason.MAP_EXHAUSTED
@@ -219,8 +231,9 @@ class Mboa:
     def should_stop(self) -> tuple[bool, str]:
         """(stop, why) with ``why`` a sentence for people (decide on :meth:`stop_reason`)."""
         reason = self.stop_reason()
+        floor = self._below_floor()
         if reason is StopReason.MAX_TRIALS:
-            return True, f'reached the maximum of {self.config.max_trials} trials'
+            return True, f'reached the maximum of {self.config.max_trials} trials{floor}'
         if reason is StopReason.ALPHA_REACHED:
             best = self.best()
             assert best is not None
@@ -232,8 +245,17 @@ class Mboa:
                 ),
             )
         if reason is StopReason.MAP_EXHAUSTED:
-            return True, 'every gait in the map has been tried'
+            return True, f'every gait in the map has been tried{floor}'
         return False, ''
+
+    def _below_floor(self) -> str:
+        best = self.best()
+        if best is None or best.measured >= self.config.min_speed:
+            return ''
+        return (
+            f'; the best gait walked {best.measured:.3f} m/s, below the success floor'
+            f' {self.config.min_speed:.3f} m/s'
+        )
 
     def next_index(self) -> int:
         """Return the candidate with the highest UCB (untested ones only, by default)."""

@@ -39,6 +39,7 @@ from hexapod_adapt.mboa import (
     LENGTH_SCALE_RANGE,
     MAX_TRIALS_LIMIT,
     MboaConfig,
+    MIN_SPEED_RANGE,
     NOISE_RANGE,
 )
 from hexapod_adapt.simulation import archive_engine, simulation_fingerprint
@@ -91,6 +92,13 @@ SETTINGS = (
         LENGTH_SCALE_RANGE,
     ),
     Setting('noise', _MBOA.noise, 'Default observation noise variance [(m/s)^2]', NOISE_RANGE),
+    Setting(
+        'min_speed',
+        _MBOA.min_speed,
+        'Success floor [m/s]: a run succeeds only if its best gait walks at least this fast (0 ='
+        ' the thesis rule); below it the run goes on, or ends unsuccessful saying so',
+        MIN_SPEED_RANGE,
+    ),
     Setting('record_dir', 'adaptation_runs', "MCAP files go here ('' = no recording)"),
     Setting('sim_node', 'sim_node', 'Name of the simulator node (mode sim)', read_only=True),
     Setting(

@@ -101,3 +101,46 @@ def test_a_non_finite_trial_speed_stops_the_run_with_the_reason(bad):
     result = adapt(a, lambda niche: next(speeds))
     assert not result.success and len(result.trials) == 1
     assert 'trial 2' in result.message and 'non-finite speed' in result.message
+
+
+def _three_alike():
+    """Three gaits the kernel cannot tell apart: one slow trial drags every prediction down."""
+    a = Archive.empty(np.array([[0.5] * 6, [0.501] * 6, [0.502] * 6]))
+    a.fitness[:] = 1.5  # 0.3 m/s each, as mapped
+    a.descriptors[:] = a.centroids
+    a.genotypes[:] = 0.5
+    return a
+
+
+def test_a_standstill_is_a_thesis_success_but_not_above_a_floor():
+    a = _three_alike()
+    standstill = lambda niche: 0.004  # noqa: E731 (every gait slow under this damage)
+    thesis = adapt(a, standstill, MboaConfig(max_trials=10))
+    assert thesis.success and thesis.best_speed == pytest.approx(0.004)  # what the issue saw
+    floored = adapt(a, standstill, MboaConfig(max_trials=10, min_speed=0.05))
+    assert not floored.success
+    assert len(floored.trials) == 3  # it went on while a gait was left, then ended unsuccessful
+    assert 'every gait in the map has been tried' in floored.message
+    assert 'below the success floor 0.050 m/s' in floored.message
+    capped = adapt(_archive(seed=2), standstill, MboaConfig(max_trials=4, min_speed=0.05))
+    assert not capped.success and len(capped.trials) == 4
+    assert 'maximum of 4 trials; the best gait walked 0.004 m/s' in capped.message
+
+
+def test_the_floor_can_be_the_damaged_tripod_measured_first():
+    a = _three_alike()
+    measured_first = []
+
+    def tripod() -> float:
+        measured_first.append(True)
+        return 0.12  # the damaged control tripod
+
+    slow = adapt(a, lambda niche: 0.1, MboaConfig(max_trials=10), floor=tripod)
+    assert measured_first and not slow.success and 'floor 0.120 m/s' in slow.message
+    fast = adapt(a, lambda niche: 0.2, MboaConfig(max_trials=10), floor=tripod)
+    assert fast.success and len(fast.trials) == 1
+
+
+def test_the_floor_is_range_checked():
+    with pytest.raises(ValueError, match=r'min_speed \(success floor\) must be in \[0, 2\] m/s'):
+        MboaConfig(min_speed=-0.1)
