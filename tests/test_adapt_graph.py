@@ -65,16 +65,15 @@ def small_archive(tmp_path_factory):
     return path, archive, np.array(damaged)
 
 
-def _set_archive(ros, value: str):
-    req = SetParameters.Request(
-        parameters=[
-            Parameter(
-                name='archive',
-                value=ParameterValue(type=ParameterType.PARAMETER_STRING, string_value=value),
-            )
-        ]
-    )
+def _set_parameter(ros, name: str, value: ParameterValue):
+    req = SetParameters.Request(parameters=[Parameter(name=name, value=value)])
     return ros.call(SetParameters, 'adapt_node/set_parameters', req).results[0]
+
+
+def _set_archive(ros, value: str):
+    return _set_parameter(
+        ros, 'archive', ParameterValue(type=ParameterType.PARAMETER_STRING, string_value=value)
+    )
 
 
 def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive):
@@ -144,15 +143,9 @@ def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive):
 
 
 def _set_min_speed(ros, value: float):
-    req = SetParameters.Request(
-        parameters=[
-            Parameter(
-                name='min_speed',
-                value=ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=value),
-            )
-        ]
+    return _set_parameter(
+        ros, 'min_speed', ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=value)
     )
-    return ros.call(SetParameters, 'adapt_node/set_parameters', req).results[0]
 
 
 def test_without_an_archive_parameter_the_node_adapts_on_the_default_map(ros, launch):
