@@ -28,12 +28,18 @@ import signal
 import subprocess
 import sys
 
-from hexapod_msgs.msg import AdaptationTrial, FootContacts, GaitParameters, LinkStatus
+from hexapod_msgs.msg import (
+    AdaptationTrial,
+    FootContacts,
+    GaitParameters,
+    LinkStatus,
+    ServoFailure,
+)
 from hexapod_msgs.srv import Adapt, ReportDistance, SetLegFailure, UploadGait
 import pytest
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
-MESSAGES = [GaitParameters, FootContacts, AdaptationTrial, LinkStatus]
+MESSAGES = [GaitParameters, FootContacts, AdaptationTrial, LinkStatus, ServoFailure]
 SERVICES = [Adapt, SetLegFailure, ReportDistance, UploadGait]
 QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 

@@ -35,7 +35,7 @@ Publishes   imu/data          sensor_msgs/Imu: from the Xsens on ``imu_port`` at
             servo_failures    hexapod_msgs/ServoFailure (the last 64 kept for late joiners): a
                               servo that did not answer the robot's ping (FF FD 0B <id>), with
                               its leg in both numberings; the robot checks its servos at
-                              start-up, after every walk and after a HELLO. A
+                              start-up, after every walk and after a HELLO (~/check_servos). A
                               report naming a servo the robot does not have is logged, never
                               published
 Services    ~/arm             std_srvs/SetBool: nothing is transmitted unless armed
@@ -44,6 +44,8 @@ Services    ~/arm             std_srvs/SetBool: nothing is transmitted unless ar
             ~/stop_trial      std_srvs/Trigger
             ~/emergency_stop  std_srvs/Trigger: always transmitted (armed or not), then disarms
             ~/motor_power     std_srvs/SetBool: servo power; on also clears a latched e-stop
+            ~/check_servos    std_srvs/Trigger: HELLO; answers with the robot's protocol version
+                              once it replied, after which the robot pings its servos
 
 After an emergency stop the robot refuses trials (ESTOPPED) until, in this order:
 ``~/arm true`` (the bridge transmits again), ``~/motor_power true`` (servos powered, e-stop
@@ -142,6 +144,7 @@ class BridgeNode(Node):
             (SetBool, '~/motor_power', self._on_motor_power),
             (Trigger, '~/stop_trial', self._on_stop),
             (Trigger, '~/emergency_stop', self._on_estop),
+            (Trigger, '~/check_servos', self._on_check_servos),
         ):
             self.create_service(srv, name, callback, callback_group=group)
         self.create_timer(1.0 / float(v['status_rate']), self._tick, callback_group=group)
@@ -241,6 +244,17 @@ class BridgeNode(Node):
         self.station.emergency_stop()
         self._status(DiagnosticStatus.WARN, 'EMERGENCY STOP sent; bridge disarmed')
         response.success, response.message = True, 'emergency stop sent; bridge disarmed'
+        return response
+
+    def _on_check_servos(self, request: Trigger.Request, response: Trigger.Response):
+        """HELLO: the robot answers VERSION and pings its servos (reports on servo_failures)."""
+        ok, message = self.station.hello()
+        response.success = ok
+        response.message = (
+            f'{message}; it checks its servos now (a dead one is reported on servo_failures)'
+            if ok
+            else message
+        )
         return response
 
     def _on_motor_power(self, request: SetBool.Request, response: SetBool.Response):

@@ -141,6 +141,7 @@ class RobotLink:
         self._movement_acks: dict[int, Operation] = {}
         self._gait_ids = itertools.count(1)
         self._robot_period = ext.FIRMWARE_GAIT_PERIOD  # of the gait the robot holds
+        self._hellos: dict[int, Operation] = {}  # seq -> a HELLO waiting for its VERSION
         self._last_report_seq: int | None = None
 
     # -- commands ----------------------------------------------------------------------------
@@ -196,6 +197,25 @@ class RobotLink:
         op.result['period'] = gait.period
         op.result['gait_id'] = gait_id
         op.result['values'] = ext.quantise(values)
+        return op
+
+    def hello(self) -> Operation:
+        """
+        Queue a HELLO; the Operation completes with the robot's VERSION (result: major, minor).
+
+        The firmware module also checks its servos after a HELLO (reported as FF FD 0B <id>).
+        """
+        op = Operation('hello')
+        if self.firmware == 'legacy':
+            op.finish(False, 'the legacy firmware has no HELLO (and no servo health check)')
+            return op
+        if not self.armed:
+            op.finish(False, 'not armed: call ~/arm first')
+            return op
+        seq = self._next_seq()
+        self._hellos[seq] = op
+        frame = ext.encode_command(ext.Cmd.HELLO, seq, bytes([ext.PROTOCOL_MAJOR]))
+        self._queue.append(Outgoing(frame, PRIORITY_TRIAL))  # answered by VERSION, not an ACK
         return op
 
     def start_trial(self, duration: float, gait_id: int) -> Operation:
@@ -371,7 +391,12 @@ class RobotLink:
                 self.trial_elapsed = int.from_bytes(frame.payload[1:4], 'big') / 1000.0
                 self.events.append(('trial', (self.trial_state, self.trial_elapsed)))
             elif frame.type == ext.Report.VERSION:
-                self.events.append(('version', (frame.payload[0], frame.payload[1])))
+                major, minor = frame.payload[0], frame.payload[1]
+                self.events.append(('version', (major, minor)))
+                op = self._hellos.pop(frame.seq, None)
+                if op is not None:
+                    op.result.update(major=major, minor=minor)
+                    op.finish(True, f'the robot speaks protocol {major}.{minor}')
         elif isinstance(frame, legacy.MovementAck):
             op = self._movement_acks.pop(frame.checksum, None)
             if op is None:

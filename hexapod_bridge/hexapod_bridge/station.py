@@ -270,6 +270,13 @@ class BaseStation:
             self.link.emergency_stop()
             self.link.arm(False, time.monotonic())
 
+    def hello(self, timeout: float = 3.0) -> tuple[bool, str]:
+        """Say HELLO and wait for the robot's VERSION (its servo health check follows)."""
+        with self.lock:
+            op = self.link.hello()
+        ok = self.wait(op, timeout) and op.ok
+        return ok, op.message or f'no VERSION from the robot within {timeout:g} s'
+
     def motor_power(self, on: bool) -> Operation:
         """Servo power on or off; on also clears a latched e-stop."""
         with self.lock:

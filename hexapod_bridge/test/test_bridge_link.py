@@ -190,3 +190,43 @@ def test_leg_map_places_each_legs_values_in_the_robots_slot():
     op = link.upload(gait)
     _run(link, fw, 1.0)
     assert op.ok and fw.gait.radius[5] == pytest.approx(0.12)
+
+
+def test_hello_gets_the_version_and_the_servo_reports_become_events():
+    link, fw = RobotLink(), RobotFirmware(servo_ping=lambda servo: servo != 9)
+    assert not link.hello().ok  # unarmed: nothing may be sent
+    link.arm(True, 0.0)
+    t = _run(link, fw, 0.2)  # the start-up health check
+    assert ('servo_failure', 9) in link.events
+    link.events.clear()
+    op = link.hello()
+    _run(link, fw, 0.2, t)
+    assert op.ok and op.result == {'major': 1, 'minor': 1}, op.message
+    assert ('servo_failure', 9) in link.events and ('version', (1, 1)) in link.events
+    assert not RobotLink(firmware='legacy').hello().ok
+
+
+def test_a_commit_waits_for_the_robot_to_compile_before_it_is_sent_again():
+    link = RobotLink()
+    link.arm(True, 0.0)
+    op = link.upload(preset('tripod').replace(period=10.0, body_velocity=0.02))
+    commits = []
+    t = 0.0
+    while not commits:  # every frame once, each acknowledged but the COMMIT
+        t += 0.002
+        for frame in link.poll(t):
+            if frame[1] == ext.Cmd.COMMIT:
+                commits.append(frame)
+            if frame[0] == ext.MARKER and frame[1] == ext.Cmd.SET_PARAM:
+                ack = ext.encode_report(
+                    ext.Report.ACK, frame[2], bytes([frame[1], 0, 0, frame[3]])
+                )
+                link.receive(ack, t)
+    sent_at = t
+    # 1200 + 120 rows at 2 ms: 2.64 s on top of the 0.25 s acknowledgement timeout
+    while t < sent_at + 2.8:
+        t += 0.01
+        assert not any(f[1] == ext.Cmd.COMMIT for f in link.poll(t)), f'resent at {t - sent_at}'
+    t += 0.2
+    assert any(f[1] == ext.Cmd.COMMIT for f in link.poll(t))  # now it is sent again
+    assert not op.done
