@@ -77,7 +77,7 @@ def test_cross_build_for_the_stm32f407_fails_on_no_warning_and_fits(tmp_path):
         '\n'.join(line for line in result.stdout.splitlines() if line.startswith(('BENCH', '#')))
     )
     objects = sorted(p.name for p in tmp_path.glob('*.o'))
-    assert objects == ['crc16.o', 'firmware.o', 'gait.o', 'receiver.o']
+    assert objects == ['crc16.o', 'firmware.o', 'gait.o', 'probe0.o', 'receiver.o']
     # the STM32F407: 1 MiB flash, 128 KiB SRAM (+64 KiB CCM); the module must leave room
     assert int(bench['firmware_flash_linked']) < 64 * 1024
     assert int(bench['firmware_ram_instance']) < 96 * 1024
