@@ -27,6 +27,7 @@ and gait tables out).
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 import re
 import subprocess
@@ -182,3 +183,28 @@ def test_the_emulator_refuses_dead_servos_on_three_legs(capsys):
         main(['--dead-servo', '2', '--dead-servo', '5', '--dead-servo', '8'])
     assert exit_info.value.code == 2
     assert 'servos on 3 legs: at most 2 legs can fail' in capsys.readouterr().err
+
+
+def test_without_the_host_build_the_native_emulator_says_what_to_build(tmp_path):
+    env = dict(os.environ)
+    env['AMENT_PREFIX_PATH'] = ':'.join(
+        p for p in env.get('AMENT_PREFIX_PATH', '').split(':') if 'hexapod_firmware' not in p
+    )
+    result = subprocess.run(
+        [
+            sys.executable,
+            '-m',
+            'hexapod_bridge.emulator.cli',
+            '--firmware',
+            'native',
+            '--radio-link',
+            str(tmp_path / 'radio'),
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=60,
+    )
+    assert result.returncode == 1
+    assert 'package hexapod_firmware is not built' in result.stderr
+    assert 'Traceback' not in result.stderr

@@ -54,8 +54,8 @@ TABLE_TOLERANCE = {'position': 1.0e-4 + 1e-6, 'velocity': 5.0e-4 + 1e-5}
 VELOCITY_LIMIT = 32.767
 
 
-class FirmwareBuildMissing(RuntimeError):
-    """The C++ module's host build (package hexapod_firmware) is not installed."""
+class FirmwareBuildMissing(FileNotFoundError):
+    """The C++ module's host build (package hexapod_firmware) is not installed; says what to do."""
 
 
 def firmware_prefix() -> str:
