@@ -285,8 +285,10 @@ void Firmware::ack(uint8_t type, uint8_t seq, uint8_t status, uint16_t value) {
 }
 
 void Firmware::text(const char* message) {
-  uint8_t frame[3 + 32] = {0xFF, 0xFC, 0};
-  const uint32_t n = static_cast<uint32_t>(strlen(message));
+  constexpr uint32_t kMaxText = 32;  // the module's messages are short ("GAIT REJECTED")
+  uint8_t frame[3 + kMaxText] = {0xFF, 0xFC, 0};
+  uint32_t n = static_cast<uint32_t>(strlen(message));
+  if (n > kMaxText) n = kMaxText;
   frame[2] = static_cast<uint8_t>(n);
   memcpy(frame + 3, message, n);
   send(frame, 3 + n);
