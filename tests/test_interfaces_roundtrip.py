@@ -34,12 +34,20 @@ from hexapod_msgs.msg import (
     GaitParameters,
     LinkStatus,
     ServoFailure,
+    TrajectoryActivation,
 )
 from hexapod_msgs.srv import Adapt, ReportDistance, SetLegFailure, UploadGait
 import pytest
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
-MESSAGES = [GaitParameters, FootContacts, AdaptationTrial, LinkStatus, ServoFailure]
+MESSAGES = [
+    GaitParameters,
+    FootContacts,
+    AdaptationTrial,
+    LinkStatus,
+    ServoFailure,
+    TrajectoryActivation,
+]
 SERVICES = [Adapt, SetLegFailure, ReportDistance, UploadGait]
 QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 

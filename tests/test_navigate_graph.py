@@ -93,6 +93,8 @@ def test_a_goal_is_reached_through_the_graph(ros, graph):
     p = odom[-1].pose.pose.position
     assert math.hypot(p.x - 1.0, p.y + 0.6) <= 0.2
     assert goal.feedback and goal.feedback[-1].steps == result.steps
+    errors = [round(f.prediction_error, 3) for f in goal.feedback]
+    print(f'sim_node at {SIM["real_time_factor"]:g}x: prediction error per step {errors} m')
     wait_for(lambda: markers, 10, 'the goal marker')
     assert markers[-1].pose.position.x == 1.0 and markers[-1].header.frame_id == 'odom'
 

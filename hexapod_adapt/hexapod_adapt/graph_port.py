@@ -40,8 +40,8 @@ from hexapod_adapt.run_recording import RunRecording
 from hexapod_adapt.trials import OdomLog, OdomSample, Upload
 from hexapod_gait import GaitParameters
 from hexapod_gait.ros_conversions import gait_to_msg
-from hexapod_gait.ros_glue import LATCHED, ODOM, SENSOR, TF_QOS
-from hexapod_msgs.msg import AdaptationTrial, FootContacts
+from hexapod_gait.ros_glue import EVENTS, LATCHED, ODOM, SENSOR, TF_QOS
+from hexapod_msgs.msg import AdaptationTrial, FootContacts, TrajectoryActivation
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.srv import UploadGait
 from nav_msgs.msg import Odometry
@@ -108,6 +108,7 @@ class GraphPort:
         self.gait_of: Callable[[int], GaitParameters] | None = None
         self.wait: Callable | None = None
         self._active: int | None = None
+        self._activations: dict[int, int] = {}  # trajectory stamp -> sim time it took effect
         self._reset: int | None = None
         self._last_stamp = 0
         sensors, work = MutuallyExclusiveCallbackGroup(), ReentrantCallbackGroup()
@@ -118,6 +119,13 @@ class GraphPort:
         )
         node.create_subscription(
             Header, 'sim/last_reset', self._on_reset, LATCHED, callback_group=sensors
+        )
+        node.create_subscription(
+            TrajectoryActivation,
+            'sim/activations',
+            self._on_activation,
+            EVENTS,
+            callback_group=sensors,
         )
         self.reset_client = node.create_client(Trigger, f'{sim_name}/reset', callback_group=work)
         self.start_client = node.create_client(
@@ -144,10 +152,19 @@ class GraphPort:
     def _on_reset(self, msg: Header) -> None:
         self._reset = stamp_ns(msg.stamp)
 
+    def _on_activation(self, msg: TrajectoryActivation) -> None:
+        self._activations[stamp_ns(msg.trajectory)] = stamp_ns(msg.header.stamp)
+        while len(self._activations) > 64:
+            del self._activations[next(iter(self._activations))]
+
     # -- TrialPort --------------------------------------------------------------------------
     def active_stamp(self) -> int | None:
         """Stamp of the gait sim_node plays."""
         return self._active
+
+    def activated_at(self, stamp: int) -> int | None:
+        """Return the simulation time [ns] the gait ``stamp`` took effect (None: not yet)."""
+        return self._activations.get(stamp)
 
     def reset_stamp(self) -> int | None:
         """Stamp of sim_node's latest reset."""

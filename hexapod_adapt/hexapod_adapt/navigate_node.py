@@ -262,6 +262,10 @@ class NavigateNode(Node):
         """Return the stamp of the gait sim_node plays."""
         return self.port.active_stamp()
 
+    def activated_at(self, stamp: int) -> int | None:
+        """Return the simulation time [ns] the gait stamped ``stamp`` took effect."""
+        return self.port.activated_at(stamp)
+
     def upload(self, gait, timeout: float) -> tuple[bool, str]:
         """Upload through bridge_node."""
         answer = self.port.upload_msg(gait_to_msg(gait), timeout)

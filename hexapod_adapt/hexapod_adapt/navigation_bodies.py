@@ -62,6 +62,15 @@ class PoseSample:
 class PoseLog(SampleLog[PoseSample]):
     """The poses received so far from the pose source."""
 
+    def first_at_or_after(self, stamp_ns: int) -> PoseSample | None:
+        """Return the earliest pose kept whose stamp is at or after ``stamp_ns``, if any."""
+        found = None
+        for sample in reversed(self.snapshot()):  # newest first: stop at the first older one
+            if sample.stamp_ns < stamp_ns:
+                break
+            found = sample
+        return found
+
 
 class NavigationPort(Protocol):
     """What a navigation step does to the graph (the node implements it over rclpy)."""
@@ -71,6 +80,9 @@ class NavigationPort(Protocol):
 
     def active_stamp(self) -> int | None:
         """Return the stamp of the gait sim_node plays (sim/active_trajectory)."""
+
+    def activated_at(self, stamp: int) -> int | None:
+        """Return the simulation time [ns] the gait stamped ``stamp`` took effect (activations)."""
 
     def upload(self, gait: GaitParameters, timeout: float) -> tuple[bool, str]:
         """Upload a gait through bridge_node: (confirmed, its message)."""
@@ -98,27 +110,38 @@ class SimGraphBody:
         )
         return sample.pose
 
-    def _play(self, gait: GaitParameters) -> None:
+    def _play(self, gait: GaitParameters) -> int:
+        """Publish ``gait`` and wait until sim_node plays it; return the sim time it began [ns]."""
         stamp = self.port.publish_gait(gait)
         self.waiter.until(
             lambda: self.port.active_stamp() == stamp,
             self.timeout,
             'sim_node to play the gait (are gait_node and sim_node running?)',
         )
+        return self.waiter.until(
+            lambda: self.port.activated_at(stamp),
+            self.timeout,
+            'sim_node to say when the gait took effect (sim/activations)',
+        )
 
     def walk(
         self, gait: GaitParameters, duration: float, stop: Callable[[Pose2D], bool]
     ) -> StepOutcome:
-        """Play ``gait`` for ``duration`` s of the pose source's time, or until ``stop``."""
+        """
+        Play ``gait`` for ``duration`` s of the pose source's time, or until ``stop``.
+
+        The step is timed by the simulation's clock from the moment sim_node switched to the gait,
+        however late this node hears of it: its start is the first pose at or after that moment
+        and its end the first at or after ``duration`` later.
+        """
         try:
-            self._play(gait)
-            confirmed = time.monotonic()
+            began = self._play(gait)
             first = self.waiter.until(
-                lambda: self.poses.received_after(confirmed), self.timeout, 'a pose after the gait'
+                lambda: self.poses.first_at_or_after(began), self.timeout, 'a pose after the gait'
             )
         except TrialAborted as exc:
             raise BodyFailure(str(exc)) from None
-        start, t0 = first.pose, first.stamp_ns
+        start, t0 = first.pose, began
         end_ns = t0 + int(round(duration * 1e9))
         path, last = [start], first
         completed = False
@@ -138,6 +161,10 @@ class SimGraphBody:
             if fallen:
                 raise BodyFailure(fallen)
             if last.stamp_ns >= end_ns:
+                # the step ends at the first pose at or after its end (a late reader may have
+                # heard newer ones by now)
+                last = self.poses.first_at_or_after(end_ns) or last
+                path[-1] = last.pose
                 completed = True
                 break
             if stop(last.pose):

@@ -32,6 +32,9 @@ Publishes   /clock                 rosgraph_msgs/Clock, every step
             imu/data               sensor_msgs/Imu               (sensor-data QoS)
             foot_contacts          hexapod_msgs/FootContacts     (sensor-data QoS)
             sim/active_trajectory  std_msgs/Header (latched): stamp of the trajectory being played
+            sim/activations        hexapod_msgs/TrajectoryActivation (the last 64 kept): the
+                                   simulation time each trajectory took effect, for timing a
+                                   walk by the simulation's clock however late its reader is
             sim/last_reset         std_msgs/Header (latched): sim time of the last reset
             sim/status             diagnostic_msgs/DiagnosticStatus (latched): last error/event
 Services    ~/set_leg_failure      hexapod_msgs/SetLegFailure
@@ -58,6 +61,7 @@ from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_gait import preset
 from hexapod_gait.ros_glue import (
     declare,
+    EVENTS,
     LATCHED,
     ODOM,
     odom_transform,
@@ -69,7 +73,7 @@ from hexapod_gait.ros_glue import (
     watch_for_duplicates,
 )
 from hexapod_gait.trajectory import build_joint_table
-from hexapod_msgs.msg import FootContacts
+from hexapod_msgs.msg import FootContacts, TrajectoryActivation
 from hexapod_msgs.srv import SetLegFailure
 from hexapod_sim.simulator import (
     create_simulator,
@@ -173,6 +177,9 @@ class SimNode(Node):
         self.imu_pub = self.create_publisher(Imu, 'imu/data', SENSOR)
         self.contacts_pub = self.create_publisher(FootContacts, 'foot_contacts', SENSOR)
         self.active_pub = self.create_publisher(Header, 'sim/active_trajectory', LATCHED)
+        self.activation_pub = self.create_publisher(
+            TrajectoryActivation, 'sim/activations', EVENTS
+        )
         self.reset_pub = self.create_publisher(Header, 'sim/last_reset', LATCHED)
         self.status_pub = self.create_publisher(DiagnosticStatus, 'sim/status', LATCHED)
         self.create_subscription(
@@ -269,6 +276,12 @@ class SimNode(Node):
             self.cycle, self.cycle_stamp = cycle, msg.header
             self._prepare_cycle()
             self.active_pub.publish(msg.header)
+            self.activation_pub.publish(
+                TrajectoryActivation(
+                    header=Header(stamp=_stamp(self._sim_time), frame_id=self.odom_frame),
+                    trajectory=msg.header.stamp,
+                )
+            )
 
         try:
             self._in_physics_thread(switch)
