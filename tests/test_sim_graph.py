@@ -34,8 +34,10 @@ from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_gait import from_genotype, preset
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
+from hexapod_msgs.msg import LegDamage
 from hexapod_msgs.srv import SetLegFailure
 from hexapod_sim import create_simulator, evaluate_gait, FAILURE_POSE, SimConfig
+from hexapod_sim.damage import standing_pose
 from hexapod_sim.sampling import random_reachable_genotypes
 from nav_msgs.msg import Odometry
 import numpy as np
@@ -183,6 +185,31 @@ def test_sim_node_refuses_bad_requests_and_keeps_running(ros, launch):
         lambda: np.allclose(joints[-1].position[0:3], FAILURE_POSE, atol=0.05),
         20,
         'leg 1 in failure pose',
+    )
+    # the damage types beyond the thesis's, and their refusals
+    damage = ros.collect(LegDamage, 'sim/damage', LATCHED)
+    wait_for(lambda: damage and damage[-1].label == 'legs 1+4 lifted', 20, 'sim/damage latched')
+    for request, expected in [
+        (SetLegFailure.Request(failed_legs=[2], kinds=['broken']), "unknown damage kind 'broken'"),
+        (SetLegFailure.Request(failed_legs=[2, 5], kinds=['weak']), '1 damage kinds for 2 legs'),
+        (SetLegFailure.Request(failed_legs=[2], kinds=['weak'], strengths=[2.0]), '[0.05, 0.95]'),
+    ]:
+        response = ros.call(SetLegFailure, 'sim_node/set_leg_failure', request)
+        assert not response.success and expected in response.message, response.message
+        assert response.damage == 'legs 1+4 lifted'  # nothing changed
+    response = ros.call(
+        SetLegFailure,
+        'sim_node/set_leg_failure',
+        SetLegFailure.Request(failed_legs=[2, 5], kinds=['locked', 'weak'], strengths=[0.0, 0.5]),
+    )
+    assert response.success and response.damage == 'leg 2 locked, leg 5 weak 0.50'
+    assert list(response.failed_legs) == [2, 5]
+    wait_for(lambda: damage[-1].label == response.damage, 20, 'sim/damage after the change')
+    assert list(damage[-1].kinds) == ['locked', 'weak'] and list(damage[-1].strengths) == [1, 0.5]
+    wait_for(
+        lambda: np.allclose(joints[-1].position[3:6], standing_pose()[3:6], atol=0.08),
+        20,
+        'leg 2 locked in the standing pose',
     )
 
     pub = ros.node.create_publisher(JointTrajectory, 'gait/joint_trajectory', LATCHED)

@@ -42,6 +42,7 @@ from typing import Callable, Sequence
 
 from hexapod_description import N_LEGS
 from hexapod_gait import build_joint_table, from_genotype, GaitParameters, ReachabilityError
+from hexapod_sim.damage import Damage
 from hexapod_sim.simulator import JointRows, PlayResult, quat_to_euler, Simulator
 import numpy as np
 
@@ -89,14 +90,14 @@ def _play_gaits(
     sim: Simulator,
     duration: float,
     collisions_fatal: bool,
-    failed_legs: Sequence[int] | None,
+    failed_legs: Sequence[int] | Damage | None,
     record_contacts: bool,
     decode: Callable[[Sequence[float]], GaitParameters],
 ) -> tuple[int, list[_Played]]:
     if not math.isfinite(duration) or duration <= 0:
         raise ValueError(f'duration must be a positive number of seconds, got {duration!r}')
     if failed_legs is not None:
-        sim.set_failed_legs(failed_legs)
+        sim.set_damage(failed_legs)
     n_steps = int(round(duration / sim.dt))
     if n_steps < 1:
         raise ValueError(f'duration {duration!r} s is shorter than one time step ({sim.dt:g} s)')
@@ -135,13 +136,14 @@ def evaluate_gaits(
     sim: Simulator,
     duration: float = TRIAL_DURATION,
     collisions_fatal: bool = True,
-    failed_legs: Sequence[int] | None = None,
+    failed_legs: Sequence[int] | Damage | None = None,
     record_contacts: bool = False,
 ) -> list[EvaluationResult]:
     """
     Evaluate gaits (or 32-gene genotypes) on ``sim``, one result each, in order.
 
-    Deterministic for a given input. ``failed_legs`` (if given) is applied first and kept.
+    Deterministic for a given input. ``failed_legs`` (if given: leg numbers to lift, or a
+    :class:`~hexapod_sim.damage.Damage`) is applied first and kept.
     """
     n_steps, played = _play_gaits(
         gaits, sim, duration, collisions_fatal, failed_legs, record_contacts, from_genotype
@@ -190,7 +192,7 @@ def evaluate_displacements(
     sim: Simulator,
     duration: float,
     collisions_fatal: bool = True,
-    failed_legs: Sequence[int] | None = None,
+    failed_legs: Sequence[int] | Damage | None = None,
     decode: Callable[[Sequence[float]], GaitParameters] = from_genotype,
 ) -> list[Displacement]:
     """
@@ -226,7 +228,7 @@ def evaluate_gait(
     sim: Simulator,
     duration: float = TRIAL_DURATION,
     collisions_fatal: bool = True,
-    failed_legs: Sequence[int] | None = None,
+    failed_legs: Sequence[int] | Damage | None = None,
     record_contacts: bool = False,
 ) -> EvaluationResult:
     """Evaluate one gait (or 32-gene genotype) on ``sim``; deterministic for a given input."""

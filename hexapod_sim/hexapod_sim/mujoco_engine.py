@@ -46,8 +46,8 @@ from typing import Any, Sequence
 import xml.etree.ElementTree as ET
 
 from hexapod_description import N_LEGS
+from hexapod_sim.damage import LOST_TIBIA_MASS
 from hexapod_sim.simulator import (
-    FAILURE_POSE,
     JointRows,
     PlayResult,
     SimConfig,
@@ -183,6 +183,12 @@ class MujocoSimulator(Simulator):
         self._self_adr = sensor['self_collision']
         self._coxa_geoms = [self._geoms_of(f'link_{leg}_1') for leg in range(1, N_LEGS + 1)]
         self._tibia_geoms = [self._geoms_of(f'link_{leg}_3') for leg in range(1, N_LEGS + 1)]
+        # the healthy values damage scales (weak servos, a lost tibia)
+        self._tibia_bodies = [m.body(f'link_{leg}_3').id for leg in range(1, N_LEGS + 1)]
+        self._tibia_mass = m.body_mass[self._tibia_bodies].copy()
+        self._tibia_inertia = m.body_inertia[self._tibia_bodies].copy()
+        self._kp = m.actuator_gainprm[self._act, 0].copy()
+        self._effort = m.actuator_forcerange[self._act, 1].copy()
         self._state_spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
         self._nstate = mujoco.mj_stateSize(m, self._state_spec)
         self._renderer: Any = None
@@ -271,10 +277,14 @@ class MujocoSimulator(Simulator):
 
     # -- configuration ---------------------------------------------------------------------
     def _apply_failed_legs(self) -> None:
-        m = self.m
+        m, damage = self.m, self.damage
+        masses_changed = False
         for leg in range(1, N_LEGS + 1):
             coxa, tibia = self._coxa_geoms[leg - 1], self._tibia_geoms[leg - 1]
-            if leg in self.failed_legs:
+            kind = damage.kind_of(leg)
+            m.geom_contype[coxa] = m.geom_contype[tibia] = 1
+            m.geom_conaffinity[coxa] = m.geom_conaffinity[tibia] = _ALL
+            if kind == 'lifted':
                 # In the folded failure pose the tibia overlaps its own coxa (the real servo
                 # clamps near -150 deg there): that one pair does not collide while failed.
                 m.geom_contype[coxa], m.geom_conaffinity[coxa] = 1 << leg, _ALL & ~(1 << (leg + 8))
@@ -282,16 +292,25 @@ class MujocoSimulator(Simulator):
                     1 << (leg + 8),
                     _ALL & ~(1 << leg),
                 )
-            else:
-                m.geom_contype[coxa] = m.geom_contype[tibia] = 1
-                m.geom_conaffinity[coxa] = m.geom_conaffinity[tibia] = _ALL
-        self._failed_slots = np.array(
-            [3 * (leg - 1) + k for leg in self.failed_legs for k in range(3)], dtype=int
-        )
-        if self._failed_slots.size:
-            self.d.ctrl[self._act[self._failed_slots]] = np.tile(
-                FAILURE_POSE, len(self.failed_legs)
-            )
+            elif kind == 'no_tibia':  # it touches nothing
+                m.geom_contype[tibia] = m.geom_conaffinity[tibia] = 0
+            body = self._tibia_bodies[leg - 1]
+            scale = LOST_TIBIA_MASS / self._tibia_mass[leg - 1] if kind == 'no_tibia' else 1.0
+            if m.body_mass[body] != self._tibia_mass[leg - 1] * scale:
+                m.body_mass[body] = self._tibia_mass[leg - 1] * scale
+                m.body_inertia[body] = self._tibia_inertia[leg - 1] * scale
+                masses_changed = True
+            strength = damage.strength_of(leg)
+            for slot in range(3 * (leg - 1), 3 * leg):
+                act = self._act[slot]
+                kp, effort = self._kp[slot] * strength, self._effort[slot] * strength
+                m.actuator_gainprm[act, 0] = kp
+                m.actuator_biasprm[act, 1] = -kp
+                m.actuator_forcerange[act] = [-effort, effort]
+        if masses_changed:  # the derived constants follow (on scratch data: the state stays)
+            mujoco.mj_setConst(m, mujoco.MjData(m))
+        if self._held_slots.size:
+            self.d.ctrl[self._act[self._held_slots]] = self._held_values
 
     def _reset_state(self, q: np.ndarray, body_height: float) -> None:
         m, d = self.m, self.d
@@ -304,8 +323,8 @@ class MujocoSimulator(Simulator):
 
     def prepare_rows(self, positions: np.ndarray, velocities: np.ndarray) -> np.ndarray:
         q = np.clip(np.atleast_2d(np.asarray(positions, dtype=float)), self.lower, self.upper)
-        if self._failed_slots.size:
-            q[:, self._failed_slots] = np.tile(FAILURE_POSE, len(self.failed_legs))
+        if self._held_slots.size:
+            q[:, self._held_slots] = self._held_values
         return np.ascontiguousarray(q)
 
     def apply_row(self, rows: Any, index: int) -> None:

@@ -38,7 +38,8 @@ import os
 from typing import Any
 
 from hexapod_description import N_LEGS, urdf_path
-from hexapod_sim.simulator import FAILURE_POSE, GRAVITY, SimConfig, Simulator, StepReport
+from hexapod_sim.damage import LOST_TIBIA_MASS
+from hexapod_sim.simulator import GRAVITY, SimConfig, Simulator, StepReport
 import numpy as np
 import pybullet as p
 import pybullet_data
@@ -126,6 +127,10 @@ class PyBulletSimulator(Simulator):
         self._foot_links = [self.joint_indices[3 * leg + 2] for leg in range(N_LEGS)]
         self._foot_leg = {link: leg for leg, link in enumerate(self._foot_links)}
         self.efforts = [lim.effort for lim in self.model.limits]
+        self._tibia_mass = [
+            p.getDynamicsInfo(self.body, self._foot_links[leg], physicsClientId=cid)[0]
+            for leg in range(N_LEGS)
+        ]
         self._configure_world()
         self._set_active_slots()
         self._motors_on = True
@@ -175,25 +180,35 @@ class PyBulletSimulator(Simulator):
         self._apply_failure_filters()
 
     def _apply_failure_filters(self) -> None:
+        """Collision filters and the tibias' masses of the damage (after every rebuild)."""
+        cid = self.client
         for leg in range(1, N_LEGS + 1):
             coxa, tibia = self.joint_indices[3 * (leg - 1)], self.joint_indices[3 * (leg - 1) + 2]
+            kind = self.damage.kind_of(leg)
             # In the folded failure pose the tibia's bounding box overlaps its own coxa's (the
             # real servo clamps near -150 deg there). A failed leg is a rigid dead weight, so
             # that pair is exempt from collision while the leg is failed.
             p.setCollisionFilterPair(
-                self.body,
-                self.body,
-                coxa,
-                tibia,
-                int(leg not in self.failed_legs),
-                physicsClientId=self.client,
+                self.body, self.body, coxa, tibia, int(kind != 'lifted'), physicsClientId=cid
             )
+            # a lost tibia touches nothing and weighs (almost) nothing
+            lost = kind == 'no_tibia'
+            p.setCollisionFilterGroupMask(
+                self.body, tibia, 0 if lost else 1, 0 if lost else -1, physicsClientId=cid
+            )
+            mass = LOST_TIBIA_MASS if lost else self._tibia_mass[leg - 1]
+            if p.getDynamicsInfo(self.body, tibia, physicsClientId=cid)[0] != mass:
+                p.changeDynamics(self.body, tibia, mass=mass, physicsClientId=cid)
 
     def _set_active_slots(self) -> None:
-        failed_slots = {3 * (leg - 1) + k for leg in self.failed_legs for k in range(3)}
-        self._active_slots = [s for s in range(3 * N_LEGS) if s not in failed_slots]
+        held = set(self._held_slots.tolist())
+        self._active_slots = [s for s in range(3 * N_LEGS) if s not in held]
         self._active_joints = [self.joint_indices[s] for s in self._active_slots]
-        self._active_efforts = [self.efforts[s] for s in self._active_slots]
+        strength = [self.damage.strength_of(s // 3 + 1) for s in self._active_slots]
+        self._active_efforts = [self.efforts[s] * k for s, k in zip(self._active_slots, strength)]
+        # weak servos: a lower gain (PyBullet's default position gain is 0.1); None: defaults
+        weak = any(k != 1.0 for k in strength)
+        self._active_gains = [0.1 * k for k in strength] if weak else None
 
     def _apply_failed_legs(self) -> None:
         self._apply_failure_filters()
@@ -201,14 +216,15 @@ class PyBulletSimulator(Simulator):
         self._command_failure_pose()
 
     def _command_failure_pose(self) -> None:
-        if not self.failed_legs:
+        """Drive the held legs (lifted, locked) to their pose."""
+        if not self._held_slots.size:
             return
-        slots = [3 * (leg - 1) + k for leg in self.failed_legs for k in range(3)]
+        slots = self._held_slots.tolist()
         p.setJointMotorControlArray(
             self.body,
             [self.joint_indices[s] for s in slots],
             p.POSITION_CONTROL,
-            targetPositions=[FAILURE_POSE[s % 3] for s in slots],
+            targetPositions=self._held_values.tolist(),
             targetVelocities=[0.0] * len(slots),
             forces=[self.efforts[s] for s in slots],
             physicsClientId=self.client,
@@ -242,6 +258,7 @@ class PyBulletSimulator(Simulator):
             p.POSITION_CONTROL,
             targetPositions=rows.q[index],
             forces=self._active_efforts,
+            **({} if self._active_gains is None else {'positionGains': self._active_gains}),
             physicsClientId=self.client,
         )
 

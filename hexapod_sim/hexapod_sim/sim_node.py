@@ -37,6 +37,8 @@ Publishes   /clock                 rosgraph_msgs/Clock, every step
                                    walk by the simulation's clock however late its reader is
             sim/last_reset         std_msgs/Header (latched): sim time of the last reset
             sim/status             diagnostic_msgs/DiagnosticStatus (latched): last error/event
+            sim/damage             hexapod_msgs/LegDamage (latched): the robot's damage, at
+                                   start-up and after each change (for adapt_node's prior)
 Services    ~/set_leg_failure      hexapod_msgs/SetLegFailure
             ~/reset                std_srvs/Trigger: robot back to the origin, damage kept,
                                    gait restarted at phase 0
@@ -73,13 +75,13 @@ from hexapod_gait.ros_glue import (
     watch_for_duplicates,
 )
 from hexapod_gait.trajectory import build_joint_table
-from hexapod_msgs.msg import FootContacts, TrajectoryActivation
+from hexapod_msgs.msg import FootContacts, LegDamage, TrajectoryActivation
 from hexapod_msgs.srv import SetLegFailure
+from hexapod_sim.damage import Damage, damage_from_lists
 from hexapod_sim.simulator import (
     create_simulator,
     DEFAULT_FRICTION,
     SimConfig,
-    validate_failed_legs,
 )
 from hexapod_sim.trajectory_input import cycle_from_points, CycleTable, MAX_POINTS, TrajectoryError
 from nav_msgs.msg import Odometry
@@ -182,6 +184,7 @@ class SimNode(Node):
         )
         self.reset_pub = self.create_publisher(Header, 'sim/last_reset', LATCHED)
         self.status_pub = self.create_publisher(DiagnosticStatus, 'sim/status', LATCHED)
+        self.damage_pub = self.create_publisher(LegDamage, 'sim/damage', LATCHED)
         self.create_subscription(
             JointTrajectory,
             'gait/joint_trajectory',
@@ -205,7 +208,7 @@ class SimNode(Node):
             self.get_parameter_or('failed_legs', Parameter('failed_legs', value=[])).value or []
         )
         try:
-            self._apply_failure(validate_failed_legs(list(initial)))
+            self._apply_failure(Damage.lifted(list(initial)))
         except ValueError as exc:  # never start an intact robot when a damaged one was asked for
             raise ValueError(f'parameter failed_legs: {exc}') from None
         self._work: queue.Queue[Callable[[], None]] = queue.Queue()
@@ -297,15 +300,23 @@ class SimNode(Node):
         self, request: SetLegFailure.Request, response: SetLegFailure.Response
     ):
         try:
-            legs = validate_failed_legs(list(request.failed_legs))
-            applied = self._in_physics_thread(lambda: self._apply_failure(legs))
+            damage = damage_from_lists(
+                list(request.failed_legs), list(request.kinds), list(request.strengths)
+            )
+            applied = self._in_physics_thread(lambda: self._apply_failure(damage))
         except ValueError as exc:
             response.success, response.message = False, f'refused: {exc}'
             response.failed_legs = list(self.sim.failed_legs)
+            response.damage = self.sim.damage.label
             return response
         response.success = True
-        response.failed_legs = list(applied)
-        response.message = f'failed legs: {list(applied) or "none"}'
+        response.failed_legs = list(applied.failed_legs)
+        response.damage = applied.label
+        response.message = (
+            f'failed legs: {list(applied.failed_legs) or "none"}'
+            if applied.thesis
+            else f'damage: {applied.label}'
+        )
         self._status(DiagnosticStatus.OK, response.message)
         return response
 
@@ -313,7 +324,7 @@ class SimNode(Node):
         t = self._in_physics_thread(self._reset_now)
         response.success, response.message = (
             True,
-            f'reset at t={t:.9f} s; failed legs {list(self.sim.failed_legs) or "none"}',
+            f'reset at t={t:.9f} s; damage: {self.sim.damage.label}',
         )
         return response
 
@@ -321,8 +332,17 @@ class SimNode(Node):
         publish_status(self, self.status_pub, level, message, 'hexapod_sim')
 
     # -- physics thread ------------------------------------------------------------------------
-    def _apply_failure(self, legs: tuple[int, ...]) -> tuple[int, ...]:
-        applied = self.sim.set_failed_legs(legs)
+    def _apply_failure(self, damage: Damage) -> Damage:
+        applied = self.sim.set_damage(damage)
+        self.damage_pub.publish(
+            LegDamage(
+                header=Header(stamp=_stamp(getattr(self, '_sim_time', 0.0))),
+                failed_legs=list(applied.failed_legs),
+                kinds=[d.kind for d in applied.legs],
+                strengths=[float(d.strength) for d in applied.legs],
+                label=applied.label,
+            )
+        )
         self._prepare_cycle()
         return applied
 

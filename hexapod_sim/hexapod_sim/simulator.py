@@ -46,31 +46,17 @@ from hexapod_description import load_model, N_LEGS
 from hexapod_description.model import HexapodModel
 from hexapod_gait import default_kinematics
 from hexapod_gait.trajectory import default_geometry
+from hexapod_sim.damage import (  # noqa: F401 (re-exported: one home, hexapod_sim.damage)
+    as_damage,
+    Damage,
+    FAILURE_POSE,
+    MAX_FAILED_LEGS,
+    validate_failed_legs,
+)
 import numpy as np
 
-#: Failure pose of a leg (thesis table 5.1): coxa 0, femur 90, tibia -165 degrees.
-FAILURE_POSE = (0.0, math.radians(90.0), math.radians(-165.0))
-MAX_FAILED_LEGS = 2
 GRAVITY = 9.81
 ENGINES = ('pybullet', 'mujoco')
-
-
-def validate_failed_legs(legs: Iterable[int]) -> tuple[int, ...]:
-    """Sorted, de-duplicated legs 1..6, at most two; ValueError says what is wrong."""
-    out = []
-    for leg in legs:
-        if isinstance(leg, bool) or not isinstance(leg, (int, np.integer)):
-            raise ValueError(f'leg numbers must be integers 1..6, got {leg!r}')
-        if not 1 <= int(leg) <= N_LEGS:
-            raise ValueError(f'leg {leg} does not exist: legs are numbered 1..6')
-        out.append(int(leg))
-    legs_t = tuple(sorted(set(out)))
-    if len(legs_t) > MAX_FAILED_LEGS:
-        raise ValueError(
-            f'at most {MAX_FAILED_LEGS} legs can fail (the thesis scenarios S0-S4); '
-            f'got {len(legs_t)}: {list(legs_t)}'
-        )
-    return legs_t
 
 
 def validate_engine(name: str) -> str:
@@ -235,6 +221,7 @@ class Simulator(abc.ABC):
     dt: float
     model: HexapodModel
     failed_legs: tuple[int, ...]
+    damage: Damage
     report: StepReport
 
     def __init__(self, config: SimConfig | None) -> None:
@@ -250,6 +237,8 @@ class Simulator(abc.ABC):
         self.upper = np.array([lim.upper for lim in self.model.limits])
         self.max_velocity = np.array([lim.velocity for lim in self.model.limits])
         self.failed_legs = ()
+        self.damage = Damage()
+        self._held_slots, self._held_values = self.damage.held_slots()
         self.report = StepReport()
         self.time = 0.0
         self._prev_velocity = np.zeros(3)
@@ -258,7 +247,7 @@ class Simulator(abc.ABC):
     # -- what each engine implements -------------------------------------------------------------
     @abc.abstractmethod
     def _apply_failed_legs(self) -> None:
-        """Make the engine hold ``self.failed_legs`` in the failure pose from now on."""
+        """Make the engine apply ``self.damage`` from now on (held slots already set)."""
 
     @abc.abstractmethod
     def _reset_state(self, q: np.ndarray, body_height: float) -> None:
@@ -346,22 +335,32 @@ class Simulator(abc.ABC):
 
         Their servos drive them to the pose; a reset places them there directly.
         """
-        self.failed_legs = validate_failed_legs(legs)
+        return self.set_damage(Damage.lifted(legs)).failed_legs
+
+    def set_damage(self, damage: Damage | Iterable[int]) -> Damage:
+        """
+        Apply ``damage`` (a :class:`Damage`, or leg numbers to lift), from now on.
+
+        It replaces any earlier damage; ``Damage()`` repairs every leg. Held legs (lifted,
+        locked) are driven to their pose by their servos; a reset places them there directly.
+        """
+        self.damage = as_damage(damage)
+        self.failed_legs = self.damage.failed_legs
+        self._held_slots, self._held_values = self.damage.held_slots()
         self._apply_failed_legs()
-        return self.failed_legs
+        return self.damage
 
     def reset(self, joint_positions: Sequence[float], body_height: float | None = None) -> None:
         """
         Put the robot back at the origin (yaw 0), at rest, with the given joint angles.
 
-        Angles are clipped to the limits; failed legs go to the failure pose. The base is placed at
-        ``body_height``, by default the height that puts the lowest foot on the ground.
+        Angles are clipped to the limits; held legs (lifted, locked) go to their pose. The base is
+        placed at ``body_height``, by default the height that puts the lowest foot on the ground.
         """
         if body_height is None:
             body_height = body_height_from_joints(joint_positions)
         q = np.clip(np.asarray(joint_positions, dtype=float), self.lower, self.upper)
-        for leg in self.failed_legs:
-            q[slice(3 * (leg - 1), 3 * leg)] = FAILURE_POSE
+        q[self._held_slots] = self._held_values
         self._reset_state(q, float(body_height))
         self.time = 0.0
         self._prev_velocity = np.zeros(3)

@@ -1,0 +1,157 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+The simulator's damage types beyond the thesis's lifted legs, on both engines.
+
+A locked leg holds its angles, a weak servo moves slower, a lost tibia touches nothing, and a
+repair restores the intact robot exactly.
+"""
+
+from __future__ import annotations
+
+from hexapod_gait import build_joint_table, preset
+from hexapod_sim import create_simulator, ENGINES, evaluate_gait, SimConfig
+from hexapod_sim.damage import (
+    Damage,
+    damage_from_lists,
+    DEFAULT_WEAK_STRENGTH,
+    LegDamage,
+    parse_damage,
+    standing_pose,
+)
+from hexapod_sim.simulator import JointRows
+import numpy as np
+import pytest
+
+
+@pytest.fixture(scope='module', params=ENGINES)
+def sim(request):
+    with create_simulator(SimConfig(engine=request.param)) as s:
+        yield s
+
+
+def _walk(sim, damage, seconds=2.0, gait='tripod'):
+    """Play a preset with ``damage`` from a reset; return commanded and measured joints."""
+    sim.set_damage(damage)
+    table = build_joint_table(preset(gait), rate=1.0 / sim.dt)
+    rows = sim.prepare_rows(table.positions, table.velocities)
+    sim.reset(table.positions[0])
+    commanded, measured, contacts = [], [], []
+    for k in range(int(seconds / sim.dt)):
+        i = k % len(table.positions)
+        sim.apply_row(rows, i)
+        report = sim.step()
+        commanded.append(table.positions[i])
+        measured.append(sim.joint_states()[0])
+        contacts.append(list(report.contacts))
+    return np.array(commanded), np.array(measured), np.array(contacts)
+
+
+def test_a_locked_leg_holds_the_standing_pose_while_the_others_walk(sim):
+    commanded, measured, _ = _walk(sim, Damage.of('locked', [2]))
+    stand = standing_pose()
+    leg2 = measured[:, 3:6]
+    assert np.max(np.abs(leg2 - stand[3:6])) < 0.08  # held (servo compliance under load)
+    assert np.ptp(commanded[:, 3]) > 0.2  # the gait moves that coxa ...
+    assert np.ptp(measured[:, 0]) > 0.2  # ... and leg 1's coxa moves
+    assert np.ptp(leg2[:, 0]) < 0.1  # leg 2's does not
+
+
+def test_a_weak_servo_follows_its_targets_more_slowly(sim):
+    errors = {}
+    for damage in (Damage(), Damage.of('weak', [1])):
+        commanded, measured, _ = _walk(sim, damage)
+        errors[damage.label] = np.sqrt(np.mean((measured[:, 0:3] - commanded[:, 0:3]) ** 2))
+    weak = errors[f'leg 1 weak {DEFAULT_WEAK_STRENGTH:.2f}']
+    assert weak > 1.5 * errors['intact'], errors
+
+
+def test_a_lost_tibia_touches_nothing(sim):
+    _, _, contacts = _walk(sim, Damage.of('no_tibia', [3]))
+    assert not contacts[:, 2].any()
+    assert contacts[:, [0, 1, 3, 4, 5]].sum() > 0
+    masses = sim.link_masses()
+    assert masses['link_3_3'] < 0.01 < masses['link_2_3']
+    sim.set_damage(Damage())
+    assert sim.link_masses()['link_3_3'] == pytest.approx(sim.link_masses()['link_2_3'])
+
+
+def test_each_damage_slows_the_tripod_and_a_repair_restores_the_intact_robot(sim):
+    intact = evaluate_gait(preset('tripod'), sim, collisions_fatal=False, failed_legs=Damage())
+    for damage in ('2:lifted', '2:locked', '2:weak:0.2', '2:no_tibia'):
+        damaged = evaluate_gait(
+            preset('tripod'), sim, collisions_fatal=False, failed_legs=parse_damage(damage)
+        )
+        assert damaged.speed < intact.speed - 0.01, damage
+    again = evaluate_gait(preset('tripod'), sim, collisions_fatal=False, failed_legs=Damage())
+    assert again.fitness == intact.fitness  # bit for bit
+
+
+def test_lifted_damage_is_the_thesis_failure(sim):
+    by_legs = evaluate_gait(preset('tripod'), sim, collisions_fatal=False, failed_legs=[1, 4])
+    by_damage = evaluate_gait(
+        preset('tripod'), sim, collisions_fatal=False, failed_legs=Damage.of('lifted', [4, 1])
+    )
+    assert by_legs.fitness == by_damage.fitness
+    assert sim.failed_legs == (1, 4) and sim.damage.thesis
+    sim.set_damage(Damage())
+
+
+def test_prepared_rows_hold_the_held_legs():
+    with create_simulator(SimConfig(engine='mujoco')) as s:
+        s.set_damage(parse_damage('1:locked,6:lifted'))
+        table = build_joint_table(preset('tripod'), rate=1.0 / s.dt)
+        rows = s.prepare_rows(table.positions, table.velocities)
+        assert np.allclose(rows[:, 0:3], standing_pose()[0:3])
+        assert np.allclose(rows[:, 15:18], [0.0, np.radians(90), np.radians(-165)])
+        assert isinstance(JointRows(rows, rows), JointRows)
+
+
+@pytest.mark.parametrize(
+    'make, expected',
+    [
+        (lambda: LegDamage(7), 'leg 7 does not exist'),
+        (lambda: LegDamage(1, 'broken'), "unknown damage kind 'broken'"),
+        (lambda: LegDamage(1, 'weak', 0.0), 'strength in [0.05, 0.95]'),
+        (lambda: LegDamage(1, 'weak', float('nan')), 'strength in [0.05, 0.95]'),
+        (lambda: LegDamage(1, 'locked', 0.5), 'only a weak leg has a strength'),
+        (lambda: Damage((LegDamage(1), LegDamage(1, 'locked'))), 'a leg is damaged twice'),
+        (lambda: Damage.of('locked', [1, 2, 3]), 'at most 2 legs'),
+        (lambda: parse_damage('1'), 'is not LEG:KIND'),
+        (lambda: parse_damage('x:locked'), 'leg must be an integer'),
+        (lambda: damage_from_lists([1, 2], ['weak']), '1 damage kinds for 2 legs'),
+        (lambda: damage_from_lists([1], [], [0.5, 0.5]), '2 strengths for 1 legs'),
+        (lambda: damage_from_lists([1], ['lifted'], [0.5]), 'only a weak leg'),
+    ],
+)
+def test_nonsensical_damage_is_refused_saying_what_is_wrong(make, expected):
+    with pytest.raises(ValueError, match=None) as info:
+        make()
+    assert expected in str(info.value)
+
+
+def test_damage_text_and_lists_agree():
+    parsed = parse_damage(' 4:weak:0.3, 1:locked ')
+    assert parsed == damage_from_lists([4, 1], ['weak', 'locked'], [0.3, 0.0])
+    assert parsed.label == 'leg 1 locked, leg 4 weak 0.30'
+    assert parse_damage('') == Damage() and Damage().label == 'intact'
+    assert damage_from_lists([5, 1]).label == 'legs 1+5 lifted'
+    assert damage_from_lists([2], ['weak']).strength_of(2) == DEFAULT_WEAK_STRENGTH
