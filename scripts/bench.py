@@ -27,6 +27,7 @@ python scripts/bench.py all|gait|sim|map|adapt|bridge|navigate|firmware
 
 from __future__ import annotations
 
+from dataclasses import replace
 import sys
 import time
 
@@ -323,20 +324,29 @@ def bench_adapt() -> None:
 
     adapt_mboa_step_ms: one M-BOA step (observe a trial + pick the next gait) on a 40 000-gait
     map after 19 trials (median of 20 runs' last steps). Then thesis experiment 5.2 on the
-    default map (``BENCH_ADAPT_MAP`` overrides it):
-    every orientation of S1-S4 with trials on the map's engine, and again across engines
-    (suffix _cross). Per run: the best speed found, the trials, the control tripod with the same
-    damage. adapt_beats_control: runs whose adapted gait beats the damaged control tripod. Runs
-    end by M-BOA's stopping rule, capped at EXPERIMENT_MAX_TRIALS (100) trials.
+    default map (``BENCH_ADAPT_MAP`` overrides it): every orientation of S1-S4, with trials on
+    the map's engine and again across engines (suffix _cross), in three setups: the default
+    profile (no suffix; the damaged control tripod is each run's success floor), the default
+    profile starting from the damage-informed prior (suffix _prior), and the thesis profile
+    (suffix _thesis; the thesis rule, no floor). Per run: the best speed found, the trials, the
+    control tripod with the same damage, and the ratio to the map's ceiling under the damage
+    (cached ceilings only: across engines, PyBullet over the 1000 gaits that walk best under the
+    damage on MuJoCo). Runs end by M-BOA's stopping rule, capped at EXPERIMENT_MAX_TRIALS (100).
     """
     import os
     from pathlib import Path
 
     from hexapod_adapt.adaptation import run_experiment
     from hexapod_adapt.archive import load_archive
-    from hexapod_adapt.ceiling import cache_path, ceiling, ceiling_key
+    from hexapod_adapt.ceiling import (
+        approximate_ceiling,
+        approximate_key,
+        cache_path,
+        ceiling,
+        ceiling_key,
+    )
     from hexapod_adapt.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
-    from hexapod_adapt.mboa import Mboa, MboaConfig
+    from hexapod_adapt.mboa import Mboa, MboaConfig, PROFILES
     from hexapod_adapt.simulation import archive_engine
     from hexapod_sim import ENGINES
     from hexapod_sim.scenarios import scenario
@@ -360,59 +370,89 @@ def bench_adapt() -> None:
     map_engine = archive_engine(archive.metadata) or 'pybullet'
     other = next(e for e in ENGINES if e != map_engine)
     cached = shipped_ceilings()
+    legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
 
     def ceilings(legs, engine):
-        return ceiling(archive, legs, engine, cached)
+        if engine == map_engine:
+            return ceiling(archive, legs, engine, cached)
+        guide = ceiling(archive, legs, map_engine, cached)
+        return approximate_ceiling(archive, legs, engine, guide, CROSS_TOP, cached)
 
-    for engine, suffix in ((map_engine, ''), (other, '_cross')):
-        # cached ceilings only: a missing PyBullet ceiling costs 20 min of one core
-        have = all(
-            cache_path(cached, ceiling_key(archive, legs, engine)).is_file()
-            for name in ('S1', 'S2', 'S3', 'S4')
-            for legs in scenario(name)
-        )
-        rows = run_experiment(archive, trial_engine=engine, ceilings=ceilings if have else None)
-        if have:
-            ratios = {r.scenario: [] for r in rows}
-            for r in rows:
-                ratios[r.scenario].append(r.ratio)
-            for name, values in ratios.items():
-                print(f'BENCH adapt_ceiling_ratio_median_{name}{suffix} {np.median(values):.3f} 1')
-            print(f'BENCH adapt_ceiling_ratio_min{suffix} {min(r.ratio for r in rows):.3f} 1')
-        else:
-            print(f'# no cached ceilings for {engine} in {cached}: no ratios', file=sys.stderr)
-        print(
-            f'BENCH adapt_walking_s_median{suffix}'
-            f' {np.median([r.walking_time for r in rows]):.1f} s'
-        )
-        best = np.array([r.best_speed for r in rows])
-        control = np.array([r.control_speed for r in rows])
-        print(f'BENCH adapt_speed_mean{suffix} {best.mean():.3f} m/s')
-        for name in ('S1', 'S2', 'S3', 'S4'):
-            sel = [r for r in rows if r.scenario == name]
-            print(
-                f'BENCH adapt_speed_median_{name}{suffix}'
-                f' {np.median([r.best_speed for r in sel]):.3f} m/s'
+    def key(legs, engine):
+        if engine == map_engine:
+            return ceiling_key(archive, legs, engine)
+        return approximate_key(archive, legs, engine, map_engine, CROSS_TOP)
+
+    def priors(legs):  # the map re-scored under the damage on its own engine (cached)
+        return ceiling(archive, legs, map_engine, cached).speeds
+
+    have_priors = all(
+        cache_path(cached, ceiling_key(archive, legs, map_engine)).is_file() for legs in legs_all
+    )
+    setups = [('', 'default', True, False), ('_thesis', 'thesis', False, False)]
+    if have_priors:
+        setups.insert(1, ('_prior', 'default', True, True))
+    for engine, cross in ((map_engine, ''), (other, '_cross')):
+        # cached ceilings only: a missing PyBullet ceiling costs many minutes of a core
+        have = all(cache_path(cached, key(legs, engine)).is_file() for legs in legs_all)
+        for label, name, floor, informed in setups:
+            suffix = label + cross
+            config = PROFILES[name]
+            rows = run_experiment(
+                archive,
+                config=replace(config, max_trials=100),
+                trial_engine=engine,
+                ceilings=ceilings if have else None,
+                floor=floor,
+                priors=priors if informed else None,
+                setup=name + ('+prior' if informed else ''),
             )
-            print(
-                f'BENCH adapt_trials_median_{name}{suffix}'
-                f' {np.median([r.trials for r in sel]):.1f} trials'
-            )
-        print(f'BENCH control_speed_mean{suffix} {control.mean():.3f} m/s')
-        print(f'BENCH control_speed_intact{suffix} {rows[0].intact_control_speed:.3f} m/s')
+            _print_experiment(rows, suffix, have, engine, cached)
+
+
+#: Across engines the ceiling is PyBullet over the gaits that walk best under the damage on MuJoCo.
+CROSS_TOP = 1000
+
+
+def _print_experiment(rows, suffix: str, have: bool, engine: str, cached) -> None:
+    """Print one experiment's BENCH lines (``have``: its rows carry ceiling ratios)."""
+    if have:
+        ratios = {r.scenario: [] for r in rows}
+        for r in rows:
+            ratios[r.scenario].append(r.ratio)
+        for name, values in ratios.items():
+            print(f'BENCH adapt_ceiling_ratio_median_{name}{suffix} {np.median(values):.3f} 1')
+        print(f'BENCH adapt_ceiling_ratio_min{suffix} {min(r.ratio for r in rows):.3f} 1')
+    else:
+        print(f'# no cached ceilings for {engine} in {cached}: no ratios', file=sys.stderr)
+    print(
+        f'BENCH adapt_walking_s_median{suffix} {np.median([r.walking_time for r in rows]):.1f} s'
+    )
+    best = np.array([r.best_speed for r in rows])
+    control = np.array([r.control_speed for r in rows])
+    print(f'BENCH adapt_speed_mean{suffix} {best.mean():.3f} m/s')
+    for name in ('S1', 'S2', 'S3', 'S4'):
+        sel = [r for r in rows if r.scenario == name]
         print(
-            f'BENCH adapt_beats_control{suffix} {int(np.sum(best > control))} of {len(rows)} runs'
+            f'BENCH adapt_speed_median_{name}{suffix}'
+            f' {np.median([r.best_speed for r in sel]):.3f} m/s'
         )
         print(
-            f'BENCH adapt_within_24_trials{suffix} {sum(r.trials <= 24 for r in rows)} of'
-            f' {len(rows)} runs'
+            f'BENCH adapt_trials_median_{name}{suffix}'
+            f' {np.median([r.trials for r in sel]):.1f} trials'
         )
-        print(f'BENCH adapt_trials_max{suffix} {max(r.trials for r in rows)} trials')
-        # the stopping rule ended the run (not the EXPERIMENT_MAX_TRIALS cap)
-        print(
-            f'BENCH adapt_stopped_by_rule{suffix} {sum(r.success for r in rows)} of'
-            f' {len(rows)} runs'
-        )
+    print(f'BENCH control_speed_mean{suffix} {control.mean():.3f} m/s')
+    print(f'BENCH control_speed_intact{suffix} {rows[0].intact_control_speed:.3f} m/s')
+    print(f'BENCH adapt_beats_control{suffix} {int(np.sum(best > control))} of {len(rows)} runs')
+    print(
+        f'BENCH adapt_within_24_trials{suffix} {sum(r.trials <= 24 for r in rows)} of'
+        f' {len(rows)} runs'
+    )
+    print(f'BENCH adapt_trials_max{suffix} {max(r.trials for r in rows)} trials')
+    # the stopping rule ended the run (not the EXPERIMENT_MAX_TRIALS cap)
+    print(
+        f'BENCH adapt_stopped_by_rule{suffix} {sum(r.success for r in rows)} of {len(rows)} runs'
+    )
 
 
 def _not_yet(area: str):

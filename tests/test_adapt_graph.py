@@ -105,7 +105,9 @@ def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive):
             t.measured_speed,
             expected,
         )
-        assert t.map_speed == pytest.approx(archive.speeds()[t.archive_index])
+        # M-BOA's prior: the map re-scored under the simulator's damage (sim/damage)
+        assert t.map_speed == pytest.approx(expected)
+    assert f'under leg {FAILED[0]} lifted' in response.prior
     best = max(trials, key=lambda t: t.measured_speed)
     assert (
         response.best_archive_index == best.archive_index
@@ -140,6 +142,65 @@ def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive):
     assert not floored.success and floored.trials == 2
     assert 'below the success floor 1.500 m/s' in floored.message
     assert node.alive() and sim.alive() and gait.alive()
+
+
+def test_the_damage_informed_prior_through_the_graph(ros, launch, tmp_path, small_archive):
+    """SetLegFailure -> sim/damage -> adapt re-scores the map under it and starts from that."""
+    from hexapod_adapt.ceiling import compute_ceiling
+    from hexapod_msgs.srv import SetLegFailure
+
+    path, archive, _ = small_archive
+    sim = launch(
+        'hexapod_sim', 'sim_node', params={'real_time_factor': 0.0, 'failed_legs': FAILED}
+    )
+    gait = launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'record_dir': '', 'prior_cache_dir': str(tmp_path)},
+    )
+    trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
+    changed = ros.call(
+        SetLegFailure, 'sim_node/set_leg_failure', SetLegFailure.Request(failed_legs=[1, 4])
+    )
+    assert changed.success
+    wait_for(lambda: 'the simulator reports: legs 1+4 lifted' in node.log(), 20, 'damage seen')
+    truth = compute_ceiling(archive, [1, 4], 'pybullet')
+
+    informed = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=1), timeout=300)
+    assert informed.trials == 1, informed.message
+    assert 'under legs 1+4 lifted' in informed.prior and 'from the simulator' in informed.prior
+    wait_for(lambda: len(trials) == 1, 10, 'the first trial')
+    assert trials[0].archive_index == truth.best_niche  # the re-scored map's best goes first
+    assert trials[0].measured_speed == pytest.approx(truth.best_speed, rel=0.02)
+
+    blind = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=1, blind=True), timeout=300)
+    assert blind.prior == 'the map as it is (blind prior requested)'
+    wait_for(lambda: len(trials) == 2, 10, 'the blind trial')
+    elites = archive.elite_indices()
+    assert trials[1].archive_index == elites[np.argmax(archive.speeds()[elites])]
+
+    refused = ros.call(Adapt, 'adapt', Adapt.Request(failed_legs=[1, 2, 3]), timeout=60)
+    assert not refused.success and refused.trials == 0
+    assert 'at most 2 legs' in refused.message
+    assert node.alive() and sim.alive() and gait.alive()
+
+
+def test_bad_servo_reports_are_refused_and_the_node_lives(ros, launch):
+    from hexapod_gait.ros_glue import EVENTS
+    from hexapod_msgs.msg import ServoFailure
+
+    node = launch('hexapod_adapt', 'adapt_node', params={'mode': 'robot', 'record_dir': ''})
+    pub = ros.node.create_publisher(ServoFailure, 'servo_failures', EVENTS)
+    wait_for(lambda: pub.get_subscription_count() > 0, 20, 'adapt_node subscribed')
+    for servo, leg in [(40, 0), (3, 1), (3, 1), (12, 4), (8, 3)]:
+        pub.publish(ServoFailure(servo_id=servo, robot_leg=leg, leg=leg, joint='femur'))
+    wait_for(lambda: 'name 3 failed legs' in node.log(), 20, 'the third leg refused')
+    log = node.log()
+    assert 'servo 40 reported dead names no leg (leg 0)' in log
+    assert 'servo 3 (leg 1) reported dead again: already known' in log
+    assert 'servo 12 reported dead: leg 4 failed' in log
+    assert node.alive()
 
 
 def _set_min_speed(ros, value: float):
@@ -603,7 +664,9 @@ def test_a_simulated_graph_has_one_time_base(ros, launch, tmp_path, small_archiv
     )
     clock = ros.collect(Clock, '/clock', 10)
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
-    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=2, alpha=1.0), timeout=300)
+    response = ros.call(
+        Adapt, 'adapt', Adapt.Request(max_trials=2, alpha=1.0, blind=True), timeout=300
+    )
     assert response.trials >= 1, response.message
     wait_for(lambda: len(trials) == response.trials and clock, 10, 'trials and clock')
     latest_sim = max(_ns(c.clock) for c in clock)
@@ -690,7 +753,9 @@ def test_a_recorded_type_without_a_definition_is_refused_and_the_run_goes_on(
         env={'AMENT_PREFIX_PATH': _prefix_without('nav_msgs', tmp_path)},
     )
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
-    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=2, alpha=1.0), timeout=300)
+    response = ros.call(
+        Adapt, 'adapt', Adapt.Request(max_trials=2, alpha=1.0, blind=True), timeout=300
+    )
     assert response.trials == 2, response.message
     why = 'not recording odom: no definition of nav_msgs/msg/Odometry'
     assert why in response.message

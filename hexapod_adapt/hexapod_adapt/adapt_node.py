@@ -28,6 +28,11 @@ gait on ``gait/parameters`` and measures its speed along the walking direction, 
 gait_node + sim_node (mode ``sim``), through bridge_node's IMU odometry (``robot``) or by the
 operator's tape measure (``manual``): :mod:`hexapod_adapt.trials` says how.
 
+When the damage is known -- the request's ``failed_legs``, the simulator's ``sim/damage`` (mode
+``sim``) or the bridge's ``servo_failures`` (robot modes) -- the map is first re-scored in
+simulation under it, and M-BOA starts from that prior (:mod:`hexapod_adapt.prior`; the request's
+``blind`` skips it).
+
 Publishes ``adapt/trials`` (AdaptationTrial) per trial and records each run (trials, gaits,
 odometry) to an MCAP file in ``record_dir`` (:mod:`hexapod_adapt.run_recording`: a recording
 problem never stops a run). Services: ``adapt`` (hexapod_msgs/Adapt), ``~/report_distance``
@@ -37,8 +42,10 @@ problem never stops a run). Services: ``adapt`` (hexapod_msgs/Adapt), ``~/report
 from __future__ import annotations
 
 from dataclasses import replace
+import os
 import sys
 import threading
+import time
 import traceback
 
 from hexapod_adapt.adaptation import adapt, TrialAborted
@@ -50,7 +57,9 @@ from hexapod_adapt.graph_port import (
     RecordedTopics,
     trial_msg,
 )
+from hexapod_adapt.maps import shipped_ceilings
 from hexapod_adapt.mboa import MboaConfig
+from hexapod_adapt.prior import damage_prior, KnownDamage
 from hexapod_adapt.run_config import (
     engine_note,
     load_for_mode,
@@ -59,6 +68,7 @@ from hexapod_adapt.run_config import (
     SETTINGS,
 )
 from hexapod_adapt.run_recording import RunRecording
+from hexapod_adapt.simulation import archive_engine
 from hexapod_adapt.trials import (
     ManualTrials,
     MODES,
@@ -71,9 +81,18 @@ from hexapod_adapt.trials import (
 )
 from hexapod_gait import from_genotype
 from hexapod_gait.ros_conversions import gait_to_msg
-from hexapod_gait.ros_glue import declare, nodes_named, ParamSpec, run_node, watch_for_duplicates
-from hexapod_msgs.msg import AdaptationTrial
+from hexapod_gait.ros_glue import (
+    declare,
+    EVENTS,
+    LATCHED,
+    nodes_named,
+    ParamSpec,
+    run_node,
+    watch_for_duplicates,
+)
+from hexapod_msgs.msg import AdaptationTrial, LegDamage, ServoFailure
 from hexapod_msgs.srv import Adapt, ReportDistance
+from hexapod_sim.damage import Damage
 from rcl_interfaces.msg import SetParametersResult
 import rclpy
 from rclpy.callback_groups import ReentrantCallbackGroup
@@ -126,6 +145,13 @@ class AdaptNode(Node):
         self.port.wait = self.waiter.until
         self.recorded = RecordedTopics(self, self.recording)
         self.trial_pub = self.create_publisher(AdaptationTrial, 'adapt/trials', 10)
+        self.known = KnownDamage()
+        if self.mode == 'sim':
+            self.create_subscription(LegDamage, 'sim/damage', self._on_sim_damage, LATCHED)
+        else:
+            self.create_subscription(
+                ServoFailure, 'servo_failures', self._on_servo_failure, EVENTS
+            )
         work = ReentrantCallbackGroup()
         self.create_service(Adapt, 'adapt', self._on_adapt, callback_group=work)
         self.create_service(
@@ -187,6 +213,14 @@ class AdaptNode(Node):
         response.message = problem or f'{request.distance:.3f} m recorded'
         return response
 
+    def _on_sim_damage(self, msg: LegDamage) -> None:
+        self.get_logger().info(
+            self.known.from_sim(list(msg.failed_legs), list(msg.kinds), list(msg.strengths))
+        )
+
+    def _on_servo_failure(self, msg: ServoFailure) -> None:
+        self.get_logger().warning(self.known.from_servo(int(msg.servo_id), int(msg.leg)))
+
     def _on_cancel(self, request, response):
         running = self.busy.locked()
         self.cancel_requested = running
@@ -218,6 +252,7 @@ class AdaptNode(Node):
                 {n: getattr(request, n) or self.get_parameter(n).value for n in RUN_SETTINGS}
             )
             config = replace(config, min_speed=float(self.get_parameter('min_speed').value))
+            damage, source = self.known.for_run(list(request.failed_legs), bool(request.blind))
         except ValueError as exc:
             response.success, response.message = False, f'bad request: {exc}'
             return response
@@ -229,7 +264,7 @@ class AdaptNode(Node):
             response.success, response.message = False, 'an adaptation is already running'
             return response
         try:
-            return self._run(self.archive, config, duration, response)
+            return self._run(self.archive, config, duration, response, damage, source)
         except Exception as exc:  # noqa: BLE001 - the service must answer and the node stay up
             self.get_logger().error(
                 f'adaptation failed unexpectedly: {type(exc).__name__}: {exc}\n'
@@ -251,8 +286,44 @@ class AdaptNode(Node):
             return RobotTrials(self.port, self.odom, self.waiter, timing)
         return ManualTrials(self.port, self.waiter, timing, warn)
 
+    def _prior(self, archive: Archive, damage: Damage | None, source: str):
+        """Re-score the map under ``damage`` (None: the map as it is); return (speeds, text)."""
+        if damage is None:
+            return None, source
+        engine = archive_engine(archive.metadata) or 'mujoco'
+        log = self.get_logger().info
+        log(
+            f'damage-informed prior from {source}: re-scoring {archive.n_filled} gaits on {engine}'
+        )
+        t0, shown = time.monotonic(), [0.0]
+
+        def progress(done: int, total: int) -> None:
+            if time.monotonic() - shown[0] >= 5.0 or done == total:
+                shown[0] = time.monotonic()
+                log(
+                    f're-scoring the map: {done}/{total} gaits ({100 * done / total:.0f} %),'
+                    f' {time.monotonic() - t0:.0f} s'
+                )
+
+        prior = damage_prior(
+            archive,
+            damage,
+            engine,
+            os.path.expanduser(str(self.get_parameter('prior_cache_dir').value)) or None,
+            read_dirs=[shipped_ceilings()],
+            workers=int(self.get_parameter('prior_workers').value),
+            progress=progress,
+        )
+        return prior.speeds, f'{prior.describe()}, from {source}'
+
     def _run(
-        self, archive: Archive, config: MboaConfig, duration: float, response: Adapt.Response
+        self,
+        archive: Archive,
+        config: MboaConfig,
+        duration: float,
+        response: Adapt.Response,
+        damage: Damage | None = None,
+        source: str = '',
     ) -> Adapt.Response:
         record_dir = self.get_parameter('record_dir').value
         timeout = float(self.get_parameter('trial_timeout').value)
@@ -291,6 +362,8 @@ class AdaptNode(Node):
             + (f'; {note}' if note else '')
         )
         niches = archive.elite_indices()  # M-BOA's candidate index -> niche
+        prior, response.prior = self._prior(archive, damage, source)
+        self.get_logger().info(f'M-BOA starts from {response.prior}')
 
         def on_trial(trial, niche, opt) -> None:
             msg = trial_msg(trial, niche, niches[opt.best().index], opt.best().measured, archive)
@@ -306,7 +379,14 @@ class AdaptNode(Node):
             )
 
         try:
-            result = adapt(archive, self.trials, config, on_trial, lambda: self.cancel_requested)
+            result = adapt(
+                archive,
+                self.trials,
+                config,
+                on_trial,
+                lambda: self.cancel_requested,
+                prior=prior,
+            )
         finally:
             self.recording.stop()
         response.success, response.message = result.success, result.message

@@ -82,16 +82,27 @@ def adapt(
     on_trial: Callable[[Trial, int, Mboa], None] | None = None,
     should_cancel: Callable[[], bool] | None = None,
     floor: Callable[[], float] | None = None,
+    prior: np.ndarray | None = None,
 ) -> AdaptationResult:
     """
     Run M-BOA until it stops (never more than ``config.max_trials`` trials).
+
+    ``prior``, if given, replaces the map's speeds as M-BOA's prior mean: one speed per elite, in
+    the order of ``archive.elite_indices()`` (e.g. the map re-scored under a known damage,
+    :mod:`hexapod_adapt.prior`).
 
     ``floor``, if given, measures a reference before the first trial, e.g. the damaged control
     tripod (:func:`tripod_floor`): success then also needs the best gait to walk at least that
     fast (and at least ``config.min_speed``).
     """
     config = config or MboaConfig()
-    niches, descriptors, prior = candidates(archive)
+    niches, descriptors, map_prior = candidates(archive)
+    if prior is None:
+        prior = map_prior
+    elif np.shape(prior) != map_prior.shape:
+        raise ValueError(
+            f'a prior needs one speed per gait ({len(map_prior)}), got {np.shape(prior)}'
+        )
     if floor is not None:
         reference = float(floor())
         if math.isfinite(reference) and reference > config.min_speed:
@@ -182,6 +193,7 @@ class ExperimentRow:
     ceiling_niche: int = -1
     ratio: float = float('nan')  # best_speed / ceiling_speed (regret = 1 - ratio)
     gaits_beating_intact_control: int = -1  # map gaits faster than the intact tripod, damaged
+    setup: str = 'thesis'  # M-BOA profile, '+prior' when it started from a damage-informed prior
 
 
 def run_experiment(
@@ -191,6 +203,9 @@ def run_experiment(
     on_row: Callable[[ExperimentRow], None] | None = None,
     trial_engine: str | None = None,
     ceilings: Callable[[Sequence[int], str], 'Ceiling'] | None = None,
+    floor: bool = False,
+    priors: Callable[[Sequence[int]], np.ndarray] | None = None,
+    setup: str = 'thesis',
 ) -> list[ExperimentRow]:
     """
     Thesis experiment 5.2 on one map.
@@ -200,7 +215,10 @@ def run_experiment(
     (default: the engine that made the map). Without ``config``: the thesis's settings with
     :data:`EXPERIMENT_MAX_TRIALS`. With ``ceilings(failed_legs, engine)`` (e.g.
     :func:`hexapod_adapt.ceiling.ceiling` over a cache), each row also gets the map's ceiling
-    under its damage and the adapted/ceiling ratio.
+    under its damage and the adapted/ceiling ratio. ``floor``: the damaged control tripod,
+    measured first, is the run's success floor. ``priors(failed_legs)``: M-BOA starts from these
+    speeds (the map re-scored under the damage, :mod:`hexapod_adapt.prior`). ``setup`` names the
+    configuration in the rows.
     """
     config = config or MboaConfig(max_trials=EXPERIMENT_MAX_TRIALS)
     map_engine = archive_engine(archive.metadata) or 'pybullet'
@@ -212,10 +230,16 @@ def run_experiment(
         ).speed
         for name in scenarios:
             for legs in orientations_of(name):
-                result = adapt(archive, simulated_trial(archive, legs, sim), config)
                 control = evaluate_gait(
                     preset('control'), sim, collisions_fatal=False, failed_legs=legs
                 ).speed
+                result = adapt(
+                    archive,
+                    simulated_trial(archive, legs, sim),
+                    config,
+                    floor=(lambda: control) if floor else None,
+                    prior=priors(legs) if priors is not None else None,
+                )
                 row = ExperimentRow(
                     name,
                     tuple(legs),
@@ -229,6 +253,7 @@ def run_experiment(
                     map_engine,
                     trial_engine,
                     walking_time=len(result.trials) * archive.trial_duration,
+                    setup=setup,
                 )
                 if ceilings is not None:
                     c = ceilings(legs, trial_engine)

@@ -44,14 +44,15 @@ import os
 from pathlib import Path
 import sys
 import time
-from typing import Sequence
+from typing import Callable, Iterable, Sequence
 import zipfile
 
 from hexapod_adapt.archive import Archive, atomic_write_bytes, load_archive
 from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
 from hexapod_adapt.simulation import simulation_fingerprint, worker_simulator
 from hexapod_description.cli import input_file, number, output_dir, run_command
-from hexapod_sim import ENGINES, evaluate_gaits, validate_failed_legs
+from hexapod_sim import ENGINES, evaluate_gaits
+from hexapod_sim.damage import as_damage, Damage, LegDamage, parse_damage
 from hexapod_sim.scenarios import scenario, SCENARIO_NAMES
 import numpy as np
 
@@ -66,6 +67,7 @@ class Ceiling:
     engine: str
     niches: np.ndarray  # (n,) archive niche of each elite
     speeds: np.ndarray  # (n,) m/s along the walking direction, with the damage
+    damage: Damage = Damage()  # the damage in full (its legs are ``failed_legs``)
 
     @property
     def best_index(self) -> int:
@@ -96,10 +98,16 @@ def map_digest(archive: Archive) -> str:
     return h.hexdigest()
 
 
-def ceiling_key(archive: Archive, failed_legs: Sequence[int], engine: str) -> dict:
-    """Return everything a ceiling depends on (its cache key, stored in the file)."""
+def ceiling_key(archive: Archive, damage: Damage | Sequence[int], engine: str) -> dict:
+    """
+    Return everything a ceiling depends on (its cache key, stored in the file).
+
+    A thesis damage (lifted legs) is keyed by its legs alone, as before other damage types
+    existed, so the shipped cache stays valid; any other damage adds its description.
+    """
+    damage = as_damage(damage)
     fp = simulation_fingerprint(engine)
-    return {
+    key = {
         'format': FORMAT,
         'map_sha256': map_digest(archive),
         'engine': engine,
@@ -107,53 +115,78 @@ def ceiling_key(archive: Archive, failed_legs: Sequence[int], engine: str) -> di
         'urdf_sha256': fp['urdf_sha256'],
         'genotype_mapping': fp['genotype_mapping'],
         'trial_duration': archive.trial_duration,
-        'failed_legs': list(validate_failed_legs(failed_legs)),
+        'failed_legs': list(damage.failed_legs),
         'collisions_fatal': False,
     }
+    if not damage.thesis:
+        key['damage'] = [[d.leg, d.kind, d.strength] for d in damage.legs]
+    return key
+
+
+def _damage_of(key: dict) -> Damage:
+    if 'damage' not in key:
+        return Damage.lifted(key['failed_legs'])
+    return Damage(tuple(LegDamage(leg, kind, strength) for leg, kind, strength in key['damage']))
 
 
 def cache_path(directory: str | os.PathLike, key: dict) -> Path:
     """Return the file a ceiling with ``key`` is cached in."""
     digest = hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()[:16]
     legs = ''.join(map(str, key['failed_legs'])) or 'intact'
-    return Path(directory) / f'ceiling_{key["engine"]}_legs{legs}_{digest}.npz'
+    kinds = ''.join(f'_{leg}{kind}' for leg, kind, _ in key.get('damage', []))
+    subset = f'_top{key["subset"]["top"]}' if 'subset' in key else ''
+    return Path(directory) / f'ceiling_{key["engine"]}_legs{legs}{kinds}{subset}_{digest}.npz'
 
 
-def _evaluate(args: tuple[str, tuple[int, ...], float, np.ndarray]) -> np.ndarray:
-    engine, legs, duration, genes = args
+def _evaluate(args: tuple[str, Damage, float, np.ndarray]) -> np.ndarray:
+    engine, damage, duration, genes = args
     results = evaluate_gaits(
         list(genes),
         worker_simulator(engine),
         duration=duration,
         collisions_fatal=False,
-        failed_legs=legs,
+        failed_legs=damage,
     )
     return np.array([r.speed for r in results])
 
 
 def compute_ceiling(
     archive: Archive,
-    failed_legs: Sequence[int],
+    damage: Damage | Sequence[int],
     engine: str,
     workers: int = 1,
     chunk: int = 64,
+    progress: Callable[[int, int], None] | None = None,
+    niches: np.ndarray | None = None,
 ) -> Ceiling:
-    """Evaluate every elite of ``archive`` with ``failed_legs`` on ``engine`` (no cache)."""
-    legs = validate_failed_legs(failed_legs)
-    niches = archive.elite_indices()
+    """
+    Evaluate every elite of ``archive`` (or only ``niches``) with ``damage`` on ``engine``.
+
+    No cache. ``progress(done, total)`` is called after each chunk of ``chunk`` gaits.
+    """
+    damage = as_damage(damage)
+    niches = archive.elite_indices() if niches is None else np.asarray(niches, dtype=int)
     genes = archive.genotypes[niches]
     jobs = [
-        (engine, legs, archive.trial_duration, part)
+        (engine, damage, archive.trial_duration, part)
         for part in np.split(genes, range(chunk, len(genes), chunk))
         if len(part)
     ]
+    parts: list[np.ndarray] = []
+
+    def collect(results: Iterable[np.ndarray]) -> None:
+        for part in results:
+            parts.append(part)
+            if progress is not None:
+                progress(sum(len(x) for x in parts), len(genes))
+
     if workers <= 1:
-        parts = [_evaluate(job) for job in jobs]
+        collect(map(_evaluate, jobs))
     else:
         with cf.ProcessPoolExecutor(workers) as pool:
-            parts = list(pool.map(_evaluate, jobs))
+            collect(pool.map(_evaluate, jobs))
     speeds = np.concatenate(parts) if parts else np.zeros(0)
-    return Ceiling(legs, engine, niches, speeds)
+    return Ceiling(damage.failed_legs, engine, niches, speeds, damage)
 
 
 def _read(path: Path, key: dict) -> Ceiling | None:
@@ -166,24 +199,77 @@ def _read(path: Path, key: dict) -> Ceiling | None:
         return None
     if stored != key or niches.shape != speeds.shape or not np.all(np.isfinite(speeds)):
         return None
-    return Ceiling(tuple(key['failed_legs']), key['engine'], niches, speeds)
+    return Ceiling(tuple(key['failed_legs']), key['engine'], niches, speeds, _damage_of(key))
 
 
 def ceiling(
     archive: Archive,
-    failed_legs: Sequence[int],
+    failed_legs: Damage | Sequence[int],
     engine: str,
     cache_dir: str | os.PathLike | None = None,
     workers: int = 1,
+    read_dirs: Sequence[str | os.PathLike] = (),
+    progress: Callable[[int, int], None] | None = None,
 ) -> Ceiling:
-    """Return the ceiling of ``archive`` under ``failed_legs`` on ``engine`` (cached if asked)."""
+    """
+    Return the ceiling of ``archive`` under a damage on ``engine`` (cached if asked).
+
+    A cached copy is looked for in ``read_dirs`` (e.g. the shipped, read-only cache), then in
+    ``cache_dir``, where a computed one is written.
+    """
     key = ceiling_key(archive, failed_legs, engine)
+    path = cache_path(cache_dir, key) if cache_dir is not None else None
+    for candidate in [cache_path(d, key) for d in read_dirs] + ([path] if path else []):
+        cached = _read(candidate, key)
+        if cached is not None:  # the key's map digest covers the elites' niches
+            return cached
+    result = compute_ceiling(archive, failed_legs, engine, workers, progress=progress)
+    _write(path, key, result)
+    return result
+
+
+def approximate_key(
+    archive: Archive, damage: Damage | Sequence[int], engine: str, guide_engine: str, top: int
+) -> dict:
+    """Return the cache key of :func:`approximate_ceiling`'s result."""
+    return {
+        **ceiling_key(archive, damage, engine),
+        'subset': {'top': int(top), 'guide_engine': guide_engine},
+    }
+
+
+def approximate_ceiling(
+    archive: Archive,
+    damage: Damage | Sequence[int],
+    engine: str,
+    guide: Ceiling,
+    top: int,
+    cache_dir: str | os.PathLike | None = None,
+    workers: int = 1,
+) -> Ceiling:
+    """
+    Approximate a ceiling on a slow engine: only the ``top`` gaits that walk best under ``guide``.
+
+    ``guide`` is the same damage's ceiling on another engine (e.g. PyBullet over the 1000 gaits
+    that walk best under the damage on MuJoCo). A gait outside them may walk faster: a ratio
+    against this ceiling can exceed 1. Cached like a full one, under its own key.
+    """
+    damage = as_damage(damage)
+    if guide.damage != damage:
+        raise ValueError(f'the guide ceiling is for {guide.damage.label}, not {damage.label}')
+    key = approximate_key(archive, damage, engine, guide.engine, top)
     path = cache_path(cache_dir, key) if cache_dir is not None else None
     if path is not None:
         cached = _read(path, key)
-        if cached is not None:  # the key's map digest covers the elites' niches
+        if cached is not None:
             return cached
-    result = compute_ceiling(archive, failed_legs, engine, workers)
+    niches = guide.niches[np.argsort(-guide.speeds, kind='stable')[:top]]
+    result = compute_ceiling(archive, damage, engine, workers, niches=np.sort(niches))
+    _write(path, key, result)
+    return result
+
+
+def _write(path: Path | None, key: dict, result: Ceiling) -> None:
     if path is not None:
         buf = io.BytesIO()
         np.savez_compressed(
@@ -193,7 +279,13 @@ def ceiling(
             speeds=result.speeds,
         )
         atomic_write_bytes(path, buf.getvalue())
-    return result
+
+
+def _damage_arg(text: str) -> Damage:
+    try:
+        return parse_damage(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -209,8 +301,30 @@ def build_parser() -> argparse.ArgumentParser:
         '--scenarios',
         nargs='+',
         choices=SCENARIO_NAMES,
-        default=['S1', 'S2', 'S3', 'S4'],
-        help='failure scenarios (every orientation of each)',
+        default=None,
+        help='failure scenarios, every orientation of each (default S1-S4 unless --damage or'
+        ' --tuning-set is given)',
+    )
+    ap.add_argument(
+        '--damage',
+        nargs='+',
+        type=_damage_arg,
+        default=[],
+        metavar='SPEC',
+        help='other damage, each LEG:KIND[:STRENGTH][,...], e.g. 1:locked,4:weak:0.3',
+    )
+    ap.add_argument(
+        '--top',
+        type=number(int, 1, 10_000_000),
+        default=None,
+        help='approximate: evaluate only the TOP gaits that walk best under the damage on'
+        ' --guide-engine (whose ceiling is read from, or made in, the cache)',
+    )
+    ap.add_argument('--guide-engine', choices=ENGINES, default='mujoco', help='for --top')
+    ap.add_argument(
+        '--tuning-set',
+        action='store_true',
+        help='the damage cases of the tuning set (hexapod_adapt.tuning.TUNING_DAMAGES)',
     )
     ap.add_argument(
         '--cache-dir', type=output_dir, required=True, help='where ceilings are cached'
@@ -224,17 +338,29 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
 
     def run() -> int:
+        from hexapod_adapt.tuning import TUNING_DAMAGES
+
         archive = load_archive(args.archive or shipped_map(DEFAULT_MAP))
-        for name in args.scenarios:
-            for legs in scenario(name):
-                t0 = time.monotonic()
-                c = ceiling(archive, legs, args.engine, args.cache_dir, args.workers)
-                print(
-                    f'{args.engine} {name} legs {",".join(map(str, legs)) or "-":4s} ceiling'
-                    f' {c.best_speed:.3f} m/s (gait {c.best_niche}), {len(c.speeds)} gaits,'
-                    f' {time.monotonic() - t0:.0f} s',
-                    flush=True,
+        scenarios = args.scenarios
+        if scenarios is None:
+            scenarios = [] if args.damage or args.tuning_set else ['S1', 'S2', 'S3', 'S4']
+        cases = [(name, Damage.lifted(legs)) for name in scenarios for legs in scenario(name)]
+        cases += [('-', damage) for damage in args.damage]
+        cases += [('tuning', damage) for damage in TUNING_DAMAGES] if args.tuning_set else []
+        for name, damage in cases:
+            t0 = time.monotonic()
+            if args.top:
+                guide = ceiling(archive, damage, args.guide_engine, args.cache_dir, args.workers)
+                c = approximate_ceiling(
+                    archive, damage, args.engine, guide, args.top, args.cache_dir, args.workers
                 )
+            else:
+                c = ceiling(archive, damage, args.engine, args.cache_dir, args.workers)
+            print(
+                f'{args.engine} {name} {damage.label}: ceiling {c.best_speed:.3f} m/s'
+                f' (gait {c.best_niche}), {len(c.speeds)} gaits, {time.monotonic() - t0:.0f} s',
+                flush=True,
+            )
         return 0
 
     return run_command('ceiling', run, 'finished damage cases are cached; run again to go on')

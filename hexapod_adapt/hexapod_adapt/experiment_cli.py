@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import argparse
 import csv
-from dataclasses import asdict
+from dataclasses import asdict, replace
 import io
 import sys
 
@@ -47,11 +47,12 @@ from hexapod_adapt.ceiling import ceiling
 from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
 from hexapod_adapt.mboa import (
     ALPHA_RANGE,
+    DEFAULT_PROFILE,
     KAPPA_RANGE,
     LENGTH_SCALE_RANGE,
     MAX_TRIALS_LIMIT,
-    MboaConfig,
     NOISE_RANGE,
+    PROFILES,
 )
 from hexapod_adapt.plots import plot_experiment
 from hexapod_adapt.simulation import archive_engine
@@ -144,24 +145,46 @@ def main(argv: list[str] | None = None) -> int:
         default=EXPERIMENT_MAX_TRIALS,
         help='trials per run at most (a cap; the stopping rule ends the runs)',
     )
-    ap.add_argument('--alpha', type=number(float, *ALPHA_RANGE), default=0.9, help='stop ratio')
+    ap.add_argument(
+        '--profile',
+        choices=sorted(PROFILES),
+        default=DEFAULT_PROFILE,
+        help="M-BOA settings: 'default' (chosen on the tuning set) or 'thesis' (thesis 5.2.2)",
+    )
+    ap.add_argument(
+        '--alpha', type=number(float, *ALPHA_RANGE), default=None, help="stop ratio (profile's)"
+    )
     ap.add_argument(
         '--kappa',
         type=number(float, *KAPPA_RANGE),
-        default=0.05,
-        help='UCB weight on the posterior std',
+        default=None,
+        help="UCB weight on the posterior std (profile's)",
     )
     ap.add_argument(
         '--length-scale',
         type=number(float, *LENGTH_SCALE_RANGE),
-        default=0.4,
-        help='Matern length scale rho',
+        default=None,
+        help="Matern length scale rho (profile's)",
     )
     ap.add_argument(
         '--noise',
         type=number(float, *NOISE_RANGE),
-        default=0.001,
-        help='GP noise variance [(m/s)^2]',
+        default=None,
+        help="GP noise variance [(m/s)^2] (profile's)",
+    )
+    ap.add_argument(
+        '--floor',
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help='the damaged control tripod, measured first, is the success floor (default: on,'
+        ' off for the thesis profile)',
+    )
+    ap.add_argument(
+        '--prior',
+        choices=('map', 'damage'),
+        default='map',
+        help="'damage': M-BOA starts from the map re-scored under each run's damage on the map's"
+        ' engine (a damage-informed prior; needs --ceilings)',
     )
     ap.add_argument(
         '--ceilings',
@@ -187,13 +210,14 @@ def main(argv: list[str] | None = None) -> int:
 def _experiment(args: argparse.Namespace) -> int:
     try:
         archive = load_archive(args.archive or shipped_map(DEFAULT_MAP))
-        config = MboaConfig(
-            max_trials=args.max_trials,
-            alpha=args.alpha,
-            kappa=args.kappa,
-            length_scale=args.length_scale,
-            noise=args.noise,
-        )
+        chosen = {
+            name: getattr(args, name)
+            for name in ('alpha', 'kappa', 'length_scale', 'noise')
+            if getattr(args, name) is not None
+        }
+        config = replace(PROFILES[args.profile], max_trials=args.max_trials, **chosen)
+        if args.prior == 'damage' and args.ceilings is None:
+            raise ValueError('--prior damage needs --ceilings (where the re-scored maps are)')
     except (ArchiveError, ValueError) as exc:
         print(f'run_experiment: {exc}', file=sys.stderr)
         return 2
@@ -217,6 +241,12 @@ def _experiment(args: argparse.Namespace) -> int:
     def ceilings(legs, engine):
         return ceiling(archive, legs, engine, args.ceilings, args.workers)
 
+    def priors(legs):  # the map re-scored under the damage on the map's own engine
+        return ceilings(legs, map_engine).speeds
+
+    floor = args.floor if args.floor is not None else args.profile != 'thesis'
+    setup = args.profile + ('+prior' if args.prior == 'damage' else '')
+
     rows: list[ExperimentRow] = []
     try:
         for engine in engines:
@@ -227,6 +257,9 @@ def _experiment(args: argparse.Namespace) -> int:
                 on_row=show,
                 trial_engine=engine,
                 ceilings=ceilings if args.ceilings is not None else None,
+                floor=floor,
+                priors=priors if args.prior == 'damage' else None,
+                setup=setup,
             )
     except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the completed runs are kept
         if rows:

@@ -27,7 +27,7 @@ match to be used for trials in a mode.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import math
 import os
 
@@ -35,17 +35,29 @@ from hexapod_adapt.archive import Archive, ArchiveError, compatibility_problems,
 from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
 from hexapod_adapt.mboa import (
     ALPHA_RANGE,
+    DEFAULT_PROFILE,
     KAPPA_RANGE,
     LENGTH_SCALE_RANGE,
     MAX_TRIALS_LIMIT,
     MboaConfig,
     MIN_SPEED_RANGE,
     NOISE_RANGE,
+    profile,
 )
 from hexapod_adapt.simulation import archive_engine, simulation_fingerprint
 
 #: The Adapt request's fields that default to the node's parameter of the same name.
-RUN_SETTINGS = ('max_trials', 'trial_duration', 'alpha', 'kappa', 'length_scale', 'noise')
+RUN_SETTINGS = (
+    'max_trials',
+    'trial_duration',
+    'alpha',
+    'kappa',
+    'length_scale',
+    'noise',
+    'profile',
+)
+#: Settings whose 0 means "the profile's value" (request fields and node parameters alike).
+PROFILE_SETTINGS = ('alpha', 'kappa', 'length_scale', 'noise')
 
 #: A trial must cover at least one gait cycle of the controller's default 1 s period.
 TRIAL_DURATION_RANGE = (1.0, 120.0)
@@ -78,26 +90,51 @@ SETTINGS = (
     ),
     Setting('trial_duration', 5.0, 'Default trial duration [s]', TRIAL_DURATION_RANGE),
     Setting(
-        'alpha',
-        _MBOA.alpha,
-        'Default stop ratio: stop when the best measured speed reaches alpha x the highest '
-        'predicted one',
-        ALPHA_RANGE,
+        'profile',
+        DEFAULT_PROFILE,
+        "M-BOA settings: 'default' (chosen on a tuning set) or 'thesis' (thesis 5.2.2); alpha, "
+        'kappa, length_scale and noise override it when not 0',
     ),
-    Setting('kappa', _MBOA.kappa, 'Default UCB weight on the posterior std', KAPPA_RANGE),
+    Setting(
+        'alpha',
+        0.0,
+        'Stop ratio: stop when the best measured speed reaches alpha x the highest predicted one '
+        "(0 = the profile's; thesis 0.9)",
+        (0.0, ALPHA_RANGE[1]),
+    ),
+    Setting(
+        'kappa', 0.0, "UCB weight on the posterior std (0 = the profile's)", (0.0, KAPPA_RANGE[1])
+    ),
     Setting(
         'length_scale',
-        _MBOA.length_scale,
-        'Default Matern length scale rho [descriptor units]',
-        LENGTH_SCALE_RANGE,
+        0.0,
+        "Matern length scale rho [descriptor units] (0 = the profile's)",
+        (0.0, LENGTH_SCALE_RANGE[1]),
     ),
-    Setting('noise', _MBOA.noise, 'Default observation noise variance [(m/s)^2]', NOISE_RANGE),
+    Setting(
+        'noise',
+        0.0,
+        "Observation noise variance [(m/s)^2] (0 = the profile's)",
+        (0.0, NOISE_RANGE[1]),
+    ),
     Setting(
         'min_speed',
         _MBOA.min_speed,
         'Success floor [m/s]: a run succeeds only if its best gait walks at least this fast (0 ='
         ' the thesis rule); below it the run goes on, or ends unsuccessful saying so',
         MIN_SPEED_RANGE,
+    ),
+    Setting(
+        'prior_cache_dir',
+        '~/.cache/hexapod_adapt/ceilings',
+        'Damage-informed prior: where maps re-scored under a damage are cached (the shipped '
+        "default map's S1-S4 are read from the package first)",
+    ),
+    Setting(
+        'prior_workers',
+        2,
+        'Damage-informed prior: processes that re-score the map (one per core)',
+        (1, 256),
     ),
     Setting('record_dir', 'adaptation_runs', "MCAP files go here ('' = no recording)"),
     Setting('sim_node', 'sim_node', 'Name of the simulator node (mode sim)', read_only=True),
@@ -120,21 +157,18 @@ SETTINGS = (
 
 def run_settings(values: dict) -> tuple[MboaConfig, float]:
     """
-    (M-BOA configuration, trial duration [s]) from the six run settings.
+    (M-BOA configuration, trial duration [s]) from the run settings.
 
-    ValueError says which is out of range and what the range is.
+    The named ``profile`` gives every M-BOA setting; alpha, kappa, length_scale and noise replace
+    its values when not 0. ValueError says which is out of range and what the range is.
     """
     duration = float(values['trial_duration'])
     low, high = TRIAL_DURATION_RANGE
     if not (math.isfinite(duration) and low <= duration <= high):
         raise ValueError(f'trial_duration must be in [{low:g}, {high:g}] s, got {duration!r}')
-    config = MboaConfig(
-        max_trials=int(values['max_trials']),
-        alpha=float(values['alpha']),
-        kappa=float(values['kappa']),
-        length_scale=float(values['length_scale']),
-        noise=float(values['noise']),
-    )
+    base = profile(str(values.get('profile') or DEFAULT_PROFILE))
+    chosen = {name: float(values[name]) for name in PROFILE_SETTINGS if values.get(name)}
+    config = replace(base, max_trials=int(values['max_trials']), **chosen)
     return config, duration
 
 

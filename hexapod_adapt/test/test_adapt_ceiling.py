@@ -75,3 +75,74 @@ def test_a_cached_ceiling_is_reused_and_a_damaged_one_recomputed(small_map, tmp_
     np.testing.assert_array_equal(first.speeds, fixed.speeds)
     other = ceiling_key(small_map, [3], 'mujoco')
     assert cache_path(tmp_path, other) != path  # another damage, another file
+
+
+def test_a_ceiling_under_another_damage_type_is_keyed_and_cached_by_it(small_map, tmp_path):
+    from hexapod_sim.damage import Damage
+
+    lifted = ceiling_key(small_map, Damage.lifted([2]), 'mujoco')
+    assert lifted == ceiling_key(small_map, [2], 'mujoco')  # the shipped cache stays valid
+    assert 'damage' not in lifted
+    locked = Damage.of('locked', [2])
+    key = ceiling_key(small_map, locked, 'mujoco')
+    assert key['damage'] == [[2, 'locked', 1.0]]
+    assert cache_path(tmp_path, key) != cache_path(tmp_path, lifted)
+    assert '_2locked_' in cache_path(tmp_path, key).name
+    first = ceiling(small_map, locked, 'mujoco', cache_dir=tmp_path)
+    assert first.damage == locked and first.failed_legs == (2,)
+    again = ceiling(small_map, locked, 'mujoco', cache_dir=tmp_path)
+    assert again.damage == locked  # read back from the file's key
+    np.testing.assert_array_equal(first.speeds, again.speeds)
+    with create_simulator(SimConfig(engine='mujoco')) as sim:
+        n = int(small_map.elite_indices()[0])
+        direct = evaluate_gait(
+            small_map.genotypes[n], sim, collisions_fatal=False, failed_legs=locked
+        )
+    assert first.speeds[0] == direct.speed
+
+
+def test_a_replayed_run_is_the_simulated_run(small_map):
+    """A lookup in the ceiling answers each trial exactly as the simulator does."""
+    from hexapod_adapt.adaptation import adapt, simulated_trial
+    from hexapod_adapt.mboa import MboaConfig
+    from hexapod_adapt.tuning import lookup_trial, replay, score, summarise
+    from hexapod_sim.damage import Damage
+
+    damage = Damage.of('weak', [1, 4])
+    c = compute_ceiling(small_map, damage, 'mujoco')
+    config = MboaConfig(max_trials=12, alpha=1.0)
+    with create_simulator(SimConfig(engine='mujoco')) as sim:
+        simulated = adapt(small_map, simulated_trial(small_map, damage, sim), config)
+    replayed = replay(small_map, c, config)
+    assert replayed.niches == simulated.niches
+    assert [t.measured for t in replayed.trials] == [t.measured for t in simulated.trials]
+    trial = lookup_trial(c)
+    assert trial(int(c.niches[c.best_index])) == c.best_speed
+    runs = score(small_map, [c], {damage: 10.0}, config)  # a floor no gait reaches
+    floored = replay(small_map, c, config, control_speed=10.0)
+    assert runs[0].ratio == pytest.approx(floored.best_speed / c.best_speed)
+    assert len(floored.trials) == 12 > len(replayed.trials)  # below the floor it goes on
+    assert not runs[0].success and summarise(runs).below_control == 1
+
+
+def test_an_approximate_ceiling_evaluates_the_guides_best_gaits_only(small_map, tmp_path):
+    from hexapod_adapt.ceiling import approximate_ceiling, approximate_key
+
+    guide = compute_ceiling(small_map, [3], 'mujoco')
+    approx = approximate_ceiling(small_map, [3], 'pybullet', guide, top=4, cache_dir=tmp_path)
+    order = np.argsort(-guide.speeds, kind='stable')[:4]
+    assert sorted(approx.niches.tolist()) == sorted(guide.niches[order].tolist())
+    with create_simulator(SimConfig(engine='pybullet')) as sim:
+        for n, speed in zip(approx.niches, approx.speeds):
+            assert (
+                speed
+                == evaluate_gait(
+                    small_map.genotypes[n], sim, collisions_fatal=False, failed_legs=[3]
+                ).speed
+            )
+    path = cache_path(tmp_path, approximate_key(small_map, [3], 'pybullet', 'mujoco', 4))
+    assert path.is_file() and '_top4_' in path.name
+    full_key = ceiling_key(small_map, [3], 'pybullet')
+    assert cache_path(tmp_path, full_key) != path  # never mistaken for a full ceiling
+    with pytest.raises(ValueError, match='guide ceiling is for leg 3 lifted, not leg 2'):
+        approximate_ceiling(small_map, [2], 'pybullet', guide, top=4)

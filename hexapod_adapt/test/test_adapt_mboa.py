@@ -139,3 +139,46 @@ def test_incremental_posterior_equals_a_full_refit():
         var = 1.0 - np.einsum('ij,ji->i', ks, np.linalg.solve(k, ks.T))
         np.testing.assert_allclose(opt.mean, mean, atol=1e-12)
         np.testing.assert_allclose(opt.std, np.sqrt(np.maximum(var, 0.0)), atol=1e-7)
+
+
+def test_signal_variance_scales_the_uncertainty_not_the_mean():
+    """Kernel and noise variance scaled together: the same posterior mean, std scaled by root."""
+    rng = np.random.default_rng(3)
+    x, prior = rng.random((40, 6)), rng.random(40) * 0.4
+    a = Mboa(x, prior, MboaConfig(noise=0.001, signal_variance=1.0))
+    b = Mboa(x, prior, MboaConfig(noise=0.00001, signal_variance=0.01))
+    for index, speed in [(3, 0.1), (17, 0.25), (30, 0.05)]:
+        a.observe(index, speed)
+        b.observe(index, speed)
+    np.testing.assert_allclose(a.mean, b.mean, atol=1e-10)
+    np.testing.assert_allclose(b.std, a.std * 0.1, atol=1e-10)
+    assert 0.099 < np.max(b.std) <= 0.1  # the least correlated untried gait: nearly the prior
+
+
+def test_expected_gain_is_the_expected_improvement_over_the_best():
+    rng = np.random.default_rng(4)
+    x, prior = rng.random((30, 6)) * 3, rng.random(30) * 0.4
+    opt = Mboa(x, prior, MboaConfig(signal_variance=0.01, length_scale=0.3))
+    opt.observe(int(np.argmax(prior)), 0.2)
+    gain = opt.expected_gain()
+    assert gain[int(np.argmax(prior))] == 0.0  # tried
+    i = int(np.argmax(gain))
+    draws = opt.mean[i] + opt.std[i] * rng.standard_normal(400_000)
+    assert gain[i] == pytest.approx(np.mean(np.maximum(draws - 0.2, 0.0)), rel=0.02)
+    assert opt.max_expected_gain() == gain[i]
+
+
+def test_stop_gain_goes_on_while_a_trial_is_worth_walking():
+    x = np.array([[0.0] * 6, [0.05] * 6, [3.0] * 6])
+    prior = np.array([0.40, 0.39, 0.30])
+    thesis = Mboa(x, prior, MboaConfig(alpha=0.5))
+    thesis.observe(0, 0.25)  # 0.25 >= 0.5 x 0.39: the thesis rule stops
+    assert thesis.stop_reason().value == 'alpha_reached'
+    going = Mboa(x, prior, MboaConfig(alpha=0.5, signal_variance=0.01, stop_gain=0.01))
+    going.observe(0, 0.25)  # the far gait (0.30 predicted, +/-0.1) may still gain > 0.01
+    assert going.max_expected_gain() > 0.01
+    assert going.stop_reason().value == 'continue'
+    going.observe(going.next_index(), 0.31)
+    going.observe(going.next_index(), 0.2)
+    assert going.stop_reason().value == 'alpha_reached'
+    assert going.max_expected_gain() < 0.01

@@ -147,7 +147,8 @@ class Damage:
         if not self.legs:
             return 'intact'
         if self.thesis:
-            return f'legs {"+".join(map(str, self.failed_legs))} lifted'
+            legs = 'legs' if len(self.legs) > 1 else 'leg'
+            return f'{legs} {"+".join(map(str, self.failed_legs))} lifted'
         return ', '.join(f'leg {d.label}' for d in self.legs)
 
     def held_slots(self) -> tuple[np.ndarray, np.ndarray]:

@@ -1,0 +1,156 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+A damage-informed prior: the map re-scored in simulation under the damage known before a run.
+
+Often the failed legs are known: the simulator says what it was given (``sim/damage``), the
+robot's servo health check reports a servo that does not answer (``servo_failures``), or the
+operator names them in the ``adapt`` request. Then, before the first trial, every gait of the map
+is evaluated in simulation with that damage (a ceiling, :mod:`hexapod_adapt.ceiling`, cached) and
+M-BOA starts from those speeds instead of the intact map's. Robot trials still decide: the prior
+is only a prior.
+
+:class:`KnownDamage` keeps what the node has been told and refuses what makes no sense, saying
+why; :func:`damage_prior` re-scores the map.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+import os
+import time
+from typing import Callable, Sequence
+
+from hexapod_adapt.archive import Archive
+from hexapod_adapt.ceiling import ceiling
+from hexapod_description import N_LEGS
+from hexapod_sim.damage import Damage, damage_from_lists, MAX_FAILED_LEGS
+import numpy as np
+
+
+@dataclass(frozen=True)
+class DamagePrior:
+    """The map's gaits re-scored under ``damage`` on ``engine``: M-BOA's prior mean."""
+
+    damage: Damage
+    engine: str
+    speeds: np.ndarray  # (elites,) m/s, in the order of archive.elite_indices()
+    seconds: float  # wall-clock time it took (0 if it was cached)
+
+    def describe(self) -> str:
+        """Say what the prior is, e.g. ``the map re-scored on mujoco under legs 1+4 lifted``."""
+        return (
+            f'the map re-scored on {self.engine} under {self.damage.label} '
+            f'(best {float(np.max(self.speeds)):.3f} m/s'
+            + (f', {self.seconds:.0f} s)' if self.seconds >= 1 else ', cached)')
+        )
+
+
+def damage_prior(
+    archive: Archive,
+    damage: Damage,
+    engine: str,
+    cache_dir: str | os.PathLike | None,
+    read_dirs: Sequence[str | os.PathLike] = (),
+    workers: int = 1,
+    progress: Callable[[int, int], None] | None = None,
+) -> DamagePrior:
+    """Re-score every gait of ``archive`` under ``damage`` on ``engine`` (cached)."""
+    t0 = time.monotonic()
+    c = ceiling(archive, damage, engine, cache_dir, workers, read_dirs, progress)
+    return DamagePrior(damage, engine, c.speeds, time.monotonic() - t0)
+
+
+class KnownDamage:
+    """
+    What a node has been told of the robot's damage, from the simulator or servo reports.
+
+    Each ``from_*`` method returns a sentence for the log: what was taken, or why it was refused.
+    A refused report changes nothing.
+    """
+
+    def __init__(self) -> None:
+        self.sim: Damage | None = None
+        self.servo_legs: dict[int, set[int]] = {}  # URDF leg -> servos reported dead
+        self.refused: str = ''  # why the servo reports make no usable damage ('' if they do)
+
+    def from_sim(
+        self, legs: Sequence[int], kinds: Sequence[str], strengths: Sequence[float]
+    ) -> str:
+        """Take the simulator's damage (``sim/damage``)."""
+        try:
+            damage = damage_from_lists(list(legs), list(kinds), list(strengths))
+        except ValueError as exc:
+            return f'simulator damage report refused: {exc}'
+        self.sim = damage
+        return f'the simulator reports: {damage.label}'
+
+    def from_servo(self, servo: int, urdf_leg: int) -> str:
+        """Take a servo-failure report (the bridge's ``servo_failures``)."""
+        if not 1 <= urdf_leg <= N_LEGS:
+            return (
+                f'servo {servo} reported dead names no leg (leg {urdf_leg}): not used for the '
+                'prior'
+            )
+        if servo in self.servo_legs.get(urdf_leg, set()):
+            return f'servo {servo} (leg {urdf_leg}) reported dead again: already known'
+        legs = set(self.servo_legs) | {urdf_leg}
+        if len(legs) > MAX_FAILED_LEGS:
+            self.refused = (
+                f'servo reports name {len(legs)} failed legs ({sorted(legs)}); a damage prior '
+                f'covers at most {MAX_FAILED_LEGS}, so runs start from the map as it is'
+            )
+            self.servo_legs.setdefault(urdf_leg, set()).add(servo)
+            return self.refused
+        self.servo_legs.setdefault(urdf_leg, set()).add(servo)
+        return f'servo {servo} reported dead: leg {urdf_leg} failed'
+
+    def servo_damage(self) -> Damage | None:
+        """Return the damage the servo reports describe (failed legs as lifted), or None."""
+        if not self.servo_legs or self.refused:
+            return None
+        return Damage.lifted(self.servo_legs)
+
+    def for_run(self, requested: Sequence[int], blind: bool) -> tuple[Damage | None, str]:
+        """
+        Return the damage a run's prior should use, and a sentence saying where it comes from.
+
+        A request's legs win (the operator's word), then the simulator's report, then the servo
+        reports. ValueError if the request's legs make no damage.
+        """
+        if blind:
+            return None, 'the map as it is (blind prior requested)'
+        if requested:
+            damage = Damage.lifted(requested)  # ValueError names the problem
+            note = ''
+            if self.sim is not None and self.sim.failed_legs != damage.failed_legs:
+                note = f'; note: the simulator reports {self.sim.label}'
+            return damage, f'the request: {damage.label}{note}'
+        if self.sim is not None:
+            if not self.sim.legs:
+                return None, 'the map as it is (the simulator reports no damage)'
+            return self.sim, f'the simulator: {self.sim.label}'
+        servo = self.servo_damage()
+        if servo is not None:
+            return servo, f'servo reports: {servo.label}'
+        if self.refused:
+            return None, f'the map as it is ({self.refused})'
+        return None, 'the map as it is (no damage known)'

@@ -1,0 +1,115 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""The damage-informed prior: what the node is told of the damage, and the re-scored map."""
+
+from __future__ import annotations
+
+from hexapod_adapt.adaptation import adapt
+from hexapod_adapt.archive import Archive, load_archive
+from hexapod_adapt.ceiling import compute_ceiling
+from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
+from hexapod_adapt.mboa import MboaConfig
+from hexapod_adapt.prior import damage_prior, KnownDamage
+from hexapod_adapt.tuning import lookup_trial
+from hexapod_sim.damage import Damage
+import numpy as np
+import pytest
+
+
+def test_servo_reports_make_a_damage_and_nonsense_is_refused_saying_why():
+    known = KnownDamage()
+    assert known.for_run([], False) == (None, 'the map as it is (no damage known)')
+    assert 'names no leg' in known.from_servo(40, 0)
+    assert 'names no leg' in known.from_servo(40, 7)
+    assert known.servo_damage() is None  # nothing taken
+    assert known.from_servo(3, 1) == 'servo 3 reported dead: leg 1 failed'
+    assert 'already known' in known.from_servo(3, 1)
+    assert known.from_servo(4, 1) == 'servo 4 reported dead: leg 1 failed'  # same leg, other joint
+    assert known.from_servo(12, 4) == 'servo 12 reported dead: leg 4 failed'
+    damage, source = known.for_run([], False)
+    assert damage == Damage.lifted([1, 4]) and source == 'servo reports: legs 1+4 lifted'
+    refusal = known.from_servo(8, 3)
+    assert 'name 3 failed legs ([1, 3, 4])' in refusal and 'at most 2' in refusal
+    damage, source = known.for_run([], False)
+    assert damage is None and 'name 3 failed legs' in source
+    # the operator's word still works, and blind means blind
+    assert known.for_run([2], False)[0] == Damage.lifted([2])
+    assert known.for_run([2], True) == (None, 'the map as it is (blind prior requested)')
+    with pytest.raises(ValueError, match='at most 2 legs'):
+        known.for_run([1, 2, 3], False)
+    with pytest.raises(ValueError, match='leg 9 does not exist'):
+        known.for_run([9], False)
+
+
+def test_the_simulators_damage_is_taken_and_a_request_that_differs_is_said():
+    known = KnownDamage()
+    assert known.from_sim([2, 5], ['locked', 'weak'], [1.0, 0.5]).endswith(
+        'leg 2 locked, leg 5 weak 0.50'
+    )
+    damage, source = known.for_run([], False)
+    assert damage.kind_of(5) == 'weak' and source.startswith('the simulator: ')
+    damage, source = known.for_run([1], False)
+    assert damage == Damage.lifted([1]) and 'note: the simulator reports leg 2 locked' in source
+    assert 'refused' in known.from_sim([1, 2, 3], [], [])
+    assert known.sim.failed_legs == (2, 5)  # the refused report changed nothing
+    known.from_sim([], [], [])
+    assert known.for_run([], False) == (None, 'the map as it is (the simulator reports no damage)')
+
+
+@pytest.fixture(scope='module')
+def tiny_map() -> Archive:
+    """30 gaits of the default map (MuJoCo), the fastest first."""
+    full = load_archive(shipped_map(DEFAULT_MAP))
+    elites = full.elite_indices()
+    keep = elites[np.argsort(-full.fitness[elites])[:30]]
+    tiny = Archive(
+        full.centroids,
+        np.full(len(full.centroids), np.nan),
+        full.descriptors.copy(),
+        full.genotypes.copy(),
+        dict(full.metadata),
+    )
+    tiny.fitness[keep] = full.fitness[keep]
+    return tiny
+
+
+def test_m_boa_starts_from_the_re_scored_map(tiny_map, tmp_path):
+    damage = Damage.lifted([4, 5])
+    seen = []
+    prior = damage_prior(
+        tiny_map, damage, 'mujoco', tmp_path, progress=lambda d, t: seen.append((d, t))
+    )
+    truth = compute_ceiling(tiny_map, damage, 'mujoco')
+    np.testing.assert_array_equal(prior.speeds, truth.speeds)
+    assert seen[-1] == (30, 30)
+    assert 'under legs 4+5 lifted' in prior.describe()
+    again = damage_prior(tiny_map, damage, 'mujoco', tmp_path)
+    assert 'cached' in again.describe()
+    config = MboaConfig(max_trials=5, alpha=1.0)
+    informed = adapt(tiny_map, lookup_trial(truth), config, prior=prior.speeds)
+    blind = adapt(tiny_map, lookup_trial(truth), config)
+    assert informed.niches[0] == truth.best_niche  # same engine: the first trial is the best
+    assert informed.best_speed == truth.best_speed
+    assert blind.niches[0] == int(
+        tiny_map.elite_indices()[np.argmax(tiny_map.speeds()[tiny_map.elite_indices()])]
+    )
+    with pytest.raises(ValueError, match='one speed per gait'):
+        adapt(tiny_map, lookup_trial(truth), config, prior=prior.speeds[:3])
