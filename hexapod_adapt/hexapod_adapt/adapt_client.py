@@ -40,6 +40,7 @@ from hexapod_adapt.mboa import (
     LENGTH_SCALE_RANGE,
     MAX_TRIALS_LIMIT,
     NOISE_RANGE,
+    PROFILES,
 )
 from hexapod_adapt.run_config import TRIAL_DURATION_RANGE
 from hexapod_description.cli import interval, number, run_command
@@ -109,6 +110,23 @@ def build_parser() -> argparse.ArgumentParser:
         default=0.0,
         help='GP noise variance [(m/s)^2] (0 = default)',
     )
+    ap.add_argument(
+        '--profile',
+        choices=sorted(PROFILES),
+        default='',
+        help="M-BOA settings (default: the node's profile parameter)",
+    )
+    ap.add_argument(
+        '--failed-legs',
+        type=number(int, 1, 6),
+        nargs='+',
+        default=[],
+        help='legs known to have failed: the map is re-scored under them first (default: what'
+        ' the node knows from the simulator or the servo reports)',
+    )
+    ap.add_argument(
+        '--blind', action='store_true', help='ignore known damage: start from the map as it is'
+    )
     ap.add_argument('--service', default='adapt', help='name of the adapt service')
     ap.add_argument(
         '--timeout',
@@ -161,6 +179,9 @@ def _call(args: argparse.Namespace, ros_args: list[str]) -> int:
             kappa=args.kappa,
             length_scale=args.length_scale,
             noise=args.noise,
+            profile=args.profile,
+            failed_legs=args.failed_legs,
+            blind=args.blind,
         )
         future = client.call_async(request)
         while not future.done() and time.monotonic() < deadline:
@@ -177,6 +198,8 @@ def _call(args: argparse.Namespace, ros_args: list[str]) -> int:
                 f'best gait {r.best_archive_index}: {r.best_speed:.3f} m/s after {r.trials} trials'
                 f' ({r.elapsed:.1f} s)'
             )
+        if r.prior:
+            print(f'prior: {r.prior}')
         if r.mcap_path:
             print(f'recording: {r.mcap_path}')
         return 0 if r.success else 3

@@ -39,6 +39,7 @@ from hexapod_adapt.mboa import Mboa, MboaConfig, MIN_SPEED_RANGE, StopReason, Tr
 from hexapod_adapt.simulation import archive_engine
 from hexapod_gait import preset
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig, Simulator
+from hexapod_sim.damage import Damage
 from hexapod_sim.scenarios import scenario as orientations_of
 import numpy as np
 
@@ -146,23 +147,33 @@ def adapt(
 
 
 def simulated_trial(
-    archive: Archive, failed_legs: Sequence[int], sim: Simulator, duration: float | None = None
+    archive: Archive,
+    failed_legs: Sequence[int] | Damage,
+    sim: Simulator,
+    duration: float | None = None,
+    settle: float = 0.0,
 ) -> Callable[[int], float]:
     """
-    Trial function on ``sim`` (either engine) with ``failed_legs``.
+    Trial function on ``sim`` (either engine) with ``failed_legs`` (leg numbers, or a Damage).
 
-    Collisions are not fatal (thesis 5.2.2: the robot cannot detect them).
+    Collisions are not fatal (thesis 5.2.2: the robot cannot detect them). The gait starts from
+    standing; with ``settle`` > 0 it walks that long untimed and the speed is timed over the
+    ``duration`` after, as a robot trial is. The simulation is deterministic, so that stretch is
+    the difference of two evaluations from the same start: to ``settle + duration`` and to
+    ``settle``.
     """
     duration = duration or archive.trial_duration
 
-    def trial(niche: int) -> float:
+    def distance(genes: np.ndarray, seconds: float) -> float:
         return evaluate_gait(
-            archive.genotypes[niche],
-            sim,
-            duration=duration,
-            collisions_fatal=False,
-            failed_legs=failed_legs,
-        ).speed
+            genes, sim, duration=seconds, collisions_fatal=False, failed_legs=failed_legs
+        ).fitness
+
+    def trial(niche: int) -> float:
+        genes = archive.genotypes[niche]
+        if settle <= 0:
+            return distance(genes, duration) / duration
+        return (distance(genes, settle + duration) - distance(genes, settle)) / duration
 
     return trial
 
@@ -206,6 +217,8 @@ def run_experiment(
     floor: bool = False,
     priors: Callable[[Sequence[int]], np.ndarray] | None = None,
     setup: str = 'thesis',
+    trial_duration: float | None = None,
+    settle: float = 0.0,
 ) -> list[ExperimentRow]:
     """
     Thesis experiment 5.2 on one map.
@@ -218,7 +231,9 @@ def run_experiment(
     under its damage and the adapted/ceiling ratio. ``floor``: the damaged control tripod,
     measured first, is the run's success floor. ``priors(failed_legs)``: M-BOA starts from these
     speeds (the map re-scored under the damage, :mod:`hexapod_adapt.prior`). ``setup`` names the
-    configuration in the rows.
+    configuration in the rows. ``trial_duration`` (default: the map's) and ``settle``: trials
+    time that long after walking ``settle`` s untimed (:func:`simulated_trial`); the walking
+    time counts both.
     """
     config = config or MboaConfig(max_trials=EXPERIMENT_MAX_TRIALS)
     map_engine = archive_engine(archive.metadata) or 'pybullet'
@@ -235,7 +250,7 @@ def run_experiment(
                 ).speed
                 result = adapt(
                     archive,
-                    simulated_trial(archive, legs, sim),
+                    simulated_trial(archive, legs, sim, trial_duration, settle),
                     config,
                     floor=(lambda: control) if floor else None,
                     prior=priors(legs) if priors is not None else None,
@@ -252,7 +267,8 @@ def run_experiment(
                     result.elapsed,
                     map_engine,
                     trial_engine,
-                    walking_time=len(result.trials) * archive.trial_duration,
+                    walking_time=len(result.trials)
+                    * ((trial_duration or archive.trial_duration) + settle),
                     setup=setup,
                 )
                 if ceilings is not None:

@@ -180,6 +180,19 @@ def main(argv: list[str] | None = None) -> int:
         ' off for the thesis profile)',
     )
     ap.add_argument(
+        '--trial-duration',
+        type=number(float, 0.1, 120.0),
+        default=None,
+        help="timed seconds per trial (default: the map's, 5 s)",
+    )
+    ap.add_argument(
+        '--settle',
+        type=number(float, 0.0, 60.0),
+        default=0.0,
+        help='untimed walking before each trial is timed [s] (0: timed from standing, as in the'
+        ' thesis)',
+    )
+    ap.add_argument(
         '--prior',
         choices=('map', 'damage'),
         default='map',
@@ -260,6 +273,8 @@ def _experiment(args: argparse.Namespace) -> int:
                 floor=floor,
                 priors=priors if args.prior == 'damage' else None,
                 setup=setup,
+                trial_duration=args.trial_duration,
+                settle=args.settle,
             )
     except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the completed runs are kept
         if rows:

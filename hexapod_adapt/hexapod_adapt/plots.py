@@ -403,3 +403,35 @@ def plot_repertoire_progress(
     _evaluation_axes(axes)
     fig.suptitle(title or 'navigation repertoire generation progress')
     return _save(fig, out)
+
+
+def plot_trial_length(runs: Sequence[Any], out: str | Path) -> Path:
+    """
+    Adapted/ceiling ratio and walking time against the trial length (thesis 7.0.1).
+
+    ``runs``: :class:`hexapod_adapt.trial_length.LengthRun` rows, one line per engine.
+    """
+    fig, (left, right) = plt.subplots(1, 2, figsize=(9, 3.6))
+    for engine in dict.fromkeys(r.engine for r in runs):
+        sel = [r for r in runs if r.engine == engine]
+        lengths = sorted({r.trial_length for r in sel})
+        ratio = [[r.ratio for r in sel if r.trial_length == t] for t in lengths]
+        walking = [[r.walking_time for r in sel if r.trial_length == t] for t in lengths]
+        for axes, values in ((left, ratio), (right, walking)):
+            med = [float(np.median(v)) for v in values]
+            low = [float(np.percentile(v, 25)) for v in values]
+            high = [float(np.percentile(v, 75)) for v in values]
+            axes.plot(lengths, med, marker='o', label=f'{engine} (median)')
+            axes.fill_between(lengths, low, high, alpha=0.2)
+    left.set_xlabel('trial length [s] (after 1 s of untimed settling)')
+    left.set_ylabel('adapted / ceiling speed')
+    left.legend(fontsize=8)
+    right.set_xlabel('trial length [s]')
+    right.set_ylabel('walking time to adapt [s]')
+    right.axhline(30.0, color='red', linestyle='--', linewidth=1, label='30 s')
+    right.legend(fontsize=8)
+    for axes in (left, right):
+        axes.grid(alpha=0.3)
+    fig.suptitle('Trial length: what M-BOA finds, and the walking it costs (25-75 % band)')
+    fig.tight_layout()
+    return _save(fig, out)
