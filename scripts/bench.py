@@ -331,7 +331,8 @@ def bench_adapt() -> None:
     (suffix _thesis; the thesis rule, no floor). Per run: the best speed found, the trials, the
     control tripod with the same damage, and the ratio to the map's ceiling under the damage
     (cached ceilings only: across engines, PyBullet over the 1000 gaits that walk best under the
-    damage on MuJoCo). Runs end by M-BOA's stopping rule, capped at EXPERIMENT_MAX_TRIALS (100).
+    damage on MuJoCo). Runs end by M-BOA's stopping rule, capped at the budget users get (24
+    trials), and for the thesis profile at EXPERIMENT_MAX_TRIALS (100) so that its rule ends them.
     """
     import os
     from pathlib import Path
@@ -346,7 +347,7 @@ def bench_adapt() -> None:
         ceiling_key,
     )
     from hexapod_adapt.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
-    from hexapod_adapt.mboa import Mboa, MboaConfig, PROFILES
+    from hexapod_adapt.mboa import Mboa, MboaConfig, PROFILES, TRIAL_BUDGET
     from hexapod_adapt.simulation import archive_engine
     from hexapod_sim import ENGINES
     from hexapod_sim.scenarios import scenario
@@ -400,7 +401,7 @@ def bench_adapt() -> None:
             config = PROFILES[name]
             rows = run_experiment(
                 archive,
-                config=replace(config, max_trials=100),
+                config=replace(config, max_trials=100 if name == 'thesis' else TRIAL_BUDGET),
                 trial_engine=engine,
                 ceilings=ceilings if have else None,
                 floor=floor,

@@ -53,6 +53,7 @@ from hexapod_adapt.mboa import (
     MAX_TRIALS_LIMIT,
     NOISE_RANGE,
     PROFILES,
+    TRIAL_BUDGET,
 )
 from hexapod_adapt.plots import plot_experiment
 from hexapod_adapt.simulation import archive_engine
@@ -142,8 +143,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         '--max-trials',
         type=number(int, 1, MAX_TRIALS_LIMIT),
-        default=EXPERIMENT_MAX_TRIALS,
-        help='trials per run at most (a cap; the stopping rule ends the runs)',
+        default=None,
+        help=f'trials per run at most (default: {TRIAL_BUDGET}, the budget users get; with'
+        f' --profile thesis {EXPERIMENT_MAX_TRIALS}, a cap, so that the thesis rule ends the'
+        ' runs)',
     )
     ap.add_argument(
         '--profile',
@@ -228,7 +231,10 @@ def _experiment(args: argparse.Namespace) -> int:
             for name in ('alpha', 'kappa', 'length_scale', 'noise')
             if getattr(args, name) is not None
         }
-        config = replace(PROFILES[args.profile], max_trials=args.max_trials, **chosen)
+        budget = args.max_trials or (
+            EXPERIMENT_MAX_TRIALS if args.profile == 'thesis' else TRIAL_BUDGET
+        )
+        config = replace(PROFILES[args.profile], max_trials=budget, **chosen)
         if args.prior == 'damage' and args.ceilings is None:
             raise ValueError('--prior damage needs --ceilings (where the re-scored maps are)')
     except (ArchiveError, ValueError) as exc:

@@ -43,6 +43,7 @@ from hexapod_adapt.mboa import (
     MIN_SPEED_RANGE,
     NOISE_RANGE,
     profile,
+    TRIAL_BUDGET,
 )
 from hexapod_adapt.simulation import archive_engine, simulation_fingerprint
 
@@ -86,7 +87,10 @@ SETTINGS = (
     ),
     Setting('mode', 'sim', 'Trials on: sim | robot | manual', read_only=True),
     Setting(
-        'max_trials', _MBOA.max_trials, 'Default maximum trials per run', (1, MAX_TRIALS_LIMIT)
+        'max_trials',
+        TRIAL_BUDGET,
+        'Default maximum trials per run (24: 2 minutes of 5 s trials)',
+        (1, MAX_TRIALS_LIMIT),
     ),
     Setting('trial_duration', 5.0, 'Default trial duration [s]', TRIAL_DURATION_RANGE),
     Setting(

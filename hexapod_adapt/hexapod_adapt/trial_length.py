@@ -39,10 +39,10 @@ from dataclasses import dataclass, replace
 import sys
 from typing import Callable, Sequence
 
-from hexapod_adapt.adaptation import adapt, EXPERIMENT_MAX_TRIALS, simulated_trial
+from hexapod_adapt.adaptation import adapt, simulated_trial
 from hexapod_adapt.archive import Archive, atomic_write_bytes, load_archive
 from hexapod_adapt.ceiling import approximate_ceiling, Ceiling, ceiling
-from hexapod_adapt.mboa import MboaConfig, PROFILES
+from hexapod_adapt.mboa import MboaConfig, PROFILES, TRIAL_BUDGET
 from hexapod_adapt.simulation import archive_engine
 from hexapod_description.cli import input_file, output_dir, output_file, run_command
 from hexapod_sim import create_simulator, ENGINES, evaluate_gait, SimConfig
@@ -143,7 +143,7 @@ def main(argv: list[str] | None = None) -> int:
         archive = load_archive(args.archive)
         map_engine = archive_engine(archive.metadata) or 'mujoco'
         damages = TUNING_DAMAGES[:: max(1, args.every)]
-        config = replace(PROFILES[args.profile], max_trials=EXPERIMENT_MAX_TRIALS)
+        config = replace(PROFILES[args.profile], max_trials=TRIAL_BUDGET)
         runs = []
         for engine in args.engine or [map_engine]:
             # the ratio is against the trial engine's own ceiling (cached, or computed)
