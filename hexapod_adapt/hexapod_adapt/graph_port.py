@@ -44,6 +44,7 @@ from hexapod_gait.ros_glue import EVENTS, LATCHED, ODOM, SENSOR, TF_QOS
 from hexapod_msgs.msg import AdaptationTrial, FootContacts, TrajectoryActivation
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.srv import UploadGait
+from hexapod_sim.simulator import upside_down
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterType
 from rcl_interfaces.srv import GetParameters
@@ -140,9 +141,17 @@ class GraphPort:
 
     # -- inputs -----------------------------------------------------------------------------
     def _on_odom(self, msg: Odometry) -> None:
-        p, t = msg.pose.pose.position, msg.twist.twist.linear
+        p, t, q = msg.pose.pose.position, msg.twist.twist.linear, msg.pose.pose.orientation
         self.odom.append(
-            OdomSample(stamp_ns(msg.header.stamp), p.x, p.y, t.x, t.y, time.monotonic())
+            OdomSample(
+                stamp_ns(msg.header.stamp),
+                p.x,
+                p.y,
+                t.x,
+                t.y,
+                time.monotonic(),
+                upside_down((q.x, q.y, q.z, q.w)),
+            )
         )
         self.recording.record('odom', msg)
 

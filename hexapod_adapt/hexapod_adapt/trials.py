@@ -61,6 +61,7 @@ class OdomSample:
     vx: float  # twist (the bridge's trial-mean velocity) [m/s]
     vy: float
     received: float  # time.monotonic() when it arrived
+    upside_down: bool = False  # the body's up axis below the horizontal (a fall)
 
 
 class SampleLog(Generic[T]):
@@ -145,13 +146,16 @@ def sim_trial_speed(
     """
     Speed [m/s] from the odometry stamped at the reset and at reset + ``duration``.
 
-    None if either sample was lost in transport (the trial must be repeated).
+    None if either sample was lost in transport (the trial must be repeated). A robot that ends
+    the trial upside down fell over: 0, as the library's evaluation scores a fall.
     """
     end = t0_ns + int(round(duration * 1e9))
     start = [s for s in samples if s.stamp_ns == t0_ns]
     finish = [s for s in samples if abs(s.stamp_ns - end) < 1000]
     if not (start and finish):
         return None
+    if finish[-1].upside_down:
+        return 0.0
     return along(finish[-1].x - start[-1].x, finish[-1].y - start[-1].y, crab) / duration
 
 

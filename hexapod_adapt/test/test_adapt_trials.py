@@ -224,3 +224,33 @@ def test_the_waiter_stops_for_a_check_and_on_shutdown():
     with pytest.raises(TrialAborted, match='shutting down'):
         waiter.until(lambda: False, 60.0, 'nothing')
     assert _waiter(clock).until(lambda: 42, 1.0, 'an answer') == 42
+
+
+def test_a_gait_that_ends_upside_down_is_a_fall_not_a_walk():
+    """PyBullet slides this default-map gait 5 m on its back with leg 1 lifted: a fall."""
+    from hexapod_adapt.archive import load_archive
+    from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
+    from hexapod_sim.evaluation import FELL_OVER
+    from hexapod_sim.simulator import upside_down
+
+    genes = load_archive(shipped_map(DEFAULT_MAP)).genotypes[6312]
+    from hexapod_sim import create_simulator, evaluate_gait, SimConfig
+
+    with create_simulator(SimConfig(engine='pybullet')) as s:
+        result = evaluate_gait(genes, s, collisions_fatal=False, failed_legs=[1])
+        assert upside_down(s.base_pose()[1])  # it did end on its back
+        assert result.fitness == 0.0 and result.reason == FELL_OVER and not result.valid
+        upright = evaluate_gait(genes, s, collisions_fatal=False, failed_legs=[])
+        assert upright.valid and upright.fitness != 0.0
+    assert not upside_down((0.0, 0.0, 0.0, 1.0)) and upside_down((1.0, 0.0, 0.0, 0.0))
+    assert not upside_down((0.38, 0.0, 0.0, 0.92))  # rolled 45 degrees: still up
+
+
+def test_a_graph_trial_that_ends_upside_down_measures_0():
+    from hexapod_adapt.trials import OdomSample, sim_trial_speed
+
+    start = OdomSample(0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    walked = OdomSample(5_000_000_000, 1.5, 0.0, 0.0, 0.0, 0.0)
+    fell = OdomSample(5_000_000_000, 1.5, 0.0, 0.0, 0.0, 0.0, upside_down=True)
+    assert sim_trial_speed([start, walked], 0, 5.0, 0.0) == pytest.approx(0.3)
+    assert sim_trial_speed([start, fell], 0, 5.0, 0.0) == 0.0

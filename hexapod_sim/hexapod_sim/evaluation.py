@@ -27,8 +27,10 @@ genotype or gait -> (fitness, descriptor):
   descriptor = per-leg fraction of time steps with the foot on the ground (eq. 4.2).
 With ``collisions_fatal`` (map generation) a self-collision or a non-foot link touching the
 ground ends the evaluation with the failure value; without it (adaptation, 5.2.2) they are
-only counted. An unreachable gait also gets the failure value. The failure value is the
-thesis's: fitness 0, descriptor all zeros, with ``valid`` False and a reason.
+only counted. An unreachable gait also gets the failure value, and so does one that ends with
+the body upside down (a fall: the robot's IMU sees it; PyBullet can slide a robot on its back
+metres in a trial). The failure value is the thesis's: fitness 0, descriptor all zeros, with
+``valid`` False and a reason.
 
 Works on any engine through :class:`~hexapod_sim.simulator.Simulator`; :func:`evaluate_gaits`
 hands a whole batch to the engine at once (MuJoCo runs it natively in C).
@@ -43,11 +45,13 @@ from typing import Callable, Sequence
 from hexapod_description import N_LEGS
 from hexapod_gait import build_joint_table, from_genotype, GaitParameters, ReachabilityError
 from hexapod_sim.damage import Damage
-from hexapod_sim.simulator import JointRows, PlayResult, quat_to_euler, Simulator
+from hexapod_sim.simulator import JointRows, PlayResult, quat_to_euler, Simulator, upside_down
 import numpy as np
 
 TRIAL_DURATION = 5.0  # s (thesis 4.1.1)
 FAILURE_FITNESS = 0.0
+#: The reason of a gait that ends with the body upside down: a fall, whatever it travelled.
+FELL_OVER = 'fell over: the body ended upside down'
 
 GaitLike = GaitParameters | Sequence[float] | np.ndarray
 
@@ -154,6 +158,9 @@ def evaluate_gaits(
             results.append(failure(p.reason, duration))
             continue
         g, r = p.gait, p.play
+        if r.final_orientation is not None and upside_down(r.final_orientation):
+            results.append(failure(FELL_OVER, duration))
+            continue
         direction = (math.cos(g.crab_angle), math.sin(g.crab_angle))
         fitness = float(r.final_position[0] * direction[0] + r.final_position[1] * direction[1])
         results.append(

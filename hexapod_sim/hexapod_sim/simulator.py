@@ -195,6 +195,17 @@ def quat_to_matrix(quat: Sequence[float]) -> np.ndarray:
     )
 
 
+def upside_down(quat: Sequence[float]) -> bool:
+    """
+    Whether a base orientation (x, y, z, w) has the body's up axis below the horizontal.
+
+    A robot that ends a trial like this fell over (its IMU sees it): the trial is a fall, not a
+    walk, whatever distance the engine moved it (PyBullet can slide a robot on its back metres).
+    """
+    x, y, _, _ = (float(v) for v in quat)
+    return 1.0 - 2.0 * (x * x + y * y) < 0.0  # z of the body's z axis in the world frame
+
+
 def quat_to_euler(quat: Sequence[float]) -> tuple[float, float, float]:
     """
     (roll, pitch, yaw) [rad] of a quaternion (x, y, z, w).
