@@ -323,7 +323,9 @@ def bench_adapt() -> None:
     Adaptation benchmarks.
 
     adapt_mboa_step_ms: one M-BOA step (observe a trial + pick the next gait) on a 40 000-gait
-    map after 19 trials (median of 20 runs' last steps). Then thesis experiment 5.2 on the
+    map after 19 trials (median of 20 runs' last steps). adapt_prior_rescore_s: the default map
+    re-scored under a damage no cache holds (leg 3 locked), 2 processes. Then thesis experiment
+    5.2 on the
     default map (``BENCH_ADAPT_MAP`` overrides it): every orientation of S1-S4, with trials on
     the map's engine and again across engines (suffix _cross), in three setups: the default
     profile (no suffix; the damaged control tripod is each run's success floor), the default
@@ -371,6 +373,16 @@ def bench_adapt() -> None:
     map_engine = archive_engine(archive.metadata) or 'pybullet'
     other = next(e for e in ENGINES if e != map_engine)
     cached = shipped_ceilings()
+    # the damage-informed prior: the whole map re-scored under a damage no cache holds, as
+    # adapt_node does before a run (2 processes, the project machine's cores)
+    import tempfile
+
+    from hexapod_adapt.prior import damage_prior
+    from hexapod_sim.damage import Damage
+
+    with tempfile.TemporaryDirectory() as scratch:
+        prior = damage_prior(archive, Damage.of('locked', [3]), map_engine, scratch, workers=2)
+    print(f'BENCH adapt_prior_rescore_s {prior.seconds:.1f} s')
     legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
 
     def ceilings(legs, engine):

@@ -20,6 +20,8 @@
 # SOFTWARE.
 """M-BOA: GP posterior, UCB with the standard deviation, stopping, tested gaits, noise."""
 
+from dataclasses import replace
+
 from hexapod_adapt.mboa import matern52, Mboa, MboaConfig
 import numpy as np
 import pytest
@@ -182,3 +184,27 @@ def test_stop_gain_goes_on_while_a_trial_is_worth_walking():
     going.observe(going.next_index(), 0.2)
     assert going.stop_reason().value == 'alpha_reached'
     assert going.max_expected_gain() < 0.01
+
+
+def test_the_thesis_profile_is_thesis_5_2_2_and_settings_override_a_profile():
+    from hexapod_adapt.mboa import profile, PROFILES
+    from hexapod_adapt.run_config import run_settings
+
+    thesis = PROFILES['thesis']
+    assert (thesis.alpha, thesis.kappa, thesis.length_scale, thesis.noise) == (
+        0.9,
+        0.05,
+        0.4,
+        0.001,
+    )
+    assert thesis.signal_variance == 1.0 and thesis.stop_gain == 0.0
+    base = {'max_trials': 24, 'trial_duration': 5.0, 'alpha': 0.0, 'kappa': 0.0}
+    base.update({'length_scale': 0.0, 'noise': 0.0})
+    config, duration = run_settings({**base, 'profile': 'thesis'})
+    assert config == replace(thesis, max_trials=24) and duration == 5.0
+    config, _ = run_settings({**base, 'profile': '', 'alpha': 0.5})  # '' = the default profile
+    assert config == replace(PROFILES['default'], max_trials=24, alpha=0.5)
+    with pytest.raises(ValueError, match="unknown M-BOA profile 'fast'"):
+        profile('fast')
+    with pytest.raises(ValueError, match='alpha'):
+        run_settings({**base, 'profile': 'thesis', 'alpha': 1.5})
