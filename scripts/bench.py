@@ -332,8 +332,8 @@ def bench_adapt() -> None:
     profile starting from the damage-informed prior (suffix _prior), and the thesis profile
     (suffix _thesis; the thesis rule, no floor). Per run: the best speed found, the trials, the
     control tripod with the same damage, and the ratio to the map's ceiling under the damage
-    (cached ceilings only: across engines, PyBullet over the 1000 gaits that walk best under the
-    damage on MuJoCo). Runs end by M-BOA's stopping rule, capped at the budget users get (24
+    (cached ceilings only; across engines, approximate PyBullet ceilings if cached -- none are
+    shipped: docs/adaptation.md, "Regret against the ceiling", says why). Runs end by M-BOA's stopping rule, capped at the budget users get (24
     trials), and for the thesis profile at EXPERIMENT_MAX_TRIALS (100) so that its rule ends them.
     """
     import os

@@ -32,6 +32,7 @@ from hexapod_msgs.msg import (
     AdaptationTrial,
     FootContacts,
     GaitParameters,
+    LegDamage,
     LinkStatus,
     ServoFailure,
     TrajectoryActivation,
@@ -47,6 +48,7 @@ MESSAGES = [
     LinkStatus,
     ServoFailure,
     TrajectoryActivation,
+    LegDamage,
 ]
 SERVICES = [Adapt, SetLegFailure, ReportDistance, UploadGait]
 QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)

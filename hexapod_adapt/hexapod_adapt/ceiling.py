@@ -53,6 +53,7 @@ from hexapod_adapt.simulation import simulation_fingerprint, worker_simulator
 from hexapod_description.cli import input_file, number, output_dir, run_command
 from hexapod_sim import ENGINES, evaluate_gaits
 from hexapod_sim.damage import as_damage, Damage, LegDamage, parse_damage
+from hexapod_sim.evaluation import EVALUATION_VERSION
 from hexapod_sim.scenarios import scenario, SCENARIO_NAMES
 import numpy as np
 
@@ -117,6 +118,7 @@ def ceiling_key(archive: Archive, damage: Damage | Sequence[int], engine: str) -
         'trial_duration': archive.trial_duration,
         'failed_legs': list(damage.failed_legs),
         'collisions_fatal': False,
+        'evaluation_version': EVALUATION_VERSION,  # a cache made under other rules is not reused
     }
     if not damage.thesis:
         key['damage'] = [[d.leg, d.kind, d.strength] for d in damage.legs]

@@ -227,7 +227,7 @@ def test_the_waiter_stops_for_a_check_and_on_shutdown():
 
 
 def test_a_gait_that_ends_upside_down_is_a_fall_not_a_walk():
-    """PyBullet slides this default-map gait 5 m on its back with leg 1 lifted: a fall."""
+    """On PyBullet this default-map gait slides 5 m on its back with leg 1 lifted: a fall."""
     from hexapod_adapt.archive import load_archive
     from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
     from hexapod_sim.evaluation import FELL_OVER

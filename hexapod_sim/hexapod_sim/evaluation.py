@@ -50,6 +50,9 @@ import numpy as np
 
 TRIAL_DURATION = 5.0  # s (thesis 4.1.1)
 FAILURE_FITNESS = 0.0
+#: Version of the scoring rules: results cached under another version are not this code's
+#: (2: a gait that ends upside down scores FAILURE_FITNESS).
+EVALUATION_VERSION = 2
 #: The reason of a gait that ends with the body upside down: a fall, whatever it travelled.
 FELL_OVER = 'fell over: the body ended upside down'
 
