@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Issue 19's tuning protocol, the exact commands, resumable (ceilings are cached as they finish).
 # 1. the tuning map (tuning/make_tuning_map.sh: seed 2, 2 000 niches, 200 000 MuJoCo evaluations);
-# 2. its ceilings under the tuning damage (3 kinds x 21 leg sets, none of them S1-S4's lifted legs);
+# 2. its ceilings under the tuning damage (3 kinds x 21 leg sets, none of them S1-S4's lifted legs;
+#    the 21 the trial-length study uses are in tuning/ceilings, scoring rules version 2);
 # 3. why the thesis profile stops early (tuning/analyse_stops.py);
 # 4. every candidate setting scored on the tuning set (tuning/grid.csv);
 # 5. the trial-length study on the tuning set with the chosen profile (tuning/trial_length.csv).
@@ -17,4 +18,5 @@ python tuning/analyse_stops.py --archive "$MAP" --cache-dir tuning/ceilings --pr
 python -m hexapod_adapt.tuning --archive "$MAP" --cache-dir tuning/ceilings --out tuning/grid.csv \
   | tee tuning/grid_top.txt
 nice -n 10 python -m hexapod_adapt.trial_length --archive "$MAP" --cache-dir tuning/ceilings \
-  --out tuning/trial_length.csv | tee tuning/trial_length.txt
+  --engine mujoco --every 3 --out tuning/trial_length.csv --plot docs/img/trial_length.png \
+  | tee tuning/trial_length.txt
