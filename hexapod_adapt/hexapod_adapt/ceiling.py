@@ -64,11 +64,15 @@ FORMAT = 'hexapod-ceiling/v1'
 class Ceiling:
     """Every elite of a map evaluated under one damage."""
 
-    failed_legs: tuple[int, ...]
+    damage: Damage
     engine: str
     niches: np.ndarray  # (n,) archive niche of each elite
     speeds: np.ndarray  # (n,) m/s along the walking direction, with the damage
-    damage: Damage = Damage()  # the damage in full (its legs are ``failed_legs``)
+
+    @property
+    def failed_legs(self) -> tuple[int, ...]:
+        """Return the damaged legs' numbers."""
+        return self.damage.failed_legs
 
     @property
     def best_index(self) -> int:
@@ -188,7 +192,7 @@ def compute_ceiling(
         with cf.ProcessPoolExecutor(workers) as pool:
             collect(pool.map(_evaluate, jobs))
     speeds = np.concatenate(parts) if parts else np.zeros(0)
-    return Ceiling(damage.failed_legs, engine, niches, speeds, damage)
+    return Ceiling(damage, engine, niches, speeds)
 
 
 def _read(path: Path, key: dict) -> Ceiling | None:
@@ -201,7 +205,7 @@ def _read(path: Path, key: dict) -> Ceiling | None:
         return None
     if stored != key or niches.shape != speeds.shape or not np.all(np.isfinite(speeds)):
         return None
-    return Ceiling(tuple(key['failed_legs']), key['engine'], niches, speeds, _damage_of(key))
+    return Ceiling(_damage_of(key), key['engine'], niches, speeds)
 
 
 def ceiling(

@@ -112,15 +112,14 @@ class KnownDamage:
             )
         if servo in self.servo_legs.get(urdf_leg, set()):
             return f'servo {servo} (leg {urdf_leg}) reported dead again: already known'
-        legs = set(self.servo_legs) | {urdf_leg}
-        if len(legs) > MAX_FAILED_LEGS:
-            self.refused = (
-                f'servo reports name {len(legs)} failed legs ({sorted(legs)}); a damage prior '
-                f'covers at most {MAX_FAILED_LEGS}, so runs start from the map as it is'
-            )
-            self.servo_legs.setdefault(urdf_leg, set()).add(servo)
-            return self.refused
         self.servo_legs.setdefault(urdf_leg, set()).add(servo)
+        if len(self.servo_legs) > MAX_FAILED_LEGS:
+            self.refused = (
+                f'servo reports name {len(self.servo_legs)} failed legs'
+                f' ({sorted(self.servo_legs)}); a damage prior covers at most {MAX_FAILED_LEGS},'
+                ' so runs start from the map as it is'
+            )
+            return self.refused
         return f'servo {servo} reported dead: leg {urdf_leg} failed'
 
     def servo_damage(self) -> Damage | None:
