@@ -71,7 +71,7 @@ def main(argv: list[str] | None = None) -> int:
     from hexapod_adapt.simulation import archive_engine
     from hexapod_description import load_model, summary
     from hexapod_gait import preset
-    from hexapod_gait.ros_glue import ros_args
+    from hexapod_gait.ros_glue import die_with_parent, ros_args
     from hexapod_sim import create_simulator, evaluate_gait, SimConfig
 
     out.mkdir(parents=True, exist_ok=True)
@@ -121,6 +121,7 @@ def main(argv: list[str] | None = None) -> int:
             env=env,
             stdout=logs[-1],
             stderr=subprocess.STDOUT,
+            preexec_fn=die_with_parent,
         )
 
     # one time base: every node but sim_node runs on sim_node's /clock

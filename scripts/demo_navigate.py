@@ -55,7 +55,7 @@ def main(argv: list[str] | None = None) -> int:
     out = parser.parse_args(argv).out
     out.mkdir(parents=True, exist_ok=True)
     from hexapod_adapt.recording import read_messages
-    from hexapod_gait.ros_glue import ros_args
+    from hexapod_gait.ros_glue import die_with_parent, ros_args
     from hexapod_msgs.action import Navigate
     import rclpy
     from rclpy.action import ActionClient
@@ -72,7 +72,11 @@ def main(argv: list[str] | None = None) -> int:
     def start(pkg: str, name: str, **params) -> subprocess.Popen:
         logs.append(open(out / f'{name}.log', 'w'))
         return subprocess.Popen(
-            [exe(pkg, name), *ros_args(params)], env=env, stdout=logs[-1], stderr=subprocess.STDOUT
+            [exe(pkg, name), *ros_args(params)],
+            env=env,
+            stdout=logs[-1],
+            stderr=subprocess.STDOUT,
+            preexec_fn=die_with_parent,
         )
 
     nodes = [

@@ -78,7 +78,7 @@ def map_engine(archive: str | None) -> str | None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from hexapod_gait.ros_glue import ros_args
+    from hexapod_gait.ros_glue import die_with_parent, ros_args
 
     parser = argparse.ArgumentParser(
         description='Start the hexapod node graph (no `ros2 launch` needed).'
@@ -223,6 +223,7 @@ def main(argv: list[str] | None = None) -> int:
     def default_signals() -> None:  # the nodes get Ctrl-C back whatever we inherited
         signal.signal(signal.SIGINT, signal.SIG_DFL)
         signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        die_with_parent()  # and stop if this launcher is killed outright
 
     procs = []
     for name, cmd in commands:

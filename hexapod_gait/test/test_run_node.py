@@ -29,6 +29,7 @@ import textwrap
 import time
 
 from hexapod_gait.ros_glue import SAME_CTRL_C_S
+import pytest
 
 NODE = textwrap.dedent(
     """
@@ -128,3 +129,37 @@ def test_a_later_ctrl_c_still_interrupts_a_node_that_does_not_stop():
     code, out, _ = ctrl_c_twice(clean_up_s=60.0, gap_s=SAME_CTRL_C_S + 0.5)
     assert code != 0
     assert 'cleaned up' not in out
+
+
+def _gone(pid: int) -> bool:
+    """True once ``pid`` has exited (absent, or a zombie nobody has reaped yet)."""
+    try:
+        with open(f'/proc/{pid}/stat') as f:
+            return f.read().rsplit(')', 1)[1].split()[0] in ('Z', 'X')
+    except FileNotFoundError:
+        return True
+
+
+@pytest.mark.skipif(not sys.platform.startswith('linux'), reason='PR_SET_PDEATHSIG is Linux')
+def test_a_node_started_by_a_killed_script_does_not_run_on_as_an_orphan():
+    """The demo and launch scripts start nodes with die_with_parent: a SIGKILL leaves none."""
+    script = textwrap.dedent(
+        """
+        import subprocess, sys, time
+        from hexapod_gait.ros_glue import die_with_parent
+        child = subprocess.Popen(
+            [sys.executable, '-c', 'import time; time.sleep(120)'], preexec_fn=die_with_parent
+        )
+        print(child.pid, flush=True)
+        time.sleep(120)
+        """
+    )
+    parent = subprocess.Popen([sys.executable, '-c', script], stdout=subprocess.PIPE, text=True)
+    child = int(parent.stdout.readline())
+    assert not _gone(child)
+    parent.kill()  # no clean-up code runs: only the kernel can stop the child
+    parent.wait()
+    deadline = time.monotonic() + 10.0
+    while not _gone(child) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert _gone(child)
