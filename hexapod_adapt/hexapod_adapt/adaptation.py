@@ -44,6 +44,7 @@ from hexapod_sim.scenarios import scenario as orientations_of
 import numpy as np
 
 if TYPE_CHECKING:  # the ceiling module imports this one's siblings only
+    from hexapod_adapt.bank import DamageBank
     from hexapod_adapt.ceiling import Ceiling
 
 
@@ -84,13 +85,15 @@ def adapt(
     should_cancel: Callable[[], bool] | None = None,
     floor: Callable[[], float] | None = None,
     prior: np.ndarray | None = None,
+    hypotheses: np.ndarray | None = None,
 ) -> AdaptationResult:
     """
     Run M-BOA until it stops (never more than ``config.max_trials`` trials).
 
     ``prior``, if given, replaces the map's speeds as M-BOA's prior mean: one speed per elite, in
     the order of ``archive.elite_indices()`` (e.g. the map re-scored under a known damage,
-    :mod:`hexapod_adapt.prior`).
+    :mod:`hexapod_adapt.prior`). ``hypotheses`` (h, elites), if given, are other prior means the
+    trials weigh against it (a damage bank's speeds, :mod:`hexapod_adapt.bank`).
 
     ``floor``, if given, measures a reference before the first trial, e.g. the damaged control
     tripod (:func:`tripod_floor`): success then also needs the best gait to walk at least that
@@ -108,7 +111,7 @@ def adapt(
         reference = float(floor())
         if math.isfinite(reference) and reference > config.min_speed:
             config = replace(config, min_speed=min(reference, MIN_SPEED_RANGE[1]))
-    opt = Mboa(descriptors, prior, config)
+    opt = Mboa(descriptors, prior, config, hypotheses=hypotheses)
     t0 = time.monotonic()
     result = AdaptationResult(False, '')
     while True:
@@ -184,6 +187,19 @@ def simulated_trial(
 EXPERIMENT_MAX_TRIALS = 100
 
 
+def _hypotheses(
+    config: MboaConfig,
+    bank: DamageBank | None,
+    legs: Sequence[int],
+    leave_out: bool,
+    known: bool,
+) -> np.ndarray | None:
+    """Return the bank's speeds for a run (None: no bank asked for, or the damage is known)."""
+    if bank is None or not config.use_bank or known:
+        return None
+    return (bank.without(Damage.lifted(legs)) if leave_out else bank).speeds
+
+
 @dataclass
 class ExperimentRow:
     """One run of the thesis 5.2 experiment: one failure orientation, one trial engine."""
@@ -219,6 +235,8 @@ def run_experiment(
     setup: str = 'thesis',
     trial_duration: float | None = None,
     settle: float = 0.0,
+    bank: DamageBank | None = None,
+    leave_out: bool = False,
 ) -> list[ExperimentRow]:
     """
     Thesis experiment 5.2 on one map.
@@ -233,7 +251,9 @@ def run_experiment(
     speeds (the map re-scored under the damage, :mod:`hexapod_adapt.prior`). ``setup`` names the
     configuration in the rows. ``trial_duration`` (default: the map's) and ``settle``: trials
     time that long after walking ``settle`` s untimed (:func:`simulated_trial`); the walking
-    time counts both.
+    time counts both. ``bank``: damage hypotheses for runs without a prior, when ``config``'s
+    ``use_bank`` asks for them; ``leave_out`` drops each run's own damage from them (damage the
+    bank does not model).
     """
     config = config or MboaConfig(max_trials=EXPERIMENT_MAX_TRIALS)
     map_engine = archive_engine(archive.metadata) or 'pybullet'
@@ -254,6 +274,7 @@ def run_experiment(
                     config,
                     floor=(lambda: control) if floor else None,
                     prior=priors(legs) if priors is not None else None,
+                    hypotheses=_hypotheses(config, bank, legs, leave_out, priors is not None),
                 )
                 row = ExperimentRow(
                     name,

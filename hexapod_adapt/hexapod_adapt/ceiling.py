@@ -208,6 +208,21 @@ def _read(path: Path, key: dict) -> Ceiling | None:
     return Ceiling(_damage_of(key), key['engine'], niches, speeds)
 
 
+def cached_ceiling(
+    archive: Archive,
+    damage: Damage | Sequence[int],
+    engine: str,
+    dirs: Sequence[str | os.PathLike],
+) -> Ceiling | None:
+    """Return the ceiling cached in the first of ``dirs`` that holds it, or None (no compute)."""
+    key = ceiling_key(archive, damage, engine)
+    for directory in dirs:
+        cached = _read(cache_path(directory, key), key)
+        if cached is not None:  # the key's map digest covers the elites' niches
+            return cached
+    return None
+
+
 def ceiling(
     archive: Archive,
     failed_legs: Damage | Sequence[int],
@@ -225,10 +240,10 @@ def ceiling(
     """
     key = ceiling_key(archive, failed_legs, engine)
     path = cache_path(cache_dir, key) if cache_dir is not None else None
-    for candidate in [cache_path(d, key) for d in read_dirs] + ([path] if path else []):
-        cached = _read(candidate, key)
-        if cached is not None:  # the key's map digest covers the elites' niches
-            return cached
+    dirs = [*read_dirs] + ([cache_dir] if cache_dir is not None else [])
+    cached = cached_ceiling(archive, failed_legs, engine, dirs)
+    if cached is not None:
+        return cached
     result = compute_ceiling(archive, failed_legs, engine, workers, progress=progress)
     _write(path, key, result)
     return result

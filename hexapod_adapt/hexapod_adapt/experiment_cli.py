@@ -43,8 +43,9 @@ import sys
 
 from hexapod_adapt.adaptation import EXPERIMENT_MAX_TRIALS, ExperimentRow, run_experiment
 from hexapod_adapt.archive import ArchiveError, atomic_write_bytes, load_archive
+from hexapod_adapt.bank import load_bank
 from hexapod_adapt.ceiling import ceiling
-from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
+from hexapod_adapt.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
 from hexapod_adapt.mboa import (
     ALPHA_RANGE,
     DEFAULT_PROFILE,
@@ -203,6 +204,15 @@ def main(argv: list[str] | None = None) -> int:
         ' engine (a damage-informed prior; needs --ceilings)',
     )
     ap.add_argument(
+        '--bank',
+        choices=('profile', 'off', 'on', 'leave-out'),
+        default='profile',
+        help='damage hypotheses (hexapod_adapt.bank, read from the shipped ceilings and'
+        ' --ceilings) for runs without --prior damage: as the profile says (none uses them:'
+        " docs/adaptation.md, 'Damage bank'), 'off', 'on', or 'leave-out': each run's own"
+        ' damage left out of them',
+    )
+    ap.add_argument(
         '--ceilings',
         type=output_dir,
         default=None,
@@ -235,6 +245,8 @@ def _experiment(args: argparse.Namespace) -> int:
             EXPERIMENT_MAX_TRIALS if args.profile == 'thesis' else TRIAL_BUDGET
         )
         config = replace(PROFILES[args.profile], max_trials=budget, **chosen)
+        if args.bank != 'profile':
+            config = replace(config, use_bank=args.bank in ('on', 'leave-out'))
         if args.prior == 'damage' and args.ceilings is None:
             raise ValueError('--prior damage needs --ceilings (where the re-scored maps are)')
     except (ArchiveError, ValueError) as exc:
@@ -264,7 +276,22 @@ def _experiment(args: argparse.Namespace) -> int:
         return ceilings(legs, map_engine).speeds
 
     floor = args.floor if args.floor is not None else args.profile != 'thesis'
-    setup = args.profile + ('+prior' if args.prior == 'damage' else '')
+    bank = None
+    if config.use_bank and args.prior != 'damage':
+        dirs = [shipped_ceilings()] + ([args.ceilings] if args.ceilings else [])
+        bank = load_bank(archive, map_engine, dirs)
+        print(f'damage bank: {bank.describe()}', flush=True)
+    if args.prior == 'damage':
+        suffix = '+prior'
+    elif args.bank == 'leave-out':
+        suffix = '+bank-leave-out'
+    elif args.bank == 'on' and not PROFILES[args.profile].use_bank:
+        suffix = '+bank'
+    elif args.bank == 'off' and PROFILES[args.profile].use_bank:
+        suffix = '-bank'
+    else:
+        suffix = ''
+    setup = args.profile + suffix
 
     rows: list[ExperimentRow] = []
     try:
@@ -281,6 +308,8 @@ def _experiment(args: argparse.Namespace) -> int:
                 setup=setup,
                 trial_duration=args.trial_duration,
                 settle=args.settle,
+                bank=bank,
+                leave_out=args.bank == 'leave-out',
             )
     except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the completed runs are kept
         if rows:

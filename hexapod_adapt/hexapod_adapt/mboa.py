@@ -34,6 +34,15 @@ a near-standstill a success once poor trials pull the whole posterior down, so s
 the best measured speed to reach the floor. Below it the run goes on, and ends unsuccessful at
 the trial budget or when the map is used up.
 
+Our second addition, damage hypotheses (``hypotheses``, none in the thesis): other prior means
+the damage may explain, e.g. the map re-scored in simulation under each one- and two-leg failure
+(a damage bank, :mod:`hexapod_adapt.bank`). The GP is the same under each; only its mean differs.
+Each hypothesis h (the map's own speeds among them) is weighted by how well it explains the trials,
+its marginal likelihood ``exp(-r_h / 2)`` with ``r_h = (y - m_h)^T (K + noise I)^-1 (y - m_h)``,
+and M-BOA works on the mixture: mean ``sum_h w_h mu_h``, variance ``sigma^2 + sum_h w_h (mu_h -
+mean)^2``. The first trials then also tell the hypotheses apart (Pautrat, Chatzilygeroudis and
+Mouret 2018 pick the single most likely prior instead).
+
 An elite already tried is not offered again: the next-best untried elite is (re-testing the
 same gait would only average its noise; see ``MboaConfig.exclude_tested``).
 Speeds are in m/s throughout.
@@ -86,6 +95,7 @@ class MboaConfig:
     min_speed: float = 0.0  # success floor [m/s]: no success while the best is slower
     signal_variance: float = 1.0  # kernel variance [(m/s)^2]: how far damage moves speeds
     stop_gain: float = 0.0  # [m/s] also go on while an untried gait's expected gain exceeds it
+    use_bank: bool = False  # weigh a damage bank's hypotheses when the damage is not known
 
     def __post_init__(self) -> None:
         problems = []
@@ -151,6 +161,23 @@ def _solve_lower(a: np.ndarray, b: np.ndarray, upper: bool = False) -> np.ndarra
     return solve_triangular(a, b, lower=not upper, check_finite=False)
 
 
+def mixture(
+    log_weight: np.ndarray, means: np.ndarray, variance: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """
+    Return (weights, mean, variance) of a mixture of GP posteriors that differ in mean only.
+
+    ``log_weight`` (h,): each hypothesis's log marginal likelihood (up to a shared constant);
+    ``means`` (h, ...): its posterior mean; ``variance``: the posterior variance they share. The
+    mixture's variance adds the spread of the means. One hypothesis gives its own mean and
+    variance exactly.
+    """
+    w = np.exp(log_weight - np.max(log_weight))
+    w /= w.sum()
+    mean = np.tensordot(w, means, axes=1)
+    return w, mean, variance + np.tensordot(w, (means - mean) ** 2, axes=1)
+
+
 @dataclass
 class Trial:
     """One trial of an M-BOA run: what was predicted and what was measured."""
@@ -165,12 +192,18 @@ class Trial:
 
 @dataclass
 class Mboa:
-    """M-BOA over ``descriptors`` (m, 6) with prior speeds ``prior`` (m,)."""
+    """
+    M-BOA over ``descriptors`` (m, 6) with prior speeds ``prior`` (m,).
+
+    ``hypotheses`` (h, m), optional: other prior means, weighed against ``prior`` by the trials
+    (see the module's docstring). Without them this is the thesis's M-BOA exactly.
+    """
 
     descriptors: np.ndarray
     prior: np.ndarray
     config: MboaConfig = field(default_factory=MboaConfig)
     trials: list[Trial] = field(default_factory=list)
+    hypotheses: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         self.descriptors = np.atleast_2d(np.asarray(self.descriptors, dtype=float))
@@ -184,8 +217,22 @@ class Mboa:
             raise ValueError(
                 'descriptors and prior speeds must be finite (pass only filled niches)'
             )
-        self._mu = self.prior.copy()
-        self._var = np.full(len(self.prior), self.config.signal_variance)
+        means = [self.prior[None, :]]
+        if self.hypotheses is not None:
+            extra = np.atleast_2d(np.asarray(self.hypotheses, dtype=float))
+            if extra.size and (extra.ndim != 2 or extra.shape[1] != len(self.prior)):
+                raise ValueError(
+                    f'each hypothesis needs one speed per descriptor ({len(self.prior)}),'
+                    f' got shape {extra.shape}'
+                )
+            if not np.all(np.isfinite(extra)):
+                raise ValueError('hypothesis speeds must be finite')
+            means.append(extra.reshape(-1, len(self.prior)))
+        self._means = np.vstack(means)  # (h, m): the prior mean under each hypothesis
+        self._log_weight = np.zeros(len(self._means))  # log marginal likelihoods (+ const)
+        self._mu_h = self._means.copy()  # posterior mean under each hypothesis
+        self._gp_var = np.full(len(self.prior), self.config.signal_variance)
+        self._mix()
         # Incremental GP state (one column / row per trial, so a step costs O(m t), not O(m t^2)):
         n, cap = len(self.prior), self.config.max_trials
         self._k_sx = np.empty((n, cap))  # kernel between every candidate and each trial
@@ -231,11 +278,28 @@ class Mboa:
             chol[t, :t] = row
             chol[t, t] = math.sqrt(max(s2 + self.config.noise - float(row @ row), 1e-12))
         self._v[t] = (k_new - row @ self._v[:t]) / chol[t, t]
-        self._var = self._var - self._v[t] ** 2
-        y = np.array([tr.measured for tr in self.trials]) - self.prior[idx]
+        self._gp_var = self._gp_var - self._v[t] ** 2
         lower = chol[: t + 1, : t + 1]
-        alpha = _solve_lower(lower.T, _solve_lower(lower, y), upper=True)
-        self._mu = self.prior + self._k_sx[:, : t + 1] @ alpha
+        y = np.array([tr.measured for tr in self.trials])[:, None] - self._means[:, idx].T
+        white = solve_triangular(lower, y, lower=True, check_finite=False)  # (t+1, h)
+        alpha = solve_triangular(lower.T, white, lower=False, check_finite=False)
+        k_sx = self._k_sx[:, : t + 1]  # one product per hypothesis: bit-identical to the thesis's
+        self._mu_h = self._means + np.stack([k_sx @ alpha[:, h] for h in range(alpha.shape[1])])
+        self._log_weight = -0.5 * np.sum(white * white, axis=0)
+        self._mix()
+
+    def _mix(self) -> None:
+        self._weights, self._mu, self._var = mixture(self._log_weight, self._mu_h, self._gp_var)
+
+    @property
+    def hypothesis_means(self) -> np.ndarray:
+        """Posterior mean speed of every candidate under each hypothesis (h, m) [m/s]."""
+        return self._mu_h
+
+    @property
+    def weights(self) -> np.ndarray:
+        """Weight of each hypothesis: the map's prior first, then ``hypotheses`` in order."""
+        return self._weights
 
     # -- the loop ---------------------------------------------------------------------------
     def tested(self) -> set[int]:

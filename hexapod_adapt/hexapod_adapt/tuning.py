@@ -44,6 +44,7 @@ from typing import Callable, Iterable, Sequence
 
 from hexapod_adapt.adaptation import adapt, AdaptationResult
 from hexapod_adapt.archive import Archive, atomic_write_bytes, load_archive
+from hexapod_adapt.bank import DamageBank, load_bank
 from hexapod_adapt.ceiling import Ceiling, ceiling
 from hexapod_adapt.mboa import MboaConfig
 from hexapod_adapt.simulation import archive_engine
@@ -89,10 +90,21 @@ class TuningRun:
 
 
 def replay(
-    archive: Archive, c: Ceiling, config: MboaConfig, control_speed: float = 0.0
+    archive: Archive,
+    c: Ceiling,
+    config: MboaConfig,
+    control_speed: float = 0.0,
+    bank: DamageBank | None = None,
 ) -> AdaptationResult:
-    """Run M-BOA on ``archive`` with trials answered from ``c`` (floor: ``control_speed``)."""
-    return adapt(archive, lookup_trial(c), config, floor=lambda: control_speed)
+    """
+    Run M-BOA on ``archive`` with trials answered from ``c`` (floor: ``control_speed``).
+
+    With ``bank`` and ``config.use_bank``, the bank's hypotheses too.
+    """
+    hypotheses = bank.speeds if bank is not None and config.use_bank else None
+    return adapt(
+        archive, lookup_trial(c), config, floor=lambda: control_speed, hypotheses=hypotheses
+    )
 
 
 def control_speeds(damages: Iterable[Damage], engine: str, duration: float) -> dict[Damage, float]:
@@ -111,11 +123,12 @@ def score(
     ceilings: Sequence[Ceiling],
     controls: dict[Damage, float],
     config: MboaConfig,
+    bank: DamageBank | None = None,
 ) -> list[TuningRun]:
-    """Replay one run per damage case with ``config``."""
+    """Replay one run per damage case with ``config`` (and ``bank``, if it uses one)."""
     runs = []
     for c in ceilings:
-        result = replay(archive, c, config, controls[c.damage])
+        result = replay(archive, c, config, controls[c.damage], bank)
         runs.append(
             TuningRun(
                 c.damage.label,
@@ -196,6 +209,7 @@ GRID = {
     'alpha': (0.8, 0.9, 0.95, 1.0),
     'kappa': (0.05, 0.5),
     'stop_gain': (0.0, 0.002, 0.005),
+    'use_bank': (False, True),
 }
 
 
@@ -217,8 +231,8 @@ def grid_configs(grid: dict[str, Sequence[float]] = GRID) -> list[MboaConfig]:
     return configs
 
 
-def _score_one(archive, ceilings, controls, config: MboaConfig) -> Summary:
-    return summarise(score(archive, ceilings, controls, config))
+def _score_one(archive, ceilings, controls, bank, config: MboaConfig) -> Summary:
+    return summarise(score(archive, ceilings, controls, config, bank))
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -228,6 +242,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     ap.add_argument('--archive', type=input_file, required=True, help='the tuning map')
     ap.add_argument('--cache-dir', type=output_dir, required=True, help='cached ceilings')
+    ap.add_argument(
+        '--bank-dir',
+        type=output_dir,
+        default=None,
+        help="the tuning map's damage bank (hexapod_adapt.bank: its lifted-leg ceilings); without"
+        ' it, settings that use a bank are scored without one',
+    )
     ap.add_argument(
         '--workers', type=number(int, 1, 256), default=2, help='processes (ceilings, scoring)'
     )
@@ -246,6 +267,11 @@ def main(argv: list[str] | None = None) -> int:
             ceiling(archive, d, engine, args.cache_dir, args.workers) for d in TUNING_DAMAGES
         ]
         controls = control_speeds(TUNING_DAMAGES, engine, archive.trial_duration)
+        bank = load_bank(archive, engine, [args.bank_dir]) if args.bank_dir else None
+        if bank is not None:
+            print(f'damage bank: {bank.describe()}', flush=True)
+            if set(bank.damages) & set(TUNING_DAMAGES):
+                raise ValueError('the bank holds a tuning case: it would be tuned on its answer')
         stats = residual_statistics(archive, ceilings)
         print(
             f'damaged - map speed over {len(ceilings)} cases: mean {stats["mean"]:.3f} m/s,'
@@ -257,7 +283,7 @@ def main(argv: list[str] | None = None) -> int:
         with cf.ProcessPoolExecutor(args.workers) as pool:
             summaries = list(
                 pool.map(
-                    functools.partial(_score_one, archive, ceilings, controls),
+                    functools.partial(_score_one, archive, ceilings, controls, bank),
                     configs,
                     chunksize=4,
                 )

@@ -146,3 +146,34 @@ def test_an_approximate_ceiling_evaluates_the_guides_best_gaits_only(small_map, 
     assert cache_path(tmp_path, full_key) != path  # never mistaken for a full ceiling
     with pytest.raises(ValueError, match='guide ceiling is for leg 3 lifted, not leg 2'):
         approximate_ceiling(small_map, [2], 'pybullet', guide, top=4)
+
+
+def test_a_damage_bank_is_the_cached_ceilings_and_says_what_is_missing(small_map, tmp_path):
+    from hexapod_adapt.adaptation import adapt
+    from hexapod_adapt.bank import load_bank
+    from hexapod_adapt.mboa import MboaConfig
+    from hexapod_adapt.tuning import lookup_trial
+    from hexapod_sim.damage import Damage
+
+    cases = [Damage.lifted([1]), Damage.lifted([2, 5]), Damage.lifted([3])]
+    made = {d: ceiling(small_map, d, 'mujoco', cache_dir=tmp_path) for d in cases[:2]}
+    bank = load_bank(small_map, 'mujoco', [tmp_path / 'absent', tmp_path], cases)
+    assert bank.damages == tuple(cases[:2]) and bank.missing == (cases[2],)
+    for row, d in zip(bank.speeds, bank.damages):
+        np.testing.assert_array_equal(row, made[d].speeds)
+    assert '2 damage hypotheses on mujoco (1 not cached: leg 3 lifted)' == bank.describe()
+    left = bank.without(cases[1])
+    assert left.damages == (cases[0],) and left.speeds.shape == (1, len(small_map.elite_indices()))
+    assert load_bank(small_map, 'pybullet', [tmp_path], cases).speeds.shape == (0, 12)
+    # a run weighing the bank: the trials (legs 2+5) favour that hypothesis over the map's
+    truth = made[cases[1]]
+    weights: list = []
+    result = adapt(
+        small_map,
+        lookup_trial(truth),
+        MboaConfig(max_trials=4, alpha=1.0, signal_variance=0.01, length_scale=0.2),
+        hypotheses=bank.speeds,
+        on_trial=lambda t, n, opt: weights.append(opt.weights.copy()),
+    )
+    assert len(result.trials) == len(weights) == 4
+    assert int(np.argmax(weights[-1])) == 2  # map, leg 1, legs 2+5

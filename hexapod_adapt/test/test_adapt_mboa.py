@@ -208,3 +208,72 @@ def test_the_thesis_profile_is_thesis_5_2_2_and_settings_override_a_profile():
         profile('fast')
     with pytest.raises(ValueError, match='alpha'):
         run_settings({**base, 'profile': 'thesis', 'alpha': 1.5})
+
+
+def test_one_hypothesis_is_the_thesis_gp_bit_for_bit():
+    x, prior = _map(80)
+    plain, empty = Mboa(x, prior), Mboa(x, prior, hypotheses=np.zeros((0, 80)))
+    for i, y in ((5, 0.2), (9, 0.05), (30, 0.4)):
+        plain.observe(i, y)
+        empty.observe(i, y)
+    np.testing.assert_array_equal(plain.mean, empty.mean)
+    np.testing.assert_array_equal(plain.std, empty.std)
+    assert empty.weights.tolist() == [1.0]
+
+
+def test_hypotheses_are_weighed_by_marginal_likelihood_and_mixed():
+    x, prior = _map(60, seed=3)
+    rng = np.random.default_rng(4)
+    other = prior - rng.uniform(0.0, 0.3, 60)
+    cfg = MboaConfig(signal_variance=0.01, length_scale=0.2)
+    opt = Mboa(x, prior, cfg, hypotheses=other[None, :])
+    np.testing.assert_allclose(opt.weights, [0.5, 0.5])
+    np.testing.assert_allclose(opt.mean, (prior + other) / 2)  # before any trial
+    obs = {2: other[2], 11: other[11], 25: other[25]}  # the trials agree with the other one
+    for i, y in obs.items():
+        opt.observe(i, y)
+    # direct computation: one GP per hypothesis, weighted by its marginal likelihood
+    idx = np.array(list(obs))
+    y = np.array(list(obs.values()))
+    k = 0.01 * matern52(x[idx], x[idx], 0.2) + 0.001 * np.eye(3)
+    ks = 0.01 * matern52(x, x[idx], 0.2)
+    means, lik = [], []
+    for m in (prior, other):
+        r = y - m[idx]
+        means.append(m + ks @ np.linalg.solve(k, r))
+        lik.append(np.exp(-0.5 * r @ np.linalg.solve(k, r)))
+    w = np.array(lik) / sum(lik)
+    mean = w @ np.array(means)
+    var = 0.01 - np.einsum('ij,ji->i', ks, np.linalg.solve(k, ks.T))
+    var = var + w @ (np.array(means) - mean) ** 2
+    np.testing.assert_allclose(opt.weights, w, atol=1e-10)
+    assert opt.weights[1] > opt.weights[0]
+    np.testing.assert_allclose(opt.mean, mean, atol=1e-10)
+    np.testing.assert_allclose(opt.std**2, var, atol=1e-10)
+
+
+def test_a_bank_hypothesis_that_explains_the_damage_finds_its_best_gait():
+    x, prior = _map(400, seed=5)
+    rng = np.random.default_rng(6)
+    damaged = np.clip(prior - rng.uniform(0.0, 0.4, 400), -0.05, None)  # the robot's truth
+    decoys = [np.clip(prior - rng.uniform(0.0, 0.4, 400), -0.05, None) for _ in range(5)]
+    cfg = replace(MboaConfig(), signal_variance=0.01, length_scale=0.2, alpha=0.95, kappa=0.5)
+    opt = Mboa(x, prior, cfg, hypotheses=np.array([*decoys, damaged]))
+    while not opt.should_stop()[0]:
+        i = opt.next_index()
+        opt.observe(i, damaged[i])
+    assert int(np.argmax(opt.weights)) == 6  # the true damage's hypothesis
+    assert opt.best().measured >= 0.95 * damaged.max()
+    blind = Mboa(x, prior, cfg)
+    while not blind.should_stop()[0]:
+        i = blind.next_index()
+        blind.observe(i, damaged[i])
+    assert len(opt.trials) <= len(blind.trials)
+
+
+def test_malformed_hypotheses_are_refused():
+    x, prior = _map(10)
+    with pytest.raises(ValueError, match='one speed per descriptor'):
+        Mboa(x, prior, hypotheses=np.zeros((2, 9)))
+    with pytest.raises(ValueError, match='finite'):
+        Mboa(x, prior, hypotheses=np.full((1, 10), np.nan))

@@ -1,0 +1,118 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+A damage bank: the map re-scored in simulation under each damage M-BOA should consider.
+
+When the damage is not known, M-BOA can still weigh hypotheses about it: the map's gaits
+evaluated, offline, under every one- and two-leg failure (:data:`BANK_DAMAGES`, 21 cases), each a
+prior mean the trials confirm or rule out (:class:`hexapod_adapt.mboa.Mboa`'s ``hypotheses``).
+A bank is a set of cached ceilings (:mod:`hexapod_adapt.ceiling`): for the default map they ship
+in ``maps/ceilings`` (``maps/make_ceilings.sh`` makes them, 35 min on 2 cores); for another map
+``python -m hexapod_adapt.ceiling --archive MAP --cache-dir DIR`` does. Nothing here computes: a
+case that is not cached is listed as missing, and the bank is what is there.
+
+A bank only helps where its hypotheses resemble the real damage. The tuning set measures the case
+where they do not (locked legs, weak servos, lost tibias: none is in the bank).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+import os
+from typing import Sequence
+
+from hexapod_adapt.archive import Archive
+from hexapod_adapt.ceiling import cached_ceiling
+from hexapod_sim.damage import Damage
+from hexapod_sim.scenarios import scenario
+import numpy as np
+
+#: Every one- and two-leg failure (the failed legs lifted): the orientations of S1-S4.
+BANK_DAMAGES: tuple[Damage, ...] = tuple(
+    Damage.lifted(legs) for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)
+)
+
+
+@dataclass(frozen=True)
+class DamageBank:
+    """The map's gaits re-scored under each of ``damages`` (rows of ``speeds``) on ``engine``."""
+
+    engine: str
+    damages: tuple[Damage, ...]
+    speeds: np.ndarray  # (len(damages), elites) m/s, elites in archive.elite_indices() order
+    missing: tuple[Damage, ...] = ()  # asked for but not cached
+
+    def __len__(self) -> int:
+        return len(self.damages)
+
+    def without(self, damage: Damage) -> DamageBank:
+        """Return the bank less ``damage`` (an experiment's damage left out of its hypotheses)."""
+        keep = [i for i, d in enumerate(self.damages) if d != damage]
+        return DamageBank(
+            self.engine,
+            tuple(self.damages[i] for i in keep),
+            self.speeds[keep],
+            self.missing,
+        )
+
+    def explain(self) -> str:
+        """Say what a run weighs, or how to make a bank if there is none."""
+        if len(self) == 0:
+            return (
+                'no damage bank is cached for this map (python -m hexapod_adapt.ceiling'
+                ' --archive MAP --cache-dir DIR makes one; DIR: the prior cache)'
+            )
+        return f'weighing {self.describe()}'
+
+    def describe(self) -> str:
+        """Say what the bank holds, e.g. ``21 damage hypotheses on mujoco``."""
+        text = f'{len(self)} damage hypotheses on {self.engine}'
+        if self.missing:
+            text += (
+                f' ({len(self.missing)} not cached: '
+                + ', '.join(d.label for d in self.missing)
+                + ')'
+            )
+        return text
+
+
+def load_bank(
+    archive: Archive,
+    engine: str,
+    dirs: Sequence[str | os.PathLike],
+    damages: Sequence[Damage] = BANK_DAMAGES,
+) -> DamageBank:
+    """Return the bank of ``archive`` on ``engine``: each of ``damages`` cached in ``dirs``."""
+    found, speeds, missing = [], [], []
+    for damage in damages:
+        c = cached_ceiling(archive, damage, engine, dirs)
+        if c is None:
+            missing.append(damage)
+            continue
+        found.append(damage)
+        speeds.append(c.speeds)  # in elite order: the key's map digest covers the niches
+    n = len(archive.elite_indices())
+    return DamageBank(
+        engine,
+        tuple(found),
+        np.array(speeds, dtype=float).reshape(len(found), n),
+        tuple(missing),
+    )
