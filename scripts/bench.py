@@ -480,32 +480,52 @@ def bench_navigate() -> None:
     """
     Navigation benchmarks (issue 18; docs/navigation.md).
 
-    The navigation experiment on the shipped repertoire, once, with the goals of seed 0:
-    navigate_success_<scenario>_<method> [%], navigate_walking_s_median_<scenario> (the
-    repertoire with learning, reached goals), navigate_walking_s_median_damaged (S1-S4 pooled)
-    and its ratio to the intact median; then dead reckoning from the bridge's trial odometry on
-    the emulator (PyBullet, Xsens-like noise) over 20 consecutive 2 s repertoire steps:
+    The navigation experiment on the shipped repertoire and its damage bank, once, with the goals
+    of seed 0: navigate_success_<scenario>_<method> [%], navigate_walking_s_median_<scenario>
+    (the repertoire with learning, reached goals), navigate_walking_s_median_damaged (S1-S4
+    pooled) and its ratio to the intact median; the same for the repertoire with each case's own
+    damage left out of the bank (suffix _leaveout: damage the bank does not hold); then dead
+    reckoning from the bridge's trial odometry on the emulator (PyBullet, Xsens-like noise) over
+    20 consecutive 2 s repertoire steps:
     navigate_odometry_step_error_m (median |estimate - truth| of one step),
     navigate_odometry_yaw_error_rad (RMS) and navigate_odometry_drift_m_after_<k> (k = 5, 10, 20).
     """
     from hexapod_adapt.archive import load_archive
     from hexapod_adapt.maps import NAVIGATION_MAP, shipped_map
-    from hexapod_adapt.navigation_experiment import NavigationSettings, run_navigation, summarise
+    from hexapod_adapt.navigation_experiment import (
+        METHODS,
+        NavigationSettings,
+        run_navigation,
+        summarise,
+    )
     from hexapod_adapt.repertoire import Repertoire
+    from hexapod_adapt.step_bank import shipped_step_bank
     from hexapod_bridge.emulator.consecutive import dead_reckoning
     from hexapod_sim import create_simulator
 
     path = shipped_map(NAVIGATION_MAP)
-    rows, _ = run_navigation(NavigationSettings(repertoire=path, goal_seed=0), workers=2)
-    for s in summarise(rows):
-        print(f'BENCH navigate_success_{s.scenario}_{s.method} {100 * s.success_rate:.1f} %')
-        if s.method == 'repertoire':
-            print(f'BENCH navigate_walking_s_median_{s.scenario} {s.median_walking_time:.1f} s')
-    ours = [r for r in rows if r.method == 'repertoire' and r.reached]
-    intact = np.median([r.walking_time for r in ours if r.scenario == 'S0'])
-    damaged = np.median([r.walking_time for r in ours if r.scenario != 'S0'])
-    print(f'BENCH navigate_walking_s_median_damaged {damaged:.1f} s')
-    print(f'BENCH navigate_walking_time_ratio_damaged_intact {damaged / intact:.2f} x')
+    for suffix, methods, leave_out in (('', METHODS, False), ('_leaveout', ('repertoire',), True)):
+        settings = NavigationSettings(
+            repertoire=path,
+            goal_seed=0,
+            methods=methods,
+            bank=shipped_step_bank(),
+            leave_out=leave_out,
+        )
+        rows, _ = run_navigation(settings, workers=2)
+        for s in summarise(rows):
+            name = f'{s.scenario}_{s.method}{suffix}'
+            print(f'BENCH navigate_success_{name} {100 * s.success_rate:.1f} %')
+            if s.method == 'repertoire':
+                print(
+                    f'BENCH navigate_walking_s_median_{s.scenario}{suffix}'
+                    f' {s.median_walking_time:.1f} s'
+                )
+        ours = [r for r in rows if r.method == 'repertoire' and r.reached]
+        intact = np.median([r.walking_time for r in ours if r.scenario == 'S0'])
+        damaged = np.median([r.walking_time for r in ours if r.scenario != 'S0'])
+        print(f'BENCH navigate_walking_s_median_damaged{suffix} {damaged:.1f} s')
+        print(f'BENCH navigate_walking_time_ratio_damaged_intact{suffix} {damaged / intact:.2f} x')
     repertoire = Repertoire.from_archive(load_archive(path))
     picks = np.random.default_rng(0).choice(len(repertoire), 20, replace=False)
     with create_simulator() as sim:

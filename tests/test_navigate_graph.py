@@ -79,7 +79,8 @@ class Goal:
 
 
 def test_a_goal_is_reached_through_the_graph(ros, graph):
-    _nav, client = graph
+    nav, client = graph
+    assert 'damage bank: 21 damage hypotheses' in nav.log()  # the shipped bank fits
     markers = ros.collect(Marker, 'navigate/goal', status_log_qos())
     odom = ros.collect(Odometry, 'odom', ODOM)
     wait_for(lambda: odom, 30, 'odometry')
@@ -247,9 +248,15 @@ def test_the_robot_path_refuses_goals_when_the_bridge_walks_other_trials(ros, la
     )
     wait_for(lambda: os.path.exists(radio) and os.path.exists(imu), 60, 'emulator ports')
     launch('hexapod_bridge', 'bridge_node', params={'port': radio, 'imu_port': imu})  # 5 s trials
-    nav = launch('hexapod_adapt', 'navigate_node', params={'mode': 'robot', 'trial_duration': 2.0})
+    absent = tmp_path / 'no_bank.npz'
+    nav = launch(
+        'hexapod_adapt',
+        'navigate_node',
+        params={'mode': 'robot', 'trial_duration': 2.0, 'bank_file': str(absent)},
+    )
     client = ActionClient(ros.node, Navigate, 'navigate')
     assert client.wait_for_server(timeout_sec=60)
+    assert f'no damage bank, the GP learns alone: no step bank at {absent}' in nav.log()
     status = ros.collect(DiagnosticStatus, 'navigate/status', status_log_qos())
     assert not Goal(ros, client, 1.0, 0.0).handle.accepted
     says = 'bridge_node walks 5 s per trial but navigate_node steps are 2 s'

@@ -69,6 +69,8 @@ from hexapod_adapt.navigation_bodies import PoseLog, PoseSample, RobotGraphBody,
 from hexapod_adapt.recording import type_name
 from hexapod_adapt.repertoire import Repertoire
 from hexapod_adapt.run_recording import RunRecording
+from hexapod_adapt.simulation import archive_engine, DEFAULT_MAP_ENGINE
+from hexapod_adapt.step_bank import load_step_bank, shipped_step_bank
 from hexapod_adapt.trials import OdomLog, Waiter
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_gait.ros_glue import declare, LATCHED, ODOM, ParamSpec, publish_status, run_node
@@ -102,6 +104,13 @@ PARAMETERS = (
         'repertoire',
         '',
         'navigation repertoire file (.npz); empty = the shipped one',
+        read_only=True,
+    ),
+    ParamSpec(
+        'bank_file',
+        '',
+        "the repertoire's damage bank (hexapod_adapt.step_bank), weighed when use_bank is true;"
+        ' empty = the shipped one (it fits the shipped repertoire only)',
         read_only=True,
     ),
     ParamSpec('pose_topic', '', 'external pose source; empty = odom', read_only=True),
@@ -147,11 +156,24 @@ class NavigateNode(Node):
         self.config = self._config()  # ValueError names a bad setting
         self.repertoire: Repertoire | None = None
         path = values['repertoire'] or str(shipped_map(NAVIGATION_MAP))
+        self.hypotheses = None  # the damage bank's step tables, if one fits the repertoire
         try:
-            self.repertoire = Repertoire.from_archive(load_archive(path))
+            archive = load_archive(path)
+            self.repertoire = Repertoire.from_archive(archive)
         except ArchiveError as exc:
             self.problem = f'no navigation repertoire: {exc}'
-        self.policy = RepertoirePolicy(self.repertoire, self.config) if self.repertoire else None
+        else:
+            bank, why = load_step_bank(
+                values['bank_file'] or shipped_step_bank(),
+                self.repertoire,
+                archive_engine(archive.metadata) or DEFAULT_MAP_ENGINE,
+            )
+            if bank is not None:
+                self.hypotheses = bank.steps
+                self.get_logger().info(f'damage bank: {len(bank)} damage hypotheses')
+            elif self.config.use_bank:
+                self.get_logger().warning(f'no damage bank, the GP learns alone: {why}')
+        self.policy = self._policy() if self.repertoire else None
 
         self.status_pub = self.create_publisher(DiagnosticStatus, 'navigate/status', LATCHED)
         self.marker_pub = self.create_publisher(Marker, 'navigate/goal', LATCHED)
@@ -223,6 +245,9 @@ class NavigateNode(Node):
                 f'navigate_node ready: mode {self.mode}, {len(self.repertoire)} gaits in the'
                 f' repertoire, pose from {values["pose_topic"] or "odom"}',
             )
+
+    def _policy(self) -> RepertoirePolicy:
+        return RepertoirePolicy(self.repertoire, self.config, self.hypotheses)
 
     # -- settings, inputs ---------------------------------------------------------------------
     def _config(self) -> NavigationConfig:
@@ -447,7 +472,7 @@ class NavigateNode(Node):
         elif self.repertoire is None:
             response.success, response.message = False, self.problem
         else:
-            self.policy = RepertoirePolicy(self.repertoire, self.config)
+            self.policy = self._policy()
             response.success, response.message = (
                 True,
                 'what was learned about the damage is dropped',

@@ -46,11 +46,13 @@ import json
 import math
 from typing import Callable, Protocol, Sequence
 
+from hexapod_adapt.mboa import mixture
 from hexapod_adapt.repertoire import REACH, Repertoire
 from hexapod_gait import build_joint_table, GaitParameters, preset
 from hexapod_gait.trajectory import POSE_TRANSITION_S, transition
 from hexapod_sim.simulator import Simulator
 import numpy as np
+from scipy.linalg import solve_triangular
 
 
 def wrap_angle(a: float) -> float:
@@ -102,13 +104,17 @@ class NavigationConfig:
     linear_std: float = 0.5
     #: optimism of the planner: it takes the step whose predicted end, moved ``optimism``
     #: standard deviations toward the goal, lies nearest it (a lower confidence bound on the
-    #: distance left, as GP-UCB). 0: the predicted end alone, which can settle on a step known
-    #: to go nowhere once every step is predicted short.
-    optimism: float = 1.0
+    #: distance left, as GP-UCB). 0: the predicted end alone. Without a damage bank that can
+    #: settle on a step known to go nowhere once every step is predicted short (1 was the
+    #: setting then); with the bank, 0 was the best on the tuning goals (docs/navigation.md).
+    optimism: float = 0.0
     #: only gaits that keep at least this many feet on the ground at every instant of their
     #: cycle: most repertoire gaits have airborne phases, and a damaged robot tips over on them
     #: (3: chosen on the tuning goals, docs/navigation.md "Tuning")
     min_stance_legs: int = 3
+    #: weigh the damage bank's step tables (hexapod_adapt.step_bank) against the intact
+    #: repertoire, when one is given and ``learn`` is on (chosen on the tuning goals)
+    use_bank: bool = True
 
     def __post_init__(self) -> None:
         for name in (
@@ -160,20 +166,42 @@ class CorrectionGP:
     The kernel is a squared exponential (local changes) plus a linear kernel on the intact
     displacement (a change common to every step, e.g. all steps shorter or turned: learned from
     a few steps for the whole repertoire). Hyperparameters from NavigationConfig.
+
+    ``hypotheses`` (h, n, 3), optional: other prior means, e.g. the steps re-measured under each
+    one- and two-leg failure (:mod:`hexapod_adapt.step_bank`). Each, the intact repertoire among
+    them, is weighted by its marginal likelihood over the steps walked (the three dimensions'
+    GPs together), and predictions are the mixture (as in :class:`hexapod_adapt.mboa.Mboa`).
     """
 
-    def __init__(self, repertoire: Repertoire, config: NavigationConfig) -> None:
+    def __init__(
+        self,
+        repertoire: Repertoire,
+        config: NavigationConfig,
+        hypotheses: np.ndarray | None = None,
+    ) -> None:
         self.prior = np.column_stack([repertoire.moves, np.zeros(len(repertoire))])
         self.inputs = repertoire.moves / (2.0 * REACH)  # descriptor units
         self.config = config
         self.signal = np.array([config.signal_std_xy] * 2 + [config.signal_std_yaw]) ** 2
         self.noise = np.array([config.noise_std_xy] * 2 + [config.noise_std_yaw]) ** 2
         self.observed: list[int] = []
-        self.residuals: list[np.ndarray] = []
-        self._mean = self.prior.copy()
-        self._var = np.tile(self.signal, (len(repertoire), 1))
+        self.values: list[np.ndarray] = []
+        means = [self.prior[None]]
+        if hypotheses is not None:
+            extra = np.asarray(hypotheses, dtype=float)
+            if extra.size and extra.shape[1:] != self.prior.shape:
+                raise ValueError(
+                    f'each hypothesis needs a (dx, dy, dyaw) per repertoire step'
+                    f' {self.prior.shape}, got shape {extra.shape[1:]}'
+                )
+            means.append(extra.reshape(-1, *self.prior.shape))
+        self._means = np.concatenate(means)  # (h, n, 3)
+        self._mu_h = self._means.copy()
+        self._log_weight = np.zeros(len(self._means))
+        self._gp_var = np.tile(self.signal, (len(repertoire), 1))
         lin = config.linear_std**2 * np.sum(repertoire.moves**2, axis=1)
-        self._var[:, :2] += lin[:, None]
+        self._gp_var[:, :2] += lin[:, None]
+        self._mix()
 
     def _kernels(self, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Return the unit squared-exponential and the linear kernel between descriptor rows."""
@@ -184,24 +212,34 @@ class CorrectionGP:
     def add(self, index: int, observed: Sequence[float]) -> None:
         """Learn one executed step: repertoire row ``index`` moved (dx, dy, dyaw)."""
         self.observed.append(int(index))
-        self.residuals.append(np.asarray(observed, dtype=float) - self.prior[index])
-        x = self.inputs[self.observed]
+        self.values.append(np.asarray(observed, dtype=float))
+        idx = np.array(self.observed)
+        x = self.inputs[idx]
         se_xx, lin_xx = self._kernels(x, x)
         se_sx, lin_sx = self._kernels(self.inputs, x)  # (n, m)
         lin_ss = (2.0 * REACH) ** 2 * np.sum(self.inputs**2, axis=1)
-        r = np.array(self.residuals)  # (m, 3)
+        y = np.array(self.values)  # (m, 3)
         lin = self.config.linear_std**2
+        log_weight = np.zeros(len(self._means))
         for d in range(3):
             # per dimension: K_d = s_d * SE + l * linear (the linear part: x and y only)
             ld = lin if d < 2 else 0.0
             a = self.signal[d] * se_xx + ld * lin_xx + self.noise[d] * np.eye(len(x))
             k_sx = self.signal[d] * se_sx + ld * lin_sx
             chol = np.linalg.cholesky(a)
-            alpha = np.linalg.solve(chol.T, np.linalg.solve(chol, r[:, d]))
-            self._mean[:, d] = self.prior[:, d] + k_sx @ alpha
-            v = np.linalg.solve(chol, k_sx.T)  # (m, n)
+            r = y[:, d][:, None] - self._means[:, idx, d].T  # (m, h): residual per hypothesis
+            white = solve_triangular(chol, r, lower=True, check_finite=False)
+            alpha = solve_triangular(chol.T, white, lower=False, check_finite=False)
+            self._mu_h[:, :, d] = self._means[:, :, d] + (k_sx @ alpha).T
+            log_weight -= 0.5 * np.sum(white * white, axis=0)
+            v = solve_triangular(chol, k_sx.T, lower=True, check_finite=False)  # (m, n)
             prior_var = self.signal[d] + ld * lin_ss
-            self._var[:, d] = np.maximum(prior_var - np.sum(v * v, axis=0), 1e-12)
+            self._gp_var[:, d] = np.maximum(prior_var - np.sum(v * v, axis=0), 1e-12)
+        self._log_weight = log_weight
+        self._mix()
+
+    def _mix(self) -> None:
+        self.weights, self._mean, self._var = mixture(self._log_weight, self._mu_h, self._gp_var)
 
     def predict(self) -> tuple[np.ndarray, np.ndarray]:
         """Return every step's predicted (dx, dy, dyaw) (n, 3) and its variance (n, 3)."""
@@ -230,12 +268,23 @@ class Policy(Protocol):
 
 
 class RepertoirePolicy:
-    """The repertoire planner, with (``config.learn``) or without the GP correction."""
+    """
+    The repertoire planner, with (``config.learn``) or without the GP correction.
 
-    def __init__(self, repertoire: Repertoire, config: NavigationConfig) -> None:
+    ``hypotheses``: a damage bank's step tables (:class:`hexapod_adapt.step_bank.StepBank`'s
+    ``steps``), weighed when ``config.use_bank`` and ``config.learn``.
+    """
+
+    def __init__(
+        self,
+        repertoire: Repertoire,
+        config: NavigationConfig,
+        hypotheses: np.ndarray | None = None,
+    ) -> None:
         self.repertoire = repertoire
         self.config = config
-        self.gp = CorrectionGP(repertoire, config)
+        use = config.use_bank and config.learn and hypotheses is not None
+        self.gp = CorrectionGP(repertoire, config, hypotheses if use else None)
         self._gaits: dict[int, GaitParameters] = {}
         self.allowed = repertoire.min_stance() >= config.min_stance_legs
         if not self.allowed.any():

@@ -48,6 +48,7 @@ from hexapod_adapt.navigation_experiment import (
 )
 from hexapod_adapt.plots import plot_navigation_boxes, plot_navigation_paths
 from hexapod_adapt.repertoire import Repertoire
+from hexapod_adapt.step_bank import load_step_bank, shipped_step_bank
 from hexapod_description.cli import input_file, number, output_dir, run_command
 from hexapod_sim import ENGINES, SCENARIO_NAMES
 
@@ -84,6 +85,19 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument(
         '--noise-xy', type=number(float, 0, 10, low_open=True), default=_DEFAULT.noise_std_xy
     )
+    ap.add_argument(
+        '--bank',
+        choices=('default', 'on', 'off', 'leave-out'),
+        default='default',
+        help="the damage bank of the repertoire's steps (hexapod_adapt.step_bank): as"
+        " NavigationConfig's use_bank says, on, off, or on with each case's own damage left out",
+    )
+    ap.add_argument(
+        '--bank-file',
+        type=input_file,
+        default=None,
+        help="the bank (default: the shipped repertoire's, maps/navigation_bank.npz)",
+    )
     ap.add_argument('--workers', type=number(int, 1, 256), default=2)
     ap.add_argument(
         '--out-dir', type=output_dir, default=None, help='write results and plots here'
@@ -100,7 +114,7 @@ def main(argv: list[str] | None = None) -> int:
 def _run(args: argparse.Namespace) -> int:
     path = args.repertoire or shipped_map(NAVIGATION_MAP)
     try:
-        Repertoire.from_archive(load_archive(path))
+        repertoire = Repertoire.from_archive(load_archive(path))
     except ArchiveError as exc:
         print(f'run_navigation: {exc}', file=sys.stderr)
         return 2
@@ -112,8 +126,15 @@ def _run(args: argparse.Namespace) -> int:
             'length_scale': args.length_scale,
             'signal_std_xy': args.signal_xy,
             'noise_std_xy': args.noise_xy,
+            **({} if args.bank == 'default' else {'use_bank': args.bank != 'off'}),
         }
     )
+    bank = args.bank_file or shipped_step_bank()
+    if config.use_bank:
+        _, problem = load_step_bank(bank, repertoire, args.engine)
+        if problem:
+            print(f'run_navigation: the damage bank cannot be used: {problem}', file=sys.stderr)
+            return 2
     settings = NavigationSettings(
         repertoire=path,
         engine=args.engine,
@@ -122,6 +143,8 @@ def _run(args: argparse.Namespace) -> int:
         goal_seed=args.goal_seed,
         methods=tuple(args.methods),
         config=config,
+        bank=bank,
+        leave_out=args.bank == 'leave-out',
     )
     rows, paths = run_navigation(settings, workers=args.workers)
     print('scenario  method        goals  reached  median walking s  median efficiency')

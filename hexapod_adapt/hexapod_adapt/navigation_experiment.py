@@ -54,7 +54,9 @@ from hexapod_adapt.navigation import (
     SteeredTripod,
 )
 from hexapod_adapt.repertoire import Repertoire
+from hexapod_adapt.step_bank import load_step_bank
 from hexapod_sim import create_simulator, scenario, SCENARIO_NAMES, SimConfig
+from hexapod_sim.damage import Damage
 import numpy as np
 
 METHODS = ('repertoire', 'no_learning', 'tripod')
@@ -81,6 +83,10 @@ class NavigationSettings:
     goal_seed: int = 0
     methods: tuple[str, ...] = METHODS
     config: NavigationConfig = field(default_factory=NavigationConfig)
+    #: the repertoire's damage bank (hexapod_adapt.step_bank), used as config.use_bank says
+    bank: Path | None = None
+    #: leave each case's own damage out of the bank (damage the bank does not model)
+    leave_out: bool = False
 
     def __post_init__(self) -> None:
         unknown = [m for m in self.methods if m not in METHODS]
@@ -112,10 +118,15 @@ class NavigationRow:
     median_prediction_error: float  # m (NaN if none)
 
 
-def policy_for(method: str, repertoire: Repertoire, config: NavigationConfig) -> Policy:
-    """Return a fresh policy of ``method``."""
+def policy_for(
+    method: str,
+    repertoire: Repertoire,
+    config: NavigationConfig,
+    hypotheses: np.ndarray | None = None,
+) -> Policy:
+    """Return a fresh policy of ``method`` (``hypotheses``: a step bank's, for 'repertoire')."""
     if method == 'repertoire':
-        return RepertoirePolicy(repertoire, config)
+        return RepertoirePolicy(repertoire, config, hypotheses)
     if method == 'no_learning':
         return RepertoirePolicy(repertoire, NavigationConfig(**{**asdict(config), 'learn': False}))
     return SteeredTripod()
@@ -125,6 +136,14 @@ def _case(
     settings: NavigationSettings, name: str, legs: tuple[int, ...]
 ) -> list[tuple[NavigationRow, list[tuple[float, float]]]]:
     repertoire = Repertoire.from_archive(load_archive(settings.repertoire))
+    hypotheses = None
+    if settings.bank is not None and settings.config.use_bank:
+        bank, problem = load_step_bank(settings.bank, repertoire, settings.engine)
+        if bank is None:
+            raise ValueError(f'damage bank refused: {problem}')
+        if settings.leave_out:
+            bank = bank.without(Damage.lifted(legs))
+        hypotheses = bank.steps
     sim = create_simulator(SimConfig(engine=settings.engine))
     sim.set_failed_legs(legs)
     body = SimBody(sim)
@@ -133,7 +152,10 @@ def _case(
         for method in settings.methods:
             body.start()
             result = run_episode(
-                body, policy_for(method, repertoire, settings.config), goal, settings.config
+                body,
+                policy_for(method, repertoire, settings.config, hypotheses),
+                goal,
+                settings.config,
             )
             out.append((row_of(name, legs, k, method, result), [(p.x, p.y) for p in result.path]))
     sim.close()

@@ -152,3 +152,110 @@ def test_a_gait_is_played_with_its_own_table_even_if_ids_coincide(sim, monkeypat
         body.walk(gait, 0.1, lambda p: False)
         first_pose = build_joint_table(gait, rate=1.0 / sim.dt).positions[0]
         np.testing.assert_array_equal(body._rows(gait)[2], first_pose)
+
+
+def test_the_correction_weighs_step_hypotheses_by_their_marginal_likelihood(repertoire):
+    from scipy.linalg import solve_triangular
+
+    rng = np.random.default_rng(1)
+    config = NavigationConfig()
+    intact = np.column_stack([repertoire.moves, np.zeros(len(repertoire))])
+    truth = intact * np.array([0.6, 0.6, 0.0]) + rng.normal(0, 0.02, intact.shape)
+    decoy = intact * np.array([-0.2, 1.0, 0.0])
+    gp = CorrectionGP(repertoire, config, np.array([decoy, truth]))
+    np.testing.assert_allclose(gp.weights, [1 / 3] * 3)
+    seen = [5, 77, 300, 412]
+    for i in seen:
+        gp.add(i, truth[i])
+    # direct: per hypothesis and dimension the GP's residual Mahalanobis norm
+    plain = CorrectionGP(repertoire, config)
+    for i in seen:
+        plain.add(i, truth[i])
+    x = plain.inputs[seen]
+    se, lin = plain._kernels(x, x)
+    logs = []
+    for mean in (intact, decoy, truth):
+        total = 0.0
+        for d in range(3):
+            ld = config.linear_std**2 if d < 2 else 0.0
+            k = plain.signal[d] * se + ld * lin + plain.noise[d] * np.eye(len(seen))
+            w = solve_triangular(np.linalg.cholesky(k), truth[seen, d] - mean[seen, d], lower=True)
+            total -= 0.5 * w @ w
+        logs.append(total)
+    expected = np.exp(np.array(logs) - max(logs))
+    np.testing.assert_allclose(gp.weights, expected / expected.sum(), atol=1e-9)
+    assert int(np.argmax(gp.weights)) == 2
+    # the mixture predicts the unseen steps better than the GP learning alone
+    unseen = np.setdiff1d(np.arange(len(repertoire)), seen)
+    with_bank = np.abs(gp.predict()[0][unseen, :2] - truth[unseen, :2]).sum(axis=1)
+    alone = np.abs(plain.predict()[0][unseen, :2] - truth[unseen, :2]).sum(axis=1)
+    assert np.median(with_bank) < 0.5 * np.median(alone)
+    # with only the intact repertoire, the same GP as without hypotheses
+    none = CorrectionGP(repertoire, config, np.zeros((0, len(repertoire), 3)))
+    for i in seen:
+        none.add(i, truth[i])
+    np.testing.assert_allclose(none.predict()[0], plain.predict()[0], atol=1e-12)
+    with pytest.raises(ValueError, match=r'a \(dx, dy, dyaw\) per repertoire step'):
+        CorrectionGP(repertoire, config, np.zeros((1, 3, 3)))
+
+
+def test_a_step_bank_is_each_step_played_with_the_damage_and_refused_for_another_repertoire(
+    repertoire, tmp_path
+):
+    from dataclasses import replace
+
+    from hexapod_adapt.step_bank import compute_step_bank, load_step_bank, save_step_bank
+    from hexapod_gait.parameters import from_omni_genotype
+    from hexapod_sim.damage import Damage
+    from hexapod_sim.evaluation import evaluate_displacements
+
+    small = replace(
+        repertoire,
+        niches=repertoire.niches[:5],
+        moves=repertoire.moves[:5],
+        heading_error=repertoire.heading_error[:5],
+        genotypes=repertoire.genotypes[:5],
+    )
+    damages = (Damage.lifted([1]), Damage.lifted([2, 5]))
+    bank = compute_step_bank(small, 'mujoco', damages, workers=2, chunk=2)
+    assert bank.steps.shape == (2, 5, 3)
+    with create_simulator(SimConfig(engine='mujoco')) as sim:
+        direct = evaluate_displacements(
+            list(small.genotypes),
+            sim,
+            small.step_duration,
+            collisions_fatal=False,
+            failed_legs=damages[1],
+            decode=from_omni_genotype,
+        )
+    np.testing.assert_array_equal(bank.steps[1], [(m.x, m.y, m.yaw) for m in direct])
+    path = tmp_path / 'bank.npz'
+    save_step_bank(path, bank, small, 'mujoco')
+    again, why = load_step_bank(path, small, 'mujoco', damages)
+    assert why == '' and np.array_equal(again.steps, bank.steps)
+    assert bank.without(damages[0]).damages == (damages[1],)
+    other = replace(small, genotypes=small.genotypes[::-1].copy())
+    refused, why = load_step_bank(path, other, 'mujoco', damages)
+    assert refused is None and 'made for another genotypes_sha256' in why
+    _, why = load_step_bank(path, small, 'pybullet', damages)
+    assert 'another engine' in why
+    path.write_bytes(path.read_bytes()[:50])
+    _, why = load_step_bank(path, small, 'mujoco', damages)
+    assert 'not a readable step bank' in why
+    _, why = load_step_bank(tmp_path / 'absent.npz', small, 'mujoco', damages)
+    assert why.startswith('no step bank at')
+
+
+def test_the_shipped_bank_fits_the_shipped_repertoire_and_re_measures_identically(repertoire):
+    from dataclasses import replace
+
+    from hexapod_adapt.bank import BANK_DAMAGES
+    from hexapod_adapt.step_bank import compute_step_bank, load_step_bank, shipped_step_bank
+
+    bank, why = load_step_bank(shipped_step_bank(), repertoire, 'mujoco')
+    assert why == '' and bank.damages == BANK_DAMAGES and bank.steps.shape == (21, 756, 3)
+    rng = np.random.default_rng(3)
+    h, rows = int(rng.integers(21)), np.sort(rng.choice(len(repertoire), 3, replace=False))
+    few = replace(repertoire, genotypes=repertoire.genotypes[rows], niches=repertoire.niches[rows])
+    again = compute_step_bank(few, 'mujoco', (bank.damages[h],))
+    np.testing.assert_array_equal(again.steps[0], bank.steps[h, rows])

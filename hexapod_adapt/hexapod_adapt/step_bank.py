@@ -1,0 +1,220 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Navigation's damage bank: every repertoire step re-measured under each damage hypothesis.
+
+The navigation counterpart of :mod:`hexapod_adapt.bank`: each gait of the repertoire played for
+one step (``STEP_DURATION`` s, from rest, collisions not fatal) with each damage of
+:data:`hexapod_adapt.bank.BANK_DAMAGES` (every one- and two-leg failure). The navigator's
+correction (:class:`hexapod_adapt.navigation.CorrectionGP`) weighs these step tables against
+the intact repertoire by how well they explain the steps walked, and learns the rest.
+
+    python -m hexapod_adapt.step_bank --out hexapod_adapt/maps/navigation_bank.npz --workers 2
+
+The file is keyed by everything the steps depend on (the repertoire's gaits, the engine and its
+settings, the URDF, the scoring rules' version, the damages); a file made for anything else is
+not used, and says why.
+"""
+
+from __future__ import annotations
+
+import argparse
+import concurrent.futures as cf
+from dataclasses import dataclass
+import hashlib
+import io
+import json
+import os
+from pathlib import Path
+import sys
+import time
+from typing import Callable, Sequence
+import zipfile
+
+from hexapod_adapt.archive import atomic_write_bytes, load_archive
+from hexapod_adapt.bank import BANK_DAMAGES
+from hexapod_adapt.maps import NAVIGATION_MAP, shipped_map
+from hexapod_adapt.repertoire import Repertoire, repertoire_fingerprint
+from hexapod_adapt.simulation import worker_simulator
+from hexapod_description.cli import input_file, number, output_file, run_command
+from hexapod_gait.parameters import from_omni_genotype
+from hexapod_sim import ENGINES
+from hexapod_sim.damage import Damage
+from hexapod_sim.evaluation import evaluate_displacements, EVALUATION_VERSION
+import numpy as np
+
+FORMAT = 'hexapod-step-bank/v1'
+#: The shipped repertoire's bank (``maps/navigation_bank.npz``).
+NAVIGATION_BANK = 'navigation_bank.npz'
+
+
+@dataclass(frozen=True)
+class StepBank:
+    """The repertoire's steps under each of ``damages``: ``steps[h, i]`` = (dx, dy, dyaw)."""
+
+    damages: tuple[Damage, ...]
+    steps: np.ndarray  # (h, n, 3): m, m, rad, in the step's start frame
+
+    def __len__(self) -> int:
+        return len(self.damages)
+
+    def without(self, damage: Damage) -> StepBank:
+        """Return the bank less ``damage`` (an experiment's damage left out of its hypotheses)."""
+        keep = [i for i, d in enumerate(self.damages) if d != damage]
+        return StepBank(tuple(self.damages[i] for i in keep), self.steps[keep])
+
+
+def bank_key(repertoire: Repertoire, engine: str, damages: Sequence[Damage]) -> dict:
+    """Return everything a step bank depends on (stored in its file)."""
+    fp = repertoire_fingerprint(engine)
+    genes = hashlib.sha256(
+        np.ascontiguousarray(repertoire.genotypes, dtype='<f8').tobytes()
+    ).hexdigest()
+    return {
+        'format': FORMAT,
+        'genotypes_sha256': genes,
+        'engine': engine,
+        'simulator': fp['simulator']['settings_sha256'],
+        'urdf_sha256': fp['urdf_sha256'],
+        'genotype_mapping': fp['genotype_mapping'],
+        'step_duration': repertoire.step_duration,
+        'collisions_fatal': False,
+        'evaluation_version': EVALUATION_VERSION,
+        'damages': [[[d.leg, d.kind, d.strength] for d in damage.legs] for damage in damages],
+    }
+
+
+def _steps(args: tuple[str, Damage, float, np.ndarray]) -> np.ndarray:
+    engine, damage, duration, genes = args
+    moves = evaluate_displacements(
+        list(genes),
+        worker_simulator(engine),
+        duration,
+        collisions_fatal=False,
+        failed_legs=damage,
+        decode=from_omni_genotype,
+    )
+    return np.array([(m.x, m.y, m.yaw) for m in moves], dtype=float).reshape(-1, 3)
+
+
+def compute_step_bank(
+    repertoire: Repertoire,
+    engine: str,
+    damages: Sequence[Damage] = BANK_DAMAGES,
+    workers: int = 1,
+    chunk: int = 64,
+    progress: Callable[[int, int], None] | None = None,
+) -> StepBank:
+    """Play every repertoire gait for one step under each damage on ``engine``."""
+    starts = range(chunk, len(repertoire), chunk)
+    parts = [p for p in np.split(repertoire.genotypes, starts) if len(p)]
+    jobs = [(engine, d, repertoire.step_duration, p) for d in damages for p in parts]
+    done: list[np.ndarray] = []
+
+    def collect(results) -> None:
+        for out in results:
+            done.append(out)
+            if progress is not None:
+                progress(len(done), len(jobs))
+
+    if workers <= 1:
+        collect(map(_steps, jobs))
+    else:
+        with cf.ProcessPoolExecutor(workers) as pool:
+            collect(pool.map(_steps, jobs))
+    steps = np.concatenate(done).reshape(len(damages), len(repertoire), 3)
+    return StepBank(tuple(damages), steps)
+
+
+def save_step_bank(
+    path: str | os.PathLike, bank: StepBank, repertoire: Repertoire, engine: str
+) -> None:
+    """Write ``bank`` to ``path`` atomically, with its key."""
+    buf = io.BytesIO()
+    key = bank_key(repertoire, engine, bank.damages)
+    np.savez_compressed(buf, key=np.array(json.dumps(key, sort_keys=True)), steps=bank.steps)
+    atomic_write_bytes(Path(path), buf.getvalue())
+
+
+def load_step_bank(
+    path: str | os.PathLike,
+    repertoire: Repertoire,
+    engine: str,
+    damages: Sequence[Damage] = BANK_DAMAGES,
+) -> tuple[StepBank | None, str]:
+    """Return (the bank in ``path``, '') if it was made for this repertoire, else (None, why)."""
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            stored = json.loads(str(data['key']))
+            steps = np.asarray(data['steps'], dtype=float)
+    except FileNotFoundError:
+        return None, f'no step bank at {path}'
+    except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile) as exc:
+        return None, f'{path} is not a readable step bank ({type(exc).__name__}: {exc})'
+    key = bank_key(repertoire, engine, damages)
+    if stored != key:
+        differ = sorted(k for k in key if stored.get(k) != key[k])
+        return None, f'{path} was made for another {", ".join(differ)}'
+    if steps.shape != (len(damages), len(repertoire), 3) or not np.all(np.isfinite(steps)):
+        return None, f'{path} holds steps of shape {steps.shape}, not a finite bank'
+    return StepBank(tuple(damages), steps), ''
+
+
+def shipped_step_bank() -> Path:
+    """Return where the shipped repertoire's bank is (installed, else the source tree)."""
+    return shipped_map(NAVIGATION_BANK)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Compute a repertoire's step bank and write it."""
+    ap = argparse.ArgumentParser(prog='step_bank', description=__doc__.split('\n\n')[0])
+    ap.add_argument(
+        '--repertoire',
+        type=input_file,
+        default=None,
+        help='navigation repertoire (default: the shipped one)',
+    )
+    ap.add_argument('--engine', choices=ENGINES, default='mujoco')
+    ap.add_argument('--out', type=output_file, required=True, help='the bank file (.npz)')
+    ap.add_argument('--workers', type=number(int, 1, 256), default=1)
+    args = ap.parse_args(argv)
+
+    def run() -> int:
+        repertoire = Repertoire.from_archive(
+            load_archive(args.repertoire or shipped_map(NAVIGATION_MAP))
+        )
+        t0, shown = time.monotonic(), [0.0]
+
+        def progress(done: int, total: int) -> None:
+            if time.monotonic() - shown[0] >= 10 or done == total:
+                shown[0] = time.monotonic()
+                print(f'{done}/{total} chunks, {time.monotonic() - t0:.0f} s', flush=True)
+
+        bank = compute_step_bank(repertoire, args.engine, workers=args.workers, progress=progress)
+        save_step_bank(args.out, bank, repertoire, args.engine)
+        print(f'wrote {args.out}: {len(bank)} damages x {len(repertoire)} steps', flush=True)
+        return 0
+
+    return run_command('step_bank', run, 'nothing was written; run it again')
+
+
+if __name__ == '__main__':
+    sys.exit(main())
