@@ -132,7 +132,7 @@ def test_a_later_ctrl_c_still_interrupts_a_node_that_does_not_stop():
 
 
 def _gone(pid: int) -> bool:
-    """True once ``pid`` has exited (absent, or a zombie nobody has reaped yet)."""
+    """Return whether ``pid`` has exited (absent, or a zombie nobody has reaped yet)."""
     try:
         with open(f'/proc/{pid}/stat') as f:
             return f.read().rsplit(')', 1)[1].split()[0] in ('Z', 'X')
