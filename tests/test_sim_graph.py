@@ -235,3 +235,30 @@ def test_sim_node_refuses_bad_requests_and_keeps_running(ros, launch):
     wait_for(lambda: 'joint names must be' in status[-1].message, 20, 'wrong joint names refused')
     assert ros.call(Trigger, 'sim_node/reset', Trigger.Request()).success
     assert sim.alive()
+
+
+def test_clock_is_published_at_its_period_and_never_behind_the_state(ros, launch):
+    """/clock every clock_period_steps steps (and with each state message), stamps in step."""
+    from rosgraph_msgs.msg import Clock
+
+    launch(
+        'hexapod_sim',
+        'sim_node',
+        params={'real_time_factor': 1.0, 'publish_period_steps': 24, 'clock_period_steps': 10},
+    )
+    reliable = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
+    clocks = ros.collect(Clock, '/clock', reliable)
+    odom = ros.collect(Odometry, 'odom', reliable)
+    wait_for(lambda: len(odom) >= 30, 60, 'odometry')  # 3 s at real time
+
+    def seconds(t) -> float:
+        return t.sec + t.nanosec * 1e-9
+
+    ticks = sorted({round(seconds(c.clock) * 240) for c in clocks})
+    # every tick is a multiple of 10 steps or of 24 (the state's), and every state has its tick
+    assert ticks and all(t % 10 == 0 or t % 24 == 0 for t in ticks)
+    states = {round(seconds(m.header.stamp) * 240) for m in odom}
+    assert states <= set(ticks) | {0}
+    steps = ticks[-1] - ticks[0]
+    expected = steps // 10 + steps // 24 - steps // 120  # both periods, shared ticks once
+    assert abs(len(ticks) - expected) <= 3

@@ -25,7 +25,7 @@ The simulated hexapod in the ROS graph (PyBullet by default, or MuJoCo with ``en
 
 Subscribes  gait/joint_trajectory  trajectory_msgs/JointTrajectory (latched): one gait cycle,
                                    played cyclically from phase 0 as soon as it arrives
-Publishes   /clock                 rosgraph_msgs/Clock, every step
+Publishes   /clock                 rosgraph_msgs/Clock, every clock_period_steps steps
             joint_states           sensor_msgs/JointState        (sensor-data QoS)
             odom                   nav_msgs/Odometry, odom -> base_link, pose and twist (reliable)
             /tf                    tf2_msgs/TFMessage: odom -> base_link with each odometry
@@ -142,6 +142,15 @@ PARAMETERS = (
         read_only=True,
         range=(1, 240),
     ),
+    ParamSpec(
+        'clock_period_steps',
+        6,
+        'Publish /clock every N physics steps (6: 40 Hz of sim time) and with every state'
+        ' message. Each /clock message wakes every node on use_sim_time: at every step (240 Hz)'
+        " a Python node's multi-threaded executor took a whole core (docs/simulator.md).",
+        read_only=True,
+        range=(1, 240),
+    ),
     ParamSpec('odom_frame', 'odom', 'REP 105 odometry frame', read_only=True),
     ParamSpec('base_frame', 'base_link', 'Robot base frame', read_only=True),
 )
@@ -168,6 +177,7 @@ class SimNode(Node):
             )
         )
         self.period_steps = int(self.get_parameter('publish_period_steps').value)
+        self.clock_steps = int(self.get_parameter('clock_period_steps').value)
         self.odom_frame = str(self.get_parameter('odom_frame').value)
         self.base_frame = str(self.get_parameter('base_frame').value)
 
@@ -390,8 +400,10 @@ class SimNode(Node):
             self._steps_since_reset += 1
             self._sim_time = self._reset_stamp + self._steps_since_reset * sim.dt
             try:
-                self.clock_pub.publish(Clock(clock=_stamp(self._sim_time)))
-                if self._steps_since_reset % self.period_steps == 0:
+                state = self._steps_since_reset % self.period_steps == 0
+                if state or self._steps_since_reset % self.clock_steps == 0:
+                    self.clock_pub.publish(Clock(clock=_stamp(self._sim_time)))
+                if state:
                     self._publish_state()
             except Exception as exc:
                 if not self._running or not rclpy.ok(context=self.context):
