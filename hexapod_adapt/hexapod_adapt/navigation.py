@@ -571,12 +571,11 @@ class SimBody:
         rows, n_rows, first = self._rows(gait)
         start = self.pose()
         path: list[Pose2D] = []
-        moving = None
+        moving, n_move = None, 0
         if gait is not self._current:
             q = transition(self.sim.joint_states()[0], first, POSE_TRANSITION_S, 1.0 / self.sim.dt)
-            moving = self.sim.prepare_rows(q, np.zeros_like(q))
+            moving, n_move = self.sim.prepare_rows(q, np.zeros_like(q)), len(q)  # rows: opaque
         self._current = gait
-        n_move = 0 if moving is None else len(moving)
         n_steps = int(round(duration / self.sim.dt))
         k = 0
         while k < n_steps:

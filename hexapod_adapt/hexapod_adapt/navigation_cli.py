@@ -33,7 +33,7 @@ views) and boxes.png.
 from __future__ import annotations
 
 import argparse
-from dataclasses import asdict
+from dataclasses import asdict, replace
 import sys
 
 from hexapod_adapt.archive import ArchiveError, load_archive
@@ -48,6 +48,7 @@ from hexapod_adapt.navigation_experiment import (
 )
 from hexapod_adapt.plots import plot_navigation_boxes, plot_navigation_paths
 from hexapod_adapt.repertoire import Repertoire
+from hexapod_adapt.simulation import archive_engine, DEFAULT_MAP_ENGINE
 from hexapod_adapt.step_bank import load_step_bank, shipped_step_bank
 from hexapod_description.cli import input_file, number, output_dir, run_command
 from hexapod_sim import ENGINES, SCENARIO_NAMES
@@ -114,7 +115,8 @@ def main(argv: list[str] | None = None) -> int:
 def _run(args: argparse.Namespace) -> int:
     path = args.repertoire or shipped_map(NAVIGATION_MAP)
     try:
-        repertoire = Repertoire.from_archive(load_archive(path))
+        archive = load_archive(path)
+        repertoire = Repertoire.from_archive(archive)
     except ArchiveError as exc:
         print(f'run_navigation: {exc}', file=sys.stderr)
         return 2
@@ -130,11 +132,15 @@ def _run(args: argparse.Namespace) -> int:
         }
     )
     bank = args.bank_file or shipped_step_bank()
-    if config.use_bank:
-        _, problem = load_step_bank(bank, repertoire, args.engine)
-        if problem:
+    if config.use_bank:  # a bank describes the repertoire on the engine that made it
+        made_on = archive_engine(archive.metadata) or DEFAULT_MAP_ENGINE
+        _, problem = load_step_bank(bank, repertoire, made_on)
+        if problem and args.bank != 'default':
             print(f'run_navigation: the damage bank cannot be used: {problem}', file=sys.stderr)
             return 2
+        if problem:  # as navigate_node does: learn without it, and say so
+            print(f'run_navigation: no damage bank, the GP learns alone: {problem}', flush=True)
+            config = replace(config, use_bank=False)
     settings = NavigationSettings(
         repertoire=path,
         engine=args.engine,

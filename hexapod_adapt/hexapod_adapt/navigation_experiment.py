@@ -54,6 +54,7 @@ from hexapod_adapt.navigation import (
     SteeredTripod,
 )
 from hexapod_adapt.repertoire import Repertoire
+from hexapod_adapt.simulation import archive_engine, DEFAULT_MAP_ENGINE
 from hexapod_adapt.step_bank import load_step_bank
 from hexapod_sim import create_simulator, scenario, SCENARIO_NAMES, SimConfig
 from hexapod_sim.damage import Damage
@@ -135,10 +136,13 @@ def policy_for(
 def _case(
     settings: NavigationSettings, name: str, legs: tuple[int, ...]
 ) -> list[tuple[NavigationRow, list[tuple[float, float]]]]:
-    repertoire = Repertoire.from_archive(load_archive(settings.repertoire))
+    archive = load_archive(settings.repertoire)
+    repertoire = Repertoire.from_archive(archive)
     hypotheses = None
     if settings.bank is not None and settings.config.use_bank:
-        bank, problem = load_step_bank(settings.bank, repertoire, settings.engine)
+        # the bank describes the repertoire on the engine that made it, whatever the trials run on
+        made_on = archive_engine(archive.metadata) or DEFAULT_MAP_ENGINE
+        bank, problem = load_step_bank(settings.bank, repertoire, made_on)
         if bank is None:
             raise ValueError(f'damage bank refused: {problem}')
         if settings.leave_out:

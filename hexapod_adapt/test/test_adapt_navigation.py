@@ -259,3 +259,21 @@ def test_the_shipped_bank_fits_the_shipped_repertoire_and_re_measures_identicall
     few = replace(repertoire, genotypes=repertoire.genotypes[rows], niches=repertoire.niches[rows])
     again = compute_step_bank(few, 'mujoco', (bank.damages[h],))
     np.testing.assert_array_equal(again.steps[0], bank.steps[h, rows])
+
+
+def test_run_navigation_refuses_a_bank_it_was_told_to_use_and_goes_on_without_a_default_one(
+    tmp_path, capsys
+):
+    from hexapod_adapt.navigation_cli import main
+
+    garbage = tmp_path / 'bank.npz'
+    garbage.write_bytes(b'not a bank')
+    quick = ['--scenarios', 'S0', '--goals', '1', '--methods', 'tripod', '--workers', '1']
+    assert main([*quick, '--bank', 'on', '--bank-file', str(garbage)]) == 2
+    assert 'the damage bank cannot be used' in capsys.readouterr().err
+    # the default: say so, learn without it (on trials of another engine than the bank's too)
+    assert main([*quick, '--bank-file', str(garbage), '--engine', 'pybullet']) == 0
+    out = capsys.readouterr().out
+    assert 'no damage bank, the GP learns alone' in out and 'S0' in out
+    assert main([*quick, '--engine', 'pybullet']) == 0  # the shipped (MuJoCo) bank fits
+    assert 'no damage bank' not in capsys.readouterr().out
