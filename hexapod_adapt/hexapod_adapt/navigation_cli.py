@@ -109,6 +109,11 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of ``run_navigation``; exit status 2 for bad inputs."""
     args = build_parser().parse_args(argv)
+    # the engines' compiled modules load before the signal handlers, as part of start-up: a
+    # signal inside a compiled module's import surfaces as a bare ImportError
+    import hexapod_sim.mujoco_engine  # noqa: F401
+    import hexapod_sim.pybullet_engine  # noqa: F401
+
     return run_command('run_navigation', lambda: _run(args))
 
 

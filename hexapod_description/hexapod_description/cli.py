@@ -177,14 +177,7 @@ def run_command(prog: str, body: Callable[[], int], stopped_note: str = '') -> i
         previous = signal.signal(signal.SIGTERM, _raise_terminated)
     note = f'; {stopped_note}' if stopped_note else ''
     try:
-        try:
-            return body()
-        except ImportError as exc:
-            # a signal during a compiled module's import (e.g. mujoco's, at start-up) comes out
-            # as an ImportError raised from it: the signal is what happened
-            if isinstance(exc.__cause__, KeyboardInterrupt):
-                raise exc.__cause__ from None
-            raise
+        return body()
     except Terminated:
         _say(prog, f'terminated (SIGTERM){note}')
         return STATUS_TERMINATED

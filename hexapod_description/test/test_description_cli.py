@@ -92,15 +92,6 @@ def test_run_command_turns_bad_input_and_signals_into_one_line(capsys):
         os.kill(os.getpid(), signal.SIGTERM)
         raise AssertionError('SIGTERM did not stop the body')
 
-    def interrupted_while_importing():  # what a compiled module's init makes of a signal
-        try:
-            raise KeyboardInterrupt
-        except KeyboardInterrupt as exc:
-            raise ImportError('initialization failed') from exc
-
-    assert run_command('cmd', interrupted_while_importing) == STATUS_INTERRUPTED
-    assert capsys.readouterr().err == 'cmd: interrupted (SIGINT)\n'
-
     before = signal.getsignal(signal.SIGTERM)
     assert run_command('cmd', terminated) == STATUS_TERMINATED
     assert capsys.readouterr().err == 'cmd: terminated (SIGTERM)\n'
