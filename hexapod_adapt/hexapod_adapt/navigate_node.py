@@ -69,7 +69,6 @@ from hexapod_adapt.navigation_bodies import PoseLog, PoseSample, RobotGraphBody,
 from hexapod_adapt.recording import type_name
 from hexapod_adapt.repertoire import Repertoire
 from hexapod_adapt.run_recording import RunRecording
-from hexapod_adapt.simulation import archive_engine, DEFAULT_MAP_ENGINE
 from hexapod_adapt.step_bank import load_step_bank, shipped_step_bank
 from hexapod_adapt.trials import OdomLog, Waiter
 from hexapod_gait.ros_conversions import gait_to_msg
@@ -166,7 +165,7 @@ class NavigateNode(Node):
             bank, why = load_step_bank(
                 values['bank_file'] or shipped_step_bank(),
                 self.repertoire,
-                archive_engine(archive.metadata) or DEFAULT_MAP_ENGINE,
+                self.repertoire.engine,
             )
             if bank is not None:
                 self.hypotheses = bank.steps

@@ -48,7 +48,6 @@ from hexapod_adapt.navigation_experiment import (
 )
 from hexapod_adapt.plots import plot_navigation_boxes, plot_navigation_paths
 from hexapod_adapt.repertoire import Repertoire
-from hexapod_adapt.simulation import archive_engine, DEFAULT_MAP_ENGINE
 from hexapod_adapt.step_bank import load_step_bank, shipped_step_bank
 from hexapod_description.cli import input_file, number, output_dir, run_command
 from hexapod_sim import ENGINES, SCENARIO_NAMES
@@ -138,8 +137,7 @@ def _run(args: argparse.Namespace) -> int:
     )
     bank = args.bank_file or shipped_step_bank()
     if config.use_bank:  # a bank describes the repertoire on the engine that made it
-        made_on = archive_engine(archive.metadata) or DEFAULT_MAP_ENGINE
-        _, problem = load_step_bank(bank, repertoire, made_on)
+        _, problem = load_step_bank(bank, repertoire, repertoire.engine)
         if problem and args.bank != 'default':
             print(f'run_navigation: the damage bank cannot be used: {problem}', file=sys.stderr)
             return 2

@@ -54,7 +54,6 @@ from hexapod_adapt.navigation import (
     SteeredTripod,
 )
 from hexapod_adapt.repertoire import Repertoire
-from hexapod_adapt.simulation import archive_engine, DEFAULT_MAP_ENGINE
 from hexapod_adapt.step_bank import load_step_bank
 from hexapod_sim import create_simulator, scenario, SCENARIO_NAMES, SimConfig
 from hexapod_sim.damage import Damage
@@ -141,8 +140,7 @@ def _case(
     hypotheses = None
     if settings.bank is not None and settings.config.use_bank:
         # the bank describes the repertoire on the engine that made it, whatever the trials run on
-        made_on = archive_engine(archive.metadata) or DEFAULT_MAP_ENGINE
-        bank, problem = load_step_bank(settings.bank, repertoire, made_on)
+        bank, problem = load_step_bank(settings.bank, repertoire, repertoire.engine)
         if bank is None:
             raise ValueError(f'damage bank refused: {problem}')
         if settings.leave_out:

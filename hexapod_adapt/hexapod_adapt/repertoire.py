@@ -41,7 +41,7 @@ import time
 from typing import Any
 
 from hexapod_adapt.archive import Archive, ArchiveError
-from hexapod_adapt.simulation import DEFAULT_MAP_ENGINE, worker_simulator
+from hexapod_adapt.simulation import archive_engine, DEFAULT_MAP_ENGINE, worker_simulator
 from hexapod_description import urdf_path
 from hexapod_gait import DEFAULT_PERIOD, GaitParameters, preset, PRESETS, SIM_RATE, stance_mask
 from hexapod_gait.parameters import from_omni_genotype, OMNI_MAPPING_VERSION, to_omni_genotype
@@ -146,6 +146,7 @@ class Repertoire:
     genotypes: np.ndarray
     step_duration: float
     digest: str
+    engine: str = DEFAULT_MAP_ENGINE  # the engine that measured the steps (the map's)
 
     @classmethod
     def from_archive(cls, archive: Archive) -> 'Repertoire':
@@ -165,6 +166,7 @@ class Repertoire:
             archive.genotypes[idx],
             archive.trial_duration,
             archive.metadata['centroid_hash'][:12],
+            archive_engine(archive.metadata) or DEFAULT_MAP_ENGINE,
         )
 
     def __len__(self) -> int:
