@@ -207,7 +207,7 @@ class NavigateNode(Node):
         self.create_subscription(
             Odometry, 'odom', lambda m: self._log(odom_log, m), ODOM, callback_group=sensors
         )
-        timeout = values['timeout']
+        timeout = self.timeout = values['timeout']
         if self.mode == 'sim':
             self.body = SimGraphBody(self, self.poses, self.waiter, timeout)
         else:
@@ -307,11 +307,12 @@ class NavigateNode(Node):
     # -- the action ----------------------------------------------------------------------------
     def _bridge_trial_problem(self) -> str:
         """Robot mode: why bridge_node's trials do not fit this node's steps ('' if they do)."""
-        if not self.bridge_params.wait_for_service(timeout_sec=2.0):
-            return ''  # not up yet: the upload will say so, with its own reason
+        # as long as any answer from the graph (a loaded machine discovers a service late)
+        if not self.bridge_params.wait_for_service(timeout_sec=self.timeout):
+            return ''  # not up: the upload will say so, with its own reason
         future = self.bridge_params.call_async(GetParameters.Request(names=['trial_duration']))
         try:
-            self.waiter.until(future.done, 5.0, "bridge_node's parameters")
+            self.waiter.until(future.done, self.timeout, "bridge_node's parameters")
         except TrialAborted:
             return ''
         values = future.result().values
