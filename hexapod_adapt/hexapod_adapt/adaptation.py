@@ -195,9 +195,9 @@ def _hypotheses(
     known: bool,
 ) -> np.ndarray | None:
     """Return the bank's speeds for a run (None: no bank asked for, or the damage is known)."""
-    if bank is None or not config.use_bank or known:
+    if bank is None or known:
         return None
-    return (bank.without(Damage.lifted(legs)) if leave_out else bank).speeds
+    return bank.hypotheses(config.use_bank, Damage.lifted(legs) if leave_out else None)
 
 
 @dataclass

@@ -73,6 +73,16 @@ class DamageBank:
             self.missing,
         )
 
+    def hypotheses(self, use: bool, leave_out: Damage | None = None) -> np.ndarray | None:
+        """
+        Return the speeds a run weighs (None when ``use``, MboaConfig.use_bank, is off).
+
+        ``leave_out``: a damage dropped from them (the run's own, as damage the bank lacks).
+        """
+        if not use:
+            return None
+        return (self if leave_out is None else self.without(leave_out)).speeds
+
     def explain(self) -> str:
         """Say what a run weighs, or how to make a bank if there is none."""
         if len(self) == 0:

@@ -101,7 +101,7 @@ def replay(
 
     With ``bank`` and ``config.use_bank``, the bank's hypotheses too.
     """
-    hypotheses = bank.speeds if bank is not None and config.use_bank else None
+    hypotheses = bank.hypotheses(config.use_bank) if bank is not None else None
     return adapt(
         archive, lookup_trial(c), config, floor=lambda: control_speed, hypotheses=hypotheses
     )

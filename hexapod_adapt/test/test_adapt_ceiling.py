@@ -164,6 +164,10 @@ def test_a_damage_bank_is_the_cached_ceilings_and_says_what_is_missing(small_map
     assert '2 damage hypotheses on mujoco (1 not cached: leg 3 lifted)' == bank.describe()
     left = bank.without(cases[1])
     assert left.damages == (cases[0],) and left.speeds.shape == (1, len(small_map.elite_indices()))
+    # what a run weighs: nothing when the setting is off, the bank less its own damage if asked
+    assert bank.hypotheses(False) is None
+    np.testing.assert_array_equal(bank.hypotheses(True), bank.speeds)
+    np.testing.assert_array_equal(bank.hypotheses(True, cases[1]), left.speeds)
     assert load_bank(small_map, 'pybullet', [tmp_path], cases).speeds.shape == (0, 12)
     # a run weighing the bank: the trials (legs 2+5) favour that hypothesis over the map's
     truth = made[cases[1]]
