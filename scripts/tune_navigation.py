@@ -25,7 +25,8 @@ How navigate's settings were chosen (docs/navigation.md, "Tuning").
 A grid of settings on the tuning goals (seed 100), never on the reported experiment's goals
 (seed 0).
 
-    python scripts/tune_navigation.py [--grid bank|stance] [--repertoire FILE] [--workers 2]
+    python scripts/tune_navigation.py [--grid planner|bank|stance] [--repertoire FILE]
+        [--bank FILE] [--workers 2]
 
 For each setting: the repertoire method over every damage case of S0-S4 x 10 tuning goals; the
 success rate over the damaged cases and the median walking time of the reached goals.
@@ -67,6 +68,36 @@ GRID_BANK = (
     {'use_bank': True, 'signal_std_xy': 0.1},
 )
 
+#: Run on 2026-11-23 (docs/navigation.md, "Planner and repertoire"), from the defaults of the
+#: time (the bank, optimism 0, min_stance_legs 3, the 'nearest' planner, every hypothesis alike),
+#: after a new gait's transition came on top of its step instead of inside it, on the shipped
+#: repertoire and on one evolved with only 3-feet gaits (--repertoire, --bank): the 'nearest'
+#: planner against the 'time' planner (it counts a gait change's transition and stops mid-step at
+#: the goal), and a prior weight on "intact" among the bank's hypotheses. The rule, fixed before
+#: the runs, as for the bank: the highest damaged success rate, then the lowest damaged median
+#: walking time.
+PLANNER_BASE = {
+    'use_bank': True,
+    'optimism': 0.0,
+    'min_stance_legs': 3,
+    'planner': 'nearest',
+    'prior_intact': 0.0,
+}
+GRID_PLANNER = (
+    {},
+    {'planner': 'time'},
+    {'planner': 'time', 'aim': 0.25},
+    {'planner': 'time', 'aim': 0.75},
+    {'planner': 'time', 'optimism': 0.5},
+    {'prior_intact': 0.5},
+    {'planner': 'time', 'prior_intact': 0.5},
+)
+GRIDS = {
+    'planner': (GRID_PLANNER, PLANNER_BASE),
+    'bank': (GRID_BANK, BANK_BASE),
+    'stance': (GRID, STANCE_BASE),
+}
+
 
 def main(argv: list[str] | None = None) -> int:
     from hexapod_adapt.maps import NAVIGATION_MAP, shipped_map
@@ -76,19 +107,22 @@ def main(argv: list[str] | None = None) -> int:
 
     ap = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     ap.add_argument('--repertoire', type=Path, default=shipped_map(NAVIGATION_MAP))
+    ap.add_argument(
+        '--bank', type=Path, default=None, help="the repertoire's step bank (default: the shipped)"
+    )
     ap.add_argument('--workers', type=int, default=2)
     ap.add_argument(
-        '--grid', choices=('bank', 'stance'), default='bank', help='which grid (see above)'
+        '--grid', choices=tuple(GRIDS), default='planner', help='which grid (see above)'
     )
     args = ap.parse_args(argv)
-    grid, start = (GRID_BANK, BANK_BASE) if args.grid == 'bank' else (GRID, STANCE_BASE)
+    grid, start = GRIDS[args.grid]
     base = replace(NavigationConfig(), **start)
     print(f'defaults: {asdict(base)}')
     print('changed from the defaults          damaged reached  median s  per scenario')
     for change in grid:
         settings = NavigationSettings(
             repertoire=args.repertoire,
-            bank=shipped_step_bank(),
+            bank=args.bank or shipped_step_bank(),
             goal_seed=TUNING_GOAL_SEED,
             methods=('repertoire',),
             config=replace(base, **change),

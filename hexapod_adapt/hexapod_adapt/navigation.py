@@ -85,6 +85,10 @@ class Pose2D:
 
 
 # -- settings and goals ------------------------------------------------------------------------
+#: NavigationConfig.planner's choices
+PLANNERS = ('nearest', 'time')
+
+
 @dataclass(frozen=True)
 class NavigationConfig:
     """How a goal is pursued; ValueError names a bad setting."""
@@ -115,6 +119,18 @@ class NavigationConfig:
     #: weigh the damage bank's step tables (hexapod_adapt.step_bank) against the intact
     #: repertoire, when one is given and ``learn`` is on (chosen on the tuning goals)
     use_bank: bool = True
+    #: with a bank: the intact repertoire's prior weight among the hypotheses (the bank's
+    #: failures share the rest alike); 0: every hypothesis alike
+    prior_intact: float = 0.0
+    #: how the planner scores a step: 'nearest', the step whose end lies nearest the goal (as
+    #: RTE); 'time', the step with the least expected time to the goal: the gait change it
+    #: costs (the body's transition), the time into the step at which its path enters the goal
+    #: circle, or else the whole step and the rest of the way at the fastest predicted step's
+    #: speed
+    planner: str = 'nearest'
+    #: 'time' planner: a step's path counts as reaching the goal where it comes this close to
+    #: it, as a fraction of the tolerance (the path within a step is taken as straight)
+    aim: float = 0.5
 
     def __post_init__(self) -> None:
         for name in (
@@ -134,6 +150,17 @@ class NavigationConfig:
             w = getattr(self, name)
             if not (isinstance(w, (int, float)) and math.isfinite(w) and w >= 0):
                 raise ValueError(f'{name} must be a finite number >= 0, got {w!r}')
+        if self.planner not in PLANNERS:
+            raise ValueError(f'planner must be one of {PLANNERS}, got {self.planner!r}')
+        if not (isinstance(self.aim, (int, float)) and 0.0 < self.aim <= 1.0):
+            raise ValueError(
+                f'aim must be a fraction of the tolerance in (0, 1], got {self.aim!r}'
+            )
+        if not (isinstance(self.prior_intact, (int, float)) and 0.0 <= self.prior_intact < 1.0):
+            raise ValueError(
+                'prior_intact must be a probability in [0, 1) (0: none),'
+                f' got {self.prior_intact!r}'
+            )
         if not (isinstance(self.min_stance_legs, int) and 0 <= self.min_stance_legs <= 6):
             raise ValueError(f'min_stance_legs must be 0..6, got {self.min_stance_legs!r}')
         if self.arena is not None and not (math.isfinite(self.arena) and self.arena > 0):
@@ -169,8 +196,9 @@ class CorrectionGP:
 
     ``hypotheses`` (h, n, 3), optional: other prior means, e.g. the steps re-measured under each
     one- and two-leg failure (:mod:`hexapod_adapt.step_bank`). Each, the intact repertoire among
-    them, is weighted by its marginal likelihood over the steps walked (the three dimensions'
-    GPs together), and predictions are the mixture (as in :class:`hexapod_adapt.mboa.Mboa`).
+    them, is weighted by its prior (``config.prior_intact``) times its marginal likelihood over
+    the steps walked (the three dimensions' GPs together), and predictions are the mixture (as
+    in :class:`hexapod_adapt.mboa.Mboa`).
     """
 
     def __init__(
@@ -197,7 +225,13 @@ class CorrectionGP:
             means.append(extra.reshape(-1, *self.prior.shape))
         self._means = np.concatenate(means)  # (h, n, 3)
         self._mu_h = self._means.copy()
-        self._log_weight = np.zeros(len(self._means))
+        # log prior of each hypothesis (the intact repertoire first)
+        self._log_prior = np.zeros(len(self._means))
+        if config.prior_intact > 0 and len(self._means) > 1:
+            rest = (1.0 - config.prior_intact) / (len(self._means) - 1)
+            self._log_prior[:] = math.log(rest)
+            self._log_prior[0] = math.log(config.prior_intact)
+        self._log_weight = self._log_prior.copy()
         self._gp_var = np.tile(self.signal, (len(repertoire), 1))
         lin = config.linear_std**2 * np.sum(repertoire.moves**2, axis=1)
         self._gp_var[:, :2] += lin[:, None]
@@ -220,7 +254,7 @@ class CorrectionGP:
         lin_ss = (2.0 * REACH) ** 2 * np.sum(self.inputs**2, axis=1)
         y = np.array(self.values)  # (m, 3)
         lin = self.config.linear_std**2
-        log_weight = np.zeros(len(self._means))
+        log_weight = self._log_prior.copy()
         for d in range(3):
             # per dimension: K_d = s_d * SE + l * linear (the linear part: x and y only)
             ld = lin if d < 2 else 0.0
@@ -247,6 +281,39 @@ class CorrectionGP:
 
 
 # -- policies ----------------------------------------------------------------------------------
+def time_to_goal(
+    start: tuple[float, float],
+    ends: np.ndarray,
+    goal: tuple[float, float],
+    radius: float,
+    step_time: float,
+    switch: np.ndarray,
+    speed: float,
+) -> np.ndarray:
+    """
+    Return each step's expected time [s] until the robot is within ``radius`` of ``goal``.
+
+    A step (row of ``ends`` (n, 2), where it ends) first spends ``switch`` (n,) s changing gait,
+    then walks ``step_time`` s along the straight line from ``start`` to its end. If that line
+    enters the goal circle, the time is the switch and the time into the step at which it does;
+    otherwise the switch, the whole step, and the rest of the way from its end at ``speed`` m/s.
+    """
+    p0 = np.asarray(start, dtype=float)
+    g = np.asarray(goal, dtype=float)
+    d = np.asarray(ends, dtype=float) - p0  # (n, 2): the step's chord
+    length2 = np.maximum(np.sum(d * d, axis=1), 1e-12)
+    # the chord's point nearest the goal, as a fraction f of the step
+    f = np.clip((d @ (g - p0)) / length2, 0.0, 1.0)
+    miss2 = np.sum((p0 + f[:, None] * d - g) ** 2, axis=1)
+    inside = miss2 <= radius**2
+    # walking back from the nearest point to where the chord enters the circle
+    back = np.sqrt(np.maximum(radius**2 - miss2, 0.0) / length2)
+    arrive = np.maximum(f - back, 0.0) * step_time
+    after = np.hypot(*(g - np.asarray(ends, dtype=float)).T)
+    rest = step_time + np.maximum(after - radius, 0.0) / max(speed, 1e-6)
+    return np.asarray(switch, dtype=float) + np.where(inside, arrive, rest)
+
+
 @dataclass(frozen=True)
 class Step:
     """The next step a policy wants: a gait, how long, and where it expects to end."""
@@ -260,8 +327,20 @@ class Step:
 class Policy(Protocol):
     """Chooses steps toward a goal, and hears how each went."""
 
-    def next_step(self, pose: Pose2D, goal: tuple[float, float]) -> Step:
-        """Return the step to take from ``pose``."""
+    def next_step(
+        self,
+        pose: Pose2D,
+        goal: tuple[float, float],
+        playing: GaitParameters | None = None,
+        switch_time: float = 0.0,
+    ) -> Step:
+        """
+        Return the step to take from ``pose``.
+
+        ``playing``: the gait the body would go on with (None: it stands); any other gait first
+        costs ``switch_time`` s of moving the legs to its first pose (the body's transition),
+        which the step's duration includes.
+        """
 
     def observe(self, step: Step, start: Pose2D, end: Pose2D, completed: bool) -> float | None:
         """Learn from a step; return its prediction error [m] (None if not predicted)."""
@@ -292,24 +371,52 @@ class RepertoirePolicy:
                 f'no repertoire gait keeps {config.min_stance_legs} feet on the ground throughout'
             )
 
-    def next_step(self, pose: Pose2D, goal: tuple[float, float]) -> Step:
+    def next_step(
+        self,
+        pose: Pose2D,
+        goal: tuple[float, float],
+        playing: GaitParameters | None = None,
+        switch_time: float = 0.0,
+    ) -> Step:
         """
-        Return the step that may end nearest the goal (greedy, one step ahead).
+        Return the best step from ``pose`` by ``config.planner`` (one step ahead).
 
-        The cost is a lower confidence bound on the distance left after the step: the predicted
-        end's distance minus ``optimism`` times its standard deviation.
+        Both planners move each predicted end ``optimism`` standard deviations toward the goal
+        (a lower confidence bound on the distance left). 'nearest' takes the step that then ends
+        nearest the goal; 'time' the one with the least expected time to it
+        (:func:`time_to_goal`).
         """
         mean, var = self.gp.predict()
         c, s = math.cos(pose.yaw), math.sin(pose.yaw)
         ex = pose.x + c * mean[:, 0] - s * mean[:, 1]
         ey = pose.y + s * mean[:, 0] + c * mean[:, 1]
-        cost = np.hypot(goal[0] - ex, goal[1] - ey)
-        cost -= self.config.optimism * np.sqrt(var[:, 0] + var[:, 1])
+        left = np.hypot(goal[0] - ex, goal[1] - ey)
+        shift = self.config.optimism * np.sqrt(var[:, 0] + var[:, 1])
+        playing_row = next((i for i, g in self._gaits.items() if g is playing), -1)
+        switch = np.full(len(mean), float(switch_time))
+        if playing_row >= 0:
+            switch[playing_row] = 0.0
+        if self.config.planner == 'nearest':
+            cost = left - shift
+        else:
+            # the end moved toward the goal by the optimism's shift (no further than the goal)
+            pull = np.minimum(shift, left) / np.maximum(left, 1e-12)
+            ends = np.column_stack([ex + pull * (goal[0] - ex), ey + pull * (goal[1] - ey)])
+            reach = np.hypot(mean[:, 0], mean[:, 1])
+            cost = time_to_goal(
+                (pose.x, pose.y),
+                ends,
+                goal,
+                self.config.aim * self.config.tolerance,
+                self.repertoire.step_duration,
+                switch,
+                float(np.max(reach[self.allowed])) / self.repertoire.step_duration,
+            )
         i = int(np.argmin(np.where(self.allowed, cost, np.inf)))
         if i not in self._gaits:
             self._gaits[i] = self.repertoire.gait(i)
         predicted = pose.moved(*mean[i])
-        return Step(self._gaits[i], self.repertoire.step_duration, predicted, i)
+        return Step(self._gaits[i], self.repertoire.step_duration + switch[i], predicted, i)
 
     def observe(self, step: Step, start: Pose2D, end: Pose2D, completed: bool) -> float | None:
         """Learn a whole step (a cut-short one teaches nothing); return its prediction error."""
@@ -336,8 +443,14 @@ class SteeredTripod:
         self._base = preset('control')
         self._gaits: dict[int, GaitParameters] = {}
 
-    def next_step(self, pose: Pose2D, goal: tuple[float, float]) -> Step:
-        """Return one cycle toward the goal."""
+    def next_step(
+        self,
+        pose: Pose2D,
+        goal: tuple[float, float],
+        playing: GaitParameters | None = None,
+        switch_time: float = 0.0,
+    ) -> Step:
+        """Return one cycle toward the goal (after the body's transition, if it turns)."""
         bearing = wrap_angle(math.atan2(goal[1] - pose.y, goal[0] - pose.x) - pose.yaw)
         k = round(bearing / (math.pi / 4)) % 8
         if k not in self._gaits:
@@ -348,7 +461,7 @@ class SteeredTripod:
         predicted = Pose2D(
             pose.x + reach * math.cos(heading), pose.y + reach * math.sin(heading), pose.yaw
         )
-        return Step(gait, gait.period, predicted)
+        return Step(gait, gait.period + (0.0 if gait is playing else switch_time), predicted)
 
     def observe(self, step: Step, start: Pose2D, end: Pose2D, completed: bool) -> float | None:
         """Nothing is learned; return the cycle's error against the commanded stride."""
@@ -368,7 +481,16 @@ class StepOutcome:
 
 
 class Body(Protocol):
-    """The robot as the navigator sees it (a simulator, or the ROS graph)."""
+    """
+    The robot as the navigator sees it (a simulator, or the ROS graph).
+
+    ``switch_time`` [s]: how long a new gait spends moving the legs to its first pose before it
+    walks, counted as walking time (0 where that happens outside the walking time);
+    ``playing``: the gait a next step would simply go on with (None: the body stands).
+    """
+
+    switch_time: float
+    playing: GaitParameters | None
 
     def pose(self) -> Pose2D:
         """Return the current pose estimate in odom."""
@@ -376,7 +498,7 @@ class Body(Protocol):
     def walk(
         self, gait: GaitParameters, duration: float, stop: Callable[[Pose2D], bool]
     ) -> StepOutcome:
-        """Walk ``gait`` for ``duration`` s from where it stands, or until ``stop(pose)``."""
+        """Walk ``gait`` for ``duration`` s (a switch included), or until ``stop(pose)``."""
 
     def halt(self) -> None:
         """Stop walking (stand)."""
@@ -494,7 +616,7 @@ def run_episode(
                 Outcome.TIME_LIMIT,
                 f'{config.time_limit:g} s of walking spent; {pose.distance_to(*goal):.2f} m left',
             )
-        step = policy.next_step(pose, goal)
+        step = policy.next_step(pose, goal, body.playing, body.switch_time)
         try:
             outcome = body.walk(
                 step.gait,
@@ -536,12 +658,19 @@ class SimBody:
     transition is walking time too. Poses are sampled every ``sample_period`` s.
     """
 
+    switch_time = POSE_TRANSITION_S
+
     def __init__(self, sim: Simulator, sample_period: float = 0.05) -> None:
         self.sim = sim
         self.every = max(1, int(round(sample_period / sim.dt)))
         self._tables: dict[str, tuple[object, int, np.ndarray]] = {}
         self._stand = standing_gait()
         self._current: GaitParameters | None = None
+
+    @property
+    def playing(self) -> GaitParameters | None:
+        """Return the gait that a next step with the same gait goes on with (None: standing)."""
+        return self._current
 
     def start(self, gait: GaitParameters | None = None) -> None:
         """Put the robot at the origin, standing in the first pose of ``gait`` (or the tripod)."""

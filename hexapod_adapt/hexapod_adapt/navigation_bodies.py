@@ -97,6 +97,10 @@ class NavigationPort(Protocol):
 class SimGraphBody:
     """A navigator's body through gait_node + sim_node (or any body that plays published gaits)."""
 
+    #: sim_node switches gaits at once, and every step starts from standing (see halt)
+    switch_time = 0.0
+    playing = None
+
     def __init__(
         self, port: NavigationPort, poses: PoseLog, waiter: Waiter, timeout: float = 10.0
     ) -> None:
@@ -188,6 +192,11 @@ class RobotGraphBody:
     odometry (its displacement in the frame the robot started the trial in, and the IMU's heading
     change) composed onto the previous pose.
     """
+
+    #: the firmware moves the legs to a gait's first pose before the trial's time starts, and
+    #: every step is a trial of its own
+    switch_time = 0.0
+    playing = None
 
     def __init__(
         self,

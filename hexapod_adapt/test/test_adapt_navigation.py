@@ -253,7 +253,9 @@ def test_the_shipped_bank_fits_the_shipped_repertoire_and_re_measures_identicall
     from hexapod_adapt.step_bank import compute_step_bank, load_step_bank, shipped_step_bank
 
     bank, why = load_step_bank(shipped_step_bank(), repertoire, 'mujoco')
-    assert why == '' and bank.damages == BANK_DAMAGES and bank.steps.shape == (21, 756, 3)
+    assert (
+        why == '' and bank.damages == BANK_DAMAGES and bank.steps.shape == (21, len(repertoire), 3)
+    )
     rng = np.random.default_rng(3)
     h, rows = int(rng.integers(21)), np.sort(rng.choice(len(repertoire), 3, replace=False))
     few = replace(repertoire, genotypes=repertoire.genotypes[rows], niches=repertoire.niches[rows])
@@ -277,3 +279,73 @@ def test_run_navigation_refuses_a_bank_it_was_told_to_use_and_goes_on_without_a_
     assert 'no damage bank, the GP learns alone' in out and 'S0' in out
     assert main([*quick, '--engine', 'pybullet']) == 0  # the shipped (MuJoCo) bank fits
     assert 'no damage bank' not in capsys.readouterr().out
+
+
+def test_time_to_goal_counts_the_switch_the_entry_into_the_goal_circle_and_the_rest():
+    from hexapod_adapt.navigation import time_to_goal
+
+    ends = np.array([[0.6, 0.0], [0.2, 0.0], [0.0, 0.6]])
+    switch = np.array([0.5, 0.0, 0.0])
+    t = time_to_goal((0.0, 0.0), ends, (0.4, 0.0), 0.075, 2.0, switch, 0.3)
+    # straight through the goal: enters the circle 0.325 m into a 0.6 m step
+    assert t[0] == pytest.approx(0.5 + 2.0 * 0.325 / 0.6)
+    # short of it: the whole step, then 0.2 - 0.075 m at 0.3 m/s
+    assert t[1] == pytest.approx(2.0 + 0.125 / 0.3)
+    # sideways: ends 0.72 m away
+    assert t[2] == pytest.approx(2.0 + (math.hypot(0.4, 0.6) - 0.075) / 0.3)
+    # a start already inside the circle costs only the switch
+    inside = time_to_goal((0.39, 0.0), ends, (0.4, 0.0), 0.075, 2.0, switch, 0.3)
+    np.testing.assert_allclose(inside, switch)
+
+
+def test_the_time_planner_keeps_walking_the_gait_it_plays_unless_another_saves_its_switch(
+    repertoire,
+):
+    config = NavigationConfig(planner='time', use_bank=False)
+    policy = RepertoirePolicy(repertoire, config)
+    far = (5.0, 0.0)
+    first = policy.next_step(Pose2D(0.0, 0.0, 0.0), far, None, 0.5)
+    assert first.duration == pytest.approx(repertoire.step_duration + 0.5)
+    # the same gait again: no switch, so it costs only the step
+    again = policy.next_step(Pose2D(0.0, 0.0, 0.0), far, first.gait, 0.5)
+    assert again.gait is first.gait and again.duration == repertoire.step_duration
+    # toward a goal the playing gait walks away from, it switches and pays for it
+    back = policy.next_step(Pose2D(0.0, 0.0, 0.0), (-5.0, 0.0), first.gait, 0.5)
+    assert back.gait is not first.gait and back.duration == repertoire.step_duration + 0.5
+    with pytest.raises(ValueError, match='planner must be one of'):
+        NavigationConfig(planner='mcts')
+    with pytest.raises(ValueError, match='aim must be a fraction'):
+        NavigationConfig(aim=0.0)
+
+
+def test_a_new_gait_walks_its_whole_step_after_the_transition(repertoire, sim):
+    body = SimBody(sim)
+    body.start()
+    policy = RepertoirePolicy(repertoire, NavigationConfig(use_bank=False))
+    step = policy.next_step(body.pose(), (3.0, 0.0), body.playing, body.switch_time)
+    assert step.duration == pytest.approx(repertoire.step_duration + body.switch_time)
+    outcome = body.walk(step.gait, step.duration, lambda p: False)
+    assert outcome.completed and outcome.elapsed == pytest.approx(step.duration)
+    assert body.playing is step.gait
+    # from rest after the transition, the step goes about as far as the repertoire measured it
+    moved = np.hypot(*outcome.start.relative(outcome.end)[:2])
+    assert moved == pytest.approx(np.hypot(*repertoire.moves[step.index]), rel=0.25)
+    body.halt()
+    assert body.playing is None
+
+
+def test_the_intact_repertoire_may_get_a_prior_weight_among_the_bank_hypotheses(repertoire):
+    rng = np.random.default_rng(3)
+    bank = repertoire.moves[None] * rng.uniform(0.3, 1.0, (4, 1, 1))
+    hypotheses = np.concatenate([bank, np.zeros((4, len(repertoire), 1))], axis=2)
+    alike = CorrectionGP(repertoire, NavigationConfig(), hypotheses)
+    np.testing.assert_allclose(alike.weights, 0.2)
+    leaning = CorrectionGP(repertoire, NavigationConfig(prior_intact=0.6), hypotheses)
+    np.testing.assert_allclose(leaning.weights, [0.6, 0.1, 0.1, 0.1, 0.1])
+    # the evidence then moves both alike: the weight ratios of the failures stay equal
+    for gp in (alike, leaning):
+        gp.add(0, (*hypotheses[1, 0, :2], 0.0))
+    ratio = alike.weights[1:] / alike.weights[1]
+    np.testing.assert_allclose(leaning.weights[1:] / leaning.weights[1], ratio)
+    with pytest.raises(ValueError, match='prior_intact must be a probability'):
+        NavigationConfig(prior_intact=1.0)
