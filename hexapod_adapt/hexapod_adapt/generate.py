@@ -96,6 +96,8 @@ class GenerateConfig:
     resume: bool = False
     with_presets: bool = False  # try the preset gaits (control, tripod, wave, quadruped) first
     kind: str = 'gait'  # 'gait' (the thesis map) or 'navigation' (a repertoire, repertoire.py)
+    #: navigation: only gaits that keep this many feet down throughout are elites (0: any)
+    min_stance_legs: int = 0
 
     def __post_init__(self) -> None:
         try:
@@ -112,6 +114,10 @@ class GenerateConfig:
             if not getattr(self, name) > 0:
                 raise ValueError(f'{name} must be > 0 s, got {getattr(self, name)!r}')
         validate_engine(self.engine)
+        if not (isinstance(self.min_stance_legs, int) and 0 <= self.min_stance_legs <= 6):
+            raise ValueError(f'min_stance_legs must be 0..6, got {self.min_stance_legs!r}')
+        if self.min_stance_legs and self.kind != 'navigation':
+            raise ValueError('min_stance_legs applies to navigation repertoires only')
 
     @property
     def checkpoint_path(self) -> Path:
@@ -227,8 +233,8 @@ def generate_map(
     remove_orphaned_temporaries(out)
     kind = map_kind(config.kind)
     if kind.name == 'navigation':
-        fingerprint = repertoire_fingerprint(config.engine)
-        evaluate = SimulateSteps(config.engine)
+        fingerprint = repertoire_fingerprint(config.engine, config.min_stance_legs)
+        evaluate = SimulateSteps(config.engine, config.min_stance_legs)
     else:
         fingerprint = simulation_fingerprint(config.engine)
         evaluate = SimulateGenotypes(config.engine)

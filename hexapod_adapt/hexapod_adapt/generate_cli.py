@@ -163,6 +163,13 @@ def build_parser() -> argparse.ArgumentParser:
         action='store_true',
         help='try the preset gaits (control, tripod, wave, quadruped) before anything else',
     )
+    ap.add_argument(
+        '--min-stance-legs',
+        type=int,
+        default=0,
+        metavar='K',
+        help='navigation: only gaits that keep K feet on the ground throughout (0: any)',
+    )
     ap.add_argument('--quiet', action='store_true', help='no progress bar or progress lines')
     ap.add_argument(
         '--no-bar', action='store_true', help='progress lines instead of a progress bar (logs, CI)'
@@ -202,6 +209,7 @@ def _generate(args: argparse.Namespace) -> int:
             with_presets=args.with_presets,
             engine=args.engine,
             kind=args.kind,
+            min_stance_legs=args.min_stance_legs,
         )
         config.engine_config()
     except ValueError as exc:

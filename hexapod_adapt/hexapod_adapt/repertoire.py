@@ -85,33 +85,58 @@ class SimulateSteps:
     Picklable MAP-Elites evaluation function of a navigation repertoire.
 
     (m, 34) omni genotypes -> m :class:`StepEvaluation`, one execution of STEP_DURATION seconds
-    each from rest on an intact robot, collisions fatal (as for gait maps).
+    each from rest on an intact robot, collisions fatal (as for gait maps). With
+    ``min_stance_legs`` > 0, a gait with fewer feet on the ground at some instant of its cycle is
+    invalid without being simulated (a repertoire a damaged robot can walk all of).
     """
 
-    def __init__(self, engine: str = DEFAULT_MAP_ENGINE) -> None:
+    def __init__(self, engine: str = DEFAULT_MAP_ENGINE, min_stance_legs: int = 0) -> None:
         self.engine = validate_engine(engine)
+        if not (isinstance(min_stance_legs, int) and 0 <= min_stance_legs <= 6):
+            raise ValueError(f'min_stance_legs must be 0..6, got {min_stance_legs!r}')
+        self.min_stance_legs = min_stance_legs
 
     def __call__(self, genes: np.ndarray) -> list[StepEvaluation]:
         genes = np.atleast_2d(genes)
         t = time.perf_counter()
-        moves = evaluate_displacements(
-            list(genes),
-            worker_simulator(self.engine),
-            STEP_DURATION,
-            collisions_fatal=True,
-            failed_legs=(),
-            decode=from_omni_genotype,
+        stands = [
+            self.min_stance_legs == 0
+            or gait_min_stance(from_omni_genotype(g)) >= self.min_stance_legs
+            for g in genes
+        ]
+        walked = iter(
+            evaluate_displacements(
+                [g for g, ok in zip(genes, stands) if ok],
+                worker_simulator(self.engine),
+                STEP_DURATION,
+                collisions_fatal=True,
+                failed_legs=(),
+                decode=from_omni_genotype,
+            )
         )
+        few = f'fewer than {self.min_stance_legs} feet on the ground at some instant'
+        moves = [
+            next(walked) if ok else Displacement(0.0, 0.0, 0.0, False, few, 0.0) for ok in stands
+        ]
         each = (time.perf_counter() - t) / max(len(moves), 1)
         return [
             StepEvaluation(-abs(m.yaw), to_descriptor(m.x, m.y), m.valid, each, m) for m in moves
         ]
 
 
-def repertoire_fingerprint(engine: str = DEFAULT_MAP_ENGINE) -> dict[str, Any]:
+def gait_min_stance(gait: GaitParameters) -> int:
+    """Return the fewest feet ``gait`` has on the ground at any instant of one cycle."""
+    # one cycle of the fixed period, at the simulator's rate
+    times = np.arange(int(round(DEFAULT_PERIOD * SIM_RATE))) / SIM_RATE
+    return int(stance_mask(gait, times).sum(axis=1).min())
+
+
+def repertoire_fingerprint(
+    engine: str = DEFAULT_MAP_ENGINE, min_stance_legs: int = 0
+) -> dict[str, Any]:
     """Return what a repertoire's cells depend on besides the genes (stored in its metadata)."""
     sim = SimConfig(engine=validate_engine(engine)).fingerprint()
-    return {
+    fingerprint = {
         'kind': 'navigation',
         'genotype_mapping': OMNI_MAPPING_VERSION,
         'urdf_sha256': hashlib.sha256(Path(urdf_path()).read_bytes()).hexdigest(),
@@ -119,6 +144,9 @@ def repertoire_fingerprint(engine: str = DEFAULT_MAP_ENGINE) -> dict[str, Any]:
         'trial_duration': STEP_DURATION,
         'descriptor': {'name': 'displacement', 'reach_m': REACH},
     }
+    if min_stance_legs:  # absent when 0: repertoires made before the setting keep their print
+        fingerprint['min_stance_legs'] = min_stance_legs
+    return fingerprint
 
 
 def preset_genotypes() -> tuple[tuple[float, ...], ...]:
@@ -174,11 +202,7 @@ class Repertoire:
 
     def min_stance(self) -> np.ndarray:
         """Return, per elite, the fewest feet on the ground at any instant of its cycle (n,)."""
-        # one cycle of the fixed period, at the simulator's rate
-        times = np.arange(int(round(DEFAULT_PERIOD * SIM_RATE))) / SIM_RATE
-        return np.array(
-            [stance_mask(self.gait(i), times).sum(axis=1).min() for i in range(len(self))]
-        )
+        return np.array([gait_min_stance(self.gait(i)) for i in range(len(self))])
 
     def gait(self, i: int) -> GaitParameters:
         """Return elite ``i`` (a row of the arrays, not a niche) as gait parameters."""

@@ -58,6 +58,28 @@ def test_a_step_is_measured_in_the_start_frame_and_scored_by_heading_kept():
     np.testing.assert_allclose(a.descriptor, to_descriptor(a.displacement.x, a.displacement.y))
 
 
+def test_a_repertoire_may_keep_only_gaits_with_enough_feet_down():
+    from hexapod_adapt.repertoire import gait_min_stance, repertoire_fingerprint
+
+    control = preset('control')  # a tripod: three feet down at every instant
+    airborne = control.replace(duty_factor=[0.3] * 6)  # every foot up at some instant
+    assert gait_min_stance(control) == 3 and gait_min_stance(airborne) < 3
+    genes = np.array([to_omni_genotype(airborne), to_omni_genotype(control)])
+    lifted, kept = SimulateSteps('mujoco', min_stance_legs=3)(genes)
+    assert not lifted.valid and 'fewer than 3 feet' in lifted.displacement.reason
+    assert lifted.displacement.duration == 0.0  # refused without being simulated
+    assert kept.valid and kept.displacement.x > 0.3
+    # the same gait without the rule walks (it is a gait, just not a stable one)
+    assert SimulateSteps('mujoco')(genes[:1])[0].displacement.duration > 0
+    # the rule is part of the repertoire's fingerprint; without it the print is as before
+    assert repertoire_fingerprint('mujoco', 3)['min_stance_legs'] == 3
+    assert 'min_stance_legs' not in repertoire_fingerprint('mujoco')
+    with pytest.raises(ValueError, match='min_stance_legs must be 0..6'):
+        SimulateSteps('mujoco', min_stance_legs=7)
+    with pytest.raises(ValueError, match='navigation repertoires only'):
+        GenerateConfig(out='x.npz', min_stance_legs=3)
+
+
 @pytest.mark.slow
 def test_generate_map_makes_a_navigation_repertoire_that_resumes_exactly(tmp_path):
     small = {'niches': 40, 'seed': 2, 'lag': 16, 'checkpoint_every': 1.0, 'log_every': 0.5}
