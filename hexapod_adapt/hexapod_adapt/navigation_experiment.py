@@ -116,6 +116,7 @@ class NavigationRow:
     steps: int
     distance_left: float  # m
     median_prediction_error: float  # m (NaN if none)
+    reason: str = ''  # how it ended, in words (e.g. which way the robot tipped over)
 
 
 def policy_for(
@@ -184,6 +185,7 @@ def row_of(
         r.steps,
         r.end.distance_to(*r.goal),
         float(np.median(errors)) if errors else float('nan'),
+        r.reason,
     )
 
 

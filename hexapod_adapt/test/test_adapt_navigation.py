@@ -349,3 +349,26 @@ def test_the_intact_repertoire_may_get_a_prior_weight_among_the_bank_hypotheses(
     np.testing.assert_allclose(leaning.weights[1:] / leaning.weights[1], ratio)
     with pytest.raises(ValueError, match='prior_intact must be a probability'):
         NavigationConfig(prior_intact=1.0)
+
+
+def test_runs_csv_keeps_how_each_episode_ended_and_reads_older_files(tmp_path):
+    import csv
+
+    from hexapod_adapt.navigation_experiment import (
+        NavigationRow,
+        NavigationSettings,
+        read_rows,
+        write_results,
+    )
+
+    tipped = NavigationRow(
+        'S3', '1+5', 4, 1.0, -2.0, 'repertoire', 'failed', False, 5.0, 1.2, 0.8, 2, 1.9,
+        0.05, 'the robot tipped over (roll 71 deg, pitch 3 deg)',
+    )  # fmt: skip
+    write_results(tmp_path, NavigationSettings(repertoire=REPERTOIRE), [tipped], [[(0.0, 0.0)]])
+    assert read_rows(tmp_path / 'runs.csv') == [tipped]
+    # a runs.csv written before the column: the reason reads as unknown
+    with open(tmp_path / 'runs.csv', newline='') as src, open(tmp_path / 'old.csv', 'w') as dst:
+        csv.writer(dst).writerows(row[:-1] for row in csv.reader(src))
+    (old,) = read_rows(tmp_path / 'old.csv')
+    assert old.reason == '' and old.outcome == 'failed'
