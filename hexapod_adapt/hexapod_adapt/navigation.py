@@ -126,8 +126,8 @@ class NavigationConfig:
     #: RTE); 'time', the step with the least expected time to the goal: the gait change it
     #: costs (the body's transition), the time into the step at which its path enters the goal
     #: circle, or else the whole step and the rest of the way at the fastest predicted step's
-    #: speed
-    planner: str = 'nearest'
+    #: speed ('time': chosen on the tuning goals, docs/navigation.md)
+    planner: str = 'time'
     #: 'time' planner: a step's path counts as reaching the goal where it comes this close to
     #: it, as a fraction of the tolerance (the path within a step is taken as straight)
     aim: float = 0.5
