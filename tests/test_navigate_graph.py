@@ -34,6 +34,8 @@ from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_msgs.action import Navigate
 from nav_msgs.msg import Odometry
 import pytest
+from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
+from rcl_interfaces.srv import SetParameters
 from rclpy.action import ActionClient
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from std_srvs.srv import SetBool
@@ -111,6 +113,17 @@ def test_invalid_goals_are_rejected_with_a_reason_and_the_node_goes_on(ros, grap
     ):
         assert not Goal(ros, client, x, y, **fields).handle.accepted
         wait_for(lambda: any(reason in s.message for s in status), 10, reason)
+    # the node reads its settings at start-up: a change at run time is refused, not ignored
+    change = SetParameters.Request(
+        parameters=[
+            Parameter(
+                name='optimism',
+                value=ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=1.0),
+            )
+        ]
+    )
+    (answer,) = ros.call(SetParameters, 'navigate_node/set_parameters', change).results
+    assert not answer.successful and 'read-only' in answer.reason
     assert nav.alive()
     ok = Goal(ros, client, 0.5, 0.0)
     assert ok.handle.accepted and ok.result()[1].reached

@@ -124,13 +124,33 @@ PARAMETERS = (
     ParamSpec(
         'trial_duration', 2.0, "robot mode: bridge_node's trial_duration [s]", read_only=True
     ),
-    ParamSpec('arena', 0.0, 'half-width of the square arena around odom [m]; 0 = none'),
-    ParamSpec('learn', True, 'learn the damage while walking (false: the repertoire as measured)'),
-    ParamSpec('timeout', 10.0, 'longest wait for the graph to answer [s]', range=(0.1, 600.0)),
-    ParamSpec('record_dir', '', 'record each goal to an MCAP file here; empty = no recording'),
+    # the node reads every parameter once, at start-up: all are read-only, so that setting one
+    # at run time is refused instead of silently doing nothing
+    ParamSpec(
+        'arena', 0.0, 'half-width of the square arena around odom [m]; 0 = none', read_only=True
+    ),
+    ParamSpec(
+        'learn',
+        True,
+        'learn the damage while walking (false: the repertoire as measured)',
+        read_only=True,
+    ),
+    ParamSpec(
+        'timeout',
+        10.0,
+        'longest wait for the graph to answer [s]',
+        read_only=True,
+        range=(0.1, 600.0),
+    ),
+    ParamSpec(
+        'record_dir',
+        '',
+        'record each goal to an MCAP file here; empty = no recording',
+        read_only=True,
+    ),
     *(
         # each of the type of its default (min_stance_legs is a whole number)
-        ParamSpec(name, getattr(_DEFAULTS, name), f'NavigationConfig.{name}')
+        ParamSpec(name, getattr(_DEFAULTS, name), f'NavigationConfig.{name}', read_only=True)
         for name in CONFIG_PARAMS
     ),
 )
