@@ -300,7 +300,8 @@ def time_to_goal(
     """
     p0 = np.asarray(start, dtype=float)
     g = np.asarray(goal, dtype=float)
-    d = np.asarray(ends, dtype=float) - p0  # (n, 2): the step's chord
+    ends = np.asarray(ends, dtype=float)
+    d = ends - p0  # (n, 2): the step's chord
     length2 = np.maximum(np.sum(d * d, axis=1), 1e-12)
     # the chord's point nearest the goal, as a fraction f of the step
     f = np.clip((d @ (g - p0)) / length2, 0.0, 1.0)
@@ -309,7 +310,7 @@ def time_to_goal(
     # walking back from the nearest point to where the chord enters the circle
     back = np.sqrt(np.maximum(radius**2 - miss2, 0.0) / length2)
     arrive = np.maximum(f - back, 0.0) * step_time
-    after = np.hypot(*(g - np.asarray(ends, dtype=float)).T)
+    after = np.hypot(*(g - ends).T)
     rest = step_time + np.maximum(after - radius, 0.0) / max(speed, 1e-6)
     return np.asarray(switch, dtype=float) + np.where(inside, arrive, rest)
 

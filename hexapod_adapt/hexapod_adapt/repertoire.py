@@ -124,11 +124,13 @@ class SimulateSteps:
         ]
 
 
+#: One cycle of the fixed period, at the simulator's rate: the instants gait_min_stance checks.
+_CYCLE_TIMES = np.arange(int(round(DEFAULT_PERIOD * SIM_RATE))) / SIM_RATE
+
+
 def gait_min_stance(gait: GaitParameters) -> int:
     """Return the fewest feet ``gait`` has on the ground at any instant of one cycle."""
-    # one cycle of the fixed period, at the simulator's rate
-    times = np.arange(int(round(DEFAULT_PERIOD * SIM_RATE))) / SIM_RATE
-    return int(stance_mask(gait, times).sum(axis=1).min())
+    return int(stance_mask(gait, _CYCLE_TIMES).sum(axis=1).min())
 
 
 def repertoire_fingerprint(
