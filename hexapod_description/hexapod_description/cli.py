@@ -31,6 +31,12 @@ What every console command of the project does the same way (no ROS needed).
   (status 1), Ctrl-C / SIGINT (130) and SIGTERM (143). SIGTERM is raised as :class:`Terminated`,
   a KeyboardInterrupt, so the clean-up a command does for Ctrl-C (a map's last checkpoint kept, a
   recording finished) runs for it too. A programming error still shows its traceback.
+
+  Python drops an exception raised where it cannot propagate (a destructor, a weakref callback
+  such as the import system's module-lock clean-up) and reports it through
+  ``sys.unraisablehook``. A signal that lands there would be lost, and the command would run on:
+  :func:`run_command` sends such a dropped stop to itself again, so it ends the command as soon
+  as the interpreter is back in ordinary code.
 """
 
 from __future__ import annotations
@@ -165,6 +171,32 @@ def _raise_terminated(signum, frame) -> None:
     raise Terminated()
 
 
+def _stop_signal(exc: BaseException | None) -> int | None:
+    """Return the signal a dropped exception stood for (None: not a stop)."""
+    if isinstance(exc, Terminated):
+        return signal.SIGTERM
+    if isinstance(exc, KeyboardInterrupt):
+        return signal.SIGINT
+    return None
+
+
+def _redeliver_dropped_stops(previous: Callable) -> Callable:
+    """Make an unraisable hook: a dropped stop is sent again, the rest go to ``previous``."""
+
+    def hook(unraisable) -> None:
+        signum = _stop_signal(unraisable.exc_value)
+        if signum is None:
+            previous(unraisable)
+            return
+        # not from inside the hook (the new exception would be dropped too): a moment later, from
+        # another thread; the handler then runs in the main thread's ordinary code
+        timer = threading.Timer(0.05, os.kill, (os.getpid(), signum))
+        timer.daemon = True
+        timer.start()
+
+    return hook
+
+
 def run_command(prog: str, body: Callable[[], int], stopped_note: str = '') -> int:
     """
     Run a command's ``body`` and return its exit status; see the module docstring.
@@ -173,8 +205,10 @@ def run_command(prog: str, body: Callable[[], int], stopped_note: str = '') -> i
     resume).
     """
     previous = None
+    previous_hook = sys.unraisablehook
     if threading.current_thread() is threading.main_thread():
         previous = signal.signal(signal.SIGTERM, _raise_terminated)
+        sys.unraisablehook = _redeliver_dropped_stops(previous_hook)
     note = f'; {stopped_note}' if stopped_note else ''
     try:
         return body()
@@ -193,6 +227,7 @@ def run_command(prog: str, body: Callable[[], int], stopped_note: str = '') -> i
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
+            sys.unraisablehook = previous_hook
 
 
 def _say(prog: str, text: str) -> None:

@@ -23,6 +23,7 @@
 import argparse
 import os
 import signal
+import time
 
 from hexapod_description.cli import (
     input_file,
@@ -102,3 +103,37 @@ def test_run_command_turns_bad_input_and_signals_into_one_line(capsys):
 
     with pytest.raises(KeyError):
         run_command('cmd', bug)
+
+
+@pytest.mark.parametrize('signum', [signal.SIGINT, signal.SIGTERM], ids=['SIGINT', 'SIGTERM'])
+def test_a_stop_dropped_by_a_destructor_still_ends_the_command(signum, capsys):
+    # Python drops an exception raised in a destructor or a weakref callback (CI saw a Ctrl-C
+    # land in the import system's module-lock callback, and the command ran on)
+    dropped = []
+
+    class Victim:
+        """An object whose destructor receives the signal."""
+
+        def __del__(self):
+            try:
+                os.kill(os.getpid(), signum)
+                time.sleep(0.2)  # the handler raises here, inside the destructor
+            finally:
+                dropped.append(True)
+
+    def body():
+        Victim()  # collected at once
+        assert dropped
+        time.sleep(10)  # the stop, sent again, ends this
+        return 0
+
+    previous_int = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        start = time.monotonic()
+        status = run_command('cmd', body)
+    finally:
+        signal.signal(signal.SIGINT, previous_int)
+    assert status == 128 + signum
+    assert time.monotonic() - start < 5
+    err = capsys.readouterr().err
+    assert 'Traceback' not in err and err.endswith(f'({signal.Signals(signum).name})\n'), err
