@@ -122,6 +122,14 @@ class NavigationConfig:
     #: with a bank: the intact repertoire's prior weight among the hypotheses (the bank's
     #: failures share the rest alike); 0: every hypothesis alike
     prior_intact: float = 0.0
+    #: m: how far the truth may lie from a known model of the robot (the intact repertoire, a
+    #: bank's failure): 0 gives every hypothesis the GP above (signal_std_*, linear_std), so a
+    #: few steps hardly tell them apart. > 0 gives the known models a GP this tight (heading:
+    #: ``known_std_yaw``, no linear part), and adds one 'unknown damage' hypothesis, the intact
+    #: repertoire with the GP above, with prior weight ``prior_unknown``
+    known_std_xy: float = 0.0
+    known_std_yaw: float = 0.15  # rad
+    prior_unknown: float = 0.2
     #: how the planner scores a step: 'nearest', the step whose end lies nearest the goal (as
     #: RTE); 'time', the step with the least expected time to the goal: the gait change it
     #: costs (the body's transition), the time into the step at which its path enters the goal
@@ -155,6 +163,19 @@ class NavigationConfig:
         if not (isinstance(self.aim, (int, float)) and 0.0 < self.aim <= 1.0):
             raise ValueError(
                 f'aim must be a fraction of the tolerance in (0, 1], got {self.aim!r}'
+            )
+        for name in ('known_std_xy', 'known_std_yaw'):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+                raise ValueError(f'{name} must be a finite number >= 0 (0: off), got {value!r}')
+        if not (isinstance(self.prior_unknown, (int, float)) and 0.0 < self.prior_unknown < 1.0):
+            raise ValueError(
+                f'prior_unknown must be a probability in (0, 1), got {self.prior_unknown!r}'
+            )
+        if self.known_std_xy > 0 and self.prior_intact + self.prior_unknown >= 1.0:
+            raise ValueError(
+                'prior_intact + prior_unknown must leave the bank some weight (< 1), got'
+                f' {self.prior_intact!r} + {self.prior_unknown!r}'
             )
         if not (isinstance(self.prior_intact, (int, float)) and 0.0 <= self.prior_intact < 1.0):
             raise ValueError(
@@ -199,6 +220,11 @@ class CorrectionGP:
     them, is weighted by its prior (``config.prior_intact``) times its marginal likelihood over
     the steps walked (the three dimensions' GPs together), and predictions are the mixture (as
     in :class:`hexapod_adapt.mboa.Mboa`).
+
+    With ``config.known_std_xy`` > 0 those known models get a tight GP of their own, and one
+    more hypothesis, 'unknown damage' (the intact repertoire under the broad GP), comes last:
+    the marginal likelihoods then compare different kernels, so they include each kernel's
+    determinant (the broad one pays for explaining anything).
     """
 
     def __init__(
@@ -210,7 +236,6 @@ class CorrectionGP:
         self.prior = np.column_stack([repertoire.moves, np.zeros(len(repertoire))])
         self.inputs = repertoire.moves / (2.0 * REACH)  # descriptor units
         self.config = config
-        self.signal = np.array([config.signal_std_xy] * 2 + [config.signal_std_yaw]) ** 2
         self.noise = np.array([config.noise_std_xy] * 2 + [config.noise_std_yaw]) ** 2
         self.observed: list[int] = []
         self.values: list[np.ndarray] = []
@@ -223,19 +248,41 @@ class CorrectionGP:
                     f' {self.prior.shape}, got shape {extra.shape[1:]}'
                 )
             means.append(extra.reshape(-1, *self.prior.shape))
+        known = len(np.concatenate(means))
+        self.signal = np.array([config.signal_std_xy] * 2 + [config.signal_std_yaw]) ** 2
+        broad = (self.signal, 1.0)
+        # kernel groups: (signal variance per dimension, linear part's scale, member rows)
+        if config.known_std_xy > 0:
+            tight = np.array([config.known_std_xy] * 2 + [config.known_std_yaw]) ** 2
+            means.append(self.prior[None])  # 'unknown damage'
+            self._groups = [(tight, 0.0, np.arange(known)), (*broad, np.array([known]))]
+        else:
+            self._groups = [(*broad, np.arange(known))]
         self._means = np.concatenate(means)  # (h, n, 3)
         self._mu_h = self._means.copy()
-        # log prior of each hypothesis (the intact repertoire first)
-        self._log_prior = np.zeros(len(self._means))
-        if config.prior_intact > 0 and len(self._means) > 1:
-            rest = (1.0 - config.prior_intact) / (len(self._means) - 1)
-            self._log_prior[:] = math.log(rest)
-            self._log_prior[0] = math.log(config.prior_intact)
+        self._log_prior = self._prior_weights(known, len(self._means))
         self._log_weight = self._log_prior.copy()
-        self._gp_var = np.tile(self.signal, (len(repertoire), 1))
-        lin = config.linear_std**2 * np.sum(repertoire.moves**2, axis=1)
-        self._gp_var[:, :2] += lin[:, None]
+        lin_ss = config.linear_std**2 * np.sum(repertoire.moves**2, axis=1)
+        self._var_h = np.empty_like(self._means)  # each hypothesis's posterior variance
+        for signal, linear, rows in self._groups:
+            self._var_h[rows] = signal
+            self._var_h[rows, :, :2] += linear * lin_ss[:, None]
         self._mix()
+
+    def _prior_weights(self, known: int, total: int) -> np.ndarray:
+        """Return the log prior of each hypothesis (intact first, 'unknown damage' last)."""
+        c = self.config
+        prior = np.ones(total)
+        rest = 1.0
+        if total > known:  # 'unknown damage'
+            prior[known:] = c.prior_unknown
+            rest -= c.prior_unknown
+        if c.prior_intact > 0 and known > 1:
+            prior[0] = c.prior_intact
+            prior[1:known] = (rest - c.prior_intact) / (known - 1)
+        else:
+            prior[:known] = rest / known
+        return np.log(prior)
 
     def _kernels(self, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Return the unit squared-exponential and the linear kernel between descriptor rows."""
@@ -253,27 +300,30 @@ class CorrectionGP:
         se_sx, lin_sx = self._kernels(self.inputs, x)  # (n, m)
         lin_ss = (2.0 * REACH) ** 2 * np.sum(self.inputs**2, axis=1)
         y = np.array(self.values)  # (m, 3)
-        lin = self.config.linear_std**2
         log_weight = self._log_prior.copy()
-        for d in range(3):
-            # per dimension: K_d = s_d * SE + l * linear (the linear part: x and y only)
-            ld = lin if d < 2 else 0.0
-            a = self.signal[d] * se_xx + ld * lin_xx + self.noise[d] * np.eye(len(x))
-            k_sx = self.signal[d] * se_sx + ld * lin_sx
-            chol = np.linalg.cholesky(a)
-            r = y[:, d][:, None] - self._means[:, idx, d].T  # (m, h): residual per hypothesis
-            white = solve_triangular(chol, r, lower=True, check_finite=False)
-            alpha = solve_triangular(chol.T, white, lower=False, check_finite=False)
-            self._mu_h[:, :, d] = self._means[:, :, d] + (k_sx @ alpha).T
-            log_weight -= 0.5 * np.sum(white * white, axis=0)
-            v = solve_triangular(chol, k_sx.T, lower=True, check_finite=False)  # (m, n)
-            prior_var = self.signal[d] + ld * lin_ss
-            self._gp_var[:, d] = np.maximum(prior_var - np.sum(v * v, axis=0), 1e-12)
+        for signal, linear, rows in self._groups:
+            lin = linear * self.config.linear_std**2
+            for d in range(3):
+                # per dimension: K_d = s_d * SE + l * linear (the linear part: x and y only)
+                ld = lin if d < 2 else 0.0
+                a = signal[d] * se_xx + ld * lin_xx + self.noise[d] * np.eye(len(x))
+                k_sx = signal[d] * se_sx + ld * lin_sx
+                chol = np.linalg.cholesky(a)
+                r = y[:, d][:, None] - self._means[rows][:, idx, d].T  # (m, h): residuals
+                white = solve_triangular(chol, r, lower=True, check_finite=False)
+                alpha = solve_triangular(chol.T, white, lower=False, check_finite=False)
+                self._mu_h[rows, :, d] = self._means[rows, :, d] + (k_sx @ alpha).T
+                log_det = np.sum(np.log(np.diag(chol)))  # half the log determinant
+                log_weight[rows] -= 0.5 * np.sum(white * white, axis=0) + log_det
+                v = solve_triangular(chol, k_sx.T, lower=True, check_finite=False)  # (m, n)
+                prior_var = signal[d] + ld * lin_ss
+                self._var_h[rows, :, d] = np.maximum(prior_var - np.sum(v * v, axis=0), 1e-12)
         self._log_weight = log_weight
         self._mix()
 
     def _mix(self) -> None:
-        self.weights, self._mean, self._var = mixture(self._log_weight, self._mu_h, self._gp_var)
+        self.weights, self._mean, spread = mixture(self._log_weight, self._mu_h, 0.0)
+        self._var = np.tensordot(self.weights, self._var_h, axes=1) + spread
 
     def predict(self) -> tuple[np.ndarray, np.ndarray]:
         """Return every step's predicted (dx, dy, dyaw) (n, 3) and its variance (n, 3)."""

@@ -244,6 +244,32 @@ def summarise(rows: Sequence[NavigationRow]) -> list[MethodSummary]:
     return out
 
 
+def beats(method: MethodSummary, baseline: MethodSummary) -> bool:
+    """
+    Whether ``method`` does better than ``baseline`` in one scenario (issue 18's comparison).
+
+    Better: a higher success rate or, at equal success, a lower median walking time.
+    """
+    if method.success_rate != baseline.success_rate:
+        return method.success_rate > baseline.success_rate
+    return method.success_rate > 0 and method.median_walking_time < baseline.median_walking_time
+
+
+def scenarios_beating_baselines(
+    summaries: Sequence[MethodSummary],
+    method: str = 'repertoire',
+    baselines: Sequence[str] = ('no_learning', 'tripod'),
+) -> list[str]:
+    """Return the scenarios in which ``method`` beats each of ``baselines`` (:func:`beats`)."""
+    by = {(s.scenario, s.method): s for s in summaries}
+    won = []
+    for name in sorted({s.scenario for s in summaries if s.method == method}):
+        others = [by.get((name, b)) for b in baselines]
+        if all(o is not None and beats(by[(name, method)], o) for o in others):
+            won.append(name)
+    return won
+
+
 def write_results(
     out: Path,
     settings: NavigationSettings,

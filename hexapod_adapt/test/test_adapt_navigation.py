@@ -372,3 +372,85 @@ def test_runs_csv_keeps_how_each_episode_ended_and_reads_older_files(tmp_path):
         csv.writer(dst).writerows(row[:-1] for row in csv.reader(src))
     (old,) = read_rows(tmp_path / 'old.csv')
     assert old.reason == '' and old.outcome == 'failed'
+
+
+def test_a_method_beats_a_baseline_by_success_then_by_walking_time():
+    from hexapod_adapt.navigation_experiment import (
+        beats,
+        MethodSummary,
+        scenarios_beating_baselines,
+    )
+
+    def row(scenario, method, rate, median):
+        return MethodSummary(scenario, method, 10, rate, median, 0.9)
+
+    assert beats(row('S1', 'a', 1.0, 30.0), row('S1', 'b', 0.9, 10.0))
+    assert not beats(row('S1', 'a', 0.9, 10.0), row('S1', 'b', 1.0, 30.0))
+    assert beats(row('S1', 'a', 1.0, 9.9), row('S1', 'b', 1.0, 10.0))
+    assert not beats(row('S1', 'a', 1.0, 10.0), row('S1', 'b', 1.0, 10.0))  # a tie is not better
+    assert not beats(row('S1', 'a', 0.0, float('nan')), row('S1', 'b', 0.0, float('nan')))
+    summaries = [
+        row('S0', 'repertoire', 1.0, 9.0),
+        row('S0', 'no_learning', 1.0, 8.5),
+        row('S0', 'tripod', 1.0, 9.4),
+        row('S1', 'repertoire', 1.0, 12.0),
+        row('S1', 'no_learning', 0.9, 10.0),
+        row('S1', 'tripod', 1.0, 13.0),
+        row('S2', 'repertoire', 1.0, 12.0),
+        row('S2', 'tripod', 0.5, 13.0),  # no no_learning row: not counted as beaten
+    ]
+    assert scenarios_beating_baselines(summaries) == ['S1']
+    assert scenarios_beating_baselines(summaries, baselines=('tripod',)) == ['S0', 'S1', 'S2']
+
+
+def test_known_models_get_a_tight_gp_and_an_unknown_damage_hypothesis_catches_the_rest(
+    repertoire,
+):
+    from scipy.linalg import solve_triangular
+
+    rng = np.random.default_rng(5)
+    intact = np.column_stack([repertoire.moves, np.zeros(len(repertoire))])
+    bank = np.stack([intact * np.array([0.7, 0.7, 0.0]), intact * np.array([1.0, -0.5, 0.0])])
+    config = NavigationConfig(known_std_xy=0.05, prior_unknown=0.2, prior_intact=0.4)
+    gp = CorrectionGP(repertoire, config, bank)
+    # intact, the bank's two, then 'unknown damage'
+    np.testing.assert_allclose(gp.weights, [0.4, 0.2, 0.2, 0.2])
+    seen = [5, 77, 300, 412, 600]
+    walked = intact + rng.normal(0, 0.01, intact.shape)  # an intact robot
+    for i in seen:
+        gp.add(i, walked[i])
+    # direct: each hypothesis's Gaussian log likelihood under its own kernel, determinant included
+    x = gp.inputs[seen]
+    se, lin = gp._kernels(x, x)
+    tight = np.array([0.05, 0.05, 0.15]) ** 2
+    logs = []
+    for mean, signal, linear in (
+        (intact, tight, 0.0),
+        (bank[0], tight, 0.0),
+        (bank[1], tight, 0.0),
+        (intact, gp.signal, config.linear_std**2),
+    ):
+        total = 0.0
+        for d in range(3):
+            k = signal[d] * se + (linear * lin if d < 2 else 0) + gp.noise[d] * np.eye(len(seen))
+            chol = np.linalg.cholesky(k)
+            w = solve_triangular(chol, walked[seen, d] - mean[seen, d], lower=True)
+            total -= 0.5 * w @ w + np.sum(np.log(np.diag(chol)))
+        logs.append(total)
+    expected = np.array([0.4, 0.2, 0.2, 0.2]) * np.exp(np.array(logs) - max(logs))
+    np.testing.assert_allclose(gp.weights, expected / expected.sum(), atol=1e-9)
+    assert gp.weights[0] > 0.9  # the intact robot is recognised ...
+    broad = CorrectionGP(repertoire, NavigationConfig(prior_intact=0.4), bank)
+    for i in seen:
+        broad.add(i, walked[i])
+    assert broad.weights[0] < gp.weights[0] - 0.25  # ... better than under one broad GP for all
+    # damage that no known model describes: the 'unknown damage' hypothesis takes over
+    odd = CorrectionGP(repertoire, config, bank)
+    turned = intact * np.array([-0.3, 0.4, 0.0])
+    for i in seen:
+        odd.add(i, turned[i])
+    assert int(np.argmax(odd.weights)) == 3 and odd.weights[3] > 0.9
+    with pytest.raises(ValueError, match='must leave the bank some weight'):
+        NavigationConfig(known_std_xy=0.05, prior_intact=0.5, prior_unknown=0.5)
+    with pytest.raises(ValueError, match='known_std_xy must be'):
+        NavigationConfig(known_std_xy=-1.0)
