@@ -58,11 +58,16 @@ def level(opt: Mboa, rule: str) -> float:
     return float(means[int(np.argmax(w))].max())  # most likely
 
 
-def run(archive, ceiling, hypotheses, floor: float, rule: str) -> tuple[float, int]:
+def run(
+    archive, ceiling, hypotheses, floor: float, rule: str, known_std: float = 0.0
+) -> tuple[float, int]:
     """Return (ratio to the ceiling, trials) of one replayed run."""
     niches = archive.elite_indices()
     config = replace(
-        PROFILES['default'], max_trials=TUNING_MAX_TRIALS, min_speed=min(max(floor, 0.0), 2.0)
+        PROFILES['default'],
+        max_trials=TUNING_MAX_TRIALS,
+        min_speed=min(max(floor, 0.0), 2.0),
+        known_std=known_std,
     )
     opt = Mboa(
         archive.descriptors[niches], archive.speeds()[niches], config, hypotheses=hypotheses
@@ -89,13 +94,19 @@ def main() -> int:
         'in set': (BANK_DAMAGES, 'tuning/bank', lambda d: bank.speeds),
         'left out': (BANK_DAMAGES, 'tuning/bank', lambda d: bank.without(d).speeds),
     }
-    print('bank         rule           damage      median  10th pct  min    median trials')
+    print('bank            rule           damage      median  10th pct  min    median trials')
     for name, (damages, where, hypotheses) in sets.items():
-        for label, rule, use in (
-            ('none', 'mboa', False),
-            ('21 lifted', 'mboa', True),
-            ('21 lifted', 'expected max', True),
-            ('21 lifted', 'most likely', True),
+        for label, rule, use, known_std in (
+            ('none', 'mboa', False, 0.0),
+            ('21 lifted', 'mboa', True, 0.0),
+            ('21 lifted', 'expected max', True, 0.0),
+            ('21 lifted', 'most likely', True, 0.0),
+            # known models under a tight GP, and an 'unknown damage' hypothesis (2026-11-23)
+            *(
+                (f'+unknown {k:g}', rule, True, k)
+                for k in (0.02, 0.03, 0.05)
+                for rule in ('mboa', 'expected max')
+            ),
         ):
             out = [
                 run(
@@ -104,12 +115,13 @@ def main() -> int:
                     hypotheses(d) if use else None,
                     floors[d],
                     rule,
+                    known_std,
                 )
                 for d in damages
             ]
             ratio = np.array([r for r, _ in out])
             print(
-                f'{label:12s} {rule:14s} {name:10s}  {np.median(ratio):.3f}   '
+                f'{label:15s} {rule:14s} {name:10s}  {np.median(ratio):.3f}   '
                 f'{np.percentile(ratio, 10):.3f}    {ratio.min():.3f}  '
                 f'{np.median([t for _, t in out]):.0f}',
                 flush=True,

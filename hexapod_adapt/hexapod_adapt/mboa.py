@@ -80,6 +80,8 @@ KAPPA_RANGE = (0.0, 100.0)
 ALPHA_RANGE = (0.05, 1.0)  # stop ratio: below 5 % any forward step would "succeed"
 SIGNAL_VARIANCE_RANGE = (1e-6, 10.0)  # (m/s)^2: the kernel's variance
 STOP_GAIN_RANGE = (0.0, 1.0)  # m/s: expected gain of one more trial worth walking it (0 = off)
+KNOWN_STD_RANGE = (0.0, 1.0)  # m/s: spread of the truth about a known model (0 = off)
+PRIOR_UNKNOWN_RANGE = (1e-3, 0.999)  # prior weight of 'unknown damage' among the hypotheses
 
 
 @dataclass(frozen=True)
@@ -96,6 +98,11 @@ class MboaConfig:
     signal_variance: float = 1.0  # kernel variance [(m/s)^2]: how far damage moves speeds
     stop_gain: float = 0.0  # [m/s] also go on while an untried gait's expected gain exceeds it
     use_bank: bool = False  # weigh a damage bank's hypotheses when the damage is not known
+    #: [m/s] with hypotheses: how far the truth may lie from a known model (the map, a bank's
+    #: failure), the std of a GP of their own; one 'unknown damage' hypothesis (the map under
+    #: the kernel above) is added with prior weight ``prior_unknown``. 0: one GP for all
+    known_std: float = 0.0
+    prior_unknown: float = 0.2
 
     def __post_init__(self) -> None:
         problems = []
@@ -122,6 +129,8 @@ class MboaConfig:
         within('min_speed (success floor)', self.min_speed, *MIN_SPEED_RANGE, ' m/s')
         within('signal_variance', self.signal_variance, *SIGNAL_VARIANCE_RANGE, ' (m/s)^2')
         within('stop_gain', self.stop_gain, *STOP_GAIN_RANGE, ' m/s')
+        within('known_std', self.known_std, *KNOWN_STD_RANGE, ' m/s')
+        within('prior_unknown', self.prior_unknown, *PRIOR_UNKNOWN_RANGE)
         if problems:
             raise ValueError('; '.join(problems))
 
@@ -228,10 +237,23 @@ class Mboa:
             if not np.all(np.isfinite(extra)):
                 raise ValueError('hypothesis speeds must be finite')
             means.append(extra.reshape(-1, len(self.prior)))
+        # known models under a tight GP of their own, and 'unknown damage' last (the map under
+        # the broad kernel): only with hypotheses, and known_std > 0
+        self._known = 0
+        if self.config.known_std > 0 and len(means) > 1:
+            self._known = sum(len(m) for m in means)
+            means.append(self.prior[None, :])
         self._means = np.vstack(means)  # (h, m): the prior mean under each hypothesis
+        self._log_prior = np.zeros(len(self._means))
+        if self._known:
+            self._log_prior[: self._known] = math.log(
+                (1.0 - self.config.prior_unknown) / self._known
+            )
+            self._log_prior[self._known :] = math.log(self.config.prior_unknown)
         self._log_weight = np.zeros(len(self._means))  # log marginal likelihoods (+ const)
         self._mu_h = self._means.copy()  # posterior mean under each hypothesis
         self._gp_var = np.full(len(self.prior), self.config.signal_variance)
+        self._known_var = np.full(len(self.prior), self.config.known_std**2)
         self._mix()
         # Incremental GP state (one column / row per trial, so a step costs O(m t), not O(m t^2)):
         n, cap = len(self.prior), self.config.max_trials
@@ -286,10 +308,39 @@ class Mboa:
         k_sx = self._k_sx[:, : t + 1]  # one product per hypothesis: bit-identical to the thesis's
         self._mu_h = self._means + np.stack([k_sx @ alpha[:, h] for h in range(alpha.shape[1])])
         self._log_weight = -0.5 * np.sum(white * white, axis=0)
+        if self._known:
+            self._refit_known(idx, y)
         self._mix()
 
+    def _refit_known(self, idx: np.ndarray, y: np.ndarray) -> None:
+        """
+        Redo the known models under their tight kernel (a full refit: a few dozen trials).
+
+        Two kernels compete, so each likelihood carries its kernel's determinant.
+        """
+        k = self._known
+        c = self.config
+        chol_broad = self._chol[: len(idx), : len(idx)]
+        self._log_weight -= np.sum(np.log(np.diag(chol_broad)))
+        unit = matern52(self.descriptors, self.descriptors[idx], c.length_scale)  # (m, t)
+        a = c.known_std**2 * unit[idx] + c.noise * np.eye(len(idx))
+        chol = np.linalg.cholesky(a)
+        white = solve_triangular(chol, y[:, :k], lower=True, check_finite=False)
+        alpha = solve_triangular(chol.T, white, lower=False, check_finite=False)
+        k_sx = c.known_std**2 * unit
+        self._mu_h[:k] = self._means[:k] + (k_sx @ alpha).T
+        self._log_weight[:k] = -0.5 * np.sum(white * white, axis=0) - np.sum(np.log(np.diag(chol)))
+        v = solve_triangular(chol, k_sx.T, lower=True, check_finite=False)
+        self._known_var = np.maximum(c.known_std**2 - np.sum(v * v, axis=0), 0.0)
+
     def _mix(self) -> None:
-        self._weights, self._mu, self._var = mixture(self._log_weight, self._mu_h, self._gp_var)
+        log_weight = self._log_weight + self._log_prior
+        if not self._known:  # one kernel: the thesis's GP when there are no hypotheses
+            self._weights, self._mu, self._var = mixture(log_weight, self._mu_h, self._gp_var)
+            return
+        self._weights, self._mu, spread = mixture(log_weight, self._mu_h, 0.0)
+        known = float(np.sum(self._weights[: self._known]))
+        self._var = spread + known * self._known_var + (1.0 - known) * self._gp_var
 
     @property
     def hypothesis_means(self) -> np.ndarray:
@@ -298,7 +349,11 @@ class Mboa:
 
     @property
     def weights(self) -> np.ndarray:
-        """Weight of each hypothesis: the map's prior first, then ``hypotheses`` in order."""
+        """
+        Weight of each hypothesis: the map's prior first, then ``hypotheses`` in order.
+
+        With ``config.known_std`` > 0, 'unknown damage' comes last.
+        """
         return self._weights
 
     # -- the loop ---------------------------------------------------------------------------

@@ -277,3 +277,49 @@ def test_malformed_hypotheses_are_refused():
         Mboa(x, prior, hypotheses=np.zeros((2, 9)))
     with pytest.raises(ValueError, match='finite'):
         Mboa(x, prior, hypotheses=np.full((1, 10), np.nan))
+
+
+def test_known_models_get_a_tight_gp_and_unknown_damage_the_profile_kernel():
+    x, prior = _map(60, seed=7)
+    rng = np.random.default_rng(8)
+    other = prior - rng.uniform(0.0, 0.3, 60)
+    cfg = MboaConfig(signal_variance=0.01, length_scale=0.2, known_std=0.03, prior_unknown=0.2)
+    opt = Mboa(x, prior, cfg, hypotheses=other[None, :])
+    # the map, the bank's one, then 'unknown damage' (the map under the profile's kernel)
+    np.testing.assert_allclose(opt.weights, [0.4, 0.4, 0.2])
+    truth = other + rng.normal(0.0, 0.01, 60)
+    obs = {2: truth[2], 11: truth[11], 25: truth[25], 40: truth[40]}
+    for i, y in obs.items():
+        opt.observe(i, y)
+    # direct: each hypothesis's Gaussian likelihood under its own kernel, determinant included
+    idx = np.array(list(obs))
+    y = np.array(list(obs.values()))
+    means, var, lik = [], [], []
+    for m, s2, prior_w in ((prior, 0.03**2, 0.4), (other, 0.03**2, 0.4), (prior, 0.01, 0.2)):
+        k = s2 * matern52(x[idx], x[idx], 0.2) + 0.001 * np.eye(4)
+        ks = s2 * matern52(x, x[idx], 0.2)
+        r = y - m[idx]
+        means.append(m + ks @ np.linalg.solve(k, r))
+        var.append(s2 - np.einsum('ij,ji->i', ks, np.linalg.solve(k, ks.T)))
+        lik.append(prior_w * np.exp(-0.5 * r @ np.linalg.solve(k, r)) / np.sqrt(np.linalg.det(k)))
+    w = np.array(lik) / sum(lik)
+    mean = w @ np.array(means)
+    np.testing.assert_allclose(opt.weights, w, atol=1e-10)
+    np.testing.assert_allclose(opt.mean, mean, atol=1e-10)
+    np.testing.assert_allclose(
+        opt.std**2, w @ np.array(var) + w @ (np.array(means) - mean) ** 2, atol=1e-10
+    )
+    assert opt.weights[1] > 0.9  # the bank's model of this damage
+    # damage no model describes: 'unknown damage' takes over
+    odd = Mboa(x, prior, cfg, hypotheses=other[None, :])
+    strange = prior * rng.uniform(-0.5, 1.5, 60)
+    for i in (2, 11, 25, 40, 50):
+        odd.observe(i, strange[i])
+    assert int(np.argmax(odd.weights)) == 2 and odd.weights[2] > 0.9
+    # without hypotheses known_std changes nothing: the thesis's GP
+    alone, plain = Mboa(x, prior, cfg), Mboa(x, prior, replace(cfg, known_std=0.0))
+    for o in (alone, plain):
+        o.observe(3, 0.1)
+    np.testing.assert_array_equal(alone.mean, plain.mean)
+    with pytest.raises(ValueError, match='known_std'):
+        MboaConfig(known_std=-0.1)
