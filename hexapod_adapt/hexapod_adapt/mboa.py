@@ -246,10 +246,9 @@ class Mboa:
         self._means = np.vstack(means)  # (h, m): the prior mean under each hypothesis
         self._log_prior = np.zeros(len(self._means))
         if self._known:
-            self._log_prior[: self._known] = math.log(
-                (1.0 - self.config.prior_unknown) / self._known
-            )
-            self._log_prior[self._known :] = math.log(self.config.prior_unknown)
+            unknown = self.config.prior_unknown
+            self._log_prior[:] = math.log((1.0 - unknown) / self._known)
+            self._log_prior[-1] = math.log(unknown)
         self._log_weight = np.zeros(len(self._means))  # log marginal likelihoods (+ const)
         self._mu_h = self._means.copy()  # posterior mean under each hypothesis
         self._gp_var = np.full(len(self.prior), self.config.signal_variance)
