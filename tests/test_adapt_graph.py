@@ -186,6 +186,28 @@ def test_the_damage_informed_prior_through_the_graph(ros, launch, tmp_path, smal
     assert node.alive() and sim.alive() and gait.alive()
 
 
+def test_a_request_before_the_simulator_reports_its_damage_waits_for_the_report(
+    ros, launch, tmp_path, small_archive
+):
+    """CI once saw a run start 'from the map as it is' 2 s before sim/damage arrived."""
+    path, _, _ = small_archive
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'record_dir': '', 'prior_cache_dir': str(tmp_path)},
+    )
+    client = ros.node.create_client(Adapt, 'adapt')
+    assert client.wait_for_service(timeout_sec=30)
+    future = client.call_async(Adapt.Request(max_trials=1))  # no simulator yet
+    launch('hexapod_sim', 'sim_node', params={'real_time_factor': 0.0, 'failed_legs': FAILED})
+    launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
+    wait_for(future.done, 300, 'the run')
+    response = future.result()
+    assert response.trials == 1, response.message
+    assert 'from the simulator' in response.prior and 'leg 2 lifted' in response.prior
+    assert node.alive()
+
+
 def test_bad_servo_reports_are_refused_and_the_node_lives(ros, launch):
     from hexapod_gait.ros_glue import EVENTS
     from hexapod_msgs.msg import ServoFailure

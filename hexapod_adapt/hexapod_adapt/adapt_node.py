@@ -263,8 +263,9 @@ class AdaptNode(Node):
         if not self.busy.acquire(blocking=False):
             response.success, response.message = False, 'an adaptation is already running'
             return response
+        auto = not request.failed_legs and not request.blind  # the damage as reported
         try:
-            return self._run(self.archive, config, duration, response, damage, source)
+            return self._run(self.archive, config, duration, response, damage, source, auto)
         except Exception as exc:  # noqa: BLE001 - the service must answer and the node stay up
             self.get_logger().error(
                 f'adaptation failed unexpectedly: {type(exc).__name__}: {exc}\n'
@@ -324,7 +325,15 @@ class AdaptNode(Node):
         response: Adapt.Response,
         damage: Damage | None = None,
         source: str = '',
+        auto: bool = False,
     ) -> Adapt.Response:
+        """
+        Run one adaptation; ``damage`` and ``source``: its prior (see :meth:`_prior`).
+
+        ``auto``: the damage is whatever is reported. In sim mode the simulator reports it at
+        start-up (latched), and a request can come before that arrives: the run then waits for it
+        as it waits for /clock, and takes the prior from it.
+        """
         record_dir = self.get_parameter('record_dir').value
         timeout = float(self.get_parameter('trial_timeout').value)
         timing = TrialTiming(duration, timeout, float(self.get_parameter('stand_still').value))
@@ -342,6 +351,17 @@ class AdaptNode(Node):
             except TrialAborted as exc:
                 response.success, response.message = False, f'run not started: {exc}'
                 return response
+        if auto and self.mode == 'sim':
+            try:
+                self.waiter.until(
+                    lambda: self.known.sim is not None,
+                    timeout,
+                    "the simulator's damage report, sim/damage (is sim_node running?)",
+                )
+            except TrialAborted as exc:
+                response.success, response.message = False, f'run not started: {exc}'
+                return response
+            damage, source = self.known.for_run([], False)
         if record_dir:
             left = self.recorded.await_latched(LATCHED_GRACE_S)
             if left:
