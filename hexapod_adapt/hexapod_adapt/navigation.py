@@ -126,8 +126,10 @@ class NavigationConfig:
     #: bank's failure): 0 gives every hypothesis the GP above (signal_std_*, linear_std), so a
     #: few steps hardly tell them apart. > 0 gives the known models a GP this tight (heading:
     #: ``known_std_yaw``, no linear part), and adds one 'unknown damage' hypothesis, the intact
-    #: repertoire with the GP above, with prior weight ``prior_unknown``
-    known_std_xy: float = 0.0
+    #: repertoire with the GP above, with prior weight ``prior_unknown`` (0.03: chosen on the
+    #: tuning goals, docs/navigation.md "Known models"; known_std_yaw and prior_unknown were set
+    #: before and not tuned)
+    known_std_xy: float = 0.03
     known_std_yaw: float = 0.15  # rad
     prior_unknown: float = 0.2
     #: how the planner scores a step: 'nearest', the step whose end lies nearest the goal (as
@@ -172,15 +174,15 @@ class NavigationConfig:
             raise ValueError(
                 f'prior_unknown must be a probability in (0, 1), got {self.prior_unknown!r}'
             )
-        if self.known_std_xy > 0 and self.prior_intact + self.prior_unknown >= 1.0:
-            raise ValueError(
-                'prior_intact + prior_unknown must leave the bank some weight (< 1), got'
-                f' {self.prior_intact!r} + {self.prior_unknown!r}'
-            )
         if not (isinstance(self.prior_intact, (int, float)) and 0.0 <= self.prior_intact < 1.0):
             raise ValueError(
                 'prior_intact must be a probability in [0, 1) (0: none),'
                 f' got {self.prior_intact!r}'
+            )
+        if self.known_std_xy > 0 and self.prior_intact + self.prior_unknown >= 1.0:
+            raise ValueError(
+                'prior_intact + prior_unknown must leave the bank some weight (< 1), got'
+                f' {self.prior_intact!r} + {self.prior_unknown!r}'
             )
         if not (isinstance(self.min_stance_legs, int) and 0 <= self.min_stance_legs <= 6):
             raise ValueError(f'min_stance_legs must be 0..6, got {self.min_stance_legs!r}')

@@ -77,7 +77,7 @@ def test_goals_are_checked_with_reasons():
 def test_the_correction_starts_at_the_repertoire_and_learns_a_change_common_to_all_steps(
     repertoire,
 ):
-    gp = CorrectionGP(repertoire, NavigationConfig())
+    gp = CorrectionGP(repertoire, NavigationConfig(known_std_xy=0.0))  # one GP for all
     mean, var = gp.predict()
     np.testing.assert_array_equal(mean[:, :2], repertoire.moves)
     assert np.all(mean[:, 2] == 0) and np.all(var > 0)
@@ -158,7 +158,7 @@ def test_the_correction_weighs_step_hypotheses_by_their_marginal_likelihood(repe
     from scipy.linalg import solve_triangular
 
     rng = np.random.default_rng(1)
-    config = NavigationConfig()
+    config = NavigationConfig(known_std_xy=0.0)  # one GP for all hypotheses
     intact = np.column_stack([repertoire.moves, np.zeros(len(repertoire))])
     truth = intact * np.array([0.6, 0.6, 0.0]) + rng.normal(0, 0.02, intact.shape)
     decoy = intact * np.array([-0.2, 1.0, 0.0])
@@ -338,9 +338,11 @@ def test_the_intact_repertoire_may_get_a_prior_weight_among_the_bank_hypotheses(
     rng = np.random.default_rng(3)
     bank = repertoire.moves[None] * rng.uniform(0.3, 1.0, (4, 1, 1))
     hypotheses = np.concatenate([bank, np.zeros((4, len(repertoire), 1))], axis=2)
-    alike = CorrectionGP(repertoire, NavigationConfig(), hypotheses)
+    alike = CorrectionGP(repertoire, NavigationConfig(known_std_xy=0.0), hypotheses)
     np.testing.assert_allclose(alike.weights, 0.2)
-    leaning = CorrectionGP(repertoire, NavigationConfig(prior_intact=0.6), hypotheses)
+    leaning = CorrectionGP(
+        repertoire, NavigationConfig(known_std_xy=0.0, prior_intact=0.6), hypotheses
+    )
     np.testing.assert_allclose(leaning.weights, [0.6, 0.1, 0.1, 0.1, 0.1])
     # the evidence then moves both alike: the weight ratios of the failures stay equal
     for gp in (alike, leaning):
@@ -440,7 +442,7 @@ def test_known_models_get_a_tight_gp_and_an_unknown_damage_hypothesis_catches_th
     expected = np.array([0.4, 0.2, 0.2, 0.2]) * np.exp(np.array(logs) - max(logs))
     np.testing.assert_allclose(gp.weights, expected / expected.sum(), atol=1e-9)
     assert gp.weights[0] > 0.9  # the intact robot is recognised ...
-    broad = CorrectionGP(repertoire, NavigationConfig(prior_intact=0.4), bank)
+    broad = CorrectionGP(repertoire, NavigationConfig(known_std_xy=0.0, prior_intact=0.4), bank)
     for i in seen:
         broad.add(i, walked[i])
     assert broad.weights[0] < gp.weights[0] - 0.25  # ... better than under one broad GP for all
