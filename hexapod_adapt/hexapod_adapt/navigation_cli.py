@@ -51,6 +51,7 @@ from hexapod_adapt.repertoire import Repertoire
 from hexapod_adapt.step_bank import load_step_bank, shipped_step_bank
 from hexapod_description.cli import input_file, number, output_dir, run_command
 from hexapod_sim import ENGINES, SCENARIO_NAMES
+from hexapod_sim.damage import DAMAGE_KINDS
 
 _DEFAULT = NavigationConfig()
 
@@ -97,6 +98,13 @@ def build_parser() -> argparse.ArgumentParser:
         type=input_file,
         default=None,
         help="the bank (default: the shipped repertoire's, maps/navigation_bank.npz)",
+    )
+    ap.add_argument(
+        '--damage-kind',
+        choices=DAMAGE_KINDS,
+        default='lifted',
+        help="how the scenarios' legs fail: lifted as in the thesis (the damage bank's kind), or"
+        ' damage the bank does not hold: locked where they stood, weak servos, a lost tibia',
     )
     ap.add_argument('--workers', type=number(int, 1, 256), default=2)
     ap.add_argument(
@@ -154,6 +162,7 @@ def _run(args: argparse.Namespace) -> int:
         config=config,
         bank=bank,
         leave_out=args.bank == 'leave-out',
+        damage_kind=args.damage_kind,
     )
     rows, paths = run_navigation(settings, workers=args.workers)
     print('scenario  method        goals  reached  median walking s  median efficiency')

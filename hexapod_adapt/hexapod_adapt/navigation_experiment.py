@@ -56,7 +56,7 @@ from hexapod_adapt.navigation import (
 from hexapod_adapt.repertoire import Repertoire
 from hexapod_adapt.step_bank import load_step_bank
 from hexapod_sim import create_simulator, scenario, SCENARIO_NAMES, SimConfig
-from hexapod_sim.damage import Damage
+from hexapod_sim.damage import Damage, DAMAGE_KINDS
 import numpy as np
 
 METHODS = ('repertoire', 'no_learning', 'tripod')
@@ -87,6 +87,9 @@ class NavigationSettings:
     bank: Path | None = None
     #: leave each case's own damage out of the bank (damage the bank does not model)
     leave_out: bool = False
+    #: how the scenarios' legs fail (hexapod_sim.damage.DAMAGE_KINDS): 'lifted' as in the
+    #: thesis (the bank's kind); the others are damage the bank does not hold
+    damage_kind: str = 'lifted'
 
     def __post_init__(self) -> None:
         unknown = [m for m in self.methods if m not in METHODS]
@@ -96,6 +99,10 @@ class NavigationSettings:
             scenario(name)  # ValueError names an unknown one
         if self.goals < 1:
             raise ValueError(f'goals must be >= 1, got {self.goals}')
+        if self.damage_kind not in DAMAGE_KINDS:
+            raise ValueError(
+                f'unknown damage kind {self.damage_kind!r}; known: {", ".join(DAMAGE_KINDS)}'
+            )
 
 
 @dataclass(frozen=True)
@@ -148,7 +155,7 @@ def _case(
             bank = bank.without(Damage.lifted(legs))
         hypotheses = bank.steps
     sim = create_simulator(SimConfig(engine=settings.engine))
-    sim.set_failed_legs(legs)
+    sim.set_damage(Damage.of(settings.damage_kind, legs))
     body = SimBody(sim)
     out = []
     for k, goal in enumerate(draw_goals(settings.goals, settings.goal_seed)):

@@ -456,3 +456,21 @@ def test_known_models_get_a_tight_gp_and_an_unknown_damage_hypothesis_catches_th
         NavigationConfig(known_std_xy=0.05, prior_intact=0.5, prior_unknown=0.5)
     with pytest.raises(ValueError, match='known_std_xy must be'):
         NavigationConfig(known_std_xy=-1.0)
+
+
+def test_the_experiment_can_walk_damage_of_another_kind_than_the_banks():
+    from hexapod_adapt.navigation_experiment import _case, NavigationSettings
+
+    with pytest.raises(ValueError, match="unknown damage kind 'bent'"):
+        NavigationSettings(repertoire=REPERTOIRE, damage_kind='bent')
+    paths = {}
+    for kind in ('lifted', 'locked'):
+        settings = NavigationSettings(
+            repertoire=REPERTOIRE, goals=1, methods=('no_learning',), damage_kind=kind
+        )
+        ((row, path),) = _case(settings, 'S3', (1, 5))
+        assert row.failed_legs == '1+5' and row.steps >= 1
+        paths[kind] = np.array(path)
+    # the same plan, walked with the legs held up or locked where they stood: other paths
+    n = min(len(paths['lifted']), len(paths['locked']))
+    assert np.max(np.abs(paths['lifted'][:n] - paths['locked'][:n])) > 0.01
