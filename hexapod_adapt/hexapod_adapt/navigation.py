@@ -132,6 +132,9 @@ class NavigationConfig:
     known_std_xy: float = 0.03
     known_std_yaw: float = 0.15  # rad
     prior_unknown: float = 0.2
+    #: optimism added in proportion to the weight of 'unknown damage': when no known model
+    #: fits, the planner looks beyond steps the GP predicts short (0: none)
+    unknown_optimism: float = 0.0
     #: how the planner scores a step: 'nearest', the step whose end lies nearest the goal (as
     #: RTE); 'time', the step with the least expected time to the goal: the gait change it
     #: costs (the body's transition), the time into the step at which its path enters the goal
@@ -156,7 +159,7 @@ class NavigationConfig:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f'{name} must be a positive finite number, got {value!r}')
-        for name in ('optimism', 'linear_std'):
+        for name in ('optimism', 'linear_std', 'unknown_optimism'):
             w = getattr(self, name)
             if not (isinstance(w, (int, float)) and math.isfinite(w) and w >= 0):
                 raise ValueError(f'{name} must be a finite number >= 0, got {w!r}')
@@ -331,6 +334,11 @@ class CorrectionGP:
         """Return every step's predicted (dx, dy, dyaw) (n, 3) and its variance (n, 3)."""
         return self._mean, self._var
 
+    @property
+    def unknown_weight(self) -> float:
+        """Return the weight of 'unknown damage' (0 without known models)."""
+        return float(self.weights[-1]) if len(self._groups) > 1 else 0.0
+
 
 # -- policies ----------------------------------------------------------------------------------
 def time_to_goal(
@@ -444,7 +452,8 @@ class RepertoirePolicy:
         ex = pose.x + c * mean[:, 0] - s * mean[:, 1]
         ey = pose.y + s * mean[:, 0] + c * mean[:, 1]
         left = np.hypot(goal[0] - ex, goal[1] - ey)
-        shift = self.config.optimism * np.sqrt(var[:, 0] + var[:, 1])
+        optimism = self.config.optimism + self.config.unknown_optimism * self.gp.unknown_weight
+        shift = optimism * np.sqrt(var[:, 0] + var[:, 1])
         playing_row = next((i for i, g in self._gaits.items() if g is playing), -1)
         switch = np.full(len(mean), float(switch_time))
         if playing_row >= 0:

@@ -474,3 +474,24 @@ def test_the_experiment_can_walk_damage_of_another_kind_than_the_banks():
     # the same plan, walked with the legs held up or locked where they stood: other paths
     n = min(len(paths['lifted']), len(paths['locked']))
     assert np.max(np.abs(paths['lifted'][:n] - paths['locked'][:n])) > 0.01
+
+
+def test_unknown_optimism_grows_with_the_weight_of_unknown_damage(repertoire):
+    intact = np.column_stack([repertoire.moves, np.zeros(len(repertoire))])
+    bank = intact[None] * np.array([0.7, 0.7, 0.0])
+    start, goal = Pose2D(0.0, 0.0, 0.0), (2.0, 1.0)
+    plain = RepertoirePolicy(repertoire, NavigationConfig(), bank)
+    eager = RepertoirePolicy(repertoire, NavigationConfig(unknown_optimism=50.0), bank)
+    # before any step 'unknown damage' has its prior weight only
+    assert plain.gp.unknown_weight == pytest.approx(0.2)
+    # steps that no known model predicts: 'unknown damage' takes the weight, and the optimism
+    # it brings changes the choice
+    for policy in (plain, eager):
+        for i in (5, 77, 300):
+            policy.gp.add(i, intact[i] * np.array([-0.2, 0.1, 0.0]))
+    assert eager.gp.unknown_weight > 0.99
+    assert plain.next_step(start, goal).index != eager.next_step(start, goal).index
+    one_gp = RepertoirePolicy(repertoire, NavigationConfig(known_std_xy=0.0), bank)
+    assert one_gp.gp.unknown_weight == 0.0  # no such hypothesis under one GP
+    with pytest.raises(ValueError, match='unknown_optimism must be'):
+        NavigationConfig(unknown_optimism=-1.0)
