@@ -87,6 +87,7 @@ class Pose2D:
 # -- settings and goals ------------------------------------------------------------------------
 #: NavigationConfig.planner's choices
 PLANNERS = ('nearest', 'time')
+REST_SPEEDS = ('fastest', 'toward')
 
 
 @dataclass(frozen=True)
@@ -144,6 +145,12 @@ class NavigationConfig:
     #: 'time' planner: a step's path counts as reaching the goal where it comes this close to
     #: it, as a fraction of the tolerance (the path within a step is taken as straight)
     aim: float = 0.5
+    #: 'time' planner: the speed assumed for the rest of the way after a step. 'fastest': the
+    #: longest predicted step, in any direction; 'toward': the most progress toward the goal a
+    #: predicted step makes from where the robot is. With 'fastest', when every step that
+    #: heads for the goal is predicted short, a gait that barely moves costs less than the
+    #: transition to another, and the robot can mark time until the time limit
+    rest_speed: str = 'fastest'
 
     def __post_init__(self) -> None:
         for name in (
@@ -165,6 +172,8 @@ class NavigationConfig:
                 raise ValueError(f'{name} must be a finite number >= 0, got {w!r}')
         if self.planner not in PLANNERS:
             raise ValueError(f'planner must be one of {PLANNERS}, got {self.planner!r}')
+        if self.rest_speed not in REST_SPEEDS:
+            raise ValueError(f'rest_speed must be one of {REST_SPEEDS}, got {self.rest_speed!r}')
         if not (isinstance(self.aim, (int, float)) and 0.0 < self.aim <= 1.0):
             raise ValueError(
                 f'aim must be a fraction of the tolerance in (0, 1], got {self.aim!r}'
@@ -464,7 +473,16 @@ class RepertoirePolicy:
             # the end moved toward the goal by the optimism's shift (no further than the goal)
             pull = np.minimum(shift, left) / np.maximum(left, 1e-12)
             ends = np.column_stack([ex + pull * (goal[0] - ex), ey + pull * (goal[1] - ey)])
-            reach = np.hypot(mean[:, 0], mean[:, 1])
+            if self.config.rest_speed == 'toward':
+                # each step's progress toward the goal from here (the chord's projection); a
+                # floor of 1 mm per step: no step that heads for the goal is a big cost, not an
+                # infinite one
+                to_goal = np.array([goal[0] - pose.x, goal[1] - pose.y])
+                unit = to_goal / max(float(np.hypot(*to_goal)), 1e-12)
+                progress = (ex - pose.x) * unit[0] + (ey - pose.y) * unit[1]
+                best = max(float(np.max(progress[self.allowed])), 1e-3)
+            else:
+                best = float(np.max(np.hypot(mean[:, 0], mean[:, 1])[self.allowed]))
             cost = time_to_goal(
                 (pose.x, pose.y),
                 ends,
@@ -472,7 +490,7 @@ class RepertoirePolicy:
                 self.config.aim * self.config.tolerance,
                 self.repertoire.step_duration,
                 switch,
-                float(np.max(reach[self.allowed])) / self.repertoire.step_duration,
+                best / self.repertoire.step_duration,
             )
         i = int(np.argmin(np.where(self.allowed, cost, np.inf)))
         if i not in self._gaits:

@@ -495,3 +495,25 @@ def test_unknown_optimism_grows_with_the_weight_of_unknown_damage(repertoire):
     assert one_gp.gp.unknown_weight == 0.0  # no such hypothesis under one GP
     with pytest.raises(ValueError, match='unknown_optimism must be'):
         NavigationConfig(unknown_optimism=-1.0)
+
+
+def test_the_rest_of_the_way_at_the_speed_toward_the_goal_breaks_marking_time(repertoire):
+    # damage that leaves long sideways steps but short forward ones; the playing gait barely
+    # moves. Counting the rest of the way at the longest step's speed (any direction), the
+    # transition to a gait that gains 7 cm costs more than it saves: the robot marks time
+    goal, start = (0.6, 0.0), Pose2D(0.0, 0.0, 0.0)
+    mean = np.column_stack([repertoire.moves * np.array([0.15, 1.0]), np.zeros(len(repertoire))])
+    choices = {}
+    for rest in ('fastest', 'toward'):
+        policy = RepertoirePolicy(repertoire, NavigationConfig(use_bank=False, rest_speed=rest))
+        stuck = int(np.flatnonzero(policy.allowed)[0])
+        crafted = mean.copy()
+        crafted[stuck] = (0.003, 0.0, 0.0)
+        policy.gp.predict = lambda m=crafted: (m, np.full_like(m, 1e-4))
+        playing = policy.repertoire.gait(stuck)
+        policy._gaits[stuck] = playing
+        choices[rest] = policy.next_step(start, goal, playing, 0.5).index
+    assert choices['fastest'] == stuck  # marks time
+    assert choices['toward'] != stuck  # takes the transition to a step that heads for the goal
+    with pytest.raises(ValueError, match='rest_speed must be one of'):
+        NavigationConfig(rest_speed='slowest')
