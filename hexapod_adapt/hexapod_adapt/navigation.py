@@ -149,8 +149,9 @@ class NavigationConfig:
     #: longest predicted step, in any direction; 'toward': the most progress toward the goal a
     #: predicted step makes from where the robot is. With 'fastest', when every step that
     #: heads for the goal is predicted short, a gait that barely moves costs less than the
-    #: transition to another, and the robot can mark time until the time limit
-    rest_speed: str = 'fastest'
+    #: transition to another, and the robot can mark time until the time limit ('toward':
+    #: chosen on the tuning goals, docs/navigation.md "Rest of the way")
+    rest_speed: str = 'toward'
 
     def __post_init__(self) -> None:
         for name in (
