@@ -174,16 +174,19 @@ def mixture(
     log_weight: np.ndarray, means: np.ndarray, variance: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """
-    Return (weights, mean, variance) of a mixture of GP posteriors that differ in mean only.
+    Return (weights, mean, variance) of a mixture of GP posteriors.
 
     ``log_weight`` (h,): each hypothesis's log marginal likelihood (up to a shared constant);
-    ``means`` (h, ...): its posterior mean; ``variance``: the posterior variance they share. The
+    ``means`` (h, ...): its posterior mean; ``variance``: the posterior variance they share, or
+    one per hypothesis (shape of ``means``: GPs with different kernels), then weighted. The
     mixture's variance adds the spread of the means. One hypothesis gives its own mean and
     variance exactly.
     """
     w = np.exp(log_weight - np.max(log_weight))
     w /= w.sum()
     mean = np.tensordot(w, means, axes=1)
+    if np.shape(variance) == np.shape(means):
+        variance = np.tensordot(w, variance, axes=1)
     return w, mean, variance + np.tensordot(w, (means - mean) ** 2, axes=1)
 
 
@@ -301,30 +304,34 @@ class Mboa:
         self._v[t] = (k_new - row @ self._v[:t]) / chol[t, t]
         self._gp_var = self._gp_var - self._v[t] ** 2
         lower = chol[: t + 1, : t + 1]
-        y = np.array([tr.measured for tr in self.trials])[:, None] - self._means[:, idx].T
+        measured = np.array([tr.measured for tr in self.trials])[:, None]
+        broad = slice(self._known, None)  # the hypotheses under this kernel (all, or 'unknown')
+        y = measured - self._means[broad][:, idx].T
         white = solve_triangular(lower, y, lower=True, check_finite=False)  # (t+1, h)
         alpha = solve_triangular(lower.T, white, lower=False, check_finite=False)
         k_sx = self._k_sx[:, : t + 1]  # one product per hypothesis: bit-identical to the thesis's
-        self._mu_h = self._means + np.stack([k_sx @ alpha[:, h] for h in range(alpha.shape[1])])
-        self._log_weight = -0.5 * np.sum(white * white, axis=0)
+        self._mu_h[broad] = self._means[broad] + np.stack(
+            [k_sx @ alpha[:, h] for h in range(alpha.shape[1])]
+        )
+        self._log_weight[broad] = -0.5 * np.sum(white * white, axis=0)
         if self._known:
-            self._refit_known(idx, y)
+            self._log_weight[broad] -= np.sum(np.log(np.diag(lower)))
+            self._refit_known(idx, measured - self._means[: self._known][:, idx].T)
         self._mix()
 
     def _refit_known(self, idx: np.ndarray, y: np.ndarray) -> None:
         """
         Redo the known models under their tight kernel (a full refit: a few dozen trials).
 
-        Two kernels compete, so each likelihood carries its kernel's determinant.
+        Two kernels compete, so each likelihood carries its kernel's determinant. ``y``: the
+        trials' residuals under each known model (t, k).
         """
         k = self._known
         c = self.config
-        chol_broad = self._chol[: len(idx), : len(idx)]
-        self._log_weight -= np.sum(np.log(np.diag(chol_broad)))
         unit = matern52(self.descriptors, self.descriptors[idx], c.length_scale)  # (m, t)
         a = c.known_std**2 * unit[idx] + c.noise * np.eye(len(idx))
         chol = np.linalg.cholesky(a)
-        white = solve_triangular(chol, y[:, :k], lower=True, check_finite=False)
+        white = solve_triangular(chol, y, lower=True, check_finite=False)
         alpha = solve_triangular(chol.T, white, lower=False, check_finite=False)
         k_sx = c.known_std**2 * unit
         self._mu_h[:k] = self._means[:k] + (k_sx @ alpha).T
@@ -337,9 +344,9 @@ class Mboa:
         if not self._known:  # one kernel: the thesis's GP when there are no hypotheses
             self._weights, self._mu, self._var = mixture(log_weight, self._mu_h, self._gp_var)
             return
-        self._weights, self._mu, spread = mixture(log_weight, self._mu_h, 0.0)
-        known = float(np.sum(self._weights[: self._known]))
-        self._var = spread + known * self._known_var + (1.0 - known) * self._gp_var
+        var_h = np.repeat(self._gp_var[None], len(self._means), axis=0)
+        var_h[: self._known] = self._known_var
+        self._weights, self._mu, self._var = mixture(log_weight, self._mu_h, var_h)
 
     @property
     def hypothesis_means(self) -> np.ndarray:

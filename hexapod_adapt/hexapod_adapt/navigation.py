@@ -337,8 +337,7 @@ class CorrectionGP:
         self._mix()
 
     def _mix(self) -> None:
-        self.weights, self._mean, spread = mixture(self._log_weight, self._mu_h, 0.0)
-        self._var = np.tensordot(self.weights, self._var_h, axes=1) + spread
+        self.weights, self._mean, self._var = mixture(self._log_weight, self._mu_h, self._var_h)
 
     def predict(self) -> tuple[np.ndarray, np.ndarray]:
         """Return every step's predicted (dx, dy, dyaw) (n, 3) and its variance (n, 3)."""
