@@ -335,7 +335,8 @@ def bench_adapt() -> None:
     (cached ceilings only; across engines, approximate PyBullet ceilings if cached -- none are
     shipped: docs/adaptation.md, "Regret against the ceiling", says why). Runs end by M-BOA's
     stopping rule, capped at the budget users get (24 trials), and for the thesis profile at
-    EXPERIMENT_MAX_TRIALS (100) so that its rule ends them.
+    EXPERIMENT_MAX_TRIALS (100) so that its rule ends them. Trials are 5 s from standing (the
+    product's and the thesis's trial).
     """
     import os
     from pathlib import Path

@@ -29,6 +29,7 @@ keeping the good one.
 from __future__ import annotations
 
 from conftest import status_log_qos, wait_for
+from hexapod_adapt.adaptation import simulated_trial
 from hexapod_adapt.archive import Archive
 from hexapod_adapt.recording import read_messages
 from hexapod_adapt.simulation import simulation_fingerprint
@@ -43,6 +44,7 @@ from rcl_interfaces.srv import SetParameters
 
 pytestmark = pytest.mark.ros
 FAILED = [2]
+SETTLE, TIMED = 1.0, 2.0  # a settled trial (adapt_node's trial_settle, trial_duration)
 
 
 @pytest.fixture(scope='module')
@@ -65,6 +67,15 @@ def small_archive(tmp_path_factory):
     return path, archive, np.array(damaged)
 
 
+@pytest.fixture(scope='module')
+def settled_speeds(small_archive):
+    """The library's damaged speed of each niche in a settled trial (SETTLE s, then TIMED s)."""
+    _, archive, _ = small_archive
+    with create_simulator() as sim:
+        trial = simulated_trial(archive, FAILED, sim, TIMED, SETTLE)
+        return {int(n): trial(int(n)) for n in archive.elite_indices()}
+
+
 def _set_parameter(ros, name: str, value: ParameterValue):
     req = SetParameters.Request(parameters=[Parameter(name=name, value=value)])
     return ros.call(SetParameters, 'adapt_node/set_parameters', req).results[0]
@@ -76,7 +87,7 @@ def _set_archive(ros, value: str):
     )
 
 
-def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive):
+def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive, settled_speeds):
     path, archive, damaged_speeds = small_archive
     sim = launch(
         'hexapod_sim',
@@ -87,7 +98,12 @@ def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive):
     node = launch(
         'hexapod_adapt',
         'adapt_node',
-        params={'archive': str(path), 'record_dir': str(tmp_path / 'runs')},
+        params={
+            'archive': str(path),
+            'record_dir': str(tmp_path / 'runs'),
+            'trial_settle': SETTLE,
+            'trial_duration': TIMED,
+        },
     )
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
 
@@ -99,14 +115,16 @@ def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive):
     wait_for(lambda: len(trials) == response.trials, 10, 'one AdaptationTrial per trial')
     niches = archive.elite_indices()
     for t in trials:
-        expected = damaged_speeds[list(niches).index(t.archive_index)]
+        # a settled trial (1 s untimed, then 2 s timed), as the library times it
+        expected = settled_speeds[t.archive_index]
         assert abs(t.measured_speed - expected) <= 0.02 * abs(expected) + 1e-9, (
             t.archive_index,
             t.measured_speed,
             expected,
         )
-        # M-BOA's prior: the map re-scored under the simulator's damage (sim/damage)
-        assert t.map_speed == pytest.approx(expected)
+        # M-BOA's prior: the map re-scored under the simulator's damage (sim/damage), as the
+        # map's gaits are scored (5 s from standing)
+        assert t.map_speed == pytest.approx(damaged_speeds[list(niches).index(t.archive_index)])
     assert f'under leg {FAILED[0]} lifted' in response.prior
     best = max(trials, key=lambda t: t.measured_speed)
     assert (

@@ -336,7 +336,20 @@ class AdaptNode(Node):
         """
         record_dir = self.get_parameter('record_dir').value
         timeout = float(self.get_parameter('trial_timeout').value)
-        timing = TrialTiming(duration, timeout, float(self.get_parameter('stand_still').value))
+        settle = float(self.get_parameter('trial_settle').value)
+        if self.mode != 'sim':  # the robot walks what bridge_node is set to: one home for it
+            bridge = self.port.bridge_trial()
+            if bridge is None:
+                self.get_logger().warning(
+                    'bridge_node did not say how it walks a trial (its trial_duration and'
+                    f' trial_settle): assuming {duration:g} s from standing'
+                )
+                settle = 0.0
+            else:
+                duration, settle = bridge
+        timing = TrialTiming(
+            duration, timeout, float(self.get_parameter('stand_still').value), settle
+        )
         self.port.gait_of = lambda niche: from_genotype(archive.genotypes[niche]).replace(
             archive_index=int(niche)
         )
@@ -378,7 +391,9 @@ class AdaptNode(Node):
         )
         self.get_logger().info(
             f'adaptation started: {archive.n_filled} gaits, at most {config.max_trials} trials '
-            f'of {duration:g} s, alpha {config.alpha:g}, kappa {config.kappa:g}'
+            f'of {duration:g} s'
+            + (f' after {settle:g} s of settling' if settle else '')
+            + f', alpha {config.alpha:g}, kappa {config.kappa:g}'
             + (f'; {note}' if note else '')
         )
         niches = archive.elite_indices()  # M-BOA's candidate index -> niche

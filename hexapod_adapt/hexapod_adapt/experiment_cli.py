@@ -55,6 +55,7 @@ from hexapod_adapt.mboa import (
     NOISE_RANGE,
     PROFILES,
     TRIAL_BUDGET,
+    TRIAL_SETTLE,
 )
 from hexapod_adapt.plots import plot_experiment
 from hexapod_adapt.simulation import archive_engine
@@ -192,9 +193,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         '--settle',
         type=number(float, 0.0, 60.0),
-        default=0.0,
-        help='untimed walking before each trial is timed [s] (0: timed from standing, as in the'
-        ' thesis)',
+        default=TRIAL_SETTLE,
+        help='untimed walking before each trial is timed [s] (default 0: timed from standing,'
+        " the thesis's trial and the product's)",
     )
     ap.add_argument(
         '--prior',

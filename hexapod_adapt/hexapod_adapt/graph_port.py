@@ -138,6 +138,9 @@ class GraphPort:
         self.sim_params_client = node.create_client(
             GetParameters, f'{sim_name}/get_parameters', callback_group=work
         )
+        self.bridge_params_client = node.create_client(
+            GetParameters, f'{bridge_name}/get_parameters', callback_group=work
+        )
 
     # -- inputs -----------------------------------------------------------------------------
     def _on_odom(self, msg: Odometry) -> None:
@@ -271,6 +274,29 @@ class GraphPort:
         if values and values[0].type == ParameterType.PARAMETER_STRING:
             return values[0].string_value
         return None
+
+    def bridge_trial(self) -> tuple[float, float] | None:
+        """
+        Return bridge_node's (trial_duration, trial_settle) [s]: how it walks a robot trial.
+
+        None if it does not answer; a bridge without ``trial_settle`` settles 0 s.
+        """
+        if not self.bridge_params_client.wait_for_service(timeout_sec=2.0):
+            return None
+        future = self.bridge_params_client.call_async(
+            GetParameters.Request(names=['trial_duration', 'trial_settle'])
+        )
+        try:
+            self.wait(future.done, 5.0, "bridge_node's parameters")
+        except TrialAborted:
+            return None
+        values = future.result().values
+        if not values or values[0].type != ParameterType.PARAMETER_DOUBLE:
+            return None
+        settle = 0.0
+        if len(values) > 1 and values[1].type == ParameterType.PARAMETER_DOUBLE:
+            settle = values[1].double_value
+        return values[0].double_value, settle
 
 
 def trial_msg(trial, niche: int, best_niche: int, best_speed: float, archive) -> AdaptationTrial:

@@ -330,7 +330,9 @@ class NavigateNode(Node):
         # as long as any answer from the graph (a loaded machine discovers a service late)
         if not self.bridge_params.wait_for_service(timeout_sec=self.timeout):
             return ''  # not up: the upload will say so, with its own reason
-        future = self.bridge_params.call_async(GetParameters.Request(names=['trial_duration']))
+        future = self.bridge_params.call_async(
+            GetParameters.Request(names=['trial_duration', 'trial_settle'])
+        )
         try:
             self.waiter.until(future.done, self.timeout, "bridge_node's parameters")
         except TrialAborted:
@@ -343,6 +345,12 @@ class NavigateNode(Node):
             return (
                 f'bridge_node walks {bridge:g} s per trial but navigate_node steps are'
                 f' {self.trial_duration:g} s: set both trial_duration parameters alike'
+            )
+        settle = values[1].double_value if len(values) > 1 else 0.0  # an older bridge: 0
+        if len(values) > 1 and values[1].type == ParameterType.PARAMETER_DOUBLE and settle > 0:
+            return (
+                f'bridge_node settles {settle:g} s before it times a trial, but navigate_node'
+                " steps are walks from standing: set bridge_node's trial_settle to 0"
             )
         return ''
 

@@ -44,6 +44,8 @@ from hexapod_adapt.mboa import (
     NOISE_RANGE,
     profile,
     TRIAL_BUDGET,
+    TRIAL_DURATION,
+    TRIAL_SETTLE,
 )
 from hexapod_adapt.simulation import archive_engine, simulation_fingerprint
 
@@ -62,6 +64,7 @@ PROFILE_SETTINGS = ('alpha', 'kappa', 'length_scale', 'noise')
 
 #: A trial must cover at least one gait cycle of the controller's default 1 s period.
 TRIAL_DURATION_RANGE = (1.0, 120.0)
+TRIAL_SETTLE_RANGE = (0.0, 10.0)
 
 
 @dataclass(frozen=True)
@@ -92,7 +95,21 @@ SETTINGS = (
         'Default maximum trials per run (24: 2 minutes of 5 s trials)',
         (1, MAX_TRIALS_LIMIT),
     ),
-    Setting('trial_duration', 5.0, 'Default trial duration [s]', TRIAL_DURATION_RANGE),
+    Setting(
+        'trial_duration',
+        TRIAL_DURATION,
+        "Default timed seconds of a sim-mode trial (robot and manual modes: bridge_node's"
+        ' trial_duration) [s]',
+        TRIAL_DURATION_RANGE,
+    ),
+    Setting(
+        'trial_settle',
+        TRIAL_SETTLE,
+        'Sim mode: seconds a trial walks untimed before it is timed (0 = timed from standing,'
+        " the thesis's trial and the default; robot and manual modes: bridge_node's"
+        ' trial_settle) [s]',
+        TRIAL_SETTLE_RANGE,
+    ),
     Setting(
         'profile',
         DEFAULT_PROFILE,

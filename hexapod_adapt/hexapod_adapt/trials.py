@@ -27,7 +27,7 @@ rclpy by :mod:`hexapod_adapt.graph_port` -- the odometry received so far (:class
 a :class:`Waiter`. Speeds are measured along the gait's walking direction (its crab angle):
 
 ``sim``     publish the gait, wait until sim_node plays it (it echoes the gait's stamp), reset,
-            then take the odometry at exactly reset + duration of sim time;
+            then time the odometry from reset + settle to reset + settle + duration of sim time;
 ``robot``   upload through bridge_node (its typed answer confirms it), stand still, start the
             trial, take the trial's odometry message (the bridge's IMU estimate);
 ``manual``  upload, then wait for the operator's tape-measured distance.
@@ -141,16 +141,18 @@ def along(dx: float, dy: float, crab: float) -> float:
 
 
 def sim_trial_speed(
-    samples: list[OdomSample], t0_ns: int, duration: float, crab: float
+    samples: list[OdomSample], t0_ns: int, duration: float, crab: float, settle: float = 0.0
 ) -> float | None:
     """
-    Speed [m/s] from the odometry stamped at the reset and at reset + ``duration``.
+    Speed [m/s] from the odometry stamped at reset + ``settle`` and ``duration`` s later.
 
-    None if either sample was lost in transport (the trial must be repeated). A robot that ends
-    the trial upside down fell over: 0, as the library's evaluation scores a fall.
+    The gait walks ``settle`` s untimed first (0: timed from standing, the thesis's trial). None
+    if either sample was lost in transport (the trial must be repeated). A robot that ends the
+    trial upside down fell over: 0, as the library's evaluation scores a fall.
     """
-    end = t0_ns + int(round(duration * 1e9))
-    start = [s for s in samples if s.stamp_ns == t0_ns]
+    begin = t0_ns + int(round(settle * 1e9))
+    end = begin + int(round(duration * 1e9))
+    start = [s for s in samples if abs(s.stamp_ns - begin) < 1000]
     finish = [s for s in samples if abs(s.stamp_ns - end) < 1000]
     if not (start and finish):
         return None
@@ -189,6 +191,9 @@ class TrialPort(Protocol):
     def start_trial(self) -> tuple[bool, str]:
         """Call bridge_node's start_trial; TrialAborted if it does not answer."""
 
+    def bridge_trial(self) -> tuple[float, float] | None:
+        """bridge_node's (trial_duration, trial_settle) [s]; None if it does not answer."""
+
 
 @dataclass(frozen=True)
 class TrialTiming:
@@ -197,6 +202,12 @@ class TrialTiming:
     duration: float  # s of walking measured
     timeout: float  # wall-clock limit of one wait [s]
     stand_still: float = 1.0  # robot modes: rest before the start (clean IMU window) [s]
+    settle: float = 0.0  # s walked untimed before the timed ``duration``
+
+    @property
+    def walking(self) -> float:
+        """Seconds a trial walks: the settling and the timed part [s]."""
+        return self.settle + self.duration
 
 
 @dataclass
@@ -230,13 +241,13 @@ class SimTrials:
                 timeout,
                 'the reset to take effect',
             )
-            end = t0 + int(round(duration * 1e9))
+            end = t0 + int(round(self.timing.walking * 1e9))
             wait(
                 lambda: (s := self.odom.latest()) is not None and s.stamp_ns >= end,
                 timeout,
-                f'{duration:g} s of simulated odometry',
+                f'{self.timing.walking:g} s of simulated odometry',
             )
-            speed = sim_trial_speed(self.odom.snapshot(), t0, duration, crab)
+            speed = sim_trial_speed(self.odom.snapshot(), t0, duration, crab, self.timing.settle)
             if speed is not None:
                 return speed
             self.warn(
@@ -244,7 +255,7 @@ class SimTrials:
             )
         raise TrialAborted(
             "odometry samples kept getting lost (is sim_node's publish_period_steps a divisor "
-            'of the trial length in steps?)'
+            'of the trial length and of the settling time in steps?)'
         )
 
 
@@ -333,4 +344,4 @@ class ManualTrials:
             )
         finally:
             self.waiting = False
-        return float(distance) / self.timing.duration
+        return float(distance) / self.timing.walking  # the tape measures the whole walk

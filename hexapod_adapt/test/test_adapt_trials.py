@@ -69,8 +69,9 @@ def _waiter(clock: FakeClock, check=None) -> Waiter:
 class SimGraph:
     """sim_node as a trial sees it: plays the published gait, resets, streams odometry."""
 
-    def __init__(self, odom: OdomLog, speed: float, crab: float = 0.0, lose=()):
+    def __init__(self, odom: OdomLog, speed: float, crab: float = 0.0, lose=(), lag=0.0):
         self.odom, self.speed, self.crab = odom, speed, crab
+        self.lag = lag  # s the robot takes to get going after the reset
         self.lose = set(lose)  # attempts whose end sample is lost in transport
         self.stamps = itertools.count(1)
         self.now = 100 * SECOND
@@ -98,7 +99,7 @@ class SimGraph:
             t = self.now + k * SECOND // 10
             if k == 50 and self.attempt in self.lose:
                 continue
-            d = self.speed * k / 10
+            d = self.speed * max(0.0, k / 10 - self.lag)
             self.odom.append(
                 OdomSample(t, d * math.cos(self.crab), d * math.sin(self.crab), 0, 0, 0.0)
             )
@@ -127,6 +128,19 @@ def test_a_sim_trial_measures_along_the_gait_direction(crab):
     graph = SimGraph(odom, speed=0.25, crab=crab)
     trial = SimTrials(graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), warn=print)
     assert trial(7) == pytest.approx(0.25)
+
+
+def test_a_settled_sim_trial_times_only_the_walk_after_the_settling():
+    clock, odom = FakeClock(), OdomLog()
+    graph = SimGraph(odom, speed=0.3, lag=0.8)  # standing for 0.8 s, then 0.3 m/s
+    settled = SimTrials(graph, odom, _waiter(clock), TrialTiming(2.0, 10.0, settle=1.0), print)
+    assert settled.timing.walking == 3.0
+    assert settled(4) == pytest.approx(0.3)
+    from_standing = SimTrials(graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), print)
+    assert from_standing(4) == pytest.approx(0.3 * (5.0 - 0.8) / 5.0)
+    samples = [OdomSample(k * SECOND, 0.1 * k * k, 0.0, 0, 0, 0) for k in range(4)]
+    assert sim_trial_speed(samples, 0, 2.0, 0.0, settle=1.0) == pytest.approx((0.9 - 0.1) / 2)
+    assert sim_trial_speed(samples, 0, 2.0, 0.0, settle=0.5) is None  # no sample at 0.5 s
 
 
 def test_a_lost_sample_repeats_the_trial_then_gives_up_with_the_reason():

@@ -40,7 +40,8 @@ Publishes   imu/data          sensor_msgs/Imu: from the Xsens on ``imu_port`` at
                               published
 Services    ~/arm             std_srvs/SetBool: nothing is transmitted unless armed
             ~/upload_gait     hexapod_msgs/UploadGait: upload, answer when the robot acknowledged
-            ~/start_trial     std_srvs/Trigger: walk the uploaded gait for ``trial_duration``
+            ~/start_trial     std_srvs/Trigger: walk the uploaded gait ``trial_settle`` s, then
+                              ``trial_duration`` s timed
             ~/stop_trial      std_srvs/Trigger
             ~/emergency_stop  std_srvs/Trigger: always transmitted (armed or not), then disarms
             ~/motor_power     std_srvs/SetBool: servo power; on also clears a latched e-stop
@@ -335,7 +336,8 @@ class BridgeNode(Node):
         # the orientation is the heading change over the trial (the IMU's yaw)
         odom.pose.pose.orientation.z = math.sin(r.yaw / 2.0)
         odom.pose.pose.orientation.w = math.cos(r.yaw / 2.0)
-        odom.twist.twist.linear.x, odom.twist.twist.linear.y = r.x / r.duration, r.y / r.duration
+        # pose: the whole walk; twist: the mean velocity over the timed part (a trial's speed)
+        odom.twist.twist.linear.x, odom.twist.twist.linear.y = r.vx, r.vy
         odom.pose.covariance[0] = odom.pose.covariance[7] = (SPEED_ACCURACY * r.duration) ** 2
         odom.twist.covariance[0] = odom.twist.covariance[7] = SPEED_ACCURACY**2
         self.odom_pub.publish(odom)

@@ -26,7 +26,9 @@ rests, horizontal acceleration (accelerometer specific force rotated to the worl
 IMU's Euler angles, gravity removed) is integrated to velocity; the velocity that remains at
 the final rest is drift (accelerometer bias, tilt error leaking gravity), and is removed as a
 linear ramp over the window (a zero-velocity update at both ends), then velocity is integrated
-to displacement. The accuracy this achieves is measured against ground truth in
+to displacement. A settled trial walks a while untimed before its timed part: the rests still
+bound the window, and the speed is the displacement over the timed part only (``timed``).
+The accuracy this achieves is measured against ground truth in
 hexapod_bridge/test/test_bridge_odometry.py and stated in docs/bridge.md.
 """
 
@@ -72,12 +74,18 @@ def rotation_from_euler_deg(roll: float, pitch: float, yaw: float) -> np.ndarray
 class TrialEstimate:
     """The IMU estimate of one trial's displacement and speed along the walking direction."""
 
-    distance: float  # m along the walking direction
-    speed: float  # m/s = distance / walk duration
-    displacement: np.ndarray  # (2,) world x, y [m] over the window
+    distance: float  # m along the walking direction, over the timed part
+    speed: float  # m/s = distance / timed duration
+    displacement: np.ndarray  # (2,) world x, y [m] over the window (the whole walk)
     samples: int
     drift_velocity: float  # |velocity| removed by the end-of-window zero-velocity update [m/s]
     yaw_change: float = 0.0  # heading at the window's end minus at its start [rad], (-pi, pi]
+    timed_displacement: np.ndarray | None = None  # (2,) world x, y [m] over the timed part
+
+    @property
+    def timed(self) -> np.ndarray:
+        """World x, y [m] walked in the timed part (the whole window if it is all timed)."""
+        return self.displacement if self.timed_displacement is None else self.timed_displacement
 
 
 class TrialOdometry:
@@ -134,11 +142,18 @@ class TrialOdometry:
         v = np.concatenate([[np.zeros(2)], np.cumsum(a[1:] * np.diff(t)[:, None], axis=0)])
         return t, v
 
-    def estimate(self, crab_angle: float, walk_duration: float) -> TrialEstimate:
+    def estimate(
+        self,
+        crab_angle: float,
+        walk_duration: float,
+        timed: tuple[float, float] | None = None,
+    ) -> TrialEstimate:
         """
         Distance along the walking direction, assuming rest at both ends of the window.
 
         The walking direction is the crab angle relative to the heading at the window's start.
+        ``timed`` (start, end) on the IMU's clock: the part of the walk that is timed (a settled
+        trial); its length is ``walk_duration``. None: the whole window is the walk.
         """
         if len(self.times) < 10:
             raise ValueError(f'too few IMU samples for a trial estimate ({len(self.times)})')
@@ -146,9 +161,23 @@ class TrialOdometry:
         dt = np.diff(t)
         drift = v[-1].copy()
         v -= np.outer((t - t[0]) / (t[-1] - t[0]), drift)
-        displacement = np.sum(0.5 * (v[1:] + v[:-1]) * dt[:, None], axis=0)
+        # position at every sample, in the world frame, from the window's start
+        position = np.vstack([np.zeros(2), np.cumsum(0.5 * (v[1:] + v[:-1]) * dt[:, None], 0)])
+        displacement = position[-1]
+        part = None
+        if timed is not None:
+            start, end = timed
+            if not (t[0] <= start < end <= t[-1]):
+                raise ValueError(
+                    f'the timed part {start:.2f}-{end:.2f} s is not inside the IMU window'
+                    f' {t[0]:.2f}-{t[-1]:.2f} s (IMU clock)'
+                )
+            part = np.array([np.interp(end, t, position[:, k]) for k in (0, 1)]) - np.array(
+                [np.interp(start, t, position[:, k]) for k in (0, 1)]
+            )
         heading = (self.yaw0 or 0.0) + crab_angle
-        distance = float(displacement[0] * math.cos(heading) + displacement[1] * math.sin(heading))
+        walked = displacement if part is None else part
+        distance = float(walked[0] * math.cos(heading) + walked[1] * math.sin(heading))
         turned = (self.yaw or 0.0) - (self.yaw0 or 0.0)
         return TrialEstimate(
             distance,
@@ -157,4 +186,5 @@ class TrialOdometry:
             len(t),
             float(np.linalg.norm(drift)),
             math.pi - (math.pi - turned) % (2.0 * math.pi),
+            part,
         )

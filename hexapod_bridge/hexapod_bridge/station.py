@@ -71,7 +71,16 @@ class StationConfig:
     ping_period: float = _setting(
         1.0, 'Keep-alive period [s]; the robot stops after ~27 s without pings', range=(0.1, 2.5)
     )
-    trial_duration: float = _setting(5.0, 'Walk duration of a trial [s]', range=(0.5, 60.0))
+    trial_duration: float = _setting(
+        5.0, 'Timed walk of a trial [s] (after trial_settle)', range=(0.5, 60.0)
+    )
+    trial_settle: float = _setting(
+        0.0,
+        'Seconds a trial walks untimed before its timed trial_duration (the robot walks both); 0 ='
+        " timed from standing. adapt_node's default trial: 1 s settling, 2 s timed;"
+        " navigate_node's steps: 0",
+        range=(0.0, 10.0),
+    )
     settle_time: float = _setting(
         0.5, 'Rest after the walk before the odometry window closes [s]', range=(0.0, 10.0)
     )
@@ -105,9 +114,16 @@ class ActiveTrial:
     odometry: TrialOdometry
     start: float  # monotonic s when the start was sent
     crab: float  # walking direction of the gait [rad]
-    duration: float  # s
+    duration: float  # s timed
     generation: int  # RobotLink.trial_generation once the robot acknowledged this start
     done_at: float | None = None
+    settle: float = 0.0  # s walked before the timed part
+    imu_start: float | None = None  # IMU clock of the newest sample when the start was sent
+
+    @property
+    def walk(self) -> float:
+        """Seconds the robot walks: the settling and the timed part."""
+        return self.settle + self.duration
 
 
 @dataclass(frozen=True)
@@ -115,12 +131,14 @@ class TrialResult:
     """A finished trial: the robot's last word on it and the IMU estimate (if any)."""
 
     state: str  # the robot's final trial state, or NO_REPORT
-    duration: float  # s walked
+    duration: float  # s timed
     estimate: TrialEstimate | None = None
-    x: float = 0.0  # displacement in the frame the robot started in [m]
+    x: float = 0.0  # displacement over the whole walk, in the frame the robot started in [m]
     y: float = 0.0
     problem: str = ''  # why there is no estimate ('' if there is)
     yaw: float = 0.0  # heading change over the trial (the IMU's yaw) [rad]
+    vx: float = 0.0  # mean velocity over the timed part, in the frame the robot started in [m/s]
+    vy: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -242,20 +260,25 @@ class BaseStation:
             odometry = TrialOdometry()
             for sample in self.imu_history:
                 odometry.add(*sample)
-            duration = self.config.trial_duration
-            op = self.link.start_trial(duration, self.gait_id or 0)
+            duration, settle = self.config.trial_duration, self.config.trial_settle
+            op = self.link.start_trial(settle + duration, self.gait_id or 0)
             self.trial = ActiveTrial(
                 odometry,
                 time.monotonic(),
                 self.gait_crab,
                 duration,
                 generation=self.link.trial_generation + 1,
+                settle=settle,
+                imu_start=odometry.times[-1] if odometry.times else None,
             )
         if not self.wait(op, 3.0, alive) or not op.ok:
             with self.lock:
                 self.trial = None
             return False, f'robot did not start the trial: {op.message or "no acknowledgement"}'
-        return True, f'trial started: gait {self.gait_id}, {duration:g} s'
+        walk = (
+            f'{settle:g} s of settling, then {duration:g} s timed' if settle else f'{duration:g} s'
+        )
+        return True, f'trial started: gait {self.gait_id}, {walk}'
 
     def stop_trial(self) -> tuple[bool, str]:
         """Stop the walk."""
@@ -321,7 +344,7 @@ class BaseStation:
                 return None
             ours = self.link.trial_generation == trial.generation
             finished = ours and self.link.trial_state in FINAL_STATES
-            overdue = now - trial.start > trial.duration + OVERDUE_S
+            overdue = now - trial.start > trial.walk + OVERDUE_S
             if trial.done_at is None and (finished or overdue):
                 trial.done_at = now
             if trial.done_at is None or now - trial.done_at < self.config.settle_time:
@@ -330,8 +353,13 @@ class BaseStation:
             state = self.link.trial_state.name if ours else 'NO_REPORT'
         if self.imu_port is None:
             return TrialResult(state, trial.duration, problem='no IMU configured')
+        timed = None
+        if trial.settle > 0 and trial.odometry.times:
+            # the timed part on the IMU's clock, from the newest sample when the start was sent
+            begin = trial.odometry.times[0] if trial.imu_start is None else trial.imu_start
+            timed = (begin + trial.settle, begin + trial.walk)
         try:
-            est = trial.odometry.estimate(trial.crab, trial.duration)
+            est = trial.odometry.estimate(trial.crab, trial.duration, timed)
         except ValueError as exc:
             return TrialResult(state, trial.duration, problem=f'no odometry: {exc}')
         if not (math.isfinite(est.speed) and math.isfinite(est.distance)):
@@ -341,7 +369,8 @@ class BaseStation:
                 problem=f'the IMU estimate is not finite (speed {est.speed!r} m/s)',
             )
         x, y = trial.odometry.in_start_frame(est.displacement)
-        return TrialResult(state, trial.duration, est, x, y, yaw=est.yaw_change)
+        vx, vy = (v / trial.duration for v in trial.odometry.in_start_frame(est.timed))
+        return TrialResult(state, trial.duration, est, x, y, yaw=est.yaw_change, vx=vx, vy=vy)
 
     # -- I/O threads -----------------------------------------------------------------------
     def _guarded(self, body, name: str) -> None:

@@ -36,6 +36,7 @@ from hexapod_gait import from_genotype, preset
 from hexapod_sim import create_simulator, Simulator
 from hexapod_sim.sampling import random_reachable_genotypes
 import numpy as np
+import pytest
 
 
 def run_trial(sim: Simulator, gait, seed: int, noise: ImuNoise | None) -> tuple[float, float]:
@@ -96,3 +97,53 @@ def test_fast_gaits_walked_one_after_another_are_measured_within_the_stated_accu
     # a walk that starts where the last one ended starts from its gait's own first pose, as a
     # simulated evaluation does: most trials measure what the simulator says from rest
     assert np.median(gap) <= STEADY_GAIT_ACCURACY
+
+
+def test_a_settled_trial_is_timed_over_its_last_seconds_within_the_stated_accuracy():
+    # the bridge's trial_settle: walk 1 s untimed, then 2 s timed; the rests still bound the
+    # IMU window, and the speed is the displacement over the timed part
+    gaits = [preset('tripod'), preset('wave')]
+    gaits += [from_genotype(g) for g in random_reachable_genotypes(3, seed=8)]
+    errors, settled_minus_standing = [], []
+    with create_simulator() as sim:
+        for i, gait in enumerate(gaits):
+            robot = ConsecutiveTrials(sim, seed=10 + i)
+            m = robot.measure(gait, duration=2.0, settle=1.0)
+            errors.append(m.estimated_speed - m.true_speed)
+            standing = ConsecutiveTrials(sim, seed=20 + i).measure(gait, duration=2.0)
+            settled_minus_standing.append(m.true_speed - standing.true_speed)
+    errors = np.abs(errors)
+    print(
+        f'\nsettled trials (1 s + 2 s) of {len(gaits)} gaits, IMU noise: max |IMU - truth|'
+        f' {errors.max():.4f} m/s; true settled - from-standing speed'
+        f' {np.round(settled_minus_standing, 3).tolist()} m/s'
+    )
+    assert errors.max() <= STEADY_GAIT_ACCURACY
+
+
+def test_the_timed_part_of_a_walk_is_measured_without_its_start_and_stop():
+    from hexapod_bridge.odometry import TrialOdometry
+
+    # at rest, 0.5 s at +1 m/s^2 to 0.5 m/s, cruise, 0.5 s at -1 m/s^2, rest; 100 Hz means
+    odometry = TrialOdometry()
+    for k in range(1, 401):
+        t = k * 0.01
+        acc = 1.0 if 0.5 < t <= 1.0 else -1.0 if 3.0 < t <= 3.5 else 0.0
+        odometry.add(t, (acc, 0.0, 9.81), (0.0, 0.0, 0.0))
+    whole = odometry.estimate(0.0, 3.0)
+    timed = odometry.estimate(0.0, 1.0, timed=(1.5, 2.5))
+    assert whole.distance == pytest.approx(0.125 + 1.0 + 0.125, abs=1e-6)
+    assert timed.speed == pytest.approx(0.5, abs=1e-6)  # the cruise, not the 0.417 mean
+    assert timed.displacement[0] == pytest.approx(whole.distance)  # where the walk ended
+    assert timed.timed[0] == pytest.approx(0.5, abs=1e-6)
+
+
+def test_a_timed_part_outside_the_imu_window_is_refused_with_the_reason():
+    from hexapod_bridge.odometry import TrialOdometry
+
+    odometry = TrialOdometry()
+    for k in range(50):
+        odometry.add(k * 0.01, (0.0, 0.0, 9.81), (0.0, 0.0, 0.0))
+    with pytest.raises(ValueError, match='not inside the IMU window'):
+        odometry.estimate(0.0, 1.0, timed=(0.2, 1.2))
+    assert odometry.estimate(0.0, 0.2, timed=(0.1, 0.3)).speed == pytest.approx(0.0, abs=1e-12)

@@ -79,8 +79,14 @@ class ConsecutiveTrials:
         position, _ = self.sim.base_pose()
         return float(position[0]), float(position[1]), float(self.sim.base_euler()[2])
 
-    def measure(self, gait, duration: float = 5.0) -> MeasuredTrial:
-        """Upload ``gait``, stand 1 s, walk one trial of ``duration`` s; return what happened."""
+    def measure(self, gait, duration: float = 5.0, settle: float = 0.0) -> MeasuredTrial:
+        """
+        Upload ``gait``, stand 1 s, walk one trial of ``duration`` s; return what happened.
+
+        ``settle`` > 0: a settled trial, as the bridge's ``trial_settle`` runs it: the robot walks
+        ``settle + duration`` s and both speeds are of the last ``duration`` s (the truth from the
+        simulator's pose when the walk has gone on ``settle`` s).
+        """
         upload = self.link.upload(gait)
         while not upload.done:
             self.step()
@@ -93,13 +99,29 @@ class ConsecutiveTrials:
         for sample in self.history:
             self.odometry.add(*sample)
         x0, y0, yaw0 = self._pose()
-        start, done_at = self.link.start_trial(duration, upload.result['gait_id']), None
+        imu_start = self.odometry.times[-1] if self.odometry.times else None
+        walks = len(self.fw.trials)
+        start = self.link.start_trial(settle + duration, upload.result['gait_id'])
+        done_at = walk_start = settled = None
         while done_at is None or self.t < done_at + 0.5:
             self.step()
+            if walk_start is None and len(self.fw.trials) > walks:
+                walk_start = self.t
+            if settled is None and walk_start is not None and self.t >= walk_start + settle:
+                settled = self.sim.base_pose()[0][:2].copy()
             if done_at is None and start.done and self.link.trial_state.name == 'DONE':
                 done_at = self.t
         x1, y1, yaw1 = self._pose()
-        est = self.odometry.estimate(gait.crab_angle, duration)
+        record = self.fw.trials[-1]
+        true_speed = record.summary()['speed']
+        timed = None
+        if settle > 0:
+            begin = imu_start if imu_start is not None else self.odometry.times[0]
+            timed = (begin + settle, begin + settle + duration)
+            heading = record.start_yaw + record.crab_angle
+            d = record.end_position[:2] - settled
+            true_speed = float(d[0] * math.cos(heading) + d[1] * math.sin(heading)) / duration
+        est = self.odometry.estimate(gait.crab_angle, duration, timed)
         ex, ey = self.odometry.in_start_frame(est.displacement)
         self.odometry = None
         c, s = math.cos(yaw0), math.sin(yaw0)
@@ -108,9 +130,7 @@ class ConsecutiveTrials:
             -s * (x1 - x0) + c * (y1 - y0),
             math.pi - (math.pi - (yaw1 - yaw0)) % (2.0 * math.pi),
         )
-        return MeasuredTrial(
-            self.fw.trials[-1].summary()['speed'], est.speed, true_move, (ex, ey, est.yaw_change)
-        )
+        return MeasuredTrial(true_speed, est.speed, true_move, (ex, ey, est.yaw_change))
 
     def trial(self, gait) -> tuple[float, float]:
         """Walk one 5 s trial of ``gait``: (the emulator's true speed, the IMU estimate) [m/s]."""
