@@ -37,7 +37,7 @@ from hexapod_msgs.msg import (
     ServoFailure,
     TrajectoryActivation,
 )
-from hexapod_msgs.srv import Adapt, ReportDistance, SetLegFailure, UploadGait
+from hexapod_msgs.srv import Adapt, GetLegDamage, ReportDistance, SetLegFailure, UploadGait
 import pytest
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
@@ -50,7 +50,7 @@ MESSAGES = [
     TrajectoryActivation,
     LegDamage,
 ]
-SERVICES = [Adapt, SetLegFailure, ReportDistance, UploadGait]
+SERVICES = [Adapt, SetLegFailure, ReportDistance, UploadGait, GetLegDamage]
 QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 
 

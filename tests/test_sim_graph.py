@@ -36,7 +36,7 @@ from hexapod_gait import from_genotype, preset
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.msg import LegDamage
-from hexapod_msgs.srv import SetLegFailure
+from hexapod_msgs.srv import GetLegDamage, SetLegFailure
 from hexapod_sim import create_simulator, evaluate_gait, FAILURE_POSE, SimConfig
 from hexapod_sim.damage import standing_pose
 from hexapod_sim.sampling import random_reachable_genotypes
@@ -207,6 +207,9 @@ def test_sim_node_refuses_bad_requests_and_keeps_running(ros, launch):
     assert list(response.failed_legs) == [2, 5]
     wait_for(lambda: damage[-1].label == response.damage, 20, 'sim/damage after the change')
     assert list(damage[-1].kinds) == ['locked', 'weak'] and list(damage[-1].strengths) == [1, 0.5]
+    now = ros.call(GetLegDamage, 'sim_node/get_damage', GetLegDamage.Request()).damage
+    assert now.label == response.damage and list(now.failed_legs) == [2, 5]
+    assert list(now.kinds) == ['locked', 'weak'] and list(now.strengths) == [1, 0.5]
     wait_for(
         lambda: np.allclose(joints[-1].position[3:6], standing_pose()[3:6], atol=0.08),
         20,

@@ -365,6 +365,11 @@ class AdaptNode(Node):
                 response.success, response.message = False, f'run not started: {exc}'
                 return response
         if auto and self.mode == 'sim':
+            # what the simulator holds now: a SetLegFailure just before this request may not
+            # have reached us on sim/damage yet (an older sim_node: wait for the topic instead)
+            now = self.port.sim_damage(timeout)
+            if now is not None:
+                self._on_sim_damage(now)
             try:
                 self.waiter.until(
                     lambda: self.known.sim is not None,

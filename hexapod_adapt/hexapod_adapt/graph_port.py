@@ -41,9 +41,9 @@ from hexapod_adapt.trials import OdomLog, OdomSample, Upload
 from hexapod_gait import GaitParameters
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_gait.ros_glue import EVENTS, LATCHED, ODOM, SENSOR, TF_QOS
-from hexapod_msgs.msg import AdaptationTrial, FootContacts, TrajectoryActivation
+from hexapod_msgs.msg import AdaptationTrial, FootContacts, LegDamage, TrajectoryActivation
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
-from hexapod_msgs.srv import UploadGait
+from hexapod_msgs.srv import GetLegDamage, UploadGait
 from hexapod_sim.simulator import upside_down
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterType
@@ -137,6 +137,9 @@ class GraphPort:
         )
         self.sim_params_client = node.create_client(
             GetParameters, f'{sim_name}/get_parameters', callback_group=work
+        )
+        self.damage_client = node.create_client(
+            GetLegDamage, f'{sim_name}/get_damage', callback_group=work
         )
         self.bridge_params_client = node.create_client(
             GetParameters, f'{bridge_name}/get_parameters', callback_group=work
@@ -274,6 +277,22 @@ class GraphPort:
         if values and values[0].type == ParameterType.PARAMETER_STRING:
             return values[0].string_value
         return None
+
+    def sim_damage(self, timeout: float) -> LegDamage | None:
+        """
+        Ask sim_node for its damage now (GetLegDamage); None if it does not answer.
+
+        The latched sim/damage topic may arrive after an ``adapt`` request that follows a
+        SetLegFailure call at once; the service answers with what the simulator holds.
+        """
+        if not self.damage_client.wait_for_service(timeout_sec=min(timeout, 2.0)):
+            return None
+        future = self.damage_client.call_async(GetLegDamage.Request())
+        try:
+            self.wait(future.done, timeout, "sim_node's damage")
+        except TrialAborted:
+            return None
+        return future.result().damage
 
     def bridge_trial(self) -> tuple[float, float] | None:
         """

@@ -42,6 +42,7 @@ Publishes   /clock                 rosgraph_msgs/Clock, every clock_period_steps
 Services    ~/set_leg_failure      hexapod_msgs/SetLegFailure
             ~/reset                std_srvs/Trigger: robot back to the origin, damage kept,
                                    gait restarted at phase 0
+            ~/get_damage           hexapod_msgs/GetLegDamage: the damage now (sim/damage's)
 State topics are published every ``publish_period_steps`` steps counted from the last reset,
 so the odometry of "reset + N steps" is always published: a trial reads it exactly. A reset also
 publishes the pose at the origin stamped with the reset time; when a scheduled message was just
@@ -76,7 +77,7 @@ from hexapod_gait.ros_glue import (
 )
 from hexapod_gait.trajectory import build_joint_table
 from hexapod_msgs.msg import FootContacts, LegDamage, TrajectoryActivation
-from hexapod_msgs.srv import SetLegFailure
+from hexapod_msgs.srv import GetLegDamage, SetLegFailure
 from hexapod_sim.damage import Damage, damage_from_lists
 from hexapod_sim.simulator import (
     create_simulator,
@@ -206,6 +207,9 @@ class SimNode(Node):
             SetLegFailure, '~/set_leg_failure', self._on_set_leg_failure, callback_group=group
         )
         self.create_service(Trigger, '~/reset', self._on_reset, callback_group=group)
+        self.create_service(
+            GetLegDamage, '~/get_damage', self._on_get_damage, callback_group=group
+        )
 
         # Until a trajectory arrives the robot stands in the first pose of the control gait.
         stand = build_joint_table(preset('control'), rate=1.0 / self.sim.dt)
@@ -330,6 +334,10 @@ class SimNode(Node):
         self._status(DiagnosticStatus.OK, response.message)
         return response
 
+    def _on_get_damage(self, request: GetLegDamage.Request, response: GetLegDamage.Response):
+        response.damage = self._in_physics_thread(lambda: self._damage_msg(self.sim.damage))
+        return response
+
     def _on_reset(self, request: Trigger.Request, response: Trigger.Response):
         t = self._in_physics_thread(self._reset_now)
         response.success, response.message = (
@@ -344,17 +352,19 @@ class SimNode(Node):
     # -- physics thread ------------------------------------------------------------------------
     def _apply_failure(self, damage: Damage) -> Damage:
         applied = self.sim.set_damage(damage)
-        self.damage_pub.publish(
-            LegDamage(
-                header=Header(stamp=_stamp(getattr(self, '_sim_time', 0.0))),
-                failed_legs=list(applied.failed_legs),
-                kinds=[d.kind for d in applied.legs],
-                strengths=[float(d.strength) for d in applied.legs],
-                label=applied.label,
-            )
-        )
+        self.damage_pub.publish(self._damage_msg(applied))
         self._prepare_cycle()
         return applied
+
+    def _damage_msg(self, damage: Damage) -> LegDamage:
+        """Return ``damage`` as sim/damage says it, stamped with the simulation time."""
+        return LegDamage(
+            header=Header(stamp=_stamp(getattr(self, '_sim_time', 0.0))),
+            failed_legs=list(damage.failed_legs),
+            kinds=[d.kind for d in damage.legs],
+            strengths=[float(d.strength) for d in damage.legs],
+            label=damage.label,
+        )
 
     def _prepare_cycle(self) -> None:
         self._rows = self.sim.prepare_rows(self.cycle.positions, self.cycle.velocities)
