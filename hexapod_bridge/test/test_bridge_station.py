@@ -117,6 +117,40 @@ def test_a_trial_through_the_station_measures_what_the_robot_walked(emulator):
         station.stop()
 
 
+def test_a_settled_trial_walks_the_settling_and_times_only_the_rest(emulator):
+    radio, imu, log = emulator
+    station = BaseStation(
+        StationConfig(port=str(radio), imu_port=str(imu), trial_settle=1.0, trial_duration=2.0)
+    )
+    station.start()
+    try:
+        station.arm(True)
+        gait = preset('tripod').replace(crab_angle=0.5)
+        op = station.upload(gait)
+        assert station.wait(op, 20) and op.ok, op.message
+        station.uploaded(op, gait)
+        time.sleep(1.0)
+        ok, message = station.start_trial()
+        assert ok and '1 s of settling, then 2 s timed' in message, message
+        result = _until(lambda: station.finished_trial(time.monotonic()), 30, 'the trial')
+        assert result.state == 'DONE' and result.problem == '' and result.duration == 2.0
+        truth = json.loads(
+            next(line for line in log.read_text().splitlines() if line.startswith('TRIAL '))[6:]
+        )
+        assert truth['duration'] == 3.0  # the robot walked the settling and the timed part
+        # the pose is the whole walk, the speed (and the twist) the timed part's
+        along = result.x * math.cos(0.5) + result.y * math.sin(0.5)
+        assert abs(along - truth['distance']) <= STEADY_GAIT_ACCURACY * 3.0
+        assert result.vx * math.cos(0.5) + result.vy * math.sin(0.5) == pytest.approx(
+            result.estimate.speed, abs=1e-9
+        )
+        # a steady tripod walks its whole-walk mean speed in the timed part too
+        assert abs(result.estimate.speed - truth['speed']) <= STEADY_GAIT_ACCURACY
+        assert result.estimate.distance == pytest.approx(result.estimate.speed * 2.0)
+    finally:
+        station.stop()
+
+
 def test_without_an_imu_a_finished_trial_says_so(emulator):
     radio, _imu, _log = emulator
     station = BaseStation(StationConfig(port=str(radio), arm_on_start=True))
