@@ -346,6 +346,12 @@ class AdaptNode(Node):
                 )
                 settle = 0.0
             else:
+                if abs(bridge[0] - duration) > 1e-6:
+                    self.get_logger().warning(
+                        f'trials of {duration:g} s were asked for, but bridge_node walks'
+                        f' {bridge[0]:g} s timed: its trial_duration is used (set it on'
+                        ' bridge_node to change a robot trial)'
+                    )
                 duration, settle = bridge
         timing = TrialTiming(
             duration, timeout, float(self.get_parameter('stand_still').value), settle

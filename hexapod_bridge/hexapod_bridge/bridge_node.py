@@ -338,7 +338,8 @@ class BridgeNode(Node):
         odom.pose.pose.orientation.w = math.cos(r.yaw / 2.0)
         # pose: the whole walk; twist: the mean velocity over the timed part (a trial's speed)
         odom.twist.twist.linear.x, odom.twist.twist.linear.y = r.vx, r.vy
-        odom.pose.covariance[0] = odom.pose.covariance[7] = (SPEED_ACCURACY * r.duration) ** 2
+        walked = max(r.walk, r.duration)  # the pose covers the whole walk, settling included
+        odom.pose.covariance[0] = odom.pose.covariance[7] = (SPEED_ACCURACY * walked) ** 2
         odom.twist.covariance[0] = odom.twist.covariance[7] = SPEED_ACCURACY**2
         self.odom_pub.publish(odom)
         self.tf_pub.publish(TFMessage(transforms=[odom_transform(odom)]))

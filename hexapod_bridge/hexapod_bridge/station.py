@@ -139,6 +139,7 @@ class TrialResult:
     yaw: float = 0.0  # heading change over the trial (the IMU's yaw) [rad]
     vx: float = 0.0  # mean velocity over the timed part, in the frame the robot started in [m/s]
     vy: float = 0.0
+    walk: float = 0.0  # s walked: the settling and the timed part (0: not recorded)
 
 
 @dataclass(frozen=True)
@@ -370,7 +371,9 @@ class BaseStation:
             )
         x, y = trial.odometry.in_start_frame(est.displacement)
         vx, vy = (v / trial.duration for v in trial.odometry.in_start_frame(est.timed))
-        return TrialResult(state, trial.duration, est, x, y, yaw=est.yaw_change, vx=vx, vy=vy)
+        return TrialResult(
+            state, trial.duration, est, x, y, yaw=est.yaw_change, vx=vx, vy=vy, walk=trial.walk
+        )
 
     # -- I/O threads -----------------------------------------------------------------------
     def _guarded(self, body, name: str) -> None:

@@ -147,6 +147,7 @@ def test_a_settled_trial_walks_the_settling_and_times_only_the_rest(emulator):
         # a steady tripod walks its whole-walk mean speed in the timed part too
         assert abs(result.estimate.speed - truth['speed']) <= STEADY_GAIT_ACCURACY
         assert result.estimate.distance == pytest.approx(result.estimate.speed * 2.0)
+        assert result.walk == 3.0
     finally:
         station.stop()
 
