@@ -35,11 +35,11 @@ from __future__ import annotations
 from dataclasses import replace
 import sys
 
-from hexapod_adapt.adaptation import adapt, simulated_trial
+from hexapod_adapt.adaptation import adapt, map_speed, simulated_trial
 from hexapod_adapt.archive import load_archive
 from hexapod_adapt.mboa import PROFILES, TRIAL_BUDGET
 from hexapod_adapt.tuning import control_speeds, TUNING_DAMAGES
-from hexapod_sim import create_simulator, evaluate_gait, SimConfig
+from hexapod_sim import create_simulator, SimConfig
 import numpy as np
 
 MAP = 'tuning/tuning_map_s2.npz'
@@ -69,13 +69,7 @@ def main() -> int:
                     config,
                     floor=lambda: controls[d],
                 )
-                judged = evaluate_gait(
-                    archive.genotypes[result.best_niche],
-                    sim,
-                    duration=archive.trial_duration,
-                    collisions_fatal=False,
-                    failed_legs=d,
-                ).speed
+                judged = map_speed(archive, result.best_niche, d, sim)
                 speeds.append(judged)
                 beats += judged > controls[d]
                 trials.append(len(result.trials))

@@ -287,6 +287,31 @@ class AdaptNode(Node):
             return RobotTrials(self.port, self.odom, self.waiter, timing)
         return ManualTrials(self.port, self.waiter, timing, warn)
 
+    def _trial_walk(self, duration: float) -> tuple[float, float]:
+        """
+        Return (timed, settling) seconds of this run's trials.
+
+        Sim mode: ``duration`` and ``trial_settle``. On the robot, what bridge_node is set to
+        walk (one home for it); ``duration`` from standing if it does not say.
+        """
+        if self.mode == 'sim':
+            return duration, float(self.get_parameter('trial_settle').value)
+        bridge = self.port.bridge_trial()
+        log = self.get_logger().warning
+        if bridge is None:
+            log(
+                'bridge_node did not say how it walks a trial (its trial_duration and'
+                f' trial_settle): assuming {duration:g} s from standing'
+            )
+            return duration, 0.0
+        if abs(bridge[0] - duration) > 1e-6:
+            log(
+                f'trials of {duration:g} s were asked for, but bridge_node walks {bridge[0]:g} s'
+                ' timed: its trial_duration is used (set it on bridge_node to change a robot'
+                ' trial)'
+            )
+        return bridge
+
     def _prior(self, archive: Archive, damage: Damage | None, source: str):
         """Re-score the map under ``damage`` (None: the map as it is); return (speeds, text)."""
         if damage is None:
@@ -336,23 +361,7 @@ class AdaptNode(Node):
         """
         record_dir = self.get_parameter('record_dir').value
         timeout = float(self.get_parameter('trial_timeout').value)
-        settle = float(self.get_parameter('trial_settle').value)
-        if self.mode != 'sim':  # the robot walks what bridge_node is set to: one home for it
-            bridge = self.port.bridge_trial()
-            if bridge is None:
-                self.get_logger().warning(
-                    'bridge_node did not say how it walks a trial (its trial_duration and'
-                    f' trial_settle): assuming {duration:g} s from standing'
-                )
-                settle = 0.0
-            else:
-                if abs(bridge[0] - duration) > 1e-6:
-                    self.get_logger().warning(
-                        f'trials of {duration:g} s were asked for, but bridge_node walks'
-                        f' {bridge[0]:g} s timed: its trial_duration is used (set it on'
-                        ' bridge_node to change a robot trial)'
-                    )
-                duration, settle = bridge
+        duration, settle = self._trial_walk(duration)
         timing = TrialTiming(
             duration, timeout, float(self.get_parameter('stand_still').value), settle
         )
@@ -402,8 +411,8 @@ class AdaptNode(Node):
         )
         self.get_logger().info(
             f'adaptation started: {archive.n_filled} gaits, at most {config.max_trials} trials '
-            f'of {duration:g} s'
-            + (f' after {settle:g} s of settling' if settle else '')
+            f'of {timing.duration:g} s'
+            + (f' after {timing.settle:g} s of settling' if timing.settle else '')
             + f', alpha {config.alpha:g}, kappa {config.kappa:g}'
             + (f'; {note}' if note else '')
         )

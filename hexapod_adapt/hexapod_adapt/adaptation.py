@@ -181,6 +181,24 @@ def simulated_trial(
     return trial
 
 
+def map_speed(
+    archive: Archive, niche: int, damage: Sequence[int] | Damage, sim: Simulator
+) -> float:
+    """
+    Return a gait's speed [m/s] as the map's ceilings score it, under ``damage`` on ``sim``.
+
+    The map's trial duration from standing, collisions not fatal: the measure that makes runs
+    with any trial timing comparable with each other, the ceiling and the control tripod.
+    """
+    return evaluate_gait(
+        archive.genotypes[niche],
+        sim,
+        duration=archive.trial_duration,
+        collisions_fatal=False,
+        failed_legs=damage,
+    ).speed
+
+
 #: Trial budget of the experiment's runs. Thesis 5.2 stops a run only by M-BOA's rule (alpha);
 #: this cap (100 trials = 8 min 20 s of walking) only bounds a run that never meets it, so the
 #: trial counts measured are the rule's, not a budget's (the node's default budget is 20).
@@ -285,13 +303,7 @@ def run_experiment(
                 adapted = result.best_speed
                 if settle > 0 or (trial_duration or duration) != duration:
                     # settled or shorter trials measure another thing: judge the gait as the map
-                    adapted = evaluate_gait(
-                        archive.genotypes[result.best_niche],
-                        sim,
-                        duration=duration,
-                        collisions_fatal=False,
-                        failed_legs=legs,
-                    ).speed
+                    adapted = map_speed(archive, result.best_niche, legs, sim)
                 row = ExperimentRow(
                     name,
                     tuple(legs),

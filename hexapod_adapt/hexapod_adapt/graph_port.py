@@ -264,16 +264,25 @@ class GraphPort:
             return str(exc)
         return '' if answer.success else answer.message
 
-    def sim_engine(self) -> str | None:
-        """sim_node's ``engine`` parameter (None if it does not answer)."""
-        if not self.sim_params_client.wait_for_service(timeout_sec=2.0):
+    def _ask(self, client, request, what: str, discover: float = 2.0, answer: float = 5.0):
+        """Call ``client`` with ``request``; its response, or None if it is not there or silent."""
+        if not client.wait_for_service(timeout_sec=discover):
             return None
-        future = self.sim_params_client.call_async(GetParameters.Request(names=['engine']))
+        future = client.call_async(request)
         try:
-            self.wait(future.done, 5.0, "sim_node's parameters")
+            self.wait(future.done, answer, what)
         except TrialAborted:
             return None
-        values = future.result().values
+        return future.result()
+
+    def sim_engine(self) -> str | None:
+        """sim_node's ``engine`` parameter (None if it does not answer)."""
+        response = self._ask(
+            self.sim_params_client,
+            GetParameters.Request(names=['engine']),
+            "sim_node's parameters",
+        )
+        values = response.values if response is not None else []
         if values and values[0].type == ParameterType.PARAMETER_STRING:
             return values[0].string_value
         return None
@@ -285,31 +294,32 @@ class GraphPort:
         The latched sim/damage topic may arrive after an ``adapt`` request that follows a
         SetLegFailure call at once; the service answers with what the simulator holds.
         """
-        if not self.damage_client.wait_for_service(timeout_sec=min(timeout, 2.0)):
-            return None
-        future = self.damage_client.call_async(GetLegDamage.Request())
-        try:
-            self.wait(future.done, timeout, "sim_node's damage")
-        except TrialAborted:
-            return None
-        return future.result().damage
+        response = self._ask(
+            self.damage_client,
+            GetLegDamage.Request(),
+            "sim_node's damage",
+            discover=min(timeout, 2.0),
+            answer=timeout,
+        )
+        return response.damage if response is not None else None
 
-    def bridge_trial(self) -> tuple[float, float] | None:
+    def bridge_trial(
+        self, discover: float = 2.0, answer: float = 5.0
+    ) -> tuple[float, float] | None:
         """
         Return bridge_node's (trial_duration, trial_settle) [s]: how it walks a robot trial.
 
-        None if it does not answer; a bridge without ``trial_settle`` settles 0 s.
+        None if it is not found within ``discover`` s or does not answer within ``answer`` s; a
+        bridge without ``trial_settle`` settles 0 s.
         """
-        if not self.bridge_params_client.wait_for_service(timeout_sec=2.0):
-            return None
-        future = self.bridge_params_client.call_async(
-            GetParameters.Request(names=['trial_duration', 'trial_settle'])
+        response = self._ask(
+            self.bridge_params_client,
+            GetParameters.Request(names=['trial_duration', 'trial_settle']),
+            "bridge_node's parameters",
+            discover,
+            answer,
         )
-        try:
-            self.wait(future.done, 5.0, "bridge_node's parameters")
-        except TrialAborted:
-            return None
-        values = future.result().values
+        values = response.values if response is not None else []
         if not values or values[0].type != ParameterType.PARAMETER_DOUBLE:
             return None
         settle = 0.0

@@ -76,8 +76,6 @@ from hexapod_gait.ros_glue import declare, LATCHED, ODOM, ParamSpec, publish_sta
 from hexapod_msgs.action import Navigate
 from hexapod_sim.simulator import quat_to_euler
 from nav_msgs.msg import Odometry
-from rcl_interfaces.msg import ParameterType
-from rcl_interfaces.srv import GetParameters
 import rclpy
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
@@ -212,9 +210,6 @@ class NavigateNode(Node):
         self.recorded = RecordedTopics(self, self.recording) if self.record_dir else None
         self.port.wait = self.waiter.until
         self.stop_client = self.create_client(Trigger, f'{values["bridge_node"]}/stop_trial')
-        self.bridge_params = self.create_client(
-            GetParameters, f'{values["bridge_node"]}/get_parameters'
-        )
         self.trial_duration = values['trial_duration']
         sensors = MutuallyExclusiveCallbackGroup()
         external = bool(values['pose_topic'])
@@ -328,26 +323,16 @@ class NavigateNode(Node):
     def _bridge_trial_problem(self) -> str:
         """Robot mode: why bridge_node's trials do not fit this node's steps ('' if they do)."""
         # as long as any answer from the graph (a loaded machine discovers a service late)
-        if not self.bridge_params.wait_for_service(timeout_sec=self.timeout):
+        bridge = self.port.bridge_trial(self.timeout, self.timeout)
+        if bridge is None:
             return ''  # not up: the upload will say so, with its own reason
-        future = self.bridge_params.call_async(
-            GetParameters.Request(names=['trial_duration', 'trial_settle'])
-        )
-        try:
-            self.waiter.until(future.done, self.timeout, "bridge_node's parameters")
-        except TrialAborted:
-            return ''
-        values = future.result().values
-        if not values or values[0].type != ParameterType.PARAMETER_DOUBLE:
-            return ''
-        bridge = values[0].double_value
-        if abs(bridge - self.trial_duration) > 1e-6:
+        duration, settle = bridge
+        if abs(duration - self.trial_duration) > 1e-6:
             return (
-                f'bridge_node walks {bridge:g} s per trial but navigate_node steps are'
+                f'bridge_node walks {duration:g} s per trial but navigate_node steps are'
                 f' {self.trial_duration:g} s: set both trial_duration parameters alike'
             )
-        settle = values[1].double_value if len(values) > 1 else 0.0  # an older bridge: 0
-        if len(values) > 1 and values[1].type == ParameterType.PARAMETER_DOUBLE and settle > 0:
+        if settle > 0:
             return (
                 f'bridge_node settles {settle:g} s before it times a trial, but navigate_node'
                 " steps are walks from standing: set bridge_node's trial_settle to 0"

@@ -39,13 +39,13 @@ from dataclasses import dataclass, replace
 import sys
 from typing import Callable, Sequence
 
-from hexapod_adapt.adaptation import adapt, simulated_trial
+from hexapod_adapt.adaptation import adapt, map_speed, simulated_trial
 from hexapod_adapt.archive import Archive, atomic_write_bytes, load_archive
 from hexapod_adapt.ceiling import approximate_ceiling, Ceiling, ceiling
 from hexapod_adapt.mboa import MboaConfig, PROFILES, TRIAL_BUDGET
 from hexapod_adapt.simulation import archive_engine
 from hexapod_description.cli import input_file, output_dir, output_file, run_command
-from hexapod_sim import create_simulator, ENGINES, evaluate_gait, SimConfig
+from hexapod_sim import create_simulator, ENGINES, SimConfig
 import numpy as np
 
 TRIAL_LENGTHS = (1.0, 2.0, 3.0, 5.0)
@@ -86,13 +86,7 @@ def run_lengths(
                 known = dict(zip(c.niches.tolist(), c.speeds.tolist()))
                 speed = known.get(result.best_niche)
                 if speed is None:  # outside an approximate ceiling's gaits: measure it alike
-                    speed = evaluate_gait(
-                        archive.genotypes[result.best_niche],
-                        sim,
-                        duration=archive.trial_duration,
-                        collisions_fatal=False,
-                        failed_legs=c.damage,
-                    ).speed
+                    speed = map_speed(archive, result.best_niche, c.damage, sim)
                 run = LengthRun(
                     length,
                     engine,

@@ -191,9 +191,6 @@ class TrialPort(Protocol):
     def start_trial(self) -> tuple[bool, str]:
         """Call bridge_node's start_trial; TrialAborted if it does not answer."""
 
-    def bridge_trial(self) -> tuple[float, float] | None:
-        """bridge_node's (trial_duration, trial_settle) [s]; None if it does not answer."""
-
 
 @dataclass(frozen=True)
 class TrialTiming:

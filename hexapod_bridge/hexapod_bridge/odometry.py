@@ -117,6 +117,24 @@ class TrialOdometry:
         self.times.append(float(t))
         self.accel_world.append(a)
 
+    def newest_time(self) -> float | None:
+        """Return the IMU clock of the newest sample (None before the first)."""
+        return self.times[-1] if self.times else None
+
+    def timed_part(
+        self, start: float | None, settle: float, duration: float
+    ) -> tuple[float, float] | None:
+        """
+        Return the timed part of a settled trial on the IMU's clock, for :meth:`estimate`.
+
+        ``start``: the IMU clock when the start was sent (None: the window's first sample).
+        None when nothing settles (``settle`` 0): the whole window is the walk.
+        """
+        if settle <= 0 or not self.times:
+            return None
+        begin = self.times[0] if start is None else start
+        return begin + settle, begin + settle + duration
+
     def in_start_frame(self, displacement: np.ndarray) -> tuple[float, float]:
         """Return a world displacement (x, y) in the frame the robot started the window in."""
         yaw0 = self.yaw0 or 0.0

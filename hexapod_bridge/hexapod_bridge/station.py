@@ -270,7 +270,7 @@ class BaseStation:
                 duration,
                 generation=self.link.trial_generation + 1,
                 settle=settle,
-                imu_start=odometry.times[-1] if odometry.times else None,
+                imu_start=odometry.newest_time(),
             )
         if not self.wait(op, 3.0, alive) or not op.ok:
             with self.lock:
@@ -354,11 +354,7 @@ class BaseStation:
             state = self.link.trial_state.name if ours else 'NO_REPORT'
         if self.imu_port is None:
             return TrialResult(state, trial.duration, problem='no IMU configured')
-        timed = None
-        if trial.settle > 0 and trial.odometry.times:
-            # the timed part on the IMU's clock, from the newest sample when the start was sent
-            begin = trial.odometry.times[0] if trial.imu_start is None else trial.imu_start
-            timed = (begin + trial.settle, begin + trial.walk)
+        timed = trial.odometry.timed_part(trial.imu_start, trial.settle, trial.duration)
         try:
             est = trial.odometry.estimate(trial.crab, trial.duration, timed)
         except ValueError as exc:

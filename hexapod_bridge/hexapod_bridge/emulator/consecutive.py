@@ -99,7 +99,7 @@ class ConsecutiveTrials:
         for sample in self.history:
             self.odometry.add(*sample)
         x0, y0, yaw0 = self._pose()
-        imu_start = self.odometry.times[-1] if self.odometry.times else None
+        imu_start = self.odometry.newest_time()
         walks = len(self.fw.trials)
         start = self.link.start_trial(settle + duration, upload.result['gait_id'])
         done_at = walk_start = settled = None
@@ -114,13 +114,11 @@ class ConsecutiveTrials:
         x1, y1, yaw1 = self._pose()
         record = self.fw.trials[-1]
         true_speed = record.summary()['speed']
-        timed = None
         if settle > 0:
-            begin = imu_start if imu_start is not None else self.odometry.times[0]
-            timed = (begin + settle, begin + settle + duration)
             heading = record.start_yaw + record.crab_angle
             d = record.end_position[:2] - settled
             true_speed = float(d[0] * math.cos(heading) + d[1] * math.sin(heading)) / duration
+        timed = self.odometry.timed_part(imu_start, settle, duration)
         est = self.odometry.estimate(gait.crab_angle, duration, timed)
         ex, ey = self.odometry.in_start_frame(est.displacement)
         self.odometry = None
