@@ -38,7 +38,7 @@ setup(
             [m for m in glob('maps/*.npz') if not m.endswith('.ckpt.npz')]
             + glob('maps/*.log.jsonl'),
         ),
-        # the default map's cached ceilings (hexapod_adapt.ceiling; maps/make_ceilings.sh)
+        # the default map's cached ceilings (hexapod_adapt.online.ceiling; maps/make_ceilings.sh)
         (f'share/{package_name}/maps/ceilings', glob('maps/ceilings/*.npz')),
     ],
     install_requires=['setuptools'],
@@ -52,15 +52,12 @@ setup(
     license='MIT',
     entry_points={
         'console_scripts': [
-            'generate_map = hexapod_adapt.generate_cli:main',
-            'adapt_node = hexapod_adapt.adapt_node:main',
-            'adapt_client = hexapod_adapt.adapt_client:main',
-            'run_experiment = hexapod_adapt.experiment_cli:main',
-            'recover_recording = hexapod_adapt.recover_cli:main',
-            'plot_map = hexapod_adapt.plot_map_cli:main',
-            'navigate_node = hexapod_adapt.navigate_node:main',
-            'navigate_client = hexapod_adapt.navigate_client:main',
-            'run_navigation = hexapod_adapt.navigation_cli:main',
+            'generate_map = hexapod_adapt.mapping.generate_map_cli:main',
+            'plot_map = hexapod_adapt.mapping.plot_map_cli:main',
+            'run_experiment = hexapod_adapt.online.run_experiment_cli:main',
+            'adapt_node = hexapod_adapt.ros.adapt_node:main',
+            'adapt_client = hexapod_adapt.ros.adapt_client_cli:main',
+            'recover_recording = hexapod_adapt.ros.recover_recording_cli:main',
         ]
     },
 )

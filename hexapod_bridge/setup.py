@@ -45,8 +45,8 @@ setup(
     entry_points={
         'console_scripts': [
             'bridge_node = hexapod_bridge.bridge_node:main',
-            'robot_emulator = hexapod_bridge.emulator.cli:main',
-            'firmware_fuzz = hexapod_bridge.emulator.differential:main',
+            'robot_emulator = hexapod_bridge.emulator.robot_emulator_cli:main',
+            'firmware_fuzz = hexapod_bridge.emulator.firmware_fuzz_cli:main',
         ]
     },
 )

@@ -41,5 +41,5 @@ setup(
     maintainer_email='hexapod-dev@example.com',
     description='URDF of the UCT RARL hexapod and a Python API to read it.',
     license='MIT',
-    entry_points={'console_scripts': ['describe = hexapod_description.describe:main']},
+    entry_points={'console_scripts': ['describe = hexapod_description.describe_cli:main']},
 )

@@ -46,7 +46,7 @@ setup(
         'console_scripts': [
             'gait_node = hexapod_gait.gait_node:main',
             'footfall = hexapod_gait.footfall_cli:main',
-            'state_publisher = hexapod_gait.state_publisher:main',
+            'state_publisher = hexapod_gait.state_publisher_node:main',
         ]
     },
 )

@@ -45,8 +45,8 @@ setup(
     entry_points={
         'console_scripts': [
             'sim_node = hexapod_sim.sim_node:main',
-            'render_walk = hexapod_sim.render_cli:main',
-            'fidelity_table = hexapod_sim.fidelity_cli:main',
+            'render_walk = hexapod_sim.render_walk_cli:main',
+            'fidelity_table = hexapod_sim.fidelity_table_cli:main',
         ]
     },
 )

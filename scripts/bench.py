@@ -80,7 +80,7 @@ def bench_sim() -> None:
     from hexapod_gait import preset
     from hexapod_sim import create_simulator, evaluate_gait, evaluate_gaits, SimConfig
     from hexapod_sim.fidelity import agreement
-    from hexapod_sim.fidelity_cli import map_genotypes
+    from hexapod_sim.fidelity_table_cli import map_genotypes
     from hexapod_sim.sampling import random_feasible_genotypes
 
     if hasattr(os, 'sched_setaffinity'):
@@ -189,7 +189,7 @@ def _port_loss_latencies(cycles: int = 10) -> tuple[list[float], list[float]]:
     import tempfile
 
     from hexapod_bridge.bridge_node import reports_down_since
-    from hexapod_bridge.emulator.cli import radio_gone_times
+    from hexapod_bridge.emulator.robot_emulator_cli import radio_gone_times
     from hexapod_gait.ros_glue import ros_args
     from hexapod_msgs.msg import LinkStatus
     import rclpy
@@ -286,8 +286,8 @@ def bench_map() -> None:
     from pathlib import Path
     import tempfile
 
-    from hexapod_adapt.archive import Archive
-    from hexapod_adapt.generate import generate_map, GenerateConfig
+    from hexapod_adapt.mapping.archive import Archive
+    from hexapod_adapt.mapping.generate import generate_map, GenerateConfig
 
     with tempfile.TemporaryDirectory() as tmp:
         for engine, evaluations, suffix in (('mujoco', 3000, '_mujoco'), ('pybullet', 600, '')):
@@ -341,18 +341,18 @@ def bench_adapt() -> None:
     import os
     from pathlib import Path
 
-    from hexapod_adapt.adaptation import run_experiment
-    from hexapod_adapt.archive import load_archive
-    from hexapod_adapt.ceiling import (
+    from hexapod_adapt.mapping.archive import load_archive
+    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
+    from hexapod_adapt.mapping.simulation import archive_engine
+    from hexapod_adapt.online.adaptation import run_experiment
+    from hexapod_adapt.online.ceiling import (
         approximate_ceiling,
         approximate_key,
         cache_path,
         ceiling,
         ceiling_key,
     )
-    from hexapod_adapt.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
-    from hexapod_adapt.mboa import Mboa, MboaConfig, PROFILES, TRIAL_BUDGET
-    from hexapod_adapt.simulation import archive_engine
+    from hexapod_adapt.online.mboa import Mboa, MboaConfig, PROFILES, TRIAL_BUDGET
     from hexapod_sim import ENGINES
     from hexapod_sim.scenarios import scenario
 
@@ -379,7 +379,7 @@ def bench_adapt() -> None:
     # adapt_node does before a run (2 processes, the project machine's cores)
     import tempfile
 
-    from hexapod_adapt.prior import damage_prior
+    from hexapod_adapt.online.prior import damage_prior
     from hexapod_sim.damage import Damage
 
     with tempfile.TemporaryDirectory() as scratch:
@@ -491,20 +491,19 @@ def bench_navigate() -> None:
     navigate_odometry_step_error_m (median |estimate - truth| of one step),
     navigate_odometry_yaw_error_rad (RMS) and navigate_odometry_drift_m_after_<k> (k = 5, 10, 20).
     """
-    from hexapod_adapt.archive import load_archive
-    from hexapod_adapt.maps import NAVIGATION_MAP, shipped_map
-    from hexapod_adapt.navigation_experiment import (
+    from hexapod_adapt.mapping.archive import load_archive
+    from hexapod_bridge.emulator.consecutive import dead_reckoning
+    from hexapod_navigation.experiment import (
         METHODS,
         NavigationSettings,
         run_navigation,
         summarise,
     )
-    from hexapod_adapt.repertoire import Repertoire
-    from hexapod_adapt.step_bank import shipped_step_bank
-    from hexapod_bridge.emulator.consecutive import dead_reckoning
+    from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
+    from hexapod_navigation.step_bank import shipped_step_bank
     from hexapod_sim import create_simulator
 
-    path = shipped_map(NAVIGATION_MAP)
+    path = shipped_repertoire()
     for suffix, methods, leave_out in (('', METHODS, False), ('_leaveout', ('repertoire',), True)):
         settings = NavigationSettings(
             repertoire=path,

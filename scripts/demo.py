@@ -65,10 +65,10 @@ def main(argv: list[str] | None = None) -> int:
         help='where node logs and the recording go',
     )
     out = parser.parse_args(argv).out
-    from hexapod_adapt.archive import load_archive
-    from hexapod_adapt.maps import shipped_map
-    from hexapod_adapt.recording import read_messages
-    from hexapod_adapt.simulation import archive_engine
+    from hexapod_adapt.mapping.archive import load_archive
+    from hexapod_adapt.mapping.maps import shipped_map
+    from hexapod_adapt.mapping.simulation import archive_engine
+    from hexapod_adapt.ros.recording import read_messages
     from hexapod_description import load_model, summary
     from hexapod_gait import preset
     from hexapod_gait.ros_glue import die_with_parent, ros_args

@@ -54,7 +54,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument('--out', type=Path, default=WS / 'out' / 'demo_navigate')
     out = parser.parse_args(argv).out
     out.mkdir(parents=True, exist_ok=True)
-    from hexapod_adapt.recording import read_messages
+    from hexapod_adapt.ros.recording import read_messages
     from hexapod_gait.ros_glue import die_with_parent, ros_args
     from hexapod_msgs.action import Navigate
     import rclpy
@@ -90,7 +90,9 @@ def main(argv: list[str] | None = None) -> int:
         ),
         start('hexapod_gait', 'gait_node', initial_preset='', use_sim_time=True),
         start('hexapod_gait', 'state_publisher', use_sim_time=True),
-        start('hexapod_adapt', 'navigate_node', record_dir=str(out / 'runs'), use_sim_time=True),
+        start(
+            'hexapod_navigation', 'navigate_node', record_dir=str(out / 'runs'), use_sim_time=True
+        ),
     ]
     print(
         f'legs {FAILED_LEGS[0]} and {FAILED_LEGS[1]} failed; goals {GOALS} (m, odom)', flush=True

@@ -39,8 +39,8 @@ import time
 
 from hexapod_gait import preset
 from hexapod_sim import create_simulator, evaluate_gait, evaluate_gaits, SimConfig
-from hexapod_sim.fidelity_cli import map_genotypes
-from hexapod_sim.mujoco_engine import DEFAULT_SETTINGS, MujocoSettings
+from hexapod_sim.engine_settings import DEFAULT_SETTINGS, MujocoSettings
+from hexapod_sim.fidelity_table_cli import map_genotypes
 import numpy as np
 from scipy.stats import spearmanr
 

@@ -26,6 +26,9 @@ if [ -f "$_ws/install/local_setup.bash" ]; then
   # shellcheck disable=SC1091
   source "$_ws/install/local_setup.bash"
 fi
+# The studies (tuning/: `python -m tuning.NAME`) import the library as a package of their own. The
+# root goes last, so an installed package always wins over a source directory of the same name.
+case ":${PYTHONPATH:-}:" in *":$_ws:"*) ;; *) export PYTHONPATH="${PYTHONPATH:+$PYTHONPATH:}$_ws" ;; esac
 unset _ws
 # Every executable by its name (generate_map, sim_node, adapt_client, ...): the install space's
 # lib/<pkg> directories, where `ros2 run` finds them on a full install.

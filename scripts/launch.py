@@ -67,9 +67,9 @@ def pump(name: str, stream) -> None:
 
 def map_engine(archive: str | None) -> str | None:
     """Return the engine that made ``archive`` (None/'' = the default map); None if unreadable."""
-    from hexapod_adapt.archive import ArchiveError, load_archive
-    from hexapod_adapt.maps import shipped_map
-    from hexapod_adapt.simulation import archive_engine
+    from hexapod_adapt.mapping.archive import ArchiveError, load_archive
+    from hexapod_adapt.mapping.maps import shipped_map
+    from hexapod_adapt.mapping.simulation import archive_engine
 
     try:
         return archive_engine(load_archive(archive or shipped_map()).metadata)
@@ -127,7 +127,7 @@ def main(argv: list[str] | None = None) -> int:
     # navigation on the robot: one bridge trial is one repertoire step
     bridge_trial = {}
     if args.navigate:
-        from hexapod_adapt.repertoire import STEP_DURATION
+        from hexapod_adapt.mapping.steps import STEP_DURATION
 
         bridge_trial = {'trial_duration': STEP_DURATION}
     if simulated:
@@ -205,7 +205,7 @@ def main(argv: list[str] | None = None) -> int:
         commands.append(
             (
                 'navigate_node',
-                [exe('hexapod_adapt', 'navigate_node')]
+                [exe('hexapod_navigation', 'navigate_node')]
                 + ros_args(
                     {'mode': mode, 'use_sim_time': mode == 'sim'}
                     | ({} if simulated else {'trial_duration': bridge_trial['trial_duration']})

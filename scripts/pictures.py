@@ -37,7 +37,7 @@ import sys
 
 def main(argv: list[str] | None = None) -> int:
     from hexapod_gait.footfall_cli import main as footfall_main
-    from hexapod_sim.render_cli import render_walk
+    from hexapod_sim.render_walk_cli import render_walk
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--out', type=Path, default=Path('docs/img'))

@@ -29,10 +29,10 @@ keeping the good one.
 from __future__ import annotations
 
 from conftest import status_log_qos, wait_for
-from hexapod_adapt.adaptation import simulated_trial
-from hexapod_adapt.archive import Archive
-from hexapod_adapt.recording import read_messages
-from hexapod_adapt.simulation import simulation_fingerprint
+from hexapod_adapt.mapping.archive import Archive
+from hexapod_adapt.mapping.simulation import simulation_fingerprint
+from hexapod_adapt.online.adaptation import simulated_trial
+from hexapod_adapt.ros.recording import read_messages
 from hexapod_msgs.msg import AdaptationTrial
 from hexapod_msgs.srv import Adapt
 from hexapod_sim import create_simulator, evaluate_gait
@@ -169,7 +169,7 @@ def test_the_damage_informed_prior_through_the_graph(ros, launch, tmp_path, smal
     The request does not wait for sim/damage to reach adapt_node: the node asks sim_node
     (~/get_damage) what it holds now.
     """
-    from hexapod_adapt.ceiling import compute_ceiling
+    from hexapod_adapt.online.ceiling import compute_ceiling
     from hexapod_msgs.srv import SetLegFailure
 
     path, archive, _ = small_archive
@@ -253,8 +253,8 @@ def _set_min_speed(ros, value: float):
 
 
 def test_without_an_archive_parameter_the_node_adapts_on_the_default_map(ros, launch):
-    from hexapod_adapt.archive import load_archive
-    from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
+    from hexapod_adapt.mapping.archive import load_archive
+    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
 
     default = load_archive(shipped_map(DEFAULT_MAP))
     sim = launch(

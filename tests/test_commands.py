@@ -44,8 +44,8 @@ PACKAGE = {
     'generate_map': 'hexapod_adapt',
     'adapt_client': 'hexapod_adapt',
     'run_experiment': 'hexapod_adapt',
-    'run_navigation': 'hexapod_adapt',
-    'navigate_client': 'hexapod_adapt',
+    'run_navigation': 'hexapod_navigation',
+    'navigate_client': 'hexapod_navigation',
     'plot_map': 'hexapod_adapt',
     'recover_recording': 'hexapod_adapt',
     'robot_emulator': 'hexapod_bridge',
@@ -61,25 +61,25 @@ DEMO_MAP = str(Path(__file__).resolve().parents[1] / 'hexapod_adapt' / 'maps' / 
 def _main(command: str) -> Callable[[list[str]], int]:
     """The function a command's executable runs (adapt_client: its parser only, no ROS)."""
     if command == 'generate_map':
-        from hexapod_adapt.generate_cli import main
+        from hexapod_adapt.mapping.generate_map_cli import main
     elif command == 'adapt_client':
-        from hexapod_adapt.adapt_client import build_parser
+        from hexapod_adapt.ros.adapt_client_cli import build_parser
 
         return lambda argv: build_parser().parse_args(argv)
     elif command == 'run_experiment':
-        from hexapod_adapt.experiment_cli import main
+        from hexapod_adapt.online.run_experiment_cli import main
     elif command == 'run_navigation':
-        from hexapod_adapt.navigation_cli import main
+        from hexapod_navigation.run_navigation_cli import main
     elif command == 'navigate_client':
-        from hexapod_adapt.navigate_client import build_parser
+        from hexapod_navigation.navigate_client_cli import build_parser
 
         return lambda argv: build_parser().parse_args(argv)
     elif command == 'robot_emulator':
-        from hexapod_bridge.emulator.cli import main
+        from hexapod_bridge.emulator.robot_emulator_cli import main
     elif command == 'firmware_fuzz':
-        from hexapod_bridge.emulator.differential import main
+        from hexapod_bridge.emulator.firmware_fuzz_cli import main
     elif command == 'render_walk':
-        from hexapod_sim.render_cli import main
+        from hexapod_sim.render_walk_cli import main
     elif command == 'footfall':
         from hexapod_gait.footfall_cli import main
     else:
@@ -335,7 +335,7 @@ def test_a_signal_while_running_ends_with_one_line_and_its_status(
     assert 'Traceback' not in err, err
     assert lines and lines[-1].startswith(f'{command}: ') and name in lines[-1], err
     if command == 'generate_map':
-        from hexapod_adapt.map_elites import load_checkpoint
+        from hexapod_adapt.mapping.map_elites import load_checkpoint
 
         load_checkpoint(checkpoint)  # intact: --resume continues from it
         assert '--resume' in lines[-1]

@@ -27,7 +27,7 @@ from pathlib import Path
 import subprocess
 import sys
 
-from hexapod_adapt.recording import read_messages
+from hexapod_adapt.ros.recording import read_messages
 
 WS = Path(__file__).resolve().parent.parent
 

@@ -37,6 +37,7 @@ PACKAGES = [
     'hexapod_gait',
     'hexapod_sim',
     'hexapod_adapt',
+    'hexapod_navigation',
     'hexapod_bridge',
 ]
 
@@ -84,7 +85,7 @@ def test_every_package_is_in_the_ament_index():
         ('hexapod_sim', 'sim_node', 'hexapod_sim.sim_node'),
         ('hexapod_gait', 'gait_node', 'hexapod_gait.gait_node'),
         ('hexapod_bridge', 'bridge_node', 'hexapod_bridge.bridge_node'),
-        ('hexapod_adapt', 'adapt_node', 'hexapod_adapt.adapt_node'),
+        ('hexapod_adapt', 'adapt_node', 'hexapod_adapt.ros.adapt_node'),
     ],
 )
 def test_node_executables_answer_help_with_their_parameters(pkg, exe, module):

@@ -177,7 +177,7 @@ def test_seeded_fuzz_of_100000_frames_finds_no_crash_and_no_divergence():
 
 
 def test_the_emulator_refuses_dead_servos_on_three_legs(capsys):
-    from hexapod_bridge.emulator.cli import main
+    from hexapod_bridge.emulator.robot_emulator_cli import main
 
     with pytest.raises(SystemExit) as exit_info:
         main(['--dead-servo', '2', '--dead-servo', '5', '--dead-servo', '8'])
@@ -194,7 +194,7 @@ def test_without_the_host_build_the_native_emulator_says_what_to_build(tmp_path)
         [
             sys.executable,
             '-m',
-            'hexapod_bridge.emulator.cli',
+            'hexapod_bridge.emulator.robot_emulator_cli',
             '--firmware',
             'native',
             '--radio-link',

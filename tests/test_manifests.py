@@ -40,6 +40,7 @@ PACKAGES = [
     'hexapod_sim',
     'hexapod_bridge',
     'hexapod_adapt',
+    'hexapod_navigation',
 ]
 
 #: Python module -> rosdep key. ROS packages are their own key. Keys ending in -pip are defined

@@ -55,7 +55,7 @@ def graph(ros, launch):
     """sim_node (MuJoCo, 4x real time) + gait_node + navigate_node, and an action client."""
     launch('hexapod_sim', 'sim_node', params=SIM)
     launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
-    nav = launch('hexapod_adapt', 'navigate_node', params={'max_range': 5.0})
+    nav = launch('hexapod_navigation', 'navigate_node', params={'max_range': 5.0})
     client = ActionClient(ros.node, Navigate, 'navigate')
     assert client.wait_for_server(timeout_sec=60)
     return nav, client
@@ -100,6 +100,20 @@ def test_a_goal_is_reached_through_the_graph(ros, graph):
     print(f'sim_node at {SIM["real_time_factor"]:g}x: prediction error per step {errors} m')
     wait_for(lambda: markers, 10, 'the goal marker')
     assert markers[-1].pose.position.x == 1.0 and markers[-1].header.frame_id == 'odom'
+
+
+@pytest.mark.parametrize('period', [1, 4, 12, 24])
+def test_goals_are_reached_whatever_the_odometry_rate(ros, launch, period):
+    # sim_node's publish_period_steps sets the odometry rate: 240 Hz (1) to 10 Hz (24) at real
+    # time; the node times each step by the simulation's clock, not by how many poses it hears
+    launch('hexapod_sim', 'sim_node', params={**SIM, 'publish_period_steps': period})
+    launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
+    nav = launch('hexapod_navigation', 'navigate_node', params={'max_range': 5.0})
+    client = ActionClient(ros.node, Navigate, 'navigate')
+    assert client.wait_for_server(timeout_sec=60)
+    for x, y in ((0.8, 0.4), (0.0, 0.0)):
+        status, result = Goal(ros, client, x, y).result()
+        assert result.reached, f'period {period}: {result.reason}\n{nav.log()[-3000:]}'
 
 
 def test_invalid_goals_are_rejected_with_a_reason_and_the_node_goes_on(ros, graph):
@@ -204,7 +218,9 @@ def test_the_robot_path_walks_its_first_gait_through_the_bridge(ros, launch, tmp
         params={'port': radio, 'imu_port': imu, 'trial_duration': 2.0},
     )
     assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
-    nav = launch('hexapod_adapt', 'navigate_node', params={'mode': 'robot', 'trial_duration': 2.0})
+    nav = launch(
+        'hexapod_navigation', 'navigate_node', params={'mode': 'robot', 'trial_duration': 2.0}
+    )
     client = ActionClient(ros.node, Navigate, 'navigate')
     assert client.wait_for_server(timeout_sec=60)
     odom = ros.collect(Odometry, 'odom', ODOM)
@@ -223,7 +239,7 @@ def test_the_robot_path_walks_its_first_gait_through_the_bridge(ros, launch, tmp
 
 def test_navigate_client_reaches_a_goal_and_ctrl_c_cancels_it(ros, graph, domain_id):
     nav, _ = graph
-    exe = str(executable('hexapod_adapt', 'navigate_client'))
+    exe = str(executable('hexapod_navigation', 'navigate_client'))
     env = dict(os.environ, ROS_DOMAIN_ID=str(domain_id), PYTHONUNBUFFERED='1')
     done = subprocess.run(
         [exe, '0.6', '-0.3'], env=env, capture_output=True, text=True, timeout=120
@@ -263,7 +279,7 @@ def test_the_robot_path_refuses_goals_when_the_bridge_walks_other_trials(ros, la
     launch('hexapod_bridge', 'bridge_node', params={'port': radio, 'imu_port': imu})  # 5 s trials
     absent = tmp_path / 'no_bank.npz'
     nav = launch(
-        'hexapod_adapt',
+        'hexapod_navigation',
         'navigate_node',
         params={'mode': 'robot', 'trial_duration': 2.0, 'bank_file': str(absent)},
     )

@@ -21,9 +21,9 @@
 """
 How good can a blind search be after n trials? M-BOA's best-so-far ratio, with no stopping rule.
 
-On the tuning set (hexapod_adapt.tuning: the seed-2 map, 63 cases of locked legs, weak servos
-and lost tibias; replayed from ceilings), for each kernel the ratio best-so-far / ceiling after
-3, 6, 10, 16 and 24 trials (median and 10th percentile over the cases). Kernels:
+On the tuning set (hexapod_adapt.online.replay: the seed-2 map, 63 cases of locked legs, weak
+servos and lost tibias; replayed from ceilings), for each kernel the ratio best-so-far / ceiling
+after 3, 6, 10, 16 and 24 trials (median and 10th percentile over the cases). Kernels:
 - the default profile's (Matern 5/2 on the duty factors, rho 0.2, variance 0.01 (m/s)^2), run
   through the product's Mboa;
 - 'bank features' (tried 2026-11-23): the same plus c x D D^T, with D (gaits x 21) each gait's
@@ -33,7 +33,7 @@ and lost tibias; replayed from ceilings), for each kernel the ratio best-so-far 
   as Mboa (checked below).
 'Left out' rows: the 21 lifted cases of the bank, each with its own case dropped from D.
 
-    python tuning/analyse_anytime.py > tuning/analyse_anytime.txt
+    python -m tuning.analyse_anytime > tuning/analyse_anytime.txt
 """
 
 from __future__ import annotations
@@ -41,13 +41,14 @@ from __future__ import annotations
 from dataclasses import replace
 import sys
 
-from hexapod_adapt.archive import load_archive
-from hexapod_adapt.bank import BANK_DAMAGES, load_bank
-from hexapod_adapt.ceiling import cached_ceiling
-from hexapod_adapt.mboa import matern52, Mboa, PROFILES
-from hexapod_adapt.tuning import control_speeds, TUNING_DAMAGES
+from hexapod_adapt.mapping.archive import load_archive
+from hexapod_adapt.online.bank import BANK_DAMAGES, load_bank
+from hexapod_adapt.online.ceiling import cached_ceiling
+from hexapod_adapt.online.mboa import matern52, Mboa, PROFILES
+from hexapod_adapt.online.replay import control_speeds
 import numpy as np
 from scipy.linalg import cho_solve, solve_triangular
+from tuning.tuning_set import TUNING_DAMAGES
 
 MAP = 'tuning/tuning_map_s2.npz'
 TRIALS = 24

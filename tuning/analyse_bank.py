@@ -21,8 +21,8 @@
 """
 Does a damage bank help M-BOA? Replay the default profile with and without one on the tuning map.
 
-The bank (hexapod_adapt.bank) is the tuning map under every one- and two-leg lifted failure
-(tuning/bank). Three sets of runs, each replayed from ceilings (hexapod_adapt.tuning):
+The bank (hexapod_adapt.online.bank) is the tuning map under every one- and two-leg lifted failure
+(tuning/bank). Three sets of runs, each replayed from ceilings (hexapod_adapt.online.replay):
 - out of set: the 63 tuning cases (locked legs, weak servos, lost tibias: none in the bank);
 - in set: the 21 lifted cases themselves (the bank holds the truth);
 - left out: the same 21, each with its own case dropped from the bank.
@@ -30,7 +30,7 @@ Stopping rules compared: M-BOA's (best >= alpha x the mixture's highest mean), '
 (alpha x the weighted mean of each hypothesis's highest mean) and 'most likely' (alpha x the
 most likely hypothesis's highest mean).
 
-    python tuning/analyse_bank.py > tuning/analyse_bank.txt
+    python -m tuning.analyse_bank > tuning/analyse_bank.txt
 """
 
 from __future__ import annotations
@@ -38,12 +38,13 @@ from __future__ import annotations
 from dataclasses import replace
 import sys
 
-from hexapod_adapt.archive import load_archive
-from hexapod_adapt.bank import BANK_DAMAGES, load_bank
-from hexapod_adapt.ceiling import cached_ceiling
-from hexapod_adapt.mboa import Mboa, PROFILES, StopReason
-from hexapod_adapt.tuning import control_speeds, TUNING_DAMAGES, TUNING_MAX_TRIALS
+from hexapod_adapt.mapping.archive import load_archive
+from hexapod_adapt.online.bank import BANK_DAMAGES, load_bank
+from hexapod_adapt.online.ceiling import cached_ceiling
+from hexapod_adapt.online.mboa import Mboa, PROFILES, StopReason
+from hexapod_adapt.online.replay import control_speeds
 import numpy as np
+from tuning.tuning_set import TUNING_DAMAGES, TUNING_MAX_TRIALS
 
 MAP = 'tuning/tuning_map_s2.npz'
 

@@ -24,12 +24,13 @@ Tried 2026-11-23, not adopted: M-BOA over a mixture of kernels, one per failure 
 A lifted leg's duty factor no longer matters, so each hypothesis (intact, each leg, each pair of
 legs: 22) uses the default profile's Matern kernel without the duty factors of its failed legs;
 the prior mean is the map's for all (no simulation of the damage). Hypotheses are weighted by
-their GP marginal likelihood (with the determinant), as hexapod_adapt.mboa.mixture does. Replayed
-on the tuning set (the seed-2 map; 63 out-of-set cases, and its 21 lifted cases): the best-so-far
-ratio after 3, 6, 10, 16, 24 trials with no stopping rule, then with M-BOA's rule and the damaged
-tripod as floor. 'single' is the default profile (it reproduces tuning/analyse_anytime.txt).
+their GP marginal likelihood (with the determinant), as hexapod_adapt.online.mboa.mixture does.
+Replayed on the tuning set (the seed-2 map; 63 out-of-set cases, and its 21 lifted cases): the
+best-so-far ratio after 3, 6, 10, 16, 24 trials with no stopping rule, then with M-BOA's rule and
+the damaged tripod as floor. 'single' is the default profile (it reproduces
+tuning/analyse_anytime.txt).
 
-    python tuning/analyse_relevance.py 0.2 > tuning/analyse_relevance.txt
+    python -m tuning.analyse_relevance 0.2 > tuning/analyse_relevance.txt
 """
 
 from __future__ import annotations
@@ -37,13 +38,14 @@ from __future__ import annotations
 import itertools
 import sys
 
-from hexapod_adapt.archive import load_archive
-from hexapod_adapt.bank import BANK_DAMAGES
-from hexapod_adapt.ceiling import cached_ceiling
-from hexapod_adapt.mboa import matern52, PROFILES
-from hexapod_adapt.tuning import control_speeds, TUNING_DAMAGES
+from hexapod_adapt.mapping.archive import load_archive
+from hexapod_adapt.online.bank import BANK_DAMAGES
+from hexapod_adapt.online.ceiling import cached_ceiling
+from hexapod_adapt.online.mboa import matern52, PROFILES
+from hexapod_adapt.online.replay import control_speeds
 import numpy as np
 from scipy.linalg import solve_triangular
+from tuning.tuning_set import TUNING_DAMAGES
 
 MAP = 'tuning/tuning_map_s2.npz'
 #: failure hypotheses: the legs (0-based descriptor dimensions) whose duty factors are ignored

@@ -25,7 +25,7 @@ For every tuning damage case: the ratio reached, the GP's highest posterior mean
 rule fired, the GP's mean and std at the map's true best gait under that damage, and where that
 gait ranked in the prior. Prints one line per case and the medians.
 
-    python tuning/analyse_stops.py --archive tuning/tuning_map_s2.npz --cache-dir tuning/ceilings
+    python -m tuning.analyse_stops --archive tuning/tuning_map_s2.npz --cache-dir tuning/ceilings
 """
 
 from __future__ import annotations
@@ -34,12 +34,13 @@ import argparse
 from dataclasses import replace
 import sys
 
-from hexapod_adapt.adaptation import candidates
-from hexapod_adapt.archive import load_archive
-from hexapod_adapt.ceiling import ceiling
-from hexapod_adapt.mboa import Mboa, PROFILES
-from hexapod_adapt.tuning import lookup_trial, TUNING_DAMAGES
+from hexapod_adapt.mapping.archive import load_archive
+from hexapod_adapt.online.adaptation import candidates
+from hexapod_adapt.online.ceiling import ceiling
+from hexapod_adapt.online.mboa import Mboa, PROFILES
+from hexapod_adapt.online.replay import lookup_trial
 import numpy as np
+from tuning.tuning_set import TUNING_DAMAGES
 
 
 def main(argv: list[str] | None = None) -> int:

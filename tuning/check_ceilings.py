@@ -25,7 +25,7 @@ Ceilings cached before falls were scored (a gait that ends upside down: 0) could
 distance. For each cached ceiling of a map, re-evaluate its ``--top`` fastest gaits and report
 any that differ; a ceiling (its best speed) stands if none of them does.
 
-    python tuning/check_ceilings.py --archive hexapod_adapt/maps/default_map.npz \\
+    python -m tuning.check_ceilings --archive hexapod_adapt/maps/default_map.npz \\
         --cache-dir hexapod_adapt/maps/ceilings --scenarios
 """
 
@@ -34,13 +34,13 @@ from __future__ import annotations
 import argparse
 import sys
 
-from hexapod_adapt.archive import load_archive
-from hexapod_adapt.ceiling import ceiling
-from hexapod_adapt.tuning import TUNING_DAMAGES
+from hexapod_adapt.mapping.archive import load_archive
+from hexapod_adapt.online.ceiling import ceiling
 from hexapod_sim import create_simulator, evaluate_gaits, SimConfig
 from hexapod_sim.damage import Damage
 from hexapod_sim.scenarios import scenario
 import numpy as np
+from tuning.tuning_set import TUNING_DAMAGES
 
 
 def main(argv: list[str] | None = None) -> int:

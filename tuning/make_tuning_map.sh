@@ -6,6 +6,6 @@
 set -eo pipefail   # (no -u: colcon's setup scripts read unset variables)
 cd "$(dirname "$0")/.."
 source scripts/env.sh
-exec nice -n 10 python -m hexapod_adapt.generate_cli \
+exec nice -n 10 python -m hexapod_adapt.mapping.generate_map_cli \
   --out tuning/tuning_map_s2.npz --engine mujoco --niches 2000 --evaluations 200000 \
   --seed 2 --with-presets --workers "${WORKERS:-2}" --checkpoint-every 300 --log-every 30 --no-bar --resume

@@ -28,7 +28,7 @@ this runs M-BOA on every damage case of a set with such settled trials in simula
 gait is then judged by its speed in the map's own 5 s measure under the damage (the ceiling's
 figure), so every trial length is judged alike.
 
-    python -m hexapod_adapt.trial_length --archive tuning/tuning_map_s2.npz \\
+    python -m tuning.trial_length --archive tuning/tuning_map_s2.npz \\
         --cache-dir tuning/ceilings --out tuning/trial_length.csv
 """
 
@@ -36,17 +36,21 @@ from __future__ import annotations
 
 import argparse
 from dataclasses import dataclass, replace
+from pathlib import Path
 import sys
-from typing import Callable, Sequence
+from typing import Any, Callable, Sequence
 
-from hexapod_adapt.adaptation import adapt, map_speed, simulated_trial
-from hexapod_adapt.archive import Archive, atomic_write_bytes, load_archive
-from hexapod_adapt.ceiling import approximate_ceiling, Ceiling, ceiling
-from hexapod_adapt.mboa import MboaConfig, PROFILES, TRIAL_BUDGET
-from hexapod_adapt.simulation import archive_engine
+from hexapod_adapt.mapping.archive import Archive, atomic_write_bytes, load_archive
+from hexapod_adapt.mapping.plots import save_figure
+from hexapod_adapt.mapping.simulation import archive_engine
+from hexapod_adapt.online.adaptation import adapt, map_speed, simulated_trial
+from hexapod_adapt.online.ceiling import approximate_ceiling, Ceiling, ceiling
+from hexapod_adapt.online.mboa import MboaConfig, PROFILES, TRIAL_BUDGET
 from hexapod_description.cli import input_file, output_dir, output_file, run_command
 from hexapod_sim import create_simulator, ENGINES, SimConfig
+import matplotlib.pyplot as plt
 import numpy as np
+from tuning.tuning_set import TUNING_DAMAGES
 
 TRIAL_LENGTHS = (1.0, 2.0, 3.0, 5.0)
 #: Untimed walking before a trial is timed [s]: one period of the controller's default 1 s cycle.
@@ -103,8 +107,40 @@ def run_lengths(
     return runs
 
 
+def plot_trial_length(runs: Sequence[Any], out: str | Path) -> Path:
+    """
+    Adapted/ceiling ratio and walking time against the trial length (thesis 7.0.1).
+
+    ``runs``: :class:`tuning.trial_length.LengthRun` rows, one line per engine.
+    """
+    fig, (left, right) = plt.subplots(1, 2, figsize=(9, 3.6))
+    for engine in dict.fromkeys(r.engine for r in runs):
+        sel = [r for r in runs if r.engine == engine]
+        lengths = sorted({r.trial_length for r in sel})
+        ratio = [[r.ratio for r in sel if r.trial_length == t] for t in lengths]
+        walking = [[r.walking_time for r in sel if r.trial_length == t] for t in lengths]
+        for axes, values in ((left, ratio), (right, walking)):
+            med = [float(np.median(v)) for v in values]
+            low = [float(np.percentile(v, 25)) for v in values]
+            high = [float(np.percentile(v, 75)) for v in values]
+            axes.plot(lengths, med, marker='o', label=f'{engine} (median)')
+            axes.fill_between(lengths, low, high, alpha=0.2)
+    left.set_xlabel('trial length [s] (after 1 s of untimed settling)')
+    left.set_ylabel('adapted / ceiling speed')
+    left.legend(fontsize=8)
+    right.set_xlabel('trial length [s]')
+    right.set_ylabel('walking time to adapt [s]')
+    right.axhline(30.0, color='red', linestyle='--', linewidth=1, label='30 s')
+    right.legend(fontsize=8)
+    for axes in (left, right):
+        axes.grid(alpha=0.3)
+    fig.suptitle('Trial length: what M-BOA finds, and the walking it costs (25-75 % band)')
+    fig.tight_layout()
+    return save_figure(fig, out)
+
+
 def build_parser() -> argparse.ArgumentParser:
-    """Return the command-line options of ``python -m hexapod_adapt.trial_length``."""
+    """Return the command-line options of ``python -m tuning.trial_length``."""
     ap = argparse.ArgumentParser(prog='trial_length', description=__doc__.split('\n\n')[0])
     ap.add_argument('--archive', type=input_file, required=True, help='map')
     ap.add_argument('--cache-dir', type=output_dir, required=True, help='cached ceilings')
@@ -132,8 +168,6 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
 
     def run() -> int:
-        from hexapod_adapt.tuning import TUNING_DAMAGES
-
         archive = load_archive(args.archive)
         map_engine = archive_engine(archive.metadata) or 'mujoco'
         damages = TUNING_DAMAGES[:: max(1, args.every)]
@@ -175,8 +209,6 @@ def main(argv: list[str] | None = None) -> int:
             ]
             atomic_write_bytes(args.out, ('\n'.join(lines) + '\n').encode())
         if args.plot:
-            from hexapod_adapt.plots import plot_trial_length
-
             print(f'wrote {plot_trial_length(runs, args.plot)}')
         return 0
 

@@ -27,7 +27,7 @@ against the damaged control tripod there (each run's success floor, as in the pr
 third tuning case (21), default profile, budget 24, for the thesis's trial (5 s from standing)
 and settled trials (1 s, then 2, 3 or 5 s timed).
 
-    python tuning/trial_length_cross.py > tuning/trial_length_cross.txt
+    python -m tuning.trial_length_cross > tuning/trial_length_cross.txt
 """
 
 from __future__ import annotations
@@ -35,12 +35,13 @@ from __future__ import annotations
 from dataclasses import replace
 import sys
 
-from hexapod_adapt.adaptation import adapt, map_speed, simulated_trial
-from hexapod_adapt.archive import load_archive
-from hexapod_adapt.mboa import PROFILES, TRIAL_BUDGET
-from hexapod_adapt.tuning import control_speeds, TUNING_DAMAGES
+from hexapod_adapt.mapping.archive import load_archive
+from hexapod_adapt.online.adaptation import adapt, map_speed, simulated_trial
+from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
+from hexapod_adapt.online.replay import control_speeds
 from hexapod_sim import create_simulator, SimConfig
 import numpy as np
+from tuning.tuning_set import TUNING_DAMAGES
 
 MAP = 'tuning/tuning_map_s2.npz'
 ENGINE = 'pybullet'

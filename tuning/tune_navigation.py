@@ -25,7 +25,7 @@ How navigate's settings were chosen (docs/navigation.md, "Tuning").
 A grid of settings on the tuning goals (seed 100), never on the reported experiment's goals
 (seed 0).
 
-    python scripts/tune_navigation.py [--grid rest|known|planner|bank|stance] [--damage-kind K]
+    python -m tuning.tune_navigation [--grid rest|known|planner|bank|stance] [--damage-kind K]
         [--repertoire FILE] [--bank FILE] [--workers 2] [--from-row N] [--to-row N]
 
 For each setting: the repertoire method over every damage case of S0-S4 x 10 tuning goals; the
@@ -156,18 +156,18 @@ GRIDS = {
 
 
 def main(argv: list[str] | None = None) -> int:
-    from hexapod_adapt.maps import NAVIGATION_MAP, shipped_map
-    from hexapod_adapt.navigation import NavigationConfig
-    from hexapod_adapt.navigation_experiment import (
+    from hexapod_navigation.experiment import (
         NavigationSettings,
         run_navigation,
         scenarios_beating_baselines,
         summarise,
     )
-    from hexapod_adapt.step_bank import shipped_step_bank
+    from hexapod_navigation.planner import NavigationConfig
+    from hexapod_navigation.repertoire import shipped_repertoire
+    from hexapod_navigation.step_bank import shipped_step_bank
 
     ap = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
-    ap.add_argument('--repertoire', type=Path, default=shipped_map(NAVIGATION_MAP))
+    ap.add_argument('--repertoire', type=Path, default=shipped_repertoire())
     ap.add_argument(
         '--bank', type=Path, default=None, help="the repertoire's step bank (default: the shipped)"
     )

@@ -25,16 +25,16 @@ ROS-free library; the nodes and commands are adapt_node, adapt_client, generate_
 run_experiment.
 """
 
-from hexapod_adapt.adaptation import (
+from hexapod_adapt.mapping.archive import Archive, ArchiveError, import_thesis_map, load_archive
+from hexapod_adapt.mapping.map_elites import Evaluation, MapElitesConfig, run_map_elites
+from hexapod_adapt.online.adaptation import (
     adapt,
     AdaptationResult,
     run_experiment,
     simulated_trial,
     TrialAborted,
 )
-from hexapod_adapt.archive import Archive, ArchiveError, import_thesis_map, load_archive
-from hexapod_adapt.map_elites import Evaluation, MapElitesConfig, run_map_elites
-from hexapod_adapt.mboa import Mboa, MboaConfig
+from hexapod_adapt.online.mboa import Mboa, MboaConfig
 
 __all__ = [
     'AdaptationResult',

@@ -8,5 +8,5 @@
 set -eo pipefail   # (no -u: colcon's setup scripts read unset variables)
 cd "$(dirname "$0")/../.."
 source scripts/env.sh
-exec python -m hexapod_adapt.ceiling --engine mujoco --scenarios S1 S2 S3 S4 \
+exec python -m hexapod_adapt.online.ceilings_cli --engine mujoco --scenarios S1 S2 S3 S4 \
   --cache-dir hexapod_adapt/maps/ceilings --workers "${WORKERS:-2}"

@@ -6,6 +6,6 @@
 set -eo pipefail   # (no -u: colcon's setup scripts read unset variables)
 cd "$(dirname "$0")/../.."
 source scripts/env.sh
-exec python -m hexapod_adapt.generate_cli \
+exec python -m hexapod_adapt.mapping.generate_map_cli \
   --out hexapod_adapt/maps/default_map.npz --engine mujoco --niches 10000 --evaluations 1000000 \
   --seed 1 --with-presets --workers "${WORKERS:-2}" --checkpoint-every 300 --log-every 30 --no-bar --resume

@@ -20,9 +20,9 @@
 # SOFTWARE.
 """An adaptation run over an archive: stopping, aborted trials, cancellation, simulated trials."""
 
-from hexapod_adapt.adaptation import adapt, simulated_trial, TrialAborted
-from hexapod_adapt.archive import Archive
-from hexapod_adapt.mboa import MboaConfig
+from hexapod_adapt.mapping.archive import Archive
+from hexapod_adapt.online.adaptation import adapt, simulated_trial, TrialAborted
+from hexapod_adapt.online.mboa import MboaConfig
 import numpy as np
 import pytest
 

@@ -20,7 +20,7 @@
 # SOFTWARE.
 """Archive file: round trip, atomic writes, clear errors, thesis text format."""
 
-from hexapod_adapt.archive import (
+from hexapod_adapt.mapping.archive import (
     Archive,
     ArchiveError,
     compatibility_problems,
@@ -148,7 +148,7 @@ def test_thesis_import_refuses_wrong_rows_and_foreign_centroids(tmp_path):
 
 
 def test_insert_says_what_happened():
-    from hexapod_adapt.archive import InsertStatus
+    from hexapod_adapt.mapping.archive import InsertStatus
 
     a = Archive.empty(np.full((2, 6), 0.5))
     d, g = np.full(6, 0.5), np.full(32, 0.5)

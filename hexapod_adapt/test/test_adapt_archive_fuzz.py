@@ -30,7 +30,7 @@ from __future__ import annotations
 import io
 import json
 
-from hexapod_adapt.archive import Archive, ArchiveError, load_archive
+from hexapod_adapt.mapping.archive import Archive, ArchiveError, load_archive
 import numpy as np
 import pytest
 

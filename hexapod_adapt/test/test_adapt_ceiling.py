@@ -22,9 +22,9 @@
 
 from __future__ import annotations
 
-from hexapod_adapt.archive import Archive, load_archive
-from hexapod_adapt.ceiling import cache_path, ceiling, ceiling_key, compute_ceiling
-from hexapod_adapt.maps import DEMO_MAP, shipped_map
+from hexapod_adapt.mapping.archive import Archive, load_archive
+from hexapod_adapt.mapping.maps import DEMO_MAP, shipped_map
+from hexapod_adapt.online.ceiling import cache_path, ceiling, ceiling_key, compute_ceiling
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig
 import numpy as np
 import pytest
@@ -103,9 +103,9 @@ def test_a_ceiling_under_another_damage_type_is_keyed_and_cached_by_it(small_map
 
 def test_a_replayed_run_is_the_simulated_run(small_map):
     """A lookup in the ceiling answers each trial exactly as the simulator does."""
-    from hexapod_adapt.adaptation import adapt, simulated_trial
-    from hexapod_adapt.mboa import MboaConfig
-    from hexapod_adapt.tuning import lookup_trial, replay, score, summarise
+    from hexapod_adapt.online.adaptation import adapt, simulated_trial
+    from hexapod_adapt.online.mboa import MboaConfig
+    from hexapod_adapt.online.replay import lookup_trial, replay, score, summarise
     from hexapod_sim.damage import Damage
 
     damage = Damage.of('weak', [1, 4])
@@ -126,7 +126,7 @@ def test_a_replayed_run_is_the_simulated_run(small_map):
 
 
 def test_an_approximate_ceiling_evaluates_the_guides_best_gaits_only(small_map, tmp_path):
-    from hexapod_adapt.ceiling import approximate_ceiling, approximate_key
+    from hexapod_adapt.online.ceiling import approximate_ceiling, approximate_key
 
     guide = compute_ceiling(small_map, [3], 'mujoco')
     approx = approximate_ceiling(small_map, [3], 'pybullet', guide, top=4, cache_dir=tmp_path)
@@ -149,10 +149,10 @@ def test_an_approximate_ceiling_evaluates_the_guides_best_gaits_only(small_map, 
 
 
 def test_a_damage_bank_is_the_cached_ceilings_and_says_what_is_missing(small_map, tmp_path):
-    from hexapod_adapt.adaptation import adapt
-    from hexapod_adapt.bank import load_bank
-    from hexapod_adapt.mboa import MboaConfig
-    from hexapod_adapt.tuning import lookup_trial
+    from hexapod_adapt.online.adaptation import adapt
+    from hexapod_adapt.online.bank import load_bank
+    from hexapod_adapt.online.mboa import MboaConfig
+    from hexapod_adapt.online.replay import lookup_trial
     from hexapod_sim.damage import Damage
 
     cases = [Damage.lifted([1]), Damage.lifted([2, 5]), Damage.lifted([3])]

@@ -22,10 +22,10 @@
 
 import json
 
-from hexapod_adapt.archive import compatibility_problems, load_archive
-from hexapod_adapt.maps import DEFAULT_MAP, DEMO_MAP, shipped_map
-from hexapod_adapt.run_config import expected_metadata
-from hexapod_adapt.simulation import archive_engine
+from hexapod_adapt.mapping.archive import compatibility_problems, load_archive
+from hexapod_adapt.mapping.maps import DEFAULT_MAP, DEMO_MAP, shipped_map
+from hexapod_adapt.mapping.simulation import archive_engine
+from hexapod_adapt.online.run_config import expected_metadata
 import numpy as np
 
 

@@ -33,7 +33,7 @@ DEMO_MAP = Path(__file__).resolve().parents[1] / 'maps' / 'demo_map.npz'
 
 def _run(*args):
     return subprocess.run(
-        [sys.executable, '-m', 'hexapod_adapt.experiment_cli', *args],
+        [sys.executable, '-m', 'hexapod_adapt.online.run_experiment_cli', *args],
         capture_output=True,
         text=True,
         timeout=300,
@@ -109,7 +109,7 @@ def test_plot_map_draws_a_map_and_a_log_in_progress(tmp_path):
         [
             sys.executable,
             '-m',
-            'hexapod_adapt.plot_map_cli',
+            'hexapod_adapt.mapping.plot_map_cli',
             '--archive',
             str(DEMO_MAP),
             '--log',
@@ -128,7 +128,7 @@ def test_plot_map_draws_a_map_and_a_log_in_progress(tmp_path):
         [
             sys.executable,
             '-m',
-            'hexapod_adapt.plot_map_cli',
+            'hexapod_adapt.mapping.plot_map_cli',
             '--archive',
             str(tmp_path / 'no.npz'),
         ],

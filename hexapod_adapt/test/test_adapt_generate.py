@@ -25,9 +25,9 @@ from pathlib import Path
 import subprocess
 import sys
 
-from hexapod_adapt.archive import ArchiveError, load_archive
-from hexapod_adapt.generate import generate_map, GenerateConfig
-from hexapod_adapt.simulation import simulation_fingerprint
+from hexapod_adapt.mapping.archive import ArchiveError, load_archive
+from hexapod_adapt.mapping.generate import generate_map, GenerateConfig
+from hexapod_adapt.mapping.simulation import simulation_fingerprint
 import numpy as np
 import pytest
 
@@ -43,7 +43,7 @@ SMALL = {
 
 def _run_cli(*args):
     return subprocess.run(
-        [sys.executable, '-m', 'hexapod_adapt.generate_cli', *args],
+        [sys.executable, '-m', 'hexapod_adapt.mapping.generate_map_cli', *args],
         capture_output=True,
         text=True,
         timeout=300,
@@ -115,7 +115,7 @@ def test_a_map_without_a_single_gait_is_not_a_success(tmp_path):
 
 
 def test_orphaned_temporaries_are_removed_on_start_and_resume(tmp_path):
-    from hexapod_adapt.generate import remove_orphaned_temporaries
+    from hexapod_adapt.mapping.generate import remove_orphaned_temporaries
 
     out = tmp_path / 'map.npz'
     left = [tmp_path / '.map.npz.abc123.tmp', tmp_path / '.map.npz.ckpt.npz.x9.tmp']

@@ -23,10 +23,10 @@
 import concurrent.futures as cf
 import time
 
-from hexapod_adapt.archive import Archive
-from hexapod_adapt.cvt import cached_cvt, compute_cvt
-from hexapod_adapt.map_elites import load_checkpoint, MapElitesConfig, run_map_elites
-from hexapod_adapt.simulation import SimulateGenotypes
+from hexapod_adapt.mapping.archive import Archive
+from hexapod_adapt.mapping.cvt import cached_cvt, compute_cvt
+from hexapod_adapt.mapping.map_elites import load_checkpoint, MapElitesConfig, run_map_elites
+from hexapod_adapt.mapping.simulation import SimulateGenotypes
 from hexapod_sim import EvaluationResult
 from hexapod_sim.sampling import random_reachable_genes
 import numpy as np

@@ -22,7 +22,7 @@
 
 from dataclasses import replace
 
-from hexapod_adapt.mboa import matern52, Mboa, MboaConfig
+from hexapod_adapt.online.mboa import matern52, Mboa, MboaConfig
 import numpy as np
 import pytest
 
@@ -125,7 +125,7 @@ def test_incremental_posterior_equals_a_full_refit():
     The numbers are those of the textbook posterior (Matern 5/2, explicit noise) computed from
     scratch.
     """
-    from hexapod_adapt.mboa import matern52
+    from hexapod_adapt.online.mboa import matern52
 
     rng = np.random.default_rng(3)
     d, prior = rng.random((3000, 6)), rng.uniform(0.0, 0.4, 3000)
@@ -187,8 +187,8 @@ def test_stop_gain_goes_on_while_a_trial_is_worth_walking():
 
 
 def test_the_thesis_profile_is_thesis_5_2_2_and_settings_override_a_profile():
-    from hexapod_adapt.mboa import profile, PROFILES
-    from hexapod_adapt.run_config import run_settings
+    from hexapod_adapt.online.mboa import profile, PROFILES
+    from hexapod_adapt.online.run_config import run_settings
 
     thesis = PROFILES['thesis']
     assert (thesis.alpha, thesis.kappa, thesis.length_scale, thesis.noise) == (

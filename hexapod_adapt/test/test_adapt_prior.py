@@ -22,13 +22,13 @@
 
 from __future__ import annotations
 
-from hexapod_adapt.adaptation import adapt
-from hexapod_adapt.archive import Archive, load_archive
-from hexapod_adapt.ceiling import compute_ceiling
-from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
-from hexapod_adapt.mboa import MboaConfig
-from hexapod_adapt.prior import damage_prior, KnownDamage
-from hexapod_adapt.tuning import lookup_trial
+from hexapod_adapt.mapping.archive import Archive, load_archive
+from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+from hexapod_adapt.online.adaptation import adapt
+from hexapod_adapt.online.ceiling import compute_ceiling
+from hexapod_adapt.online.mboa import MboaConfig
+from hexapod_adapt.online.prior import damage_prior, KnownDamage
+from hexapod_adapt.online.replay import lookup_trial
 from hexapod_sim.damage import Damage
 import numpy as np
 import pytest

@@ -29,7 +29,7 @@ import subprocess
 import sys
 import textwrap
 
-from hexapod_adapt.recording import McapRecorder, read_messages, RecordingClosed, schema_text
+from hexapod_adapt.ros.recording import McapRecorder, read_messages, RecordingClosed, schema_text
 from hexapod_msgs.msg import AdaptationTrial
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
@@ -81,7 +81,7 @@ def _killed_recording(path, trials: int, extra: int) -> None:
         import time
         from hexapod_msgs.msg import AdaptationTrial
         from nav_msgs.msg import Odometry
-        from hexapod_adapt.recording import McapRecorder
+        from hexapod_adapt.ros.recording import McapRecorder
         rec = McapRecorder({str(path)!r})
         for i in range({trials}):
             for k in range(30):
@@ -100,7 +100,7 @@ def _killed_recording(path, trials: int, extra: int) -> None:
 
 
 def test_a_hard_killed_writer_keeps_every_completed_trial_and_recover_makes_it_indexed(tmp_path):
-    from hexapod_adapt.recording import recover
+    from hexapod_adapt.ros.recording import recover
 
     path = tmp_path / 'killed.mcap'
     _killed_recording(path, trials=5, extra=7)
@@ -110,7 +110,14 @@ def test_a_hard_killed_writer_keeps_every_completed_trial_and_recover_makes_it_i
             list(make_reader(f).iter_messages())
     out = tmp_path / 'recovered.mcap'
     result = subprocess.run(
-        [sys.executable, '-m', 'hexapod_adapt.recover_cli', str(path), '--out', str(out)],
+        [
+            sys.executable,
+            '-m',
+            'hexapod_adapt.ros.recover_recording_cli',
+            str(path),
+            '--out',
+            str(out),
+        ],
         capture_output=True,
         text=True,
         timeout=60,
@@ -148,7 +155,7 @@ def test_a_cleanly_closed_recording_is_chunked_indexed_and_summarised(tmp_path):
 
 
 def test_recordings_are_never_overwritten(tmp_path):
-    from hexapod_adapt.recording import create_recording
+    from hexapod_adapt.ros.recording import create_recording
 
     recorders = [create_recording(tmp_path) for _ in range(3)]  # three runs in the same second
     for i, rec in enumerate(recorders):

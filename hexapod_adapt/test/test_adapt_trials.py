@@ -31,8 +31,8 @@ from __future__ import annotations
 import itertools
 import math
 
-from hexapod_adapt.adaptation import TrialAborted
-from hexapod_adapt.trials import (
+from hexapod_adapt.online.adaptation import TrialAborted
+from hexapod_adapt.online.trials import (
     along,
     ManualTrials,
     OdomLog,
@@ -242,8 +242,8 @@ def test_the_waiter_stops_for_a_check_and_on_shutdown():
 
 def test_a_gait_that_ends_upside_down_is_a_fall_not_a_walk():
     """On PyBullet this default-map gait slides 5 m on its back with leg 1 lifted: a fall."""
-    from hexapod_adapt.archive import load_archive
-    from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
+    from hexapod_adapt.mapping.archive import load_archive
+    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
     from hexapod_sim.evaluation import FELL_OVER
     from hexapod_sim.simulator import upside_down
 
@@ -261,7 +261,7 @@ def test_a_gait_that_ends_upside_down_is_a_fall_not_a_walk():
 
 
 def test_a_graph_trial_that_ends_upside_down_measures_0():
-    from hexapod_adapt.trials import OdomSample, sim_trial_speed
+    from hexapod_adapt.online.trials import OdomSample, sim_trial_speed
 
     start = OdomSample(0, 0.0, 0.0, 0.0, 0.0, 0.0)
     walked = OdomSample(5_000_000_000, 1.5, 0.0, 0.0, 0.0, 0.0)

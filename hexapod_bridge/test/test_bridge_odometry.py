@@ -66,8 +66,8 @@ def test_imu_speed_estimate_accuracy():
 
 
 def test_fast_gaits_walked_one_after_another_are_measured_within_the_stated_accuracy():
-    from hexapod_adapt.archive import load_archive
-    from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
+    from hexapod_adapt.mapping.archive import load_archive
+    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
     from hexapod_sim import evaluate_gait
 
     archive = load_archive(shipped_map(DEFAULT_MAP))

@@ -59,7 +59,7 @@ def emulator(tmp_path):
         [
             sys.executable,
             '-m',
-            'hexapod_bridge.emulator.cli',
+            'hexapod_bridge.emulator.robot_emulator_cli',
             '--radio-link',
             str(radio),
             '--imu-link',

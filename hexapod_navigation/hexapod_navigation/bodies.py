@@ -21,10 +21,10 @@
 """
 The navigator's bodies through a ROS graph, without ROS: sim_node, or bridge_node (the robot).
 
-Like :mod:`hexapod_adapt.trials`, these are built over a small port (:class:`NavigationPort`,
-implemented over rclpy by the node) and a :class:`PoseLog` the node fills from its pose source:
-``odom`` (sim_node's ground truth, or the bridge's IMU odometry) or an external pose topic
-(motion capture, a camera).
+Like :mod:`hexapod_adapt.online.trials`, these are built over a small port
+(:class:`NavigationPort`, implemented over rclpy by the node) and a :class:`PoseLog` the node fills
+from its pose source: ``odom`` (sim_node's ground truth, or the bridge's IMU odometry) or an
+external pose topic (motion capture, a camera).
 
 ``SimGraphBody``    publish the gait; sim_node plays it from where the robot stands; the step lasts
                     ``duration`` s of the pose source's time and stops early when asked; then
@@ -42,10 +42,11 @@ from dataclasses import dataclass
 import time
 from typing import Callable, Protocol
 
-from hexapod_adapt.adaptation import TrialAborted
-from hexapod_adapt.navigation import BodyFailure, Pose2D, standing_gait, StepOutcome, tipped_over
-from hexapod_adapt.trials import SampleLog, Waiter
+from hexapod_adapt.online.adaptation import TrialAborted
+from hexapod_adapt.online.trials import SampleLog, Waiter
 from hexapod_gait import GaitParameters
+from hexapod_navigation.episode import BodyFailure, standing_gait, StepOutcome, tipped_over
+from hexapod_navigation.planner import Pose2D
 
 
 @dataclass(frozen=True)

@@ -43,18 +43,11 @@ import math
 from pathlib import Path
 from typing import Sequence
 
-from hexapod_adapt.archive import atomic_write_bytes, load_archive
-from hexapod_adapt.navigation import (
-    NavigationConfig,
-    NavigationResult,
-    Policy,
-    RepertoirePolicy,
-    run_episode,
-    SimBody,
-    SteeredTripod,
-)
-from hexapod_adapt.repertoire import Repertoire
-from hexapod_adapt.step_bank import load_step_bank
+from hexapod_adapt.mapping.archive import atomic_write_bytes, load_archive
+from hexapod_navigation.episode import NavigationResult, run_episode, SimBody
+from hexapod_navigation.planner import NavigationConfig, Policy, RepertoirePolicy, SteeredTripod
+from hexapod_navigation.repertoire import Repertoire
+from hexapod_navigation.step_bank import load_step_bank
 from hexapod_sim import create_simulator, scenario, SCENARIO_NAMES, SimConfig
 from hexapod_sim.damage import Damage, DAMAGE_KINDS
 import numpy as np
@@ -83,7 +76,7 @@ class NavigationSettings:
     goal_seed: int = 0
     methods: tuple[str, ...] = METHODS
     config: NavigationConfig = field(default_factory=NavigationConfig)
-    #: the repertoire's damage bank (hexapod_adapt.step_bank), used as config.use_bank says
+    #: the repertoire's damage bank (hexapod_navigation.step_bank), used as config.use_bank says
     bank: Path | None = None
     #: leave each case's own damage out of the bank (damage the bank does not model)
     leave_out: bool = False

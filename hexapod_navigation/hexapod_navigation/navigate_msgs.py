@@ -26,8 +26,9 @@ import math
 
 from builtin_interfaces.msg import Time
 from geometry_msgs.msg import PoseStamped
-from hexapod_adapt.navigation import Outcome, Pose2D
 from hexapod_msgs.action import Navigate
+from hexapod_navigation.episode import Outcome
+from hexapod_navigation.planner import Pose2D
 
 #: Navigate.Result's outcome constant of each library outcome.
 OUTCOME_CODES = {

@@ -24,7 +24,7 @@
 Serves the ``navigate`` action (hexapod_msgs/Navigate), modelled on nav2's NavigateToPose: a goal
 (x, y) in ``odom`` is pursued step by step over the navigation repertoire (``repertoire``
 parameter, by default the shipped one) with the learned correction of
-:mod:`hexapod_adapt.navigation`, with no resets. Through gait_node + sim_node (``mode:=sim``) or
+:mod:`hexapod_navigation.planner`, with no resets. Through gait_node + sim_node (``mode:=sim``) or
 bridge_node (``mode:=robot``). The pose comes from ``odom``, or from ``pose_topic`` (a
 geometry_msgs/PoseStamped or nav_msgs/Odometry, e.g. motion capture).
 
@@ -51,29 +51,21 @@ import time
 from builtin_interfaces.msg import Duration
 from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import PoseStamped
-from hexapod_adapt.adaptation import TrialAborted
-from hexapod_adapt.archive import ArchiveError, load_archive
-from hexapod_adapt.graph_port import GraphPort, RECORDED_TYPES, RecordedTopics, stamp_ns
-from hexapod_adapt.maps import NAVIGATION_MAP, shipped_map
-from hexapod_adapt.navigate_msgs import OUTCOME_CODES, pose_msg
-from hexapod_adapt.navigation import (
-    Feedback,
-    goal_problem,
-    NavigationConfig,
-    Outcome,
-    Pose2D,
-    RepertoirePolicy,
-    run_episode,
-)
-from hexapod_adapt.navigation_bodies import PoseLog, PoseSample, RobotGraphBody, SimGraphBody
-from hexapod_adapt.recording import type_name
-from hexapod_adapt.repertoire import Repertoire
-from hexapod_adapt.run_recording import RunRecording
-from hexapod_adapt.step_bank import load_step_bank, shipped_step_bank
-from hexapod_adapt.trials import OdomLog, Waiter
+from hexapod_adapt.mapping.archive import ArchiveError, load_archive
+from hexapod_adapt.online.adaptation import TrialAborted
+from hexapod_adapt.online.trials import OdomLog, Waiter
+from hexapod_adapt.ros.graph_port import GraphPort, RECORDED_TYPES, RecordedTopics, stamp_ns
+from hexapod_adapt.ros.recording import type_name
+from hexapod_adapt.ros.run_recording import RunRecording
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_gait.ros_glue import declare, LATCHED, ODOM, ParamSpec, publish_status, run_node
 from hexapod_msgs.action import Navigate
+from hexapod_navigation.bodies import PoseLog, PoseSample, RobotGraphBody, SimGraphBody
+from hexapod_navigation.episode import Feedback, Outcome, run_episode
+from hexapod_navigation.navigate_msgs import OUTCOME_CODES, pose_msg
+from hexapod_navigation.planner import goal_problem, NavigationConfig, Pose2D, RepertoirePolicy
+from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
+from hexapod_navigation.step_bank import load_step_bank, shipped_step_bank
 from hexapod_sim.simulator import quat_to_euler
 from nav_msgs.msg import Odometry
 import rclpy
@@ -106,8 +98,8 @@ PARAMETERS = (
     ParamSpec(
         'bank_file',
         '',
-        "the repertoire's damage bank (hexapod_adapt.step_bank), weighed when use_bank is true;"
-        ' empty = the shipped one (it fits the shipped repertoire only)',
+        "the repertoire's damage bank (hexapod_navigation.step_bank), weighed when use_bank is"
+        ' true; empty = the shipped one (it fits the shipped repertoire only)',
         read_only=True,
     ),
     ParamSpec('pose_topic', '', 'external pose source; empty = odom', read_only=True),
@@ -172,7 +164,7 @@ class NavigateNode(Node):
             )
         self.config = self._config()  # ValueError names a bad setting
         self.repertoire: Repertoire | None = None
-        path = values['repertoire'] or str(shipped_map(NAVIGATION_MAP))
+        path = values['repertoire'] or str(shipped_repertoire())
         self.hypotheses = None  # the damage bank's step tables, if one fits the repertoire
         try:
             archive = load_archive(path)

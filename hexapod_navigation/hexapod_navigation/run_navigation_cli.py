@@ -36,20 +36,19 @@ import argparse
 from dataclasses import asdict, replace
 import sys
 
-from hexapod_adapt.archive import ArchiveError, load_archive
-from hexapod_adapt.maps import NAVIGATION_MAP, shipped_map
-from hexapod_adapt.navigation import NavigationConfig
-from hexapod_adapt.navigation_experiment import (
+from hexapod_adapt.mapping.archive import ArchiveError, load_archive
+from hexapod_description.cli import input_file, number, output_dir, run_command
+from hexapod_navigation.experiment import (
     METHODS,
     NavigationSettings,
     run_navigation,
     summarise,
     write_results,
 )
-from hexapod_adapt.plots import plot_navigation_boxes, plot_navigation_paths
-from hexapod_adapt.repertoire import Repertoire
-from hexapod_adapt.step_bank import load_step_bank, shipped_step_bank
-from hexapod_description.cli import input_file, number, output_dir, run_command
+from hexapod_navigation.planner import NavigationConfig
+from hexapod_navigation.plots import plot_navigation_boxes, plot_navigation_paths
+from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
+from hexapod_navigation.step_bank import load_step_bank, shipped_step_bank
 from hexapod_sim import ENGINES, SCENARIO_NAMES
 from hexapod_sim.damage import DAMAGE_KINDS
 
@@ -90,7 +89,7 @@ def build_parser() -> argparse.ArgumentParser:
         '--bank',
         choices=('default', 'on', 'off', 'leave-out'),
         default='default',
-        help="the damage bank of the repertoire's steps (hexapod_adapt.step_bank): as"
+        help="the damage bank of the repertoire's steps (hexapod_navigation.step_bank): as"
         " NavigationConfig's use_bank says, on, off, or on with each case's own damage left out",
     )
     ap.add_argument(
@@ -125,7 +124,7 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
-    path = args.repertoire or shipped_map(NAVIGATION_MAP)
+    path = args.repertoire or shipped_repertoire()
     try:
         archive = load_archive(path)
         repertoire = Repertoire.from_archive(archive)

@@ -21,13 +21,13 @@
 """
 Navigation's damage bank: every repertoire step re-measured under each damage hypothesis.
 
-The navigation counterpart of :mod:`hexapod_adapt.bank`: each gait of the repertoire played for
-one step (``STEP_DURATION`` s, from rest, collisions not fatal) with each damage of
-:data:`hexapod_adapt.bank.BANK_DAMAGES` (every one- and two-leg failure). The navigator's
-correction (:class:`hexapod_adapt.navigation.CorrectionGP`) weighs these step tables against
+The navigation counterpart of :mod:`hexapod_adapt.online.bank`: each gait of the repertoire played
+for one step (``STEP_DURATION`` s, from rest, collisions not fatal) with each damage of
+:data:`hexapod_adapt.online.bank.BANK_DAMAGES` (every one- and two-leg failure). The navigator's
+correction (:class:`hexapod_navigation.planner.CorrectionGP`) weighs these step tables against
 the intact repertoire by how well they explain the steps walked, and learns the rest.
 
-    python -m hexapod_adapt.step_bank --out hexapod_adapt/maps/navigation_bank.npz --workers 2
+``python -m hexapod_navigation.step_bank_cli`` makes one (``maps/make_navigation_bank.sh``).
 
 The file is keyed by everything the steps depend on (the repertoire's gaits, the engine and its
 settings, the URDF, the scoring rules' version, the damages); a file made for anything else is
@@ -36,7 +36,6 @@ not used, and says why.
 
 from __future__ import annotations
 
-import argparse
 import concurrent.futures as cf
 from dataclasses import dataclass
 import hashlib
@@ -44,19 +43,16 @@ import io
 import json
 import os
 from pathlib import Path
-import sys
-import time
 from typing import Callable, Sequence
 import zipfile
 
-from hexapod_adapt.archive import atomic_write_bytes, load_archive
-from hexapod_adapt.bank import BANK_DAMAGES
-from hexapod_adapt.maps import NAVIGATION_MAP, shipped_map
-from hexapod_adapt.repertoire import Repertoire, repertoire_fingerprint
-from hexapod_adapt.simulation import worker_simulator
-from hexapod_description.cli import input_file, number, output_file, run_command
+from hexapod_adapt.mapping.archive import atomic_write_bytes
+from hexapod_adapt.mapping.maps import shipped_map
+from hexapod_adapt.mapping.simulation import worker_simulator
+from hexapod_adapt.mapping.steps import repertoire_fingerprint
+from hexapod_adapt.online.bank import BANK_DAMAGES
 from hexapod_gait.parameters import from_omni_genotype
-from hexapod_sim import ENGINES
+from hexapod_navigation.repertoire import PACKAGE, Repertoire
 from hexapod_sim.damage import Damage
 from hexapod_sim.evaluation import evaluate_displacements, EVALUATION_VERSION
 import numpy as np
@@ -180,41 +176,4 @@ def load_step_bank(
 
 def shipped_step_bank() -> Path:
     """Return where the shipped repertoire's bank is (installed, else the source tree)."""
-    return shipped_map(NAVIGATION_BANK)
-
-
-def main(argv: list[str] | None = None) -> int:
-    """Compute a repertoire's step bank and write it."""
-    ap = argparse.ArgumentParser(prog='step_bank', description=__doc__.split('\n\n')[0])
-    ap.add_argument(
-        '--repertoire',
-        type=input_file,
-        default=None,
-        help='navigation repertoire (default: the shipped one)',
-    )
-    ap.add_argument('--engine', choices=ENGINES, default='mujoco')
-    ap.add_argument('--out', type=output_file, required=True, help='the bank file (.npz)')
-    ap.add_argument('--workers', type=number(int, 1, 256), default=1)
-    args = ap.parse_args(argv)
-
-    def run() -> int:
-        repertoire = Repertoire.from_archive(
-            load_archive(args.repertoire or shipped_map(NAVIGATION_MAP))
-        )
-        t0, shown = time.monotonic(), [0.0]
-
-        def progress(done: int, total: int) -> None:
-            if time.monotonic() - shown[0] >= 10 or done == total:
-                shown[0] = time.monotonic()
-                print(f'{done}/{total} chunks, {time.monotonic() - t0:.0f} s', flush=True)
-
-        bank = compute_step_bank(repertoire, args.engine, workers=args.workers, progress=progress)
-        save_step_bank(args.out, bank, repertoire, args.engine)
-        print(f'wrote {args.out}: {len(bank)} damages x {len(repertoire)} steps', flush=True)
-        return 0
-
-    return run_command('step_bank', run, 'nothing was written; run it again')
-
-
-if __name__ == '__main__':
-    sys.exit(main())
+    return shipped_map(NAVIGATION_BANK, PACKAGE)

@@ -21,7 +21,7 @@
 """
 Walking to goals on the simulated robot: gait_node + sim_node + navigate_node (full install).
 
-    ros2 launch hexapod_adapt navigate_sim.launch.py failed_legs:='[1, 2]'
+    ros2 launch hexapod_navigation navigate_sim.launch.py failed_legs:='[1, 2]'
     ros2 action send_goal /navigate hexapod_msgs/action/Navigate "{x: 1.5, y: 0.5}" --feedback
 In this workspace without `launch`:
     python scripts/launch.py navigate-sim --failed-legs 1 2
@@ -63,7 +63,7 @@ def generate_launch_description() -> LaunchDescription:
             ),
             state_publisher(use_sim_time=True),
             Node(
-                package='hexapod_adapt',
+                package='hexapod_navigation',
                 executable='navigate_node',
                 output='screen',
                 parameters=[

@@ -7,6 +7,6 @@
 set -eo pipefail   # (no -u: colcon's setup scripts read unset variables)
 cd "$(dirname "$0")/../.."
 source scripts/env.sh
-exec python -m hexapod_adapt.generate_cli --kind navigation \
+exec python -m hexapod_adapt.mapping.generate_map_cli --kind navigation \
   --out hexapod_adapt/maps/navigation_map.npz --engine mujoco --niches 1000 --evaluations 300000 \
   --seed 1 --with-presets --workers "${WORKERS:-2}" --checkpoint-every 300 --log-every 30 --no-bar --resume

@@ -22,25 +22,22 @@
 
 import math
 
-from hexapod_adapt.archive import load_archive
-from hexapod_adapt.maps import NAVIGATION_MAP, shipped_map
-from hexapod_adapt.navigation import (
+from hexapod_adapt.mapping.archive import load_archive
+from hexapod_navigation.episode import Outcome, run_episode, SimBody
+from hexapod_navigation.planner import (
     CorrectionGP,
     goal_problem,
     NavigationConfig,
-    Outcome,
     Pose2D,
     RepertoirePolicy,
-    run_episode,
-    SimBody,
     SteeredTripod,
 )
-from hexapod_adapt.repertoire import Repertoire
+from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
 from hexapod_sim import create_simulator, SimConfig
 import numpy as np
 import pytest
 
-REPERTOIRE = shipped_map(NAVIGATION_MAP)
+REPERTOIRE = shipped_repertoire()
 
 
 @pytest.fixture(scope='module')
@@ -139,8 +136,8 @@ def test_a_gait_is_played_with_its_own_table_even_if_ids_coincide(sim, monkeypat
     # the table cache was keyed by id(): a collected gait's id, reused by a later gait, played
     # the old gait's table, and the experiment's figures changed with the allocator's history.
     # Here every object gets the same id, as a reused one would.
-    import hexapod_adapt.navigation as navigation
     from hexapod_gait import build_joint_table, preset
+    import hexapod_navigation.planner as navigation
 
     monkeypatch.setattr(navigation, 'id', lambda obj: 0, raising=False)
     body = SimBody(sim)
@@ -204,8 +201,8 @@ def test_a_step_bank_is_each_step_played_with_the_damage_and_refused_for_another
 ):
     from dataclasses import replace
 
-    from hexapod_adapt.step_bank import compute_step_bank, load_step_bank, save_step_bank
     from hexapod_gait.parameters import from_omni_genotype
+    from hexapod_navigation.step_bank import compute_step_bank, load_step_bank, save_step_bank
     from hexapod_sim.damage import Damage
     from hexapod_sim.evaluation import evaluate_displacements
 
@@ -249,8 +246,8 @@ def test_a_step_bank_is_each_step_played_with_the_damage_and_refused_for_another
 def test_the_shipped_bank_fits_the_shipped_repertoire_and_re_measures_identically(repertoire):
     from dataclasses import replace
 
-    from hexapod_adapt.bank import BANK_DAMAGES
-    from hexapod_adapt.step_bank import compute_step_bank, load_step_bank, shipped_step_bank
+    from hexapod_adapt.online.bank import BANK_DAMAGES
+    from hexapod_navigation.step_bank import compute_step_bank, load_step_bank, shipped_step_bank
 
     bank, why = load_step_bank(shipped_step_bank(), repertoire, 'mujoco')
     assert (
@@ -266,7 +263,7 @@ def test_the_shipped_bank_fits_the_shipped_repertoire_and_re_measures_identicall
 def test_run_navigation_refuses_a_bank_it_was_told_to_use_and_goes_on_without_a_default_one(
     tmp_path, capsys
 ):
-    from hexapod_adapt.navigation_cli import main
+    from hexapod_navigation.run_navigation_cli import main
 
     garbage = tmp_path / 'bank.npz'
     garbage.write_bytes(b'not a bank')
@@ -282,7 +279,7 @@ def test_run_navigation_refuses_a_bank_it_was_told_to_use_and_goes_on_without_a_
 
 
 def test_time_to_goal_counts_the_switch_the_entry_into_the_goal_circle_and_the_rest():
-    from hexapod_adapt.navigation import time_to_goal
+    from hexapod_navigation.planner import time_to_goal
 
     ends = np.array([[0.6, 0.0], [0.2, 0.0], [0.0, 0.6]])
     switch = np.array([0.5, 0.0, 0.0])
@@ -356,7 +353,7 @@ def test_the_intact_repertoire_may_get_a_prior_weight_among_the_bank_hypotheses(
 def test_runs_csv_keeps_how_each_episode_ended_and_reads_older_files(tmp_path):
     import csv
 
-    from hexapod_adapt.navigation_experiment import (
+    from hexapod_navigation.experiment import (
         NavigationRow,
         NavigationSettings,
         read_rows,
@@ -377,7 +374,7 @@ def test_runs_csv_keeps_how_each_episode_ended_and_reads_older_files(tmp_path):
 
 
 def test_a_method_beats_a_baseline_by_success_then_by_walking_time():
-    from hexapod_adapt.navigation_experiment import (
+    from hexapod_navigation.experiment import (
         beats,
         MethodSummary,
         scenarios_beating_baselines,
@@ -459,7 +456,7 @@ def test_known_models_get_a_tight_gp_and_an_unknown_damage_hypothesis_catches_th
 
 
 def test_the_experiment_can_walk_damage_of_another_kind_than_the_banks():
-    from hexapod_adapt.navigation_experiment import _case, NavigationSettings
+    from hexapod_navigation.experiment import _case, NavigationSettings
 
     with pytest.raises(ValueError, match="unknown damage kind 'bent'"):
         NavigationSettings(repertoire=REPERTOIRE, damage_kind='bent')

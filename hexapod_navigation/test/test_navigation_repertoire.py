@@ -22,17 +22,17 @@
 
 import math
 
-from hexapod_adapt.archive import Archive, ArchiveError, load_archive
-from hexapod_adapt.generate import generate_map, GenerateConfig
-from hexapod_adapt.repertoire import (
+from hexapod_adapt.mapping.archive import Archive, ArchiveError, load_archive
+from hexapod_adapt.mapping.generate import generate_map, GenerateConfig
+from hexapod_adapt.mapping.steps import (
     from_descriptor,
-    Repertoire,
     SimulateSteps,
     STEP_DURATION,
     to_descriptor,
 )
 from hexapod_gait import preset
 from hexapod_gait.parameters import to_omni_genotype
+from hexapod_navigation.repertoire import Repertoire
 import numpy as np
 import pytest
 
@@ -59,7 +59,7 @@ def test_a_step_is_measured_in_the_start_frame_and_scored_by_heading_kept():
 
 
 def test_a_repertoire_may_keep_only_gaits_with_enough_feet_down():
-    from hexapod_adapt.repertoire import gait_min_stance, repertoire_fingerprint
+    from hexapod_adapt.mapping.steps import gait_min_stance, repertoire_fingerprint
 
     control = preset('control')  # a tripod: three feet down at every instant
     airborne = control.replace(duty_factor=[0.3] * 6)  # every foot up at some instant

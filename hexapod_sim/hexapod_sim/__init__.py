@@ -24,6 +24,7 @@ The hexapod simulator, gait evaluation and failure scenarios (ROS-free).
 One simulator interface, two engines: PyBullet and MuJoCo.
 """
 
+from hexapod_sim.engines import create_simulator
 from hexapod_sim.evaluation import (
     evaluate_gait,
     evaluate_gaits,
@@ -33,7 +34,6 @@ from hexapod_sim.evaluation import (
 )
 from hexapod_sim.scenarios import all_scenarios, scenario, SCENARIO_NAMES
 from hexapod_sim.simulator import (
-    create_simulator,
     ENGINES,
     FAILURE_POSE,
     JointRows,

@@ -36,8 +36,9 @@ from pathlib import Path
 import sys
 
 from hexapod_description.cli import input_file, run_command
+from hexapod_sim.engines import create_simulator
 from hexapod_sim.fidelity import agreement, fidelity_rows, markdown
-from hexapod_sim.simulator import create_simulator, ENGINES, SimConfig
+from hexapod_sim.simulator import ENGINES, SimConfig
 import numpy as np
 
 

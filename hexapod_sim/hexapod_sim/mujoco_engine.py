@@ -40,26 +40,17 @@ feed-forward, so the table's velocities are not used by this engine.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-import math
 from typing import Any, Sequence
 import xml.etree.ElementTree as ET
 
 from hexapod_description import N_LEGS
 from hexapod_sim.damage import LOST_TIBIA_MASS
-from hexapod_sim.simulator import (
-    JointRows,
-    PlayResult,
-    SimConfig,
-    Simulator,
-    StepReport,
-)
+from hexapod_sim.engine_settings import MujocoSettings
+from hexapod_sim.simulator import JointRows, PlayResult, SimConfig, Simulator, StepReport
 import mujoco
 from mujoco import rollout as mj_rollout
 import numpy as np
 
-#: Dynamixel RX position units: 1024 over 300 degrees (both RX-28 and RX-64).
-DYNAMIXEL_RAD_PER_UNIT = math.radians(300.0) / 1024.0
 INTEGRATORS = {
     'implicitfast': mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
     'implicit': mujoco.mjtIntegrator.mjINT_IMPLICIT,
@@ -72,81 +63,6 @@ SOLVERS = {
     'pgs': mujoco.mjtSolver.mjSOL_PGS,
 }
 
-
-def _in_range(name: str, value: float, low: float, high: float) -> None:
-    if not (isinstance(value, (int, float)) and math.isfinite(value) and low <= value <= high):
-        raise ValueError(f'MuJoCo setting {name} must be in [{low:g}, {high:g}], got {value!r}')
-
-
-def _choice(name: str, value: str, options: dict) -> None:
-    if value not in options:
-        raise ValueError(
-            f'MuJoCo setting {name} must be one of {", ".join(options)}, got {value!r}'
-        )
-
-
-@dataclass(frozen=True)
-class MujocoSettings:
-    """
-    Every engine-specific choice of the MuJoCo model, each with its reason.
-
-    Docs/simulator.md shows how the results move when they change.
-    """
-
-    #: 240 Hz: the thesis's step, PyBullet's, and the rate of the gait tables (one row per step).
-    time_step: float = 1.0 / 240.0
-    #: implicit in the servo damping and back-EMF terms: stiff servos stay stable at 240 Hz.
-    integrator: str = 'implicitfast'
-    #: Newton converges in a few iterations on this small model; 20 is a cap it rarely reaches.
-    solver: str = 'newton'
-    iterations: int = 20
-    tolerance: float = 1e-8
-    #: MuJoCo's default friction cone; elliptic gave the same ranking (Spearman within 0.03) at
-    #: 1.6x the cost (docs/simulator.md).
-    cone: str = 'pyramidal'
-    #: Dynamixel compliance slope in position units: the error over which the servo's torque
-    #: ramps from 0 to its maximum. 32 is the RX-28/RX-64 factory default (the robot's firmware
-    #: does not change it). kp = effort / (slope x 300 deg / 1024) = 21.2 (RX-28) and
-    #: 31.7 N m/rad (RX-64) with the URDF's effort limits.
-    compliance_slope: float = 32.0
-    #: Back-EMF: damping = effort / velocity limit, so the servo's torque falls linearly to 0 at
-    #: the URDF's no-load speed. Without it the soft servos oscillated and the model blew up.
-    back_emf: bool = True
-    #: Reflected rotor inertia [kg m^2]; the URDF has none and the RX data sheets give none.
-    armature: float = 0.0
-    #: Contact softness (MuJoCo's defaults): time constant 0.02 s (>= 2 time steps, MuJoCo's
-    #: stability rule) and damping ratio 1; impedance 0.9..0.95 over 1 mm.
-    contact_timeconst: float = 0.02
-    contact_dampratio: float = 1.0
-    #: Torsional and rolling friction of every contact (MuJoCo's defaults); sliding friction
-    #: is the shared ``SimConfig.friction``.
-    torsional_friction: float = 0.005
-    rolling_friction: float = 0.0001
-
-    def __post_init__(self) -> None:
-        _in_range('time_step', self.time_step, 1e-4, 0.01)
-        _choice('integrator', self.integrator, INTEGRATORS)
-        _choice('solver', self.solver, SOLVERS)
-        _choice('cone', self.cone, CONES)
-        if isinstance(self.iterations, bool) or not isinstance(self.iterations, int):
-            raise ValueError(
-                f'MuJoCo setting iterations must be an integer, got {self.iterations!r}'
-            )
-        _in_range('iterations', self.iterations, 1, 1000)
-        _in_range('tolerance', self.tolerance, 0.0, 1e-2)
-        _in_range('compliance_slope', self.compliance_slope, 1.0, 256.0)
-        _in_range('armature', self.armature, 0.0, 1.0)
-        _in_range('contact_timeconst', self.contact_timeconst, 2 * self.time_step, 1.0)
-        _in_range('contact_dampratio', self.contact_dampratio, 0.1, 10.0)
-        _in_range('torsional_friction', self.torsional_friction, 0.0, 1.0)
-        _in_range('rolling_friction', self.rolling_friction, 0.0, 1.0)
-
-    def servo_kp(self, effort: float) -> float:
-        """Proportional gain [N m/rad] of a servo with this stall torque [N m]."""
-        return effort / (self.compliance_slope * DYNAMIXEL_RAD_PER_UNIT)
-
-
-DEFAULT_SETTINGS = MujocoSettings()
 
 # Collision bits. Every geom collides with every other (contype 1, conaffinity all) unless a
 # leg is failed: then its coxa and tibia get their own bits, which each other's affinity lacks.

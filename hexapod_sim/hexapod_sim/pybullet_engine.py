@@ -39,40 +39,11 @@ from typing import Any
 
 from hexapod_description import N_LEGS, urdf_path
 from hexapod_sim.damage import LOST_TIBIA_MASS
+from hexapod_sim.engine_settings import PyBulletSettings
 from hexapod_sim.simulator import GRAVITY, SimConfig, Simulator, StepReport
 import numpy as np
 import pybullet as p
 import pybullet_data
-
-
-@dataclass(frozen=True)
-class PyBulletSettings:
-    """
-    PyBullet settings.
-
-    ``ACCURATE`` is PyBullet's default and the default everywhere. ``FAST`` trades solver
-    iterations for speed; ``make bench-sim`` measured its ranking fidelity against ACCURATE below
-    Spearman 0.95 (docs/simulator.md), so nothing uses it unless asked to.
-    """
-
-    solver_iterations: int = 50
-    time_step: float = 1.0 / 240.0
-    cone_friction: bool = True
-    #: PyBullet's default world also runs deformable-body machinery; the plain discrete
-    #: multibody world skips it (no effect on rigid-body results).
-    discrete_world: bool = False
-    #: Solver stops iterating early once the squared residual is below this (PyBullet: 1e-7).
-    residual_threshold: float = 1e-7
-
-    def __post_init__(self) -> None:
-        if self.solver_iterations < 1:
-            raise ValueError(f'solver_iterations must be >= 1, got {self.solver_iterations}')
-        if not 0 < self.time_step <= 0.01:
-            raise ValueError(f'time_step must be in (0, 0.01] s, got {self.time_step}')
-
-
-ACCURATE = PyBulletSettings()
-FAST = PyBulletSettings(solver_iterations=20)
 
 
 @contextlib.contextmanager

@@ -39,7 +39,8 @@ from hexapod_description import N_LEGS
 from hexapod_description.cli import number, output_file, run_command
 from hexapod_gait import build_joint_table, preset, PRESETS
 from hexapod_gait.footfall import plot_footfall
-from hexapod_sim.simulator import create_simulator, ENGINES, SimConfig
+from hexapod_sim.engines import create_simulator
+from hexapod_sim.simulator import ENGINES, SimConfig
 import numpy as np
 
 

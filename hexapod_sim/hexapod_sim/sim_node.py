@@ -79,11 +79,8 @@ from hexapod_gait.trajectory import build_joint_table
 from hexapod_msgs.msg import FootContacts, LegDamage, TrajectoryActivation
 from hexapod_msgs.srv import GetLegDamage, SetLegFailure
 from hexapod_sim.damage import Damage, damage_from_lists
-from hexapod_sim.simulator import (
-    create_simulator,
-    DEFAULT_FRICTION,
-    SimConfig,
-)
+from hexapod_sim.engines import create_simulator
+from hexapod_sim.simulator import DEFAULT_FRICTION, SimConfig
 from hexapod_sim.trajectory_input import cycle_from_points, CycleTable, MAX_POINTS, TrajectoryError
 from nav_msgs.msg import Odometry
 import numpy as np

@@ -53,6 +53,7 @@ from hexapod_sim.damage import (  # noqa: F401 (re-exported: one home, hexapod_s
     MAX_FAILED_LEGS,
     validate_failed_legs,
 )
+from hexapod_sim.engine_settings import ACCURATE, DEFAULT_SETTINGS
 import numpy as np
 
 GRAVITY = 9.81
@@ -96,8 +97,8 @@ class SimConfig:
 
     engine: str = 'pybullet'
     friction: float | None = None
-    pybullet: Any = None  # PyBulletSettings (default: pybullet_engine.ACCURATE)
-    mujoco: Any = None  # MujocoSettings (default: mujoco_engine.DEFAULT_SETTINGS)
+    pybullet: Any = None  # PyBulletSettings (default: engine_settings.ACCURATE)
+    mujoco: Any = None  # MujocoSettings (default: engine_settings.DEFAULT_SETTINGS)
     gui: bool = False  # PyBullet only: open its GUI window
     urdf: str | None = None  # default: hexapod_description's URDF
 
@@ -110,13 +111,8 @@ class SimConfig:
 
     def engine_settings(self) -> Any:
         """Return the settings object of the selected engine (its default if none was given)."""
-        # the engine modules import this one: they are imported on use
         if self.engine == 'pybullet':
-            from hexapod_sim.pybullet_engine import ACCURATE
-
             return self.pybullet or ACCURATE
-        from hexapod_sim.mujoco_engine import DEFAULT_SETTINGS
-
         return self.mujoco or DEFAULT_SETTINGS
 
     def fingerprint(self) -> dict[str, Any]:
@@ -473,16 +469,3 @@ class Simulator(abc.ABC):
             self.close()
         except Exception:  # noqa: BLE001 - interpreter shutdown: nothing left to release into
             pass
-
-
-def create_simulator(config: SimConfig | None = None) -> Simulator:
-    """Return a simulator running the engine named in ``config`` (default: PyBullet)."""
-    config = config or SimConfig()
-    if config.engine == 'mujoco':
-        # optional dependency: imported on use
-        from hexapod_sim.mujoco_engine import MujocoSimulator
-
-        return MujocoSimulator(config)
-    from hexapod_sim.pybullet_engine import PyBulletSimulator
-
-    return PyBulletSimulator(config)

@@ -40,7 +40,7 @@ from hexapod_sim import (
     FAILURE_POSE,
     SimConfig,
 )
-from hexapod_sim.mujoco_engine import MujocoSettings
+from hexapod_sim.engine_settings import MujocoSettings
 from hexapod_sim.sampling import random_reachable_genotypes
 import numpy as np
 import pytest

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from hexapod_gait import preset
 from hexapod_sim import create_simulator, evaluate_gait, evaluate_gaits, SimConfig
-from hexapod_sim.mujoco_engine import MujocoSettings
+from hexapod_sim.engine_settings import MujocoSettings
 import numpy as np
 import pytest
 

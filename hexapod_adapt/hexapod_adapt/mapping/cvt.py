@@ -32,7 +32,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from hexapod_adapt.archive import load_centroids, save_centroids
+from hexapod_adapt.mapping.archive import load_centroids, save_centroids
 import numpy as np
 
 

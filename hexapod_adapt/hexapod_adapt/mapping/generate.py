@@ -42,17 +42,26 @@ import os
 from pathlib import Path
 from typing import Callable, Iterator
 
-from hexapod_adapt.archive import (
+from hexapod_adapt.mapping.archive import (
     Archive,
     ArchiveError,
     compatibility_problems,
     load_archive,
     map_kind,
 )
-from hexapod_adapt.cvt import cached_cvt, cvt_cache_path
-from hexapod_adapt.map_elites import load_checkpoint, MapElitesConfig, Progress, run_map_elites
-from hexapod_adapt.repertoire import preset_genotypes, repertoire_fingerprint, SimulateSteps
-from hexapod_adapt.simulation import DEFAULT_MAP_ENGINE, SimulateGenotypes, simulation_fingerprint
+from hexapod_adapt.mapping.cvt import cached_cvt, cvt_cache_path
+from hexapod_adapt.mapping.map_elites import (
+    load_checkpoint,
+    MapElitesConfig,
+    Progress,
+    run_map_elites,
+)
+from hexapod_adapt.mapping.simulation import (
+    DEFAULT_MAP_ENGINE,
+    SimulateGenotypes,
+    simulation_fingerprint,
+)
+from hexapod_adapt.mapping.steps import preset_genotypes, repertoire_fingerprint, SimulateSteps
 from hexapod_gait import preset, PRESETS, to_genotype
 from hexapod_sim import validate_engine
 from hexapod_sim.sampling import random_reachable_genes
@@ -189,7 +198,7 @@ def open_executor(config: GenerateConfig) -> Iterator[tuple[cf.Executor | None, 
             client.close()
             if cluster is not None:
                 cluster.close()
-    else:  # mpi: run as  mpiexec -n N python -m mpi4py.futures -m hexapod_adapt.generate_cli ...
+    else:  # mpi: mpiexec -n N python -m mpi4py.futures -m hexapod_adapt.mapping.generate_map_cli
         try:
             from mpi4py.futures import MPIPoolExecutor
         except ImportError as exc:

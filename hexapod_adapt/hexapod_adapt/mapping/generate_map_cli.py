@@ -21,13 +21,13 @@
 r"""
 ``generate_map``: build a behaviour-performance map offline.
 
-Thin front end of hexapod_adapt.generate.
+Thin front end of hexapod_adapt.mapping.generate.
 
     ros2 run hexapod_adapt generate_map --out maps/map_s1.npz --niches 10000 \\
         --evaluations 1000000 --seed 1                         # all local cores
     generate_map ... --backend dask --scheduler tcp://head:8786  # a Dask cluster (dask-jobqueue)
-    mpiexec -n 64 python -m mpi4py.futures -m hexapod_adapt.generate_cli ... --backend mpi
-    generate_map ... --resume                                    # continue after a queue limit
+    mpiexec -n 64 python -m mpi4py.futures -m hexapod_adapt.mapping.generate_map_cli ... --backend
+    mpi generate_map ... --resume                                    # continue after a queue limit
     generate_map --kind navigation --out maps/navigation.npz ...  # a navigation repertoire
 """
 
@@ -36,8 +36,14 @@ from __future__ import annotations
 import argparse
 import sys
 
-from hexapod_adapt.archive import MAP_KINDS
-from hexapod_adapt.generate import BACKENDS, EmptyMapError, generate_map, GenerateConfig, LIMITS
+from hexapod_adapt.mapping.archive import MAP_KINDS
+from hexapod_adapt.mapping.generate import (
+    BACKENDS,
+    EmptyMapError,
+    generate_map,
+    GenerateConfig,
+    LIMITS,
+)
 from hexapod_description.cli import number, output_dir, output_file, run_command
 from hexapod_sim import ENGINES
 from tqdm import tqdm

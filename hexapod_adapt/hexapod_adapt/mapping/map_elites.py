@@ -47,7 +47,7 @@ import os
 import time
 from typing import Callable, Protocol, Sequence
 
-from hexapod_adapt.archive import Archive, ArchiveError, InsertStatus, load_archive
+from hexapod_adapt.mapping.archive import Archive, ArchiveError, InsertStatus, load_archive
 import numpy as np
 
 

@@ -33,32 +33,35 @@ from pathlib import Path
 PACKAGE = 'hexapod_adapt'
 DEFAULT_MAP = 'default_map.npz'
 DEMO_MAP = 'demo_map.npz'
-NAVIGATION_MAP = 'navigation_map.npz'  # the navigation repertoire (make_navigation_map.sh)
-CEILINGS = 'ceilings'  # the default map's cached ceilings (hexapod_adapt.ceiling)
+CEILINGS = 'ceilings'  # the default map's cached ceilings (hexapod_adapt.online.ceiling)
 
 
-def _candidates(name: str) -> list[Path]:
+#: The workspace's source tree (this file is <ws>/hexapod_adapt/hexapod_adapt/mapping/maps.py).
+_SOURCE_TREE = Path(__file__).resolve().parents[3]
+
+
+def _candidates(name: str, package: str = PACKAGE) -> list[Path]:
     found = []
     try:
         from ament_index_python.packages import get_package_share_directory, PackageNotFoundError
 
         try:
-            found.append(Path(get_package_share_directory(PACKAGE)) / 'maps' / name)
+            found.append(Path(get_package_share_directory(package)) / 'maps' / name)
         except PackageNotFoundError:
             pass
     except ImportError:  # running from the source tree without ROS
         pass
-    found.append(Path(__file__).resolve().parent.parent / 'maps' / name)
+    found.append(_SOURCE_TREE / package / 'maps' / name)
     return found
 
 
-def shipped_map(name: str = DEFAULT_MAP) -> Path:
+def shipped_map(name: str = DEFAULT_MAP, package: str = PACKAGE) -> Path:
     """
-    Return the path of a shipped map: the installed share directory's copy, else the source tree's.
+    Return the path of a map shipped in ``package``'s ``maps/``: installed, else the source tree's.
 
     The path is returned even when no copy exists, so that loading it gives an error naming it.
     """
-    candidates = _candidates(name)
+    candidates = _candidates(name, package)
     return next((p for p in candidates if p.is_file()), candidates[0])
 
 

@@ -35,8 +35,8 @@ import argparse
 from pathlib import Path
 import sys
 
-from hexapod_adapt.archive import ArchiveError, load_archive
-from hexapod_adapt.plots import (
+from hexapod_adapt.mapping.archive import ArchiveError, load_archive
+from hexapod_adapt.mapping.plots import (
     plot_progress,
     plot_projections,
     plot_repertoire,

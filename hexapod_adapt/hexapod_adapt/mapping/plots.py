@@ -19,16 +19,18 @@
 # OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
 # SOFTWARE.
 """
-Pictures of maps and experiments (PNG, matplotlib's headless Agg backend); ROS-free.
+Pictures of maps (PNG, matplotlib's headless Agg backend); ROS-free.
 
 * :func:`plot_progress` -- a map generation's QD progress from its JSON-lines log (thesis figs
   4.7-4.8): filled niches, max / mean / median / 5th-percentile fitness and QD-score against
   evaluations. Works on the log of a run still in progress.
 * :func:`plot_projections` -- the 6-D map as 2-D projections: for every pair of legs, the best
   speed over a grid of their two duty factors.
-* :func:`plot_experiment` -- thesis figs 5.4-5.5: adapted speed per scenario (box plots, the
-  damaged control tripod per scenario and the intact one as references) and trials per scenario
-  (with the 24-trial = 2-minute line); one box per trial engine.
+* :func:`plot_repertoire`, :func:`plot_repertoire_progress` -- a step map (navigation
+  repertoire): where its steps end, and its generation.
+
+The experiments' pictures are beside them: :mod:`hexapod_adapt.online.experiment_plots`,
+:mod:`hexapod_navigation.plots`.
 """
 
 from __future__ import annotations
@@ -38,15 +40,13 @@ import json
 from pathlib import Path
 from typing import Any, Sequence
 
-from hexapod_adapt.archive import Archive, atomic_output
+from hexapod_adapt.mapping.archive import Archive, atomic_output
 import matplotlib
 
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402 - after choosing the headless backend
 from matplotlib.ticker import EngFormatter, MaxNLocator  # noqa: E402
 import numpy as np  # noqa: E402
-
-TWO_MINUTES_OF_TRIALS = 24  # 24 trials of 5 s = 2 minutes of walking (thesis 5.3.2)
 
 
 def read_log(path: str | Path) -> list[dict[str, Any]]:
@@ -69,7 +69,8 @@ def read_log(path: str | Path) -> list[dict[str, Any]]:
     return rows
 
 
-def _save(fig: Any, out: str | Path) -> Path:
+def save_figure(fig: Any, out: str | Path) -> Path:
+    """Write ``fig`` to ``out`` as a PNG, atomically, and close it."""
     out = Path(out)
     with atomic_output(out) as fh:
         fig.savefig(fh, format='png', dpi=110, bbox_inches='tight')
@@ -77,7 +78,8 @@ def _save(fig: Any, out: str | Path) -> Path:
     return out
 
 
-def _evaluation_axes(axes: Any) -> None:
+def evaluation_axes(axes: Any) -> None:
+    """Label ``axes`` (one or several) with evaluations on the x axis."""
     """Label every axis's x as evaluations, in engineering notation, with a light grid."""
     for ax in axes:
         ax.set_xlabel('evaluations')
@@ -109,9 +111,9 @@ def plot_progress(
     axes[1].legend(loc='lower right', fontsize=8)
     axes[2].plot(ev, [r['qd_score'] for r in rows], color='tab:green')
     axes[2].set_ylabel('QD-score (sum of elite fitness, m)')
-    _evaluation_axes(axes)
+    evaluation_axes(axes)
     fig.suptitle(title or 'map generation progress')
-    return _save(fig, out)
+    return save_figure(fig, out)
 
 
 def plot_projections(archive: Archive, out: str | Path, bins: int = 20, title: str = '') -> Path:
@@ -150,214 +152,12 @@ def plot_projections(archive: Archive, out: str | Path, bins: int = 20, title: s
         title
         or f'{archive.n_filled} gaits in {archive.n_niches} niches: best speed per pair of legs'
     )
-    return _save(fig, out)
-
-
-def plot_experiment(
-    rows: Sequence[Any],
-    out_speed: str | Path,
-    out_trials: str | Path,
-    out_ratio: str | Path | None = None,
-) -> tuple[Path, ...]:
-    """
-    Box plots of an adaptation experiment (rows: hexapod_adapt.adaptation.ExperimentRow).
-
-    Adapted speed and trials; with ``out_ratio`` and rows that carry ceilings, adapted/ceiling
-    too.
-    """
-    if not rows:
-        raise ValueError('no experiment rows to draw')
-    scenarios = sorted({r.scenario for r in rows})
-    engines = list(dict.fromkeys(r.trial_engine for r in rows))
-    width = 0.8 / len(engines)
-    colours = ['tab:blue', 'tab:orange', 'tab:green']
-    figures = []
-    quantities = [('best_speed', 'adapted speed (m/s)'), ('trials', 'trials')]
-    with_ratio = out_ratio is not None and all(r.ceiling_niche >= 0 for r in rows)
-    if with_ratio:
-        quantities.append(('ratio', "adapted / the map's best gait with the damage"))
-    for quantity, ylabel in quantities:
-        fig, ax = plt.subplots(figsize=(2.2 + 1.6 * len(scenarios), 5.2))
-        for k, engine in enumerate(engines):
-            data = [
-                [
-                    getattr(r, quantity)
-                    for r in rows
-                    if r.scenario == s and r.trial_engine == engine
-                ]
-                for s in scenarios
-            ]
-            positions = np.arange(len(scenarios)) + (k - (len(engines) - 1) / 2) * width
-            box = ax.boxplot(
-                data,
-                positions=positions,
-                widths=width * 0.85,
-                patch_artist=True,
-                manage_ticks=False,
-                showmeans=True,  # the thesis's figures mark the mean too
-                meanprops={'marker': '^', 'markerfacecolor': 'tab:green', 'markeredgecolor': 'k'},
-            )
-            for patch in box['boxes']:
-                patch.set_facecolor(colours[k % len(colours)])
-                patch.set_alpha(0.55)
-            ax.plot(
-                [],
-                [],
-                color=colours[k % len(colours)],
-                lw=8,
-                alpha=0.55,
-                label=f'trials on {engine} (map: {rows[0].map_engine})',
-            )
-        if quantity == 'best_speed':
-            for k, engine in enumerate(engines):
-                offset = (k - (len(engines) - 1) / 2) * width
-                for i, s in enumerate(scenarios):
-                    damaged = np.mean(
-                        [
-                            r.control_speed
-                            for r in rows
-                            if r.scenario == s and r.trial_engine == engine
-                        ]
-                    )
-                    ax.hlines(
-                        damaged,
-                        i + offset - width / 2,
-                        i + offset + width / 2,
-                        colors='tab:red',
-                        linestyles='--',
-                        label='control tripod, damaged (same engine)' if i == k == 0 else None,
-                    )
-                intact = next(r.intact_control_speed for r in rows if r.trial_engine == engine)
-                ax.axhline(
-                    intact,
-                    color=colours[k % len(colours)],
-                    ls=':',
-                    lw=1.2,
-                    label=f'control tripod, intact ({engine})',
-                )
-        elif quantity == 'trials':
-            ax.axhline(
-                TWO_MINUTES_OF_TRIALS, color='tab:red', ls='--', label='24 trials = 2 minutes'
-            )
-        else:
-            ax.axhline(1.0, color='k', ls=':', lw=1.0, label='the ceiling')
-            ax.axhline(0.9, color='tab:red', ls='--', lw=1.0, label='0.9 of the ceiling')
-        ax.set_xticks(range(len(scenarios)), scenarios)
-        ax.set_xlabel('failure scenario')
-        ax.set_ylabel(ylabel)
-        ax.grid(axis='y', alpha=0.3)
-        # below the axes: inside, it hides reference lines at either end of the range
-        ax.legend(fontsize=7, loc='upper center', bbox_to_anchor=(0.5, -0.14), ncol=2)
-        fig.tight_layout()
-        figures.append(fig)
-    saved = (_save(figures[0], out_speed), _save(figures[1], out_trials))
-    return saved + ((_save(figures[2], out_ratio),) if with_ratio else ())
-
-
-# -- the navigation experiment (issue 18) -------------------------------------------------------
-NAVIGATION_COLOURS = {'repertoire': 'tab:green', 'no_learning': 'tab:blue', 'tripod': 'tab:red'}
-
-
-def plot_navigation_paths(rows: Sequence[Any], paths: Sequence[Any], out: str | Path) -> Path:
-    """
-    Top views of every episode, one panel per (scenario, method): paths, goals, start.
-
-    ``rows`` are navigation_experiment.NavigationRow, ``paths`` their (x, y) lists.
-    """
-    scenarios = list(dict.fromkeys(r.scenario for r in rows))
-    methods = list(dict.fromkeys(r.method for r in rows))
-    fig, axes = plt.subplots(
-        len(scenarios),
-        len(methods),
-        figsize=(3.2 * len(methods), 3.2 * len(scenarios)),
-        squeeze=False,
-        sharex=True,
-        sharey=True,
-    )
-    for i, name in enumerate(scenarios):
-        for j, method in enumerate(methods):
-            ax = axes[i][j]
-            sel = [
-                (r, p) for r, p in zip(rows, paths) if r.scenario == name and r.method == method
-            ]
-            for r, p in sel:
-                xy = np.asarray(p, dtype=float).reshape(-1, 2)
-                ax.plot(
-                    xy[:, 0],
-                    xy[:, 1],
-                    lw=0.6,
-                    alpha=0.6,
-                    color=NAVIGATION_COLOURS.get(method, 'k') if r.reached else 'tab:gray',
-                )
-            goals = {(r.goal_x, r.goal_y) for r, _ in sel}
-            ax.scatter(*zip(*goals), marker='x', color='k', s=25, zorder=3)
-            ax.plot(0, 0, 'ko', ms=3)
-            ok = sum(r.reached for r, _ in sel)
-            ax.set_title(f'{name} {method}: {ok}/{len(sel)} reached', fontsize=8)
-            ax.set_aspect('equal')
-            ax.grid(alpha=0.3)
-    for ax in axes[-1]:
-        ax.set_xlabel('x [m]')
-    for row in axes:
-        row[0].set_ylabel('y [m]')
-    return _save(fig, out)
-
-
-def plot_navigation_boxes(rows: Sequence[Any], out: str | Path) -> Path:
-    """
-    Draw box plots per scenario and method.
-
-    Walking time and path efficiency of the reached goals, and the success rate.
-    """
-    scenarios = list(dict.fromkeys(r.scenario for r in rows))
-    methods = list(dict.fromkeys(r.method for r in rows))
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4))
-    width = 0.8 / len(methods)
-    for j, method in enumerate(methods):
-        pos = np.arange(len(scenarios)) + (j - (len(methods) - 1) / 2) * width
-        for ax, field_name in ((axes[0], 'walking_time'), (axes[1], 'efficiency')):
-            data = [
-                [
-                    getattr(r, field_name)
-                    for r in rows
-                    if r.scenario == s and r.method == method and r.reached
-                ]
-                or [np.nan]
-                for s in scenarios
-            ]
-            bp = ax.boxplot(
-                data, positions=pos, widths=width * 0.9, patch_artist=True, showfliers=True
-            )
-            for patch in bp['boxes']:
-                patch.set_facecolor(NAVIGATION_COLOURS.get(method, 'w'))
-                patch.set_alpha(0.6)
-        rate = [
-            np.mean([r.reached for r in rows if r.scenario == s and r.method == method]) * 100
-            for s in scenarios
-        ]
-        axes[2].bar(
-            pos,
-            rate,
-            width * 0.9,
-            color=NAVIGATION_COLOURS.get(method, 'k'),
-            alpha=0.7,
-            label=method,
-        )
-    for ax, label in zip(
-        axes, ('walking time to the goal [s]', 'path efficiency', 'goals reached [%]')
-    ):
-        ax.set_xticks(np.arange(len(scenarios)))
-        ax.set_xticklabels(scenarios)
-        ax.set_ylabel(label)
-        ax.grid(axis='y', alpha=0.3)
-    axes[2].axhline(85, color='k', lw=0.8, ls='--')
-    axes[2].legend(fontsize=8)
-    return _save(fig, out)
+    return save_figure(fig, out)
 
 
 def plot_repertoire(archive: Archive, out: str | Path, title: str = '') -> Path:
     """Draw where each step of a navigation repertoire ends, coloured by its heading change."""
-    from hexapod_adapt.repertoire import from_descriptor
+    from hexapod_adapt.mapping.steps import from_descriptor
 
     if not archive.filled.any():
         raise ValueError('the repertoire has no gaits to draw')
@@ -377,7 +177,7 @@ def plot_repertoire(archive: Archive, out: str | Path, title: str = '') -> Path:
         title
         or f'{len(idx)} gaits of {archive.n_niches} niches, {archive.trial_duration:g} s steps'
     )
-    return _save(fig, out)
+    return save_figure(fig, out)
 
 
 def plot_repertoire_progress(
@@ -400,38 +200,6 @@ def plot_repertoire_progress(
         )
     axes[1].set_ylabel('heading change of the elites [deg]')
     axes[1].legend(loc='upper right', fontsize=8)
-    _evaluation_axes(axes)
+    evaluation_axes(axes)
     fig.suptitle(title or 'navigation repertoire generation progress')
-    return _save(fig, out)
-
-
-def plot_trial_length(runs: Sequence[Any], out: str | Path) -> Path:
-    """
-    Adapted/ceiling ratio and walking time against the trial length (thesis 7.0.1).
-
-    ``runs``: :class:`hexapod_adapt.trial_length.LengthRun` rows, one line per engine.
-    """
-    fig, (left, right) = plt.subplots(1, 2, figsize=(9, 3.6))
-    for engine in dict.fromkeys(r.engine for r in runs):
-        sel = [r for r in runs if r.engine == engine]
-        lengths = sorted({r.trial_length for r in sel})
-        ratio = [[r.ratio for r in sel if r.trial_length == t] for t in lengths]
-        walking = [[r.walking_time for r in sel if r.trial_length == t] for t in lengths]
-        for axes, values in ((left, ratio), (right, walking)):
-            med = [float(np.median(v)) for v in values]
-            low = [float(np.percentile(v, 25)) for v in values]
-            high = [float(np.percentile(v, 75)) for v in values]
-            axes.plot(lengths, med, marker='o', label=f'{engine} (median)')
-            axes.fill_between(lengths, low, high, alpha=0.2)
-    left.set_xlabel('trial length [s] (after 1 s of untimed settling)')
-    left.set_ylabel('adapted / ceiling speed')
-    left.legend(fontsize=8)
-    right.set_xlabel('trial length [s]')
-    right.set_ylabel('walking time to adapt [s]')
-    right.axhline(30.0, color='red', linestyle='--', linewidth=1, label='30 s')
-    right.legend(fontsize=8)
-    for axes in (left, right):
-        axes.grid(alpha=0.3)
-    fig.suptitle('Trial length: what M-BOA finds, and the walking it costs (25-75 % band)')
-    fig.tight_layout()
-    return _save(fig, out)
+    return save_figure(fig, out)

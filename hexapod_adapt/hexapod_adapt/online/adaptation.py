@@ -34,9 +34,9 @@ import math
 import time
 from typing import Callable, Sequence, TYPE_CHECKING
 
-from hexapod_adapt.archive import Archive
-from hexapod_adapt.mboa import Mboa, MboaConfig, MIN_SPEED_RANGE, StopReason, Trial
-from hexapod_adapt.simulation import archive_engine
+from hexapod_adapt.mapping.archive import Archive
+from hexapod_adapt.mapping.simulation import archive_engine
+from hexapod_adapt.online.mboa import Mboa, MboaConfig, MIN_SPEED_RANGE, StopReason, Trial
 from hexapod_gait import preset
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig, Simulator
 from hexapod_sim.damage import Damage
@@ -44,8 +44,8 @@ from hexapod_sim.scenarios import scenario as orientations_of
 import numpy as np
 
 if TYPE_CHECKING:  # the ceiling module imports this one's siblings only
-    from hexapod_adapt.bank import DamageBank
-    from hexapod_adapt.ceiling import Ceiling
+    from hexapod_adapt.online.bank import DamageBank
+    from hexapod_adapt.online.ceiling import Ceiling
 
 
 @dataclass
@@ -92,8 +92,8 @@ def adapt(
 
     ``prior``, if given, replaces the map's speeds as M-BOA's prior mean: one speed per elite, in
     the order of ``archive.elite_indices()`` (e.g. the map re-scored under a known damage,
-    :mod:`hexapod_adapt.prior`). ``hypotheses`` (h, elites), if given, are other prior means the
-    trials weigh against it (a damage bank's speeds, :mod:`hexapod_adapt.bank`).
+    :mod:`hexapod_adapt.online.prior`). ``hypotheses`` (h, elites), if given, are other prior means
+    the trials weigh against it (a damage bank's speeds, :mod:`hexapod_adapt.online.bank`).
 
     ``floor``, if given, measures a reference before the first trial, e.g. the damaged control
     tripod (:func:`tripod_floor`): success then also needs the best gait to walk at least that
@@ -266,11 +266,11 @@ def run_experiment(
     collisions not fatal), next to the control tripod gait. Trials run on ``trial_engine``
     (default: the engine that made the map). Without ``config``: the thesis's settings with
     :data:`EXPERIMENT_MAX_TRIALS`. With ``ceilings(failed_legs, engine)`` (e.g.
-    :func:`hexapod_adapt.ceiling.ceiling` over a cache), each row also gets the map's ceiling
-    under its damage and the adapted/ceiling ratio. ``floor``: the damaged control tripod,
+    :func:`hexapod_adapt.online.ceiling.ceiling` over a cache), each row also gets the map's
+    ceiling under its damage and the adapted/ceiling ratio. ``floor``: the damaged control tripod,
     measured first, is the run's success floor. ``priors(failed_legs)``: M-BOA starts from these
-    speeds (the map re-scored under the damage, :mod:`hexapod_adapt.prior`). ``setup`` names the
-    configuration in the rows. ``trial_duration`` (default: the map's) and ``settle``: trials
+    speeds (the map re-scored under the damage, :mod:`hexapod_adapt.online.prior`). ``setup`` names
+    the configuration in the rows. ``trial_duration`` (default: the map's) and ``settle``: trials
     time that long after walking ``settle`` s untimed (:func:`simulated_trial`); the walking
     time counts both, and the adapted gait is then judged as the map's gaits are (its speed over
     the map's trial duration from standing) so that every timing is compared alike.

@@ -23,11 +23,12 @@ A damage bank: the map re-scored in simulation under each damage M-BOA should co
 
 When the damage is not known, M-BOA can still weigh hypotheses about it: the map's gaits
 evaluated, offline, under every one- and two-leg failure (:data:`BANK_DAMAGES`, 21 cases), each a
-prior mean the trials confirm or rule out (:class:`hexapod_adapt.mboa.Mboa`'s ``hypotheses``).
-A bank is a set of cached ceilings (:mod:`hexapod_adapt.ceiling`): for the default map they ship
-in ``maps/ceilings`` (``maps/make_ceilings.sh`` makes them, 35 min on 2 cores); for another map
-``python -m hexapod_adapt.ceiling --archive MAP --cache-dir DIR`` does. Nothing here computes: a
-case that is not cached is listed as missing, and the bank is what is there.
+prior mean the trials confirm or rule out (:class:`hexapod_adapt.online.mboa.Mboa`'s
+``hypotheses``). A bank is a set of cached ceilings (:mod:`hexapod_adapt.online.ceiling`): for the
+default map they ship in ``maps/ceilings`` (``maps/make_ceilings.sh`` makes them, 35 min on 2
+cores); for another map ``python -m hexapod_adapt.online.ceilings_cli --archive MAP --cache-dir
+DIR`` does. Nothing here computes: a case that is not cached is listed as missing, and the bank is
+what is there.
 
 A bank only helps where its hypotheses resemble the real damage. The tuning set measures the case
 where they do not (locked legs, weak servos, lost tibias: none is in the bank).
@@ -39,8 +40,8 @@ from dataclasses import dataclass
 import os
 from typing import Sequence
 
-from hexapod_adapt.archive import Archive
-from hexapod_adapt.ceiling import cached_ceiling
+from hexapod_adapt.mapping.archive import Archive
+from hexapod_adapt.online.ceiling import cached_ceiling
 from hexapod_sim.damage import Damage
 from hexapod_sim.scenarios import scenario
 import numpy as np
@@ -87,8 +88,9 @@ class DamageBank:
         """Say what a run weighs, or how to make a bank if there is none."""
         if len(self) == 0:
             return (
-                'no damage bank is cached for this map (python -m hexapod_adapt.ceiling'
-                ' --archive MAP --cache-dir DIR makes one; DIR: the prior cache)'
+                'no damage bank is cached for this map (python -m'
+                ' hexapod_adapt.online.ceilings_cli --archive MAP --cache-dir DIR makes one; DIR:'
+                ' the prior cache)'
             )
         return f'weighing {self.describe()}'
 

@@ -29,12 +29,11 @@ what it depends on: the map's gaits, the engine and its settings, the URDF, the 
 the trial duration and the damage (:func:`ceiling_key`). A cached file is checked against its
 key when read; a damaged or foreign one is recomputed, never trusted.
 
-    python -m hexapod_adapt.ceiling --scenarios S1 S2 S3 S4 --engine mujoco --workers 2
+Cache them with ``python -m hexapod_adapt.online.ceilings_cli`` (``maps/make_ceilings.sh``).
 """
 
 from __future__ import annotations
 
-import argparse
 import concurrent.futures as cf
 from dataclasses import dataclass
 import hashlib
@@ -42,19 +41,14 @@ import io
 import json
 import os
 from pathlib import Path
-import sys
-import time
 from typing import Callable, Iterable, Sequence
 import zipfile
 
-from hexapod_adapt.archive import Archive, atomic_write_bytes, load_archive
-from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
-from hexapod_adapt.simulation import simulation_fingerprint, worker_simulator
-from hexapod_description.cli import input_file, number, output_dir, run_command
-from hexapod_sim import ENGINES, evaluate_gaits
-from hexapod_sim.damage import as_damage, Damage, LegDamage, parse_damage
+from hexapod_adapt.mapping.archive import Archive, atomic_write_bytes
+from hexapod_adapt.mapping.simulation import simulation_fingerprint, worker_simulator
+from hexapod_sim import evaluate_gaits
+from hexapod_sim.damage import as_damage, Damage, LegDamage
 from hexapod_sim.evaluation import EVALUATION_VERSION
-from hexapod_sim.scenarios import scenario, SCENARIO_NAMES
 import numpy as np
 
 FORMAT = 'hexapod-ceiling/v1'
@@ -300,92 +294,3 @@ def _write(path: Path | None, key: dict, result: Ceiling) -> None:
             speeds=result.speeds,
         )
         atomic_write_bytes(path, buf.getvalue())
-
-
-def _damage_arg(text: str) -> Damage:
-    try:
-        return parse_damage(text)
-    except ValueError as exc:
-        raise argparse.ArgumentTypeError(str(exc)) from None
-
-
-def build_parser() -> argparse.ArgumentParser:
-    """Return the command-line options of ``python -m hexapod_adapt.ceiling``."""
-    ap = argparse.ArgumentParser(
-        prog='ceiling', description='Cache the ceilings of a map: every gait under each damage.'
-    )
-    ap.add_argument(
-        '--archive', type=input_file, default=None, help='map (default: the shipped default map)'
-    )
-    ap.add_argument('--engine', choices=ENGINES, default='mujoco', help='trial engine')
-    ap.add_argument(
-        '--scenarios',
-        nargs='+',
-        choices=SCENARIO_NAMES,
-        default=None,
-        help='failure scenarios, every orientation of each (default S1-S4 unless --damage or'
-        ' --tuning-set is given)',
-    )
-    ap.add_argument(
-        '--damage',
-        nargs='+',
-        type=_damage_arg,
-        default=[],
-        metavar='SPEC',
-        help='other damage, each LEG:KIND[:STRENGTH][,...], e.g. 1:locked,4:weak:0.3',
-    )
-    ap.add_argument(
-        '--top',
-        type=number(int, 1, 10_000_000),
-        default=None,
-        help='approximate: evaluate only the TOP gaits that walk best under the damage on'
-        ' --guide-engine (whose ceiling is read from, or made in, the cache)',
-    )
-    ap.add_argument('--guide-engine', choices=ENGINES, default='mujoco', help='for --top')
-    ap.add_argument(
-        '--tuning-set',
-        action='store_true',
-        help='the damage cases of the tuning set (hexapod_adapt.tuning.TUNING_DAMAGES)',
-    )
-    ap.add_argument(
-        '--cache-dir', type=output_dir, required=True, help='where ceilings are cached'
-    )
-    ap.add_argument('--workers', type=number(int, 1, 256), default=1, help='worker processes')
-    return ap
-
-
-def main(argv: list[str] | None = None) -> int:
-    """Compute (or find in the cache) every ceiling asked for; one line per damage case."""
-    args = build_parser().parse_args(argv)
-
-    def run() -> int:
-        from hexapod_adapt.tuning import TUNING_DAMAGES
-
-        archive = load_archive(args.archive or shipped_map(DEFAULT_MAP))
-        scenarios = args.scenarios
-        if scenarios is None:
-            scenarios = [] if args.damage or args.tuning_set else ['S1', 'S2', 'S3', 'S4']
-        cases = [(name, Damage.lifted(legs)) for name in scenarios for legs in scenario(name)]
-        cases += [('-', damage) for damage in args.damage]
-        cases += [('tuning', damage) for damage in TUNING_DAMAGES] if args.tuning_set else []
-        for name, damage in cases:
-            t0 = time.monotonic()
-            if args.top:
-                guide = ceiling(archive, damage, args.guide_engine, args.cache_dir, args.workers)
-                c = approximate_ceiling(
-                    archive, damage, args.engine, guide, args.top, args.cache_dir, args.workers
-                )
-            else:
-                c = ceiling(archive, damage, args.engine, args.cache_dir, args.workers)
-            print(
-                f'{args.engine} {name} {damage.label}: ceiling {c.best_speed:.3f} m/s'
-                f' (gait {c.best_niche}), {len(c.speeds)} gaits, {time.monotonic() - t0:.0f} s',
-                flush=True,
-            )
-        return 0
-
-    return run_command('ceiling', run, 'finished damage cases are cached; run again to go on')
-
-
-if __name__ == '__main__':
-    sys.exit(main())

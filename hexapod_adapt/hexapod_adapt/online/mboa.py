@@ -36,12 +36,12 @@ the trial budget or when the map is used up.
 
 Our second addition, damage hypotheses (``hypotheses``, none in the thesis): other prior means
 the damage may explain, e.g. the map re-scored in simulation under each one- and two-leg failure
-(a damage bank, :mod:`hexapod_adapt.bank`). The GP is the same under each; only its mean differs.
-Each hypothesis h (the map's own speeds among them) is weighted by how well it explains the trials,
-its marginal likelihood ``exp(-r_h / 2)`` with ``r_h = (y - m_h)^T (K + noise I)^-1 (y - m_h)``,
-and M-BOA works on the mixture: mean ``sum_h w_h mu_h``, variance ``sigma^2 + sum_h w_h (mu_h -
-mean)^2``. The first trials then also tell the hypotheses apart (Pautrat, Chatzilygeroudis and
-Mouret 2018 pick the single most likely prior instead).
+(a damage bank, :mod:`hexapod_adapt.online.bank`). The GP is the same under each; only its mean
+differs. Each hypothesis h (the map's own speeds among them) is weighted by how well it explains
+the trials, its marginal likelihood ``exp(-r_h / 2)`` with ``r_h = (y - m_h)^T (K + noise I)^-1 (y
+- m_h)``, and M-BOA works on the mixture: mean ``sum_h w_h mu_h``, variance ``sigma^2 + sum_h w_h
+(mu_h - mean)^2``. The first trials then also tell the hypotheses apart (Pautrat, Chatzilygeroudis
+and Mouret 2018 pick the single most likely prior instead).
 
 An elite already tried is not offered again: the next-best untried elite is (re-testing the
 same gait would only average its noise; see ``MboaConfig.exclude_tested``).

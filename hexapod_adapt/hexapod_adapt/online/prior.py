@@ -24,9 +24,9 @@ A damage-informed prior: the map re-scored in simulation under the damage known 
 Often the failed legs are known: the simulator says what it was given (``sim/damage``), the
 robot's servo health check reports a servo that does not answer (``servo_failures``), or the
 operator names them in the ``adapt`` request. Then, before the first trial, every gait of the map
-is evaluated in simulation with that damage (a ceiling, :mod:`hexapod_adapt.ceiling`, cached) and
-M-BOA starts from those speeds instead of the intact map's. Robot trials still decide: the prior
-is only a prior.
+is evaluated in simulation with that damage (a ceiling, :mod:`hexapod_adapt.online.ceiling`,
+cached) and M-BOA starts from those speeds instead of the intact map's. Robot trials still decide:
+the prior is only a prior.
 
 :class:`KnownDamage` keeps what the node has been told and refuses what makes no sense, saying
 why; :func:`damage_prior` re-scores the map.
@@ -39,8 +39,8 @@ import os
 import time
 from typing import Callable, Sequence
 
-from hexapod_adapt.archive import Archive
-from hexapod_adapt.ceiling import ceiling
+from hexapod_adapt.mapping.archive import Archive
+from hexapod_adapt.online.ceiling import ceiling
 from hexapod_description import N_LEGS
 from hexapod_sim.damage import Damage, damage_from_lists, MAX_FAILED_LEGS
 import numpy as np

@@ -31,9 +31,15 @@ from dataclasses import dataclass, replace
 import math
 import os
 
-from hexapod_adapt.archive import Archive, ArchiveError, compatibility_problems, load_archive
-from hexapod_adapt.maps import DEFAULT_MAP, shipped_map
-from hexapod_adapt.mboa import (
+from hexapod_adapt.mapping.archive import (
+    Archive,
+    ArchiveError,
+    compatibility_problems,
+    load_archive,
+)
+from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+from hexapod_adapt.mapping.simulation import archive_engine, simulation_fingerprint
+from hexapod_adapt.online.mboa import (
     ALPHA_RANGE,
     DEFAULT_PROFILE,
     KAPPA_RANGE,
@@ -47,7 +53,6 @@ from hexapod_adapt.mboa import (
     TRIAL_DURATION,
     TRIAL_SETTLE,
 )
-from hexapod_adapt.simulation import archive_engine, simulation_fingerprint
 
 #: The Adapt request's fields that default to the node's parameter of the same name.
 RUN_SETTINGS = (
@@ -233,3 +238,49 @@ def load_for_mode(value: str, mode: str) -> tuple[Archive | None, str]:
     if archive.n_filled == 0:
         return None, f'{path} has no gaits'
     return archive, ''
+
+
+class ArchiveSlot:
+    """
+    The archive a node adapts on, and why there is none; a bad new one leaves the last good one.
+
+    ``mode`` is the node's (read-only) mode: an unknown one leaves the slot empty for good, with
+    the reason, so that every request is refused and the node stays up.
+    """
+
+    def __init__(self, mode: str, modes: tuple[str, ...]) -> None:
+        self.mode = mode
+        self.archive: Archive | None = None
+        self.problem = "no archive loaded: set the 'archive' parameter"
+        self.usable = mode in modes
+        if not self.usable:
+            self.problem = (
+                f'parameter mode must be one of {", ".join(modes)}, got {mode!r}; restart the node'
+            )
+
+    def load(self, value: str) -> str:
+        """Load what an ``archive`` parameter names; return '' or why it was not taken."""
+        if not self.usable:
+            return self.problem
+        archive, problem = load_for_mode(value, self.mode)
+        if archive is None:
+            if self.archive is None:
+                self.problem = problem
+            return problem
+        self.archive, self.problem = archive, ''
+        return ''
+
+    def describe(self) -> str:
+        """Return the archive's size, or why there is none."""
+        if self.archive is None:
+            return self.problem
+        return f'archive: {self.archive.n_filled} gaits in {self.archive.n_niches} niches'
+
+
+def settings_problem(values: dict) -> str:
+    """Return why run settings (parameter values by name) are refused ('' if they are fine)."""
+    try:
+        run_settings(values)
+    except (TypeError, ValueError) as exc:
+        return str(exc)
+    return ''

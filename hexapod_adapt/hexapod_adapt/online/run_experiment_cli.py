@@ -41,12 +41,14 @@ from dataclasses import asdict, replace
 import io
 import sys
 
-from hexapod_adapt.adaptation import EXPERIMENT_MAX_TRIALS, ExperimentRow, run_experiment
-from hexapod_adapt.archive import ArchiveError, atomic_write_bytes, load_archive
-from hexapod_adapt.bank import load_bank
-from hexapod_adapt.ceiling import ceiling
-from hexapod_adapt.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
-from hexapod_adapt.mboa import (
+from hexapod_adapt.mapping.archive import ArchiveError, atomic_write_bytes, load_archive
+from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
+from hexapod_adapt.mapping.simulation import archive_engine
+from hexapod_adapt.online.adaptation import EXPERIMENT_MAX_TRIALS, ExperimentRow, run_experiment
+from hexapod_adapt.online.bank import load_bank
+from hexapod_adapt.online.ceiling import ceiling
+from hexapod_adapt.online.experiment_plots import plot_experiment
+from hexapod_adapt.online.mboa import (
     ALPHA_RANGE,
     DEFAULT_PROFILE,
     KAPPA_RANGE,
@@ -57,8 +59,6 @@ from hexapod_adapt.mboa import (
     TRIAL_BUDGET,
     TRIAL_SETTLE,
 )
-from hexapod_adapt.plots import plot_experiment
-from hexapod_adapt.simulation import archive_engine
 from hexapod_description.cli import input_file, number, output_dir, output_file, run_command
 from hexapod_sim import ENGINES
 import numpy as np
@@ -208,7 +208,7 @@ def main(argv: list[str] | None = None) -> int:
         '--bank',
         choices=('profile', 'off', 'on', 'leave-out'),
         default='profile',
-        help='damage hypotheses (hexapod_adapt.bank, read from the shipped ceilings and'
+        help='damage hypotheses (hexapod_adapt.online.bank, read from the shipped ceilings and'
         ' --ceilings) for runs without --prior damage: as the profile says (none uses them:'
         " docs/adaptation.md, 'Damage bank'), 'off', 'on', or 'leave-out': each run's own"
         ' damage left out of them',

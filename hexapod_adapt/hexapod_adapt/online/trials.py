@@ -21,10 +21,11 @@
 """
 Trials through a ROS graph, without ROS: the sim, robot and manual trial procedures.
 
-A trial function (``trial(niche) -> speed``, what :func:`hexapod_adapt.adaptation.adapt` calls)
-is built from a :class:`TrialPort` -- the few things a trial does to the graph, implemented over
-rclpy by :mod:`hexapod_adapt.graph_port` -- the odometry received so far (:class:`OdomLog`) and
-a :class:`Waiter`. Speeds are measured along the gait's walking direction (its crab angle):
+A trial function (``trial(niche) -> speed``, what :func:`hexapod_adapt.online.adaptation.adapt`
+calls) is built from a :class:`TrialPort` -- the few things a trial does to the graph, implemented
+over rclpy by :mod:`hexapod_adapt.ros.graph_port` -- the odometry received so far
+(:class:`OdomLog`) and a :class:`Waiter`. Speeds are measured along the gait's walking direction
+(its crab angle):
 
 ``sim``     publish the gait, wait until sim_node plays it (it echoes the gait's stamp), reset,
             then time the odometry from reset + settle to reset + settle + duration of sim time;
@@ -42,7 +43,7 @@ import threading
 import time
 from typing import Callable, ClassVar, Generic, Protocol, TypeVar
 
-from hexapod_adapt.adaptation import TrialAborted
+from hexapod_adapt.online.adaptation import TrialAborted
 
 MODES = ('sim', 'robot', 'manual')
 T = TypeVar('T')
@@ -171,7 +172,7 @@ class Upload:
 
 
 class TrialPort(Protocol):
-    """What a trial does to the graph (:class:`hexapod_adapt.graph_port.GraphPort` over rclpy)."""
+    """What a trial does to the graph (rclpy: :class:`hexapod_adapt.ros.graph_port.GraphPort`)."""
 
     def publish_gait(self, niche: int) -> tuple[int, float]:
         """Publish the gait of ``niche`` on gait/parameters: (unique stamp [ns], crab [rad])."""

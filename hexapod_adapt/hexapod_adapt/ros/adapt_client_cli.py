@@ -34,7 +34,7 @@ import argparse
 import sys
 import time
 
-from hexapod_adapt.mboa import (
+from hexapod_adapt.online.mboa import (
     ALPHA_RANGE,
     KAPPA_RANGE,
     LENGTH_SCALE_RANGE,
@@ -42,7 +42,7 @@ from hexapod_adapt.mboa import (
     NOISE_RANGE,
     PROFILES,
 )
-from hexapod_adapt.run_config import TRIAL_DURATION_RANGE
+from hexapod_adapt.online.run_config import TRIAL_DURATION_RANGE
 from hexapod_description.cli import interval, number, run_command
 from hexapod_msgs.msg import AdaptationTrial
 from hexapod_msgs.srv import Adapt

@@ -21,23 +21,24 @@
 """
 The ROS side of trials and recordings, shared by the nodes that walk the robot through the graph.
 
-:class:`GraphPort` is :class:`hexapod_adapt.trials.TrialPort` over rclpy: it publishes gaits,
-reads sim_node's trial stamps and the odometry, and calls sim_node's and bridge_node's services.
-:class:`RecordedTopics` subscribes to what a run records beside its own messages (the frames,
-joint states, IMU, foot contacts, and the latched URDF and static frames) and feeds a
-:class:`hexapod_adapt.run_recording.RunRecording`. The policies live in those library modules;
+:class:`GraphPort` is :class:`hexapod_adapt.online.trials.TrialPort` over rclpy: it publishes
+gaits, reads sim_node's trial stamps and the odometry, and calls sim_node's and bridge_node's
+services. :class:`RecordedTopics` subscribes to what a run records beside its own messages (the
+frames, joint states, IMU, foot contacts, and the latched URDF and static frames) and feeds a
+:class:`hexapod_adapt.ros.run_recording.RunRecording`. The policies live in those library modules;
 this module only converts messages.
 """
 
 from __future__ import annotations
 
+from pathlib import Path
 import time
-from typing import Callable
+from typing import Callable, Mapping
 
-from hexapod_adapt.adaptation import TrialAborted
-from hexapod_adapt.recording import type_name
-from hexapod_adapt.run_recording import RunRecording
-from hexapod_adapt.trials import OdomLog, OdomSample, Upload
+from hexapod_adapt.online.adaptation import TrialAborted
+from hexapod_adapt.online.trials import OdomLog, OdomSample, Upload
+from hexapod_adapt.ros.recording import type_name
+from hexapod_adapt.ros.run_recording import RunRecording
 from hexapod_gait import GaitParameters
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_gait.ros_glue import EVENTS, LATCHED, ODOM, SENSOR, TF_QOS
@@ -65,6 +66,8 @@ SENSOR_TOPICS = (
 )
 #: Latched topics: the latest message of each opens every recording.
 LATCHED_TOPICS = ((TFMessage, '/tf_static'), (String, 'robot_description'))
+#: How long a recording waits at its start for the URDF and static frames (latched topics).
+LATCHED_GRACE_S = 5.0
 #: Every topic a run records, with its type: resolved when a recording starts.
 RECORDED_TYPES = {
     topic: type_name(cls)
@@ -394,3 +397,24 @@ class RecordedTopics:
             for topic, sub in self.latched_subs.items()
             if topic not in have
         ]
+
+    def start(
+        self,
+        directory: str,
+        types: Mapping[str, str],
+        warn: Callable[[str], None],
+        prefix: str = 'adapt',
+        grace: float = LATCHED_GRACE_S,
+    ) -> Path | None:
+        """
+        Start a run's recording in ``directory``: the latched topics first, given ``grace`` s.
+
+        Returns the file's path, or None when nothing can be recorded (the recording says why).
+        """
+        left = self.await_latched(grace)
+        if left:
+            warn(
+                f'recording starts without {", ".join(left)}: nothing received in {grace:g} s'
+                ' (is a state publisher running?); it is recorded if it comes during the run'
+            )
+        return self.recording.start(directory, types, prefix=prefix)

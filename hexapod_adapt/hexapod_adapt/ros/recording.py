@@ -48,7 +48,7 @@ import time
 from typing import Any, Iterator
 
 from ament_index_python.packages import get_package_share_directory, PackageNotFoundError
-from hexapod_adapt.archive import atomic_output
+from hexapod_adapt.mapping.archive import atomic_output
 from mcap.exceptions import McapError
 from mcap.records import Channel, Message, Schema
 from mcap.stream_reader import StreamReader

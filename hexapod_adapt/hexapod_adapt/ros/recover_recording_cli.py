@@ -34,7 +34,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from hexapod_adapt.recording import recover
+from hexapod_adapt.ros.recording import recover
 from hexapod_description.cli import input_file, output_file, run_command
 
 

@@ -36,7 +36,7 @@ from pathlib import Path
 import threading
 from typing import Any, Callable, Mapping
 
-from hexapod_adapt.recording import (
+from hexapod_adapt.ros.recording import (
     create_recording,
     McapRecorder,
     RecordingClosed,

@@ -1,0 +1,121 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Cache the ceilings of a map: every gait under each damage (:mod:`hexapod_adapt.online.ceiling`).
+
+    python -m hexapod_adapt.online.ceilings_cli --scenarios S1 S2 S3 S4 --engine mujoco --workers 2
+    python -m hexapod_adapt.online.ceilings_cli --damage 1:locked,4:weak:0.3 --cache-dir DIR
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+
+from hexapod_adapt.mapping.archive import load_archive
+from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+from hexapod_adapt.online.ceiling import approximate_ceiling, ceiling
+from hexapod_description.cli import input_file, number, output_dir, run_command
+from hexapod_sim import ENGINES
+from hexapod_sim.damage import Damage, parse_damage
+from hexapod_sim.scenarios import scenario, SCENARIO_NAMES
+
+
+def _damage_arg(text: str) -> Damage:
+    try:
+        return parse_damage(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the command-line options of ``python -m hexapod_adapt.online.ceilings_cli``."""
+    ap = argparse.ArgumentParser(
+        prog='ceiling', description='Cache the ceilings of a map: every gait under each damage.'
+    )
+    ap.add_argument(
+        '--archive', type=input_file, default=None, help='map (default: the shipped default map)'
+    )
+    ap.add_argument('--engine', choices=ENGINES, default='mujoco', help='trial engine')
+    ap.add_argument(
+        '--scenarios',
+        nargs='+',
+        choices=SCENARIO_NAMES,
+        default=None,
+        help='failure scenarios, every orientation of each (default S1-S4 unless --damage is'
+        ' given)',
+    )
+    ap.add_argument(
+        '--damage',
+        nargs='+',
+        type=_damage_arg,
+        default=[],
+        metavar='SPEC',
+        help='other damage, each LEG:KIND[:STRENGTH][,...], e.g. 1:locked,4:weak:0.3',
+    )
+    ap.add_argument(
+        '--top',
+        type=number(int, 1, 10_000_000),
+        default=None,
+        help='approximate: evaluate only the TOP gaits that walk best under the damage on'
+        ' --guide-engine (whose ceiling is read from, or made in, the cache)',
+    )
+    ap.add_argument('--guide-engine', choices=ENGINES, default='mujoco', help='for --top')
+    ap.add_argument(
+        '--cache-dir', type=output_dir, required=True, help='where ceilings are cached'
+    )
+    ap.add_argument('--workers', type=number(int, 1, 256), default=1, help='worker processes')
+    return ap
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Compute (or find in the cache) every ceiling asked for; one line per damage case."""
+    args = build_parser().parse_args(argv)
+
+    def run() -> int:
+        archive = load_archive(args.archive or shipped_map(DEFAULT_MAP))
+        scenarios = args.scenarios
+        if scenarios is None:
+            scenarios = [] if args.damage else ['S1', 'S2', 'S3', 'S4']
+        cases = [(name, Damage.lifted(legs)) for name in scenarios for legs in scenario(name)]
+        cases += [('-', damage) for damage in args.damage]
+        for name, damage in cases:
+            t0 = time.monotonic()
+            if args.top:
+                guide = ceiling(archive, damage, args.guide_engine, args.cache_dir, args.workers)
+                c = approximate_ceiling(
+                    archive, damage, args.engine, guide, args.top, args.cache_dir, args.workers
+                )
+            else:
+                c = ceiling(archive, damage, args.engine, args.cache_dir, args.workers)
+            print(
+                f'{args.engine} {name} {damage.label}: ceiling {c.best_speed:.3f} m/s'
+                f' (gait {c.best_niche}), {len(c.speeds)} gaits, {time.monotonic() - t0:.0f} s',
+                flush=True,
+            )
+        return 0
+
+    return run_command('ceiling', run, 'finished damage cases are cached; run again to go on')
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,182 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+What one ``adapt`` request does around M-BOA, without ROS (adapt_node calls it).
+
+The trials' timing in each mode, the trial procedure of each mode, the damage-informed prior
+with its progress, and the lines a run logs. The node converts messages and parameters; the
+decisions are here, tested without a graph.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Callable, Sequence
+
+from hexapod_adapt.mapping.archive import Archive
+from hexapod_adapt.mapping.simulation import archive_engine
+from hexapod_adapt.online.adaptation import AdaptationResult
+from hexapod_adapt.online.mboa import MboaConfig, Trial
+from hexapod_adapt.online.prior import damage_prior
+from hexapod_adapt.online.trials import (
+    ManualTrials,
+    OdomLog,
+    reported_distance_problem,
+    RobotTrials,
+    SimTrials,
+    TrialPort,
+    TrialTiming,
+    Waiter,
+)
+from hexapod_sim.damage import Damage
+import numpy as np
+
+Log = Callable[[str], None]
+#: A run's trial procedure, one per mode.
+TrialProcedure = SimTrials | RobotTrials | ManualTrials
+
+
+def trial_walk(
+    mode: str, duration: float, settle: float, bridge: tuple[float, float] | None, warn: Log
+) -> tuple[float, float]:
+    """
+    Return (timed, settling) seconds of a run's trials.
+
+    Sim mode: ``duration`` and the node's ``settle``. On the robot, what bridge_node walks
+    (``bridge``: its trial_duration and trial_settle, one home for them); ``duration`` from
+    standing if it did not say.
+    """
+    if mode == 'sim':
+        return duration, settle
+    if bridge is None:
+        warn(
+            'bridge_node did not say how it walks a trial (its trial_duration and'
+            f' trial_settle): assuming {duration:g} s from standing'
+        )
+        return duration, 0.0
+    if abs(bridge[0] - duration) > 1e-6:
+        warn(
+            f'trials of {duration:g} s were asked for, but bridge_node walks {bridge[0]:g} s'
+            ' timed: its trial_duration is used (set it on bridge_node to change a robot trial)'
+        )
+    return bridge
+
+
+def trial_procedure(
+    mode: str, port: TrialPort, odom: OdomLog, waiter: Waiter, timing: TrialTiming, warn: Log
+) -> TrialProcedure:
+    """Return the trial function of ``mode`` (sim, robot or manual)."""
+    if mode == 'sim':
+        return SimTrials(port, odom, waiter, timing, warn)
+    if mode == 'robot':
+        return RobotTrials(port, odom, waiter, timing)
+    return ManualTrials(port, waiter, timing, warn)
+
+
+def rescored_prior(
+    archive: Archive,
+    damage: Damage | None,
+    source: str,
+    cache_dir: str | None,
+    read_dirs: Sequence,
+    workers: int,
+    log: Log,
+    progress_period: float = 5.0,
+) -> tuple[np.ndarray | None, str]:
+    """
+    Re-score the map under ``damage`` (None: the map as it is); return (speeds, what it is).
+
+    Progress goes to ``log`` every ``progress_period`` s and at the end.
+    """
+    if damage is None:
+        return None, source
+    engine = archive_engine(archive.metadata) or 'mujoco'
+    log(f'damage-informed prior from {source}: re-scoring {archive.n_filled} gaits on {engine}')
+    t0, shown = time.monotonic(), [0.0]
+
+    def progress(done: int, total: int) -> None:
+        if time.monotonic() - shown[0] >= progress_period or done == total:
+            shown[0] = time.monotonic()
+            log(
+                f're-scoring the map: {done}/{total} gaits ({100 * done / total:.0f} %),'
+                f' {time.monotonic() - t0:.0f} s'
+            )
+
+    prior = damage_prior(
+        archive,
+        damage,
+        engine,
+        cache_dir,
+        read_dirs=list(read_dirs),
+        workers=workers,
+        progress=progress,
+    )
+    return prior.speeds, f'{prior.describe()}, from {source}'
+
+
+def duplicate_problem(name: str, count: int) -> str:
+    """Say why a run cannot go on with ``count`` nodes named ``name`` ('' when one or none)."""
+    if count <= 1:
+        return ''
+    return (
+        f'{count} nodes named {name} are in the graph: trials would be ambiguous; stop the extra'
+        ' one (or rename it with --ros-args -r __node:=NAME) and call adapt again'
+    )
+
+
+def start_message(archive: Archive, config: MboaConfig, timing: TrialTiming, note: str) -> str:
+    """Return the line a run logs as it starts."""
+    return (
+        f'adaptation started: {archive.n_filled} gaits, at most {config.max_trials} trials '
+        f'of {timing.duration:g} s'
+        + (f' after {timing.settle:g} s of settling' if timing.settle else '')
+        + f', alpha {config.alpha:g}, kappa {config.kappa:g}'
+        + (f'; {note}' if note else '')
+    )
+
+
+def trial_message(trial: Trial, niche: int) -> str:
+    """Return the line a run logs after each trial."""
+    return (
+        f'trial {trial.number}: gait {niche} walked {trial.measured:.3f} m/s '
+        f'(map {trial.predicted:.3f}, GP {trial.gp_mean:.3f} +/- {trial.gp_std:.3f})'
+    )
+
+
+def report_distance(trials: TrialProcedure | None, distance: float) -> str:
+    """Hand an operator's measured distance [m] to a waiting manual trial; '' or why not."""
+    if isinstance(trials, ManualTrials):
+        return trials.report(distance)
+    return reported_distance_problem(distance) or 'no manual trial is waiting for a distance'
+
+
+def result_message(result: AdaptationResult, note: str, recording_problem: str) -> str:
+    """Return the adapt response's message: the run's, with the engine note and recording."""
+    message = result.message + (f' ({note})' if note else '')
+    return message + (f'; recording: {recording_problem}' if recording_problem else '')
+
+
+def finish_message(result: AdaptationResult) -> str:
+    """Return the line a run logs as it ends."""
+    return (
+        f'adaptation finished: {result.message}; {len(result.trials)} trials, best gait'
+        f' {result.best_niche} at {result.best_speed:.3f} m/s'
+    )

@@ -1,0 +1,76 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+r"""
+Make a repertoire's damage bank (:mod:`hexapod_navigation.step_bank`).
+
+    python -m hexapod_navigation.step_bank_cli --engine mujoco \\
+        --out hexapod_navigation/maps/navigation_bank.npz --workers 2
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+
+from hexapod_adapt.mapping.archive import load_archive
+from hexapod_description.cli import input_file, number, output_file, run_command
+from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
+from hexapod_navigation.step_bank import compute_step_bank, save_step_bank
+from hexapod_sim import ENGINES
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Compute a repertoire's step bank and write it."""
+    ap = argparse.ArgumentParser(
+        prog='step_bank',
+        description='Re-measure every repertoire step under each damage of the bank.',
+    )
+    ap.add_argument(
+        '--repertoire',
+        type=input_file,
+        default=None,
+        help='navigation repertoire (default: the shipped one)',
+    )
+    ap.add_argument('--engine', choices=ENGINES, default='mujoco')
+    ap.add_argument('--out', type=output_file, required=True, help='the bank file (.npz)')
+    ap.add_argument('--workers', type=number(int, 1, 256), default=1)
+    args = ap.parse_args(argv)
+
+    def run() -> int:
+        repertoire = Repertoire.from_archive(load_archive(args.repertoire or shipped_repertoire()))
+        t0, shown = time.monotonic(), [0.0]
+
+        def progress(done: int, total: int) -> None:
+            if time.monotonic() - shown[0] >= 10 or done == total:
+                shown[0] = time.monotonic()
+                print(f'{done}/{total} chunks, {time.monotonic() - t0:.0f} s', flush=True)
+
+        bank = compute_step_bank(repertoire, args.engine, workers=args.workers, progress=progress)
+        save_step_bank(args.out, bank, repertoire, args.engine)
+        print(f'wrote {args.out}: {len(bank)} damages x {len(repertoire)} steps', flush=True)
+        return 0
+
+    return run_command('step_bank', run, 'nothing was written; run it again')
+
+
+if __name__ == '__main__':
+    sys.exit(main())

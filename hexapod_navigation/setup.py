@@ -1,0 +1,58 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+from glob import glob
+
+from setuptools import find_packages, setup
+
+package_name = 'hexapod_navigation'
+
+setup(
+    name=package_name,
+    version='0.1.0',
+    packages=find_packages(exclude=['test']),
+    data_files=[
+        ('share/ament_index/resource_index/packages', [f'resource/{package_name}']),
+        (f'share/{package_name}', ['package.xml']),
+        (f'share/{package_name}/launch', glob('launch/*.py')),
+        # the navigation repertoire, its generation log and its damage bank
+        (
+            f'share/{package_name}/maps',
+            [m for m in glob('maps/*.npz') if not m.endswith('.ckpt.npz')]
+            + glob('maps/*.log.jsonl'),
+        ),
+    ],
+    install_requires=['setuptools'],
+    zip_safe=True,
+    maintainer='Hexapod adaptation team',
+    maintainer_email='hexapod-dev@example.com',
+    description=(
+        'The navigate action: a damaged hexapod walks to a goal over a repertoire of'
+        ' omnidirectional steps, learning how the damage bends them.'
+    ),
+    license='MIT',
+    entry_points={
+        'console_scripts': [
+            'navigate_node = hexapod_navigation.navigate_node:main',
+            'navigate_client = hexapod_navigation.navigate_client_cli:main',
+            'run_navigation = hexapod_navigation.run_navigation_cli:main',
+        ]
+    },
+)
