@@ -30,9 +30,9 @@ import time
 
 from conftest import status_log_qos, wait_for
 from diagnostic_msgs.msg import DiagnosticStatus
-from hexapod_bridge.bridge_node import reports_down_since
 from hexapod_bridge.emulator.robot_emulator_cli import radio_gone_times
 from hexapod_bridge.odometry import SPEED_ACCURACY
+from hexapod_bridge.ros_conversions import reports_down_since
 from hexapod_gait import preset
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_gait.ros_glue import EVENTS

@@ -20,7 +20,7 @@
 # OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
 # SOFTWARE.
 """
-How navigate's settings were chosen (docs/navigation.md, "Tuning").
+How navigate's settings were chosen (docs/studies/navigation.md, "Tuning").
 
 A grid of settings on the tuning goals (seed 100), never on the reported experiment's goals
 (seed 0).
@@ -43,7 +43,7 @@ import sys
 import numpy as np
 
 TUNING_GOAL_SEED = 100
-#: Run on 2026-11-22 (docs/navigation.md has the table), from the defaults of the time: no bank,
+#: Run on 2026-11-22 (docs/studies/navigation.md), from the defaults of the time: no bank,
 #: optimism 1, min_stance_legs 0 (since set to 3, the winner).
 STANCE_BASE = {
     'use_bank': False,
@@ -62,7 +62,7 @@ GRID = (
     {'min_stance_legs': 4, 'length_scale': 0.3},
     {'min_stance_legs': 4, 'signal_std_xy': 0.4},
 )
-#: Run on 2026-11-23 (docs/navigation.md, "Damage bank"), from the defaults of the time (no bank,
+#: Run on 2026-11-23 (docs/studies/navigation.md, "Damage bank"), from the then defaults (no bank,
 #: optimism 1, min_stance_legs 3): the bank off and on, then on with the planner's optimism and
 #: the GP's spread lowered (the bank already explains much of the damage). The rule, fixed
 #: before: the highest damaged success rate, then the lowest damaged median walking time.
@@ -81,14 +81,14 @@ GRID_BANK = (
     {'use_bank': True, 'signal_std_xy': 0.1},
 )
 
-#: Run on 2026-11-23 (docs/navigation.md, "Planner and repertoire"), from the defaults of the
-#: time (the bank, optimism 0, min_stance_legs 3, the 'nearest' planner, every hypothesis alike),
-#: after a new gait's transition came on top of its step instead of inside it, on the shipped
-#: repertoire and on one evolved with only 3-feet gaits (--repertoire, --bank): the 'nearest'
-#: planner against the 'time' planner (it counts a gait change's transition and stops mid-step at
-#: the goal), and a prior weight on "intact" among the bank's hypotheses. The rule, fixed before
-#: the runs, as for the bank: the highest damaged success rate, then the lowest damaged median
-#: walking time.
+#: Run on 2026-11-23 (docs/studies/navigation.md, "Planner and repertoire"), from the then
+#: defaults (the bank, optimism 0, min_stance_legs 3, the 'nearest' planner, every hypothesis
+#: alike), after a new gait's transition came on top of its step instead of inside it, on the
+#: shipped repertoire and on one evolved with only 3-feet gaits (--repertoire, --bank): the
+#: 'nearest' planner against the 'time' planner (it counts a gait change's transition and stops
+#: mid-step at the goal), and a prior weight on "intact" among the bank's hypotheses. The rule,
+#: fixed before the runs, as for the bank: the highest damaged success rate, then the lowest
+#: damaged median walking time.
 PLANNER_BASE = {
     'use_bank': True,
     'optimism': 0.0,
@@ -110,7 +110,7 @@ GRID_PLANNER = (
     {'min_stance_legs': 4},
     {'planner': 'time', 'min_stance_legs': 4},
 )
-#: Run on 2026-11-23 (docs/navigation.md, "Known models"), from the defaults of the time (the
+#: Run on 2026-11-23 (docs/studies/navigation.md, "Known models"), from the then defaults (the
 #: 'time' planner, every hypothesis alike): the bank's hypotheses barely told apart (a GP of
 #: 0.2 m plus a linear part explains any step's residual, so after six steps of an intact robot
 #: every weight was still 0.06 against 0.045 at the start), against known models with a tight
@@ -135,7 +135,7 @@ GRID_KNOWN = (
     {'known_std_xy': 0.05, 'prior_intact': 0.3},
     {'known_std_xy': 0.05, 'prior_unknown': 0.5},
 )
-#: Run on 2026-11-23 (docs/navigation.md, "Rest of the way"), from the defaults of the time
+#: Run on 2026-11-23 (docs/studies/navigation.md, "Rest of the way"), from the then defaults
 #: (known models): the speed the 'time' planner assumes for the rest of the way, the longest
 #: predicted step in any direction ('fastest') or the most progress toward the goal ('toward'),
 #: after a robot with legs locked where they stood marked time in place until its time limit.

@@ -21,36 +21,22 @@
 """
 ``ros2 run hexapod_bridge bridge_node``: the base station's link to the real hexapod.
 
-Subscribes  gait/parameters   hexapod_msgs/GaitParameters (latched): uploaded to the robot
-                              (gait-upload extension, acknowledged and retried)
-Publishes   imu/data          sensor_msgs/Imu: from the Xsens on ``imu_port`` at its rate, or
-                              the robot's 2 Hz attitude telemetry (orientation only)
-            odom              nav_msgs/Odometry: one message per trial, the IMU estimate of the
-                              displacement since the trial started (odom frame = the robot's
-                              pose at the start), orientation = the heading change over the
-                              trial, twist = mean velocity, covariances = the estimate's stated
-                              accuracy
-            ~/link_status     hexapod_msgs/LinkStatus at ``status_rate``
-            bridge/status     diagnostic_msgs/DiagnosticStatus (latched): uploads, trials, errors
-            servo_failures    hexapod_msgs/ServoFailure (the last 64 kept for late joiners): a
-                              servo that did not answer the robot's ping (FF FD 0B <id>), with
-                              its leg in both numberings; the robot checks its servos at
-                              start-up, after every walk and after a HELLO (~/check_servos). A
-                              report naming a servo the robot does not have is logged, never
-                              published
-Services    ~/arm             std_srvs/SetBool: nothing is transmitted unless armed
-            ~/upload_gait     hexapod_msgs/UploadGait: upload, answer when the robot acknowledged
-            ~/start_trial     std_srvs/Trigger: walk the uploaded gait ``trial_settle`` s, then
-                              ``trial_duration`` s timed
-            ~/stop_trial      std_srvs/Trigger
-            ~/emergency_stop  std_srvs/Trigger: always transmitted (armed or not), then disarms
-            ~/motor_power     std_srvs/SetBool: servo power; on also clears a latched e-stop
-            ~/check_servos    std_srvs/Trigger: HELLO; answers with the robot's protocol version
-                              once it replied, after which the robot pings its servos
+Uploads each ``gait/parameters`` (latched) to the robot (gait-upload extension, acknowledged and
+retried). Publishes ``imu/data`` (the Xsens on ``imu_port``, or the robot's 2 Hz attitude),
+``odom`` (one message per trial: the IMU estimate of the displacement since the trial started, in
+the frame it started in; twist = mean velocity; covariances = the estimate's accuracy),
+``~/link_status`` at ``status_rate``, ``bridge/status`` (latched) and ``servo_failures`` (the last
+64 kept): a servo that did not answer the robot's ping (``FF FD 0B <id>``), checked at start-up,
+after every walk and after ``~/check_servos``; an id the robot does not have is logged, never
+published.
+
+Services: ``~/arm`` (nothing is transmitted unless armed), ``~/upload_gait`` (answers once the
+robot acknowledged), ``~/start_trial`` (walk ``trial_settle`` s, then ``trial_duration`` s
+timed), ``~/stop_trial``, ``~/emergency_stop`` (always transmitted, then disarms),
+``~/motor_power`` (on also clears a latched e-stop), ``~/check_servos`` (HELLO).
 
 After an emergency stop the robot refuses trials (ESTOPPED) until, in this order:
-``~/arm true`` (the bridge transmits again), ``~/motor_power true`` (servos powered, e-stop
-cleared), and a gait upload; then ``~/start_trial`` works again.
+``~/arm true``, ``~/motor_power true`` and a gait upload; then ``~/start_trial`` works again.
 """
 
 from __future__ import annotations
@@ -62,11 +48,10 @@ import threading
 import time
 
 from diagnostic_msgs.msg import DiagnosticStatus
+from hexapod_bridge import ros_conversions as conv
 from hexapod_bridge.link import Operation
-from hexapod_bridge.odometry import SPEED_ACCURACY
-from hexapod_bridge.servos import SERVO_IDS, servo_place
+from hexapod_bridge.reports import Report, servo_report, Severity, trial_report
 from hexapod_bridge.station import BaseStation, StationConfig, TrialResult
-from hexapod_description.tf_tree import quat_from_rpy
 from hexapod_gait.parameters import GaitParameterError
 from hexapod_gait.ros_conversions import gait_from_msg
 from hexapod_gait.ros_glue import (
@@ -92,6 +77,12 @@ from sensor_msgs.msg import Imu
 from std_srvs.srv import SetBool, Trigger
 from tf2_msgs.msg import TFMessage
 
+#: bridge/status's level of each report's severity.
+LEVELS = {
+    Severity.OK: DiagnosticStatus.OK,
+    Severity.WARN: DiagnosticStatus.WARN,
+    Severity.ERROR: DiagnosticStatus.ERROR,
+}
 #: The station's settings (StationConfig's fields), then the node's own.
 PARAMETERS = tuple(
     ParamSpec(
@@ -293,98 +284,40 @@ class BridgeNode(Node):
         if result is not None:
             self._report_trial(result)
 
+    def _report(self, report: Report) -> None:
+        self._status(LEVELS[report.severity], report.text, **report.values)
+
     def _on_servo_failure(self, servo: int) -> None:
-        place = servo_place(servo)
-        if place is None:  # a corrupted report, or firmware that numbers servos differently
+        r = servo_report(servo, self.station.config.leg_map)
+        if r.leg is None:
             self.unknown_servo_reports += 1
-            self.get_logger().warning(
-                f'robot reports servo {servo} failed its ping, but the robot has no servo {servo}'
-                f' (ids {SERVO_IDS[0]}..{SERVO_IDS[-1]}): no leg is marked failed'
-            )
+            self.get_logger().warning(r.report.text)
             return
-        leg = self.station.config.leg_map.index(place.robot_leg) + 1
-        msg = ServoFailure(servo_id=servo, robot_leg=place.robot_leg, leg=leg, joint=place.joint)
+        msg = ServoFailure(servo_id=servo, robot_leg=r.robot_leg, leg=r.leg, joint=r.joint)
         msg.header.stamp = self.get_clock().now().to_msg()
         msg.header.frame_id = self.frames['base']
         self.servo_pub.publish(msg)
-        self._status(
-            DiagnosticStatus.ERROR,
-            f'servo {servo} ({place.joint} of leg {leg}, robot leg {place.robot_leg}) did not'
-            ' answer its ping',
-            servo=str(servo),
-            leg=str(leg),
-        )
+        self._report(r.report)
 
     def _report_trial(self, r: TrialResult) -> None:
-        if r.estimate is None:
-            if self.station.imu_port is None:
-                self._status(
-                    DiagnosticStatus.WARN,
-                    'trial finished; no IMU configured: enter the measured distance '
-                    "by hand (adapt node's distance entry)",
-                    state=r.state,
-                )
-            else:
-                self._status(
-                    DiagnosticStatus.ERROR, f'trial finished but {r.problem}', state=r.state
-                )
-            return
-        odom = Odometry()
-        odom.header.stamp = self.get_clock().now().to_msg()
-        odom.header.frame_id, odom.child_frame_id = self.frames['odom'], self.frames['base']
-        odom.pose.pose.position.x, odom.pose.pose.position.y = r.x, r.y
-        # the orientation is the heading change over the trial (the IMU's yaw)
-        odom.pose.pose.orientation.z = math.sin(r.yaw / 2.0)
-        odom.pose.pose.orientation.w = math.cos(r.yaw / 2.0)
-        # pose: the whole walk; twist: the mean velocity over the timed part (a trial's speed)
-        odom.twist.twist.linear.x, odom.twist.twist.linear.y = r.vx, r.vy
-        walked = max(r.walk, r.duration)  # the pose covers the whole walk, settling included
-        odom.pose.covariance[0] = odom.pose.covariance[7] = (SPEED_ACCURACY * walked) ** 2
-        odom.twist.covariance[0] = odom.twist.covariance[7] = SPEED_ACCURACY**2
-        self.odom_pub.publish(odom)
-        self.tf_pub.publish(TFMessage(transforms=[odom_transform(odom)]))
-        est = r.estimate
-        self._status(
-            DiagnosticStatus.OK,
-            f'trial {r.state.lower()}: {est.distance:.3f} m, {est.speed:.3f} m/s '
-            f'(IMU estimate, +/-{SPEED_ACCURACY} m/s)',
-            distance=f'{est.distance:.4f}',
-            speed=f'{est.speed:.4f}',
-            samples=est.samples,
-            drift_removed=f'{est.drift_velocity:.3f}',
-            state=r.state,
-        )
+        if r.estimate is not None:
+            now = self.get_clock().now().to_msg()
+            odom = conv.trial_odometry(r, now, self.frames['odom'], self.frames['base'])
+            self.odom_pub.publish(odom)
+            self.tf_pub.publish(TFMessage(transforms=[odom_transform(odom)]))
+        self._report(trial_report(r, self.station.imu_port is not None))
 
     def _publish_imu(self, m) -> None:
-        msg = Imu()
-        msg.header.stamp = self.get_clock().now().to_msg()
-        msg.header.frame_id = self.frames['imu']
-        q = quat_from_rpy(*(math.radians(v) for v in m.euler))
-        msg.orientation.x, msg.orientation.y, msg.orientation.z, msg.orientation.w = q
-        av, la = msg.angular_velocity, msg.linear_acceleration
-        av.x, av.y, av.z = (float(v) for v in m.gyr)
-        la.x, la.y, la.z = (float(v) for v in m.acc)
-        self.imu_pub.publish(msg)
+        now = self.get_clock().now().to_msg()
+        self.imu_pub.publish(conv.xsens_imu(m, now, self.frames['imu']))
 
     def _publish_attitude(self, t) -> None:
-        msg = Imu()
-        msg.header.stamp = self.get_clock().now().to_msg()
-        msg.header.frame_id = self.frames['base']
-        q = quat_from_rpy(t.roll, t.pitch, t.yaw)
-        msg.orientation.x, msg.orientation.y, msg.orientation.z, msg.orientation.w = q
-        msg.angular_velocity_covariance[0] = -1.0  # not provided by the telemetry
-        msg.linear_acceleration_covariance[0] = -1.0
-        self.imu_pub.publish(msg)
+        now = self.get_clock().now().to_msg()
+        self.imu_pub.publish(conv.attitude_imu(t, now, self.frames['base']))
 
     def shutdown(self) -> None:
         """Stop the I/O threads and close the ports (called by run_node)."""
         self.station.stop()
-
-
-def reports_down_since(status: LinkStatus, wall_time: float) -> bool:
-    """Return True if ``status`` says "not connected" and was stamped after ``wall_time`` [s]."""
-    stamp = status.header.stamp.sec + status.header.stamp.nanosec * 1e-9
-    return not status.connected and stamp > wall_time
 
 
 def main(args: list[str] | None = None) -> int:

@@ -84,6 +84,11 @@ STATUS_LOG = QoSProfile(
 ODOM = QoSProfile(
     history=HistoryPolicy.KEEP_LAST, depth=5000, reliability=ReliabilityPolicy.RELIABLE
 )
+#: Poses read for the newest one (navigation): the last few only, so that a reader that falls
+#: behind skips stale poses instead of working through a backlog of thousands.
+POSES = QoSProfile(
+    history=HistoryPolicy.KEEP_LAST, depth=10, reliability=ReliabilityPolicy.RELIABLE
+)
 #: Events a late joiner must still see (servo-failure reports): reliable, the last 64 kept.
 EVENTS = QoSProfile(
     depth=64, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE
@@ -141,6 +146,14 @@ class ParamSpec:
         if self.read_only:
             extra.append('read-only')
         return f'  {self.name} ({"; ".join(extra)}): {self.description}'
+
+
+def param_specs(settings: Sequence[Any]) -> tuple[ParamSpec, ...]:
+    """Return node parameters from ROS-free settings (name, default, description, flags, range)."""
+    return tuple(
+        ParamSpec(s.name, s.default, s.description, read_only=s.read_only, range=s.range)
+        for s in settings
+    )
 
 
 def declare(node: Node, specs: Sequence[ParamSpec]) -> dict[str, Any]:

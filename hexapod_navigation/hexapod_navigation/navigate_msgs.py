@@ -18,17 +18,26 @@
 # LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
 # OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
 # SOFTWARE.
-"""Conversions between the navigator's types and ROS messages (Navigate's outcome codes, poses)."""
+"""The navigator's ROS glue: conversions to and from messages, and the bodies' graph port."""
 
 from __future__ import annotations
 
 import math
+import time
 
-from builtin_interfaces.msg import Time
+from builtin_interfaces.msg import Duration, Time
 from geometry_msgs.msg import PoseStamped
+from hexapod_adapt.ros.graph_port import GraphPort
+from hexapod_gait import GaitParameters
+from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_msgs.action import Navigate
-from hexapod_navigation.episode import Outcome
+from hexapod_navigation.bodies import PoseSample
+from hexapod_navigation.episode import Feedback, NavigationResult, Outcome
 from hexapod_navigation.planner import Pose2D
+from hexapod_sim.simulator import quat_to_euler
+from nav_msgs.msg import Odometry
+from rclpy.client import Client
+from visualization_msgs.msg import Marker
 
 #: Navigate.Result's outcome constant of each library outcome.
 OUTCOME_CODES = {
@@ -48,3 +57,91 @@ def pose_msg(pose: Pose2D, stamp: Time, frame: str = 'odom') -> PoseStamped:
     msg.pose.orientation.z = math.sin(pose.yaw / 2.0)
     msg.pose.orientation.w = math.cos(pose.yaw / 2.0)
     return msg
+
+
+def pose_sample(msg: Odometry | PoseStamped) -> PoseSample:
+    """Return a pose message (Odometry or PoseStamped) as the navigator's pose sample."""
+    pose = msg.pose.pose if isinstance(msg, Odometry) else msg.pose
+    p, q = pose.position, pose.orientation
+    roll, pitch, yaw = quat_to_euler((q.x, q.y, q.z, q.w))
+    stamp = msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec
+    return PoseSample(stamp, Pose2D(p.x, p.y, yaw), time.monotonic(), roll, pitch)
+
+
+def goal_marker(x: float, y: float, tolerance: float, stamp: Time) -> Marker:
+    """Return the goal circle (a flat cylinder of the tolerance's radius) in ``odom``."""
+    m = Marker(ns='navigate', id=0, type=Marker.CYLINDER, action=Marker.ADD)
+    m.header.frame_id, m.header.stamp = 'odom', stamp
+    m.pose.position.x, m.pose.position.y, m.pose.orientation.w = x, y, 1.0
+    m.scale.x = m.scale.y = 2.0 * tolerance
+    m.scale.z = 0.02
+    m.color.r, m.color.g, m.color.a = 0.1, 0.8, 0.6
+    return m
+
+
+def duration_msg(seconds: float) -> Duration:
+    """Return ``seconds`` as a builtin_interfaces/Duration."""
+    ns = int(seconds * 1e9)
+    return Duration(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000)
+
+
+def feedback_msg(f: Feedback, stamp: Time) -> Navigate.Feedback:
+    """Return the action's feedback after a step."""
+    msg = Navigate.Feedback(distance_remaining=f.distance_left, steps=f.steps)
+    msg.current_pose = pose_msg(f.pose, stamp)
+    msg.prediction_error = f.prediction_error
+    msg.navigation_time = duration_msg(f.walking_time)
+    return msg
+
+
+def result_msg(
+    result: NavigationResult, goal: tuple[float, float], recording: str, stamp: Time
+) -> Navigate.Result:
+    """Return the action's result of an episode that ran (``recording``: its MCAP file or '')."""
+    out = Navigate.Result(recording=recording)
+    out.reached, out.reason = result.reached, result.reason
+    out.outcome = OUTCOME_CODES[result.outcome]
+    out.walking_time, out.path_length, out.steps = (
+        result.walking_time,
+        result.path_length,
+        result.steps,
+    )
+    out.distance_left = result.end.distance_to(*goal)
+    out.final_pose = pose_msg(result.end, stamp)
+    return out
+
+
+class GraphNavigationPort:
+    """The bodies' :class:`~hexapod_navigation.bodies.NavigationPort` over a GraphPort."""
+
+    def __init__(self, port: GraphPort, stop_client: Client) -> None:
+        self.port, self.stop_client = port, stop_client
+
+    def publish_gait(self, gait: GaitParameters) -> int:
+        """Publish a gait with a unique stamp; return the stamp [ns]."""
+        msg = gait_to_msg(gait)
+        stamp = self.port.stamp(msg)
+        self.port.publish(msg)
+        return stamp
+
+    def active_stamp(self) -> int | None:
+        """Return the stamp of the gait sim_node plays."""
+        return self.port.active_stamp()
+
+    def activated_at(self, stamp: int) -> int | None:
+        """Return the simulation time [ns] the gait stamped ``stamp`` took effect."""
+        return self.port.activated_at(stamp)
+
+    def upload(self, gait: GaitParameters, timeout: float) -> tuple[bool, str]:
+        """Upload through bridge_node."""
+        answer = self.port.upload_msg(gait_to_msg(gait), timeout)
+        return answer.success, answer.message
+
+    def start_trial(self) -> tuple[bool, str]:
+        """Start a trial on the robot."""
+        return self.port.start_trial()
+
+    def stop_trial(self) -> tuple[bool, str]:
+        """Stop the robot's trial."""
+        answer = self.port.call(self.stop_client, 'stop the trial', timeout=2.0)
+        return answer.success, answer.message

@@ -25,15 +25,12 @@ Reset-free trial and error (Chatzilygeroudis, Vassiliades and Mouret 2018), adap
 crab-walking hexapod:
 
 * a :class:`~hexapod_navigation.repertoire.Repertoire` of omnidirectional gaits, each indexed by
-the
-  displacement one step (one execution, ``step_duration`` s) gives the intact robot;
+  the displacement one step (one execution, ``step_duration`` s) gives the intact robot;
 * :class:`CorrectionGP`: one Gaussian process per displacement dimension (x, y, heading) over
   the repertoire's descriptor, learning from every step how the damage changes the steps;
 * a planner (:class:`RepertoirePolicy`) that picks the step whose predicted end lies nearest
   the goal, from the pose the robot is actually in;
-* :func:`run_episode`, the loop shared by the experiment (:class:`SimBody`, a simulator) and the
-  ``navigate`` action (a body over the ROS graph). It stops as soon as the robot is within the
-  tolerance, the walking time is spent, the robot leaves the arena, or the caller cancels.
+* :func:`hexapod_navigation.episode.run_episode` walks a body with them (the loop, its bodies).
 
 The baseline :class:`SteeredTripod` is what the robot's firmware can do: the control tripod,
 steered every cycle toward the goal in the nearest of its eight crab directions.

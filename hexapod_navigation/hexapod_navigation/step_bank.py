@@ -46,7 +46,7 @@ from pathlib import Path
 from typing import Callable, Sequence
 import zipfile
 
-from hexapod_adapt.mapping.archive import atomic_write_bytes
+from hexapod_adapt.mapping.archive import ArchiveError, atomic_write_bytes, load_archive
 from hexapod_adapt.mapping.maps import shipped_map
 from hexapod_adapt.mapping.simulation import worker_simulator
 from hexapod_adapt.mapping.steps import repertoire_fingerprint
@@ -177,3 +177,25 @@ def load_step_bank(
 def shipped_step_bank() -> Path:
     """Return where the shipped repertoire's bank is (installed, else the source tree)."""
     return shipped_map(NAVIGATION_BANK, PACKAGE)
+
+
+@dataclass(frozen=True)
+class NavigationData:
+    """A repertoire and its damage bank as loaded, with why either is missing."""
+
+    repertoire: Repertoire | None
+    bank: StepBank | None
+    problem: str  # why there is no repertoire ('' if there is one)
+    no_bank: str  # why there is no bank ('' if there is one)
+
+
+def load_navigation(
+    repertoire_path: str | os.PathLike, bank_path: str | os.PathLike
+) -> NavigationData:
+    """Load a repertoire and the damage bank made for it; a bad file is said, never raised."""
+    try:
+        repertoire = Repertoire.from_archive(load_archive(repertoire_path))
+    except ArchiveError as exc:
+        return NavigationData(None, None, f'no navigation repertoire: {exc}', '')
+    bank, why = load_step_bank(bank_path, repertoire, repertoire.engine)
+    return NavigationData(repertoire, bank, '', why)

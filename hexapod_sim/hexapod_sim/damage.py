@@ -256,3 +256,10 @@ def damage_from_lists(
             value = DEFAULT_WEAK_STRENGTH if kind == 'weak' else 1.0
         out.append(LegDamage(leg, kind, value))
     return Damage(tuple(out))
+
+
+def applied_message(damage: Damage) -> str:
+    """Say what damage the simulator now has (the thesis's lifted legs by their numbers)."""
+    if damage.thesis:
+        return f'failed legs: {list(damage.failed_legs) or "none"}'
+    return f'damage: {damage.label}'

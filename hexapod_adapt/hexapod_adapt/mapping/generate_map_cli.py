@@ -26,8 +26,9 @@ Thin front end of hexapod_adapt.mapping.generate.
     ros2 run hexapod_adapt generate_map --out maps/map_s1.npz --niches 10000 \\
         --evaluations 1000000 --seed 1                         # all local cores
     generate_map ... --backend dask --scheduler tcp://head:8786  # a Dask cluster (dask-jobqueue)
-    mpiexec -n 64 python -m mpi4py.futures -m hexapod_adapt.mapping.generate_map_cli ... --backend
-    mpi generate_map ... --resume                                    # continue after a queue limit
+    mpiexec -n 64 python -m mpi4py.futures -m hexapod_adapt.mapping.generate_map_cli ... \\
+        --backend mpi
+    generate_map ... --resume                                    # continue after a queue limit
     generate_map --kind navigation --out maps/navigation.npz ...  # a navigation repertoire
 """
 

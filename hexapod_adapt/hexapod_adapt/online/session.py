@@ -28,6 +28,7 @@ decisions are here, tested without a graph.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 import time
 from typing import Callable, Sequence
 
@@ -50,6 +51,19 @@ from hexapod_sim.damage import Damage
 import numpy as np
 
 Log = Callable[[str], None]
+
+
+@dataclass(frozen=True)
+class RunRequest:
+    """One adapt request, checked: M-BOA's settings, the trial length, the prior's damage."""
+
+    config: MboaConfig
+    duration: float  # s timed per trial, as asked for
+    damage: Damage | None  # the prior's damage (None: the map as it is)
+    source: str  # where the damage comes from, or why there is none
+    auto: bool  # the damage is whatever is reported (not named by the request, not blind)
+
+
 #: A run's trial procedure, one per mode.
 TrialProcedure = SimTrials | RobotTrials | ManualTrials
 

@@ -46,7 +46,6 @@ from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.maps import shipped_ceilings
 from hexapod_adapt.online import session
 from hexapod_adapt.online.adaptation import adapt, TrialAborted
-from hexapod_adapt.online.mboa import MboaConfig
 from hexapod_adapt.online.prior import KnownDamage
 from hexapod_adapt.online.run_config import (
     ArchiveSlot,
@@ -72,23 +71,19 @@ from hexapod_gait.ros_glue import (
     EVENTS,
     LATCHED,
     nodes_named,
-    ParamSpec,
+    param_specs,
     run_node,
     watch_for_duplicates,
 )
 from hexapod_msgs.msg import AdaptationTrial, LegDamage, ServoFailure
 from hexapod_msgs.srv import Adapt, ReportDistance
-from hexapod_sim.damage import Damage
 from rcl_interfaces.msg import SetParametersResult
 import rclpy
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.node import Node
 from std_srvs.srv import Trigger
 
-PARAMETERS = tuple(
-    ParamSpec(x.name, x.default, x.description, read_only=x.read_only, range=x.range)
-    for x in SETTINGS
-)
+PARAMETERS = param_specs(SETTINGS)
 
 
 class AdaptNode(Node):
@@ -206,8 +201,9 @@ class AdaptNode(Node):
             response.success, response.message = False, problem
             return response
         auto = not request.failed_legs and not request.blind  # the damage as reported
+        run = session.RunRequest(config, duration, damage, source, auto)
         try:
-            return self._run(self.slot.archive, config, duration, response, damage, source, auto)
+            return self._run(self.slot.archive, run, response)
         except Exception as exc:  # noqa: BLE001 - the service must answer and the node stay up
             self.get_logger().error(
                 f'adaptation failed unexpectedly: {type(exc).__name__}: {exc}\n'
@@ -222,22 +218,16 @@ class AdaptNode(Node):
 
     # -- a run ------------------------------------------------------------------------------
     def _run(
-        self,
-        archive: Archive,
-        config: MboaConfig,
-        duration: float,
-        response: Adapt.Response,
-        damage: Damage | None = None,
-        source: str = '',
-        auto: bool = False,
+        self, archive: Archive, run: session.RunRequest, response: Adapt.Response
     ) -> Adapt.Response:
         """
-        Run one adaptation; ``damage`` and ``source``: its prior (None: the map as it is).
+        Run one adaptation, M-BOA starting from the map re-scored under ``run.damage``.
 
-        ``auto``: the damage is whatever is reported. In sim mode the simulator reports it at
+        ``run.auto``: the damage is whatever is reported. In sim mode the simulator reports it at
         start-up (latched), and a request can come before that arrives: the run then waits for it
         as it waits for /clock, and takes the prior from it.
         """
+        config, duration, damage, source = run.config, run.duration, run.damage, run.source
         record_dir = self._param('record_dir')
         timeout = float(self._param('trial_timeout'))
         warn = self.get_logger().warning
@@ -256,7 +246,7 @@ class AdaptNode(Node):
                     timeout,
                     '/clock (is sim_node running?)',
                 )
-            if auto and self.mode == 'sim':
+            if run.auto and self.mode == 'sim':
                 # what the simulator holds now: a SetLegFailure just before this request may not
                 # have reached us on sim/damage yet (an older sim_node: wait for the topic)
                 now = self.port.sim_damage(timeout)

@@ -38,10 +38,12 @@ import math
 import os
 import struct
 import subprocess
+import time
 
 from hexapod_bridge import extension as ext
 from hexapod_bridge import legacy
 from hexapod_bridge.emulator.firmware import FirmwareTiming, param_range, RobotFirmware
+from hexapod_bridge.stream import HostParser
 from hexapod_gait import from_genotype, GENOTYPE_SIZE
 from hexapod_gait.parameters import from_omni_genotype, OMNI_GENOTYPE_SIZE
 from hexapod_gait.trajectory import reachable_key_points
@@ -563,8 +565,6 @@ class FuzzResult:
 
 def _count_reports(lines: list[str]) -> tuple[int, int]:
     """Return (accepted COMMITs, started walks) in a model output."""
-    from hexapod_bridge.stream import HostParser
-
     parser, commits, walks = HostParser(), 0, 0
     for line in lines:
         if not line.startswith('E ') or line.split()[1] == '-':
@@ -581,8 +581,6 @@ def _count_reports(lines: list[str]) -> tuple[int, int]:
 
 def fuzz(seed: int, frames: int, dead_servos: frozenset[int] = frozenset()) -> FuzzResult:
     """Run one seeded fuzz script through the model and the module and compare them."""
-    import time
-
     t0 = time.monotonic()
     script = fuzz_script(seed, frames, dead_servos)
     model = run_model(script)

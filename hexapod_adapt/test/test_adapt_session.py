@@ -1,0 +1,93 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""What adapt_node decides around M-BOA, checked without ROS (online.session, run_config)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from hexapod_adapt.mapping.maps import DEMO_MAP, shipped_map
+from hexapod_adapt.online import session
+from hexapod_adapt.online.adaptation import AdaptationResult
+from hexapod_adapt.online.run_config import ArchiveSlot, settings_problem
+from hexapod_adapt.online.trials import MODES
+
+
+def test_sim_trials_walk_what_was_asked_and_robot_trials_what_the_bridge_walks():
+    said: list[str] = []
+    assert session.trial_walk('sim', 5.0, 1.0, None, said.append) == (5.0, 1.0)
+    assert session.trial_walk('robot', 5.0, 0.0, (5.0, 0.5), said.append) == (5.0, 0.5)
+    assert not said
+    assert session.trial_walk('robot', 3.0, 0.0, (5.0, 0.0), said.append) == (5.0, 0.0)
+    assert 'bridge_node walks 5 s timed: its trial_duration is used' in said[-1]
+    assert session.trial_walk('manual', 4.0, 0.0, None, said.append) == (4.0, 0.0)
+    assert 'assuming 4 s from standing' in said[-1]
+
+
+def test_a_name_taken_twice_stops_a_run_and_one_does_not():
+    assert session.duplicate_problem('/sim_node', 1) == ''
+    assert session.duplicate_problem('/sim_node', 0) == ''
+    assert session.duplicate_problem('/sim_node', 2).startswith('2 nodes named /sim_node')
+
+
+def test_a_distance_without_a_manual_trial_is_refused_with_the_reason():
+    assert session.report_distance(None, 1.0) == 'no manual trial is waiting for a distance'
+    assert 'not a plausible trial distance' in session.report_distance(None, float('nan'))
+
+
+def test_the_response_says_the_engine_gap_and_a_recording_problem():
+    result = AdaptationResult(success=True, message='stopped: alpha reached')
+    assert session.result_message(result, '', '') == 'stopped: alpha reached'
+    text = session.result_message(result, 'map made on mujoco', 'disk full')
+    assert text == 'stopped: alpha reached (map made on mujoco); recording: disk full'
+
+
+def test_a_bad_archive_keeps_the_last_good_one(tmp_path: Path):
+    slot = ArchiveSlot('sim', MODES)
+    assert slot.load(str(shipped_map(DEMO_MAP))) == ''
+    good = slot.archive
+    assert good is not None and 'gaits in' in slot.describe()
+    broken = tmp_path / 'broken.npz'
+    broken.write_bytes(b'not a map')
+    problem = slot.load(str(broken))
+    assert problem and slot.archive is good and slot.problem == ''
+
+
+def test_an_unknown_mode_leaves_the_node_without_an_archive_for_good():
+    slot = ArchiveSlot('telepathy', MODES)
+    assert not slot.usable
+    assert 'parameter mode must be one of sim, robot, manual' in slot.load('')
+    assert slot.archive is None and slot.describe() == slot.problem
+
+
+def test_run_settings_are_checked_by_the_request_rules():
+    good = {
+        'max_trials': 20,
+        'trial_duration': 5.0,
+        'alpha': 0.9,
+        'kappa': 0.05,
+        'length_scale': 0.4,
+        'noise': 0.001,
+        'profile': 'default',
+    }
+    assert settings_problem(good) == ''
+    assert settings_problem({**good, 'trial_duration': -1.0})
+    assert settings_problem({**good, 'profile': 'nonsense'})

@@ -1,0 +1,82 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""bridge_node's messages from what the station hears (no rclpy: message types only)."""
+
+from __future__ import annotations
+
+import math
+
+from builtin_interfaces.msg import Time
+from hexapod_bridge.odometry import SPEED_ACCURACY
+from hexapod_bridge.station import TrialResult
+from hexapod_description.tf_tree import quat_from_rpy
+from hexapod_msgs.msg import LinkStatus
+from nav_msgs.msg import Odometry
+from sensor_msgs.msg import Imu
+
+
+def trial_odometry(r: TrialResult, stamp: Time, odom_frame: str, base_frame: str) -> Odometry:
+    """
+    Return a trial's odometry: the displacement since it started, in the frame it started in.
+
+    The orientation is the heading change over the trial (the IMU's yaw); the pose covers the
+    whole walk, settling included, and the twist is the mean velocity over the timed part (a
+    trial's speed); covariances are the estimate's stated accuracy.
+    """
+    odom = Odometry()
+    odom.header.stamp, odom.header.frame_id, odom.child_frame_id = stamp, odom_frame, base_frame
+    odom.pose.pose.position.x, odom.pose.pose.position.y = r.x, r.y
+    odom.pose.pose.orientation.z = math.sin(r.yaw / 2.0)
+    odom.pose.pose.orientation.w = math.cos(r.yaw / 2.0)
+    odom.twist.twist.linear.x, odom.twist.twist.linear.y = r.vx, r.vy
+    walked = max(r.walk, r.duration)
+    odom.pose.covariance[0] = odom.pose.covariance[7] = (SPEED_ACCURACY * walked) ** 2
+    odom.twist.covariance[0] = odom.twist.covariance[7] = SPEED_ACCURACY**2
+    return odom
+
+
+def xsens_imu(m, stamp: Time, frame: str) -> Imu:
+    """Return an Xsens measurement (euler [deg], gyr, acc) as sensor_msgs/Imu."""
+    msg = Imu()
+    msg.header.stamp, msg.header.frame_id = stamp, frame
+    q = quat_from_rpy(*(math.radians(v) for v in m.euler))
+    msg.orientation.x, msg.orientation.y, msg.orientation.z, msg.orientation.w = q
+    av, la = msg.angular_velocity, msg.linear_acceleration
+    av.x, av.y, av.z = (float(v) for v in m.gyr)
+    la.x, la.y, la.z = (float(v) for v in m.acc)
+    return msg
+
+
+def attitude_imu(t, stamp: Time, frame: str) -> Imu:
+    """Return the robot's attitude telemetry (roll, pitch, yaw [rad]) as an orientation Imu."""
+    msg = Imu()
+    msg.header.stamp, msg.header.frame_id = stamp, frame
+    q = quat_from_rpy(t.roll, t.pitch, t.yaw)
+    msg.orientation.x, msg.orientation.y, msg.orientation.z, msg.orientation.w = q
+    msg.angular_velocity_covariance[0] = -1.0  # not provided by the telemetry
+    msg.linear_acceleration_covariance[0] = -1.0
+    return msg
+
+
+def reports_down_since(status: LinkStatus, wall_time: float) -> bool:
+    """Return True if ``status`` says "not connected" and was stamped after ``wall_time`` [s]."""
+    stamp = status.header.stamp.sec + status.header.stamp.nanosec * 1e-9
+    return not status.connected and stamp > wall_time

@@ -1,0 +1,63 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""What bridge_node reports about trials and dead servos, checked without ROS."""
+
+from __future__ import annotations
+
+from hexapod_bridge.odometry import TrialEstimate
+from hexapod_bridge.reports import servo_report, Severity, trial_report
+from hexapod_bridge.station import TrialResult
+import numpy as np
+
+IDENTITY = (1, 2, 3, 4, 5, 6)
+
+
+def test_a_trial_without_an_imu_asks_for_the_tape_measure():
+    report = trial_report(TrialResult('DONE', 5.0), imu_configured=False)
+    assert report.severity is Severity.WARN and 'enter the measured distance' in report.text
+
+
+def test_a_trial_whose_estimate_failed_says_why():
+    report = trial_report(TrialResult('DONE', 5.0, problem='too few IMU samples'), True)
+    assert report.severity is Severity.ERROR
+    assert report.text == 'trial finished but too few IMU samples'
+
+
+def test_a_trial_with_an_estimate_reports_distance_and_speed():
+    est = TrialEstimate(1.2, 0.24, np.array([1.2, 0.0]), 500, 0.01)
+    report = trial_report(TrialResult('DONE', 5.0, est), True)
+    assert report.severity is Severity.OK
+    assert report.text.startswith('trial done: 1.200 m, 0.240 m/s')
+    assert report.values['samples'] == 500
+
+
+def test_a_dead_servo_is_placed_on_its_leg_through_the_leg_map():
+    r = servo_report(5, IDENTITY)  # servo 5: robot leg 2's coxa
+    assert (r.robot_leg, r.leg, r.joint) == (2, 2, 'coxa')
+    assert r.report.severity is Severity.ERROR
+    swapped = servo_report(5, (2, 1, 3, 4, 5, 6))  # thesis leg 1 is robot leg 2
+    assert swapped.leg == 1
+
+
+def test_a_servo_the_robot_does_not_have_marks_no_leg():
+    r = servo_report(99, IDENTITY)
+    assert r.leg is None and r.report.severity is Severity.WARN
+    assert 'the robot has no servo 99' in r.report.text

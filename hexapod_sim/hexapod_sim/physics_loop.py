@@ -1,0 +1,176 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+sim_node's physics thread, without ROS: one gait cycle played in a loop at a real-time factor.
+
+:class:`PhysicsLoop` steps a :class:`~hexapod_sim.simulator.Simulator` through the rows of the
+cycle being played, keeps the simulation time (from the last reset), paces itself to
+``rtf`` x real time (0: as fast as possible), and says when state and /clock are due (every
+``period_steps`` and ``clock_steps`` steps counted from the last reset, so that the state of
+"reset + N steps" is always reported). Work from other threads (a new gait, a reset, new damage)
+runs between two steps (:meth:`PhysicsLoop.call`), so a trial never sees half of a change.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+import queue
+import threading
+import time
+from typing import Callable, TypeVar
+
+from hexapod_sim.damage import Damage
+from hexapod_sim.simulator import Simulator
+from hexapod_sim.trajectory_input import CycleTable
+
+T = TypeVar('T')
+
+
+@dataclass
+class LoopHooks:
+    """What the loop reports; each is called from the physics thread."""
+
+    state: Callable[[float], None]  # publish the state at this sim time [s]
+    clock: Callable[[float], None]  # publish /clock
+    reset: Callable[[float], None]  # the robot was reset at this sim time
+    unstable: Callable[[float], None]  # the physics became unstable at this sim time
+    publish_failed: Callable[[Exception], bool]  # a report raised: True = stop (shutting down)
+
+
+class PhysicsLoop:
+    """Play a cycle table on a simulator in a thread of its own (see the module docstring)."""
+
+    def __init__(
+        self,
+        sim: Simulator,
+        cycle: CycleTable,
+        hooks: LoopHooks,
+        rtf: float = 1.0,
+        period_steps: int = 4,
+        clock_steps: int = 6,
+    ) -> None:
+        self.sim, self.hooks = sim, hooks
+        self.rtf, self.period_steps, self.clock_steps = rtf, period_steps, clock_steps
+        self.cycle = cycle
+        self.sim_time = 0.0
+        self._work: queue.Queue[Callable[[], None]] = queue.Queue()
+        self._running = False
+        self._thread: threading.Thread | None = None
+        self._prepare()
+
+    # -- from any thread -------------------------------------------------------------------------
+    def start(self) -> None:
+        """Reset the robot to the cycle's first pose and start stepping."""
+        self.reset()
+        self._running = True
+        self._thread = threading.Thread(target=self._run, name='physics', daemon=True)
+        self._thread.start()
+
+    def stop(self, timeout: float = 5.0) -> None:
+        """Stop stepping (the simulator stays open)."""
+        self._running = False
+        if self._thread is not None and self._thread.is_alive():
+            self._thread.join(timeout=timeout)
+
+    def call(self, work: Callable[[], T], timeout: float = 10.0) -> T:
+        """Run ``work`` between two physics steps; return its result (or raise its exception)."""
+        if not self._running:
+            return work()  # not stepping (yet, or any more): nothing to step between
+        done = threading.Event()
+        box: dict[str, object] = {}
+
+        def wrapped() -> None:
+            try:
+                box['result'] = work()
+            except Exception as exc:  # handed back to the caller
+                box['error'] = exc
+            finally:
+                done.set()
+
+        self._work.put(wrapped)
+        if not done.wait(timeout):
+            raise TimeoutError('the physics thread did not respond')
+        if 'error' in box:
+            raise box['error']  # type: ignore[misc]
+        return box.get('result')  # type: ignore[return-value]
+
+    # -- in the physics thread (through call) --------------------------------------------------
+    def play(self, cycle: CycleTable) -> float:
+        """Play ``cycle`` from its first row; return the sim time it took effect [s]."""
+        self.cycle = cycle
+        self._prepare()
+        return self.sim_time
+
+    def set_damage(self, damage: Damage) -> Damage:
+        """Apply ``damage`` (the cycle's rows are made again for it); return what was applied."""
+        applied = self.sim.set_damage(damage)
+        self._prepare()
+        return applied
+
+    def reset(self) -> float:
+        """Put the robot back at the origin in the cycle's first pose; return the sim time [s]."""
+        self.sim.reset(self.cycle.positions[0])
+        self._steps_since_reset = 0
+        self._unstable_reported = False
+        self._row = 0
+        self._reset_stamp = self.sim_time
+        self.hooks.reset(self.sim_time)
+        self.hooks.state(self.sim_time)
+        return self.sim_time
+
+    def _prepare(self) -> None:
+        self._rows = self.sim.prepare_rows(self.cycle.positions, self.cycle.velocities)
+        self._n_rows = len(self.cycle.positions)
+        self._row = 0
+
+    def _run(self) -> None:
+        wall_start, sim_start = time.monotonic(), self.sim_time
+        rtf_seen = self.rtf
+        while self._running:
+            while True:
+                try:
+                    self._work.get_nowait()()
+                except queue.Empty:
+                    break
+            sim = self.sim
+            sim.apply_row(self._rows, self._row)
+            if sim.step().unstable and not self._unstable_reported:
+                self._unstable_reported = True  # once per reset: a bad setting repeats it
+                self.hooks.unstable(self.sim_time)
+            sim.update_imu()
+            self._row = (self._row + 1) % self._n_rows
+            self._steps_since_reset += 1
+            self.sim_time = self._reset_stamp + self._steps_since_reset * sim.dt
+            try:
+                state = self._steps_since_reset % self.period_steps == 0
+                if state or self._steps_since_reset % self.clock_steps == 0:
+                    self.hooks.clock(self.sim_time)
+                if state:
+                    self.hooks.state(self.sim_time)
+            except Exception as exc:  # a failed report must not stop the physics
+                if self.hooks.publish_failed(exc):
+                    return
+            if self.rtf != rtf_seen:
+                wall_start, sim_start, rtf_seen = time.monotonic(), self.sim_time, self.rtf
+            if self.rtf > 0:
+                ahead = (self.sim_time - sim_start) / self.rtf - (time.monotonic() - wall_start)
+                if ahead > 0:
+                    time.sleep(ahead)

@@ -1,0 +1,111 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""sim_node's physics thread without ROS: its timing, its reports and work between steps."""
+
+from __future__ import annotations
+
+import threading
+import time
+
+from hexapod_gait import build_joint_table, preset
+from hexapod_sim.damage import Damage
+from hexapod_sim.engines import create_simulator
+from hexapod_sim.physics_loop import LoopHooks, PhysicsLoop
+from hexapod_sim.simulator import SimConfig
+from hexapod_sim.trajectory_input import CycleTable
+import pytest
+
+
+@pytest.fixture
+def loop():
+    sim = create_simulator(SimConfig(engine='mujoco'))
+    table = build_joint_table(preset('tripod'), rate=1.0 / sim.dt)
+    cycle = CycleTable(table.positions, table.velocities, sim.dt)
+    events: dict[str, list] = {'state': [], 'clock': [], 'reset': [], 'unstable': []}
+    lock = threading.Lock()
+
+    def log(kind):
+        def record(t):
+            with lock:
+                events[kind].append(t)
+
+        return record
+
+    hooks = LoopHooks(log('state'), log('clock'), log('reset'), log('unstable'), lambda e: True)
+    physics = PhysicsLoop(sim, cycle, hooks, rtf=0.0, period_steps=4, clock_steps=6)
+    physics.events = events
+    yield physics
+    physics.stop()
+    sim.close()
+
+
+def wait(predicate, timeout=20.0):
+    deadline = time.monotonic() + timeout
+    while not predicate():
+        assert time.monotonic() < deadline, 'timed out'
+        time.sleep(0.01)
+
+
+def test_state_is_reported_every_period_from_the_reset_and_the_clock_with_it(loop):
+    loop.start()
+    wait(lambda: len(loop.events['state']) > 50)
+    loop.stop()
+    dt = loop.sim.dt
+    states = loop.events['state']
+    assert loop.events['reset'] == [0.0] and states[0] == 0.0  # the pose at the reset first
+    steps = [round(t / dt) for t in states[1:]]
+    assert steps[:5] == [4, 8, 12, 16, 20]
+    clocks = {round(t / dt) for t in loop.events['clock']}
+    assert {4, 6, 8, 12} <= clocks and 5 not in clocks
+
+
+def test_work_runs_between_steps_and_a_reset_restarts_the_step_count(loop):
+    loop.start()
+    wait(lambda: loop.sim_time > 0.5)
+    at = loop.call(loop.reset)
+    assert at >= 0.5 and loop.events['reset'][-1] == at
+    wait(lambda: loop.sim_time > at + 0.1)
+    after = [t for t in list(loop.events['state']) if t > at]
+    assert round((after[0] - at) / loop.sim.dt) == 4  # counted from the reset
+    applied = loop.call(lambda: loop.set_damage(Damage.lifted([1])))
+    assert applied.failed_legs == (1,)
+    began = loop.call(lambda: loop.play(loop.cycle))
+    assert began >= at
+
+
+def test_an_error_in_the_work_comes_back_to_the_caller(loop):
+    loop.start()
+
+    def broken():
+        raise ValueError('bad damage')
+
+    with pytest.raises(ValueError, match='bad damage'):
+        loop.call(broken)
+    assert loop.call(lambda: 42) == 42  # the thread goes on
+
+
+def test_at_a_real_time_factor_the_loop_keeps_to_the_wall_clock(loop):
+    loop.rtf = 1.0
+    loop.start()
+    t0 = time.monotonic()
+    time.sleep(1.0)
+    sim_seconds, wall = loop.sim_time, time.monotonic() - t0
+    assert 0.8 * wall <= sim_seconds <= 1.1 * wall
