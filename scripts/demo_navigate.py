@@ -84,8 +84,7 @@ def main(argv: list[str] | None = None) -> int:
             'hexapod_sim',
             'sim_node',
             engine='mujoco',
-            real_time_factor=1.0,  # faster, the node's step timing lags (docs/navigation.md)
-            publish_period_steps=12,
+            real_time_factor=1.0,  # as launch.py navigate-sim and the launch file: real time
             failed_legs=FAILED_LEGS,
         ),
         start('hexapod_gait', 'gait_node', initial_preset='', use_sim_time=True),

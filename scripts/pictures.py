@@ -43,7 +43,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument('--out', type=Path, default=Path('docs/img'))
     parser.add_argument('--no-gif', action='store_true', help='only the footfall diagrams')
     args = parser.parse_args(argv)
-    footfall_main(['--out', str(args.out)])
+    footfall_main(['--out', str(args.out), '--force'])  # pictures are remade
     walks = [('tripod', []), ('wave', [1])]
     for name, failed in walks:
         gif = args.out / (

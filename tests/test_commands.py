@@ -339,3 +339,175 @@ def test_a_signal_while_running_ends_with_one_line_and_its_status(
 
         load_checkpoint(checkpoint)  # intact: --resume continues from it
         assert '--resume' in lines[-1]
+
+
+# -- the output rule: nothing a user has is destroyed (issue 32) --------------------------------
+def _digest(path: Path) -> str:
+    import hashlib
+
+    if path.is_symlink():
+        return 'link:' + os.readlink(path)
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _a_recording(path: Path) -> Path:
+    """A small finished MCAP recording, written by the product's recorder."""
+    from hexapod_adapt.ros.recording import McapRecorder
+    from nav_msgs.msg import Odometry
+
+    with McapRecorder(path) as rec:
+        for _ in range(5):
+            rec.record('odom', Odometry())
+    return path
+
+
+#: (command, arguments, outputs that exist already, what the refusal says). Every command that
+#: writes a file, with each kind of output it writes.
+EXISTING = [
+    (
+        'generate_map',
+        ['--out', '{out}/map.npz', '--niches', '20', '--evaluations', '50', '--workers', '1'],
+        ['map.npz'],
+        'already exists: --resume to continue it, or --force',
+    ),
+    (
+        'generate_map',
+        ['--out', '{out}/map.npz', '--niches', '20', '--evaluations', '50', '--workers', '1'],
+        ['map.npz.ckpt.npz', 'map.npz.log.jsonl'],
+        'already exist: --resume to continue it, or --force',
+    ),
+    (
+        'run_experiment',
+        ['--archive', DEMO_MAP, '--scenarios', 'S2', '--out', '{out}/runs.csv'],
+        ['runs.csv'],
+        'already exists: --force',
+    ),
+    (
+        'run_experiment',
+        ['--archive', DEMO_MAP, '--scenarios', 'S2', '--out-dir', '{out}'],
+        ['trials.png'],
+        'already exists: --force',
+    ),
+    (
+        'run_navigation',
+        ['--scenarios', 'S0', '--goals', '1', '--methods', 'tripod', '--out-dir', '{out}'],
+        ['summary.json'],
+        'already exists: --force',
+    ),
+    ('plot_map', ['--archive', DEMO_MAP, '--out-dir', '{out}'], ['demo_map_projections.png'], ''),
+    ('recover_recording', ['{recording}'], ['rec.recovered.mcap'], 'already exists: --force'),
+    (
+        'recover_recording',
+        ['{recording}', '--out', '{out}/copy.mcap'],
+        ['copy.mcap'],
+        'already exists: --force',
+    ),
+    ('recover_recording', ['{recording}', '--in-place'], ['rec.mcap.orig'], 'already exists'),
+    ('render_walk', ['--seconds', '0.5', '--out', '{out}/walk.gif'], ['walk.gif'], '--force'),
+    ('footfall', ['--out', '{out}'], ['footfall_wave.png'], 'already exists: --force'),
+    (
+        'robot_emulator',
+        ['--radio-link', '{out}/radio'],
+        ['radio'],
+        'exists and is not a pseudo-terminal link',
+    ),
+]
+
+
+@pytest.mark.parametrize(
+    'command, args, existing, says',
+    EXISTING,
+    ids=[f'{c}-{"+".join(e)}' for c, _, e, _ in EXISTING],
+)
+def test_an_existing_output_is_refused_and_left_byte_identical(
+    command, args, existing, says, tmp_path
+):
+    out = tmp_path / 'out'
+    out.mkdir()
+    recording = _a_recording(out / 'rec.mcap')
+    for name in existing:
+        (out / name).write_bytes(f"the user's {name}, made by hand\n".encode())
+    before = {p.name: _digest(p) for p in out.iterdir()}
+    proc = _run(command, *(a.format(out=out, recording=recording) for a in args))
+    line = _last_line(proc)
+    assert proc.returncode != 0, (proc.stdout, proc.stderr)
+    assert 'Traceback' not in proc.stderr, proc.stderr
+    assert line.startswith(f'{command}: ') and existing[0] in line and says in line, proc.stderr
+    assert {p.name: _digest(p) for p in out.iterdir()} == before  # nothing changed or added
+
+
+@pytest.mark.parametrize(
+    'command, args, output',
+    [
+        (
+            'generate_map',
+            ['--out', '{out}/map.npz', '--niches', '20', '--evaluations', '50', '--workers', '1'],
+            'map.npz',
+        ),
+        ('footfall', ['--out', '{out}', '--preset', 'wave'], 'footfall_wave.png'),
+        ('recover_recording', ['{recording}', '--out', '{out}/copy.mcap'], 'copy.mcap'),
+    ],
+    ids=['generate_map', 'footfall', 'recover_recording'],
+)
+def test_force_replaces_an_output_and_keeps_the_old_one_as_bak(command, args, output, tmp_path):
+    out = tmp_path / 'out'
+    out.mkdir()
+    recording = _a_recording(out / 'rec.mcap')
+    old = b'an older result the user may still want\n'
+    (out / output).write_bytes(old)
+    proc = _run(command, *(a.format(out=out, recording=recording) for a in args), '--force')
+    assert proc.returncode == 0, proc.stderr
+    assert (out / f'{output}.bak').read_bytes() == old
+    assert (out / output).read_bytes() != old
+
+
+#: (command, arguments, inputs): a normal run reads its inputs and never modifies them.
+INPUTS = [
+    ('plot_map', ['--archive', '{map}', '--log', '{log}', '--out-dir', '{out}'], ['map', 'log']),
+    (
+        'run_experiment',
+        ['--archive', '{map}', '--scenarios', 'S2', '--max-trials', '2', '--out-dir', '{out}'],
+        ['map'],
+    ),
+    (
+        'run_navigation',
+        [
+            '--repertoire',
+            '{repertoire}',
+            '--scenarios',
+            'S0',
+            '--goals',
+            '1',
+            '--out-dir',
+            '{out}',
+        ],
+        ['repertoire'],
+    ),
+    ('recover_recording', ['{recording}'], ['recording']),
+    ('describe', ['--urdf', '{urdf}'], ['urdf']),
+]
+
+
+@pytest.mark.parametrize('command, args, inputs', INPUTS, ids=[c for c, _, _ in INPUTS])
+def test_a_command_never_modifies_its_inputs(command, args, inputs, tmp_path):
+    import shutil
+
+    from hexapod_description import urdf_path
+    from hexapod_navigation.repertoire import shipped_repertoire
+
+    src = tmp_path / 'inputs'
+    src.mkdir()
+    demo = Path(DEMO_MAP)
+    files = {
+        'map': shutil.copy(demo, src / 'demo_map.npz'),
+        'log': shutil.copy(demo.with_name('demo_map.log.jsonl'), src / 'demo_map.log.jsonl'),
+        'repertoire': shutil.copy(shipped_repertoire(), src / 'navigation_map.npz'),
+        'recording': _a_recording(src / 'rec.mcap'),
+        'urdf': shutil.copy(urdf_path(), src / 'hexapod.urdf'),
+    }
+    files = {k: Path(v) for k, v in files.items()}
+    before = {name: _digest(files[name]) for name in inputs}
+    places = {**files, 'out': tmp_path / 'out'}
+    proc = _run(command, *(a.format(**places) for a in args))
+    assert proc.returncode == 0, proc.stderr
+    assert {name: _digest(files[name]) for name in inputs} == before

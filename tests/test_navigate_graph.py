@@ -42,11 +42,8 @@ from std_srvs.srv import SetBool
 from visualization_msgs.msg import Marker
 
 pytestmark = pytest.mark.ros
-SIM = {
-    'engine': 'mujoco',
-    'real_time_factor': 1.0,
-    'publish_period_steps': 12,
-}  # see docs/navigation.md
+#: as launch.py navigate-sim, the launch file and make demo-navigate start it
+SIM = {'engine': 'mujoco', 'real_time_factor': 1.0}
 ODOM = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
 
 
@@ -106,7 +103,7 @@ def test_a_goal_is_reached_through_the_graph(ros, graph):
 def test_goals_are_reached_whatever_the_odometry_rate(ros, launch, period):
     # sim_node's publish_period_steps sets the odometry rate: 240 Hz (1) to 10 Hz (24) at real
     # time; the node times each step by the simulation's clock, not by how many poses it hears
-    launch('hexapod_sim', 'sim_node', params={**SIM, 'publish_period_steps': period})
+    launch('hexapod_sim', 'sim_node', params={**SIM, 'publish_period_steps': period})  # default 4
     launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
     nav = launch('hexapod_navigation', 'navigate_node', params={'max_range': 5.0})
     client = ActionClient(ros.node, Navigate, 'navigate')

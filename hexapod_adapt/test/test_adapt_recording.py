@@ -165,3 +165,119 @@ def test_recordings_are_never_overwritten(tmp_path):
     assert sorted(m.trial for r in recorders for _, m, _ in read_messages(r.path)) == [1, 2, 3]
     with pytest.raises(FileExistsError):
         McapRecorder(recorders[0].path)
+
+
+# -- recover_recording guards its input and its outputs (issue 32) ------------------------------
+def _recover(*args, **kw) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, '-m', 'hexapod_adapt.ros.recover_recording_cli', *map(str, args)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        **kw,
+    )
+
+
+def _one_line(proc: subprocess.CompletedProcess) -> str:
+    lines = [line for line in proc.stderr.splitlines() if line.strip()]
+    assert len(lines) == 1 and 'Traceback' not in proc.stderr, proc.stderr
+    return lines[0]
+
+
+def test_a_file_that_is_not_a_recording_is_refused_and_left_as_it_is(tmp_path):
+    notes = tmp_path / 'notes.mcap'
+    notes.write_text('my field notes: leg 3 sounded odd\n')
+    before = notes.read_bytes()
+    proc = _recover(notes)
+    assert proc.returncode != 0
+    assert 'is not an MCAP file' in _one_line(proc)
+    assert notes.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ['notes.mcap']  # nothing written
+    proc = _recover(notes, '--in-place')
+    assert proc.returncode != 0 and notes.read_bytes() == before
+
+
+def test_by_default_a_copy_is_written_beside_the_input_which_is_untouched(tmp_path):
+    path = tmp_path / 'killed.mcap'
+    _killed_recording(path, trials=3, extra=5)
+    before = path.read_bytes()
+    proc = _recover(path)
+    assert proc.returncode == 0, proc.stderr
+    copy = tmp_path / 'killed.recovered.mcap'
+    assert f'wrote {copy}' in proc.stdout and path.read_bytes() == before
+    with open(copy, 'rb') as f:
+        # every checkpointed trial; the messages after the last checkpoint died with the writer
+        assert make_reader(f).get_summary().statistics.message_count == 3 * 31
+    # the copy exists now: asked again, the command refuses to replace it ...
+    copied = copy.read_bytes()
+    proc = _recover(path)
+    assert proc.returncode != 0 and 'already exists: --force' in _one_line(proc)
+    assert copy.read_bytes() == copied
+    # ... unless --force, which keeps the old one as NAME.bak
+    assert _recover(path, '--force').returncode == 0
+    assert (tmp_path / 'killed.recovered.mcap.bak').read_bytes() == copied
+
+
+def test_in_place_keeps_the_original_and_replaces_only_when_nothing_is_lost(tmp_path):
+    path = tmp_path / 'killed.mcap'
+    _killed_recording(path, trials=2, extra=4)
+    before = path.read_bytes()
+    proc = _recover(path, '--in-place')
+    assert proc.returncode == 0, proc.stderr
+    assert (tmp_path / 'killed.mcap.orig').read_bytes() == before
+    with open(path, 'rb') as f:
+        assert make_reader(f).get_summary().statistics.message_count == 2 * 31
+    # a second --in-place would replace the kept original: refused
+    proc = _recover(path, '--in-place')
+    assert proc.returncode != 0 and 'killed.mcap.orig already exists' in _one_line(proc)
+
+
+def test_in_place_refuses_when_the_copy_would_hold_fewer_messages(tmp_path):
+    # a finished recording whose index counts more messages than its records still give (a
+    # corrupted chunk): the copy would lose some, so the original stays
+    path = tmp_path / 'damaged.mcap'
+    with McapRecorder(path) as rec:
+        for i in range(400):
+            rec.record('odom', Odometry())
+            if i % 100 == 99:
+                rec.checkpoint()  # ends a chunk
+    with open(path, 'rb') as f:
+        second = make_reader(f).get_summary().chunk_indexes[1]
+    data = bytearray(path.read_bytes())
+    middle = second.chunk_start_offset + second.chunk_length // 2
+    data[middle : middle + 32] = b'\xff' * 32  # the second chunk's compressed data
+    path.write_bytes(bytes(data))
+    before = path.read_bytes()
+    from hexapod_adapt.ros.recording import readable_messages
+
+    assert readable_messages(path) == 400
+    proc = _recover(path, '--in-place')
+    assert proc.returncode != 0, proc.stdout
+    line = _one_line(proc)
+    assert 'recovered 100 of the 400 messages' in line and 'left as it is' in line
+    assert path.read_bytes() == before and not (tmp_path / 'damaged.mcap.orig').exists()
+
+
+def test_a_recording_still_being_written_is_refused(tmp_path):
+    path = tmp_path / 'live.mcap'
+    script = textwrap.dedent(f"""
+        import time
+        from nav_msgs.msg import Odometry
+        from hexapod_adapt.ros.recording import McapRecorder
+        rec = McapRecorder({str(path)!r})
+        rec.record("odom", Odometry())
+        rec.checkpoint()
+        print("recording", flush=True)
+        time.sleep(60)
+    """)
+    proc = subprocess.Popen([sys.executable, '-c', script], stdout=subprocess.PIPE, text=True)
+    try:
+        assert proc.stdout.readline().strip() == 'recording'
+        before = path.read_bytes()
+        refused = _recover(path, '--in-place')
+        assert refused.returncode != 0
+        assert f'still open for writing by process {proc.pid}' in _one_line(refused)
+        assert path.read_bytes() == before
+    finally:
+        proc.kill()
+        proc.wait()

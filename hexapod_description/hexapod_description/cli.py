@@ -26,6 +26,10 @@ What every console command of the project does the same way (no ROS needed).
 * Paths: :func:`input_file`, :func:`output_file` and :func:`output_dir` check a path before any
   work starts: a missing file, a directory where a file is expected, a file where a directory is
   expected, or a place that cannot be written, each named.
+* Files a command writes follow one rule: an existing output is refused unless a flag says what
+  to do with it (:func:`claim_outputs`: ``--force`` keeps the old file as ``NAME.bak``), and an
+  input is never modified unless a flag says so. :func:`open_for_writing_by` finds a process
+  still writing a file (a recording in progress).
 * :func:`run_command` runs a command's body so that bad input and the normal signals end it with
   one line on stderr that names the problem, and a non-zero status: an OSError or ValueError
   (status 1), Ctrl-C / SIGINT (130) and SIGTERM (143). SIGTERM is raised as :class:`Terminated`,
@@ -49,7 +53,7 @@ import signal
 import sys
 import tempfile
 import threading
-from typing import Callable
+from typing import Callable, Iterable
 
 #: Exit status of a command ended by SIGINT (Ctrl-C) or SIGTERM: 128 + the signal number.
 STATUS_INTERRUPTED = 128 + signal.SIGINT
@@ -158,6 +162,79 @@ def output_dir(text: str) -> Path:
     return path
 
 
+#: What an output a command replaced (``--force``) is kept as: ``NAME`` + this.
+BACKUP_SUFFIX = '.bak'
+
+
+class OutputExists(ValueError):
+    """An output a command would replace, when no flag says what to do with it."""
+
+
+def backup_path(path: Path) -> Path:
+    """Return where ``--force`` keeps the file it replaces (``NAME.bak``)."""
+    return path.with_name(path.name + BACKUP_SUFFIX)
+
+
+def claim_outputs(paths: Iterable[Path], force: bool, flags: str = '--force') -> list[Path]:
+    """
+    Apply the output rule to the files a command is about to write.
+
+    None exists: nothing to do. Some exist and ``force`` is false: :class:`OutputExists` names them
+    and ``flags`` (what the user may pass, e.g. "--resume to continue it, or --force"), and
+    nothing is touched. ``force``: each existing file is renamed to ``NAME.bak`` (replacing an
+    older backup) before the command writes; returns those backups.
+    """
+    existing = [p for p in dict.fromkeys(Path(p) for p in paths) if p.exists()]
+    if not existing:
+        return []
+    if not force:
+        names = ', '.join(str(p) for p in existing)
+        raise OutputExists(f'{names} already exist{"s" if len(existing) == 1 else ""}: {flags}')
+    backups = []
+    for path in existing:
+        backup = backup_path(path)
+        os.replace(path, backup)
+        backups.append(backup)
+    return backups
+
+
+def _write_flags(pid: str, fd: str) -> bool:
+    """Whether descriptor ``fd`` of process ``pid`` is open for writing (Linux /proc)."""
+    try:
+        for line in Path(f'/proc/{pid}/fdinfo/{fd}').read_text().splitlines():
+            if line.startswith('flags:'):
+                return bool(int(line.split()[1], 8) & (os.O_WRONLY | os.O_RDWR))
+    except (OSError, ValueError, IndexError):
+        pass
+    return False
+
+
+def open_for_writing_by(path: Path) -> list[int]:
+    """
+    Return the ids of the processes that hold ``path`` open for writing (this one excepted).
+
+    Read from /proc (Linux); elsewhere, or for processes this user cannot inspect, none are
+    found.
+    """
+    target = Path(path).resolve()
+    found = []
+    for proc in Path('/proc').glob('[0-9]*'):
+        if proc.name == str(os.getpid()):
+            continue
+        try:
+            fds = list((proc / 'fd').iterdir())
+        except OSError:
+            continue
+        for fd in fds:
+            try:
+                if Path(os.readlink(fd)) == target and _write_flags(proc.name, fd.name):
+                    found.append(int(proc.name))
+                    break
+            except OSError:
+                continue
+    return found
+
+
 def os_error_text(exc: OSError) -> str:
     """Return an OSError as one line: what failed and on which path."""
     if exc.filename is not None and exc.strerror:
@@ -237,3 +314,16 @@ def _say(prog: str, text: str) -> None:
         print(f'{prog}: {line}', file=sys.stderr, flush=True)
     except OSError:
         pass  # stderr is gone (a closed pipe): the status still says it
+
+
+#: What a refused output tells the user to do (commands without --resume).
+FORCE_HINT = '--force to replace it (the old file is kept as NAME.bak)'
+
+
+def add_force(parser: argparse.ArgumentParser) -> None:
+    """Add the output rule's ``--force`` to a command that writes files."""
+    parser.add_argument(
+        '--force',
+        action='store_true',
+        help='replace outputs that exist (each old file is kept as NAME.bak)',
+    )

@@ -31,7 +31,14 @@ import argparse
 from pathlib import Path
 import sys
 
-from hexapod_description.cli import number, output_dir, run_command
+from hexapod_description.cli import (
+    add_force,
+    claim_outputs,
+    FORCE_HINT,
+    number,
+    output_dir,
+    run_command,
+)
 from hexapod_gait.footfall import plot_footfall
 from hexapod_gait.presets import preset, PRESETS
 from hexapod_gait.trajectory import SIM_RATE, stance_mask
@@ -54,12 +61,15 @@ def main(argv: list[str] | None = None) -> int:
         help='gait cycles to draw, (0, 100]',
     )
     parser.add_argument('--out', type=output_dir, default=Path('.'), help='output directory')
+    add_force(parser)
     args = parser.parse_args(argv)
     return run_command('footfall', lambda: _draw(args))
 
 
 def _draw(args: argparse.Namespace) -> int:
-    for name in args.preset or ['tripod', 'wave', 'quadruped']:
+    names = args.preset or ['tripod', 'wave', 'quadruped']
+    claim_outputs([args.out / f'footfall_{name}.png' for name in names], args.force, FORCE_HINT)
+    for name in names:
         gait = preset(name)
         times = np.arange(int(round(args.cycles * gait.period * SIM_RATE))) / SIM_RATE
         path = plot_footfall(

@@ -37,7 +37,15 @@ from dataclasses import asdict, replace
 import sys
 
 from hexapod_adapt.mapping.archive import ArchiveError, load_archive
-from hexapod_description.cli import input_file, number, output_dir, run_command
+from hexapod_description.cli import (
+    add_force,
+    claim_outputs,
+    FORCE_HINT,
+    input_file,
+    number,
+    output_dir,
+    run_command,
+)
 from hexapod_navigation.experiment import (
     METHODS,
     NavigationSettings,
@@ -109,6 +117,7 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument(
         '--out-dir', type=output_dir, default=None, help='write results and plots here'
     )
+    add_force(ap)
     return ap
 
 
@@ -123,7 +132,13 @@ def main(argv: list[str] | None = None) -> int:
     return run_command('run_navigation', lambda: _run(args))
 
 
+#: What --out-dir receives.
+OUT_DIR_FILES = ('runs.csv', 'paths.json', 'summary.json', 'paths.png', 'boxes.png')
+
+
 def _run(args: argparse.Namespace) -> int:
+    if args.out_dir is not None:  # claimed before the episodes: a refusal costs nothing
+        claim_outputs([args.out_dir / name for name in OUT_DIR_FILES], args.force, FORCE_HINT)
     path = args.repertoire or shipped_repertoire()
     try:
         archive = load_archive(path)

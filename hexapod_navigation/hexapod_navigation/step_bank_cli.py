@@ -32,7 +32,15 @@ import sys
 import time
 
 from hexapod_adapt.mapping.archive import load_archive
-from hexapod_description.cli import input_file, number, output_file, run_command
+from hexapod_description.cli import (
+    add_force,
+    claim_outputs,
+    FORCE_HINT,
+    input_file,
+    number,
+    output_file,
+    run_command,
+)
 from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
 from hexapod_navigation.step_bank import compute_step_bank, save_step_bank
 from hexapod_sim import ENGINES
@@ -53,9 +61,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument('--engine', choices=ENGINES, default='mujoco')
     ap.add_argument('--out', type=output_file, required=True, help='the bank file (.npz)')
     ap.add_argument('--workers', type=number(int, 1, 256), default=1)
+    add_force(ap)
     args = ap.parse_args(argv)
 
     def run() -> int:
+        claim_outputs([args.out], args.force, FORCE_HINT)
         repertoire = Repertoire.from_archive(load_archive(args.repertoire or shipped_repertoire()))
         t0, shown = time.monotonic(), [0.0]
 

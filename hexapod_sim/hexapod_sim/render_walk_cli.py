@@ -36,7 +36,14 @@ from pathlib import Path
 import sys
 
 from hexapod_description import N_LEGS
-from hexapod_description.cli import number, output_file, run_command
+from hexapod_description.cli import (
+    add_force,
+    claim_outputs,
+    FORCE_HINT,
+    number,
+    output_file,
+    run_command,
+)
 from hexapod_gait import build_joint_table, preset, PRESETS
 from hexapod_gait.footfall import plot_footfall
 from hexapod_sim.engines import create_simulator
@@ -108,9 +115,12 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument('--engine', choices=ENGINES, default='pybullet', help='physics engine')
     parser.add_argument('--out', type=output_file, default=Path('walk.gif'), help='GIF to write')
+    add_force(parser)
     args = parser.parse_args(argv)
 
     def render() -> int:
+        footfall = args.out.with_name(args.out.stem + '_footfall.png')
+        claim_outputs([args.out, footfall], args.force, FORCE_HINT)
         try:
             gif, png = render_walk(
                 args.preset, args.seconds, args.out, args.failed_legs, args.fps, engine=args.engine

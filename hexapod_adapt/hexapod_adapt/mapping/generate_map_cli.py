@@ -29,6 +29,7 @@ Thin front end of hexapod_adapt.mapping.generate.
     mpiexec -n 64 python -m mpi4py.futures -m hexapod_adapt.mapping.generate_map_cli ... \\
         --backend mpi
     generate_map ... --resume                                    # continue after a queue limit
+    generate_map ... --force                                     # replace an existing map
     generate_map --kind navigation --out maps/navigation.npz ...  # a navigation repertoire
 """
 
@@ -45,7 +46,7 @@ from hexapod_adapt.mapping.generate import (
     GenerateConfig,
     LIMITS,
 )
-from hexapod_description.cli import number, output_dir, output_file, run_command
+from hexapod_description.cli import claim_outputs, number, output_dir, output_file, run_command
 from hexapod_sim import ENGINES
 from tqdm import tqdm
 
@@ -160,10 +161,16 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help='JSON-lines progress log (default <out>.log.jsonl)',
     )
-    ap.add_argument(
+    existing = ap.add_mutually_exclusive_group()
+    existing.add_argument(
         '--resume',
         action='store_true',
         help='continue from <out>.ckpt.npz if present, else a finished <out> (more --evaluations)',
+    )
+    existing.add_argument(
+        '--force',
+        action='store_true',
+        help='start afresh over an existing <out>, its checkpoint and log (kept as NAME.bak)',
     )
     ap.add_argument(
         '--with-presets',
@@ -223,6 +230,15 @@ def _generate(args: argparse.Namespace) -> int:
         print(f'generate_map: {exc}', file=sys.stderr)
         return 2
 
+    if (
+        not args.resume
+    ):  # an existing map, checkpoint or log is the user's: never silently replaced
+        claim_outputs(
+            [config.out, config.checkpoint_path, config.log_path],
+            args.force,
+            '--resume to continue it, or --force to start afresh (the old files are kept as'
+            ' NAME.bak)',
+        )
     bar = None
     use_bar = not args.quiet and not args.no_bar
 

@@ -43,7 +43,14 @@ from hexapod_adapt.mapping.plots import (
     plot_repertoire_progress,
     read_log,
 )
-from hexapod_description.cli import input_file, output_dir, run_command
+from hexapod_description.cli import (
+    add_force,
+    claim_outputs,
+    FORCE_HINT,
+    input_file,
+    output_dir,
+    run_command,
+)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -67,6 +74,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     ap.add_argument('--out-dir', type=output_dir, default=Path('.'), help='where the PNG files go')
     ap.add_argument('--name', default=None, help="file name stem (default: the map's)")
+    add_force(ap)
     args = ap.parse_args(argv)
     return run_command('plot_map', lambda: _plot(args))
 
@@ -81,6 +89,12 @@ def _plot(args: argparse.Namespace) -> int:
         rows = read_log(log) if log.is_file() else []
         title = f'{stem}: {rows[-1]["evaluations"]} evaluations' if rows else ''
         progress = args.out_dir / f'{stem}_progress.png'
+        shape = 'steps' if archive.kind.name == 'navigation' else 'projections'
+        claim_outputs(
+            [args.out_dir / f'{stem}_{shape}.png'] + ([progress] if rows else []),
+            args.force,
+            FORCE_HINT,
+        )
         if archive.kind.name == 'navigation':
             written = [plot_repertoire(archive, args.out_dir / f'{stem}_steps.png')]
             if rows:

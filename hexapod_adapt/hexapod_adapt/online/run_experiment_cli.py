@@ -59,7 +59,16 @@ from hexapod_adapt.online.mboa import (
     TRIAL_BUDGET,
     TRIAL_SETTLE,
 )
-from hexapod_description.cli import input_file, number, output_dir, output_file, run_command
+from hexapod_description.cli import (
+    add_force,
+    claim_outputs,
+    FORCE_HINT,
+    input_file,
+    number,
+    output_dir,
+    output_file,
+    run_command,
+)
 from hexapod_sim import ENGINES
 import numpy as np
 
@@ -230,11 +239,20 @@ def main(argv: list[str] | None = None) -> int:
         type=output_dir,
         help='directory for runs.csv, adapted_speed.png and trials.png',
     )
+    add_force(ap)
     args = ap.parse_args(argv)
     return run_command('run_experiment', lambda: _experiment(args))
 
 
+#: What --out-dir receives.
+OUT_DIR_FILES = ('runs.csv', 'adapted_speed.png', 'trials.png', 'ceiling_ratio.png')
+
+
 def _experiment(args: argparse.Namespace) -> int:
+    # the outputs are claimed before the runs: a refusal costs nothing
+    outputs = [args.out] if args.out else []
+    outputs += [args.out_dir / name for name in OUT_DIR_FILES] if args.out_dir else []
+    claim_outputs(outputs, args.force, FORCE_HINT)
     try:
         archive = load_archive(args.archive or shipped_map(DEFAULT_MAP))
         chosen = {

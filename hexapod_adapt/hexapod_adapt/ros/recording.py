@@ -50,6 +50,7 @@ from typing import Any, Iterator
 from ament_index_python.packages import get_package_share_directory, PackageNotFoundError
 from hexapod_adapt.mapping.archive import atomic_output
 from mcap.exceptions import McapError
+from mcap.reader import make_reader
 from mcap.records import Channel, Message, Schema
 from mcap.stream_reader import StreamReader
 from mcap.writer import CompressionType, Writer
@@ -293,6 +294,44 @@ def read_messages(path: str | os.PathLike) -> Iterator[tuple[str, Any, int]]:
             yield topic, deserialize_message(record.data, cls), record.log_time
 
 
+#: The 8 bytes every MCAP file starts with (the MCAP specification's magic).
+MCAP_MAGIC = b'\x89MCAP0\r\n'
+
+
+class NotARecording(ValueError):
+    """A file recover() cannot rewrite: not an MCAP file, or no readable record in it."""
+
+
+def recording_problem(path: str | os.PathLike) -> str:
+    """Say why ``path`` is not an MCAP recording recover() can read ('' if it is one)."""
+    with open(path, 'rb') as fh:
+        head = fh.read(len(MCAP_MAGIC))
+    if head != MCAP_MAGIC:
+        return f'{path} is not an MCAP file (it does not start with the MCAP magic bytes)'
+    if next(_complete_records(path), None) is None:
+        return f'{path} holds no readable MCAP record'
+    return ''
+
+
+def readable_messages(path: str | os.PathLike) -> int:
+    """
+    Count the messages a reader can get out of ``path``: the most of two ways of reading it.
+
+    Its complete records in order (what :func:`recover` keeps), and, for a file that was
+    finished, its index (what Foxglove and ``mcap``'s indexed reader read).
+    """
+    streamed = sum(isinstance(r, Message) for r in _complete_records(path))
+    indexed = 0
+    try:
+        with open(path, 'rb') as fh:
+            summary = make_reader(fh).get_summary()
+            if summary is not None and summary.statistics is not None:
+                indexed = summary.statistics.message_count
+    except (McapError, EOFError, ValueError, IndexError, OSError, struct.error):
+        pass  # no usable index (a file whose writer was killed)
+    return max(streamed, indexed)
+
+
 @dataclass(frozen=True)
 class Recovery:
     """What :func:`recover` kept."""
@@ -307,10 +346,14 @@ def recover(src: str | os.PathLike, dst: str | os.PathLike | None = None) -> Rec
     Rewrite a recording whose writer was killed as a valid, indexed MCAP.
 
     Every complete message of ``src`` is kept; the result is written atomically to ``dst``
-    (default: ``src`` itself).
+    (default: ``src`` itself). :class:`NotARecording` says why a file cannot be read, before
+    anything is written.
     """
     src = Path(src)
     dst = Path(dst) if dst is not None else src
+    problem = recording_problem(src)
+    if problem:
+        raise NotARecording(problem)
     schema_map: dict[int, int] = {}
     channel_map: dict[int, int] = {}
     count = 0

@@ -70,6 +70,11 @@ def radio_gone_times(output: str) -> list[float]:
     ]
 
 
+def _pty_link(path: str) -> bool:
+    """Whether ``path`` is a symlink to a pseudo-terminal (an emulator's port, maybe stale)."""
+    return os.path.islink(path) and os.readlink(path).startswith('/dev/pts/')
+
+
 class PtyPort:
     """The robot end of a pseudo-terminal, published at a stable symlink path."""
 
@@ -77,9 +82,20 @@ class PtyPort:
         self.link = link
         self.master: int | None = None
         self.slave: int | None = None
+        self.path: str | None = None  # the pseudo-terminal the link points at, once open
 
     def open(self) -> str:  # noqa: A003 (the pty pair is opened, as a file is)
-        """Create the pseudo-terminal and its symlink at ``link``."""
+        """
+        Create the pseudo-terminal and its symlink at ``link``.
+
+        A link left by an earlier emulator (a symlink to a pseudo-terminal) is replaced; anything
+        else at ``link`` is the user's, and is refused (ValueError) and left as it is.
+        """
+        if os.path.lexists(self.link) and not _pty_link(self.link):
+            raise ValueError(
+                f'{self.link} exists and is not a pseudo-terminal link: refusing to replace it'
+                ' (give another --radio-link / --imu-link)'
+            )
         self.master, self.slave = os.openpty()
         tty.setraw(self.master)
         tty.setraw(self.slave)
@@ -90,11 +106,12 @@ class PtyPort:
             os.unlink(tmp)
         os.symlink(path, tmp)
         os.replace(tmp, self.link)
+        self.path = path
         return path
 
     def close(self) -> None:
-        """Close the pseudo-terminal and remove the symlink."""
-        if os.path.lexists(self.link):
+        """Close the pseudo-terminal and remove its symlink (only if it is still this one's)."""
+        if os.path.islink(self.link) and os.readlink(self.link) == self.path:
             os.unlink(self.link)
         for fd in (self.master, self.slave):
             if fd is not None:
@@ -201,7 +218,11 @@ def _serve(args: argparse.Namespace) -> int:
     imu = PtyPort(args.imu_link) if args.imu_link else None
     print(f'RADIO {radio.open()}', flush=True)
     if imu is not None:
-        print(f'IMU {imu.open()}', flush=True)
+        try:
+            print(f'IMU {imu.open()}', flush=True)
+        except ValueError:
+            radio.close()  # the radio's link goes with the refusal
+            raise
 
     requests: list[str] = []
     signal.signal(signal.SIGUSR1, lambda *_: requests.append('vanish'))

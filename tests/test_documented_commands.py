@@ -1,0 +1,165 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+The commands the user's guides show are run exactly as written, through the real graph.
+
+The commands are read from the documents themselves (an indented code block under a heading),
+so a guide that changes its commands changes what is tested. A background graph is started as
+the guide says (``python scripts/launch.py PROFILE ...``) and the client command is run in a
+shell that sourced ``scripts/env.sh``, as a user's second shell has.
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+from pathlib import Path
+import re
+import signal
+import subprocess
+
+import pytest
+
+pytestmark = [pytest.mark.ros, pytest.mark.slow]
+WS = Path(__file__).resolve().parent.parent
+_domains = itertools.count(150 + os.getpid() % 50)
+
+
+def code_block(doc: str, heading: str) -> list[str]:
+    """Return the commands of the first indented code block under ``heading`` in ``doc``."""
+    text = (WS / doc).read_text()
+    start = text.index(f'\n{heading}\n')
+    block, started = [], False
+    for line in text[start:].splitlines()[1:]:
+        if line.startswith('    '):
+            started = True
+            block.append(line[4:])
+        elif started and line.strip():
+            break
+    commands = []
+    for line in block:
+        line = re.sub(r'\s+#.*$', '', line)  # the comment
+        line = re.sub(r'\s*\[[^\]]*\]', '', line)  # an optional part: [--archive MAP]
+        if line.strip():
+            commands.append(line.strip())
+    return commands
+
+
+def one(commands: list[str], prefix: str) -> str:
+    """Return the one command that starts with ``prefix``."""
+    (found,) = [c for c in commands if c.startswith(prefix)]
+    return found
+
+
+def in_a_shell(command: str) -> list[str]:
+    """A user's shell: the workspace sourced, then the command."""
+    return ['bash', '-c', f'source scripts/env.sh >/dev/null && {command}']
+
+
+class Graph:
+    """A launch.py graph in the background, on a DDS domain of its own."""
+
+    def __init__(self, command: str, env: dict) -> None:
+        self.proc = subprocess.Popen(
+            in_a_shell(command),
+            cwd=WS,
+            env=env,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+            start_new_session=True,
+        )
+
+    def stop(self) -> str:
+        if self.proc.poll() is None:
+            os.killpg(self.proc.pid, signal.SIGINT)
+            try:
+                self.proc.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                os.killpg(self.proc.pid, signal.SIGKILL)
+        return self.proc.stdout.read()
+
+
+@pytest.fixture
+def env():
+    return dict(
+        os.environ,
+        ROS_DOMAIN_ID=str(next(_domains)),
+        ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST',
+        PYTHONUNBUFFERED='1',
+    )
+
+
+def run_against(graph_command: str, client: str, env: dict, timeout: float):
+    graph = Graph(graph_command, env)
+    try:
+        done = subprocess.run(
+            in_a_shell(client),
+            cwd=WS,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=timeout,
+            stdin=subprocess.DEVNULL,
+        )
+    finally:
+        log = graph.stop()
+    return done, log
+
+
+def test_navigation_guide_using_it_reaches_the_goal(env):
+    commands = code_block('docs/navigation.md', '## Using it')
+    launch = one(commands, 'python scripts/launch.py navigate-sim')
+    client = one(commands, 'navigate_client')
+    assert launch == 'python scripts/launch.py navigate-sim --failed-legs 1 2'
+    assert client == 'navigate_client 1.5 0.5'
+    done, log = run_against(launch, client, env, timeout=240)
+    assert done.returncode == 0, done.stdout + done.stderr + log[-4000:]
+    assert 'REACHED' in done.stdout, done.stdout
+
+
+def test_the_readme_navigation_line_is_the_guides():
+    # the README's line says the guide's two commands (run above) in one line
+    guide = code_block('docs/navigation.md', '## Using it')
+    launch = one(
+        code_block('README.md', '## Running the graph'), 'python scripts/launch.py navigate'
+    )
+    line = next(raw for raw in (WS / 'README.md').read_text().splitlines() if launch in raw)
+    assert launch == one(guide, 'python scripts/launch.py navigate-sim')
+    assert line.split('then:', 1)[1].strip() == one(guide, 'navigate_client')
+
+
+def test_adaptation_guide_adapting_succeeds(env):
+    commands = code_block('docs/adaptation.md', '## Adapting')
+    launch = one(commands, 'python scripts/launch.py adapt-sim')
+    client = one(commands, 'ros2 run hexapod_adapt adapt_client')
+    done, log = run_against(launch, client, env, timeout=300)
+    assert done.returncode == 0, done.stdout + done.stderr + log[-4000:]
+    assert re.search(r'^success: ', done.stdout, re.M), done.stdout
+
+
+def test_the_readme_adaptation_lines_succeed(env):
+    commands = code_block('README.md', '## Running the graph')
+    launch = one(commands, 'python scripts/launch.py adapt-sim')
+    client = one(commands, 'adapt_client')
+    done, log = run_against(launch, client, env, timeout=300)
+    assert done.returncode == 0, done.stdout + done.stderr + log[-4000:]
+    assert re.search(r'^success: ', done.stdout, re.M), done.stdout
