@@ -60,6 +60,7 @@ MODULE_KEYS = {
     'pybullet_data': 'python3-pybullet-pip',
     'mujoco': 'python3-mujoco-pip',
     'mcap': 'python3-mcap-pip',
+    'ribs': 'python3-ribs-pip',
     'mcap_ros2': 'python3-mcap-ros2-support-pip',
     'distributed': 'python3-distributed-pip',
     'yourdfpy': 'python3-yourdfpy-pip',

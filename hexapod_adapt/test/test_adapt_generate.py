@@ -158,3 +158,52 @@ def test_a_finished_map_without_its_checkpoint_continues_with_more_evaluations(t
     with pytest.raises(ArchiveError, match='more than the 120 asked for'):
         Path(f'{out}.ckpt.npz').unlink()
         generate_map(GenerateConfig(out=out, workers=1, resume=True, **SMALL))
+
+
+@pytest.mark.slow
+def test_an_emitter_map_killed_and_resumed_equals_one_run_and_loads_in_adapt_node(tmp_path):
+    import signal
+    import time
+
+    from hexapod_adapt.mapping.map_elites import load_checkpoint_state
+    from hexapod_adapt.online.run_config import ArchiveSlot
+    from hexapod_adapt.online.trials import MODES
+
+    def args(out):
+        return [
+            '--out', str(out), '--niches', '30', '--evaluations', '400', '--seed', '2',
+            '--emitters', 'cma_me', '--emitter-count', '2', '--emitter-batch', '10',
+            '--checkpoint-every', '0.2', '--quiet',
+        ]  # fmt: skip
+
+    whole = tmp_path / 'whole' / 'map.npz'
+    assert _run_cli(*args(whole), '--workers', '2').returncode == 0
+    killed = tmp_path / 'killed' / 'map.npz'
+    proc = subprocess.Popen(
+        [sys.executable, '-m', 'hexapod_adapt.mapping.generate_map_cli', *args(killed)]
+        + ['--workers', '1'],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    ckpt = Path(f'{killed}.ckpt.npz')
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline:
+        try:
+            archive, pending, proposer = load_checkpoint_state(ckpt)
+        except (OSError, ArchiveError, ValueError, KeyError):
+            time.sleep(0.05)
+            continue
+        if proposer is not None and archive.metadata['evaluations'] >= 150:
+            break
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    assert not killed.exists() and proposer is not None and pending  # killed mid-run
+    resumed = _run_cli(*args(killed), '--workers', '2', '--resume')  # other workers, too
+    assert resumed.returncode == 0, resumed.stderr
+    a, b = load_archive(whole), load_archive(killed)
+    np.testing.assert_array_equal(a.fitness, b.fitness)
+    np.testing.assert_array_equal(a.genotypes, b.genotypes)
+    assert b.metadata['map_elites']['emitters'] == 'cma_me'
+    slot = ArchiveSlot('sim', MODES)  # what adapt_node runs on
+    assert slot.load(str(killed)) == '' and slot.archive.n_filled == b.n_filled

@@ -202,3 +202,96 @@ def test_a_finished_run_extended_to_more_evaluations_equals_one_long_run(tmp_pat
         archive, MapElitesConfig(evaluations=400, seed=9, lag=5, random_init=0.1), toy_evaluate
     )
     _same(long, extended)
+
+
+# -- pyribs emitter sets (issue 30) ------------------------------------------------------------
+EMITTER_CONFIGS = {
+    name: MapElitesConfig(
+        evaluations=700,
+        seed=5,
+        lag=40,
+        random_init=0.1,
+        emitters=name,
+        emitter=(('count', 2), ('batch', 10)),
+    )
+    for name in ('cma_me', 'cma_mae', 'bandit')
+}
+
+
+@pytest.mark.parametrize('name', sorted(EMITTER_CONFIGS))
+def test_each_emitter_set_makes_the_same_map_from_a_seed_whatever_the_workers(name):
+    cfg = EMITTER_CONFIGS[name]
+    inline = run_map_elites(_fresh(), cfg, toy_evaluate)
+    assert inline.n_filled > 10 and inline.metadata['evaluations'] == 700
+    assert inline.metadata['map_elites']['emitters'] == name
+    with cf.ProcessPoolExecutor(2) as pool:
+        two = run_map_elites(_fresh(), cfg, toy_evaluate_jittered, executor=pool, workers=2)
+    with cf.ThreadPoolExecutor(4) as pool:
+        four = run_map_elites(
+            _fresh(),
+            MapElitesConfig(**{**cfg.__dict__, 'chunk': 3}),
+            toy_evaluate_jittered,
+            executor=pool,
+            workers=4,
+        )
+    _same(inline, two)
+    _same(inline, four)
+    other = run_map_elites(_fresh(), MapElitesConfig(**{**cfg.__dict__, 'seed': 6}), toy_evaluate)
+    assert not np.array_equal(inline.genotypes, other.genotypes, equal_nan=True)
+
+
+def test_an_emitter_set_proposes_other_gaits_than_iso_line():
+    iso = run_map_elites(_fresh(), MapElitesConfig(evaluations=700, seed=5, lag=40), toy_evaluate)
+    cma = run_map_elites(_fresh(), EMITTER_CONFIGS['cma_me'], toy_evaluate)
+    assert not np.array_equal(iso.genotypes, cma.genotypes, equal_nan=True)
+    assert 'emitters' not in iso.metadata['map_elites']  # older maps keep their identity
+
+
+@pytest.mark.parametrize('name', ['cma_me', 'bandit'])
+def test_an_emitter_run_resumes_exactly_from_its_checkpoint(name, tmp_path):
+    from hexapod_adapt.mapping.map_elites import load_checkpoint_state
+
+    cfg = EMITTER_CONFIGS[name]
+    whole = run_map_elites(_fresh(), cfg, toy_evaluate)
+    calls = {'n': 0}
+
+    def dies_after_430(genes):  # mid-batch, with batches of other lanes in flight
+        calls['n'] += 1
+        if calls['n'] > 430:
+            raise RuntimeError('node died')
+        return toy_evaluate(genes)
+
+    ckpt = tmp_path / 'run.ckpt.npz'
+    with pytest.raises(RuntimeError, match='node died'):
+        run_map_elites(_fresh(), cfg, dies_after_430, checkpoint=ckpt, checkpoint_every=0.0)
+    archive, pending, proposer = load_checkpoint_state(ckpt)
+    assert proposer is not None and pending
+    resumed = run_map_elites(
+        archive, cfg, toy_evaluate, pending=pending, proposer=proposer, checkpoint=ckpt
+    )
+    _same(whole, resumed)
+
+
+def test_a_damaged_emitter_state_is_refused_with_the_file_named(tmp_path):
+    from hexapod_adapt.mapping.archive import ArchiveError
+    from hexapod_adapt.mapping.map_elites import load_checkpoint_state
+
+    ckpt = tmp_path / 'run.ckpt.npz'
+    run_map_elites(
+        _fresh(), EMITTER_CONFIGS['cma_me'], toy_evaluate, checkpoint=ckpt, checkpoint_every=0.0
+    )
+    with np.load(ckpt) as data:
+        arrays = {k: data[k] for k in data.files}
+    arrays['emitter_state'] = arrays['emitter_state'][: len(arrays['emitter_state']) // 2]
+    np.savez(ckpt, **arrays)
+    with pytest.raises(ArchiveError, match='emitter state cannot be read'):
+        load_checkpoint_state(ckpt)
+
+
+def test_bad_emitter_settings_are_refused():
+    with pytest.raises(ValueError, match='emitters must be one of'):
+        MapElitesConfig(evaluations=10, emitters='genetic')
+    with pytest.raises(ValueError, match='apply to a pyribs emitter set'):
+        MapElitesConfig(evaluations=10, emitter=(('count', 3),))
+    with pytest.raises(ValueError, match='must be >= 1'):
+        MapElitesConfig(evaluations=10, emitters='cma_me', emitter=(('batch', 0),))

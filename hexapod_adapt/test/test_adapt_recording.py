@@ -245,7 +245,8 @@ def test_in_place_refuses_when_the_copy_would_hold_fewer_messages(tmp_path):
         second = make_reader(f).get_summary().chunk_indexes[1]
     data = bytearray(path.read_bytes())
     middle = second.chunk_start_offset + second.chunk_length // 2
-    data[middle : middle + 32] = b'\xff' * 32  # the second chunk's compressed data
+    end = middle + 32
+    data[middle:end] = b'\xff' * 32  # the second chunk's compressed data
     path.write_bytes(bytes(data))
     before = path.read_bytes()
     from hexapod_adapt.ros.recording import readable_messages

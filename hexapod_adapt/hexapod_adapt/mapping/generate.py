@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import contextlib
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 import functools
 import json
 import os
@@ -50,8 +50,9 @@ from hexapod_adapt.mapping.archive import (
     map_kind,
 )
 from hexapod_adapt.mapping.cvt import cached_cvt, cvt_cache_path
+from hexapod_adapt.mapping.emitters import EmitterSettings
 from hexapod_adapt.mapping.map_elites import (
-    load_checkpoint,
+    load_checkpoint_state,
     MapElitesConfig,
     Progress,
     run_map_elites,
@@ -79,6 +80,10 @@ LIMITS = {
     'chunk': (0, 100_000),  # 0 = the engine's default
     'random_init': (0.0, 1.0),
     'cvt_samples': (1, 10**9),
+    'emitter_count': (1, 64),  # emitters per lane (pyribs sets)
+    'emitter_batch': (1, 10_000),  # solutions per emitter per ask
+    'sigma0': (1e-4, 1.0),  # CMA-ES's initial step size
+    'lanes': (1, 64),
 }
 
 
@@ -107,6 +112,13 @@ class GenerateConfig:
     kind: str = 'gait'  # 'gait' (the thesis map) or 'navigation' (a repertoire, repertoire.py)
     #: navigation: only gaits that keep this many feet down throughout are elites (0: any)
     min_stance_legs: int = 0
+    #: who proposes candidates after the random start: iso_line (the thesis's operator), or a
+    #: pyribs emitter set (cma_me, cma_mae, bandit; mapping.emitters) with these settings
+    emitters: str = 'iso_line'
+    emitter_count: int = 5
+    emitter_batch: int = 36
+    sigma0: float = 0.15
+    lanes: int = 2
 
     def __post_init__(self) -> None:
         try:
@@ -127,6 +139,7 @@ class GenerateConfig:
             raise ValueError(f'min_stance_legs must be 0..6, got {self.min_stance_legs!r}')
         if self.min_stance_legs and self.kind != 'navigation':
             raise ValueError('min_stance_legs applies to navigation repertoires only')
+        self.engine_config()  # the MAP-Elites settings' own checks (emitters, ...)
 
     @property
     def checkpoint_path(self) -> Path:
@@ -151,6 +164,19 @@ class GenerateConfig:
         """Return the MAP-Elites settings this run implies (chunk and lag defaults resolved)."""
         chunk = self.chunk or (8 if self.engine == 'mujoco' else 1)
         lag = self.lag or max(64, 4 * chunk * self.worker_count())
+        emitter: tuple = ()
+        if self.emitters != 'iso_line':
+            # the lanes keep the workers busy; the random start's lag is then a setting too, so
+            # that the map does not depend on the worker count
+            lag = self.lag or self.lanes * self.emitter_count * self.emitter_batch
+            defaults = EmitterSettings(self.emitters)
+            wanted = {
+                'count': self.emitter_count,
+                'batch': self.emitter_batch,
+                'sigma0': self.sigma0,
+                'lanes': self.lanes,
+            }
+            emitter = tuple((k, v) for k, v in wanted.items() if getattr(defaults, k) != v)
         initial: tuple = ()
         if self.with_presets and self.kind == 'navigation':
             initial = preset_genotypes()
@@ -163,6 +189,8 @@ class GenerateConfig:
             random_init=self.random_init,
             chunk=chunk,
             initial=initial,
+            emitters=self.emitters,
+            emitter=emitter,
         )
 
 
@@ -248,23 +276,23 @@ def generate_map(
         fingerprint = simulation_fingerprint(config.engine)
         evaluate = SimulateGenotypes(config.engine)
     engine = config.engine_config()
-    pending = None
+    pending, proposer = None, None
     source = None  # the file a resumed run continues
     if config.resume and config.checkpoint_path.is_file():
         source = config.checkpoint_path
-        archive, pending = load_checkpoint(source)
+        archive, pending, proposer = load_checkpoint_state(source)
     elif config.resume and out.is_file():
         # a finished map without its checkpoint: no candidate was in flight when it finished, so
         # it continues from its archive (not bit-identical to one longer run: the first lag
         # candidates after it see the final archive)
         source = out
-        archive, pending = load_archive(out), {}
+        archive, pending, proposer = load_archive(out), {}, None
     if source is not None:
         saved = archive.metadata.get('map_elites', {})
         # Candidate k depends on (seed, k, lag, settings) and the results before it, never on the
         # total: a run may be resumed with MORE evaluations and equals a run made that long at
         # once.
-        wanted = json.loads(json.dumps(asdict(engine)))  # as stored: tuples became lists
+        wanted = json.loads(json.dumps(engine.identity()))  # as stored: tuples became lists
         differ = sorted(
             k
             for k in set(saved) | set(wanted)
@@ -279,8 +307,8 @@ def generate_map(
             raise ArchiveError(
                 f'{source}: written with other MAP-Elites settings ('
                 + '; '.join(f'{k} {show(saved, k)}, not {show(wanted, k)}' for k in differ)
-                + '): resume with the same'
-                ' --seed/--lag/--chunk/--random-init/--with-presets/--engine/--kind'
+                + '): resume with the same --seed/--lag/--chunk/--random-init/--with-presets'
+                '/--engine/--kind/--emitters and emitter settings'
             )
         if saved and engine.evaluations < archive.metadata.get('evaluations', 0):
             raise ArchiveError(
@@ -328,6 +356,7 @@ def generate_map(
             checkpoint=config.checkpoint_path,
             checkpoint_every=config.checkpoint_every,
             pending=pending,
+            proposer=proposer,
             on_progress=progress,
             progress_every=config.log_every,
             random_genes=functools.partial(random_reachable_genes, size=kind.genotype_size),

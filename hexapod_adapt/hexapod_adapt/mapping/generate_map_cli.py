@@ -39,6 +39,7 @@ import argparse
 import sys
 
 from hexapod_adapt.mapping.archive import MAP_KINDS
+from hexapod_adapt.mapping.emitters import EMITTER_SETS
 from hexapod_adapt.mapping.generate import (
     BACKENDS,
     EmptyMapError,
@@ -64,6 +65,32 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     ap.add_argument('--out', type=output_file, required=True, help='archive file to write (.npz)')
+    ap.add_argument(
+        '--emitters',
+        choices=EMITTER_SETS,
+        default='iso_line',
+        help="who proposes gaits after the random start: iso_line (the thesis's operator);"
+        ' cma_me or cma_mae (pyribs improvement emitters: CMA-ES inside the archive); bandit (a'
+        ' UCB1 bandit over CMA-ES, random-direction and iso+line emitters)',
+    )
+    ap.add_argument(
+        '--emitter-count', type=_limited('emitter_count'), default=5, help='emitters per lane'
+    )
+    ap.add_argument(
+        '--emitter-batch',
+        type=_limited('emitter_batch'),
+        default=36,
+        help='solutions per emitter per ask',
+    )
+    ap.add_argument(
+        '--sigma0', type=_limited('sigma0'), default=0.15, help="CMA-ES's initial step size"
+    )
+    ap.add_argument(
+        '--lanes',
+        type=_limited('lanes'),
+        default=2,
+        help='emitter sets asked in turn, so that no worker waits for a batch to end',
+    )
     ap.add_argument(
         '--kind',
         choices=tuple(MAP_KINDS),
@@ -224,6 +251,11 @@ def _generate(args: argparse.Namespace) -> int:
             engine=args.engine,
             kind=args.kind,
             min_stance_legs=args.min_stance_legs,
+            emitters=args.emitters,
+            emitter_count=args.emitter_count,
+            emitter_batch=args.emitter_batch,
+            sigma0=args.sigma0,
+            lanes=args.lanes,
         )
         config.engine_config()
     except ValueError as exc:

@@ -48,6 +48,7 @@ import time
 from typing import Callable, Protocol, Sequence
 
 from hexapod_adapt.mapping.archive import Archive, ArchiveError, InsertStatus, load_archive
+from hexapod_adapt.mapping.emitters import EMITTER_SETS, EmitterSettings, RibsProposer
 import numpy as np
 
 
@@ -63,6 +64,10 @@ class MapElitesConfig:
     sigma_line: float = 0.2
     chunk: int = 1  # candidates per task sent to a worker (larger over a network)
     initial: tuple[tuple[float, ...], ...] = ()  # genotypes tried first (e.g. the preset gaits)
+    #: who proposes candidates after the random initialisation: 'iso_line' (the operator above),
+    #: or a pyribs emitter set (mapping.emitters.EmitterSettings, its settings in ``emitter``)
+    emitters: str = 'iso_line'
+    emitter: tuple[tuple[str, float], ...] = ()  # EmitterSettings' fields other than defaults
 
     def __post_init__(self) -> None:
         if self.evaluations < 1:
@@ -73,9 +78,34 @@ class MapElitesConfig:
             raise ValueError(f'random_init must be a fraction in [0, 1], got {self.random_init}')
         if self.sigma_iso < 0 or self.sigma_line < 0:
             raise ValueError('sigma_iso and sigma_line must be >= 0')
+        if self.emitters not in EMITTER_SETS:
+            raise ValueError(f'emitters must be one of {", ".join(EMITTER_SETS)}')
+        if self.emitters != 'iso_line':
+            self.emitter_settings()  # ValueError names a bad one
+        elif self.emitter:
+            raise ValueError('emitter settings apply to a pyribs emitter set, not iso_line')
         sizes = {len(genes) for genes in self.initial}
         if len(sizes) > 1 or not all(0.0 <= g <= 1.0 for genes in self.initial for g in genes):
             raise ValueError('initial genotypes must all have the same number of genes, in [0, 1]')
+
+    def emitter_settings(self) -> EmitterSettings:
+        """Return the pyribs emitter set's settings (only for emitters other than iso_line)."""
+        return EmitterSettings(self.emitters, **dict(self.emitter))
+
+    def identity(self) -> dict:
+        """
+        Return the settings a map's metadata records (and a resumed run must match).
+
+        The emitter fields only for a pyribs set: maps made before they existed keep their
+        identity.
+        """
+        settings = asdict(self)
+        if self.emitters == 'iso_line':
+            settings.pop('emitters')
+            settings.pop('emitter')
+        else:
+            settings['emitter'] = dict(self.emitter)
+        return settings
 
 
 class Evaluation(Protocol):
@@ -112,6 +142,14 @@ class MapElites:
         self.random_genes = random_genes or (lambda rng: rng.random(self.size))
         self._tree = cKDTree(archive.centroids)
         self.told = int(archive.metadata.get('evaluations') or 0)  # results inserted so far
+        self.proposer: RibsProposer | None = None  # a pyribs emitter set, once it has started
+        self.needed = max(1, math.ceil(config.random_init * archive.n_niches))
+
+    def may_ask(self, k: int) -> bool:
+        """Whether candidate k may be asked now (k - lag results told, or its lane's turn)."""
+        if self.proposer is not None and k >= self.proposer.first:
+            return self.proposer.may_ask(k, self.told)
+        return k <= self.told + self.config.lag
 
     def niche_of(self, descriptors: np.ndarray) -> np.ndarray:
         """Niche indices of descriptors (nearest centroid)."""
@@ -121,10 +159,15 @@ class MapElites:
         """Genes of candidate k (call when exactly results 0 .. k - lag - 1 are told)."""
         if k < len(self.config.initial):
             return np.array(self.config.initial[k], dtype=float)
+        if self.proposer is not None and k >= self.proposer.first:
+            return self.proposer.candidate(k)
         rng = np.random.default_rng([self.config.seed, k])
         elites = self.archive.elite_indices()
-        if len(elites) < max(1, math.ceil(self.config.random_init * self.archive.n_niches)):
+        if len(elites) < self.needed:
             return self.random_genes(rng)
+        if self.config.emitters != 'iso_line':  # the emitter set takes over from here
+            self.proposer = self._start_proposer(k)
+            return self.proposer.candidate(k)
         x1, x2 = self.archive.genotypes[rng.choice(elites, 2)]
         child = (
             x1
@@ -133,10 +176,19 @@ class MapElites:
         )
         return np.clip(child, 0.0, 1.0)
 
+    def _start_proposer(self, first: int) -> RibsProposer:
+        a = self.archive
+        seen = [(a.genotypes[i], a.fitness[i], a.descriptors[i]) for i in a.elite_indices()]
+        proposer = RibsProposer(
+            self.config.emitter_settings(), a.centroids, self.size, self.config.seed, seen
+        )
+        proposer.first = first
+        return proposer
+
     def sync_metadata(self) -> None:
         """Record the evaluations done and the settings in the archive's metadata."""
         self.archive.metadata['evaluations'] = self.told
-        self.archive.metadata['map_elites'] = asdict(self.config)
+        self.archive.metadata['map_elites'] = self.config.identity()
 
     def tell(self, genes: np.ndarray, result: Evaluation) -> InsertStatus | None:
         """
@@ -144,7 +196,17 @@ class MapElites:
 
         What the archive did with it (None for an invalid gait, which is counted and not inserted).
         """
+        k = self.told
         self.told += 1
+        if self.proposer is not None:
+            fitness = result.fitness if result.valid else float('nan')
+            descriptor = np.asarray(result.descriptor, dtype=float)
+            if not result.valid:
+                descriptor = np.zeros(self.archive.centroids.shape[1])
+            if k >= self.proposer.first:
+                self.proposer.tell(k, genes, fitness, descriptor)
+            else:
+                self.proposer.add_seen(genes, fitness, descriptor)
         if not result.valid:
             return None
         niche = int(self.niche_of(result.descriptor)[0])
@@ -163,11 +225,22 @@ def save_checkpoint(
     engine.sync_metadata()
     ks = np.array(sorted(pending), dtype=np.int64)
     genes = np.array([pending[k] for k in ks]).reshape(len(ks), engine.size)
-    engine.archive.save(path, {'pending_index': ks, 'pending_genes': genes})
+    extra = {'pending_index': ks, 'pending_genes': genes}
+    if engine.proposer is not None:  # the emitter set's whole state, to continue exactly
+        extra['emitter_state'] = np.frombuffer(engine.proposer.dumps(), dtype=np.uint8)
+    engine.archive.save(path, extra)
 
 
 def load_checkpoint(path: str | os.PathLike) -> tuple[Archive, dict[int, np.ndarray]]:
     """(archive, candidates in flight) from a checkpoint; ArchiveError if it is not one."""
+    archive, pending, _ = load_checkpoint_state(path)
+    return archive, pending
+
+
+def load_checkpoint_state(
+    path: str | os.PathLike,
+) -> tuple[Archive, dict[int, np.ndarray], RibsProposer | None]:
+    """(archive, candidates in flight, the emitter set's state if any) from a checkpoint."""
     archive = load_archive(path)
     with np.load(path, allow_pickle=False) as data:
         if 'pending_index' not in data.files:
@@ -177,7 +250,12 @@ def load_checkpoint(path: str | os.PathLike) -> tuple[Archive, dict[int, np.ndar
         pending = {
             int(k): np.array(g) for k, g in zip(data['pending_index'], data['pending_genes'])
         }
-    return archive, pending
+        blob = data['emitter_state'].tobytes() if 'emitter_state' in data.files else None
+    try:
+        proposer = RibsProposer.loads(blob) if blob is not None else None
+    except Exception as exc:  # noqa: BLE001 - any damage to the state is the same refusal
+        raise ArchiveError(f'{path}: its emitter state cannot be read ({exc})') from None
+    return archive, pending, proposer
 
 
 # -- the run loop ------------------------------------------------------------------------------
@@ -213,6 +291,7 @@ def run_map_elites(
     checkpoint: str | os.PathLike | None = None,
     checkpoint_every: float = 600.0,
     pending: dict[int, np.ndarray] | None = None,
+    proposer: RibsProposer | None = None,
     on_progress: Callable[[Progress], None] | None = None,
     progress_every: float = 10.0,
     random_genes: Callable[[np.random.Generator], np.ndarray] | None = None,
@@ -226,6 +305,7 @@ def run_map_elites(
     hexapod uses :func:`reachable_random_genes`).
     """
     engine = MapElites(archive, config, random_genes)
+    engine.proposer = proposer  # a checkpoint's emitter set, in the state it was saved in
     pending = dict(pending or {})
     asked = engine.told + len(pending)
     done: dict[int, Evaluation] = {}
@@ -270,7 +350,7 @@ def run_map_elites(
     def ask_allowed() -> None:
         # candidate k sees exactly the results 0 .. k - lag - 1: ask it right after that tell
         nonlocal asked
-        while asked < config.evaluations and asked <= engine.told + config.lag:
+        while asked < config.evaluations and engine.may_ask(asked):
             pending[asked] = engine.candidate(asked)
             new.append(asked)
             asked += 1
