@@ -274,8 +274,37 @@ def _port_loss_latencies(cycles: int = 10) -> tuple[list[float], list[float]]:
     return down, up
 
 
+def _default_map_figures() -> None:
+    """
+    The shipped default map's own figures, from its metadata and its generation log.
+
+    map_core_hours: the wall time of each run in the log (a resumed run restarts ``elapsed``)
+    times its workers (a row's ``workers``; logs written before rows had it: the 2 workers its
+    README records).
+    """
+    from hexapod_adapt.mapping.archive import load_archive
+    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+    from hexapod_adapt.mapping.plots import read_log
+
+    path = shipped_map(DEFAULT_MAP)
+    archive = load_archive(path)
+    speeds = archive.speeds()[archive.elite_indices()]
+    core_seconds, previous = 0.0, None
+    for row in read_log(path.with_name(path.name + '.log.jsonl')) + [None]:
+        if previous is not None and (row is None or row['elapsed'] < previous['elapsed']):
+            core_seconds += previous['elapsed'] * previous.get('workers', 2)
+        previous = row
+    print(f'BENCH map_evaluations {archive.metadata["evaluations"]} evaluations')
+    print(f'BENCH map_core_hours {core_seconds / 3600:.2f} core-hours')
+    print(f'BENCH map_filled {archive.n_filled} niches')
+    print(f'BENCH map_mean_elite {speeds.mean():.3f} m/s')
+    print(f'BENCH map_best {speeds.max():.3f} m/s')
+
+
 def bench_map() -> None:
     """
+    The default map's figures (_default_map_figures), then the generator's speed.
+
     map_evals_per_s_mujoco and map_worker_utilisation_mujoco.
 
     A generate_map run from scratch on 2 local worker processes with the MuJoCo engine (batches of
@@ -289,6 +318,7 @@ def bench_map() -> None:
     from hexapod_adapt.mapping.archive import Archive
     from hexapod_adapt.mapping.generate import generate_map, GenerateConfig
 
+    _default_map_figures()
     with tempfile.TemporaryDirectory() as tmp:
         for engine, evaluations, suffix in (('mujoco', 3000, '_mujoco'), ('pybullet', 600, '')):
             last = []
@@ -404,6 +434,12 @@ def bench_adapt() -> None:
     have_priors = all(
         cache_path(cached, ceiling_key(archive, legs, map_engine)).is_file() for legs in legs_all
     )
+    if have_priors:  # what the map holds under each scenario's damage (the shipped cache)
+        for name in ('S1', 'S2', 'S3', 'S4'):
+            best = [
+                ceiling(archive, legs, map_engine, cached).best_speed for legs in scenario(name)
+            ]
+            print(f'BENCH map_ceiling_median_{name} {np.median(best):.3f} m/s')
     setups = [('', 'default', True, False), ('_thesis', 'thesis', False, False)]
     if have_priors:
         setups.insert(1, ('_prior', 'default', True, True))

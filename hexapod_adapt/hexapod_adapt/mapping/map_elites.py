@@ -274,6 +274,7 @@ class Progress:
     evals_per_s: float
     utilisation: float  # worker compute time / (workers x wall time) since the run started
     elapsed: float
+    workers: int = 1  # the run's worker processes (wall time x workers = its core time)
 
     def log_row(self) -> str:
         """Return this report as one JSON line."""
@@ -330,6 +331,7 @@ def run_map_elites(
             (engine.told - told_at_start) / wall,
             busy / (max(workers, 1) * wall),
             wall,
+            max(workers, 1),
         )
 
     inline: list[list[int]] = []  # without an executor: chunks evaluated one per loop turn

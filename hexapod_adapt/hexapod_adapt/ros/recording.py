@@ -255,9 +255,14 @@ def message_class(full_type: str) -> type:
 
 
 def _complete_records(path: str | os.PathLike) -> Iterator[Any]:
-    """Every complete record of an MCAP file, chunks opened, stopping at a truncated tail."""
+    """
+    Every complete record of an MCAP file, chunks opened, stopping at a truncated tail.
+
+    Chunks are checked against their CRCs: a damaged one ends the records there, so that nothing
+    corrupted is passed on as a message.
+    """
     with open(path, 'rb') as fh:
-        records = StreamReader(fh, skip_magic=False).records
+        records = StreamReader(fh, skip_magic=False, validate_crcs=True).records
         while True:
             try:
                 yield next(records)
