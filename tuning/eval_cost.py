@@ -85,9 +85,7 @@ def main(argv: list[str] | None = None) -> int:
     rng = np.random.default_rng(args.seed)
     chosen = rng.choice(archive.elite_indices(), args.gaits, replace=False)
     genes = archive.genotypes[chosen]
-    print(
-        f'{args.gaits} elites of the default map (seed {args.seed}), batches of {BATCH}, one process'
-    )
+    print(f'{args.gaits} default-map elites (seed {args.seed}), batches of {BATCH}, one process')
     print(f'{"setting":18s} {"ms/eval":>8s} {"valid":>6s} {"spearman":>9s} {"top-100":>8s}')
     reference = None
     for name, settings in CANDIDATES:
