@@ -184,7 +184,7 @@ def table(scores: dict[str, Score], status: str) -> str:
     """Return the study's table as text."""
     head = (
         f'{"run":26s} {"evals":>8s} {"filled":>7s} {"QD/niche":>9s} {"mean":>6s} {"best":>6s}'
-        f' {"score":>6s}  ceilings (m/s): ' + ', '.join(d.label for d in STUDY_DAMAGES)
+        f' {"score":>6s}  ceilings (m/s): ' + ' | '.join(d.label for d in STUDY_DAMAGES)
     )
     lines = [head]
     for s in scores.values():
