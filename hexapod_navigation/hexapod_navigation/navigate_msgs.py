@@ -27,7 +27,7 @@ import time
 
 from builtin_interfaces.msg import Duration, Time
 from geometry_msgs.msg import PoseStamped
-from hexapod_adapt.ros.graph_port import GraphPort
+from hexapod_adapt.ros.graph_port import GraphPort, stamp_ns
 from hexapod_gait import GaitParameters
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_msgs.action import Navigate
@@ -64,8 +64,9 @@ def pose_sample(msg: Odometry | PoseStamped) -> PoseSample:
     pose = msg.pose.pose if isinstance(msg, Odometry) else msg.pose
     p, q = pose.position, pose.orientation
     roll, pitch, yaw = quat_to_euler((q.x, q.y, q.z, q.w))
-    stamp = msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec
-    return PoseSample(stamp, Pose2D(p.x, p.y, yaw), time.monotonic(), roll, pitch)
+    return PoseSample(
+        stamp_ns(msg.header.stamp), Pose2D(p.x, p.y, yaw), time.monotonic(), roll, pitch
+    )
 
 
 def goal_marker(x: float, y: float, tolerance: float, stamp: Time) -> Marker:
