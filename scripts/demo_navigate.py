@@ -57,8 +57,8 @@ def main(argv: list[str] | None = None) -> int:
     from hexapod_adapt.ros.recording import read_messages
     from hexapod_gait.ros_glue import die_with_parent, ros_args
     from hexapod_msgs.action import Navigate
+    from hexapod_navigation.navigate_msgs import navigate_client
     import rclpy
-    from rclpy.action import ActionClient
 
     domain = 60 + os.getpid() % 30
     env = dict(
@@ -100,7 +100,7 @@ def main(argv: list[str] | None = None) -> int:
     rclpy.init(domain_id=domain)
     node = rclpy.create_node('demo_operator')
     try:
-        client = ActionClient(node, Navigate, 'navigate')
+        client = navigate_client(node)
         if not client.wait_for_server(timeout_sec=60):
             print(f'navigate_node did not come up; logs in {out}/')
             return 1

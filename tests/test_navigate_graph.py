@@ -28,15 +28,16 @@ import signal
 import subprocess
 import sys
 import textwrap
+import time
 
 from conftest import executable, status_log_qos, wait_for
 from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_msgs.action import Navigate
+from hexapod_navigation.navigate_msgs import navigate_client
 from nav_msgs.msg import Odometry
 import pytest
 from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
 from rcl_interfaces.srv import SetParameters
-from rclpy.action import ActionClient
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from std_srvs.srv import SetBool
 from visualization_msgs.msg import Marker
@@ -53,7 +54,7 @@ def graph(ros, launch):
     launch('hexapod_sim', 'sim_node', params=SIM)
     launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
     nav = launch('hexapod_navigation', 'navigate_node', params={'max_range': 5.0})
-    client = ActionClient(ros.node, Navigate, 'navigate')
+    client = navigate_client(ros.node)
     assert client.wait_for_server(timeout_sec=60)
     return nav, client
 
@@ -106,7 +107,7 @@ def test_goals_are_reached_whatever_the_odometry_rate(ros, launch, period):
     launch('hexapod_sim', 'sim_node', params={**SIM, 'publish_period_steps': period})  # default 4
     launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
     nav = launch('hexapod_navigation', 'navigate_node', params={'max_range': 5.0})
-    client = ActionClient(ros.node, Navigate, 'navigate')
+    client = navigate_client(ros.node)
     assert client.wait_for_server(timeout_sec=60)
     for x, y in ((0.8, 0.4), (0.0, 0.0)):
         status, result = Goal(ros, client, x, y).result()
@@ -218,7 +219,7 @@ def test_the_robot_path_walks_its_first_gait_through_the_bridge(ros, launch, tmp
     nav = launch(
         'hexapod_navigation', 'navigate_node', params={'mode': 'robot', 'trial_duration': 2.0}
     )
-    client = ActionClient(ros.node, Navigate, 'navigate')
+    client = navigate_client(ros.node)
     assert client.wait_for_server(timeout_sec=60)
     odom = ros.collect(Odometry, 'odom', ODOM)
     goal = Goal(ros, client, 3.0, 0.0)
@@ -280,11 +281,68 @@ def test_the_robot_path_refuses_goals_when_the_bridge_walks_other_trials(ros, la
         'navigate_node',
         params={'mode': 'robot', 'trial_duration': 2.0, 'bank_file': str(absent)},
     )
-    client = ActionClient(ros.node, Navigate, 'navigate')
+    client = navigate_client(ros.node)
     assert client.wait_for_server(timeout_sec=60)
     assert f'no damage bank, the GP learns alone: no step bank at {absent}' in nav.log()
     status = ros.collect(DiagnosticStatus, 'navigate/status', status_log_qos())
-    assert not Goal(ros, client, 1.0, 0.0).handle.accepted
+    # the bridge is asked when the goal's turn comes (the goal callback never waits on the graph)
+    goal = Goal(ros, client, 1.0, 0.0)
+    status_code, result = goal.result(timeout=60)
     says = 'bridge_node walks 5 s per trial but navigate_node steps are 2 s'
+    assert result.outcome == Navigate.Result.FAILED and says in result.reason
+    assert status_code == 6 and result.steps == 0  # STATUS_ABORTED, nothing walked
     wait_for(lambda: any(says in s.message for s in status), 10, 'the reason')
     assert nav.alive()
+
+
+def _storm(client, goals, spacing_s):
+    """Send ``goals`` (x, y) ``spacing_s`` apart; return [(sent, answered-time list, future)]."""
+    sent = []
+    for x, y in goals:
+        answered: list[float] = []
+        t = time.monotonic()
+        future = client.send_goal_async(Navigate.Goal(x=float(x), y=float(y)))
+        future.add_done_callback(lambda _f, a=answered: a.append(time.monotonic()))
+        sent.append((t, answered, future))
+        time.sleep(spacing_s)
+    return sent
+
+
+def test_a_goal_storm_is_answered_at_once_and_only_the_newest_is_walked(ros, graph):
+    nav, client = graph
+    odom = ros.collect(Odometry, 'odom', ODOM)
+    wait_for(lambda: odom, 30, 'odometry')
+    # 50 goals within a second, each preempting the last (the issue's storm)
+    goals = [(0.3 + 0.01 * i, 0.1) for i in range(49)] + [(0.5, 0.3)]
+    sent = _storm(client, goals, 0.02)
+    wait_for(lambda: all(a for _, a, _ in sent), 10, 'answers to all 50 goal requests')
+    delays = [a[0] - t for t, a, _ in sent]
+    print(f'goal responses: slowest {max(delays):.3f} s, median {sorted(delays)[25]:.3f} s')
+    assert max(delays) <= 1.0
+    handles = [f.result() for _, _, f in sent]
+    assert all(h.accepted for h in handles)
+    results = [h.get_result_async() for h in handles]
+    try:
+        wait_for(lambda: all(r.done() for r in results[:-1]), 30, 'the superseded goals to end')
+    except AssertionError:
+        print([i for i, r in enumerate(results) if not r.done()], nav.log()[-4000:])
+        raise
+    older = [r.result().result for r in results[:-1]]
+    assert all(r.outcome == Navigate.Result.PREEMPTED for r in older), [r.reason for r in older]
+    # only the newest walks: a goal followed by another within GOAL_SETTLE_S (0.5 s) never walks
+    # (0.4 s here, a margin for the request's way); a loaded machine may space a few further
+    stormed = [
+        r for r, (t, _, _), (t_next, _, _) in zip(older, sent, sent[1:]) if t_next - t < 0.4
+    ]
+    assert len(stormed) >= 40 and all(r.steps == 0 for r in stormed)
+    wait_for(lambda: results[-1].done(), 120, 'the newest goal')
+    assert results[-1].result().result.reached, results[-1].result().result.reason
+    # a normal goal afterwards is accepted and reached
+    after = Goal(ros, client, 0.0, 0.0)
+    assert after.handle.accepted and after.result()[1].reached
+    # Ctrl-C with goals pending ends without a traceback
+    _storm(client, [(1.0 + 0.01 * i, 0.0) for i in range(10)], 0.02)
+    time.sleep(1.0)
+    assert nav.stop() == 0
+    log = nav.log()
+    assert 'Traceback' not in log and 'never retrieved' not in log, log[-3000:]

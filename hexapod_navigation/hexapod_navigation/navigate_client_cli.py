@@ -39,8 +39,8 @@ import time
 
 from hexapod_description.cli import number, run_command
 from hexapod_msgs.action import Navigate
+from hexapod_navigation.navigate_msgs import navigate_client
 import rclpy
-from rclpy.action import ActionClient
 from rclpy.signals import SignalHandlerOptions
 
 OUTCOMES = {
@@ -92,7 +92,7 @@ def _send(args: argparse.Namespace, ros_args: list[str]) -> int:
     node = rclpy.create_node('navigate_client')
     handle = None
     try:
-        client = ActionClient(node, Navigate, args.action)
+        client = navigate_client(node, args.action)
         if not client.wait_for_server(timeout_sec=max(0.0, deadline - time.monotonic())):
             print(
                 f'navigate_client: action {args.action} not available within {args.timeout:g} s'

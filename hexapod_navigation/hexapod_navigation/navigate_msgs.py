@@ -30,14 +30,35 @@ from geometry_msgs.msg import PoseStamped
 from hexapod_adapt.ros.graph_port import GraphPort, stamp_ns
 from hexapod_gait import GaitParameters
 from hexapod_gait.ros_conversions import gait_to_msg
+from hexapod_gait.ros_glue import ACTION_SERVICES
 from hexapod_msgs.action import Navigate
 from hexapod_navigation.bodies import PoseSample
 from hexapod_navigation.episode import Feedback, NavigationResult, Outcome
 from hexapod_navigation.planner import Pose2D
 from hexapod_sim.simulator import quat_to_euler
 from nav_msgs.msg import Odometry
+from rclpy.action import ActionClient
 from rclpy.client import Client
+from rclpy.node import Node
 from visualization_msgs.msg import Marker
+
+
+def navigate_client(node: Node, action: str = 'navigate') -> ActionClient:
+    """
+    An action client for ``navigate`` whose services keep a burst of answers (ACTION_SERVICES).
+
+    Any Navigate client works; one with the services' default depth loses answers when many goals
+    end at once (a goal storm).
+    """
+    return ActionClient(
+        node,
+        Navigate,
+        action,
+        goal_service_qos_profile=ACTION_SERVICES,
+        result_service_qos_profile=ACTION_SERVICES,
+        cancel_service_qos_profile=ACTION_SERVICES,
+    )
+
 
 #: Navigate.Result's outcome constant of each library outcome.
 OUTCOME_CODES = {

@@ -28,10 +28,14 @@ parameter, by default the shipped one) with the learned correction of
 bridge_node (``mode:=robot``). The pose comes from ``odom``, or from ``pose_topic`` (a
 geometry_msgs/PoseStamped or nav_msgs/Odometry, e.g. motion capture).
 
-* An invalid goal (not finite, beyond ``max_range``, outside the arena, no repertoire, no pose
-  yet) is rejected; the reason is logged and published on ``navigate/status``.
-* A new goal preempts the one being pursued (that one ends PREEMPTED); a cancel stops the robot
-  within one gait cycle; a client that vanishes leaves the goal to run to its end.
+* An invalid goal (not finite, beyond ``max_range``, outside the arena, no repertoire) is
+  rejected; the reason is logged and published on ``navigate/status``. What needs an answer from
+  the graph (the first pose, bridge_node's trial length) is checked when the goal's turn comes,
+  and a goal that fails it is aborted with the reason.
+* A new goal preempts the one being pursued (that one ends PREEMPTED); goals superseded before
+  their turn end PREEMPTED without walking, so a storm of goals is answered at once and only the
+  newest is walked (:mod:`hexapod_navigation.goal_turns`); a cancel stops the robot within one
+  gait cycle; a client that vanishes leaves the goal to run to its end.
 * What was learned about the damage is kept from goal to goal; ``~/forget`` drops it (after a
   repair, or new damage).
 
@@ -43,7 +47,6 @@ gaits, the goal marker, the URDF): its path replays in Foxglove.
 from __future__ import annotations
 
 import sys
-import threading
 
 from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import PoseStamped
@@ -52,17 +55,27 @@ from hexapod_adapt.online.trials import OdomLog, Waiter
 from hexapod_adapt.ros.graph_port import GraphPort, RECORDED_TYPES, RecordedTopics
 from hexapod_adapt.ros.recording import type_name
 from hexapod_adapt.ros.run_recording import RunRecording
-from hexapod_gait.ros_glue import declare, LATCHED, param_specs, POSES, publish_status, run_node
+from hexapod_gait.ros_glue import (
+    ACTION_SERVICES,
+    declare,
+    LATCHED,
+    param_specs,
+    POSES,
+    publish_status,
+    run_node,
+)
 from hexapod_msgs.action import Navigate
 from hexapod_navigation import navigate_msgs as conv
 from hexapod_navigation import node_settings as settings
 from hexapod_navigation.bodies import PoseLog, RobotGraphBody, SimGraphBody
-from hexapod_navigation.episode import Feedback, Outcome, run_episode
+from hexapod_navigation.episode import BodyFailure, Feedback, Outcome, run_episode
+from hexapod_navigation.goal_turns import GoalTurns
 from hexapod_navigation.planner import goal_problem, RepertoirePolicy
 from hexapod_navigation.repertoire import shipped_repertoire
 from hexapod_navigation.step_bank import load_navigation, shipped_step_bank
 from nav_msgs.msg import Odometry
 import rclpy
+from rclpy._rclpy_pybind11 import RCLError
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.node import Node
@@ -75,6 +88,8 @@ RECORDED = {
     'navigate/goal': type_name(Marker),
 }
 FIRST_POSE_WAIT_S = 5.0  # how long a goal waits for the pose source's first message
+#: A goal walks once it has been the newest this long [s]: of a burst of goals only the last walks.
+GOAL_SETTLE_S = 0.5
 PARAMETERS = param_specs(settings.SETTINGS)
 
 
@@ -155,10 +170,7 @@ class NavigateNode(Node):
                 external,
                 timeout,
             )
-        self._lock = threading.Lock()
-        self._driving = threading.Lock()
-        self._active = None
-        self._preempted: set = set()
+        self.turns = GoalTurns(GOAL_SETTLE_S)
         work = ReentrantCallbackGroup()
         self.server = ActionServer(
             self,
@@ -169,6 +181,9 @@ class NavigateNode(Node):
             handle_accepted_callback=self._on_accepted,
             cancel_callback=lambda _: CancelResponse.ACCEPT,
             callback_group=work,
+            goal_service_qos_profile=ACTION_SERVICES,
+            result_service_qos_profile=ACTION_SERVICES,
+            cancel_service_qos_profile=ACTION_SERVICES,
         )
         self.create_service(Trigger, '~/forget', self._on_forget, callback_group=work)
         if self.problem:
@@ -188,50 +203,70 @@ class NavigateNode(Node):
 
     # -- the action ----------------------------------------------------------------------------
     def _goal_problem(self, goal) -> str:
+        """What is wrong with ``goal`` that can be told at once ('' if nothing yet)."""
         if self.policy is None:
             return self.problem
+        problem = settings.goal_settings_problem(goal.tolerance, goal.time_limit)
+        if problem:
+            return problem
+        start = self._known_pose()
+        return goal_problem(goal.x, goal.y, start, self.config) if start is not None else ''
+
+    def _known_pose(self):
+        """The robot's pose if known now (None before the pose source's first message)."""
+        if self.mode == 'sim' or self.body.external:
+            latest = self.poses.latest()
+            return latest.pose if latest is not None else None
+        return self.body.pose()  # dead reckoning: always known
+
+    def _start_problem(self, goal) -> str:
+        """
+        What stops the goal whose turn came, checked by waiting on the graph ('' if nothing).
+
+        Kept out of the goal callback: an executor thread that waits there is one the answers
+        it waits for cannot use, and a burst of goals then starved the node.
+        """
         if self.mode == 'robot':
             # as long as any answer from the graph (a loaded machine discovers a service late)
             bridge = self.port.bridge_trial(self.timeout, self.timeout)
             problem = settings.bridge_trial_problem(bridge, self.trial_duration)
             if problem:
                 return problem
-        problem = settings.goal_settings_problem(goal.tolerance, goal.time_limit)
-        if problem:
-            return problem
-        if self.mode == 'sim' or self.body.external:
-            # a goal sent just after start-up waits a little for the first pose
+        if self._known_pose() is None:  # a goal sent just after start-up waits for a pose
             try:
-                latest = self.waiter.until(self.poses.latest, FIRST_POSE_WAIT_S, 'a pose')
+                self.waiter.until(self.poses.latest, FIRST_POSE_WAIT_S, 'a pose')
             except TrialAborted:
                 return 'no pose received yet (is the pose source publishing?)'
-            start = latest.pose
-        else:
-            start = self.body.pose()
-        return goal_problem(goal.x, goal.y, start, self.config)
+        return goal_problem(goal.x, goal.y, self._known_pose(), self.config)
 
     def _on_goal(self, goal) -> GoalResponse:
-        problem = self._goal_problem(goal)
+        problem = self._goal_problem(goal)  # never waits: every request is answered at once
         if problem:
             self._status(DiagnosticStatus.WARN, f'goal ({goal.x}, {goal.y}) rejected: {problem}')
             return GoalResponse.REJECT
         return GoalResponse.ACCEPT
 
     def _on_accepted(self, handle) -> None:
-        with self._lock:
-            if self._active is not None:
-                self._preempted.add(self._active)
-        handle.execute()
+        self.turns.accepted(self._key(handle))  # the goal being walked stops at its next check
+        self._on_handle(handle.execute)
 
     @staticmethod
     def _key(handle) -> bytes:
         return bytes(handle.goal_id.uuid)
 
     def _execute(self, handle) -> Navigate.Result:
-        goal = handle.request
-        with self._driving:  # a preempted goal finishes first
-            with self._lock:
-                self._active = self._key(handle)
+        key, goal = self._key(handle), handle.request
+        # a goal superseded before its turn ends at once, without walking, and waiting holds no
+        # lock the node's other callbacks need (a storm of goals is answered at once)
+        if not self.turns.wait_turn(key, lambda: handle.is_cancel_requested):
+            return self._end_unwalked(handle)
+        problem = self._start_problem(goal)
+        if problem:
+            self.turns.done(key)
+            self._status(DiagnosticStatus.WARN, f'goal ({goal.x}, {goal.y}) aborted: {problem}')
+            self._on_handle(handle.abort)
+            return Navigate.Result(outcome=Navigate.Result.FAILED, reason=problem)
+        try:
             config = settings.goal_config(self.config, goal.tolerance, goal.time_limit)
             self.policy.config = config
             path = self._start_recording()
@@ -242,48 +277,71 @@ class NavigateNode(Node):
             def stopped() -> bool:
                 return (
                     handle.is_cancel_requested
-                    or self._key(handle) in self._preempted
+                    or self.turns.superseded(key)
                     or not rclpy.ok(context=self.context)
                 )
 
             def feedback(f: Feedback) -> None:
                 self.recording.checkpoint()  # every step survives a kill or a power loss
-                handle.publish_feedback(conv.feedback_msg(f, self._now()))
+                self._on_handle(handle.publish_feedback, conv.feedback_msg(f, self._now()))
 
             self._status(DiagnosticStatus.OK, f'navigating to ({goal.x:.2f}, {goal.y:.2f})')
             try:
                 result = run_episode(
                     self.body, self.policy, (goal.x, goal.y), config, stopped, feedback
                 )
-            except TrialAborted as exc:  # the graph stopped answering while standing up
+            except (TrialAborted, BodyFailure) as exc:  # the graph stopped answering
                 result, reason = None, str(exc)
             finally:
                 self.recording.stop()
-            with self._lock:
-                preempted = self._key(handle) in self._preempted
-                self._preempted.discard(self._key(handle))
-                self._active = None
+            preempted = self.turns.superseded(key)
+        finally:
+            self.turns.done(key)
+        if not rclpy.ok(context=self.context):
+            self._on_handle(handle.abort)
+            return Navigate.Result(outcome=Navigate.Result.FAILED, reason='shutting down')
         recording = str(path) if path else ''
         if result is None:
-            handle.abort()
+            self._on_handle(handle.abort)
             return Navigate.Result(
                 outcome=Navigate.Result.FAILED, reason=reason, recording=recording
             )
         out = conv.result_msg(result, (goal.x, goal.y), recording, self._now())
         if result.outcome is Outcome.CANCELED and preempted and not handle.is_cancel_requested:
             out.outcome, out.reason = Navigate.Result.PREEMPTED, 'preempted by a newer goal'
-            handle.abort()
+            self._on_handle(handle.abort)
         elif result.outcome is Outcome.CANCELED:
-            handle.canceled()
+            self._on_handle(handle.canceled)
         elif result.reached:
-            handle.succeed()
+            self._on_handle(handle.succeed)
         else:
-            handle.abort()
+            self._on_handle(handle.abort)
         self._status(
             DiagnosticStatus.OK if result.reached else DiagnosticStatus.WARN,
             f'goal ({goal.x:.2f}, {goal.y:.2f}): {out.reason} after {result.walking_time:.1f} s',
         )
         return out
+
+    def _on_handle(self, call, *args) -> None:
+        """Call a goal handle's method (``handle.abort`` ...); at shutdown, only set its state."""
+        try:
+            call(*args)
+        except RCLError:  # the state is set; only its status could not be published
+            if rclpy.ok(context=self.context):
+                raise
+
+    def _end_unwalked(self, handle) -> Navigate.Result:
+        """End a goal that never got its turn: cancelled, superseded, or the node closing."""
+        if not rclpy.ok(context=self.context):
+            self._on_handle(handle.abort)
+            return Navigate.Result(outcome=Navigate.Result.FAILED, reason='shutting down')
+        if handle.is_cancel_requested:
+            self._on_handle(handle.canceled)
+            return Navigate.Result(outcome=Navigate.Result.CANCELED, reason='canceled')
+        self._on_handle(handle.abort)
+        return Navigate.Result(
+            outcome=Navigate.Result.PREEMPTED, reason='preempted by a newer goal before it started'
+        )
 
     def _now(self):
         return self.get_clock().now().to_msg()
@@ -296,11 +354,14 @@ class NavigateNode(Node):
         return self.recorded.start(self.record_dir, RECORDED, warn, prefix='navigate')
 
     def shutdown(self) -> None:
-        """Ctrl-C / SIGTERM mid-goal: finish the MCAP file (called by run_node)."""
+        """Ctrl-C / SIGTERM: stop every goal and finish the MCAP file (called by run_node)."""
+        # the walking goal sees the context gone at its next check; wait for it so that the node
+        # is not destroyed under it
+        self.turns.close(timeout_s=5.0)
         self.recording.stop()
 
     def _on_forget(self, request, response):
-        if self._driving.locked():
+        if self.turns.walking:
             response.success, response.message = False, 'a goal is being pursued; cancel it first'
         elif self.repertoire is None:
             response.success, response.message = False, self.problem
@@ -315,7 +376,7 @@ class NavigateNode(Node):
 
 def main(args: list[str] | None = None) -> int:
     """Entry point of ``ros2 run hexapod_navigation navigate_node``."""
-    return run_node(NavigateNode, args, num_threads=4, parameters=PARAMETERS)
+    return run_node(NavigateNode, args, num_threads=6, parameters=PARAMETERS)
 
 
 if __name__ == '__main__':

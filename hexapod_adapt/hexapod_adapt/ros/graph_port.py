@@ -50,6 +50,7 @@ from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterType
 from rcl_interfaces.srv import GetParameters
 import rclpy
+from rclpy._rclpy_pybind11 import RCLError
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.node import Node
 from sensor_msgs.msg import Imu, JointState
@@ -207,8 +208,13 @@ class GraphPort:
         return stamp
 
     def publish(self, msg: GaitParametersMsg) -> None:
-        """Publish (and record) a gait on gait/parameters."""
-        self.gait_pub.publish(msg)
+        """Publish (and record) a gait on gait/parameters; TrialAborted once shutting down."""
+        try:
+            self.gait_pub.publish(msg)
+        except RCLError:
+            if rclpy.ok(context=self.node.context):
+                raise
+            raise TrialAborted('shutting down') from None
         self.recording.record('gait/parameters', msg)
 
     def publish_gait(self, niche: int) -> tuple[int, float]:
