@@ -28,6 +28,11 @@ keeping the good one.
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
+import textwrap
+
 from conftest import status_log_qos, wait_for
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import simulation_fingerprint
@@ -229,11 +234,14 @@ def test_a_request_before_the_simulator_reports_its_damage_waits_for_the_report(
     assert node.alive()
 
 
-def test_bad_servo_reports_are_refused_and_the_node_lives(ros, launch):
+def test_bad_servo_reports_are_refused_and_the_node_lives(ros, launch, domain_id):
     from hexapod_gait.ros_glue import EVENTS
     from hexapod_msgs.msg import ServoFailure
+    from std_srvs.srv import Trigger
 
-    node = launch('hexapod_adapt', 'adapt_node', params={'mode': 'robot', 'record_dir': ''})
+    # the test's node plays the bridge adapt_node is configured to believe
+    params = {'mode': 'robot', 'record_dir': '', 'bridge_node': 'test_harness'}
+    node = launch('hexapod_adapt', 'adapt_node', params=params)
     pub = ros.node.create_publisher(ServoFailure, 'servo_failures', EVENTS)
     wait_for(lambda: pub.get_subscription_count() > 0, 20, 'adapt_node subscribed')
     for servo, leg in [(40, 0), (3, 1), (3, 1), (12, 4), (8, 3)]:
@@ -243,6 +251,32 @@ def test_bad_servo_reports_are_refused_and_the_node_lives(ros, launch):
     assert 'servo 40 reported dead names no leg (leg 0)' in log
     assert 'servo 3 (leg 1) reported dead again: already known' in log
     assert 'servo 12 reported dead: leg 4 failed' in log
+    # only the bridge is believed: a report from another node is logged, naming it, and ignored
+    script = textwrap.dedent(
+        """
+        import rclpy, time
+        from hexapod_gait.ros_glue import EVENTS
+        from hexapod_msgs.msg import ServoFailure
+        rclpy.init()
+        node = rclpy.create_node('not_the_bridge')
+        pub = node.create_publisher(ServoFailure, 'servo_failures', EVENTS)
+        end = time.monotonic() + 30
+        while pub.get_subscription_count() < 1 and time.monotonic() < end:
+            time.sleep(0.05)
+        pub.publish(ServoFailure(servo_id=5, robot_leg=3, leg=3, joint='tibia'))
+        time.sleep(5)
+        """
+    )
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain_id))
+    impostor = subprocess.Popen([sys.executable, '-c', script], env=env)
+    says = 'servo 5 (leg 3) reported dead: servo report ignored: it may come from /not_the_bridge'
+    wait_for(lambda: says in node.log(), 30, 'the impostor named')
+    impostor.wait(30)
+    # forget drops what the bridge reported (after a repair), and the impostor's was never taken
+    forget = ros.call(Trigger, 'adapt_node/forget', Trigger.Request())
+    assert forget.success and 'forgot the reports of dead servos [3, 8, 12]' in forget.message
+    again = ros.call(Trigger, 'adapt_node/forget', Trigger.Request())
+    assert again.success and again.message == 'no servo reports to forget'
     assert node.alive()
 
 

@@ -27,7 +27,7 @@ from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
 from hexapod_adapt.online.adaptation import adapt
 from hexapod_adapt.online.ceiling import compute_ceiling
 from hexapod_adapt.online.mboa import MboaConfig
-from hexapod_adapt.online.prior import damage_prior, KnownDamage
+from hexapod_adapt.online.prior import damage_prior, KnownDamage, report_source_problem
 from hexapod_adapt.online.replay import lookup_trial
 from hexapod_sim.damage import Damage
 import numpy as np
@@ -57,6 +57,22 @@ def test_servo_reports_make_a_damage_and_nonsense_is_refused_saying_why():
         known.for_run([1, 2, 3], False)
     with pytest.raises(ValueError, match='leg 9 does not exist'):
         known.for_run([9], False)
+
+
+def test_only_the_configured_bridge_is_believed_and_forget_drops_the_reports():
+    bridge = '/bridge_node'
+    assert report_source_problem([bridge], bridge) == ''
+    assert report_source_problem([bridge, bridge], bridge) == ''  # two of its publishers
+    problem = report_source_problem([bridge, '/not_the_bridge'], bridge)
+    assert 'may come from /not_the_bridge' in problem and 'only the bridge is believed' in problem
+    assert 'does not publish it' in report_source_problem([], bridge)
+    assert 'from /bridge_node' in report_source_problem(['/bridge_node'], '/robot/bridge_node')
+    known = KnownDamage()
+    assert known.from_servo(12, 4) == 'servo 12 reported dead: leg 4 failed'
+    assert known.servo_damage() is not None
+    assert 'forgot the reports of dead servos [12]' in known.forget()
+    assert known.servo_damage() is None and known.forget() == 'no servo reports to forget'
+    assert known.for_run([], False)[1] == 'the map as it is (no damage known)'
 
 
 def test_the_simulators_damage_is_taken_and_a_request_that_differs_is_said():

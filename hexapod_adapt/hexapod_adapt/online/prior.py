@@ -79,6 +79,26 @@ def damage_prior(
     return DamagePrior(damage, engine, c.speeds, time.monotonic() - t0)
 
 
+def report_source_problem(publishers: Sequence[str], bridge: str) -> str:
+    """
+    Say why a servo report cannot be believed ('' if it can): only ``bridge`` may publish them.
+
+    ``publishers`` are the fully qualified names of the nodes publishing the report's topic when
+    it arrives (the graph names a topic's publishers, not a message's, so any other publisher
+    makes every report on the topic doubtful). ``bridge`` is the bridge node the node is
+    configured to use.
+    """
+    others = sorted({p for p in publishers if p != bridge})
+    if others:
+        return (
+            f'servo report ignored: it may come from {", ".join(others)}, not only from the '
+            f'bridge {bridge} (only the bridge is believed)'
+        )
+    if bridge not in publishers:
+        return f'servo report ignored: the bridge {bridge} does not publish it'
+    return ''
+
+
 class KnownDamage:
     """
     What a node has been told of the robot's damage, from the simulator or servo reports.
@@ -121,6 +141,14 @@ class KnownDamage:
             )
             return self.refused
         return f'servo {servo} reported dead: leg {urdf_leg} failed'
+
+    def forget(self) -> str:
+        """Drop the servo reports (after a repair); say what was dropped."""
+        known = sorted(s for servos in self.servo_legs.values() for s in servos)
+        self.servo_legs, self.refused = {}, ''
+        if not known:
+            return 'no servo reports to forget'
+        return f'forgot the reports of dead servos {known}; runs start from the map as it is'
 
     def servo_damage(self) -> Damage | None:
         """Return the damage the servo reports describe (failed legs as lifted), or None."""

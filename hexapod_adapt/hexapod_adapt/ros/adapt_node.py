@@ -27,11 +27,13 @@ gait on ``gait/parameters`` and measures its speed through gait_node + sim_node 
 bridge_node's IMU odometry (``robot``) or the operator's tape measure (``manual``):
 :mod:`hexapod_adapt.online.trials`. When the damage is known (the request's ``failed_legs``,
 ``sim/damage`` or the bridge's ``servo_failures``) M-BOA starts from the map re-scored under it
-(:mod:`hexapod_adapt.online.prior`; ``blind`` skips it).
+(:mod:`hexapod_adapt.online.prior`; ``blind`` skips it). Servo reports are believed only while
+the configured ``bridge_node`` is the topic's only publisher; ``~/forget`` drops them.
 
 Publishes ``adapt/trials`` per trial and records each run to an MCAP file in ``record_dir`` (a
 recording problem never stops a run). Services: ``adapt`` (hexapod_msgs/Adapt),
-``~/report_distance`` (hexapod_msgs/ReportDistance), ``~/cancel`` (std_srvs/Trigger).
+``~/report_distance`` (hexapod_msgs/ReportDistance), ``~/cancel`` and ``~/forget``
+(std_srvs/Trigger).
 """
 
 from __future__ import annotations
@@ -46,7 +48,7 @@ from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.maps import shipped_ceilings
 from hexapod_adapt.online import session
 from hexapod_adapt.online.adaptation import adapt, TrialAborted
-from hexapod_adapt.online.prior import KnownDamage
+from hexapod_adapt.online.prior import KnownDamage, report_source_problem
 from hexapod_adapt.online.run_config import (
     ArchiveSlot,
     engine_note,
@@ -61,6 +63,7 @@ from hexapod_adapt.ros.graph_port import (
     qualified,
     RECORDED_TYPES,
     RecordedTopics,
+    topic_publishers,
     trial_msg,
 )
 from hexapod_adapt.ros.run_recording import RunRecording
@@ -79,7 +82,7 @@ from hexapod_msgs.msg import AdaptationTrial, LegDamage, ServoFailure
 from hexapod_msgs.srv import Adapt, ReportDistance
 from rcl_interfaces.msg import SetParametersResult
 import rclpy
-from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.node import Node
 from std_srvs.srv import Trigger
 
@@ -120,8 +123,12 @@ class AdaptNode(Node):
         if self.mode == 'sim':
             self.create_subscription(LegDamage, 'sim/damage', self._on_sim_damage, LATCHED)
         else:
-            self.create_subscription(
-                ServoFailure, 'servo_failures', self._on_servo_failure, EVENTS
+            self.create_subscription(  # its own group: a report may wait on the graph
+                ServoFailure,
+                'servo_failures',
+                self._on_servo_failure,
+                EVENTS,
+                callback_group=MutuallyExclusiveCallbackGroup(),
             )
         work = ReentrantCallbackGroup()
         self.create_service(Adapt, 'adapt', self._on_adapt, callback_group=work)
@@ -129,6 +136,7 @@ class AdaptNode(Node):
             ReportDistance, '~/report_distance', self._on_report, callback_group=work
         )
         self.create_service(Trigger, '~/cancel', self._on_cancel, callback_group=work)
+        self.create_service(Trigger, '~/forget', self._on_forget, callback_group=work)
         watch_for_duplicates(self, self.get_logger().error)
         self.get_logger().info(f'adapt_node ready: mode {self.mode}; {self.slot.describe()}')
 
@@ -165,7 +173,23 @@ class AdaptNode(Node):
         )
 
     def _on_servo_failure(self, msg: ServoFailure) -> None:
+        publishers = topic_publishers(self, self.resolve_topic_name('servo_failures'))
+        bridge = qualified(self, self._param('bridge_node'))
+        problem = report_source_problem(publishers, bridge)
+        what = f'servo {msg.servo_id} (leg {msg.leg}) reported dead'
+        if problem:
+            self.get_logger().error(f'{what}: {problem}')
+            return
         self.get_logger().warning(self.known.from_servo(int(msg.servo_id), int(msg.leg)))
+
+    def _on_forget(self, request, response):
+        if self.busy.locked():
+            response.success, response.message = False, 'an adaptation is running; cancel it first'
+        else:
+            response.success, response.message = True, self.known.forget()
+            if self.mode == 'sim':
+                response.message += ' (in sim mode the simulator reports the damage it has)'
+        return response
 
     def _on_cancel(self, request, response):
         running = self.busy.locked()

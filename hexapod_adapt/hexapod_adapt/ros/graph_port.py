@@ -94,6 +94,20 @@ def qualified(node: Node, name: str) -> str:
     return f'{node.get_namespace().rstrip("/")}/{name}'
 
 
+#: The name the graph gives a publisher whose node it has not discovered yet (rmw's placeholder).
+UNKNOWN_NODE = '_NODE_NAME_UNKNOWN_'
+
+
+def topic_publishers(node: Node, topic: str, wait_s: float = 2.0) -> list[str]:
+    """The fully qualified names of the nodes publishing ``topic`` (waits for unlearned names)."""
+    deadline = time.monotonic() + wait_s
+    while True:
+        infos = node.get_publishers_info_by_topic(topic)
+        if time.monotonic() > deadline or all(i.node_name != UNKNOWN_NODE for i in infos):
+            return [f'{i.node_namespace.rstrip("/")}/{i.node_name}' for i in infos]
+        time.sleep(0.05)
+
+
 class GraphPort:
     """
     Trials through gait_node + sim_node, or bridge_node, over rclpy.
