@@ -31,7 +31,19 @@ engines and make the tuning set of issue 19 (settings are chosen on them, not on
 * ``weak``: the leg's three servos keep ``strength`` (0.05-0.95) of their stall torque and
   proportional gain, so they follow their targets more slowly and sag under load;
 * ``no_tibia``: the tibia is gone: it no longer touches anything and weighs (almost) nothing;
-  coxa and femur still move.
+  coxa and femur still move;
+* ``unpowered``: one, two or three of the leg's servos are dead (``joints``). A Dynamixel that
+  stops answering has dropped its torque, so its joint is free, with only the passive friction of
+  its back-driven gearbox (``DEAD_SERVO_FRICTION``, ``DEAD_SERVO_ARMATURE``). The firmware folds
+  the leg as far as its live joints can (FOLD POLICY below);
+* ``shortened``: the tibia is cut to ``strength`` (0.2-0.9) of its length, as in Cully et al.
+  2015; the leg is still walked with the intact leg's kinematics.
+
+FOLD POLICY (the robot's firmware, ``firmware/``, does the same when its servo health check finds
+a dead servo): every live joint of a leg with a dead servo goes to the failure pose (coxa 0,
+femur 90, tibia -165 degrees) and stays there; dead joints are left free. With a dead coxa the
+leg is still folded up; with a dead femur the leg hangs, its tibia folded in so that it drags
+least; with a dead tibia the femur is raised and the tibia hangs from it.
 
 At most two legs are damaged (the thesis's scenarios never damage more).
 """
@@ -46,7 +58,19 @@ from typing import Iterable, Sequence
 from hexapod_description import N_LEGS
 import numpy as np
 
-DAMAGE_KINDS = ('lifted', 'locked', 'weak', 'no_tibia')
+DAMAGE_KINDS = ('lifted', 'locked', 'weak', 'no_tibia', 'unpowered', 'shortened')
+#: A leg's joints, in slot order.
+JOINTS = ('coxa', 'femur', 'tibia')
+#: Coulomb friction of a dead (unpowered, back-driven) Dynamixel's joint [N m] and its gearbox's
+#: reflected inertia [kg m^2]: the best fit by system identification of MX-64 / MX-106 servos
+#: (MuJoCo Menagerie ``dynamixel_2r``, Duclusaud et al. 2024, arXiv:2410.08650). The RX-64 has
+#: the MX-64's motor and 200:1 gearbox; the RX-28's (193:1) are taken to be the same. With its
+#: driver off the motor's windings are open, so no back-EMF damping is left.
+DEAD_SERVO_FRICTION = 0.1
+DEAD_SERVO_ARMATURE = 0.005
+#: The fraction of its tibia a shortened leg keeps: range and default (ITE's shortened leg).
+SHORTENED_RANGE = (0.2, 0.9)
+DEFAULT_SHORTENED = 0.5
 #: Failure pose of a lifted leg (thesis table 5.1): coxa 0, femur 90, tibia -165 degrees.
 FAILURE_POSE = (0.0, math.radians(90.0), math.radians(-165.0))
 MAX_FAILED_LEGS = 2
@@ -59,11 +83,17 @@ LOST_TIBIA_MASS = 1e-3
 
 @dataclass(frozen=True)
 class LegDamage:
-    """One damaged leg: its number (1..6), the kind and, for ``weak``, the strength left."""
+    """
+    One damaged leg: its number (1..6), the kind and its amount.
+
+    ``strength``: for ``weak`` the fraction of torque and gain left, for ``shortened`` the
+    fraction of the tibia left (1 otherwise). ``joints``: for ``unpowered``, the dead joints.
+    """
 
     leg: int
     kind: str = 'lifted'
     strength: float = 1.0
+    joints: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if isinstance(self.leg, bool) or not isinstance(self.leg, (int, np.integer)):
@@ -83,14 +113,43 @@ class LegDamage:
                     f'a weak leg keeps a strength in [{lo}, {hi}] of its servos, '
                     f'got {self.strength!r} for leg {self.leg}'
                 )
+        elif self.kind == 'shortened':
+            lo, hi = SHORTENED_RANGE
+            if not (math.isfinite(self.strength) and lo <= self.strength <= hi):
+                raise ValueError(
+                    f'a shortened leg keeps a fraction in [{lo}, {hi}] of its tibia, '
+                    f'got {self.strength!r} for leg {self.leg}'
+                )
         elif self.strength != 1.0:
-            raise ValueError(f'only a weak leg has a strength; leg {self.leg} is {self.kind}')
+            raise ValueError(
+                f'only a weak or shortened leg has a strength; leg {self.leg} is {self.kind}'
+            )
+        joints = tuple(self.joints)
+        if self.kind == 'unpowered':
+            unknown = [j for j in joints if j not in JOINTS]
+            if unknown or not joints or len(set(joints)) != len(joints):
+                raise ValueError(
+                    f'an unpowered leg names its dead joints, each once, from '
+                    f'{", ".join(JOINTS)}; got {list(joints)} for leg {self.leg}'
+                )
+            joints = tuple(j for j in JOINTS if j in joints)  # slot order
+        elif joints:
+            raise ValueError(
+                f'only an unpowered leg has dead joints; leg {self.leg} is {self.kind}'
+            )
+        object.__setattr__(self, 'joints', joints)
 
     @property
     def label(self) -> str:
-        """Return e.g. ``3 locked`` or ``4 weak 0.33``."""
+        """Return e.g. ``3 locked``, ``4 weak 0.33`` or ``2 unpowered femur+tibia``."""
         text = f'{self.leg} {self.kind}'
-        return f'{text} {self.strength:.2f}' if self.kind == 'weak' else text
+        if self.kind in ('weak', 'shortened'):
+            return f'{text} {self.strength:.2f}'
+        return f'{text} {"+".join(self.joints)}' if self.joints else text
+
+    def dead_slots(self) -> list[int]:
+        """Joint slots (URDF order) of this leg's dead servos."""
+        return [3 * (self.leg - 1) + JOINTS.index(j) for j in self.joints]
 
 
 @dataclass(frozen=True)
@@ -118,10 +177,19 @@ class Damage:
 
     @classmethod
     def of(cls, kind: str, legs: Iterable[int], strength: float | None = None) -> Damage:
-        """Every one of ``legs`` damaged the same way."""
+        """
+        Every one of ``legs`` damaged the same way: a kind of :data:`EXPERIMENT_KINDS`.
+
+        ``unpowered_<joint>`` is that joint's servo dead; the amount of ``weak`` and
+        ``shortened`` is their default unless ``strength`` is given.
+        """
+        joints: tuple[str, ...] = ()
+        if kind.startswith('unpowered_'):
+            kind, joints = 'unpowered', (kind.removeprefix('unpowered_'),)
         if strength is None:
-            strength = DEFAULT_WEAK_STRENGTH if kind == 'weak' else 1.0
-        return cls(tuple(LegDamage(leg, kind, strength) for leg in validate_failed_legs(legs)))
+            strength = default_amount(kind)
+        legs_t = validate_failed_legs(legs)
+        return cls(tuple(LegDamage(leg, kind, strength, joints) for leg in legs_t))
 
     @property
     def failed_legs(self) -> tuple[int, ...]:
@@ -139,7 +207,15 @@ class Damage:
 
     def strength_of(self, leg: int) -> float:
         """Fraction of torque and gain left to ``leg``'s servos (1 unless weak)."""
-        return next((d.strength for d in self.legs if d.leg == leg), 1.0)
+        return next((d.strength for d in self.legs if d.leg == leg and d.kind == 'weak'), 1.0)
+
+    def tibia_fraction(self, leg: int) -> float:
+        """Fraction of its tibia ``leg`` keeps (1 unless shortened)."""
+        return next((d.strength for d in self.legs if d.leg == leg and d.kind == 'shortened'), 1.0)
+
+    def dead_slots(self) -> np.ndarray:
+        """Joint slots (URDF order) whose servos are dead: free joints."""
+        return np.array(sorted(s for d in self.legs for s in d.dead_slots()), dtype=int)
 
     @property
     def label(self) -> str:
@@ -155,12 +231,13 @@ class Damage:
         """
         Joint slots (URDF order) the servos hold whatever is commanded, and their angles.
 
-        Lifted legs hold the failure pose, locked legs the standing pose.
+        Lifted legs hold the failure pose, locked legs the standing pose, and the live joints of
+        an unpowered leg the failure pose (the fold policy).
         """
         slots: list[int] = []
         values: list[float] = []
         for d in self.legs:
-            if d.kind == 'lifted':
+            if d.kind in ('lifted', 'unpowered'):
                 pose: Sequence[float] = FAILURE_POSE
             elif d.kind == 'locked':
                 first = 3 * (d.leg - 1)
@@ -168,9 +245,30 @@ class Damage:
                 pose = stand[first:][:3]
             else:
                 continue
-            slots.extend(3 * (d.leg - 1) + k for k in range(3))
-            values.extend(float(v) for v in pose)
+            dead = set(d.dead_slots())
+            for k in range(3):
+                if 3 * (d.leg - 1) + k not in dead:
+                    slots.append(3 * (d.leg - 1) + k)
+                    values.append(float(pose[k]))
         return np.array(slots, dtype=int), np.array(values, dtype=float)
+
+
+#: The damage kinds experiments and benchmarks report, one per damage (``Damage.of``).
+EXPERIMENT_KINDS = (
+    'lifted',
+    'unpowered_coxa',
+    'unpowered_femur',
+    'unpowered_tibia',
+    'locked',
+    'weak',
+    'no_tibia',
+    'shortened',
+)
+
+
+def default_amount(kind: str) -> float:
+    """Return the ``strength`` a leg of ``kind`` gets when none is given."""
+    return {'weak': DEFAULT_WEAK_STRENGTH, 'shortened': DEFAULT_SHORTENED}.get(kind, 1.0)
 
 
 def validate_failed_legs(legs: Iterable[int]) -> tuple[int, ...]:
@@ -211,50 +309,62 @@ def standing_pose() -> np.ndarray:
 
 def parse_damage(text: str) -> Damage:
     """
-    Parse ``LEG:KIND[:STRENGTH]`` items separated by commas, e.g. ``1:locked,4:weak:0.3``.
+    Parse ``LEG:KIND[:AMOUNT]`` items separated by commas, e.g. ``1:locked,4:weak:0.3``.
 
-    An empty text is the intact robot. ValueError names the item that is wrong.
+    AMOUNT is a weak leg's strength, a shortened leg's tibia fraction, or an unpowered leg's dead
+    joints joined by ``+`` (``2:unpowered:femur+tibia``). An empty text is the intact robot.
+    ValueError names the item that is wrong.
     """
     items = [item.strip() for item in text.split(',') if item.strip()]
     legs = []
     for item in items:
         parts = item.split(':')
         if not 2 <= len(parts) <= 3:
-            raise ValueError(f'damage item {item!r} is not LEG:KIND or LEG:weak:STRENGTH')
+            raise ValueError(
+                f'damage item {item!r} is not LEG:KIND, LEG:weak|shortened:AMOUNT or '
+                'LEG:unpowered:JOINT[+JOINT...]'
+            )
+        kind = parts[1].strip()
+        joints: tuple[str, ...] = ()
         try:
             leg = int(parts[0])
-            strength = float(parts[2]) if len(parts) == 3 else None
+            if kind == 'unpowered':
+                joints = tuple(parts[2].split('+')) if len(parts) == 3 else ()
+                strength = 1.0
+            else:
+                strength = float(parts[2]) if len(parts) == 3 else default_amount(kind)
         except ValueError:
-            raise ValueError(f'damage item {item!r}: leg must be an integer, strength a number')
-        kind = parts[1].strip()
-        if strength is None:
-            strength = DEFAULT_WEAK_STRENGTH if kind == 'weak' else 1.0
-        legs.append(LegDamage(leg, kind, strength))
+            raise ValueError(f'damage item {item!r}: leg must be an integer, amount a number')
+        legs.append(LegDamage(leg, kind, strength, joints))
     return Damage(tuple(legs))
 
 
 def damage_from_lists(
-    legs: Sequence[int], kinds: Sequence[str] = (), strengths: Sequence[float] = ()
+    legs: Sequence[int],
+    kinds: Sequence[str] = (),
+    strengths: Sequence[float] = (),
+    joints: Sequence[str] = (),
 ) -> Damage:
     """
     Return the damage of parallel lists, as a SetLegFailure request carries it.
 
-    ``kinds`` empty: every leg lifted. ``strengths`` empty, or 0 for a leg: the default strength
-    of a weak leg. ValueError says what is wrong (lists of different lengths, a repeated leg, a
-    strength given to a leg that is not weak).
+    ``kinds`` empty: every leg lifted. ``strengths`` empty, or 0 for a leg: the default amount
+    of a weak or shortened leg. ``joints``: per leg, an unpowered leg's dead joints joined by
+    ``+`` ('' for other kinds). ValueError says what is wrong (lists of different lengths, a
+    repeated leg, an amount or joints given to a leg of another kind).
     """
     legs = list(legs)
-    if kinds and len(kinds) != len(legs):
-        raise ValueError(f'{len(kinds)} damage kinds for {len(legs)} legs: give one per leg')
-    if strengths and len(strengths) != len(legs):
-        raise ValueError(f'{len(strengths)} strengths for {len(legs)} legs: give one per leg')
+    for name, values in (('damage kinds', kinds), ('strengths', strengths), ('joints', joints)):
+        if values and len(values) != len(legs):
+            raise ValueError(f'{len(values)} {name} for {len(legs)} legs: give one per leg')
     out = []
     for i, leg in enumerate(legs):
         kind = str(kinds[i]) if kinds else 'lifted'
         value = float(strengths[i]) if strengths else 0.0
         if value == 0.0:
-            value = DEFAULT_WEAK_STRENGTH if kind == 'weak' else 1.0
-        out.append(LegDamage(leg, kind, value))
+            value = default_amount(kind)
+        dead = tuple(j for j in str(joints[i]).split('+') if j) if joints else ()
+        out.append(LegDamage(leg, kind, value, dead))
     return Damage(tuple(out))
 
 

@@ -44,8 +44,9 @@ from typing import Any, Sequence
 import xml.etree.ElementTree as ET
 
 from hexapod_description import N_LEGS
-from hexapod_sim.damage import LOST_TIBIA_MASS
+from hexapod_sim.damage import DEAD_SERVO_ARMATURE, DEAD_SERVO_FRICTION, LOST_TIBIA_MASS
 from hexapod_sim.engine_settings import MujocoSettings
+from hexapod_sim.shortened import TibiaShape
 from hexapod_sim.simulator import JointRows, PlayResult, SimConfig, Simulator, StepReport
 import mujoco
 from mujoco import rollout as mj_rollout
@@ -105,6 +106,37 @@ class MujocoSimulator(Simulator):
         self._tibia_inertia = m.body_inertia[self._tibia_bodies].copy()
         self._kp = m.actuator_gainprm[self._act, 0].copy()
         self._effort = m.actuator_forcerange[self._act, 1].copy()
+        self._damping = m.dof_damping[self._dadr].copy()
+        self._armature = m.dof_armature[self._dadr].copy()
+        # each tibia's collision box and foot sphere, and the shape a shortened one scales
+        self._tibia_box = [
+            g[m.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX][0] for g in self._tibia_geoms
+        ]
+        self._tibia_foot = [
+            g[m.geom_type[g] == mujoco.mjtGeom.mjGEOM_SPHERE][0] for g in self._tibia_geoms
+        ]
+        self._tibia_shape = [
+            TibiaShape(
+                box_lo=m.geom_pos[box, 0] - m.geom_size[box, 0],
+                box_hi=m.geom_pos[box, 0] + m.geom_size[box, 0],
+                foot_x=m.geom_pos[foot, 0],
+                foot_radius=m.geom_size[foot, 0],
+                mass=m.body_mass[body],
+                com_x=m.body_ipos[body, 0],
+            )
+            for box, foot, body in zip(self._tibia_box, self._tibia_foot, self._tibia_bodies)
+        ]
+        self._tibia_com = m.body_ipos[self._tibia_bodies].copy()
+        self._whole_geoms = [
+            (
+                m.geom_pos[b].copy(),
+                m.geom_size[b].copy(),
+                m.geom_aabb[b].copy(),
+                m.geom_pos[f, 0],
+                m.geom_rbound[b],
+            )
+            for b, f in zip(self._tibia_box, self._tibia_foot)
+        ]
         self._state_spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
         self._nstate = mujoco.mj_stateSize(m, self._state_spec)
         self._renderer: Any = None
@@ -200,7 +232,7 @@ class MujocoSimulator(Simulator):
             kind = damage.kind_of(leg)
             m.geom_contype[coxa] = m.geom_contype[tibia] = 1
             m.geom_conaffinity[coxa] = m.geom_conaffinity[tibia] = _ALL
-            if kind == 'lifted':
+            if kind in ('lifted', 'unpowered'):
                 # In the folded failure pose the tibia overlaps its own coxa (the real servo
                 # clamps near -150 deg there): that one pair does not collide while failed.
                 m.geom_contype[coxa], m.geom_conaffinity[coxa] = 1 << leg, _ALL & ~(1 << (leg + 8))
@@ -210,12 +242,7 @@ class MujocoSimulator(Simulator):
                 )
             elif kind == 'no_tibia':  # it touches nothing
                 m.geom_contype[tibia] = m.geom_conaffinity[tibia] = 0
-            body = self._tibia_bodies[leg - 1]
-            scale = LOST_TIBIA_MASS / self._tibia_mass[leg - 1] if kind == 'no_tibia' else 1.0
-            if m.body_mass[body] != self._tibia_mass[leg - 1] * scale:
-                m.body_mass[body] = self._tibia_mass[leg - 1] * scale
-                m.body_inertia[body] = self._tibia_inertia[leg - 1] * scale
-                masses_changed = True
+            masses_changed |= self._shape_tibia(leg, kind)
             strength = damage.strength_of(leg)
             for slot in range(3 * (leg - 1), 3 * leg):
                 act = self._act[slot]
@@ -223,10 +250,49 @@ class MujocoSimulator(Simulator):
                 m.actuator_gainprm[act, 0] = kp
                 m.actuator_biasprm[act, 1] = -kp
                 m.actuator_forcerange[act] = [-effort, effort]
+                dof = self._dadr[slot]
+                masses_changed |= bool(m.dof_armature[dof] != self._armature[slot])
+                m.dof_damping[dof], m.dof_armature[dof] = self._damping[slot], self._armature[slot]
+                m.dof_frictionloss[dof] = 0.0
+        for slot in damage.dead_slots():  # no torque: the back-driven gearbox's friction only
+            act, dof = self._act[slot], self._dadr[slot]
+            m.actuator_gainprm[act, 0] = m.actuator_biasprm[act, 1] = 0.0
+            m.actuator_forcerange[act] = [0.0, 0.0]
+            m.dof_damping[dof], m.dof_armature[dof] = 0.0, DEAD_SERVO_ARMATURE
+            m.dof_frictionloss[dof] = DEAD_SERVO_FRICTION
+            masses_changed = True  # the armature enters the constants
         if masses_changed:  # the derived constants follow (on scratch data: the state stays)
             mujoco.mj_setConst(m, mujoco.MjData(m))
         if self._held_slots.size:
             self.d.ctrl[self._act[self._held_slots]] = self._held_values
+
+    def _shape_tibia(self, leg: int, kind: str | None) -> bool:
+        """Give ``leg``'s tibia its mass and shape (lost, shortened or whole); True if changed."""
+        m, i = self.m, leg - 1
+        body, box, foot = self._tibia_bodies[i], self._tibia_box[i], self._tibia_foot[i]
+        whole = self._tibia_shape[i]
+        fraction = self.damage.tibia_fraction(leg) if kind == 'shortened' else 1.0
+        scale = LOST_TIBIA_MASS / whole.mass if kind == 'no_tibia' else fraction
+        if (m.body_mass[body], m.geom_pos[foot, 0]) == (
+            self._tibia_mass[i] * scale,
+            self._whole_geoms[i][3] if fraction == 1.0 else whole.shortened(fraction).foot_x,
+        ):
+            return False
+        m.body_mass[body] = self._tibia_mass[i] * scale
+        m.body_inertia[body] = self._tibia_inertia[i] * scale
+        box_pos, box_size, box_aabb, foot_x, rbound = self._whole_geoms[i]
+        m.body_ipos[body] = self._tibia_com[i]
+        m.geom_pos[box], m.geom_size[box], m.geom_aabb[box] = box_pos, box_size, box_aabb
+        m.geom_pos[foot, 0], m.geom_rbound[box] = foot_x, rbound
+        if fraction != 1.0:
+            shape = whole.shortened(fraction)
+            half = (shape.box_hi - shape.box_lo) / 2
+            m.body_ipos[body, 0] = shape.com_x
+            m.geom_size[box, 0] = m.geom_aabb[box, 3] = half
+            m.geom_pos[box, 0] = (shape.box_hi + shape.box_lo) / 2
+            m.geom_pos[foot, 0] = shape.foot_x
+            m.geom_rbound[box] = float(np.linalg.norm(m.geom_size[box]))
+        return True
 
     def _reset_state(self, q: np.ndarray, body_height: float) -> None:
         m, d = self.m, self.d

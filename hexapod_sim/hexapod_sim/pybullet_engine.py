@@ -35,11 +35,13 @@ from __future__ import annotations
 import contextlib
 from dataclasses import dataclass
 import os
+import tempfile
 from typing import Any
 
 from hexapod_description import N_LEGS, urdf_path
-from hexapod_sim.damage import LOST_TIBIA_MASS
+from hexapod_sim.damage import DEAD_SERVO_FRICTION, LOST_TIBIA_MASS
 from hexapod_sim.engine_settings import PyBulletSettings
+from hexapod_sim.shortened import shortened_urdf
 from hexapod_sim.simulator import GRAVITY, SimConfig, Simulator, StepReport
 import numpy as np
 import pybullet as p
@@ -79,7 +81,9 @@ class PyBulletSimulator(Simulator):
     def __init__(self, config: SimConfig | None = None):
         super().__init__(config)
         self.settings: PyBulletSettings
-        self._urdf = str(self.model.path if self.config.urdf else urdf_path())
+        self._urdf = self._whole_urdf = str(self.model.path if self.config.urdf else urdf_path())
+        self._short_urdf: str | None = None  # a temporary URDF with shortened tibias
+        self._short_fractions: dict[int, float] = {}
         self.client = p.connect(p.GUI if self.config.gui else p.DIRECT)
         if self.client < 0:
             raise RuntimeError('could not connect to a PyBullet physics server')
@@ -159,8 +163,9 @@ class PyBulletSimulator(Simulator):
             # In the folded failure pose the tibia's bounding box overlaps its own coxa's (the
             # real servo clamps near -150 deg there). A failed leg is a rigid dead weight, so
             # that pair is exempt from collision while the leg is failed.
+            folded = kind in ('lifted', 'unpowered')
             p.setCollisionFilterPair(
-                self.body, self.body, coxa, tibia, int(kind != 'lifted'), physicsClientId=cid
+                self.body, self.body, coxa, tibia, int(not folded), physicsClientId=cid
             )
             # a lost tibia touches nothing and weighs (almost) nothing
             lost = kind == 'no_tibia'
@@ -172,7 +177,7 @@ class PyBulletSimulator(Simulator):
                 p.changeDynamics(self.body, tibia, mass=mass, physicsClientId=cid)
 
     def _set_active_slots(self) -> None:
-        held = set(self._held_slots.tolist())
+        held = set(self._held_slots.tolist()) | set(self.damage.dead_slots().tolist())
         self._active_slots = [s for s in range(3 * N_LEGS) if s not in held]
         self._active_joints = [self.joint_indices[s] for s in self._active_slots]
         strength = [self.damage.strength_of(s // 3 + 1) for s in self._active_slots]
@@ -182,12 +187,59 @@ class PyBulletSimulator(Simulator):
         self._active_gains = [0.1 * k for k in strength] if weak else None
 
     def _apply_failed_legs(self) -> None:
+        urdf = self._damaged_urdf()
+        if urdf != self._urdf:  # a tibia shortened or restored: the robot is loaded anew
+            self._urdf = urdf
+            self._rebuild_keeping_state()
         self._apply_failure_filters()
         self._set_active_slots()
         self._command_failure_pose()
 
+    def _damaged_urdf(self) -> str:
+        """Return the URDF of the damage: the whole robot's, or one with shortened tibias."""
+        fractions = {d.leg: d.strength for d in self.damage.legs if d.kind == 'shortened'}
+        if fractions and fractions == self._short_fractions:
+            return self._urdf
+        self._short_fractions = fractions
+        if self._short_urdf is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(self._short_urdf)
+            self._short_urdf = None
+        if not fractions:
+            return self._whole_urdf
+        with open(self._whole_urdf) as f:
+            text = shortened_urdf(f.read(), fractions)
+        fd, path = tempfile.mkstemp(suffix='.urdf', prefix='shortened_')
+        with os.fdopen(fd, 'w') as f:
+            f.write(text)
+        self._short_urdf = path
+        return path
+
+    def _rebuild_keeping_state(self) -> None:
+        """Load the robot anew (a changed URDF) where it was, moving as it moved."""
+        cid, body = self.client, self.body
+        pos, orn = p.getBasePositionAndOrientation(body, physicsClientId=cid)
+        lin, ang = p.getBaseVelocity(body, physicsClientId=cid)
+        joints = p.getJointStates(body, self.joint_indices, physicsClientId=cid)
+        self._build_world()
+        self._configure_world()
+        p.resetBasePositionAndOrientation(self.body, pos, orn, physicsClientId=cid)
+        p.resetBaseVelocity(self.body, lin, ang, physicsClientId=cid)
+        for index, state in zip(self.joint_indices, joints):
+            p.resetJointState(self.body, index, state[0], state[1], physicsClientId=cid)
+
     def _command_failure_pose(self) -> None:
-        """Drive the held legs (lifted, locked) to their pose."""
+        """Drive the held legs (lifted, locked) to their pose; leave dead joints free."""
+        dead = self.damage.dead_slots().tolist()
+        if dead:  # no torque: only the friction of the back-driven gearbox
+            p.setJointMotorControlArray(
+                self.body,
+                [self.joint_indices[s] for s in dead],
+                p.VELOCITY_CONTROL,
+                targetVelocities=[0.0] * len(dead),
+                forces=[DEAD_SERVO_FRICTION] * len(dead),
+                physicsClientId=self.client,
+            )
         if not self._held_slots.size:
             return
         slots = self._held_slots.tolist()
@@ -329,6 +381,10 @@ class PyBulletSimulator(Simulator):
         return np.reshape(np.asarray(img[2], dtype=np.uint8), (height, width, 4))[:, :, :3]
 
     def close(self) -> None:
+        if getattr(self, '_short_urdf', None) is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(self._short_urdf)
+            self._short_urdf = None
         if getattr(self, 'client', -1) >= 0:
             with contextlib.suppress(p.error):
                 p.disconnect(physicsClientId=self.client)

@@ -132,20 +132,59 @@ def test_prepared_rows_hold_the_held_legs():
         (lambda: LegDamage(1, 'broken'), "unknown damage kind 'broken'"),
         (lambda: LegDamage(1, 'weak', 0.0), 'strength in [0.05, 0.95]'),
         (lambda: LegDamage(1, 'weak', float('nan')), 'strength in [0.05, 0.95]'),
-        (lambda: LegDamage(1, 'locked', 0.5), 'only a weak leg has a strength'),
+        (lambda: LegDamage(1, 'locked', 0.5), 'only a weak or shortened leg has a strength'),
         (lambda: Damage((LegDamage(1), LegDamage(1, 'locked'))), 'a leg is damaged twice'),
         (lambda: Damage.of('locked', [1, 2, 3]), 'at most 2 legs'),
         (lambda: parse_damage('1'), 'is not LEG:KIND'),
         (lambda: parse_damage('x:locked'), 'leg must be an integer'),
         (lambda: damage_from_lists([1, 2], ['weak']), '1 damage kinds for 2 legs'),
         (lambda: damage_from_lists([1], [], [0.5, 0.5]), '2 strengths for 1 legs'),
-        (lambda: damage_from_lists([1], ['lifted'], [0.5]), 'only a weak leg'),
+        (lambda: damage_from_lists([1], ['lifted'], [0.5]), 'only a weak or shortened leg'),
+        (lambda: LegDamage(1, 'unpowered'), 'names its dead joints'),
+        (lambda: LegDamage(1, 'unpowered', joints=('knee',)), "got ['knee']"),
+        (lambda: LegDamage(1, 'unpowered', joints=('femur', 'femur')), 'each once'),
+        (lambda: LegDamage(1, 'locked', joints=('femur',)), 'only an unpowered leg'),
+        (lambda: LegDamage(1, 'shortened', 0.05), 'fraction in [0.2, 0.9]'),
+        (lambda: parse_damage('1:unpowered:hip'), "got ['hip']"),
+        (lambda: damage_from_lists([1], ['unpowered'], [], ['femur', 'tibia']), '2 joints for 1'),
     ],
 )
 def test_nonsensical_damage_is_refused_saying_what_is_wrong(make, expected):
     with pytest.raises(ValueError, match=None) as info:
         make()
     assert expected in str(info.value)
+
+
+def test_a_dead_femur_lets_the_leg_sag_and_a_dead_coxa_still_folds(sim):
+    # leg 1 in the air: a dead femur servo is a free joint, and gravity pulls the leg down
+    _, measured, _ = _walk(sim, parse_damage('1:unpowered:femur'), seconds=1.0)
+    femur = measured[:, 1]
+    assert femur[-1] < femur[0] - np.radians(30), np.degrees([femur[0], femur[-1]])
+    assert np.allclose(measured[-1, [0, 2]], [0.0, np.radians(-165)], atol=0.05)  # folded in
+    # with a dead coxa the live femur and tibia still fold the leg up (the fold policy)
+    _, measured, contacts = _walk(sim, parse_damage('1:unpowered:coxa'), seconds=1.0)
+    assert np.allclose(measured[-1, 1:3], [np.radians(90), np.radians(-165)], atol=0.05)
+    assert not contacts[-120:, 0].any()
+    sim.set_damage(Damage())
+
+
+def test_a_shortened_tibia_is_shorter_in_both_engines(sim):
+    import xml.etree.ElementTree as ET
+
+    from hexapod_description import urdf_path
+    from hexapod_sim.shortened import shortened_urdf, tibia_shape
+
+    whole = tibia_shape(ET.parse(urdf_path()).getroot().find("link[@name='link_2_3']"))
+    half = ET.fromstring(shortened_urdf(open(urdf_path()).read(), {2: 0.5}))
+    short = tibia_shape(half.find("link[@name='link_2_3']"))
+    assert short.length == pytest.approx(0.5 * whole.length)
+    assert short.mass == pytest.approx(0.5 * whole.mass) and short.box_hi <= short.foot_x
+    # standing, the shortened leg's foot no longer reaches the ground; a repair restores it
+    intact = evaluate_gait(preset('tripod'), sim, collisions_fatal=False, failed_legs=Damage())
+    _, _, contacts = _walk(sim, parse_damage('2:shortened:0.5'), seconds=2.0)
+    assert contacts[:, 1].mean() < 0.5 * contacts[:, 0].mean()
+    again = evaluate_gait(preset('tripod'), sim, collisions_fatal=False, failed_legs=Damage())
+    assert again.fitness == pytest.approx(intact.fitness, abs=1e-9)
 
 
 def test_damage_text_and_lists_agree():
@@ -155,3 +194,10 @@ def test_damage_text_and_lists_agree():
     assert parse_damage('') == Damage() and Damage().label == 'intact'
     assert damage_from_lists([5, 1]).label == 'legs 1+5 lifted'
     assert damage_from_lists([2], ['weak']).strength_of(2) == DEFAULT_WEAK_STRENGTH
+    dead = parse_damage('2:unpowered:tibia+femur,5:shortened:0.4')
+    assert dead == damage_from_lists(
+        [2, 5], ['unpowered', 'shortened'], [0, 0.4], ['femur+tibia', '']
+    )
+    assert dead.label == 'leg 2 unpowered femur+tibia, leg 5 shortened 0.40'
+    assert dead.dead_slots().tolist() == [4, 5] and dead.tibia_fraction(5) == 0.4
+    assert Damage.of('unpowered_femur', [3]) == parse_damage('3:unpowered:femur')
