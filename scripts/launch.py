@@ -110,10 +110,34 @@ def main(argv: list[str] | None = None) -> int:
         help="sim_node's physics engine (default: pybullet; adapt-sim: the map's)",
     )
     parser.add_argument('--preset', default='tripod', help='gait_node initial preset')
-    parser.add_argument('--failed-legs', type=int, nargs='*', default=[])
+    parser.add_argument(
+        '--failed-legs', type=int, nargs='*', default=[], help='sim profiles: legs lifted'
+    )
+    parser.add_argument(
+        '--dead-servo',
+        type=int,
+        action='append',
+        default=[],
+        metavar='ID',
+        help='emulated-robot: a servo (2..19) that does not answer; its joint is unpowered and the'
+        ' firmware folds the leg (repeatable, at most two legs)',
+    )
+    parser.add_argument(
+        '--firmware',
+        choices=['python', 'native'],
+        default='python',
+        help="emulated-robot: the robot's firmware, the Python model or the C++ module",
+    )
     parser.add_argument('--port', default='/tmp/hexapod_radio')
     parser.add_argument('--imu-port', default='')
     args = parser.parse_args(argv)
+    if args.profile == 'emulated-robot' and args.failed_legs:
+        parser.error(
+            'emulated-robot: damage the robot with --dead-servo ID (a servo that does not answer);'
+            ' --failed-legs is for the sim profiles'
+        )
+    if args.profile != 'emulated-robot' and (args.dead_servo or args.firmware != 'python'):
+        parser.error('--dead-servo and --firmware are for the emulated-robot profile')
 
     commands: list[tuple[str, list[str]]] = []
     if args.profile == 'adapt-sim':
@@ -159,7 +183,11 @@ def main(argv: list[str] | None = None) -> int:
                     '/tmp/hexapod_radio',
                     '--imu-link',
                     '/tmp/hexapod_imu',
-                ],
+                    '--firmware',
+                    args.firmware,
+                ]
+                + [f'--dead-servo={servo}' for servo in args.dead_servo]
+                + (['--engine', args.engine] if args.engine else []),
             ),
             (
                 'bridge_node',

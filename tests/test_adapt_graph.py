@@ -250,7 +250,7 @@ def test_bad_servo_reports_are_refused_and_the_node_lives(ros, launch, domain_id
     log = node.log()
     assert 'servo 40 reported dead names no leg (leg 0)' in log
     assert 'servo 3 (leg 1) reported dead again: already known' in log
-    assert 'servo 12 reported dead: leg 4 failed' in log
+    assert 'servo 12 reported dead: leg 4 femur unpowered' in log
     # only the bridge is believed: a report from another node is logged, naming it, and ignored
     script = textwrap.dedent(
         """

@@ -33,6 +33,7 @@ import itertools
 import os
 from pathlib import Path
 import re
+import shlex
 import signal
 import subprocess
 
@@ -163,3 +164,50 @@ def test_the_readme_adaptation_lines_succeed(env):
     done, log = run_against(launch, client, env, timeout=300)
     assert done.returncode == 0, done.stdout + done.stderr + log[-4000:]
     assert re.search(r'^success: ', done.stdout, re.M), done.stdout
+
+
+DEAD_SERVO_CLIENT = """
+import time, rclpy
+from hexapod_gait.ros_glue import EVENTS
+from hexapod_msgs.msg import ServoFailure
+from std_srvs.srv import SetBool, Trigger
+rclpy.init()
+node = rclpy.create_node('operator')
+seen = []
+node.create_subscription(ServoFailure, 'servo_failures', seen.append, EVENTS)
+def call(kind, name, request):
+    client = node.create_client(kind, name)
+    assert client.wait_for_service(timeout_sec=60), name
+    future = client.call_async(request)
+    rclpy.spin_until_future_complete(node, future, timeout_sec=30)
+    return future.result()
+print('arm', call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success)
+print('check', call(Trigger, 'bridge_node/check_servos', Trigger.Request()).message)
+end = time.monotonic() + 60
+while not seen and time.monotonic() < end:
+    rclpy.spin_once(node, timeout_sec=0.1)
+for m in seen[:1]:
+    print('DEAD', m.servo_id, m.leg, m.joint)
+"""
+
+
+def test_the_bridge_guide_rehearses_a_dead_servo_on_the_cpp_firmware(env):
+    commands = code_block('docs/bridge.md', '## Running it')
+    launch = one(commands, 'python scripts/launch.py emulated-robot --firmware')
+    assert launch == 'python scripts/launch.py emulated-robot --firmware native --dead-servo 6'
+    client = f'python -c {shlex.quote(DEAD_SERVO_CLIENT)}'
+    done, log = run_against(launch, client, env, timeout=180)
+    assert 'DEAD 6 2 femur' in done.stdout, done.stdout + done.stderr + log[-3000:]
+    assert 'protocol 1.1' in done.stdout  # the C++ module answered the HELLO
+
+
+def test_emulated_robot_refuses_failed_legs_saying_what_to_use(env):
+    done = subprocess.run(
+        in_a_shell('python scripts/launch.py emulated-robot --failed-legs 1'),
+        cwd=WS,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert done.returncode == 2 and '--dead-servo ID' in done.stderr, done.stderr

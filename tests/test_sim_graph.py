@@ -194,6 +194,16 @@ def test_sim_node_refuses_bad_requests_and_keeps_running(ros, launch):
         (SetLegFailure.Request(failed_legs=[2], kinds=['broken']), "unknown damage kind 'broken'"),
         (SetLegFailure.Request(failed_legs=[2, 5], kinds=['weak']), '1 damage kinds for 2 legs'),
         (SetLegFailure.Request(failed_legs=[2], kinds=['weak'], strengths=[2.0]), '[0.05, 0.95]'),
+        (
+            SetLegFailure.Request(failed_legs=[2], kinds=['unpowered'], joints=['knee']),
+            "got ['knee']",
+        ),
+        (SetLegFailure.Request(failed_legs=[2], kinds=['unpowered']), 'names its dead joints'),
+        (SetLegFailure.Request(failed_legs=[1, 2, 3]), 'at most 2 legs'),
+        (
+            SetLegFailure.Request(failed_legs=[2], kinds=['shortened'], strengths=[0.05]),
+            '[0.2, 0.9]',
+        ),
     ]:
         response = ros.call(SetLegFailure, 'sim_node/set_leg_failure', request)
         assert not response.success and expected in response.message, response.message
@@ -214,6 +224,26 @@ def test_sim_node_refuses_bad_requests_and_keeps_running(ros, launch):
         lambda: np.allclose(joints[-1].position[3:6], standing_pose()[3:6], atol=0.08),
         20,
         'leg 2 locked in the standing pose',
+    )
+    # a dead femur servo: leg 3's live coxa and tibia fold, its femur hangs free
+    response = ros.call(
+        SetLegFailure,
+        'sim_node/set_leg_failure',
+        SetLegFailure.Request(
+            failed_legs=[3, 6], kinds=['unpowered', 'shortened'], joints=['femur', '']
+        ),
+    )
+    assert response.success, response.message
+    assert response.damage == 'leg 3 unpowered femur, leg 6 shortened 0.50'
+    wait_for(lambda: damage[-1].label == response.damage, 20, 'sim/damage after the change')
+    assert list(damage[-1].joints) == ['femur', ''] and list(damage[-1].strengths) == [1, 0.5]
+    wait_for(
+        lambda: (
+            abs(joints[-1].position[8] - FAILURE_POSE[2]) < 0.05
+            and joints[-1].position[7] < FAILURE_POSE[1] - 0.5
+        ),
+        20,
+        'leg 3 folded by its live tibia, its femur not held up',
     )
 
     pub = ros.node.create_publisher(JointTrajectory, 'gait/joint_trajectory', LATCHED)

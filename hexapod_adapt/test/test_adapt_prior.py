@@ -29,7 +29,7 @@ from hexapod_adapt.online.ceiling import compute_ceiling
 from hexapod_adapt.online.mboa import MboaConfig
 from hexapod_adapt.online.prior import damage_prior, KnownDamage, report_source_problem
 from hexapod_adapt.online.replay import lookup_trial
-from hexapod_sim.damage import Damage
+from hexapod_sim.damage import Damage, parse_damage
 import numpy as np
 import pytest
 
@@ -37,16 +37,19 @@ import pytest
 def test_servo_reports_make_a_damage_and_nonsense_is_refused_saying_why():
     known = KnownDamage()
     assert known.for_run([], False) == (None, 'the map as it is (no damage known)')
-    assert 'names no leg' in known.from_servo(40, 0)
-    assert 'names no leg' in known.from_servo(40, 7)
+    assert 'names no leg' in known.from_servo(40, 0, 'femur')
+    assert 'names no leg' in known.from_servo(40, 7, 'femur')
+    assert 'names no joint' in known.from_servo(3, 1, 'knee')
     assert known.servo_damage() is None  # nothing taken
-    assert known.from_servo(3, 1) == 'servo 3 reported dead: leg 1 failed'
-    assert 'already known' in known.from_servo(3, 1)
-    assert known.from_servo(4, 1) == 'servo 4 reported dead: leg 1 failed'  # same leg, other joint
-    assert known.from_servo(12, 4) == 'servo 12 reported dead: leg 4 failed'
+    assert known.from_servo(3, 1, 'femur') == 'servo 3 reported dead: leg 1 femur unpowered'
+    assert 'already known' in known.from_servo(3, 1, 'femur')
+    assert known.from_servo(4, 1, 'tibia') == 'servo 4 reported dead: leg 1 tibia unpowered'
+    assert known.from_servo(11, 4, 'coxa') == 'servo 11 reported dead: leg 4 coxa unpowered'
+    # a dead servo is a free joint, the live ones fold the leg: not "leg lifted"
     damage, source = known.for_run([], False)
-    assert damage == Damage.lifted([1, 4]) and source == 'servo reports: legs 1+4 lifted'
-    refusal = known.from_servo(8, 3)
+    assert damage == parse_damage('1:unpowered:femur+tibia,4:unpowered:coxa')
+    assert source == 'servo reports: leg 1 unpowered femur+tibia, leg 4 unpowered coxa'
+    refusal = known.from_servo(8, 3, 'femur')
     assert 'name 3 failed legs ([1, 3, 4])' in refusal and 'at most 2' in refusal
     damage, source = known.for_run([], False)
     assert damage is None and 'name 3 failed legs' in source
@@ -68,7 +71,7 @@ def test_only_the_configured_bridge_is_believed_and_forget_drops_the_reports():
     assert 'does not publish it' in report_source_problem([], bridge)
     assert 'from /bridge_node' in report_source_problem(['/bridge_node'], '/robot/bridge_node')
     known = KnownDamage()
-    assert known.from_servo(12, 4) == 'servo 12 reported dead: leg 4 failed'
+    assert known.from_servo(12, 4, 'femur') == 'servo 12 reported dead: leg 4 femur unpowered'
     assert known.servo_damage() is not None
     assert 'forgot the reports of dead servos [12]' in known.forget()
     assert known.servo_damage() is None and known.forget() == 'no servo reports to forget'

@@ -53,7 +53,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 import functools
 import math
-from typing import Iterable, Sequence
+from typing import Iterable, Mapping, Sequence
 
 from hexapod_description import N_LEGS
 import numpy as np
@@ -174,6 +174,12 @@ class Damage:
     def lifted(cls, legs: Iterable[int]) -> Damage:
         """Return the thesis's damage: these legs lifted into the failure pose."""
         return cls(tuple(LegDamage(leg) for leg in validate_failed_legs(legs)))
+
+    @classmethod
+    def unpowered(cls, dead: Mapping[int, Iterable[str]]) -> Damage:
+        """Return the damage of dead servos: leg -> its dead joints (the fold policy applies)."""
+        validate_failed_legs(dead)
+        return cls(tuple(LegDamage(leg, 'unpowered', joints=tuple(j)) for leg, j in dead.items()))
 
     @classmethod
     def of(cls, kind: str, legs: Iterable[int], strength: float | None = None) -> Damage:

@@ -94,6 +94,7 @@ def damage_msg(damage: Damage, when: Time) -> LegDamage:
         failed_legs=list(damage.failed_legs),
         kinds=[d.kind for d in damage.legs],
         strengths=[float(d.strength) for d in damage.legs],
+        joints=['+'.join(d.joints) for d in damage.legs],
         label=damage.label,
     )
 

@@ -250,7 +250,10 @@ class SimNode(Node):
     ):
         try:
             damage = damage_from_lists(
-                list(request.failed_legs), list(request.kinds), list(request.strengths)
+                list(request.failed_legs),
+                list(request.kinds),
+                list(request.strengths),
+                list(request.joints),
             )
             applied = self.loop.call(lambda: self._apply_failure(damage))
         except ValueError as exc:

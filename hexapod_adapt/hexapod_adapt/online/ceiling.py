@@ -119,21 +119,30 @@ def ceiling_key(archive: Archive, damage: Damage | Sequence[int], engine: str) -
         'evaluation_version': EVALUATION_VERSION,  # a cache made under other rules is not reused
     }
     if not damage.thesis:
-        key['damage'] = [[d.leg, d.kind, d.strength] for d in damage.legs]
+        # an unpowered leg's dead joints follow (keys of the other kinds are as before)
+        key['damage'] = [[d.leg, d.kind, d.strength, *d.joints] for d in damage.legs]
     return key
 
 
 def _damage_of(key: dict) -> Damage:
     if 'damage' not in key:
         return Damage.lifted(key['failed_legs'])
-    return Damage(tuple(LegDamage(leg, kind, strength) for leg, kind, strength in key['damage']))
+    return Damage(
+        tuple(
+            LegDamage(leg, kind, strength, tuple(joints))
+            for leg, kind, strength, *joints in key['damage']
+        )
+    )
 
 
 def cache_path(directory: str | os.PathLike, key: dict) -> Path:
     """Return the file a ceiling with ``key`` is cached in."""
     digest = hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()[:16]
     legs = ''.join(map(str, key['failed_legs'])) or 'intact'
-    kinds = ''.join(f'_{leg}{kind}' for leg, kind, _ in key.get('damage', []))
+    kinds = ''.join(
+        f'_{leg}{kind}' + ''.join(f'-{j}' for j in joints)
+        for leg, kind, _, *joints in key.get('damage', [])
+    )
     subset = f'_top{key["subset"]["top"]}' if 'subset' in key else ''
     return Path(directory) / f'ceiling_{key["engine"]}_legs{legs}{kinds}{subset}_{digest}.npz'
 

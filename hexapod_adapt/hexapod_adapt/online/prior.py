@@ -42,7 +42,7 @@ from typing import Callable, Sequence
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.online.ceiling import ceiling
 from hexapod_description import N_LEGS
-from hexapod_sim.damage import Damage, damage_from_lists, MAX_FAILED_LEGS
+from hexapod_sim.damage import Damage, damage_from_lists, JOINTS, MAX_FAILED_LEGS
 import numpy as np
 
 
@@ -109,59 +109,74 @@ class KnownDamage:
 
     def __init__(self) -> None:
         self.sim: Damage | None = None
-        self.servo_legs: dict[int, set[int]] = {}  # URDF leg -> servos reported dead
+        self.servos: dict[int, dict[int, str]] = {}  # URDF leg -> {dead servo id: its joint}
         self.refused: str = ''  # why the servo reports make no usable damage ('' if they do)
 
     def from_sim(
-        self, legs: Sequence[int], kinds: Sequence[str], strengths: Sequence[float]
+        self,
+        legs: Sequence[int],
+        kinds: Sequence[str],
+        strengths: Sequence[float],
+        joints: Sequence[str] = (),
     ) -> str:
         """Take the simulator's damage (``sim/damage``)."""
         try:
-            damage = damage_from_lists(list(legs), list(kinds), list(strengths))
+            damage = damage_from_lists(list(legs), list(kinds), list(strengths), list(joints))
         except ValueError as exc:
             return f'simulator damage report refused: {exc}'
         self.sim = damage
         return f'the simulator reports: {damage.label}'
 
-    def from_servo(self, servo: int, urdf_leg: int) -> str:
-        """Take a servo-failure report (the bridge's ``servo_failures``)."""
+    def from_servo(self, servo: int, urdf_leg: int, joint: str) -> str:
+        """Take a servo-failure report (the bridge's ``servo_failures``): that joint is dead."""
         if not 1 <= urdf_leg <= N_LEGS:
             return (
                 f'servo {servo} reported dead names no leg (leg {urdf_leg}): not used for the '
                 'prior'
             )
-        if servo in self.servo_legs.get(urdf_leg, set()):
+        if joint not in JOINTS:
+            return (
+                f'servo {servo} reported dead names no joint ({joint!r}, not one of '
+                f'{", ".join(JOINTS)}): not used for the prior'
+            )
+        if servo in self.servos.get(urdf_leg, {}):
             return f'servo {servo} (leg {urdf_leg}) reported dead again: already known'
-        self.servo_legs.setdefault(urdf_leg, set()).add(servo)
-        if len(self.servo_legs) > MAX_FAILED_LEGS:
+        self.servos.setdefault(urdf_leg, {})[servo] = joint
+        if len(self.servos) > MAX_FAILED_LEGS:
             self.refused = (
-                f'servo reports name {len(self.servo_legs)} failed legs'
-                f' ({sorted(self.servo_legs)}); a damage prior covers at most {MAX_FAILED_LEGS},'
+                f'servo reports name {len(self.servos)} failed legs'
+                f' ({sorted(self.servos)}); a damage prior covers at most {MAX_FAILED_LEGS},'
                 ' so runs start from the map as it is'
             )
             return self.refused
-        return f'servo {servo} reported dead: leg {urdf_leg} failed'
+        return f'servo {servo} reported dead: leg {urdf_leg} {joint} unpowered'
 
     def forget(self) -> str:
         """Drop the servo reports (after a repair); say what was dropped."""
-        known = sorted(s for servos in self.servo_legs.values() for s in servos)
-        self.servo_legs, self.refused = {}, ''
+        known = sorted(s for servos in self.servos.values() for s in servos)
+        self.servos, self.refused = {}, ''
         if not known:
             return 'no servo reports to forget'
         return f'forgot the reports of dead servos {known}; runs start from the map as it is'
 
     def servo_damage(self) -> Damage | None:
-        """Return the damage the servo reports describe (failed legs as lifted), or None."""
-        if not self.servo_legs or self.refused:
+        """
+        Return the damage the servo reports describe, or None.
+
+        A dead servo leaves its joint free; the robot's firmware folds the leg with the live
+        ones (:mod:`hexapod_sim.damage`'s fold policy), so the damage is that leg unpowered.
+        """
+        if not self.servos or self.refused:
             return None
-        return Damage.lifted(self.servo_legs)
+        return Damage.unpowered({leg: set(s.values()) for leg, s in self.servos.items()})
 
     def for_run(self, requested: Sequence[int], blind: bool) -> tuple[Damage | None, str]:
         """
         Return the damage a run's prior should use, and a sentence saying where it comes from.
 
-        A request's legs win (the operator's word), then the simulator's report, then the servo
-        reports. ValueError if the request's legs make no damage.
+        A request's legs win (the operator's word, lifted legs), then the simulator's report,
+        then the servo reports (their legs unpowered, folded by the firmware). ValueError if the
+        request's legs make no damage.
         """
         if blind:
             return None, 'the map as it is (blind prior requested)'

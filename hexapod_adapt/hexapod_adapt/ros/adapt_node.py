@@ -169,7 +169,9 @@ class AdaptNode(Node):
 
     def _on_sim_damage(self, msg: LegDamage) -> None:
         self.get_logger().info(
-            self.known.from_sim(list(msg.failed_legs), list(msg.kinds), list(msg.strengths))
+            self.known.from_sim(
+                list(msg.failed_legs), list(msg.kinds), list(msg.strengths), list(msg.joints)
+            )
         )
 
     def _on_servo_failure(self, msg: ServoFailure) -> None:
@@ -180,7 +182,9 @@ class AdaptNode(Node):
         if problem:
             self.get_logger().error(f'{what}: {problem}')
             return
-        self.get_logger().warning(self.known.from_servo(int(msg.servo_id), int(msg.leg)))
+        self.get_logger().warning(
+            self.known.from_servo(int(msg.servo_id), int(msg.leg), str(msg.joint))
+        )
 
     def _on_forget(self, request, response):
         if self.busy.locked():

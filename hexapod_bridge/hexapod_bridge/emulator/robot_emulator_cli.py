@@ -29,8 +29,9 @@ bridge_node without hardware.
 
 ``--firmware native`` runs the C++ firmware module (firmware/, package hexapod_firmware) in place
 of the Python model. ``--dead-servo ID`` makes a servo not answer pings (the firmware reports it
-as FF FD 0B <id>) and, with --sim, its leg hang in the failure pose (the robot's leg numbering
-taken as the simulator's: bridge_node's default identity leg_map).
+as FF FD 0B <id>) and, with --sim, its joint unpowered, the live joints of its leg folding it
+(the fold policy of hexapod_sim.damage; the robot's leg numbering taken as the simulator's:
+bridge_node's default identity leg_map).
 
 Prints ``RADIO <path>`` and ``IMU <path>`` once the ports exist, and ``TRIAL {json}`` with the
 simulator's own measurement when a walk ends. SIGUSR1 makes the radio port vanish (the pty is
@@ -55,6 +56,7 @@ from hexapod_bridge.emulator.native import NativeRobotFirmware
 from hexapod_bridge.servos import SERVO_IDS, servo_place
 from hexapod_description.cli import number, run_command
 from hexapod_sim import create_simulator, ENGINES, SimConfig
+from hexapod_sim.damage import Damage
 
 # The line the emulator prints when its radio port vanishes, followed by the time on
 # CLOCK_MONOTONIC (comparable with time.monotonic() in any process on the machine).
@@ -189,7 +191,7 @@ def main(argv: list[str] | None = None) -> int:
         default=[],
         metavar='ID',
         help=f'a servo that does not answer pings ({SERVO_IDS[0]}..{SERVO_IDS[-1]}; repeatable);'
-        ' with --sim its leg hangs in the failure pose (at most two legs)',
+        ' with --sim its joint is unpowered and the live joints fold the leg (at most two legs)',
     )
     args = parser.parse_args(argv)
     legs = sorted({servo_place(s).robot_leg for s in args.dead_servo})
@@ -204,7 +206,13 @@ def _serve(args: argparse.Namespace) -> int:
     dead = frozenset(args.dead_servo)
     if args.sim:
         sim = create_simulator(SimConfig(engine=args.engine))
-        sim.set_failed_legs(sorted({servo_place(s).robot_leg for s in dead}))
+        # a dead servo's joint is free, its leg folded by the live ones (hexapod_sim.damage);
+        # the emulated robot's legs are the URDF's (bridge_node's default, identity leg_map)
+        joints: dict[int, set[str]] = {}
+        for servo in dead:
+            place = servo_place(servo)
+            joints.setdefault(place.robot_leg, set()).add(place.joint)
+        sim.set_damage(Damage.unpowered(joints))
     start = time.monotonic()
     firmware = make_firmware(
         args.firmware,
