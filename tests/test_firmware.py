@@ -148,6 +148,30 @@ def test_dead_servos_are_reported_by_both_between_walks():
     assert sent.count(failed) == 2  # at start-up and after the walk, never while walking
 
 
+def test_the_module_folds_a_leg_with_a_dead_servo_as_the_model_does():
+    from hexapod_sim.damage import FAILURE_POSE
+
+    # servo 6 is leg 2's femur: its live coxa and tibia fold the leg (hexapod_sim.damage)
+    script = Script(dead_servos=frozenset({6}))
+    script.servos()  # before the first health check: the tripod's first pose
+    script.poll(0)  # start-up: the health check finds servo 6 and folds leg 2 at once
+    script.servos()
+    start = ext.encode_command(ext.Cmd.START_TRIAL, 1, ext.start_payload(0.5, 0))
+    script.receive(10, start)
+    for ms in range(20, 900, 37):
+        script.poll(ms)
+        script.servos()
+    model, native = run_model(script), run_native(script)
+    result = compare(model, native)
+    assert result.divergence is None, result.divergence
+    targets = [np.array(line.split()[2:], float) for line in model if line.startswith('S ')]
+    assert not np.allclose(targets[0][3:6], FAILURE_POSE)  # not folded before the check
+    folded = targets[1:]
+    assert all(np.allclose(t[3:6], FAILURE_POSE, atol=1e-6) for t in folded)
+    assert np.ptp([t[0] for t in folded]) > 0.1  # leg 1 walks meanwhile
+    assert int(model[-1].split()[1]) > 10  # the walk's rows were written
+
+
 def test_the_comparison_finds_a_changed_byte_and_a_table_off_by_a_unit():
     script = link_session_script('clean')
     model = run_model(script)

@@ -47,7 +47,8 @@ void Firmware::begin(const Hooks& hooks, const Config& config, uint32_t now_ms) 
   build_table(gait_, table_);  // the compiled-in tripod is reachable (a test checks it)
   float zero[kJoints] = {};
   for (int j = 0; j < kJoints; ++j) pose_[j] = table_.position_rad(0, j);
-  if (hooks_.servo_write) hooks_.servo_write(hooks_.ctx, pose_, zero);
+  dead_mask_ = 0;
+  if (hooks_.servo_write) write(zero);
   health_pending_ = true;
 }
 
@@ -368,12 +369,45 @@ void Firmware::timer_tick() {
 void Firmware::health_check() {
   health_pending_ = false;
   if (!hooks_.servo_ping) return;
+  uint32_t dead = 0;
   for (uint8_t id = kFirstServo; id <= kLastServo; ++id) {
     if (!hooks_.servo_ping(hooks_.ctx, id)) {
+      dead |= uint32_t{1} << id;
       const uint8_t frame[4] = {0xFF, 0xFD, kServoPingFailed, id};
       send(frame, 4);
     }
   }
+  if (dead == dead_mask_ || !hooks_.servo_write) {
+    dead_mask_ = dead;
+    return;
+  }
+  // fold the legs with a dead servo now; a leg whose servos all answer again goes to the
+  // gait's first pose
+  for (int leg = 0; leg < kLegs; ++leg) {
+    const uint32_t servos = uint32_t{7} << (3 * leg + kFirstServo);
+    if ((dead_mask_ & servos) && !(dead & servos)) {
+      for (int k = 0; k < 3; ++k) pose_[3 * leg + k] = table_.position_rad(0, 3 * leg + k);
+    }
+  }
+  dead_mask_ = dead;
+  const float zero[kJoints] = {};
+  write(zero);
+}
+
+// The fold policy: the live joints of a leg with a dead servo hold the failure pose (a dead
+// servo ignores its target anyway). Then the targets go to the servos.
+void Firmware::write(const float* velocity) {
+  float rate[kJoints];
+  for (int j = 0; j < kJoints; ++j) rate[j] = velocity[j];
+  for (int leg = 0; leg < kLegs; ++leg) {
+    const uint32_t servos = uint32_t{7} << (3 * leg + kFirstServo);
+    if (!(dead_mask_ & servos)) continue;
+    for (int k = 0; k < 3; ++k) {
+      pose_[3 * leg + k] = kFoldPose[k];
+      rate[3 * leg + k] = 0.0f;
+    }
+  }
+  hooks_.servo_write(hooks_.ctx, pose_, rate);
 }
 
 void Firmware::write_targets() {
@@ -389,7 +423,7 @@ void Firmware::write_targets() {
       pose_[j] = table_.position_rad(r, j);
       velocity[j] = table_.velocity_rad_s(r, j);
     }
-    hooks_.servo_write(hooks_.ctx, pose_, velocity);
+    write(velocity);
     return;
   }
   if (transition_pending_) {  // standing: from where the legs are to the new first pose
@@ -411,7 +445,7 @@ void Firmware::write_targets() {
   for (int j = 0; j < kJoints; ++j) {
     pose_[j] = transition_from_[j] + fraction * (table_.position_rad(0, j) - transition_from_[j]);
   }
-  hooks_.servo_write(hooks_.ctx, pose_, zero);
+  write(zero);
   if (step == steps) transition_ = false;
 }
 

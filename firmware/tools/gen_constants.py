@@ -52,6 +52,7 @@ def render() -> str:
     from hexapod_bridge.emulator import firmware as model
     from hexapod_description import load_model
     from hexapod_gait import preset, RANGES, ROBOT_RATE, trajectory
+    from hexapod_sim.damage import FAILURE_POSE
 
     robot = load_model()
     a1, a2, a3 = robot.link_lengths
@@ -104,6 +105,9 @@ def render() -> str:
         f'constexpr uint8_t kServoPingFailed = 0x{servos.SERVO_PING_FAILED:02X};',
         f'constexpr uint8_t kFirstServo = {servos.SERVO_IDS[0]};',
         f'constexpr uint8_t kLastServo = {servos.SERVO_IDS[-1]};',
+        '// The fold policy (hexapod_sim.damage): the live joints of a leg with a dead servo',
+        '// go to the failure pose, coxa, femur, tibia [rad].',
+        'constexpr float kFoldPose[3] = {' + ', '.join(f'{_f(v)}f' for v in FAILURE_POSE) + '};',
         'enum Cmd : uint8_t {',
         *(f'    kCmd{_camel(c.name)} = 0x{int(c):02X},' for c in ext.Cmd),
         '};',

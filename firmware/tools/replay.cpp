@@ -8,9 +8,11 @@
 //   'B' u32 now_ms u16 n, n bytes                                      -- radio bytes arrive
 //   'P' u32 now_ms                                                     -- the main loop polls
 //   'T'                                                                -- print the gait table
+//   'S'                                                                -- print the servo targets
 // Output: one line per B/P event, "E <radio bytes in hex or -> <walking> <estopped> <motors_on>
 // <gait_id> <staged> <tick_count> <trial_state> <table_rows>"; "G <36 values>" when the gait
-// changed; for T, "T <rows>" and one line per row of 18 positions and 18 rates.
+// changed; for T, "T <rows>" and one line per row of 18 positions and 18 rates; for S,
+// "S <writes> <18 positions>": the number of servo writes so far and the last targets.
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -23,13 +25,19 @@ namespace {
 struct Host {
   std::vector<uint8_t> radio;
   uint32_t dead_mask = 0;
+  float position[18] = {};
+  uint32_t writes = 0;
 };
 
 void radio_write(void* ctx, const uint8_t* data, uint32_t n) {
   Host* host = static_cast<Host*>(ctx);
   host->radio.insert(host->radio.end(), data, data + n);
 }
-void servo_write(void*, const float*, const float*) {}
+void servo_write(void* ctx, const float* position, const float*) {
+  Host* host = static_cast<Host*>(ctx);
+  memcpy(host->position, position, sizeof host->position);
+  ++host->writes;
+}
 uint8_t servo_ping(void* ctx, uint8_t id) {
   return (static_cast<Host*>(ctx)->dead_mask >> id) & 1u ? 0 : 1;
 }
@@ -76,6 +84,12 @@ int main() {
         for (int j = 0; j < 18; ++j) printf("%.9g ", p[j]);
         for (int j = 0; j < 18; ++j) printf("%.9g%c", v[j], j == 17 ? '\n' : ' ');
       }
+      continue;
+    }
+    if (tag == 'S') {
+      printf("S %u", host.writes);
+      for (float p : host.position) printf(" %.9g", p);
+      printf("\n");
       continue;
     }
     if (!read_value(&now_ms)) fail("truncated record");

@@ -90,6 +90,7 @@ class Firmware {
   void timer_tick();
   void health_check();
   void write_targets();
+  void write(const float* velocity);  // fold, then the servo hook
   void begin_transition();
   void set_motors(bool on);
 
@@ -140,6 +141,7 @@ class Firmware {
   uint32_t pings_in_window_ = 0;
   uint32_t missed_ = 0;
   bool health_pending_ = false;
+  uint32_t dead_mask_ = 0;  // bit i: servo id i did not answer the last health check
 };
 
 }  // namespace hexapod_fw

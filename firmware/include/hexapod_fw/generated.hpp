@@ -52,6 +52,9 @@ constexpr uint8_t kFunctionReset = 55;
 constexpr uint8_t kServoPingFailed = 0x0B;
 constexpr uint8_t kFirstServo = 2;
 constexpr uint8_t kLastServo = 19;
+// The fold policy (hexapod_sim.damage): the live joints of a leg with a dead servo
+// go to the failure pose, coxa, femur, tibia [rad].
+constexpr float kFoldPose[3] = {0.0f, 1.5707963267948966f, -2.8797932657906435f};
 enum Cmd : uint8_t {
     kCmdSetParam = 0x10,
     kCmdCommit = 0x11,

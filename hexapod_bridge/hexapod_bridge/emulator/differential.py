@@ -24,8 +24,9 @@ Differential tests of the C++ firmware module (firmware/) against the Python mod
 A :class:`Script` of timed events (radio bytes arrive, the main loop polls, print the table) runs
 through both: the model in-process (:func:`run_model`), the module through its sanitizer-built
 ``fw_replay`` tool (:func:`run_native`). Both print the same lines: the bytes sent and the state
-after every event, the gait when it changes, the 120 Hz table on request. :func:`compare` finds the
-first divergence; gait tables agree within the module's fixed-point units (TABLE_TOLERANCE).
+after every event, the gait when it changes, the 120 Hz table and the servo targets (with the fold
+of a leg with a dead servo) on request. :func:`compare` finds the first divergence; gait tables
+and targets agree within the module's fixed-point units (TABLE_TOLERANCE).
 :func:`fuzz_script` makes a seeded script of random frames: uploads of random gaits, every
 command, legacy frames, duplicates, garbage, truncated and corrupted frames, gaps that trip the
 failsafe. ``firmware_fuzz`` (CLI) runs one.
@@ -87,7 +88,8 @@ class Script:
     timing: FirmwareTiming = field(default_factory=FirmwareTiming)
     start_ms: int = 0
     dead_servos: frozenset[int] = frozenset()
-    events: list[tuple] = field(default_factory=list)  # ('B', ms, bytes) | ('P', ms) | ('T',)
+    # ('B', ms, bytes) | ('P', ms) | ('T',) | ('S',)
+    events: list[tuple] = field(default_factory=list)
 
     def receive(self, now_ms: int, data: bytes) -> None:
         """Radio bytes arrive at ``now_ms``."""
@@ -102,6 +104,10 @@ class Script:
     def table(self) -> None:
         """Print the gait table in use."""
         self.events.append(('T',))
+
+    def servos(self) -> None:
+        """Print the servo targets last written, and how many writes there were."""
+        self.events.append(('S',))
 
     def encode(self) -> bytes:
         """Return the script in fw_replay's binary format (tools/replay.cpp)."""
@@ -126,7 +132,7 @@ class Script:
             elif event[0] == 'P':
                 out.append(b'P' + struct.pack('<I', event[1] & 0xFFFFFFFF))
             else:
-                out.append(b'T')
+                out.append(event[0].encode())
         return b''.join(out)
 
 
@@ -153,6 +159,12 @@ def run_model(script: Script) -> list[str]:
     lines: list[str] = []
     last = _gait_values(fw.gait)
     for event in script.events:
+        if event[0] == 'S':
+            targets = fw.servo_targets
+            lines.append(
+                f'S {targets.writes} ' + ' '.join(repr(float(v)) for v in targets.position)
+            )
+            continue
         if event[0] == 'T':
             table = fw.robot_table
             lines.append(f'T {len(table)}')
@@ -246,6 +258,14 @@ def compare(model: list[str], native: list[str]) -> Comparison:
             rows_left -= 1
         elif a.startswith('G ') and b.startswith('G '):
             if [float(v) for v in a.split()[1:]] != [float(v) for v in b.split()[1:]]:
+                return diverged(i)
+        elif a.startswith('S ') and b.startswith('S '):
+            x, y = a.split()[1:], b.split()[1:]  # the writes, then 18 targets
+            if len(x) != 19 or len(y) != 19 or x[0] != y[0]:
+                return diverged(i)
+            dp = float(np.max(np.abs(np.array(x[1:], float) - np.array(y[1:], float))))
+            max_p = max(max_p, dp)
+            if dp > TABLE_TOLERANCE['position']:
                 return diverged(i)
         elif a.startswith('T ') and a == b:
             rows_left = int(a.split()[1])
@@ -458,6 +478,8 @@ def fuzz_script(
                 script.receive(now, data)
             now += int(rng.integers(0, 12))
             script.poll(now)
+            if rng.random() < 0.02:
+                script.servos()
         if len(step) > 30 and rng.random() < tables:
             script.table()
         if rng.random() < 0.003:  # the host goes quiet: the failsafe may trip

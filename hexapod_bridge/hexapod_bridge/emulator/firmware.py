@@ -49,6 +49,7 @@ from typing import Callable
 
 from hexapod_bridge import extension as ext
 from hexapod_bridge import legacy, xbus
+from hexapod_bridge.emulator.servo_targets import ServoTargets
 from hexapod_bridge.servos import SERVO_IDS, SERVO_PING_FAILED
 from hexapod_bridge.stream import LegacyCommand, PingFrame, RobotReceiver
 from hexapod_gait import build_joint_table, preset, RANGES, ReachabilityError, ROBOT_RATE
@@ -235,6 +236,8 @@ class RobotFirmware:
         self._hold_index = 0
         self.out_radio = bytearray()
         self.out_imu = bytearray()
+        # what the C++ module writes to the servos (the differential tests compare them)
+        self.servo_targets = ServoTargets(self.robot_table.positions[0])
         if sim is not None:
             self._table = build_joint_table(self.gait, rate=1.0 / sim.dt)
             sim.reset(self._table.positions[0])
@@ -285,6 +288,7 @@ class RobotFirmware:
                 self.out_radio += legacy.encode_text('BAD MOVEMENT')
                 return
             self.gait, self.robot_table = gait, table
+            self.servo_targets.gait_loaded(self.walking)
             self._load_table()
 
     def _on_legacy_command(self, cmd: LegacyCommand, now: float) -> None:
@@ -344,6 +348,7 @@ class RobotFirmware:
                 self.out_radio += legacy.encode_text('GAIT REJECTED')
                 return self._ack(f, ext.Status.OUT_OF_RANGE, gait_id)
             self.gait, self.gait_id, self.robot_table = gait, gait_id, table
+            self.servo_targets.gait_loaded(self.walking)
             self.staged = [None] * ext.N_PARAMS
             self._load_table()
             return self._ack(f, ext.Status.OK, gait_id)
@@ -403,6 +408,7 @@ class RobotFirmware:
         self._walk_end_ms = self._walk_start_ms + to_ms(duration)
         self.walking, self.walk_end = True, self._walk_end_ms / 1000.0
         self._row = 0
+        self.servo_targets.walk_started()
         position = self.sim.base_pose()[0] if self.sim is not None else np.zeros(3)
         yaw = self.sim.base_euler()[2] if self.sim is not None else 0.0
         self.trials.append(
@@ -451,6 +457,9 @@ class RobotFirmware:
             self._step_sim(now)
         elif self.walking and now_ms >= self._walk_end_ms:
             self._stop_walk('done')
+        self.servo_targets.update(
+            now_ms, self.walking, self._walk_start_ms, self.robot_table.positions
+        )
         radio, imu = bytes(self.out_radio), bytes(self.out_imu)
         self.out_radio.clear()
         self.out_imu.clear()
@@ -479,9 +488,10 @@ class RobotFirmware:
     def _health_check(self) -> None:
         """Ping every servo; report each one that does not answer (FF FD 0B <servo id>)."""
         self._health_pending = False
-        for servo in SERVO_IDS:
-            if not self.servo_ping(servo):
-                self.out_radio += legacy.encode_error(SERVO_PING_FAILED, servo)
+        dead = frozenset(servo for servo in SERVO_IDS if not self.servo_ping(servo))
+        for servo in sorted(dead):
+            self.out_radio += legacy.encode_error(SERVO_PING_FAILED, servo)
+        self.servo_targets.health_checked(dead, self.robot_table.positions[0])
 
     def _attitude(self) -> tuple[float, float, float]:
         if self.sim is None:
