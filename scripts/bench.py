@@ -459,6 +459,56 @@ def bench_adapt() -> None:
                 setup=name + ('+prior' if informed else ''),
             )
             _print_experiment(rows, suffix, have, engine, cached)
+    _bench_damage_kinds(archive, map_engine, cached, legs_all)
+
+
+def _bench_damage_kinds(archive, map_engine: str, cached, legs_all) -> None:
+    """
+    Adaptation on every damage kind (issue 31): the default profile, blind and with the prior.
+
+    Per kind K: adapt_beats_control_<K> (of the 21 S1-S4 cases), adapt_speed_mean_<K> and, where
+    the shipped cache holds the kind's 21 ceilings, adapt_ceiling_ratio_median_<K>; the same with
+    the damage-informed prior (suffix _prior), which needs those ceilings.
+    """
+    from hexapod_adapt.online.adaptation import run_experiment
+    from hexapod_adapt.online.ceiling import cache_path, ceiling, ceiling_key
+    from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
+    from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
+
+    config = replace(PROFILES['default'], max_trials=TRIAL_BUDGET)
+    for kind in EXPERIMENT_KINDS:
+        damages = [Damage.of(kind, legs) for legs in legs_all]
+        have = all(
+            cache_path(cached, ceiling_key(archive, d, map_engine)).is_file() for d in damages
+        )
+        if not have:
+            print(f'# no cached ceilings of kind {kind}: no ratios, no prior', file=sys.stderr)
+
+        def ceilings(damage, engine):
+            return ceiling(archive, damage, engine, cached)
+
+        for suffix, informed in (('', False), ('_prior', True)):
+            if informed and not have:
+                continue
+            rows = run_experiment(
+                archive,
+                config=config,
+                ceilings=ceilings if have else None,
+                floor=True,
+                priors=(lambda d: ceilings(d, map_engine).speeds) if informed else None,
+                setup='default' + ('+prior' if informed else ''),
+                kind=kind,
+            )
+            best = np.array([r.best_speed for r in rows])
+            control = np.array([r.control_speed for r in rows])
+            name = f'{kind}{suffix}'
+            beats = int(np.sum(best > control))
+            print(f'BENCH adapt_beats_control_{name} {beats} of {len(rows)} runs')
+            print(f'BENCH adapt_speed_mean_{name} {best.mean():.3f} m/s')
+            print(f'BENCH control_speed_mean_{name} {control.mean():.3f} m/s')
+            if have:
+                ratio = np.median([r.ratio for r in rows])
+                print(f'BENCH adapt_ceiling_ratio_median_{name} {ratio:.3f} 1')
 
 
 #: Across engines the ceiling is PyBullet over the gaits that walk best under the damage on MuJoCo.

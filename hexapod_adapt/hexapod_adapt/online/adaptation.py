@@ -208,14 +208,14 @@ EXPERIMENT_MAX_TRIALS = 100
 def _hypotheses(
     config: MboaConfig,
     bank: DamageBank | None,
-    legs: Sequence[int],
+    damage: Damage,
     leave_out: bool,
     known: bool,
 ) -> np.ndarray | None:
     """Return the bank's speeds for a run (None: no bank asked for, or the damage is known)."""
     if bank is None or known:
         return None
-    return bank.hypotheses(config.use_bank, Damage.lifted(legs) if leave_out else None)
+    return bank.hypotheses(config.use_bank, damage if leave_out else None)
 
 
 @dataclass
@@ -242,6 +242,7 @@ class ExperimentRow:
     gaits_beating_intact_control: int = -1  # map gaits faster than the intact tripod, damaged
     setup: str = 'thesis'  # M-BOA profile, '+prior' when it started from a damage-informed prior
     trial_speed: float = float('nan')  # the best trial as the run's trials measured it [m/s]
+    damage_kind: str = 'lifted'  # what failed_legs suffer (hexapod_sim.damage.EXPERIMENT_KINDS)
 
 
 def run_experiment(
@@ -250,14 +251,15 @@ def run_experiment(
     config: MboaConfig | None = None,
     on_row: Callable[[ExperimentRow], None] | None = None,
     trial_engine: str | None = None,
-    ceilings: Callable[[Sequence[int], str], 'Ceiling'] | None = None,
+    ceilings: Callable[[Damage, str], 'Ceiling'] | None = None,
     floor: bool = False,
-    priors: Callable[[Sequence[int]], np.ndarray] | None = None,
+    priors: Callable[[Damage], np.ndarray] | None = None,
     setup: str = 'thesis',
     trial_duration: float | None = None,
     settle: float = 0.0,
     bank: DamageBank | None = None,
     leave_out: bool = False,
+    kind: str = 'lifted',
 ) -> list[ExperimentRow]:
     """
     Thesis experiment 5.2 on one map.
@@ -276,7 +278,9 @@ def run_experiment(
     the map's trial duration from standing) so that every timing is compared alike.
     ``bank``: damage hypotheses for runs without a prior, when ``config``'s ``use_bank`` asks
     for them; ``leave_out`` drops each run's own damage from them (damage the
-    bank does not model).
+    bank does not model). ``kind``: what the failed legs of each orientation suffer (the thesis's
+    ``lifted``, or any of :data:`hexapod_sim.damage.EXPERIMENT_KINDS`); ``ceilings`` and
+    ``priors`` then get that :class:`Damage` in place of the legs.
     """
     config = config or MboaConfig(max_trials=EXPERIMENT_MAX_TRIALS)
     duration = archive.trial_duration
@@ -289,21 +293,22 @@ def run_experiment(
         ).speed
         for name in scenarios:
             for legs in orientations_of(name):
+                damage = Damage.of(kind, legs)
                 control = evaluate_gait(
-                    preset('control'), sim, collisions_fatal=False, failed_legs=legs
+                    preset('control'), sim, collisions_fatal=False, failed_legs=damage
                 ).speed
                 result = adapt(
                     archive,
-                    simulated_trial(archive, legs, sim, trial_duration, settle),
+                    simulated_trial(archive, damage, sim, trial_duration, settle),
                     config,
                     floor=(lambda: control) if floor else None,
-                    prior=priors(legs) if priors is not None else None,
-                    hypotheses=_hypotheses(config, bank, legs, leave_out, priors is not None),
+                    prior=priors(damage) if priors is not None else None,
+                    hypotheses=_hypotheses(config, bank, damage, leave_out, priors is not None),
                 )
                 adapted = result.best_speed
                 if settle > 0 or (trial_duration or duration) != duration:
                     # settled or shorter trials measure another thing: judge the gait as the map
-                    adapted = map_speed(archive, result.best_niche, legs, sim)
+                    adapted = map_speed(archive, result.best_niche, damage, sim)
                 row = ExperimentRow(
                     name,
                     tuple(legs),
@@ -319,9 +324,10 @@ def run_experiment(
                     walking_time=len(result.trials) * ((trial_duration or duration) + settle),
                     setup=setup,
                     trial_speed=result.best_speed,
+                    damage_kind=kind,
                 )
                 if ceilings is not None:
-                    c = ceilings(legs, trial_engine)
+                    c = ceilings(damage, trial_engine)
                     row = replace(
                         row,
                         ceiling_speed=c.best_speed,

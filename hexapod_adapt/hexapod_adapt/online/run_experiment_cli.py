@@ -28,7 +28,9 @@ For every orientation of each failure scenario: one M-BOA run with simulated tri
 failures as in table 5.1, collisions not fatal), next to the control tripod gait with the same
 damage and intact. Trials run on the engine that made the map, or ``--trial-engine``;
 ``--cross-engine`` runs the whole experiment twice, on the map's engine and on the other one
-(a stand-in for the reality gap of thesis 5.5). Prints a row per run and a summary per scenario
+(a stand-in for the reality gap of thesis 5.5). ``--damage-kind`` gives the scenarios' legs
+another damage than the thesis's lifted one (e.g. ``unpowered_femur``: a dead femur servo).
+Prints a row per run and a summary per scenario
 and engine; ``--out`` writes the rows as CSV (atomically); ``--out-dir`` writes runs.csv plus
 the box plots adapted_speed.png and trials.png (thesis figs 5.4-5.5).
 """
@@ -70,6 +72,7 @@ from hexapod_description.cli import (
     run_command,
 )
 from hexapod_sim import ENGINES
+from hexapod_sim.damage import EXPERIMENT_KINDS
 import numpy as np
 
 SCENARIOS = ('S1', 'S2', 'S3', 'S4')
@@ -139,6 +142,14 @@ def main(argv: list[str] | None = None) -> int:
         default=list(SCENARIOS),
         choices=SCENARIOS,
         help='failure scenarios to run (every orientation of each)',
+    )
+    ap.add_argument(
+        '--damage-kind',
+        choices=EXPERIMENT_KINDS,
+        default='lifted',
+        help="what each scenario's failed legs suffer: the thesis's lifted legs (default), a dead"
+        ' coxa, femur or tibia servo (unpowered_*: the joint free, the leg folded by the live'
+        ' ones), locked, weak, a lost or a shortened tibia (hexapod_sim.damage)',
     )
     ap.add_argument(
         '--trial-engine',
@@ -278,6 +289,7 @@ def _experiment(args: argparse.Namespace) -> int:
     def show(r: ExperimentRow) -> None:
         print(
             f'{r.trial_engine:8s} {r.scenario} legs {",".join(map(str, r.failed_legs)):4s}'
+            f' {r.damage_kind}'
             f' {r.trials:3d} trials  adapted {r.best_speed:+.3f} m/s  control'
             f' {r.control_speed:+.3f} m/s'
             + (
@@ -288,11 +300,11 @@ def _experiment(args: argparse.Namespace) -> int:
             flush=True,
         )
 
-    def ceilings(legs, engine):
-        return ceiling(archive, legs, engine, args.ceilings, args.workers)
+    def ceilings(damage, engine):
+        return ceiling(archive, damage, engine, args.ceilings, args.workers)
 
-    def priors(legs):  # the map re-scored under the damage on the map's own engine
-        return ceilings(legs, map_engine).speeds
+    def priors(damage):  # the map re-scored under the damage on the map's own engine
+        return ceilings(damage, map_engine).speeds
 
     floor = args.floor if args.floor is not None else args.profile != 'thesis'
     bank = None
@@ -329,6 +341,7 @@ def _experiment(args: argparse.Namespace) -> int:
                 settle=args.settle,
                 bank=bank,
                 leave_out=args.bank == 'leave-out',
+                kind=args.damage_kind,
             )
     except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the completed runs are kept
         if rows:
