@@ -212,6 +212,54 @@ def test_the_damage_informed_prior_through_the_graph(ros, launch, tmp_path, smal
     assert node.alive() and sim.alive() and gait.alive()
 
 
+def archive_gaits() -> int:
+    from hexapod_adapt.mapping.archive import load_archive
+    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+
+    return load_archive(shipped_map(DEFAULT_MAP)).n_filled
+
+
+def test_a_streaming_prior_starts_the_first_trial_before_the_re_score_ends(ros, launch, tmp_path):
+    """An uncached damage on the default map: the first trial after the top of the re-score."""
+    import re
+    import time
+
+    from hexapod_msgs.srv import SetLegFailure
+
+    launch('hexapod_sim', 'sim_node', params={'real_time_factor': 0.0, 'engine': 'mujoco'})
+    launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'record_dir': '', 'prior_cache_dir': str(tmp_path), 'prior_workers': 2},
+    )
+    trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
+    damage = SetLegFailure.Request(failed_legs=[3], kinds=['unpowered'], joints=['femur'])
+    assert ros.call(SetLegFailure, 'sim_node/set_leg_failure', damage).success
+    t0 = time.monotonic()
+    client = ros.node.create_client(Adapt, 'adapt')
+    assert client.wait_for_service(timeout_sec=30)
+    future = client.call_async(Adapt.Request(max_trials=2))
+    wait_for(lambda: trials, 120, 'the first trial')
+    first = time.monotonic() - t0
+    wait_for(future.done, 300, 'the run')
+    response = future.result()
+    print(f'first trial {first:.1f} s after the request; prior: {response.prior}')
+    assert 'under leg 3 unpowered femur' in response.prior and 'streaming' in response.prior
+    assert 'streaming: the best 256 of' in response.prior
+    # the first trial began while the re-score went on: it reports progress after the trial
+    # (the whole is cached when it ends: hexapod_adapt/test/test_adapt_prior.py)
+    progress = re.compile(r're-scoring the map under leg 3 unpowered femur: (\d+)/(\d+) gaits')
+
+    def later_progress():
+        log = node.log()
+        return [int(m.group(1)) for m in progress.finditer(log, log.index('trial 1:'))]
+
+    wait_for(later_progress, 120, 'progress of the re-score after the first trial')
+    assert 256 < later_progress()[0] < archive_gaits()
+    assert node.alive()
+
+
 def test_a_request_before_the_simulator_reports_its_damage_waits_for_the_report(
     ros, launch, tmp_path, small_archive
 ):

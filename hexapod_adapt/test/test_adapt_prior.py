@@ -132,3 +132,40 @@ def test_m_boa_starts_from_the_re_scored_map(tiny_map, tmp_path):
     )
     with pytest.raises(ValueError, match='one speed per gait'):
         adapt(tiny_map, lookup_trial(truth), config, prior=prior.speeds[:3])
+
+
+def test_a_streaming_prior_scores_the_best_gaits_first_and_caches_the_whole(tiny_map, tmp_path):
+    from hexapod_adapt.online.streaming_prior import StreamingPrior
+
+    damage = Damage.of('unpowered_femur', [2])
+    truth = compute_ceiling(tiny_map, damage, 'mujoco')
+    stream = StreamingPrior(tiny_map, damage, 'mujoco', tmp_path, workers=1, first=10)
+    assert not stream.cached and stream.wait_first(120)
+    first = stream.snapshot()
+    assert first.scored >= 10 and np.all(np.isfinite(first.speeds))
+    # the first scored are the map's best by intact speed, exactly as the ceiling scores them
+    intact = tiny_map.speeds()[tiny_map.elite_indices()]
+    top = np.argsort(-intact, kind='stable')[:10]
+    np.testing.assert_array_equal(first.speeds[top], truth.speeds[top])
+    assert stream.update() is not None
+    stream._thread.join(120)
+    assert stream.snapshot().complete
+    np.testing.assert_array_equal(stream.snapshot().speeds, truth.speeds)
+    again = StreamingPrior(tiny_map, damage, 'mujoco', tmp_path)
+    assert again.cached and again.wait_first(0)  # the whole was cached
+
+
+def test_adapt_takes_a_newer_prior_between_trials(tiny_map):
+    truth = compute_ceiling(tiny_map, Damage.lifted([1]), 'mujoco')
+    config = MboaConfig(max_trials=3, alpha=1.0)
+    wrong = truth.speeds.max() - truth.speeds  # the worst gait looks best
+    updates = iter([None, truth.speeds])  # the true prior arrives before the second trial
+    run = adapt(
+        tiny_map,
+        lookup_trial(truth),
+        config,
+        prior=wrong,
+        prior_update=lambda: next(updates, None),
+    )
+    assert run.niches[1] == truth.best_niche  # the second trial follows the newer prior
+    assert [t.number for t in run.trials] == list(range(1, len(run.trials) + 1))

@@ -77,6 +77,14 @@ def candidates(archive: Archive) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return niches, archive.descriptors[niches], archive.speeds()[niches]
 
 
+def _with_prior(opt: Mboa, prior: np.ndarray) -> Mboa:
+    """Return M-BOA started again from ``prior``, with ``opt``'s trials learned again."""
+    again = Mboa(opt.descriptors, prior, opt.config, hypotheses=opt.hypotheses)
+    for t in opt.trials:
+        again.observe(t.index, t.measured)
+    return again
+
+
 def adapt(
     archive: Archive,
     trial: Callable[[int], float],
@@ -86,6 +94,7 @@ def adapt(
     floor: Callable[[], float] | None = None,
     prior: np.ndarray | None = None,
     hypotheses: np.ndarray | None = None,
+    prior_update: Callable[[], np.ndarray | None] | None = None,
 ) -> AdaptationResult:
     """
     Run M-BOA until it stops (never more than ``config.max_trials`` trials).
@@ -98,6 +107,10 @@ def adapt(
     ``floor``, if given, measures a reference before the first trial, e.g. the damaged control
     tripod (:func:`tripod_floor`): success then also needs the best gait to walk at least that
     fast (and at least ``config.min_speed``).
+
+    ``prior_update``, if given, is asked before each trial for a newer prior (None: no change),
+    e.g. a re-score still streaming in (:mod:`hexapod_adapt.online.streaming_prior`); M-BOA then
+    starts from it again and re-learns the trials so far.
     """
     config = config or MboaConfig()
     niches, descriptors, map_prior = candidates(archive)
@@ -123,6 +136,9 @@ def adapt(
         if should_cancel and should_cancel():
             result.message = 'cancelled'
             break
+        newer = prior_update() if prior_update is not None else None
+        if newer is not None:
+            opt = _with_prior(opt, newer)
         index = opt.next_index()
         niche = int(niches[index])
         try:

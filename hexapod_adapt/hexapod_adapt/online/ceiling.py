@@ -147,7 +147,8 @@ def cache_path(directory: str | os.PathLike, key: dict) -> Path:
     return Path(directory) / f'ceiling_{key["engine"]}_legs{legs}{kinds}{subset}_{digest}.npz'
 
 
-def _evaluate(args: tuple[str, Damage, float, np.ndarray]) -> np.ndarray:
+def evaluate_part(args: tuple[str, Damage, float, np.ndarray]) -> np.ndarray:
+    """Return the speeds of some gaits ``(engine, damage, duration, genotypes)`` (a pool job)."""
     engine, damage, duration, genes = args
     results = evaluate_gaits(
         list(genes),
@@ -190,10 +191,10 @@ def compute_ceiling(
                 progress(sum(len(x) for x in parts), len(genes))
 
     if workers <= 1:
-        collect(map(_evaluate, jobs))
+        collect(map(evaluate_part, jobs))
     else:
         with cf.ProcessPoolExecutor(workers) as pool:
-            collect(pool.map(_evaluate, jobs))
+            collect(pool.map(evaluate_part, jobs))
     speeds = np.concatenate(parts) if parts else np.zeros(0)
     return Ceiling(damage, engine, niches, speeds)
 
@@ -291,6 +292,13 @@ def approximate_ceiling(
     result = compute_ceiling(archive, damage, engine, workers, niches=np.sort(niches))
     _write(path, key, result)
     return result
+
+
+def store_ceiling(archive: Archive, result: Ceiling, cache_dir: str | os.PathLike | None) -> None:
+    """Write a computed ceiling to ``cache_dir`` (atomically; nothing if None)."""
+    if cache_dir is not None:
+        key = ceiling_key(archive, result.damage, result.engine)
+        _write(cache_path(cache_dir, key), key, result)
 
 
 def _write(path: Path | None, key: dict, result: Ceiling) -> None:

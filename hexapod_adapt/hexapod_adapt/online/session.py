@@ -36,7 +36,7 @@ from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import archive_engine
 from hexapod_adapt.online.adaptation import AdaptationResult
 from hexapod_adapt.online.mboa import MboaConfig, Trial
-from hexapod_adapt.online.prior import damage_prior
+from hexapod_adapt.online.streaming_prior import StreamingPrior
 from hexapod_adapt.online.trials import (
     ManualTrials,
     OdomLog,
@@ -105,45 +105,68 @@ def trial_procedure(
     return ManualTrials(port, waiter, timing, warn)
 
 
-def rescored_prior(
+#: How long a run waits for the top of the map to be re-scored before its first trial [s].
+PRIOR_FIRST_TIMEOUT = 600.0
+
+
+def streaming_prior(
     archive: Archive,
-    damage: Damage | None,
-    source: str,
+    damage: Damage,
     cache_dir: str | None,
     read_dirs: Sequence,
     workers: int,
     log: Log,
     progress_period: float = 5.0,
-) -> tuple[np.ndarray | None, str]:
+) -> StreamingPrior:
     """
-    Re-score the map under ``damage`` (None: the map as it is); return (speeds, what it is).
+    Start re-scoring the map under ``damage``, best gaits first (cached: at once).
 
     Progress goes to ``log`` every ``progress_period`` s and at the end.
     """
-    if damage is None:
-        return None, source
     engine = archive_engine(archive.metadata) or 'mujoco'
-    log(f'damage-informed prior from {source}: re-scoring {archive.n_filled} gaits on {engine}')
-    t0, shown = time.monotonic(), [0.0]
+    shown = [time.monotonic()]
 
     def progress(done: int, total: int) -> None:
         if time.monotonic() - shown[0] >= progress_period or done == total:
             shown[0] = time.monotonic()
             log(
-                f're-scoring the map: {done}/{total} gaits ({100 * done / total:.0f} %),'
-                f' {time.monotonic() - t0:.0f} s'
+                f're-scoring the map under {damage.label}: {done}/{total} gaits'
+                f' ({100 * done / total:.0f} %)'
+                + (', complete and cached' if done == total else '')
             )
 
-    prior = damage_prior(
-        archive,
-        damage,
-        engine,
-        cache_dir,
-        read_dirs=list(read_dirs),
-        workers=workers,
-        progress=progress,
+    stream = StreamingPrior(
+        archive, damage, engine, cache_dir, list(read_dirs), workers, progress=progress
     )
-    return prior.speeds, f'{prior.describe()}, from {source}'
+    if not stream.cached:
+        log(
+            f'damage-informed prior: re-scoring {archive.n_filled} gaits on {engine} under'
+            f' {damage.label}, the best {stream.first} first'
+        )
+    return stream
+
+
+def first_prior(stream: StreamingPrior, source: str) -> tuple[np.ndarray | None, str]:
+    """Wait for the top of the re-score; return (M-BOA's first prior, what it is)."""
+    if not stream.wait_first(PRIOR_FIRST_TIMEOUT):
+        why = (
+            stream.error or f'the top of the map was not re-scored in {PRIOR_FIRST_TIMEOUT:.0f} s'
+        )
+        return None, f'the map as it is ({why}; damage from {source})'
+    speeds = stream.update()
+    snap = stream.snapshot()
+    what = f'the map re-scored on {stream.engine} under {stream.damage.label}'
+    if stream.cached:
+        how = 'cached'
+    elif snap.complete:
+        how = f'{snap.seconds:.0f} s'
+    else:
+        how = (
+            f'streaming: the best {snap.scored} of {snap.total} gaits scored in'
+            f' {snap.seconds:.0f} s before the first trial, the rest update the prior between'
+            ' trials'
+        )
+    return speeds, f'{what} (best {float(np.max(snap.speeds)):.3f} m/s, {how}), from {source}'
 
 
 def duplicate_problem(name: str, count: int) -> str:

@@ -57,6 +57,7 @@ from hexapod_adapt.online.run_config import (
     SETTINGS,
     settings_problem,
 )
+from hexapod_adapt.online.streaming_prior import StreamingPrior
 from hexapod_adapt.online.trials import MODES, OdomLog, TrialTiming, Waiter
 from hexapod_adapt.ros.graph_port import (
     GraphPort,
@@ -120,6 +121,7 @@ class AdaptNode(Node):
         self.recorded = RecordedTopics(self, self.recording)
         self.trial_pub = self.create_publisher(AdaptationTrial, 'adapt/trials', 10)
         self.known = KnownDamage()
+        self.stream: StreamingPrior | None = None  # the last run's re-score (may still stream)
         if self.mode == 'sim':
             self.create_subscription(LegDamage, 'sim/damage', self._on_sim_damage, LATCHED)
         else:
@@ -146,6 +148,24 @@ class AdaptNode(Node):
     def shutdown(self) -> None:
         """Ctrl-C / SIGTERM mid-run: finish the MCAP file (called by run_node)."""
         self.recording.stop()
+        if self.stream is not None:
+            self.stream.close()
+
+    def _stream_for(self, archive, damage) -> StreamingPrior:
+        """Return the re-score under ``damage``: the one still streaming, or a new one."""
+        s = self.stream
+        if s is None or s.archive is not archive or s.damage != damage or s.error or s.stopped:
+            if s is not None:
+                s.close()
+            self.stream = session.streaming_prior(
+                archive,
+                damage,
+                os.path.expanduser(str(self._param('prior_cache_dir'))) or None,
+                [shipped_ceilings()],
+                int(self._param('prior_workers')),
+                self.get_logger().info,
+            )
+        return self.stream
 
     # -- archive and parameters -------------------------------------------------------------
     def _on_set_parameters(self, params) -> SetParametersResult:
@@ -300,15 +320,11 @@ class AdaptNode(Node):
         )
         self.get_logger().info(session.start_message(archive, config, timing, note))
         niches = archive.elite_indices()  # M-BOA's candidate index -> niche
-        prior, response.prior = session.rescored_prior(
-            archive,
-            damage,
-            source,
-            os.path.expanduser(str(self._param('prior_cache_dir'))) or None,
-            [shipped_ceilings()],
-            int(self._param('prior_workers')),
-            self.get_logger().info,
-        )
+        prior, prior_update, response.prior = None, None, source
+        if damage is not None:  # re-scored best gaits first; the rest streams in between trials
+            stream = self._stream_for(archive, damage)
+            prior, response.prior = session.first_prior(stream, source)
+            prior_update = stream.update if prior is not None else None
         self.get_logger().info(f'M-BOA starts from {response.prior}')
 
         def on_trial(trial, niche, opt) -> None:
@@ -329,6 +345,7 @@ class AdaptNode(Node):
                 on_trial,
                 lambda: self.cancel_requested,
                 prior=prior,
+                prior_update=prior_update,
             )
         finally:
             self.recording.stop()

@@ -99,7 +99,7 @@ UNKNOWN_NODE = '_NODE_NAME_UNKNOWN_'
 
 
 def topic_publishers(node: Node, topic: str, wait_s: float = 2.0) -> list[str]:
-    """The fully qualified names of the nodes publishing ``topic`` (waits for unlearned names)."""
+    """Return the fully qualified names of ``topic``'s publishers (waits for unknown names)."""
     deadline = time.monotonic() + wait_s
     while True:
         infos = node.get_publishers_info_by_topic(topic)
