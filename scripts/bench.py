@@ -415,6 +415,16 @@ def bench_adapt() -> None:
     with tempfile.TemporaryDirectory() as scratch:
         prior = damage_prior(archive, Damage.of('locked', [3]), map_engine, scratch, workers=2)
     print(f'BENCH adapt_prior_rescore_s {prior.seconds:.1f} s')
+    # the streaming prior: the time until the top of the map is re-scored and the first trial
+    # may start (the rest streams in between trials), same damage, no cache
+    from hexapod_adapt.online.streaming_prior import StreamingPrior
+
+    with tempfile.TemporaryDirectory() as scratch:
+        t0 = time.monotonic()
+        stream = StreamingPrior(archive, Damage.of('locked', [3]), map_engine, scratch, workers=2)
+        stream.wait_first(600)
+        print(f'BENCH adapt_prior_first_trial_s {time.monotonic() - t0:.1f} s')
+        stream.close()
     legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
 
     def ceilings(legs, engine):
@@ -576,6 +586,9 @@ def bench_navigate() -> None:
     20 consecutive 2 s repertoire steps:
     navigate_odometry_step_error_m (median |estimate - truth| of one step),
     navigate_odometry_yaw_error_rad (RMS) and navigate_odometry_drift_m_after_<k> (k = 5, 10, 20).
+    Per damage kind K and scenario S (5 goals per case, navigate and the tripod only):
+    navigate_success_<S>_<K>, navigate_tripod_success_<S>_<K> and navigate_time_vs_tripod_<S>_<K>
+    (median walking times on the goals both reached).
     """
     from hexapod_adapt.mapping.archive import load_archive
     from hexapod_bridge.emulator.consecutive import dead_reckoning
@@ -584,10 +597,12 @@ def bench_navigate() -> None:
         NavigationSettings,
         run_navigation,
         summarise,
+        versus_tripod,
     )
     from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
     from hexapod_navigation.step_bank import shipped_step_bank
     from hexapod_sim import create_simulator
+    from hexapod_sim.damage import EXPERIMENT_KINDS
 
     path = shipped_repertoire()
     for suffix, methods, leave_out in (('', METHODS, False), ('_leaveout', ('repertoire',), True)):
@@ -612,6 +627,22 @@ def bench_navigate() -> None:
         damaged = np.median([r.walking_time for r in ours if r.scenario != 'S0'])
         print(f'BENCH navigate_walking_s_median_damaged{suffix} {damaged:.1f} s')
         print(f'BENCH navigate_walking_time_ratio_damaged_intact{suffix} {damaged / intact:.2f} x')
+    # every damage kind (issue 31): navigate against the steered tripod, 5 goals per case
+    for kind in EXPERIMENT_KINDS:
+        settings = NavigationSettings(
+            repertoire=path,
+            scenarios=('S1', 'S2', 'S3', 'S4'),
+            goals=5,
+            goal_seed=0,
+            methods=('repertoire', 'tripod'),
+            bank=shipped_step_bank(),
+            damage_kind=kind,
+        )
+        for v in versus_tripod(run_navigation(settings, workers=2)[0]):
+            name = f'{v.scenario}_{kind}'
+            print(f'BENCH navigate_success_{name} {100 * v.success:.1f} %')
+            print(f'BENCH navigate_tripod_success_{name} {100 * v.tripod_success:.1f} %')
+            print(f'BENCH navigate_time_vs_tripod_{name} {v.time_ratio:.2f} x')
     repertoire = Repertoire.from_archive(load_archive(path))
     picks = np.random.default_rng(0).choice(len(repertoire), 20, replace=False)
     with create_simulator() as sim:

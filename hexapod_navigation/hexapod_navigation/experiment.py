@@ -49,7 +49,7 @@ from hexapod_navigation.planner import NavigationConfig, Policy, RepertoirePolic
 from hexapod_navigation.repertoire import Repertoire
 from hexapod_navigation.step_bank import load_step_bank
 from hexapod_sim import create_simulator, scenario, SCENARIO_NAMES, SimConfig
-from hexapod_sim.damage import Damage, DAMAGE_KINDS
+from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
 import numpy as np
 
 METHODS = ('repertoire', 'no_learning', 'tripod')
@@ -80,7 +80,7 @@ class NavigationSettings:
     bank: Path | None = None
     #: leave each case's own damage out of the bank (damage the bank does not model)
     leave_out: bool = False
-    #: how the scenarios' legs fail (hexapod_sim.damage.DAMAGE_KINDS): 'lifted' as in the
+    #: how the scenarios' legs fail (hexapod_sim.damage.EXPERIMENT_KINDS): 'lifted' as in the
     #: thesis (the bank's kind); the others are damage the bank does not hold
     damage_kind: str = 'lifted'
 
@@ -92,9 +92,9 @@ class NavigationSettings:
             scenario(name)  # ValueError names an unknown one
         if self.goals < 1:
             raise ValueError(f'goals must be >= 1, got {self.goals}')
-        if self.damage_kind not in DAMAGE_KINDS:
+        if self.damage_kind not in EXPERIMENT_KINDS:
             raise ValueError(
-                f'unknown damage kind {self.damage_kind!r}; known: {", ".join(DAMAGE_KINDS)}'
+                f'unknown damage kind {self.damage_kind!r}; known: {", ".join(EXPERIMENT_KINDS)}'
             )
 
 
@@ -210,6 +210,52 @@ def run_navigation(
 
 
 # -- summaries and files -----------------------------------------------------------------------
+@dataclass(frozen=True)
+class VersusTripod:
+    """navigate against the steered tripod in one scenario (issue 31's measure)."""
+
+    scenario: str
+    success: float  # navigate's share of goals reached
+    tripod_success: float
+    time_ratio: float  # navigate's median walking time / the tripod's, on goals both reached
+
+    @property
+    def passes(self) -> bool:
+        """At least the tripod's success, and at most 1.1x its time where both reach."""
+        slower = math.isfinite(self.time_ratio) and self.time_ratio > 1.1
+        return self.success >= self.tripod_success and not slower
+
+
+def versus_tripod(rows: Sequence[NavigationRow]) -> list[VersusTripod]:
+    """Compare the repertoire method with the tripod, per scenario, goal by goal."""
+    out = []
+    for name in dict.fromkeys(r.scenario for r in rows):
+        ours = {
+            (r.failed_legs, r.goal): r
+            for r in rows
+            if r.scenario == name and r.method == 'repertoire'
+        }
+        base = {
+            (r.failed_legs, r.goal): r for r in rows if r.scenario == name and r.method == 'tripod'
+        }
+        both = [k for k in ours if k in base and ours[k].reached and base[k].reached]
+        ratio = (
+            float(np.median([ours[k].walking_time for k in both]))
+            / float(np.median([base[k].walking_time for k in both]))
+            if both
+            else float('nan')
+        )
+        out.append(
+            VersusTripod(
+                name,
+                float(np.mean([r.reached for r in ours.values()])),
+                float(np.mean([r.reached for r in base.values()])),
+                ratio,
+            )
+        )
+    return out
+
+
 @dataclass(frozen=True)
 class MethodSummary:
     """One method in one scenario."""

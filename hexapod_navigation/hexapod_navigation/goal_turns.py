@@ -47,14 +47,14 @@ class GoalTurns:
         self._closing = False
 
     def accepted(self, key: Hashable) -> None:
-        """A goal was accepted: it is now the newest, and supersedes all others."""
+        """Take an accepted goal: it is now the newest, and supersedes all others."""
         with self._cond:
             self._newest = key
             self._newest_since = time.monotonic()
             self._cond.notify_all()
 
     def superseded(self, key: Hashable) -> bool:
-        """True if a newer goal was accepted, or the node is closing."""
+        """Return True if a newer goal was accepted, or the node is closing."""
         with self._cond:
             return self._closing or key != self._newest
 
@@ -78,7 +78,7 @@ class GoalTurns:
                 self._cond.wait(min(poll_s, settling) if settling > 0 else poll_s)
 
     def done(self, key: Hashable) -> None:
-        """The walking goal ended: the next may walk."""
+        """End the walking goal: the next may walk."""
         with self._cond:
             if self._active == key:
                 self._active = None
@@ -86,7 +86,7 @@ class GoalTurns:
 
     @property
     def walking(self) -> bool:
-        """True while a goal walks."""
+        """Return True while a goal walks."""
         with self._cond:
             return self._active is not None
 

@@ -45,7 +45,9 @@ from visualization_msgs.msg import Marker
 
 def navigate_client(node: Node, action: str = 'navigate') -> ActionClient:
     """
-    An action client for ``navigate`` whose services keep a burst of answers (ACTION_SERVICES).
+    Return an action client for ``navigate`` whose services keep a burst of answers.
+
+    Its services keep up to ACTION_SERVICES's depth of answers.
 
     Any Navigate client works; one with the services' default depth loses answers when many goals
     end at once (a goal storm).

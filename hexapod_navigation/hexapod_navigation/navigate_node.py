@@ -203,7 +203,7 @@ class NavigateNode(Node):
 
     # -- the action ----------------------------------------------------------------------------
     def _goal_problem(self, goal) -> str:
-        """What is wrong with ``goal`` that can be told at once ('' if nothing yet)."""
+        """Say what is wrong with ``goal`` that can be told at once ('' if nothing yet)."""
         if self.policy is None:
             return self.problem
         problem = settings.goal_settings_problem(goal.tolerance, goal.time_limit)
@@ -213,7 +213,7 @@ class NavigateNode(Node):
         return goal_problem(goal.x, goal.y, start, self.config) if start is not None else ''
 
     def _known_pose(self):
-        """The robot's pose if known now (None before the pose source's first message)."""
+        """Return the robot's pose if known now (None before the pose source's first message)."""
         if self.mode == 'sim' or self.body.external:
             latest = self.poses.latest()
             return latest.pose if latest is not None else None
@@ -221,7 +221,7 @@ class NavigateNode(Node):
 
     def _start_problem(self, goal) -> str:
         """
-        What stops the goal whose turn came, checked by waiting on the graph ('' if nothing).
+        Say what stops the goal whose turn came, asking the graph ('' if nothing).
 
         Kept out of the goal callback: an executor thread that waits there is one the answers
         it waits for cannot use, and a burst of goals then starved the node.

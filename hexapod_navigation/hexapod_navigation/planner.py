@@ -147,6 +147,15 @@ class NavigationConfig:
     #: transition to another, and the robot can mark time until the time limit ('toward':
     #: chosen on the tuning goals, docs/navigation.md "Rest of the way")
     rest_speed: str = 'toward'
+    #: 'time' planner: the steered tripod's next cycle (the baseline's choice of crab direction)
+    #: is a candidate too, with what the robot makes of such cycles learned as it walks
+    #: (:class:`TripodSteps`). On a damage the repertoire has no good step for, the planner then
+    #: walks the tripod instead of marking time (issue 31)
+    tripod_option: bool = True
+    #: the tripod becomes a candidate once the last this many repertoire steps made less progress
+    #: toward the goal than the tripod's pace (0: from the first step; 0 was chosen on the tuning
+    #: goals over 1 and 2, docs/studies/navigation.md "The tripod as an option")
+    tripod_after: int = 0
 
     def __post_init__(self) -> None:
         for name in (
@@ -192,6 +201,8 @@ class NavigationConfig:
                 'prior_intact + prior_unknown must leave the bank some weight (< 1), got'
                 f' {self.prior_intact!r} + {self.prior_unknown!r}'
             )
+        if not (isinstance(self.tripod_after, int) and 0 <= self.tripod_after <= 100):
+            raise ValueError(f'tripod_after must be 0..100 steps, got {self.tripod_after!r}')
         if not (isinstance(self.min_stance_legs, int) and 0 <= self.min_stance_legs <= 6):
             raise ValueError(f'min_stance_legs must be 0..6, got {self.min_stance_legs!r}')
         if self.arena is not None and not (math.isfinite(self.arena) and self.arena > 0):
@@ -387,6 +398,7 @@ class Step:
     duration: float  # s
     predicted: Pose2D  # expected pose at the end (odom)
     index: int = -1  # repertoire row, -1 for a baseline's gait
+    tripod: int = -1  # the steered tripod's crab direction (0..7), -1 for another gait
 
 
 class Policy(Protocol):
@@ -429,6 +441,9 @@ class RepertoirePolicy:
         self.config = config
         use = config.use_bank and config.learn and hypotheses is not None
         self.gp = CorrectionGP(repertoire, config, hypotheses if use else None)
+        self.tripod = TripodSteps()
+        self._goal: tuple[float, float] | None = None  # of the last step chosen
+        self._made: list[tuple[float, float]] = []  # repertoire steps: (progress [m], time [s])
         self._gaits: dict[int, GaitParameters] = {}
         self.allowed = repertoire.min_stance() >= config.min_stance_legs
         if not self.allowed.any():
@@ -449,7 +464,7 @@ class RepertoirePolicy:
         Both planners move each predicted end ``optimism`` standard deviations toward the goal
         (a lower confidence bound on the distance left). 'nearest' takes the step that then ends
         nearest the goal; 'time' the one with the least expected time to it
-        (:func:`time_to_goal`).
+        (:func:`time_to_goal`), the steered tripod's cycles included (``tripod_option``).
         """
         mean, var = self.gp.predict()
         c, s = math.cos(pose.yaw), math.sin(pose.yaw)
@@ -464,30 +479,50 @@ class RepertoirePolicy:
             switch[playing_row] = 0.0
         if self.config.planner == 'nearest':
             cost = left - shift
+            i = int(np.argmin(np.where(self.allowed, cost, np.inf)))
+            return self._repertoire_step(i, pose, mean, switch)
+        # the end moved toward the goal by the optimism's shift (no further than the goal)
+        pull = np.minimum(shift, left) / np.maximum(left, 1e-12)
+        ends = np.column_stack([ex + pull * (goal[0] - ex), ey + pull * (goal[1] - ey)])
+        to_goal = np.array([goal[0] - pose.x, goal[1] - pose.y])
+        unit = to_goal / max(float(np.hypot(*to_goal)), 1e-12)
+        if self.config.rest_speed == 'toward':
+            # each step's progress toward the goal from here (the chord's projection); a
+            # floor of 1 mm per step: no step that heads for the goal is a big cost, not an
+            # infinite one
+            progress = (ex - pose.x) * unit[0] + (ey - pose.y) * unit[1]
+            best = max(float(np.max(progress[self.allowed])), 1e-3)
         else:
-            # the end moved toward the goal by the optimism's shift (no further than the goal)
-            pull = np.minimum(shift, left) / np.maximum(left, 1e-12)
-            ends = np.column_stack([ex + pull * (goal[0] - ex), ey + pull * (goal[1] - ey)])
-            if self.config.rest_speed == 'toward':
-                # each step's progress toward the goal from here (the chord's projection); a
-                # floor of 1 mm per step: no step that heads for the goal is a big cost, not an
-                # infinite one
-                to_goal = np.array([goal[0] - pose.x, goal[1] - pose.y])
-                unit = to_goal / max(float(np.hypot(*to_goal)), 1e-12)
-                progress = (ex - pose.x) * unit[0] + (ey - pose.y) * unit[1]
-                best = max(float(np.max(progress[self.allowed])), 1e-3)
-            else:
-                best = float(np.max(np.hypot(mean[:, 0], mean[:, 1])[self.allowed]))
-            cost = time_to_goal(
-                (pose.x, pose.y),
-                ends,
-                goal,
-                self.config.aim * self.config.tolerance,
-                self.repertoire.step_duration,
-                switch,
-                best / self.repertoire.step_duration,
-            )
+            best = float(np.max(np.hypot(mean[:, 0], mean[:, 1])[self.allowed]))
+        radius = self.config.aim * self.config.tolerance
+        step = self.repertoire.step_duration
+        cost = time_to_goal((pose.x, pose.y), ends, goal, radius, step, switch, best / step)
         i = int(np.argmin(np.where(self.allowed, cost, np.inf)))
+        self._goal = goal
+        if self.config.tripod_option:
+            # the steered tripod's next cycle (the crab direction nearest the goal's bearing, as
+            # the baseline walks it), where the robot has been making such cycles go, and the
+            # rest of the way at the tripod's own pace: the time if the robot commits to it. It
+            # is a candidate once the repertoire's last steps made less progress than that pace
+            # (the repertoire has had its chance to learn the damage)
+            k = steered_direction(pose, goal)
+            dx, dy, _ = self.tripod.displacement()[k]
+            end = np.array([[pose.x + c * dx - s * dy, pose.y + s * dx + c * dy]])
+            gait = self.tripod.gaits[k]
+            tripod_switch = 0.0 if gait is playing else float(switch_time)
+            pace = max(float((end[0] - (pose.x, pose.y)) @ unit), 1e-3) / self.tripod.period
+            tripod_cost = time_to_goal(
+                (pose.x, pose.y), end, goal, radius, self.tripod.period, [tripod_switch], pace
+            )[0]
+            n = self.config.tripod_after
+            made = self._made[-n:] if n else []
+            lagging = len(made) == n and sum(p for p, _ in made) <= pace * sum(t for _, t in made)
+            if lagging and tripod_cost < cost[i]:
+                predicted = pose.moved(*self.tripod.displacement()[k])
+                return Step(gait, self.tripod.period + tripod_switch, predicted, tripod=k)
+        return self._repertoire_step(i, pose, mean, switch)
+
+    def _repertoire_step(self, i: int, pose: Pose2D, mean: np.ndarray, switch: np.ndarray) -> Step:
         if i not in self._gaits:
             self._gaits[i] = self.repertoire.gait(i)
         predicted = pose.moved(*mean[i])
@@ -498,6 +533,13 @@ class RepertoirePolicy:
         if not completed:
             return None
         error = end.distance_to(step.predicted.x, step.predicted.y)
+        if step.tripod >= 0:
+            self.tripod.observe(step.tripod, start.relative(end))
+            return error
+        if self._goal is not None:  # the progress it made toward the goal it was taken for
+            g = self._goal
+            made = start.distance_to(*g) - end.distance_to(*g)
+            self._made.append((made, step.duration))
         if self.config.learn:
             self.gp.add(step.index, start.relative(end))
         return error
@@ -505,6 +547,57 @@ class RepertoirePolicy:
 
 #: The firmware's eight crab directions (robot-facts.md, movement frame), in base_link.
 FIRMWARE_DIRECTIONS = tuple(k * math.pi / 4 for k in range(8))
+
+
+def steered_direction(pose: Pose2D, goal: tuple[float, float]) -> int:
+    """Return the firmware crab direction (0..7) nearest the goal's bearing from ``pose``."""
+    bearing = wrap_angle(math.atan2(goal[1] - pose.y, goal[0] - pose.x) - pose.yaw)
+    return round(bearing / (math.pi / 4)) % 8
+
+
+class TripodSteps:
+    """
+    The steered tripod's eight crab directions as candidate steps, one gait cycle each.
+
+    What one cycle moves the robot is learned as it walks: the displacements seen, in the frame
+    of their crab direction (along, across, turn), pooled over the directions, and per direction.
+    A direction's estimate is its own mean shrunk toward the pooled one, which is itself shrunk
+    toward the commanded stride (``PRIOR_WEIGHT`` cycles' worth each), so one cycle walked on
+    a damage tells every direction about it.
+    """
+
+    PRIOR_WEIGHT = 1.0
+
+    def __init__(self) -> None:
+        base = preset('control')
+        self.gaits = [base.replace(crab_angle=wrap_angle(a)) for a in FIRMWARE_DIRECTIONS]
+        self.period = base.period
+        self._angles = np.array([g.crab_angle for g in self.gaits])
+        stride = np.array([base.body_velocity * base.period, 0.0, 0.0])
+        self._pooled = [stride * self.PRIOR_WEIGHT, self.PRIOR_WEIGHT]
+        self._sums = np.zeros((len(self.gaits), 3))
+        self._counts = np.zeros(len(self.gaits))
+
+    def displacement(self) -> np.ndarray:
+        """Return each direction's expected cycle (dx, dy, dyaw) in the robot's frame, (8, 3)."""
+        pooled = self._pooled[0] / self._pooled[1]
+        local = (self._sums + pooled[None, :] * self.PRIOR_WEIGHT) / (
+            self._counts[:, None] + self.PRIOR_WEIGHT
+        )
+        c, s = np.cos(self._angles), np.sin(self._angles)
+        return np.column_stack(
+            [c * local[:, 0] - s * local[:, 1], s * local[:, 0] + c * local[:, 1], local[:, 2]]
+        )
+
+    def observe(self, k: int, moved: tuple[float, float, float]) -> None:
+        """Learn that a cycle of direction ``k`` moved (dx, dy, dyaw) in the robot's frame."""
+        c, s = math.cos(self._angles[k]), math.sin(self._angles[k])
+        dx, dy, dyaw = moved
+        local = np.array([c * dx + s * dy, -s * dx + c * dy, dyaw])
+        self._pooled[0] = self._pooled[0] + local
+        self._pooled[1] += 1.0
+        self._sums[k] += local
+        self._counts[k] += 1.0
 
 
 class SteeredTripod:
@@ -526,8 +619,7 @@ class SteeredTripod:
         switch_time: float = 0.0,
     ) -> Step:
         """Return one cycle toward the goal (after the body's transition, if it turns)."""
-        bearing = wrap_angle(math.atan2(goal[1] - pose.y, goal[0] - pose.x) - pose.yaw)
-        k = round(bearing / (math.pi / 4)) % 8
+        k = steered_direction(pose, goal)
         if k not in self._gaits:
             self._gaits[k] = self._base.replace(crab_angle=wrap_angle(FIRMWARE_DIRECTIONS[k]))
         gait = self._gaits[k]

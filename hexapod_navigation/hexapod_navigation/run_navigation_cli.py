@@ -58,7 +58,7 @@ from hexapod_navigation.plots import plot_navigation_boxes, plot_navigation_path
 from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
 from hexapod_navigation.step_bank import load_step_bank, shipped_step_bank
 from hexapod_sim import ENGINES, SCENARIO_NAMES
-from hexapod_sim.damage import DAMAGE_KINDS
+from hexapod_sim.damage import EXPERIMENT_KINDS
 
 _DEFAULT = NavigationConfig()
 
@@ -108,10 +108,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     ap.add_argument(
         '--damage-kind',
-        choices=DAMAGE_KINDS,
+        choices=EXPERIMENT_KINDS,
         default='lifted',
         help="how the scenarios' legs fail: lifted as in the thesis (the damage bank's kind), or"
-        ' damage the bank does not hold: locked where they stood, weak servos, a lost tibia',
+        ' damage the bank does not hold: a dead coxa, femur or tibia servo (unpowered_*), locked'
+        ' where they stood, weak servos, a lost or a shortened tibia',
     )
     ap.add_argument('--workers', type=number(int, 1, 256), default=2)
     ap.add_argument(

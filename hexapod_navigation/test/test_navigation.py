@@ -298,7 +298,7 @@ def test_time_to_goal_counts_the_switch_the_entry_into_the_goal_circle_and_the_r
 def test_the_time_planner_keeps_walking_the_gait_it_plays_unless_another_saves_its_switch(
     repertoire,
 ):
-    config = NavigationConfig(planner='time', use_bank=False)
+    config = NavigationConfig(planner='time', use_bank=False, tripod_option=False)
     policy = RepertoirePolicy(repertoire, config)
     far = (5.0, 0.0)
     first = policy.next_step(Pose2D(0.0, 0.0, 0.0), far, None, 0.5)
@@ -502,7 +502,8 @@ def test_the_rest_of_the_way_at_the_speed_toward_the_goal_breaks_marking_time(re
     mean = np.column_stack([repertoire.moves * np.array([0.15, 1.0]), np.zeros(len(repertoire))])
     choices = {}
     for rest in ('fastest', 'toward'):
-        policy = RepertoirePolicy(repertoire, NavigationConfig(use_bank=False, rest_speed=rest))
+        config = NavigationConfig(use_bank=False, rest_speed=rest, tripod_option=False)
+        policy = RepertoirePolicy(repertoire, config)
         stuck = int(np.flatnonzero(policy.allowed)[0])
         crafted = mean.copy()
         crafted[stuck] = (0.003, 0.0, 0.0)
@@ -514,3 +515,35 @@ def test_the_rest_of_the_way_at_the_speed_toward_the_goal_breaks_marking_time(re
     assert choices['toward'] != stuck  # takes the transition to a step that heads for the goal
     with pytest.raises(ValueError, match='rest_speed must be one of'):
         NavigationConfig(rest_speed='slowest')
+
+
+def test_the_tripod_option_learns_its_cycles_and_takes_over_when_the_repertoire_lags(repertoire):
+    from hexapod_navigation.planner import TripodSteps
+
+    tripod = TripodSteps()
+    stride = tripod.displacement()
+    assert stride[0, 0] > 0.05 and abs(stride[0, 1]) < 1e-12  # forward: the commanded stride
+    assert stride[2, 1] == pytest.approx(stride[0, 0])  # direction 2 walks to the left
+    tripod.observe(0, (0.02, 0.0, 0.0))  # a damaged cycle: 2 cm
+    after = tripod.displacement()
+    assert after[0, 0] < stride[0, 0] and after[2, 1] < stride[2, 1]  # every direction learns
+    # a damage the repertoire has no step for: its step went nowhere, so the tripod takes over
+    goal, start = (1.0, 0.0), Pose2D(0.0, 0.0, 0.0)
+    policy = RepertoirePolicy(repertoire, NavigationConfig(use_bank=False, tripod_after=1))
+    first = policy.next_step(start, goal, None, 0.5)
+    assert first.tripod == -1  # the repertoire gets its chance first
+    policy.observe(first, start, Pose2D(0.005, 0.0, 0.0), True)
+    second = policy.next_step(Pose2D(0.005, 0.0, 0.0), goal, first.gait, 0.5)
+    assert second.tripod == 0 and second.gait.crab_angle == 0.0  # the cycle toward the goal
+    policy.observe(second, Pose2D(0.005, 0.0, 0.0), second.predicted, True)
+    # where the repertoire's step did go, it keeps walking it
+    policy = RepertoirePolicy(repertoire, NavigationConfig(use_bank=False, tripod_after=1))
+    first = policy.next_step(start, goal, None, 0.5)
+    policy.observe(first, start, first.predicted, True)
+    assert policy.next_step(first.predicted, goal, first.gait, 0.5).tripod == -1
+    off = RepertoirePolicy(repertoire, NavigationConfig(use_bank=False, tripod_option=False))
+    step = off.next_step(start, goal, None, 0.5)
+    off.observe(step, start, start, True)
+    assert off.next_step(start, goal, step.gait, 0.5).tripod == -1
+    with pytest.raises(ValueError, match='tripod_after must be'):
+        NavigationConfig(tripod_after=-1)

@@ -1,0 +1,103 @@
+#!/usr/bin/env python3
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+How the steered tripod became an option of navigate's planner (issue 31; docs/studies).
+
+On the tuning goals (seed 100, 5 per case), never the reported experiment's (seed 0): for each
+setting, the repertoire method and the steered tripod over every damage case of S1-S4, on the
+damage kinds lifted (the bank's), locked and unpowered_femur (damage the bank does not hold).
+
+    python -m tuning.tune_tripod_option [--workers 2]
+
+The rule, fixed before the runs: a (kind, scenario) cell passes when navigate reaches at least as
+many goals as the tripod and its median walking time on the goals both reached is at most 1.1x
+the tripod's. The setting with the most passing cells wins; then the lowest median walking time
+of the lifted damaged goals.
+"""
+
+from __future__ import annotations
+
+import argparse
+from dataclasses import replace
+import sys
+
+import numpy as np
+
+TUNING_GOAL_SEED = 100
+GOALS = 5
+KINDS = ('lifted', 'locked', 'unpowered_femur')
+SCENARIOS = ('S1', 'S2', 'S3', 'S4')
+GRID = (
+    {'tripod_option': False},
+    {'tripod_option': True, 'tripod_after': 0},
+    {'tripod_option': True, 'tripod_after': 1},
+    {'tripod_option': True, 'tripod_after': 2},
+)
+
+
+def main(argv: list[str] | None = None) -> int:
+    from hexapod_navigation.experiment import NavigationSettings, run_navigation, versus_tripod
+    from hexapod_navigation.planner import NavigationConfig
+    from hexapod_navigation.repertoire import shipped_repertoire
+    from hexapod_navigation.step_bank import shipped_step_bank
+
+    ap = argparse.ArgumentParser(prog='tune_tripod_option', description=__doc__.split('\n\n')[0])
+    ap.add_argument('--workers', type=int, default=2)
+    args = ap.parse_args(argv)
+    results = []
+    for setting in GRID:
+        config = replace(NavigationConfig(), **setting)
+        rows, table = [], {}
+        for kind in KINDS:
+            settings = NavigationSettings(
+                repertoire=shipped_repertoire(),
+                scenarios=SCENARIOS,
+                goals=GOALS,
+                goal_seed=TUNING_GOAL_SEED,
+                methods=('repertoire', 'tripod'),
+                config=config,
+                bank=shipped_step_bank(),
+                damage_kind=kind,
+            )
+            kind_rows = run_navigation(settings, args.workers)[0]
+            rows += [(kind, r) for r in kind_rows]
+            table.update({(kind, v.scenario): v for v in versus_tripod(kind_rows)})
+        lifted = [
+            r.walking_time
+            for kind, r in rows
+            if kind == 'lifted' and r.method == 'repertoire' and r.reached
+        ]
+        passed = sum(v.passes for v in table.values())
+        results.append((setting, passed, float(np.median(lifted)), table))
+        print(
+            f'{setting}: {passed} of {len(table)} cells pass; lifted damaged median'
+            f' {np.median(lifted):.1f} s; ratios '
+            + ' '.join(f'{k[0]}/{k[1]} {v.time_ratio:.2f}' for k, v in sorted(table.items())),
+            flush=True,
+        )
+    best = min(results, key=lambda r: (-r[1], r[2]))
+    print(f'winner: {best[0]}')
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
