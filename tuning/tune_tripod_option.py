@@ -26,7 +26,7 @@ On the tuning goals (seed 100, 5 per case), never the reported experiment's (see
 setting, the repertoire method and the steered tripod over every damage case of S1-S4, on the
 damage kinds lifted (the bank's), locked and unpowered_femur (damage the bank does not hold).
 
-    python -m tuning.tune_tripod_option [--workers 2]
+    python -m tuning.tune_tripod_option [--grid after|prior] [--workers 2]
 
 The rule, fixed before the runs: a (kind, scenario) cell passes when navigate reaches at least as
 many goals as the tripod and its median walking time on the goals both reached is at most 1.1x
@@ -52,6 +52,16 @@ GRID = (
     {'tripod_option': True, 'tripod_after': 1},
     {'tripod_option': True, 'tripod_after': 2},
 )
+#: Second round (2026-11-24), after the reported experiment showed the option slowing the lifted
+#: legs (damaged median 16.2 s against 14.6 s before): the tripod's prior stride, before the robot
+#: has walked it (1: the commanded stride; 0.22: the damaged control tripod's mean speed over
+#: the S1-S4 lifted legs, 0.067 m/s, over the intact one's, 0.303 m/s). Same rule.
+GRID_PRIOR = (
+    {'tripod_option': True, 'tripod_after': 0, 'tripod_prior': 1.0},
+    {'tripod_option': True, 'tripod_after': 0, 'tripod_prior': 0.5},
+    {'tripod_option': True, 'tripod_after': 0, 'tripod_prior': 0.22},
+)
+GRIDS = {'after': GRID, 'prior': GRID_PRIOR}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -62,9 +72,10 @@ def main(argv: list[str] | None = None) -> int:
 
     ap = argparse.ArgumentParser(prog='tune_tripod_option', description=__doc__.split('\n\n')[0])
     ap.add_argument('--workers', type=int, default=2)
+    ap.add_argument('--grid', choices=sorted(GRIDS), default='after')
     args = ap.parse_args(argv)
     results = []
-    for setting in GRID:
+    for setting in GRIDS[args.grid]:
         config = replace(NavigationConfig(), **setting)
         rows, table = [], {}
         for kind in KINDS:

@@ -156,6 +156,8 @@ class NavigationConfig:
     #: toward the goal than the tripod's pace (0: from the first step; 0 was chosen on the tuning
     #: goals over 1 and 2, docs/studies/navigation.md "The tripod as an option")
     tripod_after: int = 0
+    #: the tripod's prior: this fraction of its commanded stride, before the robot has walked it
+    tripod_prior: float = 1.0
 
     def __post_init__(self) -> None:
         for name in (
@@ -200,6 +202,10 @@ class NavigationConfig:
             raise ValueError(
                 'prior_intact + prior_unknown must leave the bank some weight (< 1), got'
                 f' {self.prior_intact!r} + {self.prior_unknown!r}'
+            )
+        if not (isinstance(self.tripod_prior, (int, float)) and 0.0 <= self.tripod_prior <= 1.0):
+            raise ValueError(
+                f'tripod_prior must be a fraction in [0, 1], got {self.tripod_prior!r}'
             )
         if not (isinstance(self.tripod_after, int) and 0 <= self.tripod_after <= 100):
             raise ValueError(f'tripod_after must be 0..100 steps, got {self.tripod_after!r}')
@@ -441,7 +447,7 @@ class RepertoirePolicy:
         self.config = config
         use = config.use_bank and config.learn and hypotheses is not None
         self.gp = CorrectionGP(repertoire, config, hypotheses if use else None)
-        self.tripod = TripodSteps()
+        self.tripod = TripodSteps(config.tripod_prior)
         self._goal: tuple[float, float] | None = None  # of the last step chosen
         self._made: list[tuple[float, float]] = []  # repertoire steps: (progress [m], time [s])
         self._gaits: dict[int, GaitParameters] = {}
@@ -562,18 +568,18 @@ class TripodSteps:
     What one cycle moves the robot is learned as it walks: the displacements seen, in the frame
     of their crab direction (along, across, turn), pooled over the directions, and per direction.
     A direction's estimate is its own mean shrunk toward the pooled one, which is itself shrunk
-    toward the commanded stride (``PRIOR_WEIGHT`` cycles' worth each), so one cycle walked on
-    a damage tells every direction about it.
+    toward ``prior`` times the commanded stride (``PRIOR_WEIGHT`` cycles' worth each), so one
+    cycle walked on a damage tells every direction about it.
     """
 
     PRIOR_WEIGHT = 1.0
 
-    def __init__(self) -> None:
+    def __init__(self, prior: float = 1.0) -> None:
         base = preset('control')
         self.gaits = [base.replace(crab_angle=wrap_angle(a)) for a in FIRMWARE_DIRECTIONS]
         self.period = base.period
         self._angles = np.array([g.crab_angle for g in self.gaits])
-        stride = np.array([base.body_velocity * base.period, 0.0, 0.0])
+        stride = np.array([prior * base.body_velocity * base.period, 0.0, 0.0])
         self._pooled = [stride * self.PRIOR_WEIGHT, self.PRIOR_WEIGHT]
         self._sums = np.zeros((len(self.gaits), 3))
         self._counts = np.zeros(len(self.gaits))
