@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Resume the map study (docs/studies/map.md) in the background, from a worktree of its own, so
+# that work on the library under it cannot change or break a run in progress.
+#   bash tuning/map_study.sh [WORKTREE] [CHECKPOINTS]
+# WORKTREE (default ../study) is made at this checkout's HEAD if missing and built with this
+# checkout's .venv; the study's committed state (tuning/map_study) and the checkpoints kept
+# outside git (CHECKPOINTS, default ../persist: *.ckpt.npz) are copied in (existing files kept).
+# Output: WORKTREE/out/map_study.out. Copy WORKTREE/tuning/map_study/*.log.jsonl, finished maps
+# and ceilings back, and the checkpoints to CHECKPOINTS, before the session ends.
+set -euo pipefail
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+tree="${1:-$repo/../study}"
+keep="${2:-$repo/../persist}"
+if [ ! -d "$tree" ]; then
+  git -C "$repo" worktree add --detach "$tree" HEAD
+fi
+export HEXAPOD_VENV="$repo/.venv"
+cd "$tree"
+# shellcheck disable=SC1091
+source scripts/env.sh >/dev/null
+[ -d install ] || colcon build --symlink-install >/dev/null
+mkdir -p out tuning/map_study/ceilings
+cp -rn "$repo/tuning/map_study/." tuning/map_study/
+if [ -d "$keep" ]; then
+  cp -n "$keep"/*.ckpt.npz tuning/map_study/ 2>/dev/null || true
+fi
+nohup nice -n 19 python -m tuning.map_study run >> out/map_study.out 2>&1 &
+echo "map study running in $tree (pid $!): tail -f $tree/out/map_study.out"
