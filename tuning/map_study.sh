@@ -16,9 +16,15 @@ if [ ! -d "$tree" ]; then
 fi
 export HEXAPOD_VENV="$repo/.venv"
 cd "$tree"
+set +u  # the setup scripts read unset variables
 # shellcheck disable=SC1091
 source scripts/env.sh >/dev/null
-[ -d install ] || colcon build --symlink-install >/dev/null
+if [ ! -d install ]; then
+  colcon build --symlink-install >/dev/null 2>&1
+  # shellcheck disable=SC1091
+  source scripts/env.sh >/dev/null  # again: now with the install space
+fi
+set -u
 mkdir -p out tuning/map_study/ceilings
 cp -rn "$repo/tuning/map_study/." tuning/map_study/
 if [ -d "$keep" ]; then
