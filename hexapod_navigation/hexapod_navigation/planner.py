@@ -512,7 +512,8 @@ class RepertoirePolicy:
             # is a candidate once the repertoire's last steps made less progress than that pace
             # (the repertoire has had its chance to learn the damage)
             k = steered_direction(pose, goal)
-            dx, dy, _ = self.tripod.displacement()[k]
+            cycle = self.tripod.displacement()[k]
+            dx, dy = cycle[0], cycle[1]
             end = np.array([[pose.x + c * dx - s * dy, pose.y + s * dx + c * dy]])
             gait = self.tripod.gaits[k]
             tripod_switch = 0.0 if gait is playing else float(switch_time)
@@ -524,7 +525,7 @@ class RepertoirePolicy:
             made = self._made[-n:] if n else []
             lagging = len(made) == n and sum(p for p, _ in made) <= pace * sum(t for _, t in made)
             if lagging and tripod_cost < cost[i]:
-                predicted = pose.moved(*self.tripod.displacement()[k])
+                predicted = pose.moved(*cycle)
                 return Step(gait, self.tripod.period + tripod_switch, predicted, tripod=k)
         return self._repertoire_step(i, pose, mean, switch)
 
