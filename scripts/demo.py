@@ -133,7 +133,6 @@ def main(argv: list[str] | None = None) -> int:
             'hexapod_sim',
             'sim_node',
             real_time_factor=0.0,
-            publish_period_steps=24,
             failed_legs=FAILED_LEGS,
             engine=engine,  # trials on the engine that made the map
         ),

@@ -156,8 +156,6 @@ def main(argv: list[str] | None = None) -> int:
         bridge_trial = {'trial_duration': STEP_DURATION}
     if simulated:
         sim_params = {'real_time_factor': args.rtf}
-        if args.rtf == 0:
-            sim_params['publish_period_steps'] = 24  # 10 Hz of sim time: consumers keep up at ~18x
         if args.engine:
             sim_params['engine'] = args.engine
         if args.failed_legs:

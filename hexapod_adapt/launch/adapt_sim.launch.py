@@ -65,7 +65,6 @@ def generate_launch_description() -> LaunchDescription:
                 parameters=[
                     {
                         'real_time_factor': 0.0,
-                        'publish_period_steps': 24,
                         'failed_legs': LaunchConfiguration('failed_legs'),
                         'engine': LaunchConfiguration('engine'),
                     }

@@ -61,7 +61,7 @@ from hexapod_msgs.srv import GetLegDamage, SetLegFailure
 from hexapod_sim import ros_conversions as conv
 from hexapod_sim.damage import applied_message, Damage, damage_from_lists
 from hexapod_sim.engines import create_simulator
-from hexapod_sim.physics_loop import LoopHooks, PhysicsLoop
+from hexapod_sim.physics_loop import LoopHooks, PhysicsLoop, publish_period_steps
 from hexapod_sim.simulator import DEFAULT_FRICTION, SimConfig
 from hexapod_sim.trajectory_input import CycleTable, TrajectoryError
 from nav_msgs.msg import Odometry
@@ -109,12 +109,13 @@ PARAMETERS = (
     ),
     ParamSpec(
         'publish_period_steps',
-        4,
-        'Publish joint_states/odom/imu/foot_contacts every N physics steps (1/240 s each). With'
-        ' real_time_factor 0 the node runs ~18x real time; use 24 (10 Hz of sim time) so Python'
-        ' consumers keep up. Trials read odometry at reset + N steps exactly.',
+        0,
+        'Publish joint_states/odom/imu/foot_contacts every N physics steps (1/240 s each). 0:'
+        ' automatic, 24 (10 Hz of sim time) if real_time_factor starts at 0, where the node runs'
+        ' ~18x real time and Python readers of 60 Hz fell behind, else 4 (60 Hz). Trials read'
+        ' odometry at reset + N steps exactly.',
         read_only=True,
-        range=(1, 240),
+        range=(0, 240),
     ),
     ParamSpec(
         'clock_period_steps',
@@ -194,7 +195,7 @@ class SimNode(Node):
             cycle,
             hooks,
             rtf,
-            int(values['publish_period_steps']),
+            publish_period_steps(int(values['publish_period_steps']), rtf),
             int(values['clock_period_steps']),
         )
         initial = values['failed_legs']
@@ -204,7 +205,10 @@ class SimNode(Node):
             raise ValueError(f'parameter failed_legs: {exc}') from None
         self.loop.start()
         watch_for_duplicates(self, lambda text: self._status(DiagnosticStatus.ERROR, text))
-        self.get_logger().info(f'simulating with the {engine} engine at real_time_factor {rtf:g}')
+        self.get_logger().info(
+            f'simulating with the {engine} engine at real_time_factor {rtf:g}, state every '
+            f'{self.loop.period_steps} steps'
+        )
 
     # -- parameters / callbacks (executor threads) ---------------------------------------------
     def _on_set_parameters(self, params: list[Parameter]) -> SetParametersResult:

@@ -48,8 +48,8 @@ def generate_launch_description() -> LaunchDescription:
             ),
             DeclareLaunchArgument(
                 'publish_period_steps',
-                default_value='4',
-                description='state topics every N 1/240 s steps; 24 suits real_time_factor 0',
+                default_value='0',
+                description='state every N 1/240 s steps; 0: 24 at real_time_factor 0, else 4',
             ),
             Node(
                 package='hexapod_gait',

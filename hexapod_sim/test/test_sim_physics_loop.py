@@ -28,7 +28,7 @@ import time
 from hexapod_gait import build_joint_table, preset
 from hexapod_sim.damage import Damage
 from hexapod_sim.engines import create_simulator
-from hexapod_sim.physics_loop import LoopHooks, PhysicsLoop
+from hexapod_sim.physics_loop import LoopHooks, PhysicsLoop, publish_period_steps
 from hexapod_sim.simulator import SimConfig
 from hexapod_sim.trajectory_input import CycleTable
 import pytest
@@ -109,3 +109,13 @@ def test_at_a_real_time_factor_the_loop_keeps_to_the_wall_clock(loop):
     time.sleep(1.0)
     sim_seconds, wall = loop.sim_time, time.monotonic() - t0
     assert 0.8 * wall <= sim_seconds <= 1.1 * wall
+
+
+def test_the_automatic_publish_period_is_coarser_as_fast_as_possible():
+    """0 picks 24 steps at real_time_factor 0 and 4 otherwise; a set period is kept."""
+    assert publish_period_steps(0, 0.0) == 24
+    assert publish_period_steps(0, 1.0) == 4
+    assert publish_period_steps(0, 2.5) == 4
+    assert publish_period_steps(6, 0.0) == 6
+    with pytest.raises(ValueError, match='not -1'):
+        publish_period_steps(-1, 1.0)

@@ -253,7 +253,8 @@ class SimTrials:
             )
         raise TrialAborted(
             "odometry samples kept getting lost (is sim_node's publish_period_steps a divisor "
-            'of the trial length and of the settling time in steps?)'
+            'of the trial length and of the settling time in steps? Or too small for this '
+            'machine to keep up with at real_time_factor 0, where 0, automatic, gives 24?)'
         )
 
 
