@@ -70,8 +70,9 @@ def main(argv: list[str] | None = None) -> int:
     from hexapod_adapt.mapping.simulation import archive_engine
     from hexapod_adapt.ros.recording import read_messages
     from hexapod_description import load_model, summary
+    from hexapod_description.processes import die_with_parent
     from hexapod_gait import preset
-    from hexapod_gait.ros_glue import die_with_parent, ros_args
+    from hexapod_gait.ros_glue import ros_args
     from hexapod_sim import create_simulator, evaluate_gait, SimConfig
 
     out.mkdir(parents=True, exist_ok=True)

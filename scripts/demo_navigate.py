@@ -55,7 +55,8 @@ def main(argv: list[str] | None = None) -> int:
     out = parser.parse_args(argv).out
     out.mkdir(parents=True, exist_ok=True)
     from hexapod_adapt.ros.recording import read_messages
-    from hexapod_gait.ros_glue import die_with_parent, ros_args
+    from hexapod_description.processes import die_with_parent
+    from hexapod_gait.ros_glue import ros_args
     from hexapod_msgs.action import Navigate
     from hexapod_navigation.navigate_msgs import navigate_client
     import rclpy

@@ -78,7 +78,8 @@ def map_engine(archive: str | None) -> str | None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from hexapod_gait.ros_glue import die_with_parent, ros_args
+    from hexapod_description.processes import die_with_parent
+    from hexapod_gait.ros_glue import ros_args
 
     parser = argparse.ArgumentParser(
         description='Start the hexapod node graph (no `ros2 launch` needed).'

@@ -161,6 +161,23 @@ def test_a_finished_map_without_its_checkpoint_continues_with_more_evaluations(t
 
 
 @pytest.mark.slow
+def _children(pid: int) -> list[int]:
+    """Return the pids of ``pid``'s child processes (Linux /proc)."""
+    out = []
+    for task in Path(f'/proc/{pid}/task').iterdir():
+        out += [int(c) for c in (task / 'children').read_text().split()]
+    return out
+
+
+def _running(pid: int) -> bool:
+    """Return whether ``pid`` exists and is not a zombie waiting to be reaped."""
+    try:
+        stat = Path(f'/proc/{pid}/stat').read_text()
+    except FileNotFoundError:
+        return False
+    return stat.rsplit(')', 1)[1].split()[0] != 'Z'
+
+
 def test_an_emitter_map_killed_and_resumed_equals_one_run_and_loads_in_adapt_node(tmp_path):
     import signal
     import time
@@ -196,9 +213,16 @@ def test_an_emitter_map_killed_and_resumed_equals_one_run_and_loads_in_adapt_nod
         if proposer is not None and archive.metadata['evaluations'] >= 150:
             break
         time.sleep(0.05)
+    workers = _children(proc.pid)
+    assert workers  # the pool's worker
     proc.send_signal(signal.SIGKILL)
     proc.wait()
     assert not killed.exists() and proposer is not None and pending  # killed mid-run
+    # the workers die with it (CI once found one still evaluating after this test)
+    deadline = time.monotonic() + 20
+    while any(Path(f'/proc/{pid}').exists() for pid in workers) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not [pid for pid in workers if _running(pid)], 'a worker outlived generate_map'
     resumed = _run_cli(*args(killed), '--workers', '2', '--resume')  # other workers, too
     assert resumed.returncode == 0, resumed.stderr
     a, b = load_archive(whole), load_archive(killed)

@@ -188,23 +188,6 @@ def ros_args(params: dict[str, Any]) -> list[str]:
     ]
 
 
-def die_with_parent() -> None:
-    """
-    Ask the kernel to stop this process (SIGTERM) when the process that started it dies.
-
-    For ``subprocess.Popen(preexec_fn=...)`` in scripts that start nodes: if the script is killed
-    (a test's timeout, a closed terminal), its nodes do not run on as orphans. Linux only; a no-op
-    elsewhere.
-    """
-    if not sys.platform.startswith('linux'):
-        return
-    import ctypes
-
-    pr_set_pdeathsig = 1
-    libc = ctypes.CDLL(None, use_errno=True)
-    libc.prctl(pr_set_pdeathsig, signal.SIGTERM, 0, 0, 0)
-
-
 def help_text(executable: str, summary: str, specs: Sequence[ParamSpec]) -> str:
     """Return what ``<executable> --help`` prints: the summary and every parameter."""
     lines = [

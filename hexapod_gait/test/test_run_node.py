@@ -146,7 +146,7 @@ def test_a_node_started_by_a_killed_script_does_not_run_on_as_an_orphan():
     script = textwrap.dedent(
         """
         import subprocess, sys, time
-        from hexapod_gait.ros_glue import die_with_parent
+        from hexapod_description.processes import die_with_parent
         child = subprocess.Popen(
             [sys.executable, '-c', 'import time; time.sleep(120)'], preexec_fn=die_with_parent
         )

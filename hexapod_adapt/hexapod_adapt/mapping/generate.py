@@ -63,6 +63,7 @@ from hexapod_adapt.mapping.simulation import (
     simulation_fingerprint,
 )
 from hexapod_adapt.mapping.steps import preset_genotypes, repertoire_fingerprint, SimulateSteps
+from hexapod_description.processes import die_with_parent
 from hexapod_gait import preset, PRESETS, to_genotype
 from hexapod_sim import validate_engine
 from hexapod_sim.sampling import random_reachable_genes
@@ -201,7 +202,7 @@ def open_executor(config: GenerateConfig) -> Iterator[tuple[cf.Executor | None, 
         yield None, 1
     elif config.backend == 'local':
         n = config.worker_count()
-        with cf.ProcessPoolExecutor(n) as pool:
+        with cf.ProcessPoolExecutor(n, initializer=die_with_parent) as pool:
             yield pool, n
     elif config.backend == 'dask':
         try:

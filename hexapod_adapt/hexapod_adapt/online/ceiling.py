@@ -46,6 +46,7 @@ import zipfile
 
 from hexapod_adapt.mapping.archive import Archive, atomic_write_bytes
 from hexapod_adapt.mapping.simulation import simulation_fingerprint, worker_simulator
+from hexapod_description.processes import die_with_parent
 from hexapod_sim import evaluate_gaits
 from hexapod_sim.damage import as_damage, Damage, LegDamage
 from hexapod_sim.evaluation import EVALUATION_VERSION
@@ -193,7 +194,7 @@ def compute_ceiling(
     if workers <= 1:
         collect(map(evaluate_part, jobs))
     else:
-        with cf.ProcessPoolExecutor(workers) as pool:
+        with cf.ProcessPoolExecutor(workers, initializer=die_with_parent) as pool:
             collect(pool.map(evaluate_part, jobs))
     speeds = np.concatenate(parts) if parts else np.zeros(0)
     return Ceiling(damage, engine, niches, speeds)

@@ -41,6 +41,7 @@ from typing import Callable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.online.ceiling import cached_ceiling, Ceiling, evaluate_part, store_ceiling
+from hexapod_description.processes import die_with_parent
 from hexapod_sim.damage import Damage
 import numpy as np
 
@@ -54,6 +55,7 @@ NICENESS = 10
 
 
 def _lower_priority() -> None:
+    die_with_parent()
     os.nice(NICENESS)
 
 
