@@ -1,0 +1,52 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""The make_*.sh scripts that regenerate shipped files write them where they ship."""
+
+from __future__ import annotations
+
+from pathlib import Path
+import re
+import subprocess
+
+WS = Path(__file__).resolve().parent.parent
+
+
+def _scripts() -> list[Path]:
+    out = subprocess.run(
+        ['git', 'ls-files', '*make_*.sh'], cwd=WS, capture_output=True, text=True, check=True
+    )
+    return [WS / line for line in out.stdout.split()]
+
+
+def test_every_make_script_writes_into_its_own_folder_and_names_itself():
+    """After the package split two scripts wrote to hexapod_adapt/maps, not where files ship."""
+    scripts = _scripts()
+    assert len(scripts) >= 5
+    for script in scripts:
+        text = script.read_text()
+        own = script.parent.relative_to(WS).as_posix()
+        targets = re.findall(r'--(?:out|cache-dir) (\S+)', text)
+        assert targets, f'{script.name} names no output'
+        for target in targets:
+            assert Path(target).parent.as_posix() == own or target == own, (script, target)
+            assert (WS / target).exists(), f'{script.name} writes {target}, which is not shipped'
+        for usage in re.findall(r'bash (\S+make_\S+\.sh)', text):
+            assert usage == script.relative_to(WS).as_posix(), (script, usage)
