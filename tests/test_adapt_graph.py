@@ -755,7 +755,7 @@ def test_adapt_client_honours_its_timeout(domain_id):
     )
     elapsed = time.monotonic() - t0
     assert result.returncode == 1 and 'not available within 3 s' in result.stderr
-    assert elapsed < 8.0, elapsed  # 3 s plus process start-up, not 30 s
+    assert elapsed < 15.0, elapsed  # 3 s plus process start-up (CI, loaded: 8.5 s), not 30 s
     bad = subprocess.run(
         [str(executable('hexapod_adapt', 'adapt_client')), '--max-trials', str(2**32 + 3)],
         capture_output=True,

@@ -26,7 +26,7 @@ On the tuning goals (seed 100, 5 per case), never the reported experiment's (see
 setting, the repertoire method and the steered tripod over every damage case of S1-S4, on the
 damage kinds lifted (the bank's), locked and unpowered_femur (damage the bank does not hold).
 
-    python -m tuning.tune_tripod_option [--grid after|prior] [--workers 2]
+    python -m tuning.tune_tripod_option [--grid after|prior|bank] [--workers 2]
 
 The rule, fixed before the runs: a (kind, scenario) cell passes when navigate reaches at least as
 many goals as the tripod and its median walking time on the goals both reached is at most 1.1x
@@ -61,7 +61,16 @@ GRID_PRIOR = (
     {'tripod_option': True, 'tripod_after': 0, 'tripod_prior': 0.5},
     {'tripod_option': True, 'tripod_after': 0, 'tripod_prior': 0.22},
 )
-GRIDS = {'after': GRID, 'prior': GRID_PRIOR}
+#: Third round: the tripod's prior from the damage bank (its cycles under each damage, mixed by
+#: the hypotheses' weights; tripod cycles walked weigh them too) against the fixed prior kept:
+#: always, or once a step or cycle was walked ('evidence', added after 'always' lost two locked
+#: cells: the bank's lifted legs made the tripod look poor on a locked leg before it was tried).
+GRID_BANK = (
+    {'tripod_option': True, 'tripod_after': 0, 'tripod_prior': 1.0, 'tripod_bank': 'off'},
+    {'tripod_option': True, 'tripod_after': 0, 'tripod_prior': 1.0, 'tripod_bank': 'always'},
+    {'tripod_option': True, 'tripod_after': 0, 'tripod_prior': 1.0, 'tripod_bank': 'evidence'},
+)
+GRIDS = {'after': GRID, 'prior': GRID_PRIOR, 'bank': GRID_BANK}
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -44,10 +44,11 @@ from pathlib import Path
 from typing import Sequence
 
 from hexapod_adapt.mapping.archive import atomic_write_bytes, load_archive
+from hexapod_description.processes import die_with_parent
 from hexapod_navigation.episode import NavigationResult, run_episode, SimBody
 from hexapod_navigation.planner import NavigationConfig, Policy, RepertoirePolicy, SteeredTripod
 from hexapod_navigation.repertoire import Repertoire
-from hexapod_navigation.step_bank import load_step_bank
+from hexapod_navigation.step_bank import load_step_bank, StepBank
 from hexapod_sim import create_simulator, scenario, SCENARIO_NAMES, SimConfig
 from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
 import numpy as np
@@ -123,11 +124,13 @@ def policy_for(
     method: str,
     repertoire: Repertoire,
     config: NavigationConfig,
-    hypotheses: np.ndarray | None = None,
+    bank: StepBank | None = None,
 ) -> Policy:
-    """Return a fresh policy of ``method`` (``hypotheses``: a step bank's, for 'repertoire')."""
+    """Return a fresh policy of ``method`` (``bank``: its hypotheses, for 'repertoire')."""
     if method == 'repertoire':
-        return RepertoirePolicy(repertoire, config, hypotheses)
+        if bank is None:
+            return RepertoirePolicy(repertoire, config)
+        return RepertoirePolicy(repertoire, config, bank.steps, bank.tripods())
     if method == 'no_learning':
         return RepertoirePolicy(repertoire, NavigationConfig(**{**asdict(config), 'learn': False}))
     return SteeredTripod()
@@ -138,7 +141,7 @@ def _case(
 ) -> list[tuple[NavigationRow, list[tuple[float, float]]]]:
     archive = load_archive(settings.repertoire)
     repertoire = Repertoire.from_archive(archive)
-    hypotheses = None
+    bank = None
     if settings.bank is not None and settings.config.use_bank:
         # the bank describes the repertoire on the engine that made it, whatever the trials run on
         bank, problem = load_step_bank(settings.bank, repertoire, repertoire.engine)
@@ -146,7 +149,6 @@ def _case(
             raise ValueError(f'damage bank refused: {problem}')
         if settings.leave_out:
             bank = bank.without(Damage.lifted(legs))
-        hypotheses = bank.steps
     sim = create_simulator(SimConfig(engine=settings.engine))
     sim.set_damage(Damage.of(settings.damage_kind, legs))
     body = SimBody(sim)
@@ -156,7 +158,7 @@ def _case(
             body.start()
             result = run_episode(
                 body,
-                policy_for(method, repertoire, settings.config, hypotheses),
+                policy_for(method, repertoire, settings.config, bank),
                 goal,
                 settings.config,
             )
@@ -200,7 +202,7 @@ def run_navigation(
     """Run every episode; return the rows and each episode's path (x, y), in case order."""
     todo = cases(settings)
     if workers > 1:
-        with cf.ProcessPoolExecutor(workers) as pool:
+        with cf.ProcessPoolExecutor(workers, initializer=die_with_parent) as pool:
             done = list(pool.map(_case, [settings] * len(todo), *zip(*todo)))
     else:
         done = [_case(settings, name, legs) for name, legs in todo]

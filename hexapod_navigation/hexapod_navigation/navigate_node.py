@@ -109,7 +109,7 @@ class NavigateNode(Node):
             values['bank_file'] or shipped_step_bank(),
         )
         self.repertoire, self.problem = data.repertoire, data.problem
-        self.hypotheses = data.bank.steps if data.bank else None  # the bank's step tables
+        self.bank = data.bank  # the damage hypotheses
         if data.bank is not None:
             self.get_logger().info(f'damage bank: {len(data.bank)} damage hypotheses')
         elif self.repertoire is not None and self.config.use_bank:
@@ -196,7 +196,9 @@ class NavigateNode(Node):
             )
 
     def _policy(self) -> RepertoirePolicy:
-        return RepertoirePolicy(self.repertoire, self.config, self.hypotheses)
+        if self.bank is None:
+            return RepertoirePolicy(self.repertoire, self.config)
+        return RepertoirePolicy(self.repertoire, self.config, self.bank.steps, self.bank.tripods())
 
     def _status(self, level: bytes, message: str) -> None:
         publish_status(self, self.status_pub, level, message, 'navigate_node')

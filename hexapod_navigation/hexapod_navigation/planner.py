@@ -46,13 +46,9 @@ from hexapod_adapt.mapping.steps import REACH
 from hexapod_adapt.online.mboa import mixture
 from hexapod_gait import GaitParameters, preset
 from hexapod_navigation.repertoire import Repertoire
+from hexapod_navigation.tripod import FIRMWARE_DIRECTIONS, tripod_gaits, wrap_angle
 import numpy as np
 from scipy.linalg import solve_triangular
-
-
-def wrap_angle(a: float) -> float:
-    """Return ``a`` [rad] wrapped into (-pi, pi]."""
-    return math.pi - (math.pi - a) % (2.0 * math.pi)
 
 
 @dataclass(frozen=True)
@@ -83,6 +79,10 @@ class Pose2D:
 #: NavigationConfig.planner's choices
 PLANNERS = ('nearest', 'time')
 REST_SPEEDS = ('fastest', 'toward')
+
+
+#: Where the tripod option's prior comes from (NavigationConfig.tripod_bank).
+TRIPOD_BANK = ('off', 'always', 'evidence')
 
 
 @dataclass(frozen=True)
@@ -158,6 +158,13 @@ class NavigationConfig:
     tripod_after: int = 0
     #: the tripod's prior: this fraction of its commanded stride, before the robot has walked it
     tripod_prior: float = 1.0
+    #: with a damage bank, the tripod's prior may instead be its cycles under each of the bank's
+    #: damages and intact, mixed by how well each explains the steps and cycles walked: 'off'
+    #: (never), 'always', or 'evidence': once a step or cycle has been walked (before that, the
+    #: stride above: the tripod is tried while nothing is known). 'off' was chosen on the tuning
+    #: goals (docs/studies/navigation.md "The tripod's prior from the bank"): the bank's lifted
+    #: legs give the lifted damage 2 s back, and cost two locked-leg cells
+    tripod_bank: str = 'off'
 
     def __post_init__(self) -> None:
         for name in (
@@ -207,6 +214,10 @@ class NavigationConfig:
             raise ValueError(
                 f'tripod_prior must be a fraction in [0, 1], got {self.tripod_prior!r}'
             )
+        if self.tripod_bank not in TRIPOD_BANK:
+            raise ValueError(
+                f'tripod_bank must be one of {", ".join(TRIPOD_BANK)}, got {self.tripod_bank!r}'
+            )
         if not (isinstance(self.tripod_after, int) and 0 <= self.tripod_after <= 100):
             raise ValueError(f'tripod_after must be 0..100 steps, got {self.tripod_after!r}')
         if not (isinstance(self.min_stance_legs, int) and 0 <= self.min_stance_legs <= 6):
@@ -248,6 +259,11 @@ class CorrectionGP:
     over the steps walked (the three dimensions' GPs together), and predictions are the mixture (as
     in :class:`hexapod_adapt.online.mboa.Mboa`).
 
+    ``tripods`` (h + 1, 8, 3), optional with ``hypotheses``: the steered tripod's cycle in each
+    crab direction under each hypothesis, intact first. Tripod cycles walked are evidence too
+    (:meth:`add_tripod`: each hypothesis's cycle, with its group's signal variance and the
+    noise), and :meth:`tripod_prior` is the weighted mixture of the cycles.
+
     With ``config.known_std_xy`` > 0 those known models get a tight GP of their own, and one
     more hypothesis, 'unknown damage' (the intact repertoire under the broad GP), comes last:
     the marginal likelihoods then compare different kernels, so they include each kernel's
@@ -259,6 +275,7 @@ class CorrectionGP:
         repertoire: Repertoire,
         config: NavigationConfig,
         hypotheses: np.ndarray | None = None,
+        tripods: np.ndarray | None = None,
     ) -> None:
         self.prior = np.column_stack([repertoire.moves, np.zeros(len(repertoire))])
         self.inputs = repertoire.moves / (2.0 * REACH)  # descriptor units
@@ -289,6 +306,22 @@ class CorrectionGP:
         self._mu_h = self._means.copy()
         self._log_prior = self._prior_weights(known, len(self._means))
         self._log_weight = self._log_prior.copy()
+        self._log_steps = self._log_prior.copy()  # the prior and the repertoire steps' evidence
+        self._tripods: np.ndarray | None = None
+        if tripods is not None:
+            table = np.asarray(tripods, dtype=float)
+            if table.shape != (known, 8, 3):
+                raise ValueError(
+                    f'tripods needs a (dx, dy, dyaw) per crab direction for the intact robot and'
+                    f' each hypothesis {(known, 8, 3)}, got shape {table.shape}'
+                )
+            unknown = [table[:1]] if len(self._means) > known else []  # 'unknown': intact's
+            self._tripods = np.concatenate([table, *unknown])
+            self._tripod_var = np.empty((len(self._means), 3))
+            for signal, _, rows in self._groups:
+                self._tripod_var[rows] = signal + self.noise
+        self._log_tripod = np.zeros(len(self._means))  # the tripod cycles' evidence
+        self._cycles = 0  # tripod cycles learned from
         lin_ss = config.linear_std**2 * np.sum(repertoire.moves**2, axis=1)
         self._var_h = np.empty_like(self._means)  # each hypothesis's posterior variance
         for signal, linear, rows in self._groups:
@@ -345,8 +378,31 @@ class CorrectionGP:
                 v = solve_triangular(chol, k_sx.T, lower=True, check_finite=False)  # (m, n)
                 prior_var = signal[d] + ld * lin_ss
                 self._var_h[rows, :, d] = np.maximum(prior_var - np.sum(v * v, axis=0), 1e-12)
-        self._log_weight = log_weight
+        self._log_steps = log_weight
+        self._log_weight = log_weight + self._log_tripod
         self._mix()
+
+    def add_tripod(self, direction: int, observed: Sequence[float]) -> None:
+        """Weigh the hypotheses by a tripod cycle of ``direction`` that moved (dx, dy, dyaw)."""
+        if self._tripods is None:
+            return
+        self._cycles += 1
+        r = np.asarray(observed, dtype=float)[None, :] - self._tripods[:, direction]
+        v = self._tripod_var
+        self._log_tripod -= 0.5 * np.sum(r * r / v + np.log(v), axis=1)
+        self._log_weight = self._log_steps + self._log_tripod
+        self._mix()
+
+    @property
+    def evidence(self) -> int:
+        """Return how many steps and tripod cycles the hypotheses were weighed on."""
+        return len(self.observed) + self._cycles
+
+    def tripod_prior(self) -> np.ndarray | None:
+        """Return the tripod's expected cycle per direction (8, 3), None without ``tripods``."""
+        if self._tripods is None:
+            return None
+        return np.einsum('h,hkd->kd', self.weights, self._tripods)
 
     def _mix(self) -> None:
         self.weights, self._mean, self._var = mixture(self._log_weight, self._mu_h, self._var_h)
@@ -442,11 +498,17 @@ class RepertoirePolicy:
         repertoire: Repertoire,
         config: NavigationConfig,
         hypotheses: np.ndarray | None = None,
+        tripods: np.ndarray | None = None,
     ) -> None:
         self.repertoire = repertoire
         self.config = config
         use = config.use_bank and config.learn and hypotheses is not None
-        self.gp = CorrectionGP(repertoire, config, hypotheses if use else None)
+        self.gp = CorrectionGP(
+            repertoire,
+            config,
+            hypotheses if use else None,
+            tripods if use and config.tripod_bank != 'off' else None,
+        )
         self.tripod = TripodSteps(config.tripod_prior)
         self._goal: tuple[float, float] | None = None  # of the last step chosen
         self._made: list[tuple[float, float]] = []  # repertoire steps: (progress [m], time [s])
@@ -512,7 +574,8 @@ class RepertoirePolicy:
             # is a candidate once the repertoire's last steps made less progress than that pace
             # (the repertoire has had its chance to learn the damage)
             k = steered_direction(pose, goal)
-            cycle = self.tripod.displacement()[k]
+            bank = self.config.tripod_bank == 'always' or self.gp.evidence > 0
+            cycle = self.tripod.displacement(self.gp.tripod_prior() if bank else None)[k]
             dx, dy = cycle[0], cycle[1]
             end = np.array([[pose.x + c * dx - s * dy, pose.y + s * dx + c * dy]])
             gait = self.tripod.gaits[k]
@@ -541,7 +604,10 @@ class RepertoirePolicy:
             return None
         error = end.distance_to(step.predicted.x, step.predicted.y)
         if step.tripod >= 0:
-            self.tripod.observe(step.tripod, start.relative(end))
+            moved = start.relative(end)
+            self.tripod.observe(step.tripod, moved)
+            if self.config.learn:
+                self.gp.add_tripod(step.tripod, moved)
             return error
         if self._goal is not None:  # the progress it made toward the goal it was taken for
             g = self._goal
@@ -550,10 +616,6 @@ class RepertoirePolicy:
         if self.config.learn:
             self.gp.add(step.index, start.relative(end))
         return error
-
-
-#: The firmware's eight crab directions (robot-facts.md, movement frame), in base_link.
-FIRMWARE_DIRECTIONS = tuple(k * math.pi / 4 for k in range(8))
 
 
 def steered_direction(pose: Pose2D, goal: tuple[float, float]) -> int:
@@ -570,14 +632,16 @@ class TripodSteps:
     of their crab direction (along, across, turn), pooled over the directions, and per direction.
     A direction's estimate is its own mean shrunk toward the pooled one, which is itself shrunk
     toward ``prior`` times the commanded stride (``PRIOR_WEIGHT`` cycles' worth each), so one
-    cycle walked on a damage tells every direction about it.
+    cycle walked on a damage tells every direction about it. Given a prior per direction (a
+    damage bank's cycles, mixed by how well each damage explains what was walked:
+    :meth:`CorrectionGP.tripod_prior`), a direction's own mean shrinks toward that instead.
     """
 
     PRIOR_WEIGHT = 1.0
 
     def __init__(self, prior: float = 1.0) -> None:
         base = preset('control')
-        self.gaits = [base.replace(crab_angle=wrap_angle(a)) for a in FIRMWARE_DIRECTIONS]
+        self.gaits = tripod_gaits()
         self.period = base.period
         self._angles = np.array([g.crab_angle for g in self.gaits])
         stride = np.array([prior * base.body_velocity * base.period, 0.0, 0.0])
@@ -585,13 +649,24 @@ class TripodSteps:
         self._sums = np.zeros((len(self.gaits), 3))
         self._counts = np.zeros(len(self.gaits))
 
-    def displacement(self) -> np.ndarray:
-        """Return each direction's expected cycle (dx, dy, dyaw) in the robot's frame, (8, 3)."""
-        pooled = self._pooled[0] / self._pooled[1]
-        local = (self._sums + pooled[None, :] * self.PRIOR_WEIGHT) / (
+    def displacement(self, prior: np.ndarray | None = None) -> np.ndarray:
+        """
+        Return each direction's expected cycle (dx, dy, dyaw) in the robot's frame, (8, 3).
+
+        ``prior`` (8, 3), robot frame: each direction's expected cycle before it is walked
+        (None: the pooled estimate).
+        """
+        c, s = np.cos(self._angles), np.sin(self._angles)
+        if prior is None:
+            toward = (self._pooled[0] / self._pooled[1])[None, :]
+        else:
+            p = np.asarray(prior, dtype=float)
+            toward = np.column_stack(
+                [c * p[:, 0] + s * p[:, 1], -s * p[:, 0] + c * p[:, 1], p[:, 2]]
+            )
+        local = (self._sums + toward * self.PRIOR_WEIGHT) / (
             self._counts[:, None] + self.PRIOR_WEIGHT
         )
-        c, s = np.cos(self._angles), np.sin(self._angles)
         return np.column_stack(
             [c * local[:, 0] - s * local[:, 1], s * local[:, 0] + c * local[:, 1], local[:, 2]]
         )

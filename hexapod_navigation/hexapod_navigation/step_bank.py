@@ -25,7 +25,9 @@ The navigation counterpart of :mod:`hexapod_adapt.online.bank`: each gait of the
 for one step (``STEP_DURATION`` s, from rest, collisions not fatal) with each damage of
 :data:`hexapod_adapt.online.bank.BANK_DAMAGES` (every one- and two-leg failure). The navigator's
 correction (:class:`hexapod_navigation.planner.CorrectionGP`) weighs these step tables against
-the intact repertoire by how well they explain the steps walked, and learns the rest.
+the intact repertoire by how well they explain the steps walked, and learns the rest. The bank
+also holds the steered tripod's cycle in each crab direction under each damage and intact
+(:func:`hexapod_navigation.tripod.tripod_cycles`): the planner's prior for the tripod option.
 
 ``python -m hexapod_navigation.step_bank_cli`` makes one (``maps/make_navigation_bank.sh``).
 
@@ -37,7 +39,7 @@ not used, and says why.
 from __future__ import annotations
 
 import concurrent.futures as cf
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 import hashlib
 import io
 import json
@@ -51,36 +53,58 @@ from hexapod_adapt.mapping.maps import shipped_map
 from hexapod_adapt.mapping.simulation import worker_simulator
 from hexapod_adapt.mapping.steps import repertoire_fingerprint
 from hexapod_adapt.online.bank import BANK_DAMAGES
+from hexapod_description.processes import die_with_parent
 from hexapod_gait.parameters import from_omni_genotype
 from hexapod_navigation.repertoire import PACKAGE, Repertoire
+from hexapod_navigation.tripod import tripod_cycles, tripod_gaits
 from hexapod_sim.damage import Damage
 from hexapod_sim.evaluation import evaluate_displacements, EVALUATION_VERSION
 import numpy as np
 
-FORMAT = 'hexapod-step-bank/v1'
+FORMAT = 'hexapod-step-bank/v2'  # v2: the steered tripod's cycles
 #: The shipped repertoire's bank (``maps/navigation_bank.npz``).
 NAVIGATION_BANK = 'navigation_bank.npz'
 
 
 @dataclass(frozen=True)
 class StepBank:
-    """The repertoire's steps under each of ``damages``: ``steps[h, i]`` = (dx, dy, dyaw)."""
+    """
+    The repertoire's steps under each of ``damages``: ``steps[h, i]`` = (dx, dy, dyaw).
+
+    And the steered tripod's cycles (:func:`hexapod_navigation.tripod.tripod_cycles`):
+    ``tripod[h, k]`` under each damage, ``intact_tripod[k]`` on the intact robot.
+    """
 
     damages: tuple[Damage, ...]
     steps: np.ndarray  # (h, n, 3): m, m, rad, in the step's start frame
+    tripod: np.ndarray  # (h, 8, 3): one cycle of each crab direction, in its start frame
+    intact_tripod: np.ndarray  # (8, 3)
 
     def __len__(self) -> int:
         return len(self.damages)
 
+    def tripods(self) -> np.ndarray:
+        """Return the tripod's cycles intact and under each damage, (1 + h, 8, 3)."""
+        return np.concatenate([self.intact_tripod[None], self.tripod])
+
     def without(self, damage: Damage) -> StepBank:
         """Return the bank less ``damage`` (an experiment's damage left out of its hypotheses)."""
         keep = [i for i, d in enumerate(self.damages) if d != damage]
-        return StepBank(tuple(self.damages[i] for i in keep), self.steps[keep])
+        return StepBank(
+            tuple(self.damages[i] for i in keep),
+            self.steps[keep],
+            self.tripod[keep],
+            self.intact_tripod,
+        )
 
 
 def bank_key(repertoire: Repertoire, engine: str, damages: Sequence[Damage]) -> dict:
     """Return everything a step bank depends on (stored in its file)."""
     fp = repertoire_fingerprint(engine)
+    tripod = json.dumps(
+        [{k: np.asarray(v).tolist() for k, v in asdict(g).items()} for g in tripod_gaits()],
+        sort_keys=True,
+    )
     genes = hashlib.sha256(
         np.ascontiguousarray(repertoire.genotypes, dtype='<f8').tobytes()
     ).hexdigest()
@@ -95,6 +119,7 @@ def bank_key(repertoire: Repertoire, engine: str, damages: Sequence[Damage]) -> 
         'collisions_fatal': False,
         'evaluation_version': EVALUATION_VERSION,
         'damages': [[[d.leg, d.kind, d.strength] for d in damage.legs] for damage in damages],
+        'tripod_sha256': hashlib.sha256(tripod.encode()).hexdigest(),
     }
 
 
@@ -134,10 +159,12 @@ def compute_step_bank(
     if workers <= 1:
         collect(map(_steps, jobs))
     else:
-        with cf.ProcessPoolExecutor(workers) as pool:
+        with cf.ProcessPoolExecutor(workers, initializer=die_with_parent) as pool:
             collect(pool.map(_steps, jobs))
     steps = np.concatenate(done).reshape(len(damages), len(repertoire), 3)
-    return StepBank(tuple(damages), steps)
+    sim = worker_simulator(engine)  # a few seconds: 8 gaits, 2 cycles, per damage
+    tripod = np.array([tripod_cycles(sim, d) for d in damages]).reshape(len(damages), 8, 3)
+    return StepBank(tuple(damages), steps, tripod, tripod_cycles(sim, None))
 
 
 def save_step_bank(
@@ -146,7 +173,13 @@ def save_step_bank(
     """Write ``bank`` to ``path`` atomically, with its key."""
     buf = io.BytesIO()
     key = bank_key(repertoire, engine, bank.damages)
-    np.savez_compressed(buf, key=np.array(json.dumps(key, sort_keys=True)), steps=bank.steps)
+    np.savez_compressed(
+        buf,
+        key=np.array(json.dumps(key, sort_keys=True)),
+        steps=bank.steps,
+        tripod=bank.tripod,
+        intact_tripod=bank.intact_tripod,
+    )
     atomic_write_bytes(Path(path), buf.getvalue())
 
 
@@ -161,6 +194,8 @@ def load_step_bank(
         with np.load(path, allow_pickle=False) as data:
             stored = json.loads(str(data['key']))
             steps = np.asarray(data['steps'], dtype=float)
+            tripod = np.asarray(data['tripod'], dtype=float)
+            intact_tripod = np.asarray(data['intact_tripod'], dtype=float)
     except FileNotFoundError:
         return None, f'no step bank at {path}'
     except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile) as exc:
@@ -171,7 +206,13 @@ def load_step_bank(
         return None, f'{path} was made for another {", ".join(differ)}'
     if steps.shape != (len(damages), len(repertoire), 3) or not np.all(np.isfinite(steps)):
         return None, f'{path} holds steps of shape {steps.shape}, not a finite bank'
-    return StepBank(tuple(damages), steps), ''
+    if (
+        tripod.shape != (len(damages), 8, 3)
+        or intact_tripod.shape != (8, 3)
+        or not (np.all(np.isfinite(tripod)) and np.all(np.isfinite(intact_tripod)))
+    ):
+        return None, f'{path} holds tripod cycles of shape {tripod.shape}, not a finite bank'
+    return StepBank(tuple(damages), steps, tripod, intact_tripod), ''
 
 
 def shipped_step_bank() -> Path:

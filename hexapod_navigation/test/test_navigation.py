@@ -226,11 +226,20 @@ def test_a_step_bank_is_each_step_played_with_the_damage_and_refused_for_another
             decode=from_omni_genotype,
         )
     np.testing.assert_array_equal(bank.steps[1], [(m.x, m.y, m.yaw) for m in direct])
+    # the tripod's cycles: intact, every direction walks about its stride; a lifted leg shortens
+    assert bank.tripod.shape == (2, 8, 3) and bank.intact_tripod.shape == (8, 3)
+    stride = np.hypot(bank.intact_tripod[:, 0], bank.intact_tripod[:, 1])
+    assert np.all(stride > 0.25) and np.all(stride < 0.35)  # commanded: 0.3 m per cycle
+    lifted = np.hypot(bank.tripod[:, :, 0], bank.tripod[:, :, 1])
+    assert np.all(lifted.max(axis=1) < stride.min())
+    assert bank.tripods().shape == (3, 8, 3)
     path = tmp_path / 'bank.npz'
     save_step_bank(path, bank, small, 'mujoco')
     again, why = load_step_bank(path, small, 'mujoco', damages)
     assert why == '' and np.array_equal(again.steps, bank.steps)
+    assert np.array_equal(again.tripods(), bank.tripods())
     assert bank.without(damages[0]).damages == (damages[1],)
+    np.testing.assert_array_equal(bank.without(damages[0]).tripods()[1], bank.tripod[1])
     other = replace(small, genotypes=small.genotypes[::-1].copy())
     refused, why = load_step_bank(path, other, 'mujoco', damages)
     assert refused is None and 'made for another genotypes_sha256' in why
@@ -258,6 +267,8 @@ def test_the_shipped_bank_fits_the_shipped_repertoire_and_re_measures_identicall
     few = replace(repertoire, genotypes=repertoire.genotypes[rows], niches=repertoire.niches[rows])
     again = compute_step_bank(few, 'mujoco', (bank.damages[h],))
     np.testing.assert_array_equal(again.steps[0], bank.steps[h, rows])
+    np.testing.assert_array_equal(again.tripod[0], bank.tripod[h])
+    np.testing.assert_array_equal(again.intact_tripod, bank.intact_tripod)
 
 
 def test_run_navigation_refuses_a_bank_it_was_told_to_use_and_goes_on_without_a_default_one(
@@ -547,3 +558,42 @@ def test_the_tripod_option_learns_its_cycles_and_takes_over_when_the_repertoire_
     assert off.next_step(start, goal, step.gait, 0.5).tripod == -1
     with pytest.raises(ValueError, match='tripod_after must be'):
         NavigationConfig(tripod_after=-1)
+
+
+def test_tripod_cycles_weigh_the_damage_hypotheses_and_set_the_tripods_prior(repertoire):
+    """A cycle walked like hypothesis 2's makes it likelier; the tripod's prior follows it."""
+    rng = np.random.default_rng(5)
+    steps = rng.normal(0.0, 0.05, (3, len(repertoire), 3))
+    intact = np.zeros((8, 3))
+    intact[:, 0] = 0.3  # every direction's cycle, as its own 'forward' (a made-up table)
+    tripods = np.stack([intact, intact * 0.9, intact * 0.2, intact * 0.5])
+    gp = CorrectionGP(repertoire, NavigationConfig(tripod_bank='always'), steps, tripods)
+    before = gp.tripod_prior()
+    assert before.shape == (8, 3) and 0.06 < before[0, 0] < 0.3  # the prior's mixture
+    gp.add_tripod(0, (0.06, 0.0, 0.0))
+    gp.add_tripod(0, (0.06, 0.0, 0.0))
+    assert np.argmax(gp.weights) == 2  # hypothesis 2 (row 2 of the table, steps[1])
+    assert gp.tripod_prior()[3, 0] == pytest.approx(0.06, abs=0.02)  # every direction follows
+    with pytest.raises(ValueError, match='tripods needs'):
+        CorrectionGP(repertoire, NavigationConfig(), steps, tripods[:3])
+    # 'off' (the default) passes no table to the policy's GP: the fixed stride prior
+    assert (
+        RepertoirePolicy(repertoire, NavigationConfig(), steps, tripods).gp.tripod_prior() is None
+    )
+    # the policy's tripod option starts from that prior ('always'): here, a pessimistic one
+    poor = np.stack([intact * 0.1] * 4)
+    policy = RepertoirePolicy(repertoire, NavigationConfig(tripod_bank='always'), steps, poor)
+    start, goal = Pose2D(0.0, 0.0, 0.0), (1.0, 0.0)
+    assert policy.next_step(start, goal, None, 0.5).tripod == -1  # 3 cm do not beat a step
+    # 'evidence': the commanded stride until something was walked, then the bank
+    policy = RepertoirePolicy(repertoire, NavigationConfig(tripod_bank='evidence'), steps, poor)
+    first = policy.next_step(start, goal, None, 0.5)
+    assert first.tripod == 0
+    policy.observe(first, start, start.moved(0.03, 0.0, 0.0), True)
+    assert policy.gp.evidence == 1
+    assert policy.next_step(start.moved(0.03, 0.0, 0.0), goal, first.gait, 0.5).tripod == -1
+    with pytest.raises(ValueError, match='tripod_bank must be one of off, always, evidence'):
+        NavigationConfig(tripod_bank='sometimes')
+    always = NavigationConfig(tripod_bank='always')
+    optimistic = RepertoirePolicy(repertoire, always, steps, np.stack([intact] * 4))
+    assert optimistic.gp.tripod_prior()[0, 0] == pytest.approx(0.3)
