@@ -153,8 +153,8 @@ def first_prior(stream: StreamingPrior, source: str) -> tuple[np.ndarray | None,
             stream.error or f'the top of the map was not re-scored in {PRIOR_FIRST_TIMEOUT:.0f} s'
         )
         return None, f'the map as it is ({why}; damage from {source})'
-    speeds = stream.update()
-    snap = stream.snapshot()
+    snap = stream.take()  # one snapshot: the speeds and what is said of them agree
+    speeds = snap.speeds
     what = f'the map re-scored on {stream.engine} under {stream.damage.label}'
     if stream.cached:
         how = 'cached'

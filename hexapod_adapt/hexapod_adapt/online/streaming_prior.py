@@ -155,8 +155,17 @@ class StreamingPrior:
 
     def snapshot(self) -> PriorSnapshot:
         """Return the prior now: scored gaits as scored, the others estimated."""
+        return self._snapshot(take=False)
+
+    def take(self) -> PriorSnapshot:
+        """Return the prior now, as :meth:`snapshot`; :meth:`update` then waits for more."""
+        return self._snapshot(take=True)
+
+    def _snapshot(self, take: bool) -> PriorSnapshot:
         with self._cond:
             speeds, scored = self._speeds.copy(), self._scored
+            if take:
+                self._seen = scored
         missing = np.isnan(speeds)
         if missing.any():
             done = ~missing & (self._intact > 1e-6)
@@ -169,8 +178,7 @@ class StreamingPrior:
         with self._cond:
             if self._scored == self._seen:
                 return None
-            self._seen = self._scored
-        return self.snapshot().speeds
+        return self.take().speeds
 
     @property
     def stopped(self) -> bool:
