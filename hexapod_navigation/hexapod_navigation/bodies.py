@@ -46,7 +46,7 @@ from hexapod_adapt.online.adaptation import TrialAborted
 from hexapod_adapt.online.trials import SampleLog, Waiter
 from hexapod_gait import GaitParameters
 from hexapod_navigation.episode import BodyFailure, standing_gait, StepOutcome, tipped_over
-from hexapod_navigation.planner import Pose2D
+from hexapod_navigation.geometry import Pose2D
 
 
 @dataclass(frozen=True)

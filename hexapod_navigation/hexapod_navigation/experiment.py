@@ -46,9 +46,11 @@ from typing import Sequence
 from hexapod_adapt.mapping.archive import atomic_write_bytes, load_archive
 from hexapod_description.processes import die_with_parent
 from hexapod_navigation.episode import NavigationResult, run_episode, SimBody
-from hexapod_navigation.planner import NavigationConfig, Policy, RepertoirePolicy, SteeredTripod
+from hexapod_navigation.planner import NavigationConfig, RepertoirePolicy
+from hexapod_navigation.policy import Policy
 from hexapod_navigation.repertoire import Repertoire
 from hexapod_navigation.step_bank import load_step_bank, StepBank
+from hexapod_navigation.tripod import SteeredTripod
 from hexapod_sim import create_simulator, scenario, SCENARIO_NAMES, SimConfig
 from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
 import numpy as np

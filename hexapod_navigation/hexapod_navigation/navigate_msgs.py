@@ -34,7 +34,7 @@ from hexapod_gait.ros_glue import ACTION_SERVICES
 from hexapod_msgs.action import Navigate
 from hexapod_navigation.bodies import PoseSample
 from hexapod_navigation.episode import Feedback, NavigationResult, Outcome
-from hexapod_navigation.planner import Pose2D
+from hexapod_navigation.geometry import Pose2D
 from hexapod_sim.simulator import quat_to_euler
 from nav_msgs.msg import Odometry
 from rclpy.action import ActionClient

@@ -32,48 +32,28 @@ crab-walking hexapod:
   the goal, from the pose the robot is actually in;
 * :func:`hexapod_navigation.episode.run_episode` walks a body with them (the loop, its bodies).
 
-The baseline :class:`SteeredTripod` is what the robot's firmware can do: the control tripod,
-steered every cycle toward the goal in the nearest of its eight crab directions.
+The baseline :class:`~hexapod_navigation.tripod.SteeredTripod` is what the robot's firmware can
+do: the control tripod, steered every cycle toward the goal in the nearest of its eight crab
+directions; the planner weighs its next cycle too
+(:class:`~hexapod_navigation.tripod.TripodSteps`).
+Poses: :mod:`hexapod_navigation.geometry`; what a policy is: :mod:`hexapod_navigation.policy`.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 import math
-from typing import Protocol, Sequence
+from typing import Sequence
 
 from hexapod_adapt.mapping.steps import REACH
 from hexapod_adapt.online.mboa import mixture
-from hexapod_gait import GaitParameters, preset
+from hexapod_gait import GaitParameters
+from hexapod_navigation.geometry import Pose2D
+from hexapod_navigation.policy import Step
 from hexapod_navigation.repertoire import Repertoire
-from hexapod_navigation.tripod import FIRMWARE_DIRECTIONS, tripod_gaits, wrap_angle
+from hexapod_navigation.tripod import steered_direction, TripodSteps
 import numpy as np
 from scipy.linalg import solve_triangular
-
-
-@dataclass(frozen=True)
-class Pose2D:
-    """A planar pose in the odom frame: position [m] and heading [rad]."""
-
-    x: float
-    y: float
-    yaw: float
-
-    def distance_to(self, x: float, y: float) -> float:
-        """Return the distance from this pose's position to (x, y) [m]."""
-        return math.hypot(x - self.x, y - self.y)
-
-    def relative(self, later: 'Pose2D') -> tuple[float, float, float]:
-        """Return ``later`` in this pose's frame: (dx, dy) [m] and the heading change [rad]."""
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
-        dx, dy = later.x - self.x, later.y - self.y
-        return c * dx + s * dy, -s * dx + c * dy, wrap_angle(later.yaw - self.yaw)
-
-    def moved(self, dx: float, dy: float, dyaw: float) -> 'Pose2D':
-        """Return the pose reached by a step (dx, dy, dyaw) given in this pose's frame."""
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
-        return Pose2D(self.x + c * dx - s * dy, self.y + s * dx + c * dy, self.yaw + dyaw)
-
 
 # -- settings and goals ------------------------------------------------------------------------
 #: NavigationConfig.planner's choices
@@ -452,39 +432,6 @@ def time_to_goal(
     return np.asarray(switch, dtype=float) + np.where(inside, arrive, rest)
 
 
-@dataclass(frozen=True)
-class Step:
-    """The next step a policy wants: a gait, how long, and where it expects to end."""
-
-    gait: GaitParameters
-    duration: float  # s
-    predicted: Pose2D  # expected pose at the end (odom)
-    index: int = -1  # repertoire row, -1 for a baseline's gait
-    tripod: int = -1  # the steered tripod's crab direction (0..7), -1 for another gait
-
-
-class Policy(Protocol):
-    """Chooses steps toward a goal, and hears how each went."""
-
-    def next_step(
-        self,
-        pose: Pose2D,
-        goal: tuple[float, float],
-        playing: GaitParameters | None = None,
-        switch_time: float = 0.0,
-    ) -> Step:
-        """
-        Return the step to take from ``pose``.
-
-        ``playing``: the gait the body would go on with (None: it stands); any other gait first
-        costs ``switch_time`` s of moving the legs to its first pose (the body's transition),
-        which the step's duration includes.
-        """
-
-    def observe(self, step: Step, start: Pose2D, end: Pose2D, completed: bool) -> float | None:
-        """Learn from a step; return its prediction error [m] (None if not predicted)."""
-
-
 class RepertoirePolicy:
     """
     The repertoire planner, with (``config.learn``) or without the GP correction.
@@ -616,102 +563,3 @@ class RepertoirePolicy:
         if self.config.learn:
             self.gp.add(step.index, start.relative(end))
         return error
-
-
-def steered_direction(pose: Pose2D, goal: tuple[float, float]) -> int:
-    """Return the firmware crab direction (0..7) nearest the goal's bearing from ``pose``."""
-    bearing = wrap_angle(math.atan2(goal[1] - pose.y, goal[0] - pose.x) - pose.yaw)
-    return round(bearing / (math.pi / 4)) % 8
-
-
-class TripodSteps:
-    """
-    The steered tripod's eight crab directions as candidate steps, one gait cycle each.
-
-    What one cycle moves the robot is learned as it walks: the displacements seen, in the frame
-    of their crab direction (along, across, turn), pooled over the directions, and per direction.
-    A direction's estimate is its own mean shrunk toward the pooled one, which is itself shrunk
-    toward ``prior`` times the commanded stride (``PRIOR_WEIGHT`` cycles' worth each), so one
-    cycle walked on a damage tells every direction about it. Given a prior per direction (a
-    damage bank's cycles, mixed by how well each damage explains what was walked:
-    :meth:`CorrectionGP.tripod_prior`), a direction's own mean shrinks toward that instead.
-    """
-
-    PRIOR_WEIGHT = 1.0
-
-    def __init__(self, prior: float = 1.0) -> None:
-        base = preset('control')
-        self.gaits = tripod_gaits()
-        self.period = base.period
-        self._angles = np.array([g.crab_angle for g in self.gaits])
-        stride = np.array([prior * base.body_velocity * base.period, 0.0, 0.0])
-        self._pooled = [stride * self.PRIOR_WEIGHT, self.PRIOR_WEIGHT]
-        self._sums = np.zeros((len(self.gaits), 3))
-        self._counts = np.zeros(len(self.gaits))
-
-    def displacement(self, prior: np.ndarray | None = None) -> np.ndarray:
-        """
-        Return each direction's expected cycle (dx, dy, dyaw) in the robot's frame, (8, 3).
-
-        ``prior`` (8, 3), robot frame: each direction's expected cycle before it is walked
-        (None: the pooled estimate).
-        """
-        c, s = np.cos(self._angles), np.sin(self._angles)
-        if prior is None:
-            toward = (self._pooled[0] / self._pooled[1])[None, :]
-        else:
-            p = np.asarray(prior, dtype=float)
-            toward = np.column_stack(
-                [c * p[:, 0] + s * p[:, 1], -s * p[:, 0] + c * p[:, 1], p[:, 2]]
-            )
-        local = (self._sums + toward * self.PRIOR_WEIGHT) / (
-            self._counts[:, None] + self.PRIOR_WEIGHT
-        )
-        return np.column_stack(
-            [c * local[:, 0] - s * local[:, 1], s * local[:, 0] + c * local[:, 1], local[:, 2]]
-        )
-
-    def observe(self, k: int, moved: tuple[float, float, float]) -> None:
-        """Learn that a cycle of direction ``k`` moved (dx, dy, dyaw) in the robot's frame."""
-        c, s = math.cos(self._angles[k]), math.sin(self._angles[k])
-        dx, dy, dyaw = moved
-        local = np.array([c * dx + s * dy, -s * dx + c * dy, dyaw])
-        self._pooled[0] = self._pooled[0] + local
-        self._pooled[1] += 1.0
-        self._sums[k] += local
-        self._counts[k] += 1.0
-
-
-class SteeredTripod:
-    """
-    Baseline: the control tripod steered toward the goal every cycle, as the firmware can walk.
-
-    Each cycle it walks the crab direction of the eight nearest the goal's bearing.
-    """
-
-    def __init__(self) -> None:
-        self._base = preset('control')
-        self._gaits: dict[int, GaitParameters] = {}
-
-    def next_step(
-        self,
-        pose: Pose2D,
-        goal: tuple[float, float],
-        playing: GaitParameters | None = None,
-        switch_time: float = 0.0,
-    ) -> Step:
-        """Return one cycle toward the goal (after the body's transition, if it turns)."""
-        k = steered_direction(pose, goal)
-        if k not in self._gaits:
-            self._gaits[k] = self._base.replace(crab_angle=wrap_angle(FIRMWARE_DIRECTIONS[k]))
-        gait = self._gaits[k]
-        reach = gait.body_velocity * gait.period
-        heading = pose.yaw + gait.crab_angle
-        predicted = Pose2D(
-            pose.x + reach * math.cos(heading), pose.y + reach * math.sin(heading), pose.yaw
-        )
-        return Step(gait, gait.period + (0.0 if gait is playing else switch_time), predicted)
-
-    def observe(self, step: Step, start: Pose2D, end: Pose2D, completed: bool) -> float | None:
-        """Nothing is learned; return the cycle's error against the commanded stride."""
-        return end.distance_to(step.predicted.x, step.predicted.y) if completed else None

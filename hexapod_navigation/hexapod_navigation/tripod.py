@@ -22,8 +22,9 @@
 The steered tripod: the firmware's control tripod in its eight crab directions.
 
 What the robot can always walk, damaged or not: the navigation baseline
-(:class:`hexapod_navigation.planner.SteeredTripod`) and an option of the repertoire planner.
-:func:`tripod_cycles` measures one cycle of each direction under damage, for the step bank.
+(:class:`SteeredTripod`) and an option of the repertoire planner, whose cycles
+:class:`TripodSteps` learns as the robot walks them. :func:`tripod_cycles` measures one cycle of
+each direction under damage, for the step bank.
 """
 
 from __future__ import annotations
@@ -31,6 +32,8 @@ from __future__ import annotations
 import math
 
 from hexapod_gait import GaitParameters, preset
+from hexapod_navigation.geometry import Pose2D, wrap_angle
+from hexapod_navigation.policy import Step
 from hexapod_sim.damage import Damage
 from hexapod_sim.evaluation import evaluate_displacements
 from hexapod_sim.simulator import Simulator
@@ -38,11 +41,6 @@ import numpy as np
 
 #: The firmware's eight crab directions (robot-facts.md, movement frame), in base_link.
 FIRMWARE_DIRECTIONS = tuple(k * math.pi / 4 for k in range(8))
-
-
-def wrap_angle(a: float) -> float:
-    """Return ``a`` [rad] wrapped into (-pi, pi]."""
-    return math.pi - (math.pi - a) % (2.0 * math.pi)
 
 
 def tripod_gaits() -> list[GaitParameters]:
@@ -74,3 +72,102 @@ def tripod_cycles(sim: Simulator, damage: Damage | None) -> np.ndarray:
         dx, dy = b.x - a.x, b.y - a.y
         out[k] = (c * dx + s * dy, -s * dx + c * dy, wrap_angle(b.yaw - a.yaw))
     return out
+
+
+def steered_direction(pose: Pose2D, goal: tuple[float, float]) -> int:
+    """Return the firmware crab direction (0..7) nearest the goal's bearing from ``pose``."""
+    bearing = wrap_angle(math.atan2(goal[1] - pose.y, goal[0] - pose.x) - pose.yaw)
+    return round(bearing / (math.pi / 4)) % 8
+
+
+class TripodSteps:
+    """
+    The steered tripod's eight crab directions as candidate steps, one gait cycle each.
+
+    What one cycle moves the robot is learned as it walks: the displacements seen, in the frame
+    of their crab direction (along, across, turn), pooled over the directions, and per direction.
+    A direction's estimate is its own mean shrunk toward the pooled one, which is itself shrunk
+    toward ``prior`` times the commanded stride (``PRIOR_WEIGHT`` cycles' worth each), so one
+    cycle walked on a damage tells every direction about it. Given a prior per direction (a
+    damage bank's cycles, mixed by how well each damage explains what was walked:
+    :meth:`CorrectionGP.tripod_prior`), a direction's own mean shrinks toward that instead.
+    """
+
+    PRIOR_WEIGHT = 1.0
+
+    def __init__(self, prior: float = 1.0) -> None:
+        base = preset('control')
+        self.gaits = tripod_gaits()
+        self.period = base.period
+        self._angles = np.array([g.crab_angle for g in self.gaits])
+        stride = np.array([prior * base.body_velocity * base.period, 0.0, 0.0])
+        self._pooled = [stride * self.PRIOR_WEIGHT, self.PRIOR_WEIGHT]
+        self._sums = np.zeros((len(self.gaits), 3))
+        self._counts = np.zeros(len(self.gaits))
+
+    def displacement(self, prior: np.ndarray | None = None) -> np.ndarray:
+        """
+        Return each direction's expected cycle (dx, dy, dyaw) in the robot's frame, (8, 3).
+
+        ``prior`` (8, 3), robot frame: each direction's expected cycle before it is walked
+        (None: the pooled estimate).
+        """
+        c, s = np.cos(self._angles), np.sin(self._angles)
+        if prior is None:
+            toward = (self._pooled[0] / self._pooled[1])[None, :]
+        else:
+            p = np.asarray(prior, dtype=float)
+            toward = np.column_stack(
+                [c * p[:, 0] + s * p[:, 1], -s * p[:, 0] + c * p[:, 1], p[:, 2]]
+            )
+        local = (self._sums + toward * self.PRIOR_WEIGHT) / (
+            self._counts[:, None] + self.PRIOR_WEIGHT
+        )
+        return np.column_stack(
+            [c * local[:, 0] - s * local[:, 1], s * local[:, 0] + c * local[:, 1], local[:, 2]]
+        )
+
+    def observe(self, k: int, moved: tuple[float, float, float]) -> None:
+        """Learn that a cycle of direction ``k`` moved (dx, dy, dyaw) in the robot's frame."""
+        c, s = math.cos(self._angles[k]), math.sin(self._angles[k])
+        dx, dy, dyaw = moved
+        local = np.array([c * dx + s * dy, -s * dx + c * dy, dyaw])
+        self._pooled[0] = self._pooled[0] + local
+        self._pooled[1] += 1.0
+        self._sums[k] += local
+        self._counts[k] += 1.0
+
+
+class SteeredTripod:
+    """
+    Baseline: the control tripod steered toward the goal every cycle, as the firmware can walk.
+
+    Each cycle it walks the crab direction of the eight nearest the goal's bearing.
+    """
+
+    def __init__(self) -> None:
+        self._base = preset('control')
+        self._gaits: dict[int, GaitParameters] = {}
+
+    def next_step(
+        self,
+        pose: Pose2D,
+        goal: tuple[float, float],
+        playing: GaitParameters | None = None,
+        switch_time: float = 0.0,
+    ) -> Step:
+        """Return one cycle toward the goal (after the body's transition, if it turns)."""
+        k = steered_direction(pose, goal)
+        if k not in self._gaits:
+            self._gaits[k] = self._base.replace(crab_angle=wrap_angle(FIRMWARE_DIRECTIONS[k]))
+        gait = self._gaits[k]
+        reach = gait.body_velocity * gait.period
+        heading = pose.yaw + gait.crab_angle
+        predicted = Pose2D(
+            pose.x + reach * math.cos(heading), pose.y + reach * math.sin(heading), pose.yaw
+        )
+        return Step(gait, gait.period + (0.0 if gait is playing else switch_time), predicted)
+
+    def observe(self, step: Step, start: Pose2D, end: Pose2D, completed: bool) -> float | None:
+        """Nothing is learned; return the cycle's error against the commanded stride."""
+        return end.distance_to(step.predicted.x, step.predicted.y) if completed else None

@@ -24,15 +24,15 @@ import math
 
 from hexapod_adapt.mapping.archive import load_archive
 from hexapod_navigation.episode import Outcome, run_episode, SimBody
+from hexapod_navigation.geometry import Pose2D
 from hexapod_navigation.planner import (
     CorrectionGP,
     goal_problem,
     NavigationConfig,
-    Pose2D,
     RepertoirePolicy,
-    SteeredTripod,
 )
 from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
+from hexapod_navigation.tripod import SteeredTripod
 from hexapod_sim import create_simulator, SimConfig
 import numpy as np
 import pytest
@@ -529,7 +529,7 @@ def test_the_rest_of_the_way_at_the_speed_toward_the_goal_breaks_marking_time(re
 
 
 def test_the_tripod_option_learns_its_cycles_and_takes_over_when_the_repertoire_lags(repertoire):
-    from hexapod_navigation.planner import TripodSteps
+    from hexapod_navigation.tripod import TripodSteps
 
     tripod = TripodSteps()
     stride = tripod.displacement()

@@ -1,0 +1,62 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""What a navigation policy is: it chooses steps toward a goal and hears how each went."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Protocol
+
+from hexapod_gait import GaitParameters
+from hexapod_navigation.geometry import Pose2D
+
+
+@dataclass(frozen=True)
+class Step:
+    """The next step a policy wants: a gait, how long, and where it expects to end."""
+
+    gait: GaitParameters
+    duration: float  # s
+    predicted: Pose2D  # expected pose at the end (odom)
+    index: int = -1  # repertoire row, -1 for a baseline's gait
+    tripod: int = -1  # the steered tripod's crab direction (0..7), -1 for another gait
+
+
+class Policy(Protocol):
+    """Chooses steps toward a goal, and hears how each went."""
+
+    def next_step(
+        self,
+        pose: Pose2D,
+        goal: tuple[float, float],
+        playing: GaitParameters | None = None,
+        switch_time: float = 0.0,
+    ) -> Step:
+        """
+        Return the step to take from ``pose``.
+
+        ``playing``: the gait the body would go on with (None: it stands); any other gait first
+        costs ``switch_time`` s of moving the legs to its first pose (the body's transition),
+        which the step's duration includes.
+        """
+
+    def observe(self, step: Step, start: Pose2D, end: Pose2D, completed: bool) -> float | None:
+        """Learn from a step; return its prediction error [m] (None if not predicted)."""
