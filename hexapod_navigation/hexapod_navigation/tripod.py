@@ -146,8 +146,7 @@ class SteeredTripod:
     """
 
     def __init__(self) -> None:
-        self._base = preset('control')
-        self._gaits: dict[int, GaitParameters] = {}
+        self._gaits = tripod_gaits()
 
     def next_step(
         self,
@@ -157,10 +156,7 @@ class SteeredTripod:
         switch_time: float = 0.0,
     ) -> Step:
         """Return one cycle toward the goal (after the body's transition, if it turns)."""
-        k = steered_direction(pose, goal)
-        if k not in self._gaits:
-            self._gaits[k] = self._base.replace(crab_angle=wrap_angle(FIRMWARE_DIRECTIONS[k]))
-        gait = self._gaits[k]
+        gait = self._gaits[steered_direction(pose, goal)]
         reach = gait.body_velocity * gait.period
         heading = pose.yaw + gait.crab_angle
         predicted = Pose2D(
