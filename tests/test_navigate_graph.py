@@ -117,6 +117,8 @@ def test_goals_are_reached_whatever_the_odometry_rate(ros, launch, period):
 def test_invalid_goals_are_rejected_with_a_reason_and_the_node_goes_on(ros, graph):
     nav, client = graph
     status = ros.collect(DiagnosticStatus, 'navigate/status', status_log_qos())
+    odom = ros.collect(Odometry, 'odom', ODOM)
+    wait_for(lambda: odom, 30, 'odometry')  # the range is checked from the robot's pose
     for x, y, fields, reason in (
         (math.nan, 0.0, {}, 'not a finite position'),
         (40.0, 0.0, {}, 'beyond the configured range of 5 m'),
@@ -139,6 +141,20 @@ def test_invalid_goals_are_rejected_with_a_reason_and_the_node_goes_on(ros, grap
     assert nav.alive()
     ok = Goal(ros, client, 0.5, 0.0)
     assert ok.handle.accepted and ok.result()[1].reached
+
+
+def test_before_the_first_pose_a_bad_goal_is_rejected_and_a_good_one_waits_for_it(ros, launch):
+    """CI once saw a NaN goal accepted because no pose had arrived yet (no range to check)."""
+    nav = launch('hexapod_navigation', 'navigate_node', params={'max_range': 5.0})  # no sim_node
+    client = navigate_client(ros.node)
+    assert client.wait_for_server(timeout_sec=60)
+    for x, y, fields in ((math.nan, 0.0, {}), (1.0, 0.0, {'tolerance': -1.0})):
+        assert not Goal(ros, client, x, y, **fields).handle.accepted
+    waiting = Goal(ros, client, 1.0, 0.0)  # the range needs the pose: accepted, then it waits
+    assert waiting.handle.accepted
+    status, result = waiting.result(60)
+    assert not result.reached and 'no pose received yet' in result.reason
+    assert nav.alive()
 
 
 def test_cancel_stops_the_robot_and_a_new_goal_preempts(ros, graph):

@@ -75,7 +75,7 @@ from hexapod_navigation.repertoire import shipped_repertoire
 from hexapod_navigation.step_bank import load_navigation, shipped_step_bank
 from nav_msgs.msg import Odometry
 import rclpy
-from rclpy._rclpy_pybind11 import RCLError
+from rclpy._rclpy_pybind11 import InvalidHandle, RCLError
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.node import Node
@@ -201,7 +201,11 @@ class NavigateNode(Node):
         return RepertoirePolicy(self.repertoire, self.config, self.bank.steps, self.bank.tripods())
 
     def _status(self, level: bytes, message: str) -> None:
-        publish_status(self, self.status_pub, level, message, 'navigate_node')
+        try:
+            publish_status(self, self.status_pub, level, message, 'navigate_node')
+        except (RCLError, InvalidHandle):  # the node is closing: no one to tell
+            if rclpy.ok(context=self.context):
+                raise
 
     # -- the action ----------------------------------------------------------------------------
     def _goal_problem(self, goal) -> str:
@@ -211,8 +215,8 @@ class NavigateNode(Node):
         problem = settings.goal_settings_problem(goal.tolerance, goal.time_limit)
         if problem:
             return problem
-        start = self._known_pose()
-        return goal_problem(goal.x, goal.y, start, self.config) if start is not None else ''
+        # before the first pose, all but the range (CI once saw a NaN goal accepted then)
+        return goal_problem(goal.x, goal.y, self._known_pose(), self.config)
 
     def _known_pose(self):
         """Return the robot's pose if known now (None before the pose source's first message)."""
@@ -263,6 +267,9 @@ class NavigateNode(Node):
         if not self.turns.wait_turn(key, lambda: handle.is_cancel_requested):
             return self._end_unwalked(handle)
         problem = self._start_problem(goal)
+        if problem and not rclpy.ok(context=self.context):
+            self.turns.done(key)
+            return self._end_unwalked(handle)  # the wait for a pose ended with the node
         if problem:
             self.turns.done(key)
             self._status(DiagnosticStatus.WARN, f'goal ({goal.x}, {goal.y}) aborted: {problem}')

@@ -145,6 +145,8 @@ class NavigationConfig:
     #: goals (docs/studies/navigation.md "The tripod's prior from the bank"): the bank's lifted
     #: legs give the lifted damage 2 s back, and cost two locked-leg cells
     tripod_bank: str = 'off'
+    #: how many cycles' worth the bank's prior counts for in a direction the robot has walked
+    tripod_bank_weight: float = 1.0
 
     def __post_init__(self) -> None:
         for name in (
@@ -194,6 +196,9 @@ class NavigationConfig:
             raise ValueError(
                 f'tripod_prior must be a fraction in [0, 1], got {self.tripod_prior!r}'
             )
+        w = self.tripod_bank_weight
+        if not (isinstance(w, (int, float)) and 0.0 < w <= 100.0):
+            raise ValueError(f'tripod_bank_weight must be in (0, 100] cycles, got {w!r}')
         if self.tripod_bank not in TRIPOD_BANK:
             raise ValueError(
                 f'tripod_bank must be one of {", ".join(TRIPOD_BANK)}, got {self.tripod_bank!r}'
@@ -206,11 +211,15 @@ class NavigationConfig:
             raise ValueError(f'arena must be a positive finite half-width [m], got {self.arena!r}')
 
 
-def goal_problem(x: float, y: float, start: Pose2D, config: NavigationConfig) -> str:
-    """Why a goal (x, y) in odom cannot be pursued from ``start`` ('' if it can)."""
+def goal_problem(x: float, y: float, start: Pose2D | None, config: NavigationConfig) -> str:
+    """
+    Why a goal (x, y) in odom cannot be pursued from ``start`` ('' if it can).
+
+    ``start`` None (no pose yet): what does not depend on where the robot is.
+    """
     if not (math.isfinite(x) and math.isfinite(y)):
         return f'the goal ({x}, {y}) is not a finite position'
-    far = start.distance_to(x, y)
+    far = start.distance_to(x, y) if start is not None else 0.0
     if far > config.max_range:
         return (
             f'the goal is {far:.2f} m away, beyond the configured range of {config.max_range:g} m'
@@ -456,7 +465,7 @@ class RepertoirePolicy:
             hypotheses if use else None,
             tripods if use and config.tripod_bank != 'off' else None,
         )
-        self.tripod = TripodSteps(config.tripod_prior)
+        self.tripod = TripodSteps(config.tripod_prior, config.tripod_bank_weight)
         self._goal: tuple[float, float] | None = None  # of the last step chosen
         self._made: list[tuple[float, float]] = []  # repertoire steps: (progress [m], time [s])
         self._gaits: dict[int, GaitParameters] = {}

@@ -65,6 +65,10 @@ def test_goals_are_checked_with_reasons():
     assert 'not a finite position' in goal_problem(math.nan, 0.0, start, config)
     assert 'beyond the configured range of 5 m' in goal_problem(6.0, 0.0, start, config)
     assert 'outside the arena' in goal_problem(2.5, 0.0, start, config)
+    # before the first pose: all but the range
+    assert 'not a finite position' in goal_problem(1.0, math.inf, None, config)
+    assert 'outside the arena' in goal_problem(2.5, 0.0, None, config)
+    assert goal_problem(1.0, 1.0, None, config) == ''
     with pytest.raises(ValueError, match='tolerance must be a positive finite number'):
         NavigationConfig(tolerance=0.0)
     with pytest.raises(ValueError, match='optimism must be a finite number >= 0'):
