@@ -26,7 +26,7 @@ On the tuning goals (seed 100, 5 per case), never the reported experiment's (see
 setting, the repertoire method and the steered tripod over every damage case of S1-S4, on the
 damage kinds lifted (the bank's), locked and unpowered_femur (damage the bank does not hold).
 
-    python -m tuning.tune_tripod_option [--grid after|prior|bank] [--workers 2]
+    python -m tuning.tune_tripod_option [--grid after|prior|bank|bank_weight] [--workers 2]
 
 The rule, fixed before the runs: a (kind, scenario) cell passes when navigate reaches at least as
 many goals as the tripod and its median walking time on the goals both reached is at most 1.1x
@@ -70,7 +70,18 @@ GRID_BANK = (
     {'tripod_option': True, 'tripod_after': 0, 'tripod_prior': 1.0, 'tripod_bank': 'always'},
     {'tripod_option': True, 'tripod_after': 0, 'tripod_prior': 1.0, 'tripod_bank': 'evidence'},
 )
-GRIDS = {'after': GRID, 'prior': GRID_PRIOR, 'bank': GRID_BANK}
+#: Fourth round: 'evidence' with the bank's prior worth less than a cycle walked in a direction,
+#: so a tripod that walks well on damage the bank lacks (a locked leg) is believed sooner.
+GRID_BANK_WEIGHT = (
+    {'tripod_bank': 'evidence', 'tripod_bank_weight': 0.25},
+    {'tripod_bank': 'always', 'tripod_bank_weight': 0.25},
+)
+GRIDS = {
+    'after': GRID,
+    'prior': GRID_PRIOR,
+    'bank': GRID_BANK,
+    'bank_weight': GRID_BANK_WEIGHT,
+}
 
 
 def main(argv: list[str] | None = None) -> int:

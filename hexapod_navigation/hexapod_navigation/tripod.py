@@ -90,13 +90,15 @@ class TripodSteps:
     toward ``prior`` times the commanded stride (``PRIOR_WEIGHT`` cycles' worth each), so one
     cycle walked on a damage tells every direction about it. Given a prior per direction (a
     damage bank's cycles, mixed by how well each damage explains what was walked:
-    :meth:`CorrectionGP.tripod_prior`), a direction's own mean shrinks toward that instead.
+    :meth:`CorrectionGP.tripod_prior`), a direction's own mean shrinks toward that instead, with
+    ``bank_weight`` cycles' worth.
     """
 
     PRIOR_WEIGHT = 1.0
 
-    def __init__(self, prior: float = 1.0) -> None:
+    def __init__(self, prior: float = 1.0, bank_weight: float = 1.0) -> None:
         base = preset('control')
+        self.bank_weight = bank_weight  # cycles' worth of a direction's prior from a bank
         self.gaits = tripod_gaits()
         self.period = base.period
         self._angles = np.array([g.crab_angle for g in self.gaits])
@@ -113,16 +115,16 @@ class TripodSteps:
         (None: the pooled estimate).
         """
         c, s = np.cos(self._angles), np.sin(self._angles)
+        weight = self.PRIOR_WEIGHT
         if prior is None:
             toward = (self._pooled[0] / self._pooled[1])[None, :]
         else:
+            weight = self.bank_weight
             p = np.asarray(prior, dtype=float)
             toward = np.column_stack(
                 [c * p[:, 0] + s * p[:, 1], -s * p[:, 0] + c * p[:, 1], p[:, 2]]
             )
-        local = (self._sums + toward * self.PRIOR_WEIGHT) / (
-            self._counts[:, None] + self.PRIOR_WEIGHT
-        )
+        local = (self._sums + toward * weight) / (self._counts[:, None] + weight)
         return np.column_stack(
             [c * local[:, 0] - s * local[:, 1], s * local[:, 0] + c * local[:, 1], local[:, 2]]
         )
