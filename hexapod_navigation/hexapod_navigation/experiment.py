@@ -130,9 +130,7 @@ def policy_for(
 ) -> Policy:
     """Return a fresh policy of ``method`` (``bank``: its hypotheses, for 'repertoire')."""
     if method == 'repertoire':
-        if bank is None:
-            return RepertoirePolicy(repertoire, config)
-        return RepertoirePolicy(repertoire, config, bank.steps, bank.tripods())
+        return RepertoirePolicy.with_bank(repertoire, config, bank)
     if method == 'no_learning':
         return RepertoirePolicy(repertoire, NavigationConfig(**{**asdict(config), 'learn': False}))
     return SteeredTripod()

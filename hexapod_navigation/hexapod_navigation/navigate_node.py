@@ -196,16 +196,12 @@ class NavigateNode(Node):
             )
 
     def _policy(self) -> RepertoirePolicy:
-        if self.bank is None:
-            return RepertoirePolicy(self.repertoire, self.config)
-        return RepertoirePolicy(self.repertoire, self.config, self.bank.steps, self.bank.tripods())
+        return RepertoirePolicy.with_bank(self.repertoire, self.config, self.bank)
 
     def _status(self, level: bytes, message: str) -> None:
-        try:
-            publish_status(self, self.status_pub, level, message, 'navigate_node')
-        except (RCLError, InvalidHandle):  # the node is closing: no one to tell
-            if rclpy.ok(context=self.context):
-                raise
+        self._unless_closing(
+            publish_status, self, self.status_pub, level, message, 'navigate_node'
+        )
 
     # -- the action ----------------------------------------------------------------------------
     def _goal_problem(self, goal) -> str:
@@ -254,7 +250,7 @@ class NavigateNode(Node):
 
     def _on_accepted(self, handle) -> None:
         self.turns.accepted(self._key(handle))  # the goal being walked stops at its next check
-        self._on_handle(handle.execute)
+        self._unless_closing(handle.execute)
 
     @staticmethod
     def _key(handle) -> bytes:
@@ -273,7 +269,7 @@ class NavigateNode(Node):
         if problem:
             self.turns.done(key)
             self._status(DiagnosticStatus.WARN, f'goal ({goal.x}, {goal.y}) aborted: {problem}')
-            self._on_handle(handle.abort)
+            self._unless_closing(handle.abort)
             return Navigate.Result(outcome=Navigate.Result.FAILED, reason=problem)
         try:
             config = settings.goal_config(self.config, goal.tolerance, goal.time_limit)
@@ -292,7 +288,7 @@ class NavigateNode(Node):
 
             def feedback(f: Feedback) -> None:
                 self.recording.checkpoint()  # every step survives a kill or a power loss
-                self._on_handle(handle.publish_feedback, conv.feedback_msg(f, self._now()))
+                self._unless_closing(handle.publish_feedback, conv.feedback_msg(f, self._now()))
 
             self._status(DiagnosticStatus.OK, f'navigating to ({goal.x:.2f}, {goal.y:.2f})')
             try:
@@ -307,47 +303,51 @@ class NavigateNode(Node):
         finally:
             self.turns.done(key)
         if not rclpy.ok(context=self.context):
-            self._on_handle(handle.abort)
+            self._unless_closing(handle.abort)
             return Navigate.Result(outcome=Navigate.Result.FAILED, reason='shutting down')
         recording = str(path) if path else ''
         if result is None:
-            self._on_handle(handle.abort)
+            self._unless_closing(handle.abort)
             return Navigate.Result(
                 outcome=Navigate.Result.FAILED, reason=reason, recording=recording
             )
         out = conv.result_msg(result, (goal.x, goal.y), recording, self._now())
         if result.outcome is Outcome.CANCELED and preempted and not handle.is_cancel_requested:
             out.outcome, out.reason = Navigate.Result.PREEMPTED, 'preempted by a newer goal'
-            self._on_handle(handle.abort)
+            self._unless_closing(handle.abort)
         elif result.outcome is Outcome.CANCELED:
-            self._on_handle(handle.canceled)
+            self._unless_closing(handle.canceled)
         elif result.reached:
-            self._on_handle(handle.succeed)
+            self._unless_closing(handle.succeed)
         else:
-            self._on_handle(handle.abort)
+            self._unless_closing(handle.abort)
         self._status(
             DiagnosticStatus.OK if result.reached else DiagnosticStatus.WARN,
             f'goal ({goal.x:.2f}, {goal.y:.2f}): {out.reason} after {result.walking_time:.1f} s',
         )
         return out
 
-    def _on_handle(self, call, *args) -> None:
-        """Call a goal handle's method (``handle.abort`` ...); at shutdown, only set its state."""
+    def _unless_closing(self, call, *args) -> None:
+        """
+        Call ``call(*args)`` (a goal handle's ``abort`` ..., a status message), which publishes.
+
+        At shutdown the publishing fails (the handle's state is still set): that is ignored.
+        """
         try:
             call(*args)
-        except RCLError:  # the state is set; only its status could not be published
+        except (RCLError, InvalidHandle):  # a closing node has no one to tell
             if rclpy.ok(context=self.context):
                 raise
 
     def _end_unwalked(self, handle) -> Navigate.Result:
         """End a goal that never got its turn: cancelled, superseded, or the node closing."""
         if not rclpy.ok(context=self.context):
-            self._on_handle(handle.abort)
+            self._unless_closing(handle.abort)
             return Navigate.Result(outcome=Navigate.Result.FAILED, reason='shutting down')
         if handle.is_cancel_requested:
-            self._on_handle(handle.canceled)
+            self._unless_closing(handle.canceled)
             return Navigate.Result(outcome=Navigate.Result.CANCELED, reason='canceled')
-        self._on_handle(handle.abort)
+        self._unless_closing(handle.abort)
         return Navigate.Result(
             outcome=Navigate.Result.PREEMPTED, reason='preempted by a newer goal before it started'
         )

@@ -51,6 +51,7 @@ from hexapod_gait import GaitParameters
 from hexapod_navigation.geometry import Pose2D
 from hexapod_navigation.policy import Step
 from hexapod_navigation.repertoire import Repertoire
+from hexapod_navigation.step_bank import StepBank
 from hexapod_navigation.tripod import steered_direction, TripodSteps
 import numpy as np
 from scipy.linalg import solve_triangular
@@ -294,7 +295,6 @@ class CorrectionGP:
         self._means = np.concatenate(means)  # (h, n, 3)
         self._mu_h = self._means.copy()
         self._log_prior = self._prior_weights(known, len(self._means))
-        self._log_weight = self._log_prior.copy()
         self._log_steps = self._log_prior.copy()  # the prior and the repertoire steps' evidence
         self._tripods: np.ndarray | None = None
         if tripods is not None:
@@ -368,7 +368,6 @@ class CorrectionGP:
                 prior_var = signal[d] + ld * lin_ss
                 self._var_h[rows, :, d] = np.maximum(prior_var - np.sum(v * v, axis=0), 1e-12)
         self._log_steps = log_weight
-        self._log_weight = log_weight + self._log_tripod
         self._mix()
 
     def add_tripod(self, direction: int, observed: Sequence[float]) -> None:
@@ -379,7 +378,6 @@ class CorrectionGP:
         r = np.asarray(observed, dtype=float)[None, :] - self._tripods[:, direction]
         v = self._tripod_var
         self._log_tripod -= 0.5 * np.sum(r * r / v + np.log(v), axis=1)
-        self._log_weight = self._log_steps + self._log_tripod
         self._mix()
 
     @property
@@ -394,7 +392,8 @@ class CorrectionGP:
         return np.einsum('h,hkd->kd', self.weights, self._tripods)
 
     def _mix(self) -> None:
-        self.weights, self._mean, self._var = mixture(self._log_weight, self._mu_h, self._var_h)
+        log_weight = self._log_steps + self._log_tripod
+        self.weights, self._mean, self._var = mixture(log_weight, self._mu_h, self._var_h)
 
     def predict(self) -> tuple[np.ndarray, np.ndarray]:
         """Return every step's predicted (dx, dy, dyaw) (n, 3) and its variance (n, 3)."""
@@ -474,6 +473,15 @@ class RepertoirePolicy:
             raise ValueError(
                 f'no repertoire gait keeps {config.min_stance_legs} feet on the ground throughout'
             )
+
+    @classmethod
+    def with_bank(
+        cls, repertoire: Repertoire, config: NavigationConfig, bank: StepBank | None
+    ) -> RepertoirePolicy:
+        """Return the policy weighing ``bank``'s steps and tripod cycles (None: no bank)."""
+        if bank is None:
+            return cls(repertoire, config)
+        return cls(repertoire, config, bank.steps, bank.tripods())
 
     def next_step(
         self,
