@@ -17,12 +17,13 @@ get() {
     --implementation cp --platform manylinux_2_28_x86_64 --platform manylinux_2_27_x86_64 \
     --platform manylinux_2_17_x86_64 --platform manylinux2014_x86_64 -d "$1" "$2"
 }
-for spec in glfw==2.11.0 ribs==0.12.0 pyopengl==3.1.10 websockets==17.4 \
-  array_api_compat==1.16.0 numpy_groupies==0.16.0; do
-  get .whl "$spec"
+# the versions are requirements.txt's (case and - or _ as written there)
+pin() { grep -ixE "$1==[^ ]+" requirements.txt; }
+for name in glfw ribs pyopengl websockets 'array[-_]api[-_]compat' 'numpy[-_]groupies'; do
+  get .whl "$(pin "$name")"
 done
 tmp="$(mktemp -d)"
-get "$tmp" mujoco==3.17.0
+get "$tmp" "$(pin mujoco)"
 (cd "$tmp" && unzip -q mujoco-*.whl && rm -rf mujoco/experimental mujoco/_simulate*.so \
   mujoco/_render_filament*.so mujoco/include mujoco/testdata mujoco/*_test.py mujoco/viewer.py \
   && tar cJf mujoco_slim.tar.xz mujoco mujoco-*.dist-info)
