@@ -76,11 +76,17 @@ GRID_BANK_WEIGHT = (
     {'tripod_bank': 'evidence', 'tripod_bank_weight': 0.25},
     {'tripod_bank': 'always', 'tripod_bank_weight': 0.25},
 )
+#: Fifth round (2026-11-24, later), with the bank of lifted, locked and unpowered_femur legs (v3,
+#: 63 damages; the earlier rounds' bank held lifted legs only): the three tripod priors again, on
+#: the kinds above and unpowered_tibia, a damage the bank does not hold (KINDS_V3). Same rule.
+GRID_BANK_V3 = GRID_BANK
+KINDS_V3 = KINDS + ('unpowered_tibia',)
 GRIDS = {
     'after': GRID,
     'prior': GRID_PRIOR,
     'bank': GRID_BANK,
     'bank_weight': GRID_BANK_WEIGHT,
+    'bank_v3': GRID_BANK_V3,
 }
 
 
@@ -98,7 +104,7 @@ def main(argv: list[str] | None = None) -> int:
     for setting in GRIDS[args.grid]:
         config = replace(NavigationConfig(), **setting)
         rows, table = [], {}
-        for kind in KINDS:
+        for kind in KINDS_V3 if args.grid == 'bank_v3' else KINDS:
             settings = NavigationSettings(
                 repertoire=shipped_repertoire(),
                 scenarios=SCENARIOS,

@@ -84,7 +84,8 @@ class NavigationSettings:
     #: leave each case's own damage out of the bank (damage the bank does not model)
     leave_out: bool = False
     #: how the scenarios' legs fail (hexapod_sim.damage.EXPERIMENT_KINDS): 'lifted' as in the
-    #: thesis (the bank's kind); the others are damage the bank does not hold
+    #: thesis; the shipped bank holds lifted, locked and unpowered_femur (NAVIGATION_BANK_KINDS),
+    #: the others are damage it does not hold
     damage_kind: str = 'lifted'
 
     def __post_init__(self) -> None:
@@ -148,7 +149,7 @@ def _case(
         if bank is None:
             raise ValueError(f'damage bank refused: {problem}')
         if settings.leave_out:
-            bank = bank.without(Damage.lifted(legs))
+            bank = bank.without(Damage.of(settings.damage_kind, legs))
     sim = create_simulator(SimConfig(engine=settings.engine))
     sim.set_damage(Damage.of(settings.damage_kind, legs))
     body = SimBody(sim)

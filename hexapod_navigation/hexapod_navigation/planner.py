@@ -142,10 +142,11 @@ class NavigationConfig:
     #: with a damage bank, the tripod's prior may instead be its cycles under each of the bank's
     #: damages and intact, mixed by how well each explains the steps and cycles walked: 'off'
     #: (never), 'always', or 'evidence': once a step or cycle has been walked (before that, the
-    #: stride above: the tripod is tried while nothing is known). 'off' was chosen on the tuning
-    #: goals (docs/studies/navigation.md "The tripod's prior from the bank"): the bank's lifted
-    #: legs give the lifted damage 2 s back, and cost two locked-leg cells
-    tripod_bank: str = 'off'
+    #: stride above: the tripod is tried while nothing is known). 'always' was chosen on the
+    #: tuning goals with the bank of lifted, locked and dead-femur legs (docs/studies/
+    #: navigation.md, fifth round; with a bank of lifted legs only, 'off' was: it cost two
+    #: locked-leg cells)
+    tripod_bank: str = 'always'
     #: how many cycles' worth the bank's prior counts for in a direction the robot has walked
     tripod_bank_weight: float = 1.0
 

@@ -22,18 +22,22 @@
 Navigation's damage bank: every repertoire step re-measured under each damage hypothesis.
 
 The navigation counterpart of :mod:`hexapod_adapt.online.bank`: each gait of the repertoire played
-for one step (``STEP_DURATION`` s, from rest, collisions not fatal) with each damage of
-:data:`hexapod_adapt.online.bank.BANK_DAMAGES` (every one- and two-leg failure). The navigator's
-correction (:class:`hexapod_navigation.planner.CorrectionGP`) weighs these step tables against
-the intact repertoire by how well they explain the steps walked, and learns the rest. The bank
-also holds the steered tripod's cycle in each crab direction under each damage and intact
+for one step (``STEP_DURATION`` s, from rest, collisions not fatal) under each damage of the
+bank. The shipped bank (:func:`navigation_bank_damages`) holds every one- and two-leg failure of
+S1-S4 (the orientations of :data:`hexapod_adapt.online.bank.BANK_DAMAGES`) of each kind in
+:data:`NAVIGATION_BANK_KINDS`: legs lifted (the thesis's damage), locked where they stood, and
+hanging from a dead femur servo (a real servo failure). The navigator's correction
+(:class:`hexapod_navigation.planner.CorrectionGP`) weighs these step tables against the intact
+repertoire by how well they explain the steps walked, and learns the rest. The bank also holds
+the steered tripod's cycle in each crab direction under each damage and intact
 (:func:`hexapod_navigation.tripod.tripod_cycles`): the planner's prior for the tripod option.
 
 ``python -m hexapod_navigation.step_bank_cli`` makes one (``maps/make_navigation_bank.sh``).
 
 The file is keyed by everything the steps depend on (the repertoire's gaits, the engine and its
 settings, the URDF, the scoring rules' version, the damages); a file made for anything else is
-not used, and says why.
+not used, and says why. The damages are read back from the file, so a bank made for another
+set of damages (``step_bank_cli --kinds``) loads as it is.
 """
 
 from __future__ import annotations
@@ -57,11 +61,13 @@ from hexapod_description.processes import die_with_parent
 from hexapod_gait.parameters import from_omni_genotype
 from hexapod_navigation.repertoire import PACKAGE, Repertoire
 from hexapod_navigation.tripod import tripod_cycles, tripod_gaits
-from hexapod_sim.damage import Damage
+from hexapod_sim.damage import Damage, LegDamage
 from hexapod_sim.evaluation import evaluate_displacements, EVALUATION_VERSION
 import numpy as np
 
-FORMAT = 'hexapod-step-bank/v2'  # v2: the steered tripod's cycles
+FORMAT = 'hexapod-step-bank/v3'  # v2: the steered tripod's cycles; v3: damages of any kind
+#: The kinds of damage of the shipped bank (Damage.of's names), each over BANK_DAMAGES' legs.
+NAVIGATION_BANK_KINDS = ('lifted', 'locked', 'unpowered_femur')
 #: The shipped repertoire's bank (``maps/navigation_bank.npz``).
 NAVIGATION_BANK = 'navigation_bank.npz'
 
@@ -98,6 +104,42 @@ class StepBank:
         )
 
 
+def navigation_bank_damages(kinds: Sequence[str] = NAVIGATION_BANK_KINDS) -> tuple[Damage, ...]:
+    """Return every one- and two-leg failure of S1-S4 of each of ``kinds``, kind by kind."""
+    return tuple(Damage.of(kind, d.failed_legs) for kind in kinds for d in BANK_DAMAGES)
+
+
+def _damage_rows(damages: Sequence[Damage]) -> list[list[list]]:
+    """Return damages as JSON rows: per damage, per leg [leg, kind, strength, [joints]]."""
+    return [
+        [[d.leg, d.kind, d.strength, list(d.joints)] for d in damage.legs] for damage in damages
+    ]
+
+
+def _damages_of(rows: object) -> tuple[Damage, ...]:
+    """Return the damages of :func:`_damage_rows`' rows; ValueError if they are not such rows."""
+    if not isinstance(rows, list):
+        raise ValueError(f'damages must be a list, got {type(rows).__name__}')
+    out = []
+    for row in rows:
+        if not isinstance(row, list):
+            raise ValueError(f'a damage must be a list of legs, got {row!r}')
+        legs = []
+        for item in row:
+            if not (isinstance(item, list) and len(item) == 4 and isinstance(item[3], list)):
+                raise ValueError(
+                    f'a damaged leg must be [leg, kind, strength, [joints]], got {item!r}'
+                )
+            leg, kind, strength, joints = item
+            if not isinstance(kind, str) or not isinstance(strength, (int, float)):
+                raise ValueError(
+                    f'a damaged leg must be [leg, kind, strength, [joints]], got {item!r}'
+                )
+            legs.append(LegDamage(leg, kind, float(strength), tuple(str(j) for j in joints)))
+        out.append(Damage(tuple(legs)))
+    return tuple(out)
+
+
 def bank_key(repertoire: Repertoire, engine: str, damages: Sequence[Damage]) -> dict:
     """Return everything a step bank depends on (stored in its file)."""
     fp = repertoire_fingerprint(engine)
@@ -118,7 +160,7 @@ def bank_key(repertoire: Repertoire, engine: str, damages: Sequence[Damage]) -> 
         'step_duration': repertoire.step_duration,
         'collisions_fatal': False,
         'evaluation_version': EVALUATION_VERSION,
-        'damages': [[[d.leg, d.kind, d.strength] for d in damage.legs] for damage in damages],
+        'damages': _damage_rows(damages),
         'tripod_sha256': hashlib.sha256(tripod.encode()).hexdigest(),
     }
 
@@ -139,12 +181,14 @@ def _steps(args: tuple[str, Damage, float, np.ndarray]) -> np.ndarray:
 def compute_step_bank(
     repertoire: Repertoire,
     engine: str,
-    damages: Sequence[Damage] = BANK_DAMAGES,
+    damages: Sequence[Damage] | None = None,
     workers: int = 1,
     chunk: int = 64,
     progress: Callable[[int, int], None] | None = None,
 ) -> StepBank:
-    """Play every repertoire gait for one step under each damage on ``engine``."""
+    """Play every repertoire gait for one step under each damage (default: the shipped set)."""
+    if damages is None:
+        damages = navigation_bank_damages()
     starts = range(chunk, len(repertoire), chunk)
     parts = [p for p in np.split(repertoire.genotypes, starts) if len(p)]
     jobs = [(engine, d, repertoire.step_duration, p) for d in damages for p in parts]
@@ -187,9 +231,13 @@ def load_step_bank(
     path: str | os.PathLike,
     repertoire: Repertoire,
     engine: str,
-    damages: Sequence[Damage] = BANK_DAMAGES,
+    damages: Sequence[Damage] | None = None,
 ) -> tuple[StepBank | None, str]:
-    """Return (the bank in ``path``, '') if it was made for this repertoire, else (None, why)."""
+    """
+    Return (the bank in ``path``, '') if it was made for this repertoire, else (None, why).
+
+    ``damages``: the damages it must hold, in order (None: whatever damages it holds).
+    """
     try:
         with np.load(path, allow_pickle=False) as data:
             stored = json.loads(str(data['key']))
@@ -200,6 +248,13 @@ def load_step_bank(
         return None, f'no step bank at {path}'
     except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile) as exc:
         return None, f'{path} is not a readable step bank ({type(exc).__name__}: {exc})'
+    if not isinstance(stored, dict):
+        return None, f'{path} is not a readable step bank (its key is not a JSON object)'
+    if damages is None:
+        try:
+            damages = _damages_of(stored.get('damages'))
+        except ValueError as exc:
+            return None, f'{path} names no damages a bank can hold ({exc})'
     key = bank_key(repertoire, engine, damages)
     if stored != key:
         differ = sorted(k for k in key if stored.get(k) != key[k])

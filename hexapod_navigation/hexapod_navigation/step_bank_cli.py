@@ -42,8 +42,14 @@ from hexapod_description.cli import (
     run_command,
 )
 from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
-from hexapod_navigation.step_bank import compute_step_bank, save_step_bank
+from hexapod_navigation.step_bank import (
+    compute_step_bank,
+    navigation_bank_damages,
+    NAVIGATION_BANK_KINDS,
+    save_step_bank,
+)
 from hexapod_sim import ENGINES
+from hexapod_sim.damage import EXPERIMENT_KINDS
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -60,6 +66,14 @@ def main(argv: list[str] | None = None) -> int:
     )
     ap.add_argument('--engine', choices=ENGINES, default='mujoco')
     ap.add_argument('--out', type=output_file, required=True, help='the bank file (.npz)')
+    ap.add_argument(
+        '--kinds',
+        nargs='+',
+        choices=EXPERIMENT_KINDS,
+        default=list(NAVIGATION_BANK_KINDS),
+        help='damage kinds, each over every one- and two-leg failure of S1-S4'
+        f' (default: {" ".join(NAVIGATION_BANK_KINDS)})',
+    )
     ap.add_argument('--workers', type=number(int, 1, 256), default=1)
     add_force(ap)
     args = ap.parse_args(argv)
@@ -74,7 +88,10 @@ def main(argv: list[str] | None = None) -> int:
                 shown[0] = time.monotonic()
                 print(f'{done}/{total} chunks, {time.monotonic() - t0:.0f} s', flush=True)
 
-        bank = compute_step_bank(repertoire, args.engine, workers=args.workers, progress=progress)
+        damages = navigation_bank_damages(tuple(dict.fromkeys(args.kinds)))
+        bank = compute_step_bank(
+            repertoire, args.engine, damages, workers=args.workers, progress=progress
+        )
         save_step_bank(args.out, bank, repertoire, args.engine)
         print(f'wrote {args.out}: {len(bank)} damages x {len(repertoire)} steps', flush=True)
         return 0

@@ -256,18 +256,62 @@ def test_a_step_bank_is_each_step_played_with_the_damage_and_refused_for_another
     assert why.startswith('no step bank at')
 
 
+def test_a_bank_file_says_which_damages_it_holds_and_a_bad_list_is_refused(repertoire, tmp_path):
+    import json
+    import zipfile
+
+    from hexapod_navigation.step_bank import load_step_bank, save_step_bank, StepBank
+    from hexapod_sim.damage import Damage, parse_damage
+
+    damages = (
+        Damage.of('locked', [1, 4]),
+        parse_damage('2:unpowered:femur+tibia,5:shortened:0.4'),
+        Damage.of('weak', [3], 0.25),
+    )
+    rng = np.random.default_rng(0)
+    bank = StepBank(
+        damages,
+        rng.normal(size=(3, len(repertoire), 3)),
+        rng.normal(size=(3, 8, 3)),
+        rng.normal(size=(8, 3)),
+    )
+    path = tmp_path / 'bank.npz'
+    save_step_bank(path, bank, repertoire, 'mujoco')
+    again, why = load_step_bank(path, repertoire, 'mujoco')  # the damages come from the file
+    assert why == '' and again.damages == damages
+    np.testing.assert_array_equal(again.steps, bank.steps)
+    _, why = load_step_bank(path, repertoire, 'mujoco', damages[:2])
+    assert 'made for another damages' in why
+    # a key whose damages are not damages: refused, saying why
+    with np.load(path) as data:
+        arrays = {k: data[k] for k in data.files}
+    key = json.loads(str(arrays['key']))
+    for bad in ([[[9, 'lifted', 1.0, []]]], [[[1, 'melted', 1.0, []]]], [[1]], 'legs'):
+        arrays['key'] = np.array(json.dumps({**key, 'damages': bad}))
+        with zipfile.ZipFile(path, 'w') as z:
+            for k, v in arrays.items():
+                with z.open(f'{k}.npy', 'w') as f:
+                    np.lib.format.write_array(f, v)
+        refused, why = load_step_bank(path, repertoire, 'mujoco')
+        assert refused is None and 'names no damages a bank can hold' in why, why
+
+
 def test_the_shipped_bank_fits_the_shipped_repertoire_and_re_measures_identically(repertoire):
     from dataclasses import replace
 
-    from hexapod_adapt.online.bank import BANK_DAMAGES
-    from hexapod_navigation.step_bank import compute_step_bank, load_step_bank, shipped_step_bank
-
-    bank, why = load_step_bank(shipped_step_bank(), repertoire, 'mujoco')
-    assert (
-        why == '' and bank.damages == BANK_DAMAGES and bank.steps.shape == (21, len(repertoire), 3)
+    from hexapod_navigation.step_bank import (
+        compute_step_bank,
+        load_step_bank,
+        navigation_bank_damages,
+        shipped_step_bank,
     )
+
+    damages = navigation_bank_damages()
+    assert len(damages) == 63  # 21 leg sets x lifted, locked, unpowered_femur
+    bank, why = load_step_bank(shipped_step_bank(), repertoire, 'mujoco', damages)
+    assert why == '' and bank.steps.shape == (63, len(repertoire), 3)
     rng = np.random.default_rng(3)
-    h, rows = int(rng.integers(21)), np.sort(rng.choice(len(repertoire), 3, replace=False))
+    h, rows = int(rng.integers(63)), np.sort(rng.choice(len(repertoire), 3, replace=False))
     few = replace(repertoire, genotypes=repertoire.genotypes[rows], niches=repertoire.niches[rows])
     again = compute_step_bank(few, 'mujoco', (bank.damages[h],))
     np.testing.assert_array_equal(again.steps[0], bank.steps[h, rows])
@@ -580,10 +624,9 @@ def test_tripod_cycles_weigh_the_damage_hypotheses_and_set_the_tripods_prior(rep
     assert gp.tripod_prior()[3, 0] == pytest.approx(0.06, abs=0.02)  # every direction follows
     with pytest.raises(ValueError, match='tripods needs'):
         CorrectionGP(repertoire, NavigationConfig(), steps, tripods[:3])
-    # 'off' (the default) passes no table to the policy's GP: the fixed stride prior
-    assert (
-        RepertoirePolicy(repertoire, NavigationConfig(), steps, tripods).gp.tripod_prior() is None
-    )
+    # 'off' passes no table to the policy's GP: the fixed stride prior
+    off = NavigationConfig(tripod_bank='off')
+    assert RepertoirePolicy(repertoire, off, steps, tripods).gp.tripod_prior() is None
     # the policy's tripod option starts from that prior ('always'): here, a pessimistic one
     poor = np.stack([intact * 0.1] * 4)
     policy = RepertoirePolicy(repertoire, NavigationConfig(tripod_bank='always'), steps, poor)
