@@ -280,7 +280,9 @@ def _default_map_figures() -> None:
 
     map_core_hours: the wall time of each run in the log (a resumed run restarts ``elapsed``)
     times its workers (a row's ``workers``; logs written before rows had it: the 2 workers its
-    README records).
+    README records): the cores the runs held. map_cpu_core_hours: the CPU time the runs used
+    (their rows' ``cpu_s``), printed when every row has it; less than map_core_hours when the
+    machine was busy with other work too.
     """
     from hexapod_adapt.mapping.archive import load_archive
     from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
@@ -289,13 +291,17 @@ def _default_map_figures() -> None:
     path = shipped_map(DEFAULT_MAP)
     archive = load_archive(path)
     speeds = archive.speeds()[archive.elite_indices()]
-    core_seconds, previous = 0.0, None
-    for row in read_log(path.with_name(path.name + '.log.jsonl')) + [None]:
+    core_seconds, cpu_seconds, previous = 0.0, 0.0, None
+    rows = read_log(path.with_name(path.name + '.log.jsonl'))
+    for row in rows + [None]:
         if previous is not None and (row is None or row['elapsed'] < previous['elapsed']):
             core_seconds += previous['elapsed'] * previous.get('workers', 2)
+            cpu_seconds += previous.get('cpu_s', 0.0)
         previous = row
     print(f'BENCH map_evaluations {archive.metadata["evaluations"]} evaluations')
     print(f'BENCH map_core_hours {core_seconds / 3600:.2f} core-hours')
+    if rows and all('cpu_s' in row for row in rows):
+        print(f'BENCH map_cpu_core_hours {cpu_seconds / 3600:.2f} core-hours')
     print(f'BENCH map_filled {archive.n_filled} niches')
     print(f'BENCH map_mean_elite {speeds.mean():.3f} m/s')
     print(f'BENCH map_best {speeds.max():.3f} m/s')

@@ -64,8 +64,11 @@ def test_command_writes_archive_log_and_cvt_and_refuses_a_changed_resume(tmp_pat
     assert (tmp_path / 'centroids_30_6.dat').is_file()
     rows = [json.loads(line) for line in (tmp_path / 'map.npz.log.jsonl').read_text().splitlines()]
     assert rows[-1]['evaluations'] == 120
-    keys = 'filled max mean median p5 qd_score coverage evals_per_s utilisation'.split()
+    keys = 'filled max mean median p5 qd_score coverage evals_per_s utilisation cpu_s'.split()
     assert set(keys) <= set(rows[-1])
+    # the CPU the run used: 120 MuJoCo evaluations take some, and no more than its cores held
+    last = rows[-1]
+    assert 0.05 < last['cpu_s'] <= 1.05 * (last['workers'] + 1) * last['elapsed']
     # a finished run resumes to the same map
     same = _run_cli(*small, '--seed', '4', '--resume', '--quiet')
     assert same.returncode == 0, same.stderr

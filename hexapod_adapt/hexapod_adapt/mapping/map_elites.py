@@ -114,7 +114,7 @@ class Evaluation(Protocol):
     fitness: float
     descriptor: np.ndarray  # (the archive's descriptor dimension,)
     valid: bool
-    seconds: float  # worker compute time (for the utilisation figure)
+    seconds: float  # the worker's CPU time for this evaluation (utilisation, core time)
 
 
 EvaluateFn = Callable[[np.ndarray], Sequence[Evaluation]]  # (m, genes) -> m evaluations
@@ -272,9 +272,12 @@ class Progress:
     p5: float
     qd_score: float
     evals_per_s: float
-    utilisation: float  # worker compute time / (workers x wall time) since the run started
+    utilisation: float  # worker CPU time / (workers x wall time) since the run started
     elapsed: float
-    workers: int = 1  # the run's worker processes (wall time x workers = its core time)
+    workers: int = 1  # the run's worker processes (wall time x workers = the cores it held)
+    #: CPU seconds since the run started: the workers' evaluations and this loop's own thread
+    #: (the emitters); what the run used, however busy the machine was with other work
+    cpu_s: float = 0.0
 
     def log_row(self) -> str:
         """Return this report as one JSON line."""
@@ -312,6 +315,7 @@ def run_map_elites(
     done: dict[int, Evaluation] = {}
     futures: dict[cf.Future, list[int]] = {}
     t0 = time.monotonic()
+    cpu0 = time.thread_time()
     busy = 0.0
     told_at_start = engine.told
     last_ckpt = last_progress = t0
@@ -332,6 +336,8 @@ def run_map_elites(
             busy / (max(workers, 1) * wall),
             wall,
             max(workers, 1),
+            # inline, the evaluations ran in this thread: its CPU time holds them already
+            (busy if executor is not None else 0.0) + time.thread_time() - cpu0,
         )
 
     inline: list[list[int]] = []  # without an executor: chunks evaluated one per loop turn
