@@ -11,20 +11,9 @@ set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 tree="${1:-$repo/../study}"
 keep="${2:-$repo/../persist}"
-if [ ! -d "$tree" ]; then
-  git -C "$repo" worktree add --detach "$tree" HEAD
-fi
-export HEXAPOD_VENV="$repo/.venv"
-cd "$tree"
-set +u  # the setup scripts read unset variables
+REPO="$repo" TREE="$tree"
 # shellcheck disable=SC1091
-source scripts/env.sh >/dev/null
-if [ ! -d install ]; then
-  colcon build --symlink-install >/dev/null 2>&1
-  # shellcheck disable=SC1091
-  source scripts/env.sh >/dev/null  # again: now with the install space
-fi
-set -u
+source "$repo/scripts/fixed_worktree.sh"
 mkdir -p out tuning/map_study/ceilings
 cp -rn "$repo/tuning/map_study/." tuning/map_study/
 if [ -d "$keep" ]; then
