@@ -1,11 +1,17 @@
 #!/usr/bin/env bash
-# The default map: the exact command, resumable. Run it from the repository root; run it again
-# after any interruption (it resumes from default_map.npz.ckpt.npz) until it prints "wrote".
-#   nohup nice -n 10 bash hexapod_adapt/maps/make_default_map.sh > out/default_map.out 2>&1 &
-# On a bigger machine set WORKERS (the map does not depend on the worker count).
+# The default map: the exact command, resumable (docs/studies/map.md: the winner of the map study,
+# issue 30). Run it from the repository root; run it again after any interruption (it resumes from
+# default_map.npz.ckpt.npz) until it prints "wrote". FRESH=1 starts from scratch: the map, its
+# checkpoint and log already there are kept as NAME.bak (without it, a finished map made with
+# other settings is refused, not continued).
+#   FRESH=1 nohup nice -n 10 bash hexapod_adapt/maps/make_default_map.sh > out/default_map.out 2>&1 &
+# resume_default_map.sh runs it from a worktree of its own. On a bigger machine set WORKERS (the
+# map does not depend on the worker count).
 set -eo pipefail   # (no -u: colcon's setup scripts read unset variables)
 cd "$(dirname "$0")/../.."
 source scripts/env.sh
+if [ "${FRESH:-0}" = 1 ]; then how=--force; else how=--resume; fi
 exec python -m hexapod_adapt.mapping.generate_map_cli \
-  --out hexapod_adapt/maps/default_map.npz --engine mujoco --niches 10000 --evaluations 1000000 \
-  --seed 1 --with-presets --workers "${WORKERS:-2}" --checkpoint-every 300 --log-every 30 --no-bar --resume
+  --out hexapod_adapt/maps/default_map.npz --engine mujoco --niches 20000 --evaluations 1500000 \
+  --seed 1 --with-presets --emitters cma_mae --workers "${WORKERS:-2}" --checkpoint-every 300 \
+  --log-every 30 --no-bar "$how"

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Start or resume the default map (make_default_map.sh) in the background, from a worktree of its
+# own at a fixed commit, so that work on the library under it cannot change a run in progress.
+#   bash hexapod_adapt/maps/resume_default_map.sh [WORKTREE] [CHECKPOINTS]
+# WORKTREE (default ../mapgen) is made at this checkout's HEAD if missing and built with this
+# checkout's .venv. A new worktree starts the map from scratch (make_default_map.sh with FRESH=1:
+# the shipped map and its log are kept there as NAME.bak); an existing one resumes from its
+# checkpoint, or from CHECKPOINTS/default_map.npz.ckpt.npz (default ../persist) when it has none.
+# Output: WORKTREE/out/default_map.out. When it says "wrote", copy WORKTREE's
+# hexapod_adapt/maps/default_map.npz and default_map.npz.log.jsonl back; before a session ends,
+# copy the checkpoint to CHECKPOINTS.
+set -euo pipefail
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+tree="${1:-$repo/../mapgen}"
+keep="${2:-$repo/../persist}"
+REPO="$repo" TREE="$tree"
+# shellcheck disable=SC1091
+source "$repo/scripts/fixed_worktree.sh"
+fresh="$FIXED_WORKTREE_NEW"
+mkdir -p out
+ckpt=hexapod_adapt/maps/default_map.npz.ckpt.npz
+if [ "$fresh" = 0 ] && [ ! -f "$ckpt" ] && [ -f "$keep/default_map.npz.ckpt.npz" ]; then
+  cp "$keep/default_map.npz.ckpt.npz" "$ckpt"
+fi
+FRESH="$fresh" nohup nice -n 10 bash hexapod_adapt/maps/make_default_map.sh >> out/default_map.out 2>&1 &
+echo "default map running in $tree (pid $!): tail -f $tree/out/default_map.out"
