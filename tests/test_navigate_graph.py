@@ -368,3 +368,56 @@ def test_a_goal_storm_is_answered_at_once_and_only_the_newest_is_walked(ros, gra
     assert nav.stop() == 0
     log = nav.log()
     assert 'Traceback' not in log and 'never retrieved' not in log, log[-3000:]
+
+
+def test_robot_mode_takes_dead_servos_only_from_its_bridge_and_forgets_them(
+    ros, launch, domain_id
+):
+    from hexapod_gait.ros_glue import EVENTS
+    from hexapod_msgs.msg import ServoFailure
+    from std_srvs.srv import Trigger
+
+    # the test's node plays the bridge navigate_node is configured to believe
+    nav = launch(
+        'hexapod_navigation',
+        'navigate_node',
+        params={'mode': 'robot', 'trial_duration': 2.0, 'bridge_node': 'test_harness'},
+    )
+    pub = ros.node.create_publisher(ServoFailure, 'servo_failures', EVENTS)
+    wait_for(lambda: pub.get_subscription_count() > 0, 30, 'navigate_node subscribed')
+    pub.publish(ServoFailure(servo_id=12, robot_leg=4, leg=4, joint='femur'))
+    says = (
+        'servo 12 reported dead: leg 4 femur unpowered; navigation favours the damage bank'
+        "'s leg 4 unpowered femur from the next goal"
+    )
+    wait_for(lambda: says in nav.log(), 20, 'the report taken')
+    # a second dead servo on another leg: a damage the bank does not hold
+    pub.publish(ServoFailure(servo_id=3, robot_leg=1, leg=1, joint='tibia'))
+    says = 'the damage bank does not model leg 1 unpowered tibia, leg 4 unpowered femur'
+    wait_for(lambda: says in nav.log(), 20, 'the second report')
+    # only the bridge is believed: a report from another node is logged, naming it, and ignored
+    script = textwrap.dedent(
+        """
+        import rclpy, time
+        from hexapod_gait.ros_glue import EVENTS
+        from hexapod_msgs.msg import ServoFailure
+        rclpy.init()
+        node = rclpy.create_node('not_the_bridge')
+        pub = node.create_publisher(ServoFailure, 'servo_failures', EVENTS)
+        end = time.monotonic() + 30
+        while pub.get_subscription_count() < 1 and time.monotonic() < end:
+            time.sleep(0.05)
+        pub.publish(ServoFailure(servo_id=5, robot_leg=3, leg=3, joint='tibia'))
+        time.sleep(5)
+        """
+    )
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain_id))
+    impostor = subprocess.Popen([sys.executable, '-c', script], env=env)
+    says = 'servo 5 (leg 3) reported dead: servo report ignored: it may come from /not_the_bridge'
+    wait_for(lambda: says in nav.log(), 30, 'the impostor named')
+    impostor.wait(30)
+    forget = ros.call(Trigger, 'navigate_node/forget', Trigger.Request())
+    assert forget.success and forget.message.endswith('and the reports of dead servos [3, 12]')
+    again = ros.call(Trigger, 'navigate_node/forget', Trigger.Request())
+    assert again.success and again.message == 'what was learned about the damage is dropped'
+    assert nav.alive()

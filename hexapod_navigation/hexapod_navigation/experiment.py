@@ -87,6 +87,9 @@ class NavigationSettings:
     #: thesis; the shipped bank holds lifted, locked and unpowered_femur (NAVIGATION_BANK_KINDS),
     #: the others are damage it does not hold
     damage_kind: str = 'lifted'
+    #: the policy is told each case's damage, as the robot's servo reports would tell it
+    #: (NavigationConfig.prior_reported; only damage the bank models is favoured)
+    reported: bool = False
 
     def __post_init__(self) -> None:
         unknown = [m for m in self.methods if m not in METHODS]
@@ -128,10 +131,15 @@ def policy_for(
     repertoire: Repertoire,
     config: NavigationConfig,
     bank: StepBank | None = None,
+    reported: Damage | None = None,
 ) -> Policy:
-    """Return a fresh policy of ``method`` (``bank``: its hypotheses, for 'repertoire')."""
+    """
+    Return a fresh policy of ``method``.
+
+    For 'repertoire': ``bank``, its hypotheses; ``reported``, the damage the robot reported.
+    """
     if method == 'repertoire':
-        return RepertoirePolicy.with_bank(repertoire, config, bank)
+        return RepertoirePolicy.with_bank(repertoire, config, bank, reported)
     if method == 'no_learning':
         return RepertoirePolicy(repertoire, NavigationConfig(**{**asdict(config), 'learn': False}))
     return SteeredTripod()
@@ -142,6 +150,7 @@ def _case(
 ) -> list[tuple[NavigationRow, list[tuple[float, float]]]]:
     archive = load_archive(settings.repertoire)
     repertoire = Repertoire.from_archive(archive)
+    damage = Damage.of(settings.damage_kind, legs)
     bank = None
     if settings.bank is not None and settings.config.use_bank:
         # the bank describes the repertoire on the engine that made it, whatever the trials run on
@@ -149,9 +158,10 @@ def _case(
         if bank is None:
             raise ValueError(f'damage bank refused: {problem}')
         if settings.leave_out:
-            bank = bank.without(Damage.of(settings.damage_kind, legs))
+            bank = bank.without(damage)
+    reported = damage if settings.reported else None
     sim = create_simulator(SimConfig(engine=settings.engine))
-    sim.set_damage(Damage.of(settings.damage_kind, legs))
+    sim.set_damage(damage)
     body = SimBody(sim)
     out = []
     for k, goal in enumerate(draw_goals(settings.goals, settings.goal_seed)):
@@ -159,7 +169,7 @@ def _case(
             body.start()
             result = run_episode(
                 body,
-                policy_for(method, repertoire, settings.config, bank),
+                policy_for(method, repertoire, settings.config, bank, reported),
                 goal,
                 settings.config,
             )

@@ -38,6 +38,9 @@ geometry_msgs/PoseStamped or nav_msgs/Odometry, e.g. motion capture).
   gait cycle; a client that vanishes leaves the goal to run to its end.
 * What was learned about the damage is kept from goal to goal; ``~/forget`` drops it (after a
   repair, or new damage).
+* Robot mode: dead servos reported on ``servo_failures`` by the configured ``bridge_node`` (and
+  no other node: the graph names a topic's publishers) become that damage, favoured among the
+  damage bank's hypotheses from the next goal (``prior_reported``); ``~/forget`` drops them.
 
 Publishes ``navigate/goal`` (visualization_msgs/Marker, latched) and ``navigate/status``. With
 ``record_dir`` set, each goal is recorded to an MCAP file there (odometry, frames, joint states,
@@ -51,13 +54,21 @@ import sys
 from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import PoseStamped
 from hexapod_adapt.online.adaptation import TrialAborted
+from hexapod_adapt.online.prior import KnownDamage, report_source_problem
 from hexapod_adapt.online.trials import OdomLog, Waiter
-from hexapod_adapt.ros.graph_port import GraphPort, RECORDED_TYPES, RecordedTopics
+from hexapod_adapt.ros.graph_port import (
+    GraphPort,
+    qualified,
+    RECORDED_TYPES,
+    RecordedTopics,
+    topic_publishers,
+)
 from hexapod_adapt.ros.recording import type_name
 from hexapod_adapt.ros.run_recording import RunRecording
 from hexapod_gait.ros_glue import (
     ACTION_SERVICES,
     declare,
+    EVENTS,
     LATCHED,
     param_specs,
     POSES,
@@ -65,6 +76,7 @@ from hexapod_gait.ros_glue import (
     run_node,
 )
 from hexapod_msgs.action import Navigate
+from hexapod_msgs.msg import ServoFailure
 from hexapod_navigation import navigate_msgs as conv
 from hexapod_navigation import node_settings as settings
 from hexapod_navigation.bodies import PoseLog, RobotGraphBody, SimGraphBody
@@ -72,7 +84,7 @@ from hexapod_navigation.episode import BodyFailure, Feedback, Outcome, run_episo
 from hexapod_navigation.goal_turns import GoalTurns
 from hexapod_navigation.planner import goal_problem, RepertoirePolicy
 from hexapod_navigation.repertoire import shipped_repertoire
-from hexapod_navigation.step_bank import load_navigation, shipped_step_bank
+from hexapod_navigation.step_bank import load_navigation, reported_note, shipped_step_bank
 from nav_msgs.msg import Odometry
 import rclpy
 from rclpy._rclpy_pybind11 import InvalidHandle, RCLError
@@ -114,6 +126,9 @@ class NavigateNode(Node):
             self.get_logger().info(f'damage bank: {len(data.bank)} damage hypotheses')
         elif self.repertoire is not None and self.config.use_bank:
             self.get_logger().warning(f'no damage bank, the GP learns alone: {data.no_bank}')
+        self.known = KnownDamage()  # robot mode: the bridge's servo reports
+        self.reports_changed = False  # a report came since the policy was made
+        self.bridge_name = values['bridge_node']
         self.policy = self._policy() if self.repertoire else None
 
         self.status_pub = self.create_publisher(DiagnosticStatus, 'navigate/status', LATCHED)
@@ -157,6 +172,14 @@ class NavigateNode(Node):
             POSES,
             callback_group=sensors,
         )
+        if self.mode == 'robot':
+            self.create_subscription(  # its own group: a report may wait on the graph
+                ServoFailure,
+                'servo_failures',
+                self._on_servo_failure,
+                EVENTS,
+                callback_group=MutuallyExclusiveCallbackGroup(),
+            )
         timeout = self.timeout = values['timeout']
         if self.mode == 'sim':
             self.body = SimGraphBody(graph, self.poses, self.waiter, timeout)
@@ -196,7 +219,22 @@ class NavigateNode(Node):
             )
 
     def _policy(self) -> RepertoirePolicy:
-        return RepertoirePolicy.with_bank(self.repertoire, self.config, self.bank)
+        self.reports_changed = False
+        reported = self.known.servo_damage()
+        return RepertoirePolicy.with_bank(self.repertoire, self.config, self.bank, reported)
+
+    def _on_servo_failure(self, msg: ServoFailure) -> None:
+        publishers = topic_publishers(self, self.resolve_topic_name('servo_failures'))
+        problem = report_source_problem(publishers, qualified(self, self.bridge_name))
+        if problem:
+            self.get_logger().error(
+                f'servo {msg.servo_id} (leg {msg.leg}) reported dead: {problem}'
+            )
+            return
+        said = self.known.from_servo(int(msg.servo_id), int(msg.leg), str(msg.joint))
+        self.reports_changed = True  # the next goal starts from them
+        note = reported_note(self.bank, self.known.servo_damage(), self.config.prior_reported)
+        self.get_logger().warning(f'{said}; {note}')
 
     def _status(self, level: bytes, message: str) -> None:
         self._unless_closing(
@@ -272,6 +310,8 @@ class NavigateNode(Node):
             self._unless_closing(handle.abort)
             return Navigate.Result(outcome=Navigate.Result.FAILED, reason=problem)
         try:
+            if self.reports_changed:  # what was learned before a new dead servo is stale
+                self.policy = self._policy()
             config = settings.goal_config(self.config, goal.tolerance, goal.time_limit)
             self.policy.config = config
             path = self._start_recording()
@@ -375,10 +415,12 @@ class NavigateNode(Node):
         elif self.repertoire is None:
             response.success, response.message = False, self.problem
         else:
+            dead = sorted(servo for on_leg in self.known.servos.values() for servo in on_leg)
+            self.known.forget()
             self.policy = self._policy()
-            response.success, response.message = (
-                True,
-                'what was learned about the damage is dropped',
+            response.success = True
+            response.message = 'what was learned about the damage is dropped' + (
+                f', and the reports of dead servos {dead}' if dead else ''
             )
         return response
 

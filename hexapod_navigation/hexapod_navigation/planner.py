@@ -53,6 +53,7 @@ from hexapod_navigation.policy import Step
 from hexapod_navigation.repertoire import Repertoire
 from hexapod_navigation.step_bank import StepBank
 from hexapod_navigation.tripod import steered_direction, TripodSteps
+from hexapod_sim.damage import Damage
 import numpy as np
 from scipy.linalg import solve_triangular
 
@@ -109,6 +110,11 @@ class NavigationConfig:
     known_std_xy: float = 0.03
     known_std_yaw: float = 0.15  # rad
     prior_unknown: float = 0.2
+    #: a damage reported by the robot (its dead servos, from the bridge) that the bank models:
+    #: this share of the known models' prior weight goes to it, the rest as without a report
+    #: (0: reports are not used; 0.5 chosen on the tuning goals over 0 and 0.9,
+    #: docs/studies/navigation.md, sixth round)
+    prior_reported: float = 0.5
     #: optimism added in proportion to the weight of 'unknown damage': when no known model
     #: fits, the planner looks beyond steps the GP predicts short (0: none)
     unknown_optimism: float = 0.0
@@ -183,6 +189,12 @@ class NavigationConfig:
         if not (isinstance(self.prior_unknown, (int, float)) and 0.0 < self.prior_unknown < 1.0):
             raise ValueError(
                 f'prior_unknown must be a probability in (0, 1), got {self.prior_unknown!r}'
+            )
+        if not (
+            isinstance(self.prior_reported, (int, float)) and 0.0 <= self.prior_reported < 1.0
+        ):
+            raise ValueError(
+                f'prior_reported must be a share in [0, 1) (0: off), got {self.prior_reported!r}'
             )
         if not (isinstance(self.prior_intact, (int, float)) and 0.0 <= self.prior_intact < 1.0):
             raise ValueError(
@@ -259,6 +271,9 @@ class CorrectionGP:
     more hypothesis, 'unknown damage' (the intact repertoire under the broad GP), comes last:
     the marginal likelihoods then compare different kernels, so they include each kernel's
     determinant (the broad one pays for explaining anything).
+
+    ``reported``, optional: the row of ``hypotheses`` plus one (intact is 0) of a damage the robot
+    reported; it gets ``config.prior_reported`` of the known models' prior weight.
     """
 
     def __init__(
@@ -267,6 +282,7 @@ class CorrectionGP:
         config: NavigationConfig,
         hypotheses: np.ndarray | None = None,
         tripods: np.ndarray | None = None,
+        reported: int | None = None,
     ) -> None:
         self.prior = np.column_stack([repertoire.moves, np.zeros(len(repertoire))])
         self.inputs = repertoire.moves / (2.0 * REACH)  # descriptor units
@@ -284,6 +300,11 @@ class CorrectionGP:
                 )
             means.append(extra.reshape(-1, *self.prior.shape))
         known = len(np.concatenate(means))
+        if reported is not None and not 0 < reported < known:
+            raise ValueError(
+                f'reported must name one of the {known - 1} hypotheses, got {reported}'
+            )
+        self.reported = reported
         self.signal = np.array([config.signal_std_xy] * 2 + [config.signal_std_yaw]) ** 2
         broad = (self.signal, 1.0)
         # kernel groups: (signal variance per dimension, linear part's scale, member rows)
@@ -332,6 +353,10 @@ class CorrectionGP:
             prior[1:known] = (rest - c.prior_intact) / (known - 1)
         else:
             prior[:known] = rest / known
+        if self.reported is not None and c.prior_reported > 0:
+            mass = prior[:known].sum()
+            prior[:known] *= 1.0 - c.prior_reported
+            prior[self.reported] += c.prior_reported * mass
         return np.log(prior)
 
     def _kernels(self, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -455,6 +480,7 @@ class RepertoirePolicy:
         config: NavigationConfig,
         hypotheses: np.ndarray | None = None,
         tripods: np.ndarray | None = None,
+        reported: int | None = None,
     ) -> None:
         self.repertoire = repertoire
         self.config = config
@@ -464,6 +490,7 @@ class RepertoirePolicy:
             config,
             hypotheses if use else None,
             tripods if use and config.tripod_bank != 'off' else None,
+            reported if use else None,
         )
         self.tripod = TripodSteps(config.tripod_prior, config.tripod_bank_weight)
         self._goal: tuple[float, float] | None = None  # of the last step chosen
@@ -477,12 +504,24 @@ class RepertoirePolicy:
 
     @classmethod
     def with_bank(
-        cls, repertoire: Repertoire, config: NavigationConfig, bank: StepBank | None
+        cls,
+        repertoire: Repertoire,
+        config: NavigationConfig,
+        bank: StepBank | None,
+        reported: Damage | None = None,
     ) -> RepertoirePolicy:
-        """Return the policy weighing ``bank``'s steps and tripod cycles (None: no bank)."""
+        """
+        Return the policy weighing ``bank``'s steps and tripod cycles (None: no bank).
+
+        ``reported``: the damage the robot reported (its dead servos), favoured as
+        ``config.prior_reported`` says when the bank models it (:meth:`StepBank.index_of`).
+        """
         if bank is None:
             return cls(repertoire, config)
-        return cls(repertoire, config, bank.steps, bank.tripods())
+        row = bank.index_of(reported) if reported is not None else None
+        return cls(
+            repertoire, config, bank.steps, bank.tripods(), None if row is None else row + 1
+        )
 
     def next_step(
         self,

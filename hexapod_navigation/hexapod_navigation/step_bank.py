@@ -93,6 +93,24 @@ class StepBank:
         """Return the tripod's cycles intact and under each damage, (1 + h, 8, 3)."""
         return np.concatenate([self.intact_tripod[None], self.tripod])
 
+    def index_of(self, damage: Damage) -> int | None:
+        """
+        Return the row that models ``damage`` (None if the bank holds nothing that does).
+
+        The damage's own row, or else, for legs whose only dead servo is the coxa, the row of
+        those legs lifted: the fold policy holds femur and tibia in the failure pose, so such a
+        leg is folded as a lifted one (its coxa free in the air).
+        """
+        if damage in self.damages:
+            return self.damages.index(damage)
+        if damage.legs and all(
+            d.kind == 'unpowered' and d.joints == ('coxa',) for d in damage.legs
+        ):
+            folded = Damage.lifted(damage.failed_legs)
+            if folded in self.damages:
+                return self.damages.index(folded)
+        return None
+
     def without(self, damage: Damage) -> StepBank:
         """Return the bank less ``damage`` (an experiment's damage left out of its hypotheses)."""
         keep = [i for i, d in enumerate(self.damages) if d != damage]
@@ -268,6 +286,23 @@ def load_step_bank(
     ):
         return None, f'{path} holds tripod cycles of shape {tripod.shape}, not a finite bank'
     return StepBank(tuple(damages), steps, tripod, intact_tripod), ''
+
+
+def reported_note(bank: StepBank | None, damage: Damage | None, share: float) -> str:
+    """Say, for the log, what navigation makes of the ``damage`` the robot reported."""
+    if damage is None:
+        return 'navigation learns the damage as it walks'
+    if share <= 0:
+        return f'navigation learns {damage.label} as it walks (prior_reported is 0)'
+    if bank is None:
+        return f'no damage bank: navigation learns {damage.label} as it walks'
+    row = bank.index_of(damage)
+    if row is None:
+        return f'the damage bank does not model {damage.label}: navigation learns it as it walks'
+    return (
+        f"navigation favours the damage bank's {bank.damages[row].label} from the next goal"
+        f' (prior share {share:g})'
+    )
 
 
 def shipped_step_bank() -> Path:

@@ -644,3 +644,51 @@ def test_tripod_cycles_weigh_the_damage_hypotheses_and_set_the_tripods_prior(rep
     always = NavigationConfig(tripod_bank='always')
     optimistic = RepertoirePolicy(repertoire, always, steps, np.stack([intact] * 4))
     assert optimistic.gp.tripod_prior()[0, 0] == pytest.approx(0.3)
+
+
+def test_a_reported_damage_the_bank_models_is_favoured_and_a_dead_coxa_is_a_folded_leg(
+    repertoire,
+):
+    from hexapod_navigation.step_bank import reported_note, StepBank
+    from hexapod_sim.damage import Damage
+
+    damages = (Damage.lifted([1]), Damage.of('unpowered_femur', [2]), Damage.of('locked', [3]))
+    rng = np.random.default_rng(2)
+    bank = StepBank(
+        damages,
+        rng.normal(0.0, 0.05, (3, len(repertoire), 3)),
+        rng.normal(size=(3, 8, 3)),
+        rng.normal(size=(8, 3)),
+    )
+    # the fold policy folds a leg with a dead coxa as a lifted one
+    assert bank.index_of(Damage.of('unpowered_coxa', [1])) == 0
+    assert bank.index_of(Damage.of('unpowered_femur', [2])) == 1
+    assert bank.index_of(Damage.of('unpowered_tibia', [1])) is None
+    assert bank.index_of(Damage.of('unpowered_coxa', [4])) is None
+    known = 1 + len(damages)  # intact first
+    config = NavigationConfig()
+    femur = RepertoirePolicy.with_bank(repertoire, config, bank, damages[1])
+    weights = femur.gp.weights  # before any step: the prior
+    rest = 1.0 - config.prior_unknown
+    share = config.prior_reported
+    assert weights[2] == pytest.approx(rest * (share + (1.0 - share) / known))
+    assert weights[1] == pytest.approx(rest * (1.0 - share) / known)
+    assert weights.sum() == pytest.approx(1.0)
+    plain = RepertoirePolicy.with_bank(repertoire, config, bank, Damage.of('weak', [5]))
+    assert plain.gp.weights[:known] == pytest.approx([rest / known] * known)
+    off = RepertoirePolicy.with_bank(
+        repertoire, NavigationConfig(prior_reported=0.0), bank, damages[1]
+    )
+    assert off.gp.weights[:known] == pytest.approx([rest / known] * known)
+    with pytest.raises(ValueError, match='prior_reported must be a share in'):
+        NavigationConfig(prior_reported=1.0)
+    with pytest.raises(ValueError, match='reported must name one of the 3 hypotheses'):
+        CorrectionGP(repertoire, config, bank.steps, reported=0)
+    # what the log says of a report
+    assert "favours the damage bank's leg 1 lifted" in reported_note(
+        bank, Damage.of('unpowered_coxa', [1]), 0.5
+    )
+    tibia = Damage.of('unpowered_tibia', [1])
+    assert 'does not model leg 1 unpowered tibia' in reported_note(bank, tibia, 0.5)
+    assert 'no damage bank' in reported_note(None, tibia, 0.5)
+    assert 'prior_reported is 0' in reported_note(bank, tibia, 0.0)
