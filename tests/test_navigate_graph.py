@@ -80,7 +80,7 @@ class Goal:
 
 def test_a_goal_is_reached_through_the_graph(ros, graph):
     nav, client = graph
-    assert 'damage bank: 21 damage hypotheses' in nav.log()  # the shipped bank fits
+    assert 'damage bank: 63 damage hypotheses' in nav.log()  # the shipped bank fits
     markers = ros.collect(Marker, 'navigate/goal', status_log_qos())
     odom = ros.collect(Odometry, 'odom', ODOM)
     wait_for(lambda: odom, 30, 'odometry')
