@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The default map's ceilings (every gait under each S1-S4 damage; issue 19's regret figures): the
-# exact command, resumable. Each damage case is cached in its own file in maps/ceilings/ as it
+# The default map's ceilings (every gait under each S1-S4 damage, of every damage kind: issue 19's
+# regret figures, issue 31's per-kind ratios and priors): the exact command, resumable; the
+# lifted legs first. Each damage case is cached in its own file in maps/ceilings/ as it
 # finishes; run it again after an interruption until every case prints (cached ones in ~0 s).
 #   nohup nice -n 10 bash hexapod_adapt/maps/make_ceilings.sh > out/ceilings.out 2>&1 &
 # (PyBullet approximations, --engine pybullet --top 1000 --guide-engine mujoco, are not shipped:
@@ -9,4 +10,5 @@ set -eo pipefail   # (no -u: colcon's setup scripts read unset variables)
 cd "$(dirname "$0")/../.."
 source scripts/env.sh
 exec python -m hexapod_adapt.online.ceilings_cli --engine mujoco --scenarios S1 S2 S3 S4 \
-  --cache-dir hexapod_adapt/maps/ceilings --workers "${WORKERS:-2}"
+  --damage-kind lifted unpowered_coxa unpowered_femur unpowered_tibia locked weak no_tibia \
+  shortened --cache-dir hexapod_adapt/maps/ceilings --workers "${WORKERS:-2}"

@@ -188,3 +188,17 @@ def test_each_run_is_measured_against_the_maps_ceiling_under_its_damage(tmp_path
         assert int(row['gaits_beating_intact_control']) >= 0
     assert (tmp_path / 'out' / 'ceiling_ratio.png').is_file()
     assert 'adapted/ceiling med/min' in r.stdout
+
+
+@pytest.mark.slow
+def test_the_ceilings_command_caches_every_kind_of_damage_asked_for(tmp_path):
+    from hexapod_adapt.online.ceilings_cli import main
+
+    cache = tmp_path / 'ceilings'
+    args = ['--archive', str(DEMO_MAP), '--scenarios', 'S2', '--cache-dir', str(cache)]
+    assert main([*args, '--damage-kind', 'locked', 'unpowered_femur', '--workers', '2']) == 0
+    files = sorted(p.name for p in cache.glob('ceiling_mujoco_legs*.npz'))
+    assert len(files) == 6  # S2's three leg pairs, two kinds
+    assert sum('locked' in f for f in files) == 3 and sum('unpowered' in f for f in files) == 3
+    with pytest.raises(SystemExit):  # argparse: an unknown kind is refused, naming the choices
+        main([*args, '--damage-kind', 'melted'])

@@ -22,6 +22,7 @@
 Cache the ceilings of a map: every gait under each damage (:mod:`hexapod_adapt.online.ceiling`).
 
     python -m hexapod_adapt.online.ceilings_cli --scenarios S1 S2 S3 S4 --engine mujoco --workers 2
+    python -m hexapod_adapt.online.ceilings_cli --damage-kind locked weak --cache-dir DIR ...
     python -m hexapod_adapt.online.ceilings_cli --damage 1:locked,4:weak:0.3 --cache-dir DIR
 """
 
@@ -36,7 +37,7 @@ from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
 from hexapod_adapt.online.ceiling import approximate_ceiling, ceiling
 from hexapod_description.cli import input_file, number, output_dir, run_command
 from hexapod_sim import ENGINES
-from hexapod_sim.damage import Damage, parse_damage
+from hexapod_sim.damage import Damage, EXPERIMENT_KINDS, parse_damage
 from hexapod_sim.scenarios import scenario, SCENARIO_NAMES
 
 
@@ -63,6 +64,16 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help='failure scenarios, every orientation of each (default S1-S4 unless --damage is'
         ' given)',
+    )
+    ap.add_argument(
+        '--damage-kind',
+        nargs='+',
+        choices=EXPERIMENT_KINDS,
+        default=['lifted'],
+        metavar='KIND',
+        help="how the scenarios' legs fail, one or more of: "
+        + ', '.join(EXPERIMENT_KINDS)
+        + ' (default lifted, as in the thesis)',
     )
     ap.add_argument(
         '--damage',
@@ -96,7 +107,13 @@ def main(argv: list[str] | None = None) -> int:
         scenarios = args.scenarios
         if scenarios is None:
             scenarios = [] if args.damage else ['S1', 'S2', 'S3', 'S4']
-        cases = [(name, Damage.lifted(legs)) for name in scenarios for legs in scenario(name)]
+        kinds = list(dict.fromkeys(args.damage_kind))
+        cases = [
+            (name, Damage.of(kind, legs))
+            for kind in kinds
+            for name in scenarios
+            for legs in scenario(name)
+        ]
         cases += [('-', damage) for damage in args.damage]
         for name, damage in cases:
             t0 = time.monotonic()
