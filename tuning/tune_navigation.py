@@ -156,13 +156,13 @@ GRIDS = {
 
 
 def main(argv: list[str] | None = None) -> int:
+    from hexapod_navigation.config import NavigationConfig
     from hexapod_navigation.experiment import (
         NavigationSettings,
         run_navigation,
         scenarios_beating_baselines,
         summarise,
     )
-    from hexapod_navigation.planner import NavigationConfig
     from hexapod_navigation.repertoire import shipped_repertoire
     from hexapod_navigation.step_bank import shipped_step_bank
 

@@ -37,8 +37,8 @@ from typing import Callable, Protocol, Sequence
 
 from hexapod_gait import build_joint_table, GaitParameters, preset
 from hexapod_gait.trajectory import POSE_TRANSITION_S, transition
+from hexapod_navigation.config import NavigationConfig
 from hexapod_navigation.geometry import Pose2D
-from hexapod_navigation.planner import NavigationConfig
 from hexapod_navigation.policy import Policy
 from hexapod_sim.simulator import Simulator
 import numpy as np

@@ -45,8 +45,9 @@ from typing import Sequence
 
 from hexapod_adapt.mapping.archive import atomic_write_bytes, load_archive
 from hexapod_description.processes import die_with_parent
+from hexapod_navigation.config import NavigationConfig
 from hexapod_navigation.episode import NavigationResult, run_episode, SimBody
-from hexapod_navigation.planner import NavigationConfig, RepertoirePolicy
+from hexapod_navigation.planner import RepertoirePolicy
 from hexapod_navigation.policy import Policy
 from hexapod_navigation.repertoire import Repertoire
 from hexapod_navigation.step_bank import load_step_bank, StepBank

@@ -80,9 +80,10 @@ from hexapod_msgs.msg import ServoFailure
 from hexapod_navigation import navigate_msgs as conv
 from hexapod_navigation import node_settings as settings
 from hexapod_navigation.bodies import PoseLog, RobotGraphBody, SimGraphBody
+from hexapod_navigation.config import goal_problem
 from hexapod_navigation.episode import BodyFailure, Feedback, Outcome, run_episode
 from hexapod_navigation.goal_turns import GoalTurns
-from hexapod_navigation.planner import goal_problem, RepertoirePolicy
+from hexapod_navigation.planner import RepertoirePolicy
 from hexapod_navigation.repertoire import shipped_repertoire
 from hexapod_navigation.step_bank import load_navigation, reported_note, shipped_step_bank
 from nav_msgs.msg import Odometry

@@ -32,7 +32,7 @@ import math
 from typing import Any, Mapping
 
 from hexapod_adapt.online.run_config import Setting
-from hexapod_navigation.planner import NavigationConfig
+from hexapod_navigation.config import NavigationConfig
 
 MODES = ('sim', 'robot')
 POSE_TYPES = ('pose', 'odometry')

@@ -46,6 +46,7 @@ from hexapod_description.cli import (
     output_dir,
     run_command,
 )
+from hexapod_navigation.config import NavigationConfig
 from hexapod_navigation.experiment import (
     METHODS,
     NavigationSettings,
@@ -53,7 +54,6 @@ from hexapod_navigation.experiment import (
     summarise,
     write_results,
 )
-from hexapod_navigation.planner import NavigationConfig
 from hexapod_navigation.plots import plot_navigation_boxes, plot_navigation_paths
 from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
 from hexapod_navigation.step_bank import load_step_bank, shipped_step_bank

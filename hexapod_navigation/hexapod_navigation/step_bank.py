@@ -27,7 +27,7 @@ bank. The shipped bank (:func:`navigation_bank_damages`) holds every one- and tw
 S1-S4 (the orientations of :data:`hexapod_adapt.online.bank.BANK_DAMAGES`) of each kind in
 :data:`NAVIGATION_BANK_KINDS`: legs lifted (the thesis's damage), locked where they stood, and
 hanging from a dead femur servo (a real servo failure). The navigator's correction
-(:class:`hexapod_navigation.planner.CorrectionGP`) weighs these step tables against the intact
+(:class:`hexapod_navigation.correction.CorrectionGP`) weighs these step tables against the intact
 repertoire by how well they explain the steps walked, and learns the rest. The bank also holds
 the steered tripod's cycle in each crab direction under each damage and intact
 (:func:`hexapod_navigation.tripod.tripod_cycles`): the planner's prior for the tripod option.

@@ -23,14 +23,11 @@
 import math
 
 from hexapod_adapt.mapping.archive import load_archive
+from hexapod_navigation.config import goal_problem, NavigationConfig
+from hexapod_navigation.correction import CorrectionGP
 from hexapod_navigation.episode import Outcome, run_episode, SimBody
 from hexapod_navigation.geometry import Pose2D
-from hexapod_navigation.planner import (
-    CorrectionGP,
-    goal_problem,
-    NavigationConfig,
-    RepertoirePolicy,
-)
+from hexapod_navigation.planner import RepertoirePolicy
 from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
 from hexapod_navigation.tripod import SteeredTripod
 from hexapod_sim import create_simulator, SimConfig

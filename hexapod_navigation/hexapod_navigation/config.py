@@ -1,0 +1,220 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+How navigate pursues a goal: its settings (:class:`NavigationConfig`), the goal checks (ROS-free).
+
+The settings of the learned correction (:mod:`hexapod_navigation.correction`), the planner
+(:mod:`hexapod_navigation.planner`) and the episode loop (:mod:`hexapod_navigation.episode`),
+each chosen on the tuning goals (docs/studies/navigation.md says how).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+import math
+
+from hexapod_navigation.geometry import Pose2D
+
+#: NavigationConfig.planner's choices
+PLANNERS = ('nearest', 'time')
+REST_SPEEDS = ('fastest', 'toward')
+
+
+#: Where the tripod option's prior comes from (NavigationConfig.tripod_bank).
+TRIPOD_BANK = ('off', 'always', 'evidence')
+
+
+@dataclass(frozen=True)
+class NavigationConfig:
+    """How a goal is pursued; ValueError names a bad setting."""
+
+    tolerance: float = 0.15  # m: reached when this close
+    time_limit: float = 90.0  # s of walking
+    max_range: float = 10.0  # m: farther goals are refused
+    arena: float | None = None  # m: leaving the square |x|, |y| <= arena fails the goal
+    learn: bool = True  # the GP correction (False: the repertoire as it was measured intact)
+    length_scale: float = 0.15  # GP kernel length scale, in descriptor units (2 REACH = 1)
+    signal_std_xy: float = 0.2  # m: how far damage may move a step's end, a priori
+    signal_std_yaw: float = 0.5  # rad: how much damage may turn a step, a priori
+    noise_std_xy: float = 0.03  # m: repeatability of one step
+    noise_std_yaw: float = 0.05  # rad
+    #: prior std of a linear change of every step (damage that shrinks or turns all steps alike):
+    #: the kernel's linear part, on the intact displacement in metres (0: none)
+    linear_std: float = 0.5
+    #: optimism of the planner: it takes the step whose predicted end, moved ``optimism``
+    #: standard deviations toward the goal, lies nearest it (a lower confidence bound on the
+    #: distance left, as GP-UCB). 0: the predicted end alone. Without a damage bank that can
+    #: settle on a step known to go nowhere once every step is predicted short (1 was the
+    #: setting then); with the bank, 0 was the best on the tuning goals (docs/navigation.md).
+    optimism: float = 0.0
+    #: only gaits that keep at least this many feet on the ground at every instant of their
+    #: cycle: most repertoire gaits have airborne phases, and a damaged robot tips over on them
+    #: (3: chosen on the tuning goals, docs/navigation.md "Tuning")
+    min_stance_legs: int = 3
+    #: weigh the damage bank's step tables (hexapod_navigation.step_bank) against the intact
+    #: repertoire, when one is given and ``learn`` is on (chosen on the tuning goals)
+    use_bank: bool = True
+    #: with a bank: the intact repertoire's prior weight among the hypotheses (the bank's
+    #: failures share the rest alike); 0: every hypothesis alike
+    prior_intact: float = 0.0
+    #: m: how far the truth may lie from a known model of the robot (the intact repertoire, a
+    #: bank's failure): 0 gives every hypothesis the GP above (signal_std_*, linear_std), so a
+    #: few steps hardly tell them apart. > 0 gives the known models a GP this tight (heading:
+    #: ``known_std_yaw``, no linear part), and adds one 'unknown damage' hypothesis, the intact
+    #: repertoire with the GP above, with prior weight ``prior_unknown`` (0.03: chosen on the
+    #: tuning goals, docs/navigation.md "Known models"; known_std_yaw and prior_unknown were set
+    #: before and not tuned)
+    known_std_xy: float = 0.03
+    known_std_yaw: float = 0.15  # rad
+    prior_unknown: float = 0.2
+    #: a damage reported by the robot (its dead servos, from the bridge) that the bank models:
+    #: this share of the known models' prior weight goes to it, the rest as without a report
+    #: (0: reports are not used; 0.5 chosen on the tuning goals over 0 and 0.9,
+    #: docs/studies/navigation.md, sixth round)
+    prior_reported: float = 0.5
+    #: optimism added in proportion to the weight of 'unknown damage': when no known model
+    #: fits, the planner looks beyond steps the GP predicts short (0: none)
+    unknown_optimism: float = 0.0
+    #: how the planner scores a step: 'nearest', the step whose end lies nearest the goal (as
+    #: RTE); 'time', the step with the least expected time to the goal: the gait change it
+    #: costs (the body's transition), the time into the step at which its path enters the goal
+    #: circle, or else the whole step and the rest of the way at the fastest predicted step's
+    #: speed ('time': chosen on the tuning goals, docs/navigation.md)
+    planner: str = 'time'
+    #: 'time' planner: a step's path counts as reaching the goal where it comes this close to
+    #: it, as a fraction of the tolerance (the path within a step is taken as straight)
+    aim: float = 0.5
+    #: 'time' planner: the speed assumed for the rest of the way after a step. 'fastest': the
+    #: longest predicted step, in any direction; 'toward': the most progress toward the goal a
+    #: predicted step makes from where the robot is. With 'fastest', when every step that
+    #: heads for the goal is predicted short, a gait that barely moves costs less than the
+    #: transition to another, and the robot can mark time until the time limit ('toward':
+    #: chosen on the tuning goals, docs/navigation.md "Rest of the way")
+    rest_speed: str = 'toward'
+    #: 'time' planner: the steered tripod's next cycle (the baseline's choice of crab direction)
+    #: is a candidate too, with what the robot makes of such cycles learned as it walks
+    #: (:class:`TripodSteps`). On a damage the repertoire has no good step for, the planner then
+    #: walks the tripod instead of marking time (issue 31)
+    tripod_option: bool = True
+    #: the tripod becomes a candidate once the last this many repertoire steps made less progress
+    #: toward the goal than the tripod's pace (0: from the first step; 0 was chosen on the tuning
+    #: goals over 1 and 2, docs/studies/navigation.md "The tripod as an option")
+    tripod_after: int = 0
+    #: the tripod's prior: this fraction of its commanded stride, before the robot has walked it
+    tripod_prior: float = 1.0
+    #: with a damage bank, the tripod's prior may instead be its cycles under each of the bank's
+    #: damages and intact, mixed by how well each explains the steps and cycles walked: 'off'
+    #: (never), 'always', or 'evidence': once a step or cycle has been walked (before that, the
+    #: stride above: the tripod is tried while nothing is known). 'always' was chosen on the
+    #: tuning goals with the bank of lifted, locked and dead-femur legs (docs/studies/
+    #: navigation.md, fifth round; with a bank of lifted legs only, 'off' was: it cost two
+    #: locked-leg cells)
+    tripod_bank: str = 'always'
+    #: how many cycles' worth the bank's prior counts for in a direction the robot has walked
+    tripod_bank_weight: float = 1.0
+
+    def __post_init__(self) -> None:
+        for name in (
+            'tolerance',
+            'time_limit',
+            'max_range',
+            'length_scale',
+            'signal_std_xy',
+            'signal_std_yaw',
+            'noise_std_xy',
+            'noise_std_yaw',
+        ):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise ValueError(f'{name} must be a positive finite number, got {value!r}')
+        for name in ('optimism', 'linear_std', 'unknown_optimism'):
+            w = getattr(self, name)
+            if not (isinstance(w, (int, float)) and math.isfinite(w) and w >= 0):
+                raise ValueError(f'{name} must be a finite number >= 0, got {w!r}')
+        if self.planner not in PLANNERS:
+            raise ValueError(f'planner must be one of {PLANNERS}, got {self.planner!r}')
+        if self.rest_speed not in REST_SPEEDS:
+            raise ValueError(f'rest_speed must be one of {REST_SPEEDS}, got {self.rest_speed!r}')
+        if not (isinstance(self.aim, (int, float)) and 0.0 < self.aim <= 1.0):
+            raise ValueError(
+                f'aim must be a fraction of the tolerance in (0, 1], got {self.aim!r}'
+            )
+        for name in ('known_std_xy', 'known_std_yaw'):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+                raise ValueError(f'{name} must be a finite number >= 0 (0: off), got {value!r}')
+        if not (isinstance(self.prior_unknown, (int, float)) and 0.0 < self.prior_unknown < 1.0):
+            raise ValueError(
+                f'prior_unknown must be a probability in (0, 1), got {self.prior_unknown!r}'
+            )
+        if not (
+            isinstance(self.prior_reported, (int, float)) and 0.0 <= self.prior_reported < 1.0
+        ):
+            raise ValueError(
+                f'prior_reported must be a share in [0, 1) (0: off), got {self.prior_reported!r}'
+            )
+        if not (isinstance(self.prior_intact, (int, float)) and 0.0 <= self.prior_intact < 1.0):
+            raise ValueError(
+                'prior_intact must be a probability in [0, 1) (0: none),'
+                f' got {self.prior_intact!r}'
+            )
+        if self.known_std_xy > 0 and self.prior_intact + self.prior_unknown >= 1.0:
+            raise ValueError(
+                'prior_intact + prior_unknown must leave the bank some weight (< 1), got'
+                f' {self.prior_intact!r} + {self.prior_unknown!r}'
+            )
+        if not (isinstance(self.tripod_prior, (int, float)) and 0.0 <= self.tripod_prior <= 1.0):
+            raise ValueError(
+                f'tripod_prior must be a fraction in [0, 1], got {self.tripod_prior!r}'
+            )
+        w = self.tripod_bank_weight
+        if not (isinstance(w, (int, float)) and 0.0 < w <= 100.0):
+            raise ValueError(f'tripod_bank_weight must be in (0, 100] cycles, got {w!r}')
+        if self.tripod_bank not in TRIPOD_BANK:
+            raise ValueError(
+                f'tripod_bank must be one of {", ".join(TRIPOD_BANK)}, got {self.tripod_bank!r}'
+            )
+        if not (isinstance(self.tripod_after, int) and 0 <= self.tripod_after <= 100):
+            raise ValueError(f'tripod_after must be 0..100 steps, got {self.tripod_after!r}')
+        if not (isinstance(self.min_stance_legs, int) and 0 <= self.min_stance_legs <= 6):
+            raise ValueError(f'min_stance_legs must be 0..6, got {self.min_stance_legs!r}')
+        if self.arena is not None and not (math.isfinite(self.arena) and self.arena > 0):
+            raise ValueError(f'arena must be a positive finite half-width [m], got {self.arena!r}')
+
+
+def goal_problem(x: float, y: float, start: Pose2D | None, config: NavigationConfig) -> str:
+    """
+    Why a goal (x, y) in odom cannot be pursued from ``start`` ('' if it can).
+
+    ``start`` None (no pose yet): what does not depend on where the robot is.
+    """
+    if not (math.isfinite(x) and math.isfinite(y)):
+        return f'the goal ({x}, {y}) is not a finite position'
+    far = start.distance_to(x, y) if start is not None else 0.0
+    if far > config.max_range:
+        return (
+            f'the goal is {far:.2f} m away, beyond the configured range of {config.max_range:g} m'
+        )
+    if config.arena is not None and max(abs(x), abs(y)) > config.arena:
+        return (
+            f'the goal ({x:.2f}, {y:.2f}) lies outside the arena (|x|, |y| <= {config.arena:g} m)'
+        )
+    return ''
