@@ -26,7 +26,7 @@ On the tuning goals (seed 100, 5 per case), never the reported experiment's (see
 setting, the repertoire method and the steered tripod over every damage case of S1-S4, on the
 damage kinds lifted, locked and unpowered_femur (each grid below says if it uses others).
 
-    python -m tuning.tune_tripod_option --grid after|prior|bank|bank_weight|bank_v3|reported|after_v3
+    python -m tuning.tune_tripod_option --grid GRID   # a name of GRIDS below
 
 The rule, fixed before the runs: a (kind, scenario) cell passes when navigate reaches at least as
 many goals as the tripod and its median walking time on the goals both reached is at most 1.1x
