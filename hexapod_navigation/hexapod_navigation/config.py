@@ -115,9 +115,10 @@ class NavigationConfig:
     #: walks the tripod instead of marking time (issue 31)
     tripod_option: bool = True
     #: the tripod becomes a candidate once the last this many repertoire steps made less progress
-    #: toward the goal than the tripod's pace (0: from the first step; 0 was chosen on the tuning
-    #: goals over 1 and 2, docs/studies/navigation.md "The tripod as an option")
-    tripod_after: int = 0
+    #: toward the goal than the tripod's pace (0: from the first step). 2, chosen on the tuning
+    #: goals over 0 and 1 with the bank of lifted, locked and dead-femur legs and tripod_bank
+    #: 'always' (docs/studies/navigation.md, seventh round; with the lifted-only bank, 0 was)
+    tripod_after: int = 2
     #: the tripod's prior: this fraction of its commanded stride, before the robot has walked it
     tripod_prior: float = 1.0
     #: with a damage bank, the tripod's prior may instead be its cycles under each of the bank's

@@ -612,7 +612,9 @@ def test_tripod_cycles_weigh_the_damage_hypotheses_and_set_the_tripods_prior(rep
     intact = np.zeros((8, 3))
     intact[:, 0] = 0.3  # every direction's cycle, as its own 'forward' (a made-up table)
     tripods = np.stack([intact, intact * 0.9, intact * 0.2, intact * 0.5])
-    gp = CorrectionGP(repertoire, NavigationConfig(tripod_bank='always'), steps, tripods)
+    gp = CorrectionGP(
+        repertoire, NavigationConfig(tripod_bank='always', tripod_after=0), steps, tripods
+    )
     before = gp.tripod_prior()
     assert before.shape == (8, 3) and 0.06 < before[0, 0] < 0.3  # the prior's mixture
     gp.add_tripod(0, (0.06, 0.0, 0.0))
@@ -626,11 +628,15 @@ def test_tripod_cycles_weigh_the_damage_hypotheses_and_set_the_tripods_prior(rep
     assert RepertoirePolicy(repertoire, off, steps, tripods).gp.tripod_prior() is None
     # the policy's tripod option starts from that prior ('always'): here, a pessimistic one
     poor = np.stack([intact * 0.1] * 4)
-    policy = RepertoirePolicy(repertoire, NavigationConfig(tripod_bank='always'), steps, poor)
+    policy = RepertoirePolicy(
+        repertoire, NavigationConfig(tripod_bank='always', tripod_after=0), steps, poor
+    )
     start, goal = Pose2D(0.0, 0.0, 0.0), (1.0, 0.0)
     assert policy.next_step(start, goal, None, 0.5).tripod == -1  # 3 cm do not beat a step
     # 'evidence': the commanded stride until something was walked, then the bank
-    policy = RepertoirePolicy(repertoire, NavigationConfig(tripod_bank='evidence'), steps, poor)
+    policy = RepertoirePolicy(
+        repertoire, NavigationConfig(tripod_bank='evidence', tripod_after=0), steps, poor
+    )
     first = policy.next_step(start, goal, None, 0.5)
     assert first.tripod == 0
     policy.observe(first, start, start.moved(0.03, 0.0, 0.0), True)
@@ -638,7 +644,7 @@ def test_tripod_cycles_weigh_the_damage_hypotheses_and_set_the_tripods_prior(rep
     assert policy.next_step(start.moved(0.03, 0.0, 0.0), goal, first.gait, 0.5).tripod == -1
     with pytest.raises(ValueError, match='tripod_bank must be one of off, always, evidence'):
         NavigationConfig(tripod_bank='sometimes')
-    always = NavigationConfig(tripod_bank='always')
+    always = NavigationConfig(tripod_bank='always', tripod_after=0)
     optimistic = RepertoirePolicy(repertoire, always, steps, np.stack([intact] * 4))
     assert optimistic.gp.tripod_prior()[0, 0] == pytest.approx(0.3)
 
