@@ -8,7 +8,7 @@
 # checkpoint, or from CHECKPOINTS/default_map.npz.ckpt.npz (default ../persist) when it has none.
 # Output: WORKTREE/out/default_map.out. When it says "wrote", copy WORKTREE's
 # hexapod_adapt/maps/default_map.npz and default_map.npz.log.jsonl back; before a session ends,
-# copy the checkpoint to CHECKPOINTS.
+# copy the checkpoint and the log to CHECKPOINTS (a worktree without a checkpoint takes both).
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 tree="${1:-$repo/../mapgen}"
@@ -18,9 +18,14 @@ REPO="$repo" TREE="$tree"
 source "$repo/scripts/fixed_worktree.sh"
 fresh="$FIXED_WORKTREE_NEW"
 mkdir -p out
-ckpt=hexapod_adapt/maps/default_map.npz.ckpt.npz
-if [ "$fresh" = 0 ] && [ ! -f "$ckpt" ] && [ -f "$keep/default_map.npz.ckpt.npz" ]; then
-  cp "$keep/default_map.npz.ckpt.npz" "$ckpt"
+# the checkpoint and the progress log (its rows are the map's core-hours), kept outside git:
+# taken from CHECKPOINTS by a worktree that has no checkpoint of its own
+if [ "$fresh" = 0 ] && [ ! -f hexapod_adapt/maps/default_map.npz.ckpt.npz ]; then
+  for kept in default_map.npz.ckpt.npz default_map.npz.log.jsonl; do
+    if [ -f "$keep/$kept" ]; then
+      cp "$keep/$kept" "hexapod_adapt/maps/$kept"
+    fi
+  done
 fi
 FRESH="$fresh" nohup nice -n 10 bash hexapod_adapt/maps/make_default_map.sh >> out/default_map.out 2>&1 &
 echo "default map running in $tree (pid $!): tail -f $tree/out/default_map.out"
