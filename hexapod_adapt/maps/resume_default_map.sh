@@ -3,9 +3,10 @@
 # own at a fixed commit, so that work on the library under it cannot change a run in progress.
 #   bash hexapod_adapt/maps/resume_default_map.sh [WORKTREE] [CHECKPOINTS]
 # WORKTREE (default ../mapgen) is made at this checkout's HEAD if missing and built with this
-# checkout's .venv. A new worktree starts the map from scratch (make_default_map.sh with FRESH=1:
-# the shipped map and its log are kept there as NAME.bak); an existing one resumes from its
-# checkpoint, or from CHECKPOINTS/default_map.npz.ckpt.npz (default ../persist) when it has none.
+# checkout's .venv. It resumes from the worktree's checkpoint, or else from the copy in
+# CHECKPOINTS (default ../persist: default_map.npz.ckpt.npz and its log). With neither, a new
+# worktree starts the map from scratch (make_default_map.sh with FRESH=1: the shipped map and its
+# log are kept there as NAME.bak).
 # Output: WORKTREE/out/default_map.out. When it says "wrote", copy WORKTREE's
 # hexapod_adapt/maps/default_map.npz and default_map.npz.log.jsonl back; before a session ends,
 # copy the checkpoint and the log to CHECKPOINTS (a worktree without a checkpoint takes both).
@@ -19,13 +20,15 @@ source "$repo/scripts/fixed_worktree.sh"
 fresh="$FIXED_WORKTREE_NEW"
 mkdir -p out
 # the checkpoint and the progress log (its rows are the map's core-hours), kept outside git:
-# taken from CHECKPOINTS by a worktree that has no checkpoint of its own
-if [ "$fresh" = 0 ] && [ ! -f hexapod_adapt/maps/default_map.npz.ckpt.npz ]; then
+# a worktree without a checkpoint of its own (a new one too) resumes from CHECKPOINTS' copies
+if [ ! -f hexapod_adapt/maps/default_map.npz.ckpt.npz ] \
+  && [ -f "$keep/default_map.npz.ckpt.npz" ]; then
   for kept in default_map.npz.ckpt.npz default_map.npz.log.jsonl; do
     if [ -f "$keep/$kept" ]; then
       cp "$keep/$kept" "hexapod_adapt/maps/$kept"
     fi
   done
+  fresh=0
 fi
 FRESH="$fresh" nohup nice -n 10 bash hexapod_adapt/maps/make_default_map.sh >> out/default_map.out 2>&1 &
 echo "default map running in $tree (pid $!): tail -f $tree/out/default_map.out"
