@@ -98,6 +98,14 @@ GRID_AFTER_V3 = ({'tripod_after': 1}, {'tripod_after': 2})
 #: the tuning goals, to be weighed with the fifth and seventh rounds' cells (the runs are
 #: deterministic, so those need no rerun). Same rule over the 20 cells.
 GRID_AFTER_WEAK = ({'tripod_after': 0}, {'tripod_after': 1}, {'tripod_after': 2})
+#: Ninth round (to run): the seventh and eighth rounds' question again, on all eight reported
+#: kinds, 10 goals per case instead of 5 (a ratio of medians of 5 goals was too noisy: weak S4 at
+#: tripod_after 2 read 1.05 on the tuning goals and 1.20 on the reported ones), and with a margin:
+#: a cell passes at <= ALL_KINDS_LIMIT x the tripod's time. The tripod's episodes do not depend on
+#: the setting, so they are walked once per kind.
+GRID_ALL_KINDS = ({'tripod_after': 0}, {'tripod_after': 1}, {'tripod_after': 2})
+ALL_KINDS_GOALS = 10
+ALL_KINDS_LIMIT = 1.05
 GRIDS = {
     'after': GRID,
     'prior': GRID_PRIOR,
@@ -107,6 +115,7 @@ GRIDS = {
     'reported': GRID_REPORTED,
     'after_v3': GRID_AFTER_V3,
     'after_weak': GRID_AFTER_WEAK,
+    'all_kinds': GRID_ALL_KINDS,
 }
 #: Each grid's kinds (default KINDS) and the kinds of its tie-break (default lifted).
 GRID_KINDS = {
@@ -120,31 +129,49 @@ TIE_KINDS = {'reported': KINDS_REPORTED, 'after_weak': ('weak',)}
 
 def main(argv: list[str] | None = None) -> int:
     from hexapod_navigation.config import NavigationConfig
-    from hexapod_navigation.experiment import NavigationSettings, run_navigation, versus_tripod
+    from hexapod_navigation.experiment import (
+        NavigationSettings,
+        run_navigation,
+        TRIPOD_TIME_LIMIT,
+        versus_tripod,
+    )
     from hexapod_navigation.repertoire import shipped_repertoire
     from hexapod_navigation.step_bank import shipped_step_bank
+    from hexapod_sim.damage import EXPERIMENT_KINDS
 
     ap = argparse.ArgumentParser(prog='tune_tripod_option', description=__doc__.split('\n\n')[0])
     ap.add_argument('--workers', type=int, default=2)
     ap.add_argument('--grid', choices=sorted(GRIDS), default='after')
     args = ap.parse_args(argv)
+    every = args.grid == 'all_kinds'
+    kinds = EXPERIMENT_KINDS if every else GRID_KINDS.get(args.grid, KINDS)
+    goals, limit = (ALL_KINDS_GOALS, ALL_KINDS_LIMIT) if every else (GOALS, TRIPOD_TIME_LIMIT)
+
+    def walk(kind: str, config, methods: tuple[str, ...]) -> list:
+        settings = NavigationSettings(
+            repertoire=shipped_repertoire(),
+            scenarios=SCENARIOS,
+            goals=goals,
+            goal_seed=TUNING_GOAL_SEED,
+            methods=methods,
+            config=config,
+            bank=shipped_step_bank(),
+            damage_kind=kind,
+            reported=args.grid == 'reported',
+        )
+        return run_navigation(settings, args.workers)[0]
+
+    # the tripod's episodes are the same whatever the setting: walked once per kind when apart
+    tripod = {k: walk(k, NavigationConfig(), ('tripod',)) for k in kinds} if every else {}
     results = []
     for setting in GRIDS[args.grid]:
         config = replace(NavigationConfig(), **setting)
         rows, table = [], {}
-        for kind in GRID_KINDS.get(args.grid, KINDS):
-            settings = NavigationSettings(
-                repertoire=shipped_repertoire(),
-                scenarios=SCENARIOS,
-                goals=GOALS,
-                goal_seed=TUNING_GOAL_SEED,
-                methods=('repertoire', 'tripod'),
-                config=config,
-                bank=shipped_step_bank(),
-                damage_kind=kind,
-                reported=args.grid == 'reported',
-            )
-            kind_rows = run_navigation(settings, args.workers)[0]
+        for kind in kinds:
+            if every:
+                kind_rows = walk(kind, config, ('repertoire',)) + tripod[kind]
+            else:
+                kind_rows = walk(kind, config, ('repertoire', 'tripod'))
             rows += [(kind, r) for r in kind_rows]
             table.update({(kind, v.scenario): v for v in versus_tripod(kind_rows)})
         tie_kinds = TIE_KINDS.get(args.grid, ('lifted',))
@@ -153,7 +180,7 @@ def main(argv: list[str] | None = None) -> int:
             for kind, r in rows
             if kind in tie_kinds and r.method == 'repertoire' and r.reached
         ]
-        passed = sum(v.passes for v in table.values())
+        passed = sum(v.passes_within(limit) for v in table.values())
         results.append((setting, passed, float(np.median(tie)), table))
         print(
             f'{setting}: {passed} of {len(table)} cells pass; {"+".join(tie_kinds)} damaged'
