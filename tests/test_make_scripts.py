@@ -50,3 +50,15 @@ def test_every_make_script_writes_into_its_own_folder_and_names_itself():
             assert (WS / target).exists(), f'{script.name} writes {target}, which is not shipped'
         for usage in re.findall(r'bash (\S+make_\S+\.sh)', text):
             assert usage == script.relative_to(WS).as_posix(), (script, usage)
+
+
+def test_every_shell_script_parses():
+    """A script run once a session (resume_default_map.sh ...) must not fail on its syntax."""
+    out = subprocess.run(
+        ['git', 'ls-files', '*.sh'], cwd=WS, capture_output=True, text=True, check=True
+    )
+    scripts = out.stdout.split()
+    assert len(scripts) >= 10
+    for script in scripts:
+        r = subprocess.run(['bash', '-n', script], cwd=WS, capture_output=True, text=True)
+        assert r.returncode == 0, f'{script}: {r.stderr}'
