@@ -54,14 +54,13 @@ import sys
 from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import PoseStamped
 from hexapod_adapt.online.adaptation import TrialAborted
-from hexapod_adapt.online.prior import KnownDamage, report_source_problem
+from hexapod_adapt.online.prior import KnownDamage
 from hexapod_adapt.online.trials import OdomLog, Waiter
 from hexapod_adapt.ros.graph_port import (
     GraphPort,
-    qualified,
     RECORDED_TYPES,
     RecordedTopics,
-    topic_publishers,
+    servo_report_problem,
 )
 from hexapod_adapt.ros.recording import type_name
 from hexapod_adapt.ros.run_recording import RunRecording
@@ -225,8 +224,7 @@ class NavigateNode(Node):
         return RepertoirePolicy.with_bank(self.repertoire, self.config, self.bank, reported)
 
     def _on_servo_failure(self, msg: ServoFailure) -> None:
-        publishers = topic_publishers(self, self.resolve_topic_name('servo_failures'))
-        problem = report_source_problem(publishers, qualified(self, self.bridge_name))
+        problem = servo_report_problem(self, self.bridge_name)
         if problem:
             self.get_logger().error(
                 f'servo {msg.servo_id} (leg {msg.leg}) reported dead: {problem}'

@@ -48,7 +48,7 @@ from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.maps import shipped_ceilings
 from hexapod_adapt.online import session
 from hexapod_adapt.online.adaptation import adapt, TrialAborted
-from hexapod_adapt.online.prior import KnownDamage, report_source_problem
+from hexapod_adapt.online.prior import KnownDamage
 from hexapod_adapt.online.run_config import (
     ArchiveSlot,
     engine_note,
@@ -64,7 +64,7 @@ from hexapod_adapt.ros.graph_port import (
     qualified,
     RECORDED_TYPES,
     RecordedTopics,
-    topic_publishers,
+    servo_report_problem,
     trial_msg,
 )
 from hexapod_adapt.ros.run_recording import RunRecording
@@ -195,9 +195,7 @@ class AdaptNode(Node):
         )
 
     def _on_servo_failure(self, msg: ServoFailure) -> None:
-        publishers = topic_publishers(self, self.resolve_topic_name('servo_failures'))
-        bridge = qualified(self, self._param('bridge_node'))
-        problem = report_source_problem(publishers, bridge)
+        problem = servo_report_problem(self, self._param('bridge_node'))
         what = f'servo {msg.servo_id} (leg {msg.leg}) reported dead'
         if problem:
             self.get_logger().error(f'{what}: {problem}')

@@ -36,6 +36,7 @@ import time
 from typing import Callable, Mapping
 
 from hexapod_adapt.online.adaptation import TrialAborted
+from hexapod_adapt.online.prior import report_source_problem
 from hexapod_adapt.online.trials import OdomLog, OdomSample, Upload
 from hexapod_adapt.ros.recording import type_name
 from hexapod_adapt.ros.run_recording import RunRecording
@@ -106,6 +107,12 @@ def topic_publishers(node: Node, topic: str, wait_s: float = 2.0) -> list[str]:
         if time.monotonic() > deadline or all(i.node_name != UNKNOWN_NODE for i in infos):
             return [f'{i.node_namespace.rstrip("/")}/{i.node_name}' for i in infos]
         time.sleep(0.05)
+
+
+def servo_report_problem(node: Node, bridge_name: str) -> str:
+    """Why a report on ``servo_failures`` cannot be believed now ('' if only the bridge sends)."""
+    publishers = topic_publishers(node, node.resolve_topic_name('servo_failures'))
+    return report_source_problem(publishers, qualified(node, bridge_name))
 
 
 class GraphPort:
