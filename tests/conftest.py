@@ -32,6 +32,7 @@ import os
 from pathlib import Path
 import signal
 import subprocess
+import sys
 import threading
 import time
 from typing import Any, Callable
@@ -154,6 +155,33 @@ def wait_for(
             return value
         time.sleep(period)
     raise AssertionError(f'timed out after {timeout:g} s waiting for {what}')
+
+
+# A separate process whose node is not the bridge publishes one ServoFailure on servo_failures
+# (subscribers name a message's sender by its node, so the test harness cannot play it).
+_IMPOSTOR = """
+import rclpy, sys, time
+from hexapod_gait.ros_glue import EVENTS
+from hexapod_msgs.msg import ServoFailure
+rclpy.init()
+node = rclpy.create_node(sys.argv[1])
+pub = node.create_publisher(ServoFailure, 'servo_failures', EVENTS)
+end = time.monotonic() + 30
+while pub.get_subscription_count() < 1 and time.monotonic() < end:
+    time.sleep(0.05)
+pub.publish(ServoFailure(servo_id=int(sys.argv[2]), robot_leg=int(sys.argv[3]),
+                         leg=int(sys.argv[3]), joint=sys.argv[4]))
+time.sleep(5)
+"""
+
+
+def publish_servo_report_as(
+    node_name: str, domain_id: int, servo_id: int, leg: int, joint: str
+) -> subprocess.Popen:
+    """Start a process whose node ``node_name`` reports ``servo_id`` (on ``leg``) dead."""
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain_id))
+    args = [node_name, str(servo_id), str(leg), joint]
+    return subprocess.Popen([sys.executable, '-c', _IMPOSTOR, *args], env=env)
 
 
 @pytest.fixture

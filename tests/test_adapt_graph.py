@@ -30,10 +30,8 @@ from __future__ import annotations
 
 import os
 import subprocess
-import sys
-import textwrap
 
-from conftest import status_log_qos, wait_for
+from conftest import publish_servo_report_as, status_log_qos, wait_for
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import simulation_fingerprint
 from hexapod_adapt.online.adaptation import simulated_trial
@@ -300,23 +298,7 @@ def test_bad_servo_reports_are_refused_and_the_node_lives(ros, launch, domain_id
     assert 'servo 3 (leg 1) reported dead again: already known' in log
     assert 'servo 12 reported dead: leg 4 femur unpowered' in log
     # only the bridge is believed: a report from another node is logged, naming it, and ignored
-    script = textwrap.dedent(
-        """
-        import rclpy, time
-        from hexapod_gait.ros_glue import EVENTS
-        from hexapod_msgs.msg import ServoFailure
-        rclpy.init()
-        node = rclpy.create_node('not_the_bridge')
-        pub = node.create_publisher(ServoFailure, 'servo_failures', EVENTS)
-        end = time.monotonic() + 30
-        while pub.get_subscription_count() < 1 and time.monotonic() < end:
-            time.sleep(0.05)
-        pub.publish(ServoFailure(servo_id=5, robot_leg=3, leg=3, joint='tibia'))
-        time.sleep(5)
-        """
-    )
-    env = dict(os.environ, ROS_DOMAIN_ID=str(domain_id))
-    impostor = subprocess.Popen([sys.executable, '-c', script], env=env)
+    impostor = publish_servo_report_as('not_the_bridge', domain_id, 5, 3, 'tibia')
     says = 'servo 5 (leg 3) reported dead: servo report ignored: it may come from /not_the_bridge'
     wait_for(lambda: says in node.log(), 30, 'the impostor named')
     impostor.wait(30)
@@ -395,8 +377,6 @@ def _preset_archive(tmp_path):
 
 
 def _emulated_robot(launch, tmp_path, *extra):
-    import os
-
     radio, imu = str(tmp_path / 'radio'), str(tmp_path / 'imu')
     emu = launch(
         'hexapod_bridge', 'robot_emulator', args=['--radio-link', radio, '--imu-link', imu, *extra]
@@ -741,7 +721,6 @@ def test_every_nonsensical_adapt_request_is_refused_with_a_reason(ros, launch, s
 
 
 def test_adapt_client_honours_its_timeout(domain_id):
-    import subprocess
     import time
 
     from conftest import executable
@@ -844,7 +823,6 @@ def _prefix_without(package: str, tmp_path) -> str:
     What a shell that sourced only install/setup.bash sees for a package of the wheels: the
     message class imports, but its definition cannot be found.
     """
-    import os
     from pathlib import Path
 
     prefixes = os.environ['AMENT_PREFIX_PATH'].split(os.pathsep)

@@ -30,7 +30,7 @@ import sys
 import textwrap
 import time
 
-from conftest import executable, status_log_qos, wait_for
+from conftest import executable, publish_servo_report_as, status_log_qos, wait_for
 from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_msgs.action import Navigate
 from hexapod_navigation.navigate_msgs import navigate_client
@@ -396,23 +396,7 @@ def test_robot_mode_takes_dead_servos_only_from_its_bridge_and_forgets_them(
     says = 'the damage bank does not model leg 1 unpowered tibia, leg 4 unpowered femur'
     wait_for(lambda: says in nav.log(), 20, 'the second report')
     # only the bridge is believed: a report from another node is logged, naming it, and ignored
-    script = textwrap.dedent(
-        """
-        import rclpy, time
-        from hexapod_gait.ros_glue import EVENTS
-        from hexapod_msgs.msg import ServoFailure
-        rclpy.init()
-        node = rclpy.create_node('not_the_bridge')
-        pub = node.create_publisher(ServoFailure, 'servo_failures', EVENTS)
-        end = time.monotonic() + 30
-        while pub.get_subscription_count() < 1 and time.monotonic() < end:
-            time.sleep(0.05)
-        pub.publish(ServoFailure(servo_id=5, robot_leg=3, leg=3, joint='tibia'))
-        time.sleep(5)
-        """
-    )
-    env = dict(os.environ, ROS_DOMAIN_ID=str(domain_id))
-    impostor = subprocess.Popen([sys.executable, '-c', script], env=env)
+    impostor = publish_servo_report_as('not_the_bridge', domain_id, 5, 3, 'tibia')
     says = 'servo 5 (leg 3) reported dead: servo report ignored: it may come from /not_the_bridge'
     wait_for(lambda: says in nav.log(), 30, 'the impostor named')
     impostor.wait(30)
