@@ -123,3 +123,27 @@ def test_a_single_array_file_is_refused(tmp_path):
     np.save(tmp_path / 'one.npy', np.zeros(3))
     with pytest.raises(ArchiveError, match='not an .npz archive'):
         load_archive(tmp_path / 'one.npy')
+
+
+def test_a_checkpoint_with_damaged_pending_candidates_is_refused(tmp_path):
+    from hexapod_adapt.mapping.map_elites import load_checkpoint_state
+
+    path, _ = _good(tmp_path)
+    archive = load_archive(path)
+    ckpt = tmp_path / 'map.npz.ckpt.npz'
+    archive.save(ckpt, {'pending_index': np.array([3, 7]), 'pending_genes': np.ones((2, 32))})
+    _, pending, proposer = load_checkpoint_state(ckpt)
+    assert sorted(pending) == [3, 7] and proposer is None
+    for index, genes in (
+        (np.array([1.5]), np.ones((1, 32))),  # not whole numbers
+        (np.array([1, 2]), np.ones((2, 5))),  # genes of another size
+        (np.array([[1]]), np.ones((1, 32))),
+        (np.array(['a']), np.ones((1, 32))),
+        (np.array([1]), np.array([['x'] * 32])),
+    ):
+        archive.save(ckpt, {'pending_index': index, 'pending_genes': genes})
+        with pytest.raises(ArchiveError, match='pending candidates are damaged'):
+            load_checkpoint_state(ckpt)
+    archive.save(ckpt)  # an archive, not a checkpoint
+    with pytest.raises(ArchiveError, match='not a map-generation checkpoint'):
+        load_checkpoint_state(ckpt)

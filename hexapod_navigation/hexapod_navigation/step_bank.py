@@ -50,13 +50,13 @@ import json
 import os
 from pathlib import Path
 from typing import Callable, Sequence
-import zipfile
 
 from hexapod_adapt.mapping.archive import ArchiveError, atomic_write_bytes, load_archive
 from hexapod_adapt.mapping.maps import shipped_map
 from hexapod_adapt.mapping.simulation import worker_simulator
 from hexapod_adapt.mapping.steps import repertoire_fingerprint
 from hexapod_adapt.online.bank import BANK_DAMAGES
+from hexapod_description.npz import float_array, json_array, read_npz, UnreadableFile
 from hexapod_description.processes import die_with_parent
 from hexapod_gait.parameters import from_omni_genotype
 from hexapod_navigation.repertoire import PACKAGE, Repertoire
@@ -257,15 +257,16 @@ def load_step_bank(
     ``damages``: the damages it must hold, in order (None: whatever damages it holds).
     """
     try:
-        with np.load(path, allow_pickle=False) as data:
-            stored = json.loads(str(data['key']))
-            steps = np.asarray(data['steps'], dtype=float)
-            tripod = np.asarray(data['tripod'], dtype=float)
-            intact_tripod = np.asarray(data['intact_tripod'], dtype=float)
+        data = read_npz(path, ('key', 'steps', 'tripod', 'intact_tripod'))
+        stored = json_array(data['key'], f'{path}: the key')
+        steps, tripod, intact_tripod = (
+            float_array(data[name], f'{path}: {name}')
+            for name in ('steps', 'tripod', 'intact_tripod')
+        )
     except FileNotFoundError:
         return None, f'no step bank at {path}'
-    except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile) as exc:
-        return None, f'{path} is not a readable step bank ({type(exc).__name__}: {exc})'
+    except UnreadableFile as exc:
+        return None, f'not a readable step bank: {exc}'
     if not isinstance(stored, dict):
         return None, f'{path} is not a readable step bank (its key is not a JSON object)'
     if damages is None:

@@ -293,6 +293,38 @@ def test_a_bank_file_says_which_damages_it_holds_and_a_bad_list_is_refused(reper
         assert refused is None and 'names no damages a bank can hold' in why, why
 
 
+def test_a_damaged_bank_file_is_refused_saying_so_never_raised(repertoire, tmp_path):
+    from hexapod_navigation.step_bank import load_step_bank, save_step_bank, StepBank
+    from hexapod_sim.damage import Damage
+
+    rng = np.random.default_rng(1)
+    bank = StepBank(
+        (Damage.of('locked', [1, 4]),),
+        rng.normal(size=(1, len(repertoire), 3)),
+        rng.normal(size=(1, 8, 3)),
+        rng.normal(size=(8, 3)),
+    )
+    path = tmp_path / 'bank.npz'
+    save_step_bank(path, bank, repertoire, 'mujoco')
+    blob = path.read_bytes()
+    bad = tmp_path / 'bad.npz'
+    outcomes = {'loaded': 0, 'refused': 0}
+    for length in range(0, len(blob), max(1, len(blob) // 100)):  # every cut is refused
+        bad.write_bytes(blob[:length])
+        refused, why = load_step_bank(bad, repertoire, 'mujoco')
+        assert refused is None and str(bad) in why, why
+    for _ in range(1000):  # bit flips: a bank or a refusal naming the file (zlib's errors too)
+        data = bytearray(blob)
+        for _ in range(int(rng.integers(1, 4))):
+            bit = int(rng.integers(0, 8 * len(data)))
+            data[bit // 8] ^= 1 << (bit % 8)
+        bad.write_bytes(bytes(data))
+        loaded, why = load_step_bank(bad, repertoire, 'mujoco')
+        assert (loaded is None) == bool(why) and (loaded is not None or str(bad) in why)
+        outcomes['loaded' if loaded is not None else 'refused'] += 1
+    assert outcomes['refused'] > 900, outcomes
+
+
 def test_the_shipped_bank_fits_the_shipped_repertoire_and_re_measures_identically(repertoire):
     from dataclasses import replace
 

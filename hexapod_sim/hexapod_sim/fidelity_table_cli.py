@@ -36,6 +36,7 @@ from pathlib import Path
 import sys
 
 from hexapod_description.cli import input_file, run_command
+from hexapod_description.npz import float_array, read_npz, UnreadableFile
 from hexapod_sim.engines import create_simulator
 from hexapod_sim.fidelity import agreement, fidelity_rows, markdown
 from hexapod_sim.simulator import ENGINES, SimConfig
@@ -45,15 +46,15 @@ import numpy as np
 def map_genotypes(path: Path) -> np.ndarray:
     """Return the genotypes of the filled niches of an archive file (written by generate_map)."""
     try:
-        with np.load(path, allow_pickle=False) as data:
-            fitness, genotypes = (
-                np.asarray(data['fitness'], dtype=float),
-                np.asarray(data['genotypes'], dtype=float),
-            )
-    except (OSError, KeyError, ValueError) as exc:
+        data = read_npz(path, ('fitness', 'genotypes'))
+        fitness = float_array(data['fitness'], f'{path}: fitness')
+        genotypes = float_array(data['genotypes'], f'{path}: genotypes')
+    except (OSError, UnreadableFile) as exc:
+        raise ValueError(f'not an archive with fitness and genotypes arrays: {exc}') from None
+    if fitness.ndim != 1 or genotypes.ndim != 2 or len(fitness) != len(genotypes):
         raise ValueError(
-            f'{path}: not an archive with fitness and genotypes arrays ({exc})'
-        ) from exc
+            f'{path}: fitness {fitness.shape} and genotypes {genotypes.shape} do not match'
+        )
     return genotypes[np.isfinite(fitness)]
 
 

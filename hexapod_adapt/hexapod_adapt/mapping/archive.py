@@ -58,6 +58,7 @@ from pathlib import Path
 import tempfile
 from typing import Any, BinaryIO, Iterator, Mapping
 
+from hexapod_description.npz import float_array, json_array, read_npz, UnreadableFile
 from hexapod_gait import GENOTYPE_MAPPING_VERSION, GENOTYPE_SIZE
 from hexapod_gait.parameters import OMNI_GENOTYPE_SIZE, OMNI_MAPPING_VERSION
 import numpy as np
@@ -402,43 +403,14 @@ def load_archive(path: str | os.PathLike) -> Archive:
     if not path.is_file():
         raise ArchiveError(f'{path}: no such archive file')
     try:
-        loaded = np.load(path, allow_pickle=False)
-        if not isinstance(loaded, np.lib.npyio.NpzFile):
-            raise ArchiveError(
-                f'{path}: not a hexapod archive (a single array, not an .npz archive)'
-            )
-        with loaded as data:
-            missing = [k for k in (*_ARRAYS, 'metadata') if k not in data.files]
-            if missing:
-                raise ArchiveError(f'{path}: not a hexapod archive (missing {", ".join(missing)})')
-            arrays = {}
-            for name in _ARRAYS:
-                array = np.asarray(data[name])
-                if array.dtype.kind not in 'fiu':
-                    raise ArchiveError(
-                        f'{path}: {name} must hold numbers, found dtype {array.dtype}'
-                    )
-                arrays[name] = array.astype(float)
-            meta_array = np.asarray(data['metadata'])
-            if meta_array.shape != () or meta_array.dtype.kind not in 'US':
-                raise ArchiveError(
-                    f'{path}: metadata must be one JSON string, found {meta_array.dtype} '
-                    f'{meta_array.shape}'
-                )
-            meta_text = str(meta_array)
-    except ArchiveError:
-        raise
-    except Exception as exc:  # noqa: BLE001 - numpy's readers raise many kinds on damaged bytes
-        # (BadZipFile, EOFError, ValueError, zlib.error, tokenize.TokenError, SyntaxError,
-        # MemoryError,
-        # ...): each one means the file is damaged, and the caller needs one answer for that.
-        raise ArchiveError(
-            f'{path}: truncated or corrupted archive file ({type(exc).__name__}: {exc})'
-        ) from exc
-    try:
-        meta = json.loads(meta_text)
-    except (json.JSONDecodeError, RecursionError) as exc:
-        raise ArchiveError(f'{path}: metadata is not valid JSON ({exc})') from exc
+        data = read_npz(path, (), optional=(*_ARRAYS, 'metadata'))
+        missing = [k for k in (*_ARRAYS, 'metadata') if k not in data]
+        if missing:
+            raise ArchiveError(f'{path}: not a hexapod archive (missing {", ".join(missing)})')
+        arrays = {name: float_array(data[name], f'{path}: {name}') for name in _ARRAYS}
+        meta = json_array(data['metadata'], f'{path}: metadata')
+    except (OSError, UnreadableFile) as exc:
+        raise ArchiveError(str(exc)) from None
     meta = check_metadata(meta, str(path))
     try:
         kind = map_kind(meta.get('kind', 'gait'))

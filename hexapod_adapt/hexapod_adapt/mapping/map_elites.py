@@ -49,6 +49,7 @@ from typing import Callable, Protocol, Sequence
 
 from hexapod_adapt.mapping.archive import Archive, ArchiveError, InsertStatus, load_archive
 from hexapod_adapt.mapping.emitters import EMITTER_SETS, EmitterSettings, RibsProposer
+from hexapod_description.npz import read_npz, UnreadableFile
 import numpy as np
 
 
@@ -242,15 +243,27 @@ def load_checkpoint_state(
 ) -> tuple[Archive, dict[int, np.ndarray], RibsProposer | None]:
     """(archive, candidates in flight, the emitter set's state if any) from a checkpoint."""
     archive = load_archive(path)
-    with np.load(path, allow_pickle=False) as data:
-        if 'pending_index' not in data.files:
-            raise ArchiveError(
-                f'{path}: an archive, not a map-generation checkpoint (no pending candidates)'
-            )
-        pending = {
-            int(k): np.array(g) for k, g in zip(data['pending_index'], data['pending_genes'])
-        }
-        blob = data['emitter_state'].tobytes() if 'emitter_state' in data.files else None
+    try:
+        data = read_npz(path, (), ('pending_index', 'pending_genes', 'emitter_state'))
+    except (OSError, UnreadableFile) as exc:
+        raise ArchiveError(f'{path}: cannot read the checkpoint ({exc})') from None
+    if 'pending_index' not in data:
+        raise ArchiveError(
+            f'{path}: an archive, not a map-generation checkpoint (no pending candidates)'
+        )
+    index, genes = data['pending_index'], data.get('pending_genes', np.zeros((0, 0)))
+    if (
+        index.ndim != 1
+        or index.dtype.kind not in 'iu'
+        or genes.shape != (len(index), archive.genotypes.shape[1])
+        or genes.dtype.kind != 'f'
+    ):
+        raise ArchiveError(
+            f'{path}: its pending candidates are damaged (index {index.dtype} {index.shape},'
+            f' genes {genes.dtype} {genes.shape})'
+        )
+    pending = {int(k): np.array(g) for k, g in zip(index, genes)}
+    blob = data['emitter_state'].tobytes() if 'emitter_state' in data else None
     try:
         proposer = RibsProposer.loads(blob) if blob is not None else None
     except Exception as exc:  # noqa: BLE001 - any damage to the state is the same refusal

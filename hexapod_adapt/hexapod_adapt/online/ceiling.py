@@ -42,10 +42,10 @@ import json
 import os
 from pathlib import Path
 from typing import Callable, Iterable, Sequence
-import zipfile
 
 from hexapod_adapt.mapping.archive import Archive, atomic_write_bytes
 from hexapod_adapt.mapping.simulation import simulation_fingerprint, worker_simulator
+from hexapod_description.npz import float_array, json_array, read_npz, UnreadableFile
 from hexapod_description.processes import die_with_parent
 from hexapod_sim import evaluate_gaits
 from hexapod_sim.damage import as_damage, Damage, LegDamage
@@ -203,10 +203,10 @@ def compute_ceiling(
 def _read(path: Path, key: dict) -> Ceiling | None:
     """Return the cached ceiling at ``path`` if it is one for ``key`` (None if absent or not)."""
     try:
-        with np.load(path, allow_pickle=False) as data:
-            stored = json.loads(str(data['key']))
-            niches, speeds = np.asarray(data['niches']), np.asarray(data['speeds'], dtype=float)
-    except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile):
+        data = read_npz(path, ('key', 'niches', 'speeds'))
+        stored = json_array(data['key'], f'{path}: the key')
+        niches, speeds = data['niches'], float_array(data['speeds'], f'{path}: speeds')
+    except (OSError, UnreadableFile):  # absent or damaged: computed again and rewritten
         return None
     if stored != key or niches.shape != speeds.shape or not np.all(np.isfinite(speeds)):
         return None

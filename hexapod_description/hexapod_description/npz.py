@@ -1,0 +1,88 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Reading ``.npz`` files that may be damaged: one error for every way their bytes can be bad.
+
+numpy's readers raise many kinds of exception on damaged bytes (BadZipFile, EOFError,
+ValueError, zlib.error, tokenize.TokenError, MemoryError, ...); a caller needs one answer for
+all of them. Pickles are never loaded.
+"""
+
+from __future__ import annotations
+
+import errno
+import json
+import os
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+
+class UnreadableFile(ValueError):
+    """An ``.npz`` file whose bytes are damaged or that lacks an array (the text says which)."""
+
+
+def read_npz(
+    path: str | os.PathLike, names: Sequence[str], optional: Sequence[str] = ()
+) -> dict[str, np.ndarray]:
+    """
+    Return the arrays ``names``, and those of ``optional`` the file holds, of the file ``path``.
+
+    FileNotFoundError if there is no file there; UnreadableFile, naming the file and the problem,
+    for every other way it cannot be read.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(errno.ENOENT, 'no such file', str(path))
+    try:
+        loaded = np.load(path, allow_pickle=False)
+        if not isinstance(loaded, np.lib.npyio.NpzFile):
+            raise UnreadableFile(f'{path}: a single array, not an .npz archive of named arrays')
+        with loaded as data:
+            missing = [name for name in names if name not in data.files]
+            if missing:
+                raise UnreadableFile(f'{path}: missing {", ".join(missing)}')
+            wanted = [*names, *(name for name in optional if name in data.files)]
+            return {name: np.asarray(data[name]) for name in wanted}
+    except UnreadableFile:
+        raise
+    except Exception as exc:  # noqa: BLE001 - numpy's readers raise many kinds on damaged bytes
+        raise UnreadableFile(
+            f'{path}: truncated or corrupted ({type(exc).__name__}: {exc})'
+        ) from exc
+
+
+def json_array(array: np.ndarray, what: str) -> Any:
+    """Return the JSON value held as one string in ``array``; UnreadableFile says what is wrong."""
+    if array.shape != () or array.dtype.kind not in 'US':
+        raise UnreadableFile(f'{what} must be one JSON string, found {array.dtype} {array.shape}')
+    try:
+        return json.loads(str(array))
+    except (json.JSONDecodeError, RecursionError) as exc:
+        raise UnreadableFile(f'{what} is not valid JSON ({exc})') from None
+
+
+def float_array(array: np.ndarray, what: str) -> np.ndarray:
+    """Return ``array`` as floats; UnreadableFile if it does not hold numbers."""
+    if array.dtype.kind not in 'fiu':
+        raise UnreadableFile(f'{what} must hold numbers, found dtype {array.dtype}')
+    return array.astype(float)
