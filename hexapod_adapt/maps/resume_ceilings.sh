@@ -3,7 +3,10 @@
 # cores) in the background, from a worktree of its own at this checkout's HEAD, so that work on
 # the library under it cannot change or break the run.
 #   bash hexapod_adapt/maps/resume_ceilings.sh [WORKTREE] [CHECKPOINTS]
-# The ceilings are those of the map that HEAD ships: commit the finished default map first.
+# The ceilings are those of the worktree's default map: the one HEAD ships, or MAP (a finished
+# default map not yet committed, e.g. ../mapgen/hexapod_adapt/maps/default_map.npz), copied into
+# the worktree with its log. Commit a new map together with its ceilings: the demo, the tests
+# and make bench-adapt read the shipped map's cache.
 # WORKTREE (default ../ceilgen) is made at HEAD if missing and built with this checkout's .venv.
 # Cases already cached in CHECKPOINTS (default ../persist/ceilings) are copied in, so a new
 # worktree only computes what is missing (a cache file names its map, engine and damage: a file
@@ -15,10 +18,15 @@ set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 tree="${1:-$repo/../ceilgen}"
 keep="${2:-$repo/../persist/ceilings}"
+map="${MAP:+$(realpath "$MAP")}"  # before entering the worktree: MAP may be relative
 REPO="$repo" TREE="$tree"
 # shellcheck disable=SC1091
 source "$repo/scripts/fixed_worktree.sh"
 mkdir -p out hexapod_adapt/maps/ceilings
+if [ -n "$map" ]; then
+  cp "$map" hexapod_adapt/maps/default_map.npz
+  if [ -f "$map.log.jsonl" ]; then cp "$map.log.jsonl" hexapod_adapt/maps/default_map.npz.log.jsonl; fi
+fi
 if [ -d "$keep" ]; then
   cp -n "$keep"/*.npz hexapod_adapt/maps/ceilings/ 2>/dev/null || true
 fi
