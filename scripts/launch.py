@@ -77,6 +77,11 @@ def map_engine(archive: str | None) -> str | None:
         return None
 
 
+def simulated_profile(profile: str) -> bool:
+    """Whether a profile runs sim_node (and its /clock) in place of the robot."""
+    return profile in ('sim', 'adapt-sim', 'navigate-sim')
+
+
 def main(argv: list[str] | None = None) -> int:
     from hexapod_description.processes import die_with_parent
     from hexapod_gait.ros_glue import ros_args
@@ -129,6 +134,15 @@ def main(argv: list[str] | None = None) -> int:
         default='python',
         help="emulated-robot: the robot's firmware, the Python model or the C++ module",
     )
+    parser.add_argument(
+        '--leg-map',
+        type=int,
+        nargs=6,
+        default=None,
+        metavar='N',
+        help="robot profiles: the robot's leg number of URDF legs 1..6 (bridge_node's leg_map;"
+        ' emulated-robot: the emulated robot is numbered so too); default identity',
+    )
     parser.add_argument('--port', default='/tmp/hexapod_radio')
     parser.add_argument('--imu-port', default='')
     args = parser.parse_args(argv)
@@ -139,6 +153,9 @@ def main(argv: list[str] | None = None) -> int:
         )
     if args.profile != 'emulated-robot' and (args.dead_servo or args.firmware != 'python'):
         parser.error('--dead-servo and --firmware are for the emulated-robot profile')
+    if simulated_profile(args.profile) and args.leg_map is not None:
+        parser.error('--leg-map is for the robot profiles (emulated-robot, robot)')
+    leg_map = {'leg_map': args.leg_map} if args.leg_map is not None else {}
 
     commands: list[tuple[str, list[str]]] = []
     if args.profile == 'adapt-sim':
@@ -148,7 +165,7 @@ def main(argv: list[str] | None = None) -> int:
         # the repertoire's engine; real time by default (--rtf): steps follow each other unplanned
         # walking between them grows with the speed-up
         args.preset, args.engine = '', args.engine or 'mujoco'
-    simulated = args.profile in ('sim', 'adapt-sim', 'navigate-sim')  # sim_node's /clock
+    simulated = simulated_profile(args.profile)  # sim_node's /clock
     # navigation on the robot: one bridge trial is one repertoire step
     bridge_trial = {}
     if args.navigate:
@@ -186,13 +203,19 @@ def main(argv: list[str] | None = None) -> int:
                     args.firmware,
                 ]
                 + [f'--dead-servo={servo}' for servo in args.dead_servo]
+                + (['--leg-map', *map(str, args.leg_map)] if args.leg_map else [])
                 + (['--engine', args.engine] if args.engine else []),
             ),
             (
                 'bridge_node',
                 [exe('hexapod_bridge', 'bridge_node')]
                 + ros_args(
-                    {'port': '/tmp/hexapod_radio', 'imu_port': '/tmp/hexapod_imu', **bridge_trial}
+                    {
+                        'port': '/tmp/hexapod_radio',
+                        'imu_port': '/tmp/hexapod_imu',
+                        **bridge_trial,
+                        **leg_map,
+                    }
                 ),
             ),
         ]
@@ -201,7 +224,9 @@ def main(argv: list[str] | None = None) -> int:
             (
                 'bridge_node',
                 [exe('hexapod_bridge', 'bridge_node')]
-                + ros_args({'port': args.port, 'imu_port': args.imu_port, **bridge_trial}),
+                + ros_args(
+                    {'port': args.port, 'imu_port': args.imu_port, **bridge_trial, **leg_map}
+                ),
             )
         ]
     # robot_state_publisher's job: leg links on /tf, latched robot_description and /tf_static

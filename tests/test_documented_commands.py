@@ -201,6 +201,16 @@ def test_the_bridge_guide_rehearses_a_dead_servo_on_the_cpp_firmware(env):
     assert 'protocol 1.1' in done.stdout  # the C++ module answered the HELLO
 
 
+def test_the_bridge_guide_rehearses_the_robots_own_leg_numbering(env):
+    commands = code_block('docs/bridge.md', '## Running it')
+    launch = one(commands, 'python scripts/launch.py emulated-robot --leg-map')
+    assert '--leg-map 1 6 5 4 3 2' in launch and '--dead-servo 6' in launch
+    client = f'python -c {shlex.quote(DEAD_SERVO_CLIENT)}'
+    done, log = run_against(launch, client, env, timeout=180)
+    # servo 6 is the femur of the robot's leg 2: URDF leg 6 in the clockwise numbering
+    assert 'DEAD 6 6 femur' in done.stdout, done.stdout + done.stderr + log[-3000:]
+
+
 def test_emulated_robot_refuses_failed_legs_saying_what_to_use(env):
     done = subprocess.run(
         in_a_shell('python scripts/launch.py emulated-robot --failed-legs 1'),

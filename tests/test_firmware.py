@@ -232,3 +232,83 @@ def test_without_the_host_build_the_native_emulator_says_what_to_build(tmp_path)
     assert result.returncode == 1
     assert 'package hexapod_firmware is not built' in result.stderr
     assert 'Traceback' not in result.stderr
+
+
+# -- a robot whose legs are numbered otherwise than the URDF's (bridge_node's leg_map) ----------
+def _demo_gait():
+    """The demo map's fastest gait: every leg's values differ, so a mix-up of legs shows."""
+    from hexapod_adapt.mapping.archive import load_archive
+    from hexapod_adapt.mapping.maps import shipped_map
+    from hexapod_gait import from_genotype
+
+    archive = load_archive(shipped_map('demo_map.npz'))
+    elites = archive.elite_indices()
+    return from_genotype(archive.genotypes[elites[int(np.argmax(archive.fitness[elites]))]])
+
+
+def test_the_module_and_the_model_agree_on_a_robot_numbered_otherwise():
+    # the mirrored numbering of the real robot's firmware, a dead femur (servo 6: robot leg 2,
+    # URDF leg 6) and an asymmetric gait uploaded: bytes, states, tables and servo targets
+    script = Script(dead_servos=frozenset({6}), leg_map=ext.MIRRORED_LEG_MAP)
+    script.poll(0)
+    script.table()  # the compiled-in tripod, in the robot's slots
+    values = ext.gait_values(_demo_gait(), ext.MIRRORED_LEG_MAP)
+    now = 10
+    for frame in ext.upload_frames(values, 7, 1):
+        script.receive(now, frame)
+        now += 3
+    script.table()
+    script.receive(now, ext.encode_command(ext.Cmd.START_TRIAL, 2, ext.start_payload(0.5, 7)))
+    for ms in range(now + 10, now + 800, 29):
+        script.poll(ms)
+        script.servos()
+    model = run_model(script)
+    result = compare(model, run_native(script))
+    assert result.divergence is None, result.divergence
+    assert result.tables == 2
+    # the tables are the URDF robot's, each leg's joints in its slot
+    first = model.index('T 120', model.index('T 120') + 1)
+    rows = np.array([line.split() for line in model[first + 1 : first + 121]], float)
+    urdf = build_joint_table(ext.gait_from_values(ext.quantise(ext.gait_values(_demo_gait()))))
+    expected = ext.joints_in_slots(urdf.positions[::2], ext.MIRRORED_LEG_MAP)
+    assert np.abs(rows[:, :18] - expected).max() <= TABLE_TOLERANCE['position']
+    assert np.abs(rows[:, :18] - urdf.positions[::2]).max() > 0.1  # the slots differ from URDF's
+
+
+def test_a_leg_map_that_is_no_permutation_is_refused_by_the_module():
+    with pytest.raises(RuntimeError, match='hx_init refused the configuration'):
+        run_native(Script(leg_map=(1, 1, 2, 3, 4, 5)))
+    with pytest.raises(ext.ExtensionError, match='permutation'):
+        NativeFirmware(leg_map=(1, 2, 3, 4, 5, 7))
+
+
+@pytest.mark.parametrize('firmware', ['python', 'native'])
+def test_a_robot_numbered_otherwise_walks_a_gait_as_the_urdf_robot_does(firmware):
+    from hexapod_bridge.emulator.consecutive import ConsecutiveTrials
+    from hexapod_sim import create_simulator, SimConfig
+
+    gait = _demo_gait()
+
+    def walk(leg_map, robot_leg_map=None):
+        with create_simulator(SimConfig(engine='mujoco')) as sim:
+            robot = ConsecutiveTrials(
+                sim, 0, noise=None, leg_map=leg_map, firmware=firmware, robot_leg_map=robot_leg_map
+            )
+            return np.array(robot.measure(gait, 2.0).true_move)
+
+    urdf = walk(ext.IDENTITY_LEG_MAP)
+    assert urdf[0] > 0.2  # it walks
+    for leg_map in (ext.MIRRORED_LEG_MAP, (3, 1, 2, 6, 4, 5)):
+        np.testing.assert_allclose(walk(leg_map), urdf, atol=1e-9)
+    # a bridge whose leg_map is not the robot's numbering walks another gait
+    mixed_up = walk(ext.MIRRORED_LEG_MAP, robot_leg_map=ext.IDENTITY_LEG_MAP)
+    assert np.abs(mixed_up - urdf).max() > 0.02
+
+
+def test_the_emulator_refuses_a_leg_map_that_is_no_permutation(capsys):
+    from hexapod_bridge.emulator.robot_emulator_cli import main
+
+    with pytest.raises(SystemExit) as exit_info:
+        main(['--leg-map', '1', '2', '3', '4', '5', '5'])
+    assert exit_info.value.code == 2
+    assert '--leg-map: leg map must be a permutation of 1..6' in capsys.readouterr().err

@@ -43,10 +43,12 @@ size_t hx_size(void) { return sizeof(Instance); }
 
 int hx_init(void* mem, size_t size, const hx_hooks* hooks, uint32_t walk_duration_ms,
             uint16_t failsafe_windows, uint16_t telemetry_ticks, uint16_t ping_check_ticks,
-            uint32_t now_ms) {
+            const uint8_t* leg_map, uint32_t now_ms) {
+  hexapod_fw::LegMount mounts[hexapod_fw::kLegs];
   if (mem == nullptr || size < sizeof(Instance) ||
       reinterpret_cast<uintptr_t>(mem) % alignof(Instance) != 0 || hooks == nullptr ||
-      failsafe_windows == 0 || telemetry_ticks == 0 || ping_check_ticks == 0) {
+      failsafe_windows == 0 || telemetry_ticks == 0 || ping_check_ticks == 0 ||
+      (leg_map != nullptr && !hexapod_fw::slot_mounts(leg_map, mounts))) {
     return -1;
   }
   Instance* instance = new (mem) Instance();
@@ -58,6 +60,9 @@ int hx_init(void* mem, size_t size, const hx_hooks* hooks, uint32_t walk_duratio
   config.failsafe_windows = failsafe_windows;
   config.telemetry_ticks = telemetry_ticks;
   config.ping_check_ticks = ping_check_ticks;
+  if (leg_map != nullptr) {
+    for (int k = 0; k < hexapod_fw::kLegs; ++k) config.leg_map[k] = leg_map[k];
+  }
   instance->firmware.begin(h, config, now_ms);
   return 0;
 }

@@ -42,9 +42,21 @@ void Firmware::begin(const Hooks& hooks, const Config& config, uint32_t now_ms) 
   now_ms_ = now_ms;
   next_tick_ms_ = now_ms;
   telemetry_ticks_ = config.telemetry_ticks;
+  static const uint8_t kIdentity[kLegs] = {1, 2, 3, 4, 5, 6};
+  const uint8_t* leg_map = config.leg_map;
+  if (!slot_mounts(leg_map, mounts_)) {
+    leg_map = kIdentity;
+    slot_mounts(leg_map, mounts_);
+  }
+  // the compiled-in tripod (URDF leg order) in the robot's slots
   for (int i = 0; i < kParams; ++i) gait_[i] = kDefaultGait[i];
+  for (int k = 0; k < kLegs; ++k) {
+    for (int field = kRadius; field <= kPhaseOffset; field += kLegs) {
+      gait_[field + leg_map[k] - 1] = kDefaultGait[field + k];
+    }
+  }
   gait_id_ = 0;
-  build_table(gait_, table_);  // the compiled-in tripod is reachable (a test checks it)
+  build_table(gait_, mounts_, table_);  // the compiled-in tripod is reachable (a test checks it)
   float zero[kJoints] = {};
   for (int j = 0; j < kJoints; ++j) pose_[j] = table_.position_rad(0, j);
   dead_mask_ = 0;
@@ -234,9 +246,9 @@ void Firmware::on_extension(const uint8_t* f) {
 
 // Build the table of ``values``; on failure rebuild the gait in use (the last good state).
 bool Firmware::load_gait(const double* values, BuildResult* result) {
-  *result = build_table(values, table_);
+  *result = build_table(values, mounts_, table_);
   if (*result != BuildResult::kOk) {
-    build_table(gait_, table_);
+    build_table(gait_, mounts_, table_);
     return false;
   }
   for (int i = 0; i < kParams; ++i) gait_[i] = values[i];

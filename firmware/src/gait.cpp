@@ -45,8 +45,7 @@ struct KeyPoints {
   double inv_swing;       // 1 / swing time (1 without swing)
 };
 
-KeyPoints key_points(const double* v, int leg) {
-  const LegMount& m = kMounts[leg];
+KeyPoints key_points(const double* v, const LegMount& m, int leg) {
   const double radius = v[kRadius + leg], offset = v[kAngleOffset + leg];
   const double cx = radius * cos(offset), cy = radius * sin(offset);
   const double cos_yaw = cos(m.yaw), sin_yaw = sin(m.yaw);
@@ -159,11 +158,22 @@ int rows_for_period(double period) {
   return static_cast<int>(steps);
 }
 
-BuildResult build_table(const double* values, GaitTable& table) {
+bool slot_mounts(const uint8_t leg_map[kLegs], LegMount mounts[kLegs]) {
+  int urdf_leg_of_slot[kLegs] = {-1, -1, -1, -1, -1, -1};
+  for (int k = 0; k < kLegs; ++k) {
+    const int slot = leg_map[k] - 1;
+    if (slot < 0 || slot >= kLegs || urdf_leg_of_slot[slot] >= 0) return false;
+    urdf_leg_of_slot[slot] = k;
+  }
+  for (int s = 0; s < kLegs; ++s) mounts[s] = kMounts[urdf_leg_of_slot[s]];
+  return true;
+}
+
+BuildResult build_table(const double* values, const LegMount* mounts, GaitTable& table) {
   const int rows = rows_for_period(values[kPeriod]);
   if (rows == 0) return BuildResult::kBadPeriod;
   KeyPoints keys[kLegs];
-  for (int leg = 0; leg < kLegs; ++leg) keys[leg] = key_points(values, leg);
+  for (int leg = 0; leg < kLegs; ++leg) keys[leg] = key_points(values, mounts[leg], leg);
   for (int row = 0; row < rows; ++row) {
     const double t = row / kRobotRate;
     for (int leg = 0; leg < kLegs; ++leg) {

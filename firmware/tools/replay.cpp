@@ -4,7 +4,8 @@
 //
 // Script (stdin, little-endian):
 //   'H' u32 walk_ms u16 failsafe_windows u16 telemetry_ticks u16 ping_check_ticks u32 now_ms
-//       u32 dead_servo_mask (bit i: servo id i does not answer)        -- once, first
+//       u32 dead_servo_mask (bit i: servo id i does not answer)
+//       u8[6] leg_map (the robot's leg number of each URDF leg)         -- once, first
 //   'B' u32 now_ms u16 n, n bytes                                      -- radio bytes arrive
 //   'P' u32 now_ms                                                     -- the main loop polls
 //   'T'                                                                -- print the gait table
@@ -61,14 +62,16 @@ int main() {
   char tag;
   uint32_t walk_ms, now_ms;
   uint16_t failsafe, telemetry, ping_check;
+  uint8_t leg_map[6];
   if (!read_value(&tag) || tag != 'H' || !read_value(&walk_ms) || !read_value(&failsafe) ||
       !read_value(&telemetry) || !read_value(&ping_check) || !read_value(&now_ms) ||
-      !read_value(&host.dead_mask)) {
+      !read_value(&host.dead_mask) || !read_exact(leg_map, sizeof leg_map)) {
     fail("the script must start with an H record");
   }
   std::vector<uint64_t> memory((hx_size() + 7) / 8);
   void* fw = memory.data();
-  if (hx_init(fw, memory.size() * 8, &hooks, walk_ms, failsafe, telemetry, ping_check, now_ms)) {
+  if (hx_init(fw, memory.size() * 8, &hooks, walk_ms, failsafe, telemetry, ping_check, leg_map,
+              now_ms)) {
     fail("hx_init refused the configuration");
   }
   double gait[36], last[36];

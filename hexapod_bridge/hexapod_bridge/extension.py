@@ -51,6 +51,7 @@ from typing import Sequence
 from hexapod_bridge.crc import crc16
 from hexapod_gait import GaitParameters, RANGES
 from hexapod_gait import ROBOT_RATE as ROBOT_TABLE_RATE
+from hexapod_gait.parameters import LEG_FIELDS
 import numpy as np
 
 MARKER = 0xE7
@@ -205,19 +206,47 @@ def validate_leg_map(leg_map) -> tuple[int, ...]:
     return mapping
 
 
+def urdf_legs_of_slots(leg_map) -> np.ndarray:
+    """Return, for each robot slot 1..6, the index (0-based) of the URDF leg in it."""
+    mapping = validate_leg_map(leg_map)
+    return np.argsort(np.asarray(mapping) - 1)
+
+
+def gait_in_slots(gait, leg_map):
+    """Return a GaitParameters with each URDF leg's values moved to the robot's slot for it."""
+    order = urdf_legs_of_slots(leg_map)
+    return gait.replace(**{name: getattr(gait, name)[order] for name in LEG_FIELDS})
+
+
+def gait_in_urdf_order(gait, leg_map):
+    """Return the URDF-ordered GaitParameters of a gait held in the robot's slots."""
+    mapping = np.asarray(validate_leg_map(leg_map)) - 1
+    return gait.replace(**{name: getattr(gait, name)[mapping] for name in LEG_FIELDS})
+
+
+def joints_in_slots(joints: np.ndarray, leg_map) -> np.ndarray:
+    """Return joint values (..., 18; URDF legs, each coxa, femur, tibia) in the robot's slots."""
+    legs = np.asarray(joints).reshape(*np.shape(joints)[:-1], 6, 3)
+    return legs[..., urdf_legs_of_slots(leg_map), :].reshape(np.shape(joints))
+
+
+def joints_in_urdf_order(joints: np.ndarray, leg_map) -> np.ndarray:
+    """Return joint values held in the robot's slots (..., 18) in URDF leg order."""
+    mapping = np.asarray(validate_leg_map(leg_map)) - 1
+    legs = np.asarray(joints).reshape(*np.shape(joints)[:-1], 6, 3)
+    return legs[..., mapping, :].reshape(np.shape(joints))
+
+
 def gait_values(gait, leg_map=IDENTITY_LEG_MAP) -> list[float]:
     """
     Return the N_PARAMS numbers of a hexapod_gait.GaitParameters in PARAM_NAMES order.
 
     Each leg's values go to the robot's slot for it (``leg_map``, see validate_leg_map).
     """
-    mapping = validate_leg_map(leg_map)
+    gait = gait_in_slots(gait, leg_map)
     values = [gait.body_velocity, gait.body_height, gait.period, gait.crab_angle]
-    for field in ('radius', 'angle_offset', 'step_height', 'duty_factor', 'phase_offset'):
-        per_leg = [0.0] * 6
-        for urdf_leg, robot_leg in enumerate(mapping):
-            per_leg[robot_leg - 1] = float(getattr(gait, field)[urdf_leg])
-        values.extend(per_leg)
+    for field in LEG_FIELDS:
+        values.extend(float(v) for v in getattr(gait, field))
     values.append(float(gait.archive_index))
     values.append(float(gait.turn_rate))
     return [_float32_inside(name, v) for name, v in zip(PARAM_NAMES, values)]

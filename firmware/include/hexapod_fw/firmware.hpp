@@ -35,6 +35,10 @@ struct Config {
   uint16_t failsafe_windows = kFailsafeWindows;
   uint16_t telemetry_ticks = kTelemetryTicks;
   uint16_t ping_check_ticks = kPingCheckTicks;
+  // The robot's leg number (its slot of the per-leg parameters and servos) of each URDF leg:
+  // bridge_node's leg_map, which must be the same. Identity by default; a value that is not a
+  // permutation of 1..6 is taken as identity (hx_init refuses it).
+  uint8_t leg_map[kLegs] = {1, 2, 3, 4, 5, 6};
 };
 
 struct Stats {
@@ -105,6 +109,7 @@ class Firmware {
   uint32_t now_ms_ = 0;
 
   // gaits: the one in use and its table; staged SET_PARAM values (float32, as sent)
+  LegMount mounts_[kLegs] = {};  // each slot's leg mount (slot_mounts of Config::leg_map)
   double gait_[kParams] = {};
   uint16_t gait_id_ = 0;
   GaitTable table_ = {};

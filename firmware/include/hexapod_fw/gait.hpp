@@ -56,6 +56,13 @@ int rows_for_period(double period);
 
 // Fill ``table`` from ``values`` (kParams, range-checked by the caller). On failure the table's
 // contents are undefined: the caller rebuilds the last good gait.
-BuildResult build_table(const double* values, GaitTable& table);
+// Leg mounts of the robot's slots: slot s (0-based) is the URDF leg k with leg_map[k] = s + 1
+// (bridge_node's leg_map: the robot's leg number of each URDF leg). False if leg_map is not a
+// permutation of 1..6 (then mounts is left alone).
+bool slot_mounts(const uint8_t leg_map[kLegs], LegMount mounts[kLegs]);
+
+// The 120 Hz table of ``values`` (per-leg values in the robot's slots), each slot's leg mounted
+// at ``mounts`` (slot_mounts).
+BuildResult build_table(const double* values, const LegMount* mounts, GaitTable& table);
 
 }  // namespace hexapod_fw

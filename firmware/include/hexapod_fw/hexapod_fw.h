@@ -28,10 +28,12 @@ typedef struct hx_state {
 } hx_state;
 
 size_t hx_size(void);
-/* 0 on success, -1 if the memory is too small or misaligned. */
+/* 0 on success, -1 if the memory is too small or misaligned, or the configuration is bad.
+ * leg_map: the robot's leg number of each of the six URDF legs (bridge_node's leg_map), a
+ * permutation of 1..6; NULL for identity. */
 int hx_init(void* mem, size_t size, const hx_hooks* hooks, uint32_t walk_duration_ms,
             uint16_t failsafe_windows, uint16_t telemetry_ticks, uint16_t ping_check_ticks,
-            uint32_t now_ms);
+            const uint8_t* leg_map, uint32_t now_ms);
 void hx_receive(void* fw, const uint8_t* data, size_t n, uint32_t now_ms);
 void hx_poll(void* fw, uint32_t now_ms);
 void hx_get_state(const void* fw, hx_state* out);

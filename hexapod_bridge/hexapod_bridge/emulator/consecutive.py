@@ -32,8 +32,11 @@ from __future__ import annotations
 from collections import deque
 from dataclasses import dataclass
 import math
+from typing import Sequence
 
+from hexapod_bridge import extension as ext
 from hexapod_bridge.emulator.firmware import ImuNoise, RobotFirmware
+from hexapod_bridge.emulator.native import NativeRobotFirmware
 from hexapod_bridge.link import RobotLink
 from hexapod_bridge.odometry import TrialOdometry
 from hexapod_bridge.xbus import MTData, XbusParser
@@ -53,10 +56,28 @@ class MeasuredTrial:
 class ConsecutiveTrials:
     """One emulated robot walking trial after trial with no reset, as on the real robot."""
 
-    def __init__(self, sim: Simulator, seed: int, noise: ImuNoise | None = ImuNoise()) -> None:
+    def __init__(
+        self,
+        sim: Simulator,
+        seed: int,
+        noise: ImuNoise | None = ImuNoise(),
+        leg_map: Sequence[int] = ext.IDENTITY_LEG_MAP,
+        firmware: str = 'python',
+        robot_leg_map: Sequence[int] | None = None,
+    ) -> None:
+        """
+        ``leg_map``: bridge_node's; ``robot_leg_map`` the robot's own numbering (default the same).
+
+        ``firmware``: 'python' (the model) or 'native' (the C++ module).
+        """
         self.sim = sim
-        self.fw = RobotFirmware(sim=sim, imu_noise=noise, seed=seed)
-        self.link, self.xp, self.history = RobotLink(), XbusParser(), deque(maxlen=31)
+        robot_map = leg_map if robot_leg_map is None else robot_leg_map
+        if firmware == 'native':
+            self.fw = NativeRobotFirmware(sim, imu_noise=noise, seed=seed, leg_map=robot_map)
+        else:
+            self.fw = RobotFirmware(sim=sim, imu_noise=noise, seed=seed, leg_map=robot_map)
+        self.link = RobotLink(leg_map=leg_map)
+        self.xp, self.history = XbusParser(), deque(maxlen=31)
         self.t = 0.0
         self.odometry: TrialOdometry | None = None
         self.link.arm(True, self.t)

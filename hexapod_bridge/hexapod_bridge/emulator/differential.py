@@ -88,6 +88,7 @@ class Script:
     timing: FirmwareTiming = field(default_factory=FirmwareTiming)
     start_ms: int = 0
     dead_servos: frozenset[int] = frozenset()
+    leg_map: tuple[int, ...] = ext.IDENTITY_LEG_MAP  # the robot's leg number of each URDF leg
     # ('B', ms, bytes) | ('P', ms) | ('T',) | ('S',)
     events: list[tuple] = field(default_factory=list)
 
@@ -116,13 +117,14 @@ class Script:
         out = [
             b'H'
             + struct.pack(
-                '<IHHHII',
+                '<IHHHII6B',
                 round(t.walk_duration * 1000),
                 t.failsafe_windows,
                 t.telemetry_ticks,
                 t.ping_check_ticks,
                 self.start_ms & 0xFFFFFFFF,
                 mask,
+                *self.leg_map,
             )
         ]
         for event in self.events:
@@ -155,6 +157,7 @@ def run_model(script: Script) -> list[str]:
         ping_check_ticks=t.ping_check_ticks,
         now=script.start_ms / 1000.0,
         servo_ping=lambda servo: servo not in script.dead_servos,
+        leg_map=script.leg_map,
     )
     lines: list[str] = []
     last = _gait_values(fw.gait)
@@ -461,7 +464,15 @@ def fuzz_script(
     start = (
         int(rng.integers(0, 2**31)) if rng.random() < 0.5 else 2**32 - int(rng.integers(1, 10**6))
     )
-    script = Script(dead_servos=dead_servos, start_ms=start)
+    # half the scripts are for a robot whose legs are numbered otherwise than the URDF's (drawn
+    # from a stream of their own: the frames are those of the seed either way)
+    maps = np.random.default_rng([seed, 1])
+    leg_map = (
+        tuple(int(v) for v in maps.permutation(6) + 1)
+        if maps.random() < 0.5
+        else ext.IDENTITY_LEG_MAP
+    )
+    script = Script(dead_servos=dead_servos, start_ms=start, leg_map=leg_map)
     now = script.start_ms
     sent = 0
     while sent < frames:

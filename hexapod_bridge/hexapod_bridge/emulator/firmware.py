@@ -42,10 +42,10 @@ input: firmware/test and tests/test_firmware_native.py check it.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import math
 import struct
-from typing import Callable
+from typing import Callable, Sequence
 
 from hexapod_bridge import extension as ext
 from hexapod_bridge import legacy, xbus
@@ -196,8 +196,12 @@ class RobotFirmware:
         seed: int = 0,
         now: float = 0.0,
         servo_ping: Callable[[int], bool] | None = None,
+        leg_map: Sequence[int] = ext.IDENTITY_LEG_MAP,
     ) -> None:
         self.receiver = RobotReceiver()
+        # the robot's leg number of each URDF leg (bridge_node's leg_map): per-leg values and
+        # servos are in the robot's slots; the legs' geometry, and the simulator, are the URDF's
+        self.leg_map = ext.validate_leg_map(leg_map)
         # the health check's hook: does servo <id> answer a ping? (None: every servo answers)
         self.servo_ping = servo_ping or (lambda servo: True)
         self._health_pending = True  # at start-up
@@ -208,10 +212,12 @@ class RobotFirmware:
         self.ping_check_ticks = ping_check_ticks
         self.stats = FirmwareStats()
         self.imu = EmulatedImu(imu_rate, imu_noise, seed)
-        self.gait = preset('control')  # the firmware's hard-coded tripod
+        # the gait in the robot's slots: at first the firmware's hard-coded tripod
+        self.gait = ext.gait_in_slots(preset('control'), self.leg_map)
         self.gait_id = 0
-        # the gait table at the robot's 120 Hz (the firmware's own; the sim plays its own rate)
-        self.robot_table = build_joint_table(self.gait, rate=ROBOT_RATE)
+        # the gait table at the robot's 120 Hz in its slots (the firmware's own; the sim plays its
+        # own rate)
+        self.robot_table = self._check_reachable(self.gait)
         self.staged: list[float | None] = [None] * ext.N_PARAMS
         self.motors_on = True
         self.estopped = False
@@ -239,7 +245,7 @@ class RobotFirmware:
         # what the C++ module writes to the servos (the differential tests compare them)
         self.servo_targets = ServoTargets(self.robot_table.positions[0])
         if sim is not None:
-            self._table = build_joint_table(self.gait, rate=1.0 / sim.dt)
+            self._table = self._sim_table()
             sim.reset(self._table.positions[0])
             self._load_table()
 
@@ -383,13 +389,28 @@ class RobotFirmware:
         return self._ack(f, ext.Status.UNKNOWN_TYPE)
 
     def _check_reachable(self, gait):
-        """Return the gait's table at 120 Hz: the firmware's own IK check (raises its errors)."""
-        return build_joint_table(gait, rate=ROBOT_RATE)
+        """
+        Return the table at 120 Hz of a gait in the robot's slots, its joints in the slots too.
+
+        The firmware's own IK check (raises its errors): each slot's leg where it is mounted.
+        """
+        urdf = build_joint_table(ext.gait_in_urdf_order(gait, self.leg_map), rate=ROBOT_RATE)
+        return replace(
+            urdf,
+            positions=ext.joints_in_slots(urdf.positions, self.leg_map),
+            velocities=ext.joints_in_slots(urdf.velocities, self.leg_map),
+            stance=urdf.stance[:, ext.urdf_legs_of_slots(self.leg_map)],
+        )
+
+    def _sim_table(self):
+        """Return the gait's table at the simulator's rate, in the URDF's joint order."""
+        gait = ext.gait_in_urdf_order(self.gait, self.leg_map)
+        return build_joint_table(gait, rate=1.0 / self.sim.dt)
 
     # -- walking -----------------------------------------------------------------------------
     def _load_table(self) -> None:
         if self.sim is not None:
-            self._table = build_joint_table(self.gait, rate=1.0 / self.sim.dt)
+            self._table = self._sim_table()
             self._rows = self.sim.prepare_rows(self._table.positions, self._table.velocities)
             if not self.walking:
                 # standing between walks, a new gait's first pose is reached first, so every walk

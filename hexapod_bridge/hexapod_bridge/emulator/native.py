@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import ctypes
 import os
-from typing import Callable
+from typing import Callable, Sequence
 
 from hexapod_bridge import extension as ext
 from hexapod_bridge.emulator.differential import firmware_prefix, FirmwareBuildMissing
@@ -124,6 +124,7 @@ def _load(path: str) -> ctypes.CDLL:
         ctypes.c_uint16,
         ctypes.c_uint16,
         ctypes.c_uint16,
+        ctypes.POINTER(ctypes.c_uint8),
         ctypes.c_uint32,
     ]
     lib.hx_init.restype = ctypes.c_int
@@ -157,8 +158,10 @@ class NativeFirmware:
         servo_ping: Callable[[int], bool] | None = None,
         attitude: Callable[[], tuple[float, float, float]] | None = None,
         library: str | None = None,
+        leg_map: Sequence[int] = ext.IDENTITY_LEG_MAP,
     ) -> None:
         self._lib = _load(library or library_path())
+        self.leg_map = ext.validate_leg_map(leg_map)
         self.out_radio = bytearray()
         self.position = np.zeros(N_JOINTS)
         self.velocity = np.zeros(N_JOINTS)
@@ -204,6 +207,7 @@ class NativeFirmware:
             timing.failsafe_windows,
             timing.telemetry_ticks,
             timing.ping_check_ticks,
+            (ctypes.c_uint8 * 6)(*self.leg_map),
             now_ms & 0xFFFFFFFF,
         )
         if status != 0:
@@ -260,6 +264,7 @@ class NativeRobotFirmware:
         seed: int = 0,
         now: float = 0.0,
         servo_ping: Callable[[int], bool] | None = None,
+        leg_map: Sequence[int] = ext.IDENTITY_LEG_MAP,
     ) -> None:
         self.sim = sim
         self.imu = EmulatedImu(imu_rate, imu_noise, seed)
@@ -274,9 +279,10 @@ class NativeRobotFirmware:
             to_ms(now),
             servo_ping,
             attitude=self._attitude if sim is not None else None,
+            leg_map=leg_map,
         )
         if sim is not None:  # the body starts in the pose the firmware wrote at start-up
-            sim.reset(self.firmware.position)
+            sim.reset(self._urdf(self.firmware.position))
             self._hold_targets()
 
     @property
@@ -334,15 +340,20 @@ class NativeRobotFirmware:
 
     def _hold_targets(self) -> None:
         self._rows = self.sim.prepare_rows(
-            self.firmware.position[None, :], self.firmware.velocity[None, :]
+            self._urdf(self.firmware.position)[None, :],
+            self._urdf(self.firmware.velocity)[None, :],
         )
+
+    def _urdf(self, joints: np.ndarray) -> np.ndarray:
+        """Return the module's servo values (the robot's slots) in the simulator's URDF order."""
+        return ext.joints_in_urdf_order(joints, self.firmware.leg_map)
 
     def _note_walk(self) -> None:
         """Keep a TrialRecord of every walk the module starts and ends (the simulator's truth)."""
         state = self.firmware.state()
         walking = bool(state.walking)
         if walking and not self._walking:
-            gait = self.firmware.gait()
+            gait = self.firmware.gait()  # (its crab angle does not depend on the leg order)
             position = self.sim.base_pose()[0] if self.sim is not None else np.zeros(3)
             yaw = float(self.sim.base_euler()[2]) if self.sim is not None else 0.0
             duration = ((state.walk_end_ms - state.walk_start_ms) & 0xFFFFFFFF) / 1000.0

@@ -30,8 +30,10 @@ bridge_node without hardware.
 ``--firmware native`` runs the C++ firmware module (firmware/, package hexapod_firmware) in place
 of the Python model. ``--dead-servo ID`` makes a servo not answer pings (the firmware reports it
 as FF FD 0B <id>) and, with --sim, its joint unpowered, the live joints of its leg folding it
-(the fold policy of hexapod_sim.damage; the robot's leg numbering taken as the simulator's:
-bridge_node's default identity leg_map).
+(the fold policy of hexapod_sim.damage). ``--leg-map`` numbers the emulated robot's legs as
+bridge_node's ``leg_map`` does (the robot's leg number of each URDF leg; identity by default):
+per-leg parameters and servos are in the robot's numbering, the geometry and the simulator the
+URDF's; give both the same map.
 
 Prints ``RADIO <path>`` and ``IMU <path>`` once the ports exist, and ``TRIAL {json}`` with the
 simulator's own measurement when a walk ends. SIGUSR1 makes the radio port vanish (the pty is
@@ -51,8 +53,10 @@ import sys
 import time
 import tty
 
+from hexapod_bridge import extension as ext
 from hexapod_bridge.emulator.firmware import FirmwareTiming, ImuNoise, RobotFirmware
 from hexapod_bridge.emulator.native import NativeRobotFirmware
+from hexapod_bridge.reports import servo_report
 from hexapod_bridge.servos import SERVO_IDS, servo_place
 from hexapod_description.cli import number, run_command
 from hexapod_sim import create_simulator, ENGINES, SimConfig
@@ -193,7 +197,21 @@ def main(argv: list[str] | None = None) -> int:
         help=f'a servo that does not answer pings ({SERVO_IDS[0]}..{SERVO_IDS[-1]}; repeatable);'
         ' with --sim its joint is unpowered and the live joints fold the leg (at most two legs)',
     )
+    parser.add_argument(
+        '--leg-map',
+        type=int,
+        nargs=6,
+        default=list(ext.IDENTITY_LEG_MAP),
+        metavar='N',
+        help="the emulated robot's leg number of URDF legs 1..6, a permutation of 1..6 (default"
+        " identity); give bridge_node the same leg_map (the real robot's firmware numbers its"
+        ' legs clockwise: 1 6 5 4 3 2, unverified)',
+    )
     args = parser.parse_args(argv)
+    try:
+        args.leg_map = ext.validate_leg_map(args.leg_map)
+    except ext.ExtensionError as exc:
+        parser.error(f'--leg-map: {exc}')
     legs = sorted({servo_place(s).robot_leg for s in args.dead_servo})
     if len(legs) > 2:
         parser.error(f'--dead-servo names servos on {len(legs)} legs: at most 2 legs can fail')
@@ -207,11 +225,11 @@ def _serve(args: argparse.Namespace) -> int:
     if args.sim:
         sim = create_simulator(SimConfig(engine=args.engine))
         # a dead servo's joint is free, its leg folded by the live ones (hexapod_sim.damage);
-        # the emulated robot's legs are the URDF's (bridge_node's default, identity leg_map)
+        # the simulator's legs are the URDF's: the robot's leg of a servo goes through leg_map
         joints: dict[int, set[str]] = {}
         for servo in dead:
-            place = servo_place(servo)
-            joints.setdefault(place.robot_leg, set()).add(place.joint)
+            place = servo_report(servo, args.leg_map)
+            joints.setdefault(place.leg, set()).add(place.joint)
         sim.set_damage(Damage.unpowered(joints))
     start = time.monotonic()
     firmware = make_firmware(
@@ -221,6 +239,7 @@ def _serve(args: argparse.Namespace) -> int:
         imu_noise=ImuNoise() if args.imu_noise else None,
         seed=args.seed,
         servo_ping=lambda servo: servo not in dead,
+        leg_map=args.leg_map,
     )
     radio = PtyPort(args.radio_link)
     imu = PtyPort(args.imu_link) if args.imu_link else None
@@ -286,11 +305,18 @@ def make_firmware(
     imu_noise: ImuNoise | None,
     seed: int,
     servo_ping,
+    leg_map: tuple[int, ...] = ext.IDENTITY_LEG_MAP,
 ) -> RobotFirmware | NativeRobotFirmware:
     """Return the emulated robot's firmware: the Python model or the C++ module."""
     if kind == 'native':
         return NativeRobotFirmware(
-            sim, timing, imu_noise=imu_noise, seed=seed, now=0.0, servo_ping=servo_ping
+            sim,
+            timing,
+            imu_noise=imu_noise,
+            seed=seed,
+            now=0.0,
+            servo_ping=servo_ping,
+            leg_map=leg_map,
         )
     return RobotFirmware(
         sim=sim,
@@ -302,6 +328,7 @@ def make_firmware(
         seed=seed,
         now=0.0,
         servo_ping=servo_ping,
+        leg_map=leg_map,
     )
 
 
