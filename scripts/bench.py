@@ -286,22 +286,16 @@ def _default_map_figures() -> None:
     """
     from hexapod_adapt.mapping.archive import load_archive
     from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
-    from hexapod_adapt.mapping.plots import read_log
+    from hexapod_adapt.mapping.plots import log_runs
 
     path = shipped_map(DEFAULT_MAP)
     archive = load_archive(path)
     speeds = archive.speeds()[archive.elite_indices()]
-    core_seconds, cpu_seconds, previous = 0.0, 0.0, None
-    rows = read_log(path.with_name(path.name + '.log.jsonl'))
-    for row in rows + [None]:
-        if previous is not None and (row is None or row['elapsed'] < previous['elapsed']):
-            core_seconds += previous['elapsed'] * previous.get('workers', 2)
-            cpu_seconds += previous.get('cpu_s', 0.0)
-        previous = row
+    runs = log_runs(path.with_name(path.name + '.log.jsonl'))
     print(f'BENCH map_evaluations {archive.metadata["evaluations"]} evaluations')
-    print(f'BENCH map_core_hours {core_seconds / 3600:.2f} core-hours')
-    if rows and all('cpu_s' in row for row in rows):
-        print(f'BENCH map_cpu_core_hours {cpu_seconds / 3600:.2f} core-hours')
+    print(f'BENCH map_core_hours {sum(r.core_seconds for r in runs) / 3600:.2f} core-hours')
+    if runs and all(r.cpu_s is not None for r in runs):
+        print(f'BENCH map_cpu_core_hours {sum(r.cpu_s for r in runs) / 3600:.2f} core-hours')
     print(f'BENCH map_filled {archive.n_filled} niches')
     print(f'BENCH map_mean_elite {speeds.mean():.3f} m/s')
     print(f'BENCH map_best {speeds.max():.3f} m/s')

@@ -234,3 +234,29 @@ def test_an_emitter_map_killed_and_resumed_equals_one_run_and_loads_in_adapt_nod
     assert b.metadata['map_elites']['emitters'] == 'cma_me'
     slot = ArchiveSlot('sim', MODES)  # what adapt_node runs on
     assert slot.load(str(killed)) == '' and slot.archive.n_filled == b.n_filled
+
+
+def test_the_runs_of_a_resumed_log_are_told_apart_in_the_order_written(tmp_path):
+    import json
+
+    from hexapod_adapt.mapping.plots import log_runs, read_log
+
+    # a run logged to 3,000 evaluations, killed; resumed from its checkpoint at 2,000: the new
+    # run logs 2,500 and 3,000 again, then goes on (and a torn last line)
+    rows = [(1000, 100.0), (2000, 200.0), (2500, 250.0), (3000, 300.0)]
+    rows += [(2500, 40.0), (3000, 90.0), (4000, 190.0)]
+    log = tmp_path / 'map.npz.log.jsonl'
+    log.write_text(
+        ''.join(
+            json.dumps({'evaluations': e, 'elapsed': s, 'workers': 2, 'cpu_s': 1.5 * s}) + '\n'
+            for e, s in rows
+        )
+        + '{"evaluations": 41'
+    )
+    runs = log_runs(log)
+    assert [(r.evaluations, r.elapsed, r.cpu_s) for r in runs] == [
+        (3000, 300.0, 450.0),
+        (4000, 190.0, 285.0),
+    ]
+    assert sum(r.core_seconds for r in runs) == 2 * (300.0 + 190.0)
+    assert [r['evaluations'] for r in read_log(log)] == [1000, 2000, 2500, 2500, 3000, 3000, 4000]

@@ -35,6 +35,7 @@ The experiments' pictures are beside them: :mod:`hexapod_adapt.online.experiment
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 import itertools
 import json
 from pathlib import Path
@@ -49,6 +50,19 @@ from matplotlib.ticker import EngFormatter, MaxNLocator  # noqa: E402
 import numpy as np  # noqa: E402
 
 
+def _log_rows(path: str | Path) -> list[dict[str, Any]]:
+    """Return the rows of a map-generation log in the order they were written."""
+    rows = []
+    for line in Path(path).read_text().splitlines():
+        try:
+            row = json.loads(line)
+        except (json.JSONDecodeError, RecursionError):
+            continue
+        if isinstance(row, dict) and 'evaluations' in row:
+            rows.append(row)
+    return rows
+
+
 def read_log(path: str | Path) -> list[dict[str, Any]]:
     """
     Return the rows of a map-generation log (JSON lines).
@@ -57,16 +71,48 @@ def read_log(path: str | Path) -> list[dict[str, Any]]:
 
     Rows from several resumed runs are kept in order of their evaluation counts.
     """
-    rows = []
-    for line in Path(path).read_text().splitlines():
-        try:
-            row = json.loads(line)
-        except json.JSONDecodeError:
-            continue
-        if isinstance(row, dict) and 'evaluations' in row:
-            rows.append(row)
-    rows.sort(key=lambda r: r['evaluations'])
-    return rows
+    return sorted(_log_rows(path), key=lambda r: r['evaluations'])
+
+
+@dataclass(frozen=True)
+class LogRun:
+    """One run of a map-generation log: from a start or a resume to where its log ends."""
+
+    evaluations: int  # the count at its last row
+    elapsed: float  # s of wall time
+    workers: int
+    cpu_s: float | None  # CPU seconds it used (None: a log written before rows had it)
+
+    @property
+    def core_seconds(self) -> float:
+        """Return the cores the run held: its wall time x its worker processes."""
+        return self.elapsed * self.workers
+
+
+def log_runs(path: str | Path, default_workers: int = 2) -> list[LogRun]:
+    """
+    Return the runs of a map-generation log, in the order they ran.
+
+    A resumed run restarts ``elapsed``, and its rows may repeat the evaluation counts of the
+    previous run's last rows (the work after the checkpoint it resumed from), so runs are told
+    apart in the order the rows were written, never sorted. ``default_workers``: for rows written
+    before they had ``workers``.
+    """
+    runs: list[LogRun] = []
+    previous = None
+    rows = _log_rows(path)
+    for row in rows + [None]:
+        if previous is not None and (row is None or row['elapsed'] < previous['elapsed']):
+            runs.append(
+                LogRun(
+                    int(previous['evaluations']),
+                    float(previous['elapsed']),
+                    int(previous.get('workers', default_workers)),
+                    float(previous['cpu_s']) if 'cpu_s' in previous else None,
+                )
+            )
+        previous = row
+    return runs
 
 
 def save_figure(fig: Any, out: str | Path) -> Path:
