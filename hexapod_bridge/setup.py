@@ -47,6 +47,7 @@ setup(
             'bridge_node = hexapod_bridge.bridge_node:main',
             'robot_emulator = hexapod_bridge.emulator.robot_emulator_cli:main',
             'firmware_fuzz = hexapod_bridge.emulator.firmware_fuzz_cli:main',
+            'leg_check = hexapod_bridge.leg_check_cli:main',
         ]
     },
 )

@@ -50,6 +50,7 @@ PACKAGE = {
     'recover_recording': 'hexapod_adapt',
     'robot_emulator': 'hexapod_bridge',
     'firmware_fuzz': 'hexapod_bridge',
+    'leg_check': 'hexapod_bridge',
     'render_walk': 'hexapod_sim',
     'fidelity_table': 'hexapod_sim',
     'footfall': 'hexapod_gait',
@@ -78,6 +79,10 @@ def _main(command: str) -> Callable[[list[str]], int]:
         from hexapod_bridge.emulator.robot_emulator_cli import main
     elif command == 'firmware_fuzz':
         from hexapod_bridge.emulator.firmware_fuzz_cli import main
+    elif command == 'leg_check':
+        from hexapod_bridge.leg_check_cli import build_parser
+
+        return lambda argv: build_parser().parse_args(['2', *argv])
     elif command == 'render_walk':
         from hexapod_sim.render_walk_cli import main
     elif command == 'footfall':
@@ -136,6 +141,7 @@ BOUNDS = [
     Bound('navigate_client', '--tolerance', 0.0, 10.0, False),
     Bound('navigate_client', '--time-limit', 0.0, 3600.0, False),
     Bound('navigate_client', '--timeout', 0.0, 1e6, False, low_open=True),
+    Bound('leg_check', '--timeout', 0.0, 600.0, False, low_open=True),
     Bound('robot_emulator', '--seed', 0, 2**32 - 1),
     Bound('robot_emulator', '--walk-duration', 0.0, 600.0, False, low_open=True),
     Bound('robot_emulator', '--failsafe-windows', 1, 1000),

@@ -211,6 +211,17 @@ def test_the_bridge_guide_rehearses_the_robots_own_leg_numbering(env):
     assert 'DEAD 6 6 femur' in done.stdout, done.stdout + done.stderr + log[-3000:]
 
 
+def test_the_bridge_guide_checks_the_leg_numbering_with_leg_check(env):
+    commands = code_block('docs/bridge.md', '## Running it')
+    launch = one(commands, 'python scripts/launch.py emulated-robot --leg-map')
+    check = one(commands, 'leg_check')
+    assert check == 'leg_check 2 --arm'
+    done, log = run_against(launch, check, env, timeout=180)
+    assert done.returncode == 0, done.stdout + done.stderr + log[-3000:]
+    says = "URDF leg 2, mounted at +60 deg from the body's +x axis (counter-clockwise seen from"
+    assert says in done.stdout and 'robot leg 6 by leg_map [1, 6, 5, 4, 3, 2]' in done.stdout
+
+
 def test_emulated_robot_refuses_failed_legs_saying_what_to_use(env):
     done = subprocess.run(
         in_a_shell('python scripts/launch.py emulated-robot --failed-legs 1'),

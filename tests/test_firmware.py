@@ -312,3 +312,66 @@ def test_the_emulator_refuses_a_leg_map_that_is_no_permutation(capsys):
         main(['--leg-map', '1', '2', '3', '4', '5', '5'])
     assert exit_info.value.code == 2
     assert '--leg-map: leg map must be a permutation of 1..6' in capsys.readouterr().err
+
+
+def _tibia_rise(sim, play_for: float, step) -> tuple[np.ndarray, np.ndarray]:
+    """Run ``step`` for ``play_for`` s; return each tibia's height range and the body's move."""
+    start = sim.base_pose()[0].copy()
+    heights = []
+    t = 0.0
+    while t < play_for:
+        t += step()
+        poses = sim.link_poses()
+        heights.append([poses[f'link_{leg}_3'][0][2] for leg in range(1, 7)])
+    return np.ptp(np.array(heights), axis=0), sim.base_pose()[0] - start
+
+
+@pytest.mark.parametrize('engine', ['mujoco', 'pybullet'])
+def test_the_leg_check_gait_lifts_only_its_leg_and_the_body_stays(engine):
+    from hexapod_gait import build_joint_table
+    from hexapod_gait.presets import leg_check
+    from hexapod_sim import create_simulator, SimConfig
+
+    with create_simulator(SimConfig(engine=engine)) as sim:
+        table = build_joint_table(leg_check(3), rate=1.0 / sim.dt)
+        sim.reset(table.positions[0])
+        rows = sim.prepare_rows(table.positions, table.velocities)
+        row = iter(range(10**6))
+
+        def step():
+            sim.apply_row(rows, next(row) % len(table))
+            sim.step()
+            return sim.dt
+
+        rise, moved = _tibia_rise(sim, 2.0, step)
+    print(engine, np.round(rise, 4), np.round(moved, 4))
+    assert rise[2] > 0.05 and np.delete(rise, 2).max() < 0.005
+    assert np.abs(moved).max() < 0.005
+    with pytest.raises(ValueError, match='leg must be 1..6'):
+        leg_check(7)
+
+
+def test_leg_check_lifts_the_urdf_leg_on_a_robot_numbered_otherwise():
+    from hexapod_bridge.emulator.consecutive import ConsecutiveTrials
+    from hexapod_gait.presets import leg_check
+    from hexapod_sim import create_simulator, SimConfig
+
+    with create_simulator(SimConfig(engine='mujoco')) as sim:
+        robot = ConsecutiveTrials(
+            sim, 0, noise=None, leg_map=ext.MIRRORED_LEG_MAP, firmware='native'
+        )
+        upload = robot.link.upload(leg_check(2))
+        while not upload.done:
+            robot.step()
+        assert upload.ok, upload.message
+        robot.link.start_trial(2.0, upload.result['gait_id'])
+
+        def step():
+            robot.step()
+            return 0.002
+
+        rise, _ = _tibia_rise(sim, 0.5, step)  # standing to the gait's first pose, then walking
+        rise, moved = _tibia_rise(sim, 2.0, step)
+    print(np.round(rise, 4), np.round(moved, 4))
+    assert rise[1] > 0.05 and np.delete(rise, 1).max() < 0.005  # URDF leg 2 (robot leg 6)
+    assert np.abs(moved).max() < 0.005

@@ -74,6 +74,33 @@ def control() -> GaitParameters:
 
 PRESETS = {'tripod': tripod, 'wave': wave, 'quadruped': quadruped, 'control': control}
 
+#: How high the checked leg's foot lifts in :func:`leg_check` [m].
+LEG_CHECK_LIFT = 0.08
+
+
+def leg_check(leg: int) -> GaitParameters:
+    """
+    Return a gait that stands still and lifts only URDF leg ``leg``'s foot, once a second.
+
+    Walked on the robot (``leg_check``), it shows which physical leg the URDF's leg ``leg`` is:
+    the check of the bridge's ``leg_map`` before any trial. The other five feet stay on the
+    ground (duty factor 1, no step height); no leg strides (body velocity 0).
+    """
+    if not 1 <= leg <= 6:
+        raise ValueError(f'leg must be 1..6, got {leg}')
+    lifted = [i == leg - 1 for i in range(6)]
+    return GaitParameters(
+        body_velocity=0.0,
+        body_height=BODY_HEIGHT,
+        radius=[0.15] * 6,
+        angle_offset=[0.0] * 6,
+        step_height=[LEG_CHECK_LIFT if up else 0.0 for up in lifted],
+        duty_factor=[0.5 if up else 1.0 for up in lifted],
+        phase_offset=[0.0] * 6,
+        period=1.0,
+        crab_angle=0.0,
+    )
+
 
 def preset(name: str) -> GaitParameters:
     """Return a preset by name; ValueError lists the known names."""
