@@ -8,16 +8,17 @@
 # the worktree with its log. Commit a new map together with its ceilings: the demo, the tests
 # and make bench-adapt read the shipped map's cache.
 # WORKTREE (default ../ceilgen) is made at HEAD if missing and built with this checkout's .venv.
-# Cases already cached in CHECKPOINTS (default ../persist/ceilings) are copied in, so a new
-# worktree only computes what is missing (a cache file names its map, engine and damage: a file
-# of another map is never used).
-# Output: WORKTREE/out/ceilings.out. Before a session ends copy WORKTREE's
-# hexapod_adapt/maps/ceilings/*.npz to CHECKPOINTS; when every case is cached, copy them back
-# into this checkout's hexapod_adapt/maps/ceilings/ and commit them.
+# Cases already cached in CHECKPOINTS (default hexapod_adapt/maps/in_progress/ceilings,
+# committed) are copied in, so a new worktree only computes what is missing (a cache file names
+# its map, engine and damage: a file of another map is never used).
+# Output: WORKTREE/out/ceilings.out. Before a session ends `bash
+# hexapod_adapt/maps/save_progress.sh` copies the finished cases to in_progress/ceilings: commit
+# them. When every case is cached, copy them into this checkout's hexapod_adapt/maps/ceilings/
+# and commit them with the map.
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 tree="${1:-$repo/../ceilgen}"
-keep="${2:-$repo/../persist/ceilings}"
+keep="${2:-$repo/hexapod_adapt/maps/in_progress/ceilings}"
 map="${MAP:+$(realpath "$MAP")}"  # before entering the worktree: MAP may be relative
 REPO="$repo" TREE="$tree"
 # shellcheck disable=SC1091

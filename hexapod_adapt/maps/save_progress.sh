@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# Keep the long runs' progress in the repository before a session ends: a machine may be new
+# next session, and a checkpoint left outside git is lost with it (2026-11-25: 851,002 evaluations
+# of the default map were).
+#   bash hexapod_adapt/maps/save_progress.sh [MAP_WORKTREE] [CEILING_WORKTREE]
+# then commit hexapod_adapt/maps/in_progress/.
+# - The default map running in MAP_WORKTREE (default ../mapgen, resume_default_map.sh) is stopped
+#   right after its next checkpoint (within --checkpoint-every, 300 s), so that the saved
+#   checkpoint and the saved log end together: no row of the log and no core-hour is lost.
+#   Its checkpoint and log go to in_progress/. resume_default_map.sh resumes from them.
+# - The ceilings' finished cases in CEILING_WORKTREE (default ../ceilgen, resume_ceilings.sh) go
+#   to in_progress/ceilings/; the run goes on (a case in progress is recomputed on resume).
+set -euo pipefail
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+map_tree="${1:-$repo/../mapgen}"
+ceil_tree="${2:-$repo/../ceilgen}"
+keep="$repo/hexapod_adapt/maps/in_progress"
+mkdir -p "$keep"
+
+copy_atomic() {  # copy_atomic SRC DEST: DEST is never seen half written
+  cp "$1" "$2.tmp.$$" && mv -f "$2.tmp.$$" "$2"
+}
+
+maps="$map_tree/hexapod_adapt/maps"
+ckpt="$maps/default_map.npz.ckpt.npz"
+pidfile="$map_tree/out/default_map.pid"
+if [ -f "$ckpt" ]; then
+  pid="$(cat "$pidfile" 2>/dev/null || true)"
+  if [ -n "$pid" ] && kill -0 "$pid" 2>/dev/null; then
+    before="$(stat -c %Y "$ckpt")"
+    echo "waiting for the map's next checkpoint (pid $pid)..."
+    for _ in $(seq 400); do
+      [ "$(stat -c %Y "$ckpt")" != "$before" ] && break
+      sleep 1
+    done
+    kill -TERM "$pid"
+    while kill -0 "$pid" 2>/dev/null; do sleep 1; done
+    echo "map stopped after its checkpoint"
+  fi
+  copy_atomic "$ckpt" "$keep/default_map.npz.ckpt.npz"
+  # the log up to its last whole row (a row being written is torn)
+  python3 - "$maps/default_map.npz.log.jsonl" "$keep/default_map.npz.log.jsonl" <<'EOF'
+import os, sys
+data = open(sys.argv[1], 'rb').read()
+tmp = sys.argv[2] + '.tmp'
+with open(tmp, 'wb') as out:
+    out.write(data[: data.rfind(b'\n') + 1])
+os.replace(tmp, sys.argv[2])
+EOF
+  echo "saved the map's checkpoint ($(du -h "$keep/default_map.npz.ckpt.npz" | cut -f1)) and log"
+elif [ -f "$maps/default_map.npz" ] && [ -d "$map_tree" ]; then
+  echo "no map checkpoint in $map_tree: finished? copy its default_map.npz and log into the checkout"
+fi
+
+if [ -d "$ceil_tree/hexapod_adapt/maps/ceilings" ]; then
+  mkdir -p "$keep/ceilings"
+  n=0
+  for f in "$ceil_tree"/hexapod_adapt/maps/ceilings/*.npz; do
+    [ -f "$f" ] || continue
+    copy_atomic "$f" "$keep/ceilings/$(basename "$f")"
+    n=$((n + 1))
+  done
+  echo "saved $n ceiling cases"
+fi
+echo "now: git add hexapod_adapt/maps/in_progress && git commit"
