@@ -20,13 +20,23 @@ REPO="$repo" TREE="$tree"
 source "$repo/scripts/fixed_worktree.sh"
 fresh="$FIXED_WORKTREE_NEW"
 mkdir -p out
-# the checkpoint and the progress log (its rows are the map's core-hours), kept outside git:
-# a worktree without a checkpoint of its own (a new one too) resumes from CHECKPOINTS' copies
-if [ ! -f hexapod_adapt/maps/default_map.npz.ckpt.npz ] \
-  && [ -f "$keep/default_map.npz.ckpt.npz" ]; then
-  for kept in default_map.npz.ckpt.npz default_map.npz.log.jsonl; do
-    if [ -f "$keep/$kept" ]; then
-      cp "$keep/$kept" "hexapod_adapt/maps/$kept"
+running="$(cat out/default_map.pid 2>/dev/null || true)"
+if [ -n "$running" ] && kill -0 "$running" 2>/dev/null; then
+  echo "the default map is already running in $tree (pid $running)"
+  exit 0
+fi
+# shellcheck disable=SC1091
+source "$repo/scripts/map_progress.sh"
+# the checkpoint and the progress log (its rows are the map's core-hours), committed in
+# CHECKPOINTS: taken when the worktree has none (a new one) or an older one (a machine handed
+# back after another went further)
+here="$(checkpoint_evaluations hexapod_adapt/maps/default_map.npz.ckpt.npz)"
+kept="$(checkpoint_evaluations "$keep/default_map.npz.ckpt.npz")"
+if [ "$kept" -gt "$here" ]; then
+  echo "resuming from $keep ($kept evaluations; the worktree's checkpoint: $here)"
+  for name in default_map.npz.ckpt.npz default_map.npz.log.jsonl; do
+    if [ -f "$keep/$name" ]; then
+      cp "$keep/$name" "hexapod_adapt/maps/$name"
     fi
   done
   fresh=0

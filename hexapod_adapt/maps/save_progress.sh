@@ -2,11 +2,12 @@
 # Keep the long runs' progress in the repository before a session ends: a machine may be new
 # next session, and a checkpoint left outside git is lost with it (2026-11-25: 851,002 evaluations
 # of the default map were).
-#   bash hexapod_adapt/maps/save_progress.sh [MAP_WORKTREE] [CEILING_WORKTREE]
-# then commit hexapod_adapt/maps/in_progress/.
+#   bash hexapod_adapt/maps/save_progress.sh [MAP_WORKTREE] [CEILING_WORKTREE] [CHECKPOINTS]
+# then commit CHECKPOINTS (default hexapod_adapt/maps/in_progress/).
 # - The default map running in MAP_WORKTREE (default ../mapgen, resume_default_map.sh) is stopped
 #   right after its next checkpoint (within --checkpoint-every, 300 s), so that the saved
-#   checkpoint and the saved log end together: no row of the log and no core-hour is lost.
+#   checkpoint and the saved log end together: the log loses at most the time since its last
+#   row (--log-every, 30 s), and no work past the checkpoint is thrown away.
 #   Its checkpoint and log go to in_progress/. resume_default_map.sh resumes from them.
 # - The ceilings' finished cases in CEILING_WORKTREE (default ../ceilgen, resume_ceilings.sh) go
 #   to in_progress/ceilings/; the run goes on (a case in progress is recomputed on resume).
@@ -14,8 +15,18 @@ set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 map_tree="${1:-$repo/../mapgen}"
 ceil_tree="${2:-$repo/../ceilgen}"
-keep="$repo/hexapod_adapt/maps/in_progress"
+keep="${3:-$repo/hexapod_adapt/maps/in_progress}"
 mkdir -p "$keep"
+set +u  # the setup scripts read unset variables
+# shellcheck disable=SC1091
+source "$repo/scripts/env.sh" >/dev/null
+set -u
+# shellcheck disable=SC1091
+source "$repo/scripts/map_progress.sh"
+
+alive() {  # alive PID: running (a zombie, exited but not yet reaped by its parent, is not)
+  kill -0 "$1" 2>/dev/null && [ "$(ps -o stat= -p "$1" | cut -c1)" != Z ]
+}
 
 copy_atomic() {  # copy_atomic SRC DEST: DEST is never seen half written
   cp "$1" "$2.tmp.$$" && mv -f "$2.tmp.$$" "$2"
@@ -26,7 +37,7 @@ ckpt="$maps/default_map.npz.ckpt.npz"
 pidfile="$map_tree/out/default_map.pid"
 if [ -f "$ckpt" ]; then
   pid="$(cat "$pidfile" 2>/dev/null || true)"
-  if [ -n "$pid" ] && kill -0 "$pid" 2>/dev/null; then
+  if [ -n "$pid" ] && alive "$pid"; then
     before="$(stat -c %Y "$ckpt")"
     echo "waiting for the map's next checkpoint (pid $pid)..."
     for _ in $(seq 400); do
@@ -34,8 +45,14 @@ if [ -f "$ckpt" ]; then
       sleep 1
     done
     kill -TERM "$pid"
-    while kill -0 "$pid" 2>/dev/null; do sleep 1; done
+    while alive "$pid"; do sleep 1; done
     echo "map stopped after its checkpoint"
+  fi
+  here="$(checkpoint_evaluations "$ckpt")"
+  kept="$(checkpoint_evaluations "$keep/default_map.npz.ckpt.npz")"
+  if [ "$here" -lt "$kept" ]; then
+    echo "not saved: $keep holds a checkpoint further on ($kept evaluations) than $map_tree ($here)" >&2
+    exit 1
   fi
   copy_atomic "$ckpt" "$keep/default_map.npz.ckpt.npz"
   # the log up to its last whole row (a row being written is torn)
@@ -47,7 +64,7 @@ with open(tmp, 'wb') as out:
     out.write(data[: data.rfind(b'\n') + 1])
 os.replace(tmp, sys.argv[2])
 EOF
-  echo "saved the map's checkpoint ($(du -h "$keep/default_map.npz.ckpt.npz" | cut -f1)) and log"
+  echo "saved the map's checkpoint ($here evaluations, $(du -h "$keep/default_map.npz.ckpt.npz" | cut -f1)) and log"
 elif [ -f "$maps/default_map.npz" ] && [ -d "$map_tree" ]; then
   echo "no map checkpoint in $map_tree: finished? copy its default_map.npz and log into the checkout"
 fi
@@ -62,4 +79,4 @@ if [ -d "$ceil_tree/hexapod_adapt/maps/ceilings" ]; then
   done
   echo "saved $n ceiling cases"
 fi
-echo "now: git add hexapod_adapt/maps/in_progress && git commit"
+echo "now: git add $keep && git commit"

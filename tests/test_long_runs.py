@@ -1,0 +1,103 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""save_progress.sh keeps a running map's progress where git can keep it, and never goes back."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+import shutil
+import subprocess
+import sys
+import time
+
+from hexapod_adapt.mapping.archive import load_archive
+
+WS = Path(__file__).resolve().parent.parent
+SAVE = WS / 'hexapod_adapt' / 'maps' / 'save_progress.sh'
+DEMO_MAP = WS / 'hexapod_adapt' / 'maps' / 'demo_map.npz'
+
+
+def _start_map(tree: Path) -> subprocess.Popen:
+    """A small map in the layout of resume_default_map.sh's worktree, checkpointing often."""
+    maps = tree / 'hexapod_adapt' / 'maps'
+    maps.mkdir(parents=True)
+    (tree / 'out').mkdir()
+    proc = subprocess.Popen(
+        [sys.executable, '-m', 'hexapod_adapt.mapping.generate_map_cli',
+         '--out', str(maps / 'default_map.npz'), '--niches', '30', '--cvt-samples', '3000',
+         '--evaluations', '10000000', '--seed', '1', '--workers', '1',
+         '--checkpoint-every', '2', '--log-every', '1', '--quiet'],
+        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+    )  # fmt: skip
+    (tree / 'out' / 'default_map.pid').write_text(f'{proc.pid}\n')
+    ckpt = maps / 'default_map.npz.ckpt.npz'
+    deadline = time.monotonic() + 120
+    while not ckpt.exists():
+        assert proc.poll() is None, 'the map stopped before its first checkpoint'
+        assert time.monotonic() < deadline, 'no checkpoint within 120 s'
+        time.sleep(0.2)
+    return proc
+
+
+def _save(tree: Path, keep: Path) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        ['bash', str(SAVE), str(tree), str(tree.parent / 'no_ceilings'), str(keep)],
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+
+
+def test_a_running_map_is_stopped_at_a_checkpoint_and_its_progress_kept(tmp_path):
+    tree, keep = tmp_path / 'mapgen', tmp_path / 'kept'
+    proc = _start_map(tree)
+    try:
+        r = _save(tree, keep)
+        assert r.returncode == 0, r.stderr
+        assert proc.wait(timeout=30) is not None  # stopped, not left running
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    maps = tree / 'hexapod_adapt' / 'maps'
+    kept = load_archive(keep / 'default_map.npz.ckpt.npz').metadata['evaluations']
+    assert kept > 0
+    # the very checkpoint the run ended on (nothing written after the copy)
+    assert kept == load_archive(maps / 'default_map.npz.ckpt.npz').metadata['evaluations']
+    assert f'{kept} evaluations' in r.stdout
+    text = (keep / 'default_map.npz.log.jsonl').read_text()
+    assert text.endswith('\n')  # whole rows only
+    rows = [json.loads(line) for line in text.splitlines()]
+    assert rows and rows[-1]['evaluations'] > 0
+
+
+def test_a_checkpoint_further_on_is_never_replaced(tmp_path):
+    tree, keep = tmp_path / 'mapgen', tmp_path / 'kept'
+    keep.mkdir()
+    further = keep / 'default_map.npz.ckpt.npz'
+    shutil.copy(DEMO_MAP, further)  # 25,000 evaluations: more than the small run gets to
+    before = further.read_bytes()
+    proc = _start_map(tree)
+    try:
+        r = _save(tree, keep)
+    finally:
+        proc.kill()
+    assert r.returncode == 1
+    assert 'further on (25000 evaluations)' in r.stderr
+    assert further.read_bytes() == before
