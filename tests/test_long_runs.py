@@ -23,6 +23,7 @@
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 import shutil
 import subprocess
@@ -32,7 +33,7 @@ import time
 from hexapod_adapt.mapping.archive import load_archive
 
 WS = Path(__file__).resolve().parent.parent
-SAVE = WS / 'hexapod_adapt' / 'maps' / 'save_progress.sh'
+SAVE = WS / 'scripts' / 'save_progress.sh'
 DEMO_MAP = WS / 'hexapod_adapt' / 'maps' / 'demo_map.npz'
 
 
@@ -62,6 +63,7 @@ def _save(tree: Path, keep: Path) -> subprocess.CompletedProcess:
     return subprocess.run(
         ['bash', str(SAVE), str(tree), str(tree.parent / 'no_ceilings'), str(keep)],
         capture_output=True, text=True, timeout=120,
+        env={**os.environ, 'NAV_TREE': str(tree.parent / 'no_navtune')},
     )  # fmt: skip
 
 

@@ -27,6 +27,11 @@ setting, the repertoire method and the steered tripod over every damage case of 
 damage kinds lifted, locked and unpowered_femur (each grid below says if it uses others).
 
     python -m tuning.tune_tripod_option --grid GRID   # a name of GRIDS below
+    python -m tuning.tune_tripod_option --grid all_kinds --cache-dir DIR   # resumable
+
+With ``--cache-dir`` each unit (a setting, or the tripod, on one damage kind) is written to its own
+folder as it finishes and read back on the next run, so a round can go on across sessions
+(``tuning/tune_all_kinds.sh`` runs the ninth round that way, from a worktree of a fixed commit).
 
 The rule, fixed before the runs: a (kind, scenario) cell passes when navigate reaches at least as
 many goals as the tripod and its median walking time on the goals both reached is at most 1.1x
@@ -38,6 +43,7 @@ from __future__ import annotations
 
 import argparse
 from dataclasses import replace
+from pathlib import Path
 import sys
 
 import numpy as np
@@ -131,9 +137,11 @@ def main(argv: list[str] | None = None) -> int:
     from hexapod_navigation.config import NavigationConfig
     from hexapod_navigation.experiment import (
         NavigationSettings,
+        read_rows,
         run_navigation,
         TRIPOD_TIME_LIMIT,
         versus_tripod,
+        write_results,
     )
     from hexapod_navigation.repertoire import shipped_repertoire
     from hexapod_navigation.step_bank import shipped_step_bank
@@ -142,12 +150,18 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog='tune_tripod_option', description=__doc__.split('\n\n')[0])
     ap.add_argument('--workers', type=int, default=2)
     ap.add_argument('--grid', choices=sorted(GRIDS), default='after')
+    ap.add_argument(
+        '--cache-dir', type=Path, help="each unit's episodes (runs.csv) here, reused when present"
+    )
     args = ap.parse_args(argv)
     every = args.grid == 'all_kinds'
     kinds = EXPERIMENT_KINDS if every else GRID_KINDS.get(args.grid, KINDS)
     goals, limit = (ALL_KINDS_GOALS, ALL_KINDS_LIMIT) if every else (GOALS, TRIPOD_TIME_LIMIT)
 
-    def walk(kind: str, config, methods: tuple[str, ...]) -> list:
+    def walk(kind: str, config, methods: tuple[str, ...], unit: str) -> list:
+        cached = args.cache_dir / args.grid / f'{unit}__{kind}' if args.cache_dir else None
+        if cached is not None and (cached / 'summary.json').is_file():  # written last
+            return read_rows(cached / 'runs.csv')
         settings = NavigationSettings(
             repertoire=shipped_repertoire(),
             scenarios=SCENARIOS,
@@ -159,19 +173,28 @@ def main(argv: list[str] | None = None) -> int:
             damage_kind=kind,
             reported=args.grid == 'reported',
         )
-        return run_navigation(settings, args.workers)[0]
+        rows, paths = run_navigation(settings, args.workers)
+        if cached is not None:
+            write_results(cached, settings, rows, paths)
+            print(f'{cached.name}: {len(rows)} episodes written', flush=True)
+        return rows
+
+    def unit_of(setting: dict) -> str:
+        return '_'.join(f'{k}-{v}' for k, v in sorted(setting.items()))
 
     # the tripod's episodes are the same whatever the setting: walked once per kind when apart
-    tripod = {k: walk(k, NavigationConfig(), ('tripod',)) for k in kinds} if every else {}
+    tripod = (
+        {k: walk(k, NavigationConfig(), ('tripod',), 'tripod') for k in kinds} if every else {}
+    )
     results = []
     for setting in GRIDS[args.grid]:
         config = replace(NavigationConfig(), **setting)
         rows, table = [], {}
         for kind in kinds:
             if every:
-                kind_rows = walk(kind, config, ('repertoire',)) + tripod[kind]
+                kind_rows = walk(kind, config, ('repertoire',), unit_of(setting)) + tripod[kind]
             else:
-                kind_rows = walk(kind, config, ('repertoire', 'tripod'))
+                kind_rows = walk(kind, config, ('repertoire', 'tripod'), unit_of(setting))
             rows += [(kind, r) for r in kind_rows]
             table.update({(kind, v.scenario): v for v in versus_tripod(kind_rows)})
         tie_kinds = TIE_KINDS.get(args.grid, ('lifted',))

@@ -12,7 +12,7 @@
 # committed) are copied in, so a new worktree only computes what is missing (a cache file names
 # its map, engine and damage: a file of another map is never used).
 # Output: WORKTREE/out/ceilings.out. Before a session ends `bash
-# hexapod_adapt/maps/save_progress.sh` copies the finished cases to in_progress/ceilings: commit
+# scripts/save_progress.sh` copies the finished cases to in_progress/ceilings: commit
 # them. When every case is cached, copy them into this checkout's hexapod_adapt/maps/ceilings/
 # and commit them with the map.
 set -euo pipefail

@@ -9,7 +9,7 @@
 # FRESH=1: the shipped map and its log are kept there as NAME.bak).
 # Output: WORKTREE/out/default_map.out (the run's pid in out/default_map.pid). When it says
 # "wrote", copy WORKTREE's hexapod_adapt/maps/default_map.npz and default_map.npz.log.jsonl back;
-# before a session ends, `bash hexapod_adapt/maps/save_progress.sh` stops the run at a checkpoint
+# before a session ends, `bash scripts/save_progress.sh` stops the run at a checkpoint
 # and copies it with the log to in_progress/: commit them (a new machine has no ../mapgen).
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"

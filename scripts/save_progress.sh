@@ -2,21 +2,26 @@
 # Keep the long runs' progress in the repository before a session ends: a machine may be new
 # next session, and a checkpoint left outside git is lost with it (2026-11-25: 851,002 evaluations
 # of the default map were).
-#   bash hexapod_adapt/maps/save_progress.sh [MAP_WORKTREE] [CEILING_WORKTREE] [CHECKPOINTS]
-# then commit CHECKPOINTS (default hexapod_adapt/maps/in_progress/).
+#   bash scripts/save_progress.sh [MAP_WORKTREE] [CEILING_WORKTREE] [CHECKPOINTS]
+# then commit what it lists.
 # - The default map running in MAP_WORKTREE (default ../mapgen, resume_default_map.sh) is stopped
 #   right after its next checkpoint (within --checkpoint-every, 300 s), so that the saved
 #   checkpoint and the saved log end together: the log loses at most the time since its last
-#   row (--log-every, 30 s), and no work past the checkpoint is thrown away.
-#   Its checkpoint and log go to in_progress/. resume_default_map.sh resumes from them.
+#   row (--log-every, 30 s), and no work past the checkpoint is thrown away. Its checkpoint and
+#   log go to CHECKPOINTS (default hexapod_adapt/maps/in_progress), where
+#   resume_default_map.sh resumes from.
 # - The ceilings' finished cases in CEILING_WORKTREE (default ../ceilgen, resume_ceilings.sh) go
-#   to in_progress/ceilings/; the run goes on (a case in progress is recomputed on resume).
+#   to CHECKPOINTS/ceilings; the run goes on (a case in progress is recomputed on resume).
+# - The navigation round's finished units in NAV_TREE (default ../navtune,
+#   tuning/tune_all_kinds.sh) go to NAV_KEEP (default tuning/navigation_all_kinds); the round goes
+#   on (a unit in progress is walked again).
 set -euo pipefail
-repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 map_tree="${1:-$repo/../mapgen}"
 ceil_tree="${2:-$repo/../ceilgen}"
 keep="${3:-$repo/hexapod_adapt/maps/in_progress}"
-mkdir -p "$keep"
+nav_tree="${NAV_TREE:-$repo/../navtune}"
+nav_keep="${NAV_KEEP:-$repo/tuning/navigation_all_kinds}"
 set +u  # the setup scripts read unset variables
 # shellcheck disable=SC1091
 source "$repo/scripts/env.sh" >/dev/null
@@ -54,6 +59,7 @@ if [ -f "$ckpt" ]; then
     echo "not saved: $keep holds a checkpoint further on ($kept evaluations) than $map_tree ($here)" >&2
     exit 1
   fi
+  mkdir -p "$keep"
   copy_atomic "$ckpt" "$keep/default_map.npz.ckpt.npz"
   # the log up to its last whole row (a row being written is torn)
   python3 - "$maps/default_map.npz.log.jsonl" "$keep/default_map.npz.log.jsonl" <<'EOF'
@@ -64,8 +70,8 @@ with open(tmp, 'wb') as out:
     out.write(data[: data.rfind(b'\n') + 1])
 os.replace(tmp, sys.argv[2])
 EOF
-  echo "saved the map's checkpoint ($here evaluations, $(du -h "$keep/default_map.npz.ckpt.npz" | cut -f1)) and log"
-elif [ -f "$maps/default_map.npz" ] && [ -d "$map_tree" ]; then
+  echo "saved the map's checkpoint ($here evaluations, $(du -h "$keep/default_map.npz.ckpt.npz" | cut -f1)) and log to $keep"
+elif [ -f "$maps/default_map.npz" ]; then
   echo "no map checkpoint in $map_tree: finished? copy its default_map.npz and log into the checkout"
 fi
 
@@ -77,6 +83,20 @@ if [ -d "$ceil_tree/hexapod_adapt/maps/ceilings" ]; then
     copy_atomic "$f" "$keep/ceilings/$(basename "$f")"
     n=$((n + 1))
   done
-  echo "saved $n ceiling cases"
+  echo "saved $n ceiling cases to $keep/ceilings"
 fi
-echo "now: git add $keep && git commit"
+
+# a unit is finished once its summary.json, written last, is there
+n=0
+for summary in "$nav_tree"/tuning/navigation_all_kinds/*/*/summary.json; do
+  [ -f "$summary" ] || continue
+  unit="$(dirname "$summary")"
+  dest="$nav_keep/$(basename "$(dirname "$unit")")/$(basename "$unit")"
+  [ -f "$dest/summary.json" ] && continue
+  rm -rf "$dest.tmp"
+  mkdir -p "$(dirname "$dest")"
+  cp -r "$unit" "$dest.tmp" && mv "$dest.tmp" "$dest"
+  n=$((n + 1))
+done
+[ -d "$nav_tree" ] && echo "saved $n new navigation units to $nav_keep"
+echo "now commit them (git add the folders above)"
