@@ -125,7 +125,6 @@ def save_figure(fig: Any, out: str | Path) -> Path:
 
 
 def evaluation_axes(axes: Any) -> None:
-    """Label ``axes`` (one or several) with evaluations on the x axis."""
     """Label every axis's x as evaluations, in engineering notation, with a light grid."""
     for ax in axes:
         ax.set_xlabel('evaluations')
