@@ -39,6 +39,7 @@ from hexapod_adapt.ros.recording import read_messages
 from hexapod_msgs.msg import AdaptationTrial
 from hexapod_msgs.srv import Adapt
 from hexapod_sim import create_simulator, evaluate_gait
+from hexapod_sim.damage import parse_damage
 from hexapod_sim.sampling import random_feasible_genotypes
 import numpy as np
 import pytest
@@ -203,6 +204,20 @@ def test_the_damage_informed_prior_through_the_graph(ros, launch, tmp_path, smal
     wait_for(lambda: len(trials) == 2, 10, 'the blind trial')
     elites = archive.elite_indices()
     assert trials[1].archive_index == elites[np.argmax(archive.speeds()[elites])]
+
+    # the operator names a damage of another kind: it wins over the simulator's, which is said
+    femur = parse_damage('2:unpowered:femur')
+    legs, kinds, strengths, joints = femur.as_lists()
+    named = Adapt.Request(
+        max_trials=1, failed_legs=legs, kinds=kinds, strengths=strengths, joints=joints
+    )
+    answer = ros.call(Adapt, 'adapt', named, timeout=300)
+    assert answer.trials == 1, answer.message
+    assert 'under leg 2 unpowered femur' in answer.prior
+    assert 'from the request: leg 2 unpowered femur' in answer.prior
+    assert 'note: the simulator reports legs 1+4 lifted' in answer.prior
+    wait_for(lambda: len(trials) == 3, 10, 'the trial of the named damage')
+    assert trials[2].archive_index == compute_ceiling(archive, femur, 'pybullet').best_niche
 
     refused = ros.call(Adapt, 'adapt', Adapt.Request(failed_legs=[1, 2, 3]), timeout=60)
     assert not refused.success and refused.trials == 0
@@ -707,9 +722,20 @@ def test_every_nonsensical_adapt_request_is_refused_with_a_reason(ros, launch, s
         ('failed_legs', [7], 'leg 7 does not exist'),
         ('failed_legs', [1, 2, 3], 'at most 2'),
     ]
+    # damages named by the parallel lists, as SetLegFailure's
+    damages = [
+        ({'failed_legs': [2], 'kinds': ['melted']}, "unknown damage kind 'melted'"),
+        ({'failed_legs': [1, 2], 'kinds': ['locked']}, '1 damage kinds for 2 legs'),
+        ({'failed_legs': [2], 'kinds': ['unpowered'], 'joints': ['knee']}, "got ['knee']"),
+        ({'failed_legs': [2], 'kinds': ['locked'], 'joints': ['femur']}, 'only an unpowered'),
+        ({'failed_legs': [2], 'kinds': ['weak'], 'strengths': [7.0]}, 'a weak leg keeps'),
+        ({'kinds': ['locked']}, 'kinds given without failed_legs'),
+    ]
+    cases += [(fields, None, named) for fields, named in damages]
     for field, value, named in cases:
         request = Adapt.Request()
-        setattr(request, field, value)
+        for name, v in field.items() if isinstance(field, dict) else [(field, value)]:
+            setattr(request, name, v)
         answer = ros.call(Adapt, 'adapt', request, timeout=30)
         assert not answer.success and answer.trials == 0, (field, value, answer.message)
         assert answer.message.startswith('bad request') and named in answer.message, (

@@ -521,3 +521,21 @@ def test_a_command_never_modifies_its_inputs(command, args, inputs, tmp_path):
     proc = _run(command, *(a.format(**places) for a in args))
     assert proc.returncode == 0, proc.stderr
     assert {name: _digest(files[name]) for name in inputs} == before
+
+
+def test_adapt_client_names_a_damage_of_any_kind_and_refuses_nonsense(capsys):
+    from hexapod_adapt.ros.adapt_client_cli import build_parser
+
+    args = build_parser().parse_args(['--damage', '3:unpowered:femur,5:weak:0.3'])
+    assert args.damage.as_lists() == ([3, 5], ['unpowered', 'weak'], [1.0, 0.3], ['femur', ''])
+    for argv, says in (
+        (['--damage', '2:melted'], "unknown damage kind 'melted'"),
+        (['--damage', '1:locked,2:locked,3:locked'], 'at most 2 legs'),
+        (['--damage', '2:unpowered:knee'], "got ['knee']"),
+        (['--damage', ''], 'names no leg'),
+        (['--damage', '2:locked', '--failed-legs', '2'], 'not allowed with argument'),
+    ):
+        with pytest.raises(SystemExit) as stop:
+            build_parser().parse_args(argv)
+        assert stop.value.code == 2
+        assert says in capsys.readouterr().err, argv

@@ -22,12 +22,19 @@
 
 from __future__ import annotations
 
+import re
+
 from hexapod_adapt.mapping.archive import Archive, load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
 from hexapod_adapt.online.adaptation import adapt
 from hexapod_adapt.online.ceiling import compute_ceiling
 from hexapod_adapt.online.mboa import MboaConfig
-from hexapod_adapt.online.prior import damage_prior, KnownDamage, report_source_problem
+from hexapod_adapt.online.prior import (
+    damage_prior,
+    KnownDamage,
+    report_source_problem,
+    requested_damage,
+)
 from hexapod_adapt.online.replay import lookup_trial
 from hexapod_sim.damage import Damage, parse_damage
 import numpy as np
@@ -36,7 +43,7 @@ import pytest
 
 def test_servo_reports_make_a_damage_and_nonsense_is_refused_saying_why():
     known = KnownDamage()
-    assert known.for_run([], False) == (None, 'the map as it is (no damage known)')
+    assert known.for_run(None, False) == (None, 'the map as it is (no damage known)')
     assert 'names no leg' in known.from_servo(40, 0, 'femur')
     assert 'names no leg' in known.from_servo(40, 7, 'femur')
     assert 'names no joint' in known.from_servo(3, 1, 'knee')
@@ -46,20 +53,43 @@ def test_servo_reports_make_a_damage_and_nonsense_is_refused_saying_why():
     assert known.from_servo(4, 1, 'tibia') == 'servo 4 reported dead: leg 1 tibia unpowered'
     assert known.from_servo(11, 4, 'coxa') == 'servo 11 reported dead: leg 4 coxa unpowered'
     # a dead servo is a free joint, the live ones fold the leg: not "leg lifted"
-    damage, source = known.for_run([], False)
+    damage, source = known.for_run(None, False)
     assert damage == parse_damage('1:unpowered:femur+tibia,4:unpowered:coxa')
     assert source == 'servo reports: leg 1 unpowered femur+tibia, leg 4 unpowered coxa'
     refusal = known.from_servo(8, 3, 'femur')
     assert 'name 3 failed legs ([1, 3, 4])' in refusal and 'at most 2' in refusal
-    damage, source = known.for_run([], False)
+    damage, source = known.for_run(None, False)
     assert damage is None and 'name 3 failed legs' in source
     # the operator's word still works, and blind means blind
-    assert known.for_run([2], False)[0] == Damage.lifted([2])
-    assert known.for_run([2], True) == (None, 'the map as it is (blind prior requested)')
-    with pytest.raises(ValueError, match='at most 2 legs'):
-        known.for_run([1, 2, 3], False)
-    with pytest.raises(ValueError, match='leg 9 does not exist'):
-        known.for_run([9], False)
+    assert known.for_run(requested_damage([2]), False)[0] == Damage.lifted([2])
+    named = requested_damage([2], ['unpowered'], [], ['femur'])
+    assert known.for_run(named, False) == (named, 'the request: leg 2 unpowered femur')
+    assert known.for_run(named, True) == (None, 'the map as it is (blind prior requested)')
+
+
+def test_a_request_names_any_damage_and_nonsense_is_refused_saying_why():
+    assert requested_damage([]) is None  # the node's own knowledge
+    assert requested_damage([1, 4]) == Damage.lifted([1, 4])  # kinds empty: the thesis's
+    assert requested_damage([3, 5], ['locked', 'weak'], [0, 0.5]) == parse_damage(
+        '3:locked,5:weak:0.5'
+    )
+    assert requested_damage([2], ['shortened'], [0.0]) == parse_damage('2:shortened')
+    assert requested_damage([6], ['unpowered'], [], ['coxa+tibia']) == parse_damage(
+        '6:unpowered:coxa+tibia'
+    )
+    refused = {
+        'at most 2 legs': ([1, 2, 3], [], [], []),
+        'leg 9 does not exist': ([9], [], [], []),
+        "unknown damage kind 'melted'": ([2], ['melted'], [], []),
+        '1 damage kinds for 2 legs': ([1, 2], ['locked'], [], []),
+        "got ['knee'] for leg 2": ([2], ['unpowered'], [], ['knee']),
+        'only an unpowered leg has dead joints': ([2], ['locked'], [], ['femur']),
+        'strength in [': ([2], ['weak'], [3.0], []),
+        'kinds and joints given without failed_legs': ([], ['unpowered'], [], ['femur']),
+    }
+    for message, lists in refused.items():
+        with pytest.raises(ValueError, match=re.escape(message)):
+            requested_damage(*lists)
 
 
 def test_only_the_configured_bridge_is_believed_and_forget_drops_the_reports():
@@ -75,7 +105,7 @@ def test_only_the_configured_bridge_is_believed_and_forget_drops_the_reports():
     assert known.servo_damage() is not None
     assert 'forgot the reports of dead servos [12]' in known.forget()
     assert known.servo_damage() is None and known.forget() == 'no servo reports to forget'
-    assert known.for_run([], False)[1] == 'the map as it is (no damage known)'
+    assert known.for_run(None, False)[1] == 'the map as it is (no damage known)'
 
 
 def test_the_simulators_damage_is_taken_and_a_request_that_differs_is_said():
@@ -83,14 +113,17 @@ def test_the_simulators_damage_is_taken_and_a_request_that_differs_is_said():
     assert known.from_sim([2, 5], ['locked', 'weak'], [1.0, 0.5]).endswith(
         'leg 2 locked, leg 5 weak 0.50'
     )
-    damage, source = known.for_run([], False)
+    damage, source = known.for_run(None, False)
     assert damage.kind_of(5) == 'weak' and source.startswith('the simulator: ')
-    damage, source = known.for_run([1], False)
+    damage, source = known.for_run(Damage.lifted([1]), False)
     assert damage == Damage.lifted([1]) and 'note: the simulator reports leg 2 locked' in source
+    same = parse_damage('2:locked,5:weak:0.5')
+    assert known.for_run(same, False)[1] == 'the request: leg 2 locked, leg 5 weak 0.50'
     assert 'refused' in known.from_sim([1, 2, 3], [], [])
     assert known.sim.failed_legs == (2, 5)  # the refused report changed nothing
     known.from_sim([], [], [])
-    assert known.for_run([], False) == (None, 'the map as it is (the simulator reports no damage)')
+    no_damage = (None, 'the map as it is (the simulator reports no damage)')
+    assert known.for_run(None, False) == no_damage
 
 
 @pytest.fixture(scope='module')

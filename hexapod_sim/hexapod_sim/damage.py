@@ -207,6 +207,15 @@ class Damage:
         """Whether this is a thesis scenario: every damaged leg lifted (or none damaged)."""
         return all(d.kind == 'lifted' for d in self.legs)
 
+    def as_lists(self) -> tuple[list[int], list[str], list[float], list[str]]:
+        """Return the lists :func:`damage_from_lists` takes: legs, kinds, strengths, joints."""
+        return (
+            list(self.failed_legs),
+            [d.kind for d in self.legs],
+            [float(d.strength) for d in self.legs],
+            ['+'.join(d.joints) for d in self.legs],
+        )
+
     def kind_of(self, leg: int) -> str | None:
         """Return the damage of ``leg``, or None if it is healthy."""
         return next((d.kind for d in self.legs if d.leg == leg), None)

@@ -89,12 +89,13 @@ def foot_contacts(sim: Simulator, when: Time, base_frame: str) -> FootContacts:
 
 def damage_msg(damage: Damage, when: Time) -> LegDamage:
     """Return ``damage`` as sim/damage says it."""
+    legs, kinds, strengths, joints = damage.as_lists()
     return LegDamage(
         header=Header(stamp=when),
-        failed_legs=list(damage.failed_legs),
-        kinds=[d.kind for d in damage.legs],
-        strengths=[float(d.strength) for d in damage.legs],
-        joints=['+'.join(d.joints) for d in damage.legs],
+        failed_legs=legs,
+        kinds=kinds,
+        strengths=strengths,
+        joints=joints,
         label=damage.label,
     )
 

@@ -99,6 +99,27 @@ def report_source_problem(publishers: Sequence[str], bridge: str) -> str:
     return ''
 
 
+def requested_damage(
+    legs: Sequence[int],
+    kinds: Sequence[str] = (),
+    strengths: Sequence[float] = (),
+    joints: Sequence[str] = (),
+) -> Damage | None:
+    """
+    Return the damage an adapt request names (its parallel lists, as SetLegFailure's), or None.
+
+    No legs: None (the node's own knowledge). ValueError says what is wrong, e.g. kinds given
+    without legs, an unknown kind, a joint out of range or three legs.
+    """
+    if not legs:
+        lists = (('kinds', kinds), ('strengths', strengths), ('joints', joints))
+        given = [name for name, values in lists if values]
+        if given:
+            raise ValueError(f'{" and ".join(given)} given without failed_legs: name the legs too')
+        return None
+    return damage_from_lists(legs, kinds, strengths, joints)
+
+
 class KnownDamage:
     """
     What a node has been told of the robot's damage, from the simulator or servo reports.
@@ -170,22 +191,20 @@ class KnownDamage:
             return None
         return Damage.unpowered({leg: set(s.values()) for leg, s in self.servos.items()})
 
-    def for_run(self, requested: Sequence[int], blind: bool) -> tuple[Damage | None, str]:
+    def for_run(self, requested: Damage | None, blind: bool) -> tuple[Damage | None, str]:
         """
         Return the damage a run's prior should use, and a sentence saying where it comes from.
 
-        A request's legs win (the operator's word, lifted legs), then the simulator's report,
-        then the servo reports (their legs unpowered, folded by the firmware). ValueError if the
-        request's legs make no damage.
+        A request's damage wins (the operator's word; :func:`requested_damage`), then the
+        simulator's report, then the servo reports (their legs unpowered, folded by the firmware).
         """
         if blind:
             return None, 'the map as it is (blind prior requested)'
-        if requested:
-            damage = Damage.lifted(requested)  # ValueError names the problem
+        if requested is not None:
             note = ''
-            if self.sim is not None and self.sim.failed_legs != damage.failed_legs:
+            if self.sim is not None and self.sim != requested:
                 note = f'; note: the simulator reports {self.sim.label}'
-            return damage, f'the request: {damage.label}{note}'
+            return requested, f'the request: {requested.label}{note}'
         if self.sim is not None:
             if not self.sim.legs:
                 return None, 'the map as it is (the simulator reports no damage)'

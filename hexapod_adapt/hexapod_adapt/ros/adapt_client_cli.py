@@ -26,6 +26,7 @@ Call the ``adapt`` service from a base-station PC and print each trial as it com
 full ROS install).
 
     adapt_client --max-trials 20 [--alpha 0.9 --kappa 0.05 --length-scale 0.4 --noise 0.001]
+    adapt_client --damage 3:unpowered:femur    # the damage known, when no report says it
 """
 
 from __future__ import annotations
@@ -46,6 +47,7 @@ from hexapod_adapt.online.run_config import TRIAL_DURATION_RANGE
 from hexapod_description.cli import interval, number, run_command
 from hexapod_msgs.msg import AdaptationTrial
 from hexapod_msgs.srv import Adapt
+from hexapod_sim.damage import Damage, parse_damage
 import rclpy
 from rclpy.signals import SignalHandlerOptions
 
@@ -67,6 +69,16 @@ def _default_or(low: float, high: float, kind: type = float):
 
     parse.__name__ = kind.__name__
     return parse
+
+
+def _damage(text: str) -> Damage:
+    try:
+        damage = parse_damage(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    if not damage.legs:
+        raise argparse.ArgumentTypeError('names no leg (--blind starts from the map as it is)')
+    return damage
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -116,13 +128,22 @@ def build_parser() -> argparse.ArgumentParser:
         default='',
         help="M-BOA settings (default: the node's profile parameter)",
     )
-    ap.add_argument(
+    named = ap.add_mutually_exclusive_group()
+    named.add_argument(
         '--failed-legs',
         type=number(int, 1, 6),
         nargs='+',
         default=[],
-        help='legs known to have failed: the map is re-scored under them first (default: what'
-        ' the node knows from the simulator or the servo reports)',
+        help='legs known to have failed, lifted: the map is re-scored under them first (default:'
+        ' what the node knows from the simulator or the servo reports)',
+    )
+    named.add_argument(
+        '--damage',
+        type=_damage,
+        default=None,
+        metavar='LEG:KIND[:AMOUNT],...',
+        help='the damage known, of any kind, e.g. 3:unpowered:femur, 2:locked,5:weak:0.3 or'
+        ' 4:shortened:0.5: the map is re-scored under it first',
     )
     ap.add_argument(
         '--blind', action='store_true', help='ignore known damage: start from the map as it is'
@@ -172,6 +193,9 @@ def _call(args: argparse.Namespace, ros_args: list[str]) -> int:
                 file=sys.stderr,
             )
             return 1
+        legs, kinds, strengths, joints = (
+            args.damage.as_lists() if args.damage else (args.failed_legs, [], [], [])
+        )
         request = Adapt.Request(
             max_trials=args.max_trials,
             trial_duration=args.trial_duration,
@@ -180,7 +204,10 @@ def _call(args: argparse.Namespace, ros_args: list[str]) -> int:
             length_scale=args.length_scale,
             noise=args.noise,
             profile=args.profile,
-            failed_legs=args.failed_legs,
+            failed_legs=legs,
+            kinds=kinds,
+            strengths=strengths,
+            joints=joints,
             blind=args.blind,
         )
         future = client.call_async(request)

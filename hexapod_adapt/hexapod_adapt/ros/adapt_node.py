@@ -25,10 +25,11 @@ Loads an archive (``archive``, by default the shipped default map; refused, with
 does not fit this installation) and runs M-BOA when ``adapt`` is called. Each trial publishes the
 gait on ``gait/parameters`` and measures its speed through gait_node + sim_node (mode ``sim``),
 bridge_node's IMU odometry (``robot``) or the operator's tape measure (``manual``):
-:mod:`hexapod_adapt.online.trials`. When the damage is known (the request's ``failed_legs``,
-``sim/damage`` or the bridge's ``servo_failures``) M-BOA starts from the map re-scored under it
-(:mod:`hexapod_adapt.online.prior`; ``blind`` skips it). Servo reports are believed only while
-the configured ``bridge_node`` is the topic's only publisher; ``~/forget`` drops them.
+:mod:`hexapod_adapt.online.trials`. When the damage is known (the request's ``failed_legs`` with
+their ``kinds``, ``sim/damage`` or the bridge's ``servo_failures``) M-BOA starts from the map
+re-scored under it (:mod:`hexapod_adapt.online.prior`; ``blind`` skips it). Servo reports are
+believed only while the configured ``bridge_node`` is the topic's only publisher; ``~/forget``
+drops them.
 
 Publishes ``adapt/trials`` per trial and records each run to an MCAP file in ``record_dir`` (a
 recording problem never stops a run). Services: ``adapt`` (hexapod_msgs/Adapt),
@@ -48,7 +49,7 @@ from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.maps import shipped_ceilings
 from hexapod_adapt.online import session
 from hexapod_adapt.online.adaptation import adapt, TrialAborted
-from hexapod_adapt.online.prior import KnownDamage
+from hexapod_adapt.online.prior import KnownDamage, requested_damage
 from hexapod_adapt.online.run_config import (
     ArchiveSlot,
     engine_note,
@@ -237,7 +238,13 @@ class AdaptNode(Node):
                 {n: getattr(request, n) or self._param(n) for n in RUN_SETTINGS}
             )
             config = replace(config, min_speed=float(self._param('min_speed')))
-            damage, source = self.known.for_run(list(request.failed_legs), bool(request.blind))
+            named = requested_damage(
+                list(request.failed_legs),
+                list(request.kinds),
+                list(request.strengths),
+                list(request.joints),
+            )
+            damage, source = self.known.for_run(named, bool(request.blind))
         except ValueError as exc:
             problem = problem or f'bad request: {exc}'
         problem = problem or self._duplicate_peers()
@@ -246,7 +253,7 @@ class AdaptNode(Node):
         if problem:
             response.success, response.message = False, problem
             return response
-        auto = not request.failed_legs and not request.blind  # the damage as reported
+        auto = named is None and not request.blind  # the damage as reported
         run = session.RunRequest(config, duration, damage, source, auto)
         try:
             return self._run(self.slot.archive, run, response)
@@ -303,7 +310,7 @@ class AdaptNode(Node):
                     timeout,
                     "the simulator's damage report, sim/damage (is sim_node running?)",
                 )
-                damage, source = self.known.for_run([], False)
+                damage, source = self.known.for_run(None, False)
         except TrialAborted as exc:
             response.success, response.message = False, f'run not started: {exc}'
             return response
