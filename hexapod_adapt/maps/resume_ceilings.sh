@@ -24,6 +24,11 @@ REPO="$repo" TREE="$tree"
 # shellcheck disable=SC1091
 source "$repo/scripts/fixed_worktree.sh"
 mkdir -p out hexapod_adapt/maps/ceilings
+running="$(cat out/ceilings.pid 2>/dev/null || true)"
+if [ -n "$running" ] && kill -0 "$running" 2>/dev/null; then
+  echo "the ceilings are already running in $tree (pid $running)"
+  exit 0
+fi
 if [ -n "$map" ]; then
   cp "$map" hexapod_adapt/maps/default_map.npz
   if [ -f "$map.log.jsonl" ]; then cp "$map.log.jsonl" hexapod_adapt/maps/default_map.npz.log.jsonl; fi
@@ -32,4 +37,5 @@ if [ -d "$keep" ]; then
   cp -n "$keep"/*.npz hexapod_adapt/maps/ceilings/ 2>/dev/null || true
 fi
 nohup nice -n 10 bash hexapod_adapt/maps/make_ceilings.sh >> out/ceilings.out 2>&1 &
+echo $! > out/ceilings.pid
 echo "ceilings running in $tree (pid $!): tail -f $tree/out/ceilings.out"

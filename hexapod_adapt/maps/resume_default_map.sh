@@ -15,6 +15,16 @@ set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 tree="${1:-$repo/../mapgen}"
 keep="${2:-$repo/hexapod_adapt/maps/in_progress}"
+set +u  # the setup scripts read unset variables
+# shellcheck disable=SC1091
+source "$repo/scripts/env.sh" >/dev/null
+set -u
+# shellcheck disable=SC1091
+source "$repo/scripts/map_progress.sh"
+if [ "$(cd "$repo" && default_map_shipped)" = yes ]; then
+  echo "the default map $repo ships is make_default_map.sh's, finished: nothing to resume"
+  exit 0
+fi
 REPO="$repo" TREE="$tree"
 # shellcheck disable=SC1091
 source "$repo/scripts/fixed_worktree.sh"
@@ -25,8 +35,6 @@ if [ -n "$running" ] && kill -0 "$running" 2>/dev/null; then
   echo "the default map is already running in $tree (pid $running)"
   exit 0
 fi
-# shellcheck disable=SC1091
-source "$repo/scripts/map_progress.sh"
 # the checkpoint and the progress log (its rows are the map's core-hours), committed in
 # CHECKPOINTS: taken when the worktree has none (a new one) or an older one (a machine handed
 # back after another went further)

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Start or resume every long background run of the project, first thing in a session (each in a
+# worktree of its own, at a low priority; each resumes from what the repository keeps):
+#   bash scripts/resume_long_runs.sh
+# - the default map (hexapod_adapt/maps/resume_default_map.sh), while the shipped one is not
+#   the one make_default_map.sh makes, and then_ceilings.sh beside it: the new map's ceilings
+#   start the moment it is written; once the map is shipped, its ceilings
+#   (resume_ceilings.sh: only the cases not cached yet);
+# - the ninth navigation tuning round (tuning/tune_all_kinds.sh), while it has units to walk.
+# Before the session ends: bash scripts/save_progress.sh, then commit what it lists.
+set -euo pipefail
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$repo"
+mkdir -p out
+set +u  # the setup scripts read unset variables
+# shellcheck disable=SC1091
+source scripts/env.sh >/dev/null
+set -u
+# shellcheck disable=SC1091
+source scripts/map_progress.sh
+if [ "$(default_map_shipped)" = yes ]; then
+  bash hexapod_adapt/maps/resume_ceilings.sh
+else
+  bash hexapod_adapt/maps/resume_default_map.sh
+  nohup bash hexapod_adapt/maps/then_ceilings.sh >> out/then_ceilings.out 2>&1 &
+  echo "then_ceilings.sh waiting for the map (pid $!): out/then_ceilings.out"
+fi
+bash tuning/tune_all_kinds.sh
