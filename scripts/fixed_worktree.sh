@@ -1,11 +1,29 @@
-# Source this file (bash) with REPO and TREE set: TREE becomes a worktree of REPO at COMMIT
-# (default: REPO's HEAD) if it is missing (then FIXED_WORKTREE_NEW=1), is built on its own with
-# REPO's .venv, and is entered with its environment. Long runs go there, so that work on the
-# library in REPO cannot change or break a run in progress (they import the workspace's build).
+# Source this file (bash) with REPO and TREE set: TREE becomes a worktree of REPO at a fixed
+# commit if it is missing (then FIXED_WORKTREE_NEW=1), is built on its own with REPO's .venv, and
+# is entered with its environment. Long runs go there, so that work on the library in REPO cannot
+# change or break a run in progress (they import the workspace's build).
+# The commit: the one PIN_FILE names (a file committed beside the run's kept progress: every
+# session resumes the run with the code that started it, also on a new machine), written with
+# REPO's HEAD at the first start; without PIN_FILE, REPO's HEAD. A worktree at another commit
+# than the pin is refused (exit 1).
 FIXED_WORKTREE_NEW=0
+FIXED_COMMIT="$(git -C "$REPO" rev-parse HEAD)"
+if [ -n "${PIN_FILE:-}" ]; then
+  if [ -f "$PIN_FILE" ]; then
+    FIXED_COMMIT="$(cat "$PIN_FILE")"
+  else
+    mkdir -p "$(dirname "$PIN_FILE")"
+    echo "$FIXED_COMMIT" > "$PIN_FILE"
+  fi
+fi
 if [ ! -d "$TREE" ]; then
-  git -C "$REPO" worktree add --detach "$TREE" "${COMMIT:-HEAD}"
+  git -C "$REPO" worktree add --detach "$TREE" "$FIXED_COMMIT"
   FIXED_WORKTREE_NEW=1
+fi
+if [ -n "${PIN_FILE:-}" ] && [ "$(git -C "$TREE" rev-parse HEAD)" != "$FIXED_COMMIT" ]; then
+  echo "$TREE is at $(git -C "$TREE" rev-parse HEAD), not the run's $FIXED_COMMIT ($PIN_FILE):" \
+    "remove it (git worktree remove) and run this again" >&2
+  exit 1
 fi
 export HEXAPOD_VENV="$REPO/.venv"
 cd "$TREE"

@@ -13,16 +13,9 @@ set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 tree="${1:-$repo/../navtune}"
 cache="$repo/tuning/navigation_all_kinds"
-mkdir -p "$cache"
-[ -f "$cache/COMMIT" ] || git -C "$repo" rev-parse HEAD > "$cache/COMMIT"
-COMMIT="$(cat "$cache/COMMIT")"
-REPO="$repo" TREE="$tree"
+REPO="$repo" TREE="$tree" PIN_FILE="$cache/COMMIT"
 # shellcheck disable=SC1091
 source "$repo/scripts/fixed_worktree.sh"
-if [ "$(git rev-parse HEAD)" != "$COMMIT" ]; then
-  echo "$tree is at $(git rev-parse HEAD), not the round's $COMMIT: remove it first" >&2
-  exit 1
-fi
 mkdir -p out tuning/navigation_all_kinds
 running="$(cat out/tune_all_kinds.pid 2>/dev/null || true)"
 if [ -n "$running" ] && kill -0 "$running" 2>/dev/null; then

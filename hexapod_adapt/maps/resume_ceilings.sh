@@ -7,7 +7,8 @@
 # default map not yet committed, e.g. ../mapgen/hexapod_adapt/maps/default_map.npz), copied into
 # the worktree with its log. Commit a new map together with its ceilings: the demo, the tests
 # and make bench-adapt read the shipped map's cache.
-# WORKTREE (default ../ceilgen) is made at HEAD if missing and built with this checkout's .venv.
+# WORKTREE (default ../ceilgen) is made if missing, at the commit that started the ceilings
+# (CHECKPOINTS/COMMIT, committed; HEAD at the first start), and built with this checkout's .venv.
 # Cases already cached in CHECKPOINTS (default hexapod_adapt/maps/in_progress/ceilings,
 # committed) are copied in, so a new worktree only computes what is missing (a cache file names
 # its map, engine and damage: a file of another map is never used).
@@ -20,7 +21,7 @@ repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 tree="${1:-$repo/../ceilgen}"
 keep="${2:-$repo/hexapod_adapt/maps/in_progress/ceilings}"
 map="${MAP:+$(realpath "$MAP")}"  # before entering the worktree: MAP may be relative
-REPO="$repo" TREE="$tree"
+REPO="$repo" TREE="$tree" PIN_FILE="$keep/COMMIT"
 # shellcheck disable=SC1091
 source "$repo/scripts/fixed_worktree.sh"
 mkdir -p out hexapod_adapt/maps/ceilings

@@ -2,7 +2,8 @@
 # Start or resume the default map (make_default_map.sh) in the background, from a worktree of its
 # own at a fixed commit, so that work on the library under it cannot change a run in progress.
 #   bash hexapod_adapt/maps/resume_default_map.sh [WORKTREE] [CHECKPOINTS]
-# WORKTREE (default ../mapgen) is made at this checkout's HEAD if missing and built with this
+# WORKTREE (default ../mapgen) is made if missing, at the commit that started the map
+# (CHECKPOINTS/COMMIT, committed; this checkout's HEAD at the first start), and built with this
 # checkout's .venv. It resumes from the worktree's checkpoint, or else from the copy in
 # CHECKPOINTS (default hexapod_adapt/maps/in_progress, committed: default_map.npz.ckpt.npz and
 # its log). With neither, a new worktree starts the map from scratch (make_default_map.sh with
@@ -25,7 +26,7 @@ if [ "$(cd "$repo" && default_map_shipped)" = yes ]; then
   echo "the default map $repo ships is make_default_map.sh's, finished: nothing to resume"
   exit 0
 fi
-REPO="$repo" TREE="$tree"
+REPO="$repo" TREE="$tree" PIN_FILE="$keep/COMMIT"
 # shellcheck disable=SC1091
 source "$repo/scripts/fixed_worktree.sh"
 fresh="$FIXED_WORKTREE_NEW"
