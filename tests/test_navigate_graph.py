@@ -375,6 +375,7 @@ def test_robot_mode_takes_dead_servos_only_from_its_bridge_and_forgets_them(
 ):
     from hexapod_gait.ros_glue import EVENTS
     from hexapod_msgs.msg import ServoFailure
+    from hexapod_msgs.srv import SetLegFailure
     from std_srvs.srv import Trigger
 
     # the test's node plays the bridge navigate_node is configured to believe
@@ -400,8 +401,32 @@ def test_robot_mode_takes_dead_servos_only_from_its_bridge_and_forgets_them(
     says = 'servo 5 (leg 3) reported dead: servo report ignored: it may come from /not_the_bridge'
     wait_for(lambda: says in nav.log(), 30, 'the impostor named')
     impostor.wait(30)
+    # the operator names a damage no servo report can tell: it wins over the reports
+    named = ros.call(
+        SetLegFailure,
+        'navigate_node/set_known_damage',
+        SetLegFailure.Request(failed_legs=[2], kinds=['locked']),
+    )
+    assert named.success and named.damage == 'leg 2 locked' and list(named.failed_legs) == [2]
+    assert named.message == (
+        "leg 2 locked, as the operator says: navigation favours the damage bank's leg 2 locked"
+        ' from the next goal (prior share 0.5)'
+    )
+    pub.publish(ServoFailure(servo_id=13, robot_leg=4, leg=4, joint='tibia'))
+    says = 'servo 13 reported dead: leg 4 tibia unpowered; the damage the operator named, leg 2'
+    wait_for(lambda: says in nav.log(), 20, 'a report after the named damage')
+    for request, why in (
+        (SetLegFailure.Request(failed_legs=[2], kinds=['melted']), "unknown damage kind 'melted'"),
+        (SetLegFailure.Request(failed_legs=[1, 2, 3]), 'at most 2 legs'),
+        (SetLegFailure.Request(kinds=['locked']), 'kinds given without failed_legs'),
+    ):
+        bad = ros.call(SetLegFailure, 'navigate_node/set_known_damage', request)
+        assert not bad.success and bad.message.startswith('bad request') and why in bad.message
     forget = ros.call(Trigger, 'navigate_node/forget', Trigger.Request())
-    assert forget.success and forget.message.endswith('and the reports of dead servos [3, 12]')
+    assert forget.success and forget.message.endswith(
+        'and the reports of dead servos [3, 12, 13], and the damage the operator named'
+        ' (leg 2 locked)'
+    )
     again = ros.call(Trigger, 'navigate_node/forget', Trigger.Request())
     assert again.success and again.message == 'what was learned about the damage is dropped'
     assert nav.alive()

@@ -41,6 +41,9 @@ geometry_msgs/PoseStamped or nav_msgs/Odometry, e.g. motion capture).
 * Robot mode: dead servos reported on ``servo_failures`` by the configured ``bridge_node`` (and
   no other node: the graph names a topic's publishers) become that damage, favoured among the
   damage bank's hypotheses from the next goal (``prior_reported``); ``~/forget`` drops them.
+* ``~/set_known_damage`` (hexapod_msgs/SetLegFailure): the operator names the damage, of any
+  kind, for what no servo report can tell (a locked joint, a broken tibia). It wins over the
+  servo reports from the next goal, as they do; an empty request or ``~/forget`` drops it.
 
 Publishes ``navigate/goal`` (visualization_msgs/Marker, latched) and ``navigate/status``. With
 ``record_dir`` set, each goal is recorded to an MCAP file there (odometry, frames, joint states,
@@ -54,7 +57,7 @@ import sys
 from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import PoseStamped
 from hexapod_adapt.online.adaptation import TrialAborted
-from hexapod_adapt.online.prior import KnownDamage
+from hexapod_adapt.online.prior import KnownDamage, requested_damage
 from hexapod_adapt.online.trials import OdomLog, Waiter
 from hexapod_adapt.ros.graph_port import (
     GraphPort,
@@ -76,6 +79,7 @@ from hexapod_gait.ros_glue import (
 )
 from hexapod_msgs.action import Navigate
 from hexapod_msgs.msg import ServoFailure
+from hexapod_msgs.srv import SetLegFailure
 from hexapod_navigation import navigate_msgs as conv
 from hexapod_navigation import node_settings as settings
 from hexapod_navigation.bodies import PoseLog, RobotGraphBody, SimGraphBody
@@ -85,6 +89,7 @@ from hexapod_navigation.goal_turns import GoalTurns
 from hexapod_navigation.planner import RepertoirePolicy
 from hexapod_navigation.repertoire import shipped_repertoire
 from hexapod_navigation.step_bank import load_navigation, reported_note, shipped_step_bank
+from hexapod_sim.damage import Damage
 from nav_msgs.msg import Odometry
 import rclpy
 from rclpy._rclpy_pybind11 import InvalidHandle, RCLError
@@ -127,6 +132,7 @@ class NavigateNode(Node):
         elif self.repertoire is not None and self.config.use_bank:
             self.get_logger().warning(f'no damage bank, the GP learns alone: {data.no_bank}')
         self.known = KnownDamage()  # robot mode: the bridge's servo reports
+        self.named: Damage | None = None  # the operator's word (~/set_known_damage)
         self.reports_changed = False  # a report came since the policy was made
         self.bridge_name = values['bridge_node']
         self.policy = self._policy() if self.repertoire else None
@@ -209,6 +215,9 @@ class NavigateNode(Node):
             cancel_service_qos_profile=ACTION_SERVICES,
         )
         self.create_service(Trigger, '~/forget', self._on_forget, callback_group=work)
+        self.create_service(
+            SetLegFailure, '~/set_known_damage', self._on_set_known_damage, callback_group=work
+        )
         if self.problem:
             self._status(DiagnosticStatus.ERROR, self.problem)
         else:
@@ -218,9 +227,13 @@ class NavigateNode(Node):
                 f' repertoire, pose from {values["pose_topic"] or "odom"}',
             )
 
+    def _known_damage(self) -> Damage | None:
+        """Return the damage the next goal starts from: the operator's, else the servo reports'."""
+        return self.named if self.named is not None else self.known.servo_damage()
+
     def _policy(self) -> RepertoirePolicy:
         self.reports_changed = False
-        reported = self.known.servo_damage()
+        reported = self._known_damage()
         return RepertoirePolicy.with_bank(self.repertoire, self.config, self.bank, reported)
 
     def _on_servo_failure(self, msg: ServoFailure) -> None:
@@ -232,8 +245,38 @@ class NavigateNode(Node):
             return
         said = self.known.from_servo(int(msg.servo_id), int(msg.leg), str(msg.joint))
         self.reports_changed = True  # the next goal starts from them
-        note = reported_note(self.bank, self.known.servo_damage(), self.config.prior_reported)
+        if self.named is not None:
+            note = f'the damage the operator named, {self.named.label}, still wins'
+        else:
+            note = reported_note(self.bank, self.known.servo_damage(), self.config.prior_reported)
         self.get_logger().warning(f'{said}; {note}')
+
+    def _on_set_known_damage(self, request, response):
+        try:
+            named = requested_damage(
+                list(request.failed_legs),
+                list(request.kinds),
+                list(request.strengths),
+                list(request.joints),
+            )
+        except ValueError as exc:
+            response.success, response.message = False, f'bad request: {exc}'
+            return response
+        self.named = named
+        self.reports_changed = True  # the next goal starts from it
+        damage = self._known_damage()
+        response.success = True
+        response.failed_legs = list(damage.failed_legs) if damage else []
+        response.damage = damage.label if damage else ''
+        if named is None:
+            response.message = 'the damage the operator named is dropped; ' + reported_note(
+                self.bank, damage, self.config.prior_reported
+            )
+        else:
+            note = reported_note(self.bank, named, self.config.prior_reported)
+            response.message = f'{named.label}, as the operator says: {note}'
+        self.get_logger().warning(response.message)
+        return response
 
     def _status(self, level: bytes, message: str) -> None:
         self._unless_closing(
@@ -415,11 +458,14 @@ class NavigateNode(Node):
             response.success, response.message = False, self.problem
         else:
             dead = sorted(servo for on_leg in self.known.servos.values() for servo in on_leg)
+            named, self.named = self.named, None
             self.known.forget()
             self.policy = self._policy()
             response.success = True
-            response.message = 'what was learned about the damage is dropped' + (
-                f', and the reports of dead servos {dead}' if dead else ''
+            response.message = (
+                'what was learned about the damage is dropped'
+                + (f', and the reports of dead servos {dead}' if dead else '')
+                + (f', and the damage the operator named ({named.label})' if named else '')
             )
         return response
 
