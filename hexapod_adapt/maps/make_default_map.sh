@@ -10,6 +10,8 @@
 set -eo pipefail   # (no -u: colcon's setup scripts read unset variables)
 cd "$(dirname "$0")/../.."
 source scripts/env.sh
+# the BLAS kernels the map was made with (scripts/fixed_worktree.sh says why)
+if [ "$(uname -m)" = x86_64 ]; then export OPENBLAS_CORETYPE=Haswell OPENBLAS_L2_SIZE=512; fi
 if [ "${FRESH:-0}" = 1 ]; then how=--force; else how=--resume; fi
 exec python -m hexapod_adapt.mapping.generate_map_cli \
   --out hexapod_adapt/maps/default_map.npz --engine mujoco --niches 20000 --evaluations 1500000 \
