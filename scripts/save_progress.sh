@@ -86,7 +86,8 @@ if [ -d "$ceil_tree/hexapod_adapt/maps/ceilings" ]; then
   echo "saved $n ceiling cases to $keep/ceilings"
 fi
 
-# a unit is finished once its summary.json, written last, is there
+# a unit is finished once its summary.json, written last, is there; its episodes (runs.csv) and
+# summary are kept, not its paths (about 0.3 MB a unit, for plots only)
 n=0
 for summary in "$nav_tree"/tuning/navigation_all_kinds/*/*/summary.json; do
   [ -f "$summary" ] || continue
@@ -94,8 +95,8 @@ for summary in "$nav_tree"/tuning/navigation_all_kinds/*/*/summary.json; do
   dest="$nav_keep/$(basename "$(dirname "$unit")")/$(basename "$unit")"
   [ -f "$dest/summary.json" ] && continue
   rm -rf "$dest.tmp"
-  mkdir -p "$(dirname "$dest")"
-  cp -r "$unit" "$dest.tmp" && mv "$dest.tmp" "$dest"
+  mkdir -p "$dest.tmp"
+  cp "$unit/runs.csv" "$unit/summary.json" "$dest.tmp/" && mv "$dest.tmp" "$dest"
   n=$((n + 1))
 done
 [ -d "$nav_tree" ] && echo "saved $n new navigation units to $nav_keep"
