@@ -36,7 +36,9 @@ from hexapod_adapt.online.prior import (
     requested_damage,
 )
 from hexapod_adapt.online.replay import lookup_trial
-from hexapod_sim.damage import Damage, parse_damage
+from hexapod_sim.damage import Damage, damage_from_lists, DAMAGE_KINDS, parse_damage
+from hypothesis import given, settings
+from hypothesis import strategies as st
 import numpy as np
 import pytest
 
@@ -205,3 +207,25 @@ def test_adapt_takes_a_newer_prior_between_trials(tiny_map):
     )
     assert run.niches[1] == truth.best_niche  # the second trial follows the newer prior
     assert [t.number for t in run.trials] == list(range(1, len(run.trials) + 1))
+
+
+@settings(max_examples=500, deadline=None)
+@given(
+    legs=st.lists(st.integers(0, 255), max_size=8),
+    kinds=st.lists(st.sampled_from(DAMAGE_KINDS) | st.text(max_size=12), max_size=8),
+    strengths=st.lists(st.floats(allow_nan=True, allow_infinity=True), max_size=8),
+    joints=st.lists(
+        st.sampled_from(('', 'femur', 'coxa+tibia')) | st.text(max_size=12), max_size=8
+    ),
+)
+def test_any_request_lists_make_a_damage_or_a_reason(legs, kinds, strengths, joints):
+    """A hostile request (the Adapt service's, navigate_node's) is a damage or a ValueError."""
+    try:
+        damage = requested_damage(legs, kinds, strengths, joints)
+    except ValueError as exc:
+        assert str(exc)
+        return
+    if damage is None:
+        assert not legs and not kinds and not strengths and not joints
+    else:
+        assert damage == damage_from_lists(*damage.as_lists())  # the lists round-trip
