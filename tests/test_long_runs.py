@@ -103,3 +103,32 @@ def test_a_checkpoint_further_on_is_never_replaced(tmp_path):
     assert r.returncode == 1
     assert 'further on (25000 evaluations)' in r.stderr
     assert further.read_bytes() == before
+
+
+def test_a_shipped_map_is_told_from_one_in_the_making(tmp_path):
+    """resume_long_runs.sh restarts no map once the shipped one is make_default_map.sh's."""
+    maps = tmp_path / 'hexapod_adapt' / 'maps'
+    maps.mkdir(parents=True)
+    shutil.copy(DEMO_MAP, maps / 'default_map.npz')  # 25,000 evaluations
+    helper = WS / 'scripts' / 'map_progress.sh'
+    for asked, shipped in ((25000, 'yes'), (25001, 'no')):
+        (maps / 'make_default_map.sh').write_text(f'generate_map --evaluations {asked} --seed 1\n')
+        r = subprocess.run(
+            ['bash', '-c', f'source {helper} && default_map_shipped'],
+            cwd=tmp_path, capture_output=True, text=True, timeout=60,
+        )  # fmt: skip
+        assert r.stdout.strip() == shipped, (asked, r.stdout, r.stderr)
+
+
+def test_no_ceilings_start_after_a_map_run_that_wrote_nothing(tmp_path):
+    then = WS / 'hexapod_adapt' / 'maps' / 'then_ceilings.sh'
+    tree = tmp_path / 'mapgen'
+    (tree / 'out').mkdir(parents=True)
+    r = subprocess.run(['bash', str(then), str(tree)], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0 and 'no map run' in r.stdout
+    ended = subprocess.Popen(['true'])
+    ended.wait()
+    (tree / 'out' / 'default_map.pid').write_text(f'{ended.pid}\n')
+    r = subprocess.run(['bash', str(then), str(tree)], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0 and 'ended without writing' in r.stdout
+    assert 'starting its ceilings' not in r.stdout
