@@ -13,14 +13,19 @@ print(int(load_archive(sys.argv[1]).metadata.get('evaluations', 0)))
 PY
 }
 
-# default_map_shipped: "yes" when the repository's default map holds the evaluations
-# make_default_map.sh asks for (the map is finished and committed), else "no".
-default_map_shipped() {
+# map_finished FILE: "yes" when the map FILE holds the evaluations make_default_map.sh asks for
+# (the new default map, written), else "no".
+map_finished() {
   local target
   target="$(grep -o -- '--evaluations [0-9]*' hexapod_adapt/maps/make_default_map.sh | cut -d' ' -f2)"
-  if [ "$(checkpoint_evaluations hexapod_adapt/maps/default_map.npz)" -ge "$target" ]; then
+  if [ "$(checkpoint_evaluations "$1")" -ge "$target" ]; then
     echo yes
   else
     echo no
   fi
+}
+
+# default_map_shipped: "yes" when the repository's default map is that map (committed).
+default_map_shipped() {
+  map_finished hexapod_adapt/maps/default_map.npz
 }

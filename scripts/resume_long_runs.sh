@@ -4,8 +4,9 @@
 #   bash scripts/resume_long_runs.sh
 # - the default map (hexapod_adapt/maps/resume_default_map.sh), while the shipped one is not
 #   the one make_default_map.sh makes, and then_ceilings.sh beside it: the new map's ceilings
-#   start the moment it is written; once the map is shipped, its ceilings
-#   (resume_ceilings.sh: only the cases not cached yet);
+#   start the moment it is written; once the map is written (kept in
+#   hexapod_adapt/maps/in_progress/, or shipped), its ceilings (resume_ceilings.sh: only the
+#   cases not cached yet);
 # - the ninth navigation tuning round (tuning/tune_all_kinds.sh), while it has units to walk.
 # Before the session ends: bash scripts/save_progress.sh, then commit what it lists.
 set -euo pipefail
@@ -18,8 +19,9 @@ source scripts/env.sh >/dev/null
 set -u
 # shellcheck disable=SC1091
 source scripts/map_progress.sh
-if [ "$(default_map_shipped)" = yes ]; then
-  bash hexapod_adapt/maps/resume_ceilings.sh
+if [ "$(default_map_shipped)" = yes ] \
+  || [ "$(map_finished hexapod_adapt/maps/in_progress/default_map.npz)" = yes ]; then
+  bash hexapod_adapt/maps/resume_ceilings.sh  # the finished map's (resume_ceilings.sh says which)
 else
   bash hexapod_adapt/maps/resume_default_map.sh
   nohup bash hexapod_adapt/maps/then_ceilings.sh >> out/then_ceilings.out 2>&1 &

@@ -9,7 +9,8 @@
 #   checkpoint and the saved log end together: the log loses at most the time since its last
 #   row (--log-every, 30 s), and no work past the checkpoint is thrown away. Its checkpoint and
 #   log go to CHECKPOINTS (default hexapod_adapt/maps/in_progress), where
-#   resume_default_map.sh resumes from.
+#   resume_default_map.sh resumes from. Once the map is written, it goes there instead
+#   (default_map.npz and its log), to ship with its ceilings.
 # - The ceilings' finished cases in CEILING_WORKTREE (default ../ceilgen, resume_ceilings.sh) go
 #   to CHECKPOINTS/ceilings; the run goes on (a case in progress is recomputed on resume).
 # - The navigation round's finished units in NAV_TREE (default ../navtune,
@@ -40,7 +41,14 @@ copy_atomic() {  # copy_atomic SRC DEST: DEST is never seen half written
 maps="$map_tree/hexapod_adapt/maps"
 ckpt="$maps/default_map.npz.ckpt.npz"
 pidfile="$map_tree/out/default_map.pid"
-if [ -f "$ckpt" ]; then
+if [ "$(cd "$repo" && map_finished "$maps/default_map.npz")" = yes ]; then
+  # written: kept beside the checkpoint until it ships with its ceilings (resume_ceilings.sh
+  # computes them from this copy on a new machine)
+  mkdir -p "$keep"
+  copy_atomic "$maps/default_map.npz" "$keep/default_map.npz"
+  copy_atomic "$maps/default_map.npz.log.jsonl" "$keep/default_map.npz.log.jsonl"
+  echo "saved the finished map and its log to $keep"
+elif [ -f "$ckpt" ]; then
   pid="$(cat "$pidfile" 2>/dev/null || true)"
   if [ -n "$pid" ] && alive "$pid"; then
     before="$(stat -c %Y "$ckpt")"
@@ -71,8 +79,6 @@ with open(tmp, 'wb') as out:
 os.replace(tmp, sys.argv[2])
 EOF
   echo "saved the map's checkpoint ($here evaluations, $(du -h "$keep/default_map.npz.ckpt.npz" | cut -f1)) and log to $keep"
-elif [ -f "$maps/default_map.npz" ]; then
-  echo "no map checkpoint in $map_tree: finished? copy its default_map.npz and log into the checkout"
 fi
 
 if [ -d "$ceil_tree/hexapod_adapt/maps/ceilings" ]; then

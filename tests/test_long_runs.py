@@ -25,6 +25,7 @@ from __future__ import annotations
 import json
 import os
 from pathlib import Path
+import re
 import shutil
 import subprocess
 import sys
@@ -35,6 +36,7 @@ from hexapod_adapt.mapping.archive import load_archive
 WS = Path(__file__).resolve().parent.parent
 SAVE = WS / 'scripts' / 'save_progress.sh'
 DEMO_MAP = WS / 'hexapod_adapt' / 'maps' / 'demo_map.npz'
+MAKE_DEFAULT_MAP = WS / 'hexapod_adapt' / 'maps' / 'make_default_map.sh'
 
 
 def _start_map(tree: Path) -> subprocess.Popen:
@@ -132,3 +134,19 @@ def test_no_ceilings_start_after_a_map_run_that_wrote_nothing(tmp_path):
     r = subprocess.run(['bash', str(then), str(tree)], capture_output=True, text=True, timeout=60)
     assert r.returncode == 0 and 'ended without writing' in r.stdout
     assert 'starting its ceilings' not in r.stdout
+
+
+def test_a_written_map_is_kept_to_ship_with_its_ceilings(tmp_path):
+    """The finished map is in the repository before its ceilings, which take sessions, are."""
+    tree, keep = tmp_path / 'mapgen', tmp_path / 'kept'
+    maps = tree / 'hexapod_adapt' / 'maps'
+    maps.mkdir(parents=True)
+    target = int(re.search(r'--evaluations (\d+)', MAKE_DEFAULT_MAP.read_text()).group(1))
+    archive = load_archive(DEMO_MAP)
+    archive.metadata['evaluations'] = target  # as the finished default map says
+    archive.save(maps / 'default_map.npz')
+    (maps / 'default_map.npz.log.jsonl').write_text('{"evaluations": 1}\n')
+    r = _save(tree, keep)
+    assert r.returncode == 0 and 'saved the finished map' in r.stdout, r.stdout + r.stderr
+    assert load_archive(keep / 'default_map.npz').metadata['evaluations'] == target
+    assert (keep / 'default_map.npz.log.jsonl').read_text() == '{"evaluations": 1}\n'

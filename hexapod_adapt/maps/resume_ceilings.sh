@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Start or resume the default map's ceilings (make_ceilings.sh: 8 kinds x 21 cases, hours on 2
-# cores) in the background, from a worktree of its own at this checkout's HEAD, so that work on
-# the library under it cannot change or break the run.
+# cores) in the background, from a worktree of its own, so that work on the library under it
+# cannot change or break the run.
 #   bash hexapod_adapt/maps/resume_ceilings.sh [WORKTREE] [CHECKPOINTS]
-# The ceilings are those of the worktree's default map: the one HEAD ships, or MAP (a finished
-# default map not yet committed, e.g. ../mapgen/hexapod_adapt/maps/default_map.npz), copied into
-# the worktree with its log. Commit a new map together with its ceilings: the demo, the tests
-# and make bench-adapt read the shipped map's cache.
+# The map: MAP (e.g. ../mapgen/hexapod_adapt/maps/default_map.npz, just written), else the
+# finished map kept in hexapod_adapt/maps/in_progress/ (save_progress.sh), else the default map
+# this checkout ships; it is copied into the worktree with its log. Commit a new map together
+# with its ceilings: the demo, the tests and make bench-adapt read the shipped map's cache.
 # WORKTREE (default ../ceilgen) is made if missing, at the commit that started the ceilings
 # (CHECKPOINTS/COMMIT, committed; HEAD at the first start), and built with this checkout's .venv.
 # Cases already cached in CHECKPOINTS (default hexapod_adapt/maps/in_progress/ceilings,
@@ -20,7 +20,16 @@ set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 tree="${1:-$repo/../ceilgen}"
 keep="${2:-$repo/hexapod_adapt/maps/in_progress/ceilings}"
-map="${MAP:+$(realpath "$MAP")}"  # before entering the worktree: MAP may be relative
+# the map: MAP, else the finished map kept in in_progress/, else this checkout's default map (a
+# worktree pinned to an older commit ships an older map). Before entering the worktree: MAP may
+# be relative.
+if [ -n "${MAP:-}" ]; then
+  map="$(realpath "$MAP")"
+elif [ -f "$repo/hexapod_adapt/maps/in_progress/default_map.npz" ]; then
+  map="$repo/hexapod_adapt/maps/in_progress/default_map.npz"
+else
+  map="$repo/hexapod_adapt/maps/default_map.npz"
+fi
 REPO="$repo" TREE="$tree" PIN_FILE="$keep/COMMIT"
 # shellcheck disable=SC1091
 source "$repo/scripts/fixed_worktree.sh"
@@ -30,7 +39,7 @@ if [ -n "$running" ] && kill -0 "$running" 2>/dev/null; then
   echo "the ceilings are already running in $tree (pid $running)"
   exit 0
 fi
-if [ -n "$map" ]; then
+if [ "$map" != "$(realpath hexapod_adapt/maps/default_map.npz)" ]; then
   cp "$map" hexapod_adapt/maps/default_map.npz
   if [ -f "$map.log.jsonl" ]; then cp "$map.log.jsonl" hexapod_adapt/maps/default_map.npz.log.jsonl; fi
 fi

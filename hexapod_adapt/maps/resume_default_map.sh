@@ -26,6 +26,10 @@ if [ "$(cd "$repo" && default_map_shipped)" = yes ]; then
   echo "the default map $repo ships is make_default_map.sh's, finished: nothing to resume"
   exit 0
 fi
+if [ "$(cd "$repo" && map_finished "$keep/default_map.npz")" = yes ]; then
+  echo "the map is finished ($keep/default_map.npz): its ceilings are next (resume_ceilings.sh)"
+  exit 0
+fi
 REPO="$repo" TREE="$tree" PIN_FILE="$keep/COMMIT"
 # shellcheck disable=SC1091
 source "$repo/scripts/fixed_worktree.sh"
