@@ -1,5 +1,11 @@
-# Source this file (bash, with the workspace environment, from the repository root): helpers for
-# long map runs.
+# Source this file (bash) for the helpers of long runs; the map helpers need the workspace
+# environment and the repository root as the working directory.
+
+# alive PID: the process runs (a zombie, exited but not yet reaped by its parent, does not)
+alive() {
+  kill -0 "$1" 2>/dev/null && [ "$(ps -o stat= -p "$1" | cut -c1)" != Z ]
+}
+
 # checkpoint_evaluations FILE: the evaluations a map or checkpoint holds (0 if FILE is missing or
 # unreadable), from its metadata (hexapod_adapt.mapping.archive.load_archive).
 checkpoint_evaluations() {

@@ -30,10 +30,6 @@ set -u
 # shellcheck disable=SC1091
 source "$repo/scripts/map_progress.sh"
 
-alive() {  # alive PID: running (a zombie, exited but not yet reaped by its parent, is not)
-  kill -0 "$1" 2>/dev/null && [ "$(ps -o stat= -p "$1" | cut -c1)" != Z ]
-}
-
 copy_atomic() {  # copy_atomic SRC DEST: DEST is never seen half written
   cp "$1" "$2.tmp.$$" && mv -f "$2.tmp.$$" "$2"
 }

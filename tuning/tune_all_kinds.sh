@@ -13,12 +13,14 @@ set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 tree="${1:-$repo/../navtune}"
 cache="$repo/tuning/navigation_all_kinds"
+# shellcheck disable=SC1091
+source "$repo/scripts/map_progress.sh"
 REPO="$repo" TREE="$tree" PIN_FILE="$cache/COMMIT"
 # shellcheck disable=SC1091
 source "$repo/scripts/fixed_worktree.sh"
 mkdir -p out tuning/navigation_all_kinds
 running="$(cat out/tune_all_kinds.pid 2>/dev/null || true)"
-if [ -n "$running" ] && kill -0 "$running" 2>/dev/null; then
+if [ -n "$running" ] && alive "$running"; then
   echo "the round is already running in $tree (pid $running)"
   exit 0
 fi

@@ -30,12 +30,14 @@ elif [ -f "$repo/hexapod_adapt/maps/in_progress/default_map.npz" ]; then
 else
   map="$repo/hexapod_adapt/maps/default_map.npz"
 fi
+# shellcheck disable=SC1091
+source "$repo/scripts/map_progress.sh"
 REPO="$repo" TREE="$tree" PIN_FILE="$keep/COMMIT"
 # shellcheck disable=SC1091
 source "$repo/scripts/fixed_worktree.sh"
 mkdir -p out hexapod_adapt/maps/ceilings
 running="$(cat out/ceilings.pid 2>/dev/null || true)"
-if [ -n "$running" ] && kill -0 "$running" 2>/dev/null; then
+if [ -n "$running" ] && alive "$running"; then
   echo "the ceilings are already running in $tree (pid $running)"
   exit 0
 fi

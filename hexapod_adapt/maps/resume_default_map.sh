@@ -36,7 +36,7 @@ source "$repo/scripts/fixed_worktree.sh"
 fresh="$FIXED_WORKTREE_NEW"
 mkdir -p out
 running="$(cat out/default_map.pid 2>/dev/null || true)"
-if [ -n "$running" ] && kill -0 "$running" 2>/dev/null; then
+if [ -n "$running" ] && alive "$running"; then
   echo "the default map is already running in $tree (pid $running)"
   exit 0
 fi

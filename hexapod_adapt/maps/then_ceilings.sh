@@ -9,6 +9,8 @@
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 tree="$(realpath "${1:-$repo/../mapgen}")"
+# shellcheck disable=SC1091
+source "$repo/scripts/map_progress.sh"
 pidfile="$tree/out/default_map.pid"
 map="$tree/hexapod_adapt/maps/default_map.npz"
 if [ ! -f "$pidfile" ]; then
@@ -18,12 +20,12 @@ fi
 pid="$(cat "$pidfile")"
 watcher="$tree/out/then_ceilings.pid"
 other="$(cat "$watcher" 2>/dev/null || true)"
-if [ -n "$other" ] && [ "$other" != $$ ] && kill -0 "$other" 2>/dev/null; then
+if [ -n "$other" ] && [ "$other" != $$ ] && alive "$other"; then
   echo "then_ceilings.sh is already waiting for this map (pid $other)"
   exit 0
 fi
 echo $$ > "$watcher"
-while kill -0 "$pid" 2>/dev/null; do sleep 30; done
+while alive "$pid"; do sleep 30; done
 if [ -f "$map" ] && [ "$map" -nt "$pidfile" ]; then
   echo "$(date -u +%FT%TZ) the map is written: starting its ceilings"
   MAP="$map" bash "$repo/hexapod_adapt/maps/resume_ceilings.sh"
