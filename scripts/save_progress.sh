@@ -82,6 +82,7 @@ if [ -d "$ceil_tree/hexapod_adapt/maps/ceilings" ]; then
   n=0
   for f in "$ceil_tree"/hexapod_adapt/maps/ceilings/*.npz; do
     [ -f "$f" ] || continue
+    [ -f "$repo/hexapod_adapt/maps/ceilings/$(basename "$f")" ] && continue  # shipped already
     copy_atomic "$f" "$keep/ceilings/$(basename "$f")"
     n=$((n + 1))
   done
