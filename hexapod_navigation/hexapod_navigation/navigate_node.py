@@ -57,7 +57,7 @@ import sys
 from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import PoseStamped
 from hexapod_adapt.online.adaptation import TrialAborted
-from hexapod_adapt.online.prior import KnownDamage, requested_damage
+from hexapod_adapt.online.prior import damage_of_request, KnownDamage
 from hexapod_adapt.online.trials import OdomLog, Waiter
 from hexapod_adapt.ros.graph_port import (
     GraphPort,
@@ -253,12 +253,7 @@ class NavigateNode(Node):
 
     def _on_set_known_damage(self, request, response):
         try:
-            named = requested_damage(
-                list(request.failed_legs),
-                list(request.kinds),
-                list(request.strengths),
-                list(request.joints),
-            )
+            named = damage_of_request(request)
         except ValueError as exc:
             response.success, response.message = False, f'bad request: {exc}'
             return response

@@ -37,7 +37,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 import os
 import time
-from typing import Callable, Sequence
+from typing import Any, Callable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.online.ceiling import ceiling
@@ -118,6 +118,16 @@ def requested_damage(
             raise ValueError(f'{" and ".join(given)} given without failed_legs: name the legs too')
         return None
     return damage_from_lists(legs, kinds, strengths, joints)
+
+
+def damage_of_request(request: Any) -> Damage | None:
+    """Return :func:`requested_damage` of an Adapt or SetLegFailure request's damage fields."""
+    return requested_damage(
+        list(request.failed_legs),
+        list(request.kinds),
+        list(request.strengths),
+        list(request.joints),
+    )
 
 
 class KnownDamage:

@@ -49,7 +49,7 @@ from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.maps import shipped_ceilings
 from hexapod_adapt.online import session
 from hexapod_adapt.online.adaptation import adapt, TrialAborted
-from hexapod_adapt.online.prior import KnownDamage, requested_damage
+from hexapod_adapt.online.prior import damage_of_request, KnownDamage
 from hexapod_adapt.online.run_config import (
     ArchiveSlot,
     engine_note,
@@ -238,12 +238,7 @@ class AdaptNode(Node):
                 {n: getattr(request, n) or self._param(n) for n in RUN_SETTINGS}
             )
             config = replace(config, min_speed=float(self._param('min_speed')))
-            named = requested_damage(
-                list(request.failed_legs),
-                list(request.kinds),
-                list(request.strengths),
-                list(request.joints),
-            )
+            named = damage_of_request(request)
             damage, source = self.known.for_run(named, bool(request.blind))
         except ValueError as exc:
             problem = problem or f'bad request: {exc}'
