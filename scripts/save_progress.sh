@@ -13,15 +13,19 @@
 #   (default_map.npz and its log), to ship with its ceilings.
 # - The ceilings' finished cases in CEILING_WORKTREE (default ../ceilgen, resume_ceilings.sh) go
 #   to CHECKPOINTS/ceilings; the run goes on (a case in progress is recomputed on resume).
-# - The navigation round's finished units in NAV_TREE (default ../navtune,
-#   tuning/tune_all_kinds.sh) go to NAV_KEEP (default tuning/navigation_all_kinds); the round goes
-#   on (a unit in progress is walked again).
+# - The navigation rounds' finished units in NAV_TREE (worktrees, separated by spaces; default
+#   ../navtune and every ../navtune-GRID, tuning/tune_all_kinds.sh) go to NAV_KEEP (default
+#   tuning/navigation_all_kinds); the rounds go on (a unit in progress is walked again).
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 map_tree="${1:-$repo/../mapgen}"
 ceil_tree="${2:-$repo/../ceilgen}"
 keep="${3:-$repo/hexapod_adapt/maps/in_progress}"
-nav_tree="${NAV_TREE:-$repo/../navtune}"
+if [ -n "${NAV_TREE:-}" ]; then
+  read -ra nav_trees <<< "$NAV_TREE"  # one or more, separated by spaces
+else
+  nav_trees=("$repo/../navtune" "$repo"/../navtune-*)
+fi
 nav_keep="${NAV_KEEP:-$repo/tuning/navigation_all_kinds}"
 set +u  # the setup scripts read unset variables
 # shellcheck disable=SC1091
@@ -91,16 +95,19 @@ fi
 
 # a unit is finished once its summary.json, written last, is there; its episodes (runs.csv) and
 # summary are kept, not its paths (about 0.3 MB a unit, for plots only)
-n=0
-for summary in "$nav_tree"/tuning/navigation_all_kinds/*/*/summary.json; do
-  [ -f "$summary" ] || continue
-  unit="$(dirname "$summary")"
-  dest="$nav_keep/$(basename "$(dirname "$unit")")/$(basename "$unit")"
-  [ -f "$dest/summary.json" ] && continue
-  rm -rf "$dest.tmp"
-  mkdir -p "$dest.tmp"
-  cp "$unit/runs.csv" "$unit/summary.json" "$dest.tmp/" && mv "$dest.tmp" "$dest"
-  n=$((n + 1))
+for nav_tree in "${nav_trees[@]}"; do
+  [ -d "$nav_tree" ] || continue
+  n=0
+  for summary in "$nav_tree"/tuning/navigation_all_kinds/*/*/summary.json; do
+    [ -f "$summary" ] || continue
+    unit="$(dirname "$summary")"
+    dest="$nav_keep/$(basename "$(dirname "$unit")")/$(basename "$unit")"
+    [ -f "$dest/summary.json" ] && continue
+    rm -rf "$dest.tmp"
+    mkdir -p "$dest.tmp"
+    cp "$unit/runs.csv" "$unit/summary.json" "$dest.tmp/" && mv "$dest.tmp" "$dest"
+    n=$((n + 1))
+  done
+  echo "saved $n new navigation units from $nav_tree to $nav_keep"
 done
-[ -d "$nav_tree" ] && echo "saved $n new navigation units to $nav_keep"
 echo "now commit them (git add the folders above)"

@@ -150,3 +150,33 @@ def test_a_written_map_is_kept_to_ship_with_its_ceilings(tmp_path):
     assert r.returncode == 0 and 'saved the finished map' in r.stdout, r.stdout + r.stderr
     assert load_archive(keep / 'default_map.npz').metadata['evaluations'] == target
     assert (keep / 'default_map.npz.log.jsonl').read_text() == '{"evaluations": 1}\n'
+
+
+def test_every_rounds_finished_navigation_units_are_kept_and_unfinished_ones_left(tmp_path):
+    """Units of two rounds' worktrees; one of them is still being walked (no summary.json)."""
+    trees = [tmp_path / 'navtune', tmp_path / 'navtune-rest']
+    units = {
+        trees[0]: {'tripod__weak': True, 'tripod_after-2__weak': False},
+        trees[1]: {'tripod_after-0_tripod_rest-shared__weak': True},
+    }
+    for tree, walked in units.items():
+        for name, finished in walked.items():
+            unit = tree / 'tuning' / 'navigation_all_kinds' / 'all_kinds' / name
+            unit.mkdir(parents=True)
+            (unit / 'runs.csv').write_text(f'scenario,goal\nS1,{name}\n')
+            (unit / 'paths.json').write_text('[]')  # not kept
+            if finished:
+                (unit / 'summary.json').write_text('{}')
+    keep, nav_keep = tmp_path / 'kept', tmp_path / 'nav_kept'
+    r = subprocess.run(
+        ['bash', str(SAVE), str(tmp_path / 'no_map'), str(tmp_path / 'no_ceilings'), str(keep)],
+        capture_output=True, text=True, timeout=60,
+        env={**os.environ, 'NAV_TREE': ' '.join(map(str, trees)), 'NAV_KEEP': str(nav_keep)},
+    )  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    kept = sorted(p.name for p in (nav_keep / 'all_kinds').iterdir())
+    assert kept == ['tripod__weak', 'tripod_after-0_tripod_rest-shared__weak']
+    unit = nav_keep / 'all_kinds' / 'tripod__weak'
+    assert sorted(p.name for p in unit.iterdir()) == ['runs.csv', 'summary.json']
+    assert 'tripod__weak' in (unit / 'runs.csv').read_text()
+    assert 'saved 1 new navigation units from' in r.stdout and not keep.exists()
