@@ -7,7 +7,7 @@
 #   start the moment it is written; once the map is written (kept in
 #   hexapod_adapt/maps/in_progress/, or shipped), its ceilings (resume_ceilings.sh: only the
 #   cases not cached yet);
-# - the ninth and tenth navigation tuning rounds (tuning/tune_all_kinds.sh, GRID=rest), while
+# - the ninth and tenth navigation tuning rounds (tuning/tune_all_kinds.sh, GRID=evidence), while
 #   they have units to walk.
 # Before the session ends: bash scripts/save_progress.sh, then commit what it lists.
 set -euo pipefail
@@ -29,4 +29,4 @@ else
   echo "then_ceilings.sh waiting for the map (pid $!): out/then_ceilings.out"
 fi
 bash tuning/tune_all_kinds.sh
-GRID=rest bash tuning/tune_all_kinds.sh
+GRID=evidence bash tuning/tune_all_kinds.sh

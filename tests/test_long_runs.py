@@ -154,10 +154,10 @@ def test_a_written_map_is_kept_to_ship_with_its_ceilings(tmp_path):
 
 def test_every_rounds_finished_navigation_units_are_kept_and_unfinished_ones_left(tmp_path):
     """Units of two rounds' worktrees; one of them is still being walked (no summary.json)."""
-    trees = [tmp_path / 'navtune', tmp_path / 'navtune-rest']
+    trees = [tmp_path / 'navtune', tmp_path / 'navtune-evidence']
     units = {
         trees[0]: {'tripod__weak': True, 'tripod_after-2__weak': False},
-        trees[1]: {'tripod_after-0_tripod_rest-shared__weak': True},
+        trees[1]: {'tripod_after-0_tripod_bank-evidence__weak': True},
     }
     for tree, walked in units.items():
         for name, finished in walked.items():
@@ -175,7 +175,7 @@ def test_every_rounds_finished_navigation_units_are_kept_and_unfinished_ones_lef
     )  # fmt: skip
     assert r.returncode == 0, r.stderr
     kept = sorted(p.name for p in (nav_keep / 'all_kinds').iterdir())
-    assert kept == ['tripod__weak', 'tripod_after-0_tripod_rest-shared__weak']
+    assert kept == ['tripod__weak', 'tripod_after-0_tripod_bank-evidence__weak']
     unit = nav_keep / 'all_kinds' / 'tripod__weak'
     assert sorted(p.name for p in unit.iterdir()) == ['runs.csv', 'summary.json']
     assert 'tripod__weak' in (unit / 'runs.csv').read_text()

@@ -2,8 +2,8 @@
 # A navigation tuning round walked on all eight damage kinds (tune_tripod_option --grid GRID,
 # goals of seed 100), resumable across sessions, in the background at the lowest priority: it
 # takes what the default map leaves of the cores.
-#   [GRID=rest] bash tuning/tune_all_kinds.sh [WORKTREE]
-# GRID: all_kinds (default: the ninth round, tripod_after) or rest (the tenth, tripod_rest).
+#   [GRID=evidence] bash tuning/tune_all_kinds.sh [WORKTREE]
+# GRID: all_kinds (default: the ninth round, tripod_after) or evidence (the tenth, tripod_bank).
 # It runs from WORKTREE (default ../navtune for all_kinds, ../navtune-GRID for another), a
 # worktree of the commit named in tuning/navigation_all_kinds/COMMIT (all_kinds) or COMMIT.GRID
 # (written at the first start: HEAD then), so that every unit of a round is walked by the same

@@ -40,8 +40,6 @@ REST_SPEEDS = ('fastest', 'toward')
 
 #: Where the tripod option's prior comes from (NavigationConfig.tripod_bank).
 TRIPOD_BANK = ('off', 'always', 'evidence')
-#: The rest-of-the-way speeds of the tripod option (NavigationConfig.tripod_rest).
-TRIPOD_REST = ('own', 'shared')
 
 
 @dataclass(frozen=True)
@@ -133,11 +131,6 @@ class NavigationConfig:
     tripod_bank: str = 'always'
     #: how many cycles' worth the bank's prior counts for in a direction the robot has walked
     tripod_bank_weight: float = 1.0
-    #: the speed for the rest of the way after a candidate, when the tripod is one: 'own' (a
-    #: repertoire step's rest at the repertoire's best pace, the tripod's at its own: the time
-    #: if the robot commits to the tripod), or 'shared' (every candidate's rest at the faster of
-    #: the two paces, so candidates are compared by what their own step gains)
-    tripod_rest: str = 'own'
 
     def __post_init__(self) -> None:
         for name in (
@@ -196,10 +189,6 @@ class NavigationConfig:
         w = self.tripod_bank_weight
         if not (isinstance(w, (int, float)) and 0.0 < w <= 100.0):
             raise ValueError(f'tripod_bank_weight must be in (0, 100] cycles, got {w!r}')
-        if self.tripod_rest not in TRIPOD_REST:
-            raise ValueError(
-                f'tripod_rest must be one of {", ".join(TRIPOD_REST)}, got {self.tripod_rest!r}'
-            )
         if self.tripod_bank not in TRIPOD_BANK:
             raise ValueError(
                 f'tripod_bank must be one of {", ".join(TRIPOD_BANK)}, got {self.tripod_bank!r}'

@@ -193,56 +193,33 @@ class RepertoirePolicy:
             best = float(np.max(np.hypot(mean[:, 0], mean[:, 1])[self.allowed]))
         radius = self.config.aim * self.config.tolerance
         step = self.repertoire.step_duration
-        tripod = self._tripod_candidate(pose, goal, unit, playing, switch_time)
-        speed = best / step
-        if tripod is not None and self.config.tripod_rest == 'shared':
-            speed = max(speed, tripod[3])
-        cost = time_to_goal((pose.x, pose.y), ends, goal, radius, step, switch, speed)
+        cost = time_to_goal((pose.x, pose.y), ends, goal, radius, step, switch, best / step)
         i = int(np.argmin(np.where(self.allowed, cost, np.inf)))
         self._goal = goal
-        if tripod is not None:
-            # the tripod is a candidate once the repertoire's last steps made less progress than
-            # its pace (the repertoire has had its chance to learn the damage)
-            k, cycle, end, pace, tripod_switch = tripod
-            rest = speed if self.config.tripod_rest == 'shared' else pace
+        if self.config.tripod_option:
+            # the steered tripod's next cycle (the crab direction nearest the goal's bearing, as
+            # the baseline walks it), where the robot has been making such cycles go, and the
+            # rest of the way at the tripod's own pace: the time if the robot commits to it. It
+            # is a candidate once the repertoire's last steps made less progress than that pace
+            # (the repertoire has had its chance to learn the damage)
+            k = steered_direction(pose, goal)
+            bank = self.config.tripod_bank == 'always' or self.gp.evidence > 0
+            cycle = self.tripod.displacement(self.gp.tripod_prior() if bank else None)[k]
+            dx, dy = cycle[0], cycle[1]
+            end = np.array([[pose.x + c * dx - s * dy, pose.y + s * dx + c * dy]])
+            gait = self.tripod.gaits[k]
+            tripod_switch = 0.0 if gait is playing else float(switch_time)
+            pace = max(float((end[0] - (pose.x, pose.y)) @ unit), 1e-3) / self.tripod.period
             tripod_cost = time_to_goal(
-                (pose.x, pose.y), end, goal, radius, self.tripod.period, [tripod_switch], rest
+                (pose.x, pose.y), end, goal, radius, self.tripod.period, [tripod_switch], pace
             )[0]
             n = self.config.tripod_after
             made = self._made[-n:] if n else []
             lagging = len(made) == n and sum(p for p, _ in made) <= pace * sum(t for _, t in made)
             if lagging and tripod_cost < cost[i]:
                 predicted = pose.moved(*cycle)
-                gait = self.tripod.gaits[k]
                 return Step(gait, self.tripod.period + tripod_switch, predicted, tripod=k)
         return self._repertoire_step(i, pose, mean, switch)
-
-    def _tripod_candidate(
-        self,
-        pose: Pose2D,
-        goal: tuple[float, float],
-        unit: np.ndarray,
-        playing: GaitParameters | None,
-        switch_time: float,
-    ) -> tuple[int, np.ndarray, np.ndarray, float, float] | None:
-        """
-        Return the steered tripod's next cycle as a candidate (None without ``tripod_option``).
-
-        The crab direction nearest the goal's bearing, as the baseline walks it, where the robot
-        has been making such cycles go: (direction, cycle (dx, dy, dyaw), its end (1, 2) in
-        odom, its pace toward the goal [m/s], the switch time [s] before it).
-        """
-        if not self.config.tripod_option:
-            return None
-        k = steered_direction(pose, goal)
-        bank = self.config.tripod_bank == 'always' or self.gp.evidence > 0
-        cycle = self.tripod.displacement(self.gp.tripod_prior() if bank else None)[k]
-        c, s = math.cos(pose.yaw), math.sin(pose.yaw)
-        dx, dy = cycle[0], cycle[1]
-        end = np.array([[pose.x + c * dx - s * dy, pose.y + s * dx + c * dy]])
-        tripod_switch = 0.0 if self.tripod.gaits[k] is playing else float(switch_time)
-        pace = max(float((end[0] - (pose.x, pose.y)) @ unit), 1e-3) / self.tripod.period
-        return k, cycle, end, pace, tripod_switch
 
     def _repertoire_step(self, i: int, pose: Pose2D, mean: np.ndarray, switch: np.ndarray) -> Step:
         if i not in self._gaits:

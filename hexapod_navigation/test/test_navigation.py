@@ -637,33 +637,6 @@ def test_the_tripod_option_learns_its_cycles_and_takes_over_when_the_repertoire_
         NavigationConfig(tripod_after=-1)
 
 
-def test_a_shared_rest_speed_weighs_the_tripod_by_its_own_cycle_not_its_slower_pace(repertoire):
-    """
-    One repertoire step heads for the goal at 0.4 m/s, the tripod (playing) at 0.3 m/s.
-
-    'own' counts the tripod's rest of the way at its own pace (the robot commits to it), so the
-    step's pace wins; 'shared' counts every candidate's rest at the faster pace, and the tripod's
-    cycle, with no transition, loses less time than the step's transition does.
-    """
-    goal, start = (2.0, 0.0), Pose2D(0.0, 0.0, 0.0)
-    choices = {}
-    for rest in ('own', 'shared'):
-        config = NavigationConfig(use_bank=False, tripod_after=0, tripod_rest=rest)
-        policy = RepertoirePolicy(repertoire, config)
-        fast = int(np.flatnonzero(policy.allowed)[0])
-        crafted = np.tile([0.01, 0.0, 0.0], (len(repertoire), 1))
-        crafted[fast] = (0.4 * repertoire.step_duration, 0.0, 0.0)
-        policy.gp.predict = lambda m=crafted: (m, np.full_like(m, 1e-4))
-        for _ in range(50):  # the tripod's forward cycle, learned: 0.3 m
-            policy.tripod.observe(0, (0.3, 0.0, 0.0))
-        playing = policy.tripod.gaits[0]
-        choice = policy.next_step(start, goal, playing, 0.5)
-        choices[rest] = 'tripod' if choice.tripod >= 0 else choice.index
-    assert choices == {'own': fast, 'shared': 'tripod'}
-    with pytest.raises(ValueError, match='tripod_rest must be one of own, shared'):
-        NavigationConfig(tripod_rest='mine')
-
-
 def test_tripod_cycles_weigh_the_damage_hypotheses_and_set_the_tripods_prior(repertoire):
     """A cycle walked like hypothesis 2's makes it likelier; the tripod's prior follows it."""
     rng = np.random.default_rng(5)
