@@ -259,17 +259,22 @@ def test_a_streaming_prior_starts_the_first_trial_before_the_re_score_ends(ros, 
     response = future.result()
     print(f'first trial {first:.1f} s after the request; prior: {response.prior}')
     assert 'under leg 3 unpowered femur' in response.prior and 'streaming' in response.prior
-    assert 'streaming: the best 256 of' in response.prior
+    # at least the top 256; a chunk more when one finished between the wait and the snapshot
+    # (CI, loaded: 320)
+    best = re.search(r'streaming: the best (\d+) of (\d+) gaits', response.prior)
+    assert best is not None, response.prior
+    assert 256 <= int(best.group(1)) < int(best.group(2)) == archive_gaits()
     # the first trial began while the re-score went on: it reports progress after the trial
     # (the whole is cached when it ends: hexapod_adapt/test/test_adapt_prior.py)
     progress = re.compile(r're-scoring the map under leg 3 unpowered femur: (\d+)/(\d+) gaits')
 
-    def later_progress():
+    def later_progress():  # beyond what the first prior held
         log = node.log()
-        return [int(m.group(1)) for m in progress.finditer(log, log.index('trial 1:'))]
+        counts = [int(m.group(1)) for m in progress.finditer(log, log.index('trial 1:'))]
+        return [n for n in counts if n > int(best.group(1))]
 
     wait_for(later_progress, 120, 'progress of the re-score after the first trial')
-    assert 256 < later_progress()[0] < archive_gaits()
+    assert later_progress()[0] < archive_gaits()
     assert node.alive()
 
 

@@ -115,20 +115,21 @@ class NavigationConfig:
     #: walks the tripod instead of marking time (issue 31)
     tripod_option: bool = True
     #: the tripod becomes a candidate once the last this many repertoire steps made less progress
-    #: toward the goal than the tripod's pace (0: from the first step). 2, chosen on the tuning
-    #: goals over 0 and 1 with the bank of lifted, locked and dead-femur legs and tripod_bank
-    #: 'always' (docs/studies/navigation.md, seventh round; with the lifted-only bank, 0 was)
-    tripod_after: int = 2
+    #: toward the goal than the tripod's pace (0: from the first step). 0, chosen on the tuning
+    #: goals of all eight damage kinds over 1 and 2 (docs/studies/navigation.md, ninth round: 29
+    #: of 32 cells at <= 1.05x the tripod's time, against 27 and 27; the seventh round, on four
+    #: kinds without weak legs, had chosen 2)
+    tripod_after: int = 0
     #: the tripod's prior: this fraction of its commanded stride, before the robot has walked it
     tripod_prior: float = 1.0
     #: with a damage bank, the tripod's prior may instead be its cycles under each of the bank's
     #: damages and intact, mixed by how well each explains the steps and cycles walked: 'off'
     #: (never), 'always', or 'evidence': once a step or cycle has been walked (before that, the
-    #: stride above: the tripod is tried while nothing is known). 'always' was chosen on the
-    #: tuning goals with the bank of lifted, locked and dead-femur legs (docs/studies/
-    #: navigation.md, fifth round; with a bank of lifted legs only, 'off' was: it cost two
-    #: locked-leg cells)
-    tripod_bank: str = 'always'
+    #: stride above: the tripod is tried while nothing is known). 'evidence', chosen on the tuning
+    #: goals of all eight damage kinds (docs/studies/navigation.md, tenth round: 32 of 32 cells
+    #: at <= 1.05x the tripod's time against 'always''s 29, which lost weak legs: damage the bank
+    #: lacks, on which its mixture predicts a short cycle and the tripod is never tried)
+    tripod_bank: str = 'evidence'
     #: how many cycles' worth the bank's prior counts for in a direction the robot has walked
     tripod_bank_weight: float = 1.0
 
