@@ -7,8 +7,8 @@
 #   start the moment it is written; once the map is written (kept in
 #   hexapod_adapt/maps/in_progress/, or shipped), its ceilings (resume_ceilings.sh: only the
 #   cases not cached yet);
-# - the ninth and tenth navigation tuning rounds (tuning/tune_all_kinds.sh, GRID=evidence), while
-#   they have units to walk.
+# (The ninth and tenth navigation tuning rounds, tuning/tune_all_kinds.sh, are done: every unit
+# is committed in tuning/navigation_all_kinds/, and running them again only reads them back.)
 # Before the session ends: bash scripts/save_progress.sh, then commit what it lists.
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -28,5 +28,3 @@ else
   nohup bash hexapod_adapt/maps/then_ceilings.sh >> out/then_ceilings.out 2>&1 &
   echo "then_ceilings.sh waiting for the map (pid $!): out/then_ceilings.out"
 fi
-bash tuning/tune_all_kinds.sh
-GRID=evidence bash tuning/tune_all_kinds.sh
