@@ -74,6 +74,11 @@ fingerprint="$( { find colcon.meta hexapod_* firmware third_party -type f \
 build_stamp="$WS/install/.hexapod-build"
 if [ $FORCE_BUILD -eq 1 ] || [ "$(cat "$build_stamp" 2>/dev/null || true)" != "$fingerprint" ]; then
   log "colcon build"
+  # a --symlink-install build links each data file; a file removed from the sources (e.g. a
+  # ceiling cache of an older default map) leaves a dangling link that colcon cannot copy
+  for d in "$WS/build" "$WS/install"; do
+    if [ -d "$d" ]; then find "$d" -xtype l -delete; fi
+  done
   (
     set +u
     # shellcheck disable=SC1091

@@ -10,7 +10,7 @@
 # WORKTREE (default ../ceilgen) is made if missing, at the commit that started the ceilings
 # (CHECKPOINTS/COMMIT, committed; HEAD at the first start), and built with this checkout's .venv.
 # Cases already cached in CHECKPOINTS (default hexapod_adapt/maps/in_progress/ceilings,
-# committed) are copied in, so a new worktree only computes what is missing (a cache file names
+# committed) or shipped in this checkout's maps/ceilings are copied in, so a new worktree only computes what is missing (a cache file names
 # its map, engine and damage: a file of another map is never used).
 # Output: WORKTREE/out/ceilings.out. Before a session ends `bash
 # scripts/save_progress.sh` copies the finished cases to in_progress/ceilings: commit
@@ -45,9 +45,11 @@ if [ "$map" != "$(realpath hexapod_adapt/maps/default_map.npz)" ]; then
   cp "$map" hexapod_adapt/maps/default_map.npz
   if [ -f "$map.log.jsonl" ]; then cp "$map.log.jsonl" hexapod_adapt/maps/default_map.npz.log.jsonl; fi
 fi
-if [ -d "$keep" ]; then
-  cp -n "$keep"/*.npz hexapod_adapt/maps/ceilings/ 2>/dev/null || true
-fi
+# the cases kept so far, and those this checkout ships (a worktree pinned before the map shipped
+# holds the older map's)
+for d in "$keep" "$repo/hexapod_adapt/maps/ceilings"; do
+  if [ -d "$d" ]; then cp -n "$d"/*.npz hexapod_adapt/maps/ceilings/ 2>/dev/null || true; fi
+done
 nohup nice -n 10 bash hexapod_adapt/maps/make_ceilings.sh >> out/ceilings.out 2>&1 &
 echo $! > out/ceilings.pid
 echo "ceilings running in $tree (pid $!): tail -f $tree/out/ceilings.out"
