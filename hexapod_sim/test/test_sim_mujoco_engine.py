@@ -110,6 +110,74 @@ def test_a_blow_up_inside_a_batch_fails_only_that_gait():
     assert batch[0].reason == alone.reason
 
 
+def test_with_collisions_fatal_a_rollout_reports_what_happened_first():
+    """A collision before a blow-up ends the gait first (a whole rollout would blow up later)."""
+    stiff = MujocoSettings(back_emf=False, compliance_slope=1, integrator='euler', time_step=0.01)
+    with create_simulator(SimConfig(engine='mujoco', mujoco=stiff)) as sim:
+        whole = evaluate_gait(preset('tripod'), sim, collisions_fatal=False)
+        first = evaluate_gaits([preset('tripod')], sim, collisions_fatal=True)[0]
+    assert whole.reason.startswith('the MuJoCo physics became unstable at t = 0.200 s')
+    assert first.reason == 'self-collision link_3_1 / link_3_3 at t = 0.040 s'
+    with create_simulator(
+        SimConfig(engine='mujoco', mujoco=MujocoSettings(back_emf=False))
+    ) as sim:
+        whole = evaluate_gait(BLOWS_UP_WITHOUT_BACK_EMF, sim, collisions_fatal=False)
+        first = evaluate_gaits([BLOWS_UP_WITHOUT_BACK_EMF], sim, collisions_fatal=True)[0]
+    assert whole.reason.startswith('the MuJoCo physics became unstable at t = 4.233 s')
+    assert first.reason == 'self-collision link_3_1 / link_3_3 at t = 0.071 s'
+
+
+def _gaits_that_collide_or_not() -> list:
+    low = preset('tripod').replace(body_height=0.04, body_velocity=0.1, step_height=[0.02] * 6)
+    crossed = preset('tripod').replace(angle_offset=[1.5, -1.5, 0, 0, 0, 0])
+    return [preset('tripod'), low, preset('wave'), crossed, preset('quadruped')]
+
+
+def test_a_rollout_that_stops_at_its_first_collision_is_the_whole_rollout_cut_short(
+    monkeypatch,
+):
+    """
+    Collisions fatal: each gait is played in chunks up to its first collision.
+
+    The chunks carry the state and the solver's warm start, so every result is bit for bit the
+    whole rollout's (its first collision, feet, pose), and a gait that collides early costs
+    only the steps up to the end of that chunk.
+    """
+    from hexapod_gait import build_joint_table
+    from hexapod_sim import mujoco_engine
+    from hexapod_sim.simulator import JointRows
+
+    played: list[int] = []
+    real = mujoco_engine.mj_rollout.rollout
+
+    def counting(*args, **kwargs):
+        played.append(int(np.shape(args[3])[1]))  # the control's steps
+        return real(*args, **kwargs)
+
+    with create_simulator(SimConfig(engine='mujoco')) as sim:
+        tables = []
+        for gait in _gaits_that_collide_or_not():
+            t = build_joint_table(gait, rate=1.0 / sim.dt)
+            tables.append(JointRows(t.positions, t.velocities))
+        n = 1200
+        whole = sim.rollout(tables, n, stop_on_collision=False)
+        monkeypatch.setattr(mujoco_engine.mj_rollout, 'rollout', counting)
+        cut = sim.rollout(tables, n, stop_on_collision=True)
+    collides = [w.first_collision is not None for w in whole]
+    assert collides == [False, True, False, True, False]
+    for w, c, hit in zip(whole, cut, collides):
+        assert c.first_collision == w.first_collision
+        if hit:  # the collision's step, as the per-step loop counts it
+            assert c.steps < n and c.collision_steps == 1
+        else:
+            assert c.steps == w.steps == n and c.collision_steps == 0
+            np.testing.assert_array_equal(c.final_position, w.final_position)
+            np.testing.assert_array_equal(c.final_orientation, w.final_orientation)
+            np.testing.assert_array_equal(c.contact_steps, w.contact_steps)
+    # the colliding gaits stopped within a chunk of their collision: far fewer steps played
+    assert sum(played) < 3 * n + 2 * mujoco_engine.COLLISION_CHUNKS[1] + n // 2
+
+
 def test_mujoco_model_takes_limits_from_the_urdf():
     """The compiled model's joint ranges and servo force limits are the URDF's (tables 3.8-9)."""
     with create_simulator(SimConfig(engine='mujoco')) as sim:
