@@ -41,8 +41,9 @@ copy_atomic() {  # copy_atomic SRC DEST: DEST is never seen half written
 maps="$map_tree/hexapod_adapt/maps"
 ckpt="$maps/default_map.npz.ckpt.npz"
 pidfile="$map_tree/out/default_map.pid"
-if [ "$(cd "$repo" && default_map_shipped)" = yes ]; then
-  echo "the default map is shipped: no map to save"
+if [ "$(cd "$repo" && map_finished "$maps/default_map.npz")" = yes ] \
+  && cmp -s "$maps/default_map.npz" "$repo/hexapod_adapt/maps/default_map.npz"; then
+  echo "the finished map is the one this checkout ships: nothing to save"
 elif [ "$(cd "$repo" && map_finished "$maps/default_map.npz")" = yes ]; then
   # written: kept beside the checkpoint until it ships with its ceilings (resume_ceilings.sh
   # computes them from this copy on a new machine)

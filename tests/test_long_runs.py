@@ -152,6 +152,20 @@ def test_a_written_map_is_kept_to_ship_with_its_ceilings(tmp_path):
     assert (keep / 'default_map.npz.log.jsonl').read_text() == '{"evaluations": 1}\n'
 
 
+def test_the_shipped_map_is_not_copied_back(tmp_path):
+    """Once shipped, the map run's written map is the repository's own: nothing to keep."""
+    shipped = WS / 'hexapod_adapt' / 'maps' / 'default_map.npz'
+    target = int(re.search(r'--evaluations (\d+)', MAKE_DEFAULT_MAP.read_text()).group(1))
+    assert load_archive(shipped).metadata['evaluations'] == target  # the finished map ships
+    tree, keep = tmp_path / 'mapgen', tmp_path / 'kept'
+    maps = tree / 'hexapod_adapt' / 'maps'
+    maps.mkdir(parents=True)
+    shutil.copy(shipped, maps / 'default_map.npz')
+    r = _save(tree, keep)
+    assert r.returncode == 0 and 'nothing to save' in r.stdout, r.stdout + r.stderr
+    assert not (keep / 'default_map.npz').exists()
+
+
 def test_every_rounds_finished_navigation_units_are_kept_and_unfinished_ones_left(tmp_path):
     """Units of two rounds' worktrees; one of them is still being walked (no summary.json)."""
     trees = [tmp_path / 'navtune', tmp_path / 'navtune-evidence']
