@@ -82,7 +82,8 @@ class StationConfig:
         range=(0.0, 10.0),
     )
     settle_time: float = _setting(
-        0.5, 'Rest after the walk before the odometry window closes [s]', range=(0.0, 10.0)
+        # 1 s: after the fastest map gaits the body still moves 0.5 s on (docs/bridge.md)
+        1.0, 'Rest after the walk before the odometry window closes [s]', range=(0.0, 10.0)
     )
     pre_trial_buffer: float = _setting(
         0.3, 'IMU history before a start command in the window [s]', range=(0.0, 5.0)

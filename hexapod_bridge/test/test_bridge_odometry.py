@@ -68,9 +68,8 @@ def test_imu_speed_estimate_accuracy():
     assert noisy.max() <= STEADY_GAIT_ACCURACY and clean.max() <= STEADY_GAIT_ACCURACY
 
 
-#: The first default map's 20 fastest gaits (the file says where they come from): the gaits
-#: SPEED_ACCURACY was measured on. The 14,607-gait map that replaced it has faster, harder gaits,
-#: outside it (docs/bridge.md, "Accuracy").
+#: The first default map's 20 fastest gaits (the file says where they come from), on PyBullet;
+#: today's default map's are in the next test.
 FAST_GAITS = Path(__file__).resolve().parent / 'data' / 'fast_gaits_first_map.json'
 
 
@@ -101,6 +100,34 @@ def test_fast_gaits_walked_one_after_another_are_measured_within_the_stated_accu
     # a walk that starts where the last one ended starts from its gait's own first pose, as a
     # simulated evaluation does: most trials measure what the simulator says from rest
     assert np.median(gap) <= STEADY_GAIT_ACCURACY
+
+
+def test_the_default_maps_fastest_gaits_are_measured_within_the_stated_accuracy():
+    """
+    On MuJoCo, the engine that made them: on PyBullet most of them end on their backs.
+
+    After these gaits the body still moves for a while: with a 0.5 s rest before the window
+    closed the worst error was 0.264 m/s; settle_time is 1 s (docs/bridge.md).
+    """
+    from hexapod_adapt.mapping.archive import load_archive
+    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+    from hexapod_sim import SimConfig
+
+    archive = load_archive(shipped_map(DEFAULT_MAP))
+    elites = archive.elite_indices()
+    fastest = elites[np.argsort(-archive.speeds()[elites])[:20]]
+    assert archive.speeds()[fastest].min() >= 0.5
+    errors = []
+    with create_simulator(SimConfig(engine='mujoco')) as sim:
+        robot = ConsecutiveTrials(sim, seed=5)
+        for niche in fastest:
+            truth, estimate = robot.trial(from_genotype(archive.genotypes[niche]))
+            errors.append(abs(estimate - truth))
+    print(
+        f"\nthe default map's 20 fastest gaits, one after another on MuJoCo: max |IMU - truth|"
+        f' {max(errors):.4f} m/s, RMS {np.sqrt(np.mean(np.square(errors))):.4f}'
+    )
+    assert max(errors) <= SPEED_ACCURACY
 
 
 def test_a_settled_trial_is_timed_over_its_last_seconds_within_the_stated_accuracy():

@@ -23,7 +23,7 @@ An emulated robot walking trial after trial with no reset, measured as bridge_no
 
 The bridge's procedure, in one process and on emulated time: upload, stand still (1 s, as
 adapt_node and navigate_node do), open the IMU window 0.3 s before the start (pre_trial_buffer),
-close it 0.5 s after the robot reports the walk done (settle_time). Real bytes through the link,
+close it settle_time (1 s) after the robot reports the walk done. Real bytes through the link,
 the firmware model and the Xbus parser; the simulator's pose is the truth.
 """
 
@@ -39,8 +39,13 @@ from hexapod_bridge.emulator.firmware import ImuNoise, RobotFirmware
 from hexapod_bridge.emulator.native import NativeRobotFirmware
 from hexapod_bridge.link import RobotLink
 from hexapod_bridge.odometry import TrialOdometry
+from hexapod_bridge.station import StationConfig
 from hexapod_bridge.xbus import MTData, XbusParser
 from hexapod_sim import Simulator
+
+
+#: The rest after a walk before the odometry window closes: bridge_node's ``settle_time``
+REST_AFTER = StationConfig().settle_time
 
 
 @dataclass(frozen=True)
@@ -124,7 +129,7 @@ class ConsecutiveTrials:
         walks = len(self.fw.trials)
         start = self.link.start_trial(settle + duration, upload.result['gait_id'])
         done_at = walk_start = settled = None
-        while done_at is None or self.t < done_at + 0.5:
+        while done_at is None or self.t < done_at + REST_AFTER:
             self.step()
             if walk_start is None and len(self.fw.trials) > walks:
                 walk_start = self.t
