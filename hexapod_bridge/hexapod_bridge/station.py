@@ -82,8 +82,15 @@ class StationConfig:
         range=(0.0, 10.0),
     )
     settle_time: float = _setting(
-        # 1 s: after the fastest map gaits the body still moves 0.5 s on (docs/bridge.md)
-        1.0, 'Rest after the walk before the odometry window closes [s]', range=(0.0, 10.0)
+        0.5,
+        'Rest after the walk before the odometry window closes [s]; longer while the IMU says'
+        ' the body still moves (at most settle_time_max)',
+        range=(0.0, 10.0),
+    )
+    settle_time_max: float = _setting(
+        1.5,
+        'Longest rest after the walk before the odometry window closes [s]',
+        range=(0.0, 10.0),
     )
     pre_trial_buffer: float = _setting(
         0.3, 'IMU history before a start command in the window [s]', range=(0.0, 5.0)
@@ -349,7 +356,14 @@ class BaseStation:
             overdue = now - trial.start > trial.walk + OVERDUE_S
             if trial.done_at is None and (finished or overdue):
                 trial.done_at = now
-            if trial.done_at is None or now - trial.done_at < self.config.settle_time:
+            if trial.done_at is None:
+                return None
+            since, rest = now - trial.done_at, self.config.settle_time
+            if self.imu_port is None:  # nothing to wait for
+                closes = since >= rest
+            else:
+                closes = trial.odometry.window_closes(since, rest, self.config.settle_time_max)
+            if not closes:
                 return None
             self.trial = None
             state = self.link.trial_state.name if ours else 'NO_REPORT'

@@ -106,8 +106,8 @@ def test_the_default_maps_fastest_gaits_are_measured_within_the_stated_accuracy(
     """
     On MuJoCo, the engine that made them: on PyBullet most of them end on their backs.
 
-    After these gaits the body still moves for a while: with a 0.5 s rest before the window
-    closed the worst error was 0.264 m/s; settle_time is 1 s (docs/bridge.md).
+    After these gaits the body still moves for a while: with a fixed 0.5 s rest before the window
+    closed the worst error was 0.264 m/s; the window now waits for rest (docs/bridge.md).
     """
     from hexapod_adapt.mapping.archive import load_archive
     from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
@@ -178,3 +178,23 @@ def test_a_timed_part_outside_the_imu_window_is_refused_with_the_reason():
     with pytest.raises(ValueError, match='not inside the IMU window'):
         odometry.estimate(0.0, 1.0, timed=(0.2, 1.2))
     assert odometry.estimate(0.0, 0.2, timed=(0.1, 0.3)).speed == pytest.approx(0.0, abs=1e-12)
+
+
+def test_the_window_closes_once_the_body_is_at_rest_or_at_the_longest_rest():
+    from hexapod_bridge.odometry import REST_ACCEL_STD, TrialOdometry
+
+    rng = np.random.default_rng(3)
+
+    def fed(shake: float) -> TrialOdometry:
+        odometry = TrialOdometry()
+        for k in range(100):  # 1 s at 100 Hz, level, shaking along x with amplitude `shake`
+            ax = shake * np.sin(2 * np.pi * 4.0 * k / 100) + rng.normal(0, 0.02)
+            odometry.add(k / 100, (ax, 0.0, 9.81), (0.0, 0.0, 0.0))
+        return odometry
+
+    still, shaking = fed(0.0), fed(3.0 * REST_ACCEL_STD)
+    assert still.at_rest() and not shaking.at_rest()
+    assert not still.window_closes(0.4, 0.5, 1.5)  # never before the shortest rest
+    assert still.window_closes(0.5, 0.5, 1.5) and not shaking.window_closes(1.4, 0.5, 1.5)
+    assert shaking.window_closes(1.5, 0.5, 1.5)  # the longest rest ends it anyway
+    assert not TrialOdometry().at_rest()  # no samples: nothing says it is still

@@ -23,7 +23,8 @@ An emulated robot walking trial after trial with no reset, measured as bridge_no
 
 The bridge's procedure, in one process and on emulated time: upload, stand still (1 s, as
 adapt_node and navigate_node do), open the IMU window 0.3 s before the start (pre_trial_buffer),
-close it settle_time (1 s) after the robot reports the walk done. Real bytes through the link,
+close it settle_time (0.5 s) after the robot reports the walk done, or later while the body
+still moves (at most settle_time_max). Real bytes through the link,
 the firmware model and the Xbus parser; the simulator's pose is the truth.
 """
 
@@ -44,8 +45,8 @@ from hexapod_bridge.xbus import MTData, XbusParser
 from hexapod_sim import Simulator
 
 
-#: The rest after a walk before the odometry window closes: bridge_node's ``settle_time``
-REST_AFTER = StationConfig().settle_time
+#: The rest after a walk before the odometry window closes: bridge_node's settings
+REST_MIN, REST_MAX = StationConfig().settle_time, StationConfig().settle_time_max
 
 
 @dataclass(frozen=True)
@@ -129,7 +130,9 @@ class ConsecutiveTrials:
         walks = len(self.fw.trials)
         start = self.link.start_trial(settle + duration, upload.result['gait_id'])
         done_at = walk_start = settled = None
-        while done_at is None or self.t < done_at + REST_AFTER:
+        while done_at is None or not self.odometry.window_closes(
+            self.t - done_at, REST_MIN, REST_MAX
+        ):
             self.step()
             if walk_start is None and len(self.fw.trials) > walks:
                 walk_start = self.t
