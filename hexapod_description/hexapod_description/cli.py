@@ -46,6 +46,7 @@ What every console command of the project does the same way (no ROS needed).
 from __future__ import annotations
 
 import argparse
+import gc
 import math
 import os
 from pathlib import Path
@@ -257,13 +258,20 @@ def _stop_signal(exc: BaseException | None) -> int | None:
     return None
 
 
-def _redeliver_dropped_stops(previous: Callable) -> Callable:
-    """Make an unraisable hook: a dropped stop is sent again, the rest go to ``previous``."""
+def _redeliver_dropped_stops(previous: Callable, stopped: threading.Event) -> Callable:
+    """
+    Make an unraisable hook: a dropped stop is sent again, the rest go to ``previous``.
+
+    Once ``stopped`` is set (the command was stopped and said so), the rest are dropped quietly:
+    a signal can land inside a constructor (e.g. a ZipFile's, opening a cache file) and leave an
+    object whose destructor then fails, and the stop promises one line, not its traceback.
+    """
 
     def hook(unraisable) -> None:
         signum = _stop_signal(unraisable.exc_value)
         if signum is None:
-            previous(unraisable)
+            if not stopped.is_set():
+                previous(unraisable)
             return
         # not from inside the hook (the new exception would be dropped too): a moment later, from
         # another thread; the handler then runs in the main thread's ordinary code
@@ -283,17 +291,20 @@ def run_command(prog: str, body: Callable[[], int], stopped_note: str = '') -> i
     """
     previous = None
     previous_hook = sys.unraisablehook
+    stopped = threading.Event()
     if threading.current_thread() is threading.main_thread():
         previous = signal.signal(signal.SIGTERM, _raise_terminated)
-        sys.unraisablehook = _redeliver_dropped_stops(previous_hook)
+        sys.unraisablehook = _redeliver_dropped_stops(previous_hook, stopped)
     note = f'; {stopped_note}' if stopped_note else ''
     try:
         return body()
     except Terminated:
         _say(prog, f'terminated (SIGTERM){note}')
+        stopped.set()
         return STATUS_TERMINATED
     except KeyboardInterrupt:
         _say(prog, f'interrupted (SIGINT){note}')
+        stopped.set()
         return STATUS_INTERRUPTED
     except OSError as exc:
         _say(prog, os_error_text(exc))
@@ -303,6 +314,8 @@ def run_command(prog: str, body: Callable[[], int], stopped_note: str = '') -> i
         return 1
     finally:
         if previous is not None:
+            if stopped.is_set():
+                gc.collect()  # what the stop left half built goes now, under the quiet hook
             signal.signal(signal.SIGTERM, previous)
             sys.unraisablehook = previous_hook
 
