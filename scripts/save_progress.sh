@@ -90,6 +90,8 @@ if [ -d "$ceil_tree/hexapod_adapt/maps/ceilings" ]; then
   for f in "$ceil_tree"/hexapod_adapt/maps/ceilings/*.npz; do
     [ -f "$f" ] || continue
     [ -f "$repo/hexapod_adapt/maps/ceilings/$(basename "$f")" ] && continue  # shipped already
+    # the worktree's own checkout (an older map's shipped cases), not computed there
+    git -C "$ceil_tree" ls-files --error-unmatch "${f#"$ceil_tree"/}" >/dev/null 2>&1 && continue
     copy_atomic "$f" "$keep/ceilings/$(basename "$f")"
     n=$((n + 1))
   done

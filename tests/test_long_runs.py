@@ -166,6 +166,27 @@ def test_the_shipped_map_is_not_copied_back(tmp_path):
     assert not (keep / 'default_map.npz').exists()
 
 
+def test_only_the_ceilings_computed_in_the_worktree_are_kept(tmp_path):
+    """The worktree's checkout holds an older map's shipped cases: those are not kept."""
+    tree, keep = tmp_path / 'ceilgen', tmp_path / 'kept'
+    cache = tree / 'hexapod_adapt' / 'maps' / 'ceilings'
+    cache.mkdir(parents=True)
+    (cache / 'ceiling_mujoco_legs1_older.npz').write_bytes(b'checked out')
+    subprocess.run(['git', 'init', '-q', str(tree)], check=True)
+    subprocess.run(['git', '-C', str(tree), 'add', '.'], check=True)
+    (cache / 'ceiling_mujoco_legs1_5unpowered-coxa_new.npz').write_bytes(b'computed')
+    r = subprocess.run(
+        ['bash', str(SAVE), str(tmp_path / 'no_map'), str(tree), str(keep)],
+        capture_output=True, text=True, timeout=60,
+        env={**os.environ, 'NAV_TREE': str(tmp_path / 'no_navtune')},
+    )  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    assert sorted(p.name for p in (keep / 'ceilings').iterdir()) == [
+        'ceiling_mujoco_legs1_5unpowered-coxa_new.npz'
+    ]
+    assert 'saved 1 ceiling cases' in r.stdout
+
+
 def test_every_rounds_finished_navigation_units_are_kept_and_unfinished_ones_left(tmp_path):
     """Units of two rounds' worktrees; one of them is still being walked (no summary.json)."""
     trees = [tmp_path / 'navtune', tmp_path / 'navtune-evidence']
