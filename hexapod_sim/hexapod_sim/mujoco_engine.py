@@ -413,8 +413,7 @@ class MujocoSimulator(Simulator):
                 continue
             sd = sensordata[i]
             feet = sd[:, self._foot_adr] > 0
-            ground = (sd[:, self._ground_adr] > 0).any(axis=1)
-            collided = ground | (sd[:, self._self_adr] > 0)
+            collided = (sd[:, self._collision_adr] > 0).any(axis=1)
             hits = np.flatnonzero(collided)
             first = None
             used = n_steps
