@@ -22,13 +22,14 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 import re
 
 from hexapod_adapt.mapping.archive import Archive, load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
 from hexapod_adapt.online.adaptation import adapt
 from hexapod_adapt.online.ceiling import compute_ceiling
-from hexapod_adapt.online.mboa import MboaConfig
+from hexapod_adapt.online.mboa import MboaConfig, PROFILES
 from hexapod_adapt.online.prior import (
     damage_prior,
     KnownDamage,
@@ -191,6 +192,24 @@ def test_a_streaming_prior_scores_the_best_gaits_first_and_caches_the_whole(tiny
     np.testing.assert_array_equal(stream.snapshot().speeds, truth.speeds)
     again = StreamingPrior(tiny_map, damage, 'mujoco', tmp_path)
     assert again.cached and again.wait_first(0)  # the whole was cached
+
+
+def test_the_expected_gain_stop_is_for_blind_runs_only(tiny_map):
+    truth = compute_ceiling(tiny_map, Damage.lifted([1]), 'mujoco')
+    config = replace(PROFILES['default'], max_trials=10)
+    assert config.stop_gain > 0  # the default profile has one
+    informed = adapt(tiny_map, lookup_trial(truth), config, prior=truth.speeds)
+    # the known damage's best, tried first, meets alpha: the run ends there
+    assert len(informed.trials) == 1 and informed.success
+    assert informed.niches[0] == truth.best_niche
+    # the same start without the gain stop stops the same way: the stop is alpha's
+    plain = replace(config, stop_gain=0.0)
+    again = adapt(tiny_map, lookup_trial(truth), plain, prior=truth.speeds)
+    assert again.niches == informed.niches
+    # blind, the gain stop keeps the run going while an untried gait may gain 2 mm/s or more
+    blind = adapt(tiny_map, lookup_trial(truth), config)
+    blind_plain = adapt(tiny_map, lookup_trial(truth), plain)
+    assert len(blind.trials) > len(blind_plain.trials)
 
 
 def test_adapt_takes_a_newer_prior_between_trials(tiny_map):

@@ -111,8 +111,14 @@ def adapt(
     ``prior_update``, if given, is asked before each trial for a newer prior (None: no change),
     e.g. a re-score still streaming in (:mod:`hexapod_adapt.online.streaming_prior`); M-BOA then
     starts from it again and re-learns the trials so far.
+
+    With ``prior`` or ``prior_update`` the run stops on alpha alone (``config.stop_gain`` is for
+    blind runs).
     """
     config = config or MboaConfig()
+    if (prior is not None or prior_update is not None) and config.stop_gain > 0:
+        # the known damage's re-score is trusted: its best, tried first, ends the run on alpha
+        config = replace(config, stop_gain=0.0)
     niches, descriptors, map_prior = candidates(archive)
     if prior is None:
         prior = map_prior

@@ -96,7 +96,10 @@ class MboaConfig:
     exclude_tested: bool = True
     min_speed: float = 0.0  # success floor [m/s]: no success while the best is slower
     signal_variance: float = 1.0  # kernel variance [(m/s)^2]: how far damage moves speeds
-    stop_gain: float = 0.0  # [m/s] also go on while an untried gait's expected gain exceeds it
+    #: [m/s] also go on while an untried gait's expected gain exceeds it. Blind runs only: a run
+    #: from a prior of the known damage (``adaptation.adapt(prior=...)``) stops on alpha alone,
+    #: its first trial being the re-scored map's best
+    stop_gain: float = 0.0
     use_bank: bool = False  # weigh a damage bank's hypotheses when the damage is not known
     #: [m/s] with hypotheses: how far the truth may lie from a known model (the map, a bank's
     #: failure), the std of a GP of their own; one 'unknown damage' hypothesis (the map under
@@ -139,11 +142,18 @@ class MboaConfig:
 #: ``default``: chosen on the tuning set (another map's seed, other damage types), never on the
 #: reported S1-S4 experiment (docs/adaptation.md, "Tuning"). max_trials is the caller's budget.
 #: The default's kernel variance is in physical units: over the tuning set, damage moved the
-#: map's speeds by a variance of 0.0079 (m/s)^2 (docs/adaptation.md, "Tuning").
+#: map's speeds by a variance of 0.0079 (m/s)^2 (docs/adaptation.md, "Tuning"). Its length scale
+#: and expected-gain stop were chosen again on maps of the deployed kind (CMA-MAE, the map
+#: study's seed-2 maps; ``tuning.score_grid_deployed``): 0.2 and none before.
 PROFILES: dict[str, MboaConfig] = {
     'thesis': MboaConfig(),
     'default': MboaConfig(
-        alpha=0.95, kappa=0.5, length_scale=0.2, noise=0.001, signal_variance=0.01
+        alpha=0.95,
+        kappa=0.5,
+        length_scale=0.3,
+        noise=0.001,
+        signal_variance=0.01,
+        stop_gain=0.002,
     ),
 }
 DEFAULT_PROFILE = 'default'
