@@ -560,7 +560,8 @@ def _print_experiment(rows, suffix: str, have: bool, engine: str, cached) -> Non
         f' {len(rows)} runs'
     )
     print(f'BENCH adapt_trials_max{suffix} {max(r.trials for r in rows)} trials')
-    # the stopping rule ended the run (not the EXPERIMENT_MAX_TRIALS cap)
+    # the run's best met M-BOA's rule (alpha, the floor) when it ended, by the rule or at the
+    # budget (a blind default run goes on for an expected gain; until 2026-11-25: ended by it)
     print(
         f'BENCH adapt_stopped_by_rule{suffix} {sum(r.success for r in rows)} of {len(rows)} runs'
     )

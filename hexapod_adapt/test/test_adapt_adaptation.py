@@ -67,6 +67,23 @@ def test_never_more_than_max_trials_and_aborts_keep_what_was_measured():
     assert stop_after.message == 'cancelled' and not stop_after.trials
 
 
+def test_a_run_the_gain_stop_keeps_to_its_budget_succeeds_when_its_best_met_alpha():
+    a = _archive(seed=3)
+    config = MboaConfig(max_trials=4, alpha=0.9, signal_variance=0.01, length_scale=0.2)
+    # reality as the map says: the first trial meets alpha and ends a run without a gain stop
+    plain = adapt(a, lambda n: a.speeds()[n], config)
+    assert plain.success and len(plain.trials) == 1
+    # a gain stop below what untried gaits may still gain: the budget ends the run, its best met
+    # alpha all along
+    eager = adapt(a, lambda n: a.speeds()[n], MboaConfig(**{**vars(config), 'stop_gain': 0.001}))
+    assert len(eager.trials) == 4 and eager.success
+    assert 'maximum of 4 trials; best measured' in eager.message and 'alpha' in eager.message
+    # a budget that ends a run short of alpha is still no success
+    short = adapt(a, lambda n: 0.01, config)
+    assert not short.success and 'maximum of 4 trials' in short.message
+    assert 'alpha' not in short.message
+
+
 def test_an_empty_archive_is_refused():
     a = Archive.empty(np.random.default_rng(0).random((5, 6)))
     with pytest.raises(ValueError, match='no elites'):

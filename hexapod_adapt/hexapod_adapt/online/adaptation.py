@@ -52,7 +52,7 @@ if TYPE_CHECKING:  # the ceiling module imports this one's siblings only
 class AdaptationResult:
     """The outcome of one adaptation run: trials, the best gait found and why it stopped."""
 
-    success: bool  # the stopping criterion (alpha) was met
+    success: bool  # the best gait met M-BOA's rule (alpha, the floor) when the run ended
     message: str
     trials: list[Trial] = field(default_factory=list)
     niches: list[int] = field(default_factory=list)  # archive niche of each trial
@@ -136,7 +136,8 @@ def adapt(
     while True:
         reason = opt.stop_reason()
         if reason is not StopReason.CONTINUE:
-            result.success = reason is StopReason.ALPHA_REACHED
+            # success is the rule's, whether it ended the run or the budget did
+            result.success = reason is StopReason.ALPHA_REACHED or opt.alpha_met()
             result.message = opt.should_stop()[1]
             break
         if should_cancel and should_cancel():

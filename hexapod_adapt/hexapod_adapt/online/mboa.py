@@ -391,24 +391,42 @@ class Mboa:
         """Why the run should stop now (``StopReason.CONTINUE`` if it should not)."""
         if len(self.trials) >= self.config.max_trials:
             return StopReason.MAX_TRIALS
-        best = self.best()
-        if (
-            best is not None
-            and best.measured >= self.config.alpha * float(np.max(self._mu))
-            and best.measured >= self.config.min_speed
-            and (self.config.stop_gain <= 0.0 or self.max_expected_gain() < self.config.stop_gain)
+        if self.alpha_met() and (
+            self.config.stop_gain <= 0.0 or self.max_expected_gain() < self.config.stop_gain
         ):
             return StopReason.ALPHA_REACHED
         if self.config.exclude_tested and len(self.tested()) == len(self.prior):
             return StopReason.MAP_EXHAUSTED
         return StopReason.CONTINUE
 
+    def alpha_met(self) -> bool:
+        """
+        Whether the best gait meets M-BOA's success rule: alpha x the highest mean, and the floor.
+
+        The run's success. It stops there unless the expected-gain stop keeps it going, or the
+        budget ends it first.
+        """
+        best = self.best()
+        return (
+            best is not None
+            and best.measured >= self.config.alpha * float(np.max(self._mu))
+            and best.measured >= self.config.min_speed
+        )
+
     def should_stop(self) -> tuple[bool, str]:
         """(stop, why) with ``why`` a sentence for people (decide on :meth:`stop_reason`)."""
         reason = self.stop_reason()
         floor = self._below_floor()
         if reason is StopReason.MAX_TRIALS:
-            return True, f'reached the maximum of {self.config.max_trials} trials{floor}'
+            met = ''
+            if self.alpha_met():
+                best = self.best()
+                assert best is not None
+                met = (
+                    f'; best measured {best.measured:.3f} m/s >= alpha x max predicted '
+                    f'({self.config.alpha:g} x {np.max(self._mu):.3f} m/s)'
+                )
+            return True, f'reached the maximum of {self.config.max_trials} trials{met}{floor}'
         if reason is StopReason.ALPHA_REACHED:
             best = self.best()
             assert best is not None
