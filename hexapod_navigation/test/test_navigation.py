@@ -20,6 +20,7 @@
 # SOFTWARE.
 """The navigator without ROS: poses, goals, the learned correction, the planner, episodes."""
 
+import functools
 import math
 
 from hexapod_adapt.mapping.archive import load_archive
@@ -343,9 +344,12 @@ def test_the_shipped_bank_fits_the_shipped_repertoire_and_re_measures_identicall
     h, rows = int(rng.integers(63)), np.sort(rng.choice(len(repertoire), 3, replace=False))
     few = replace(repertoire, genotypes=repertoire.genotypes[rows], niches=repertoire.niches[rows])
     again = compute_step_bank(few, 'mujoco', (bank.damages[h],))
-    np.testing.assert_array_equal(again.steps[0], bank.steps[h, rows])
-    np.testing.assert_array_equal(again.tripod[0], bank.tripod[h])
-    np.testing.assert_array_equal(again.intact_tripod, bank.intact_tripod)
+    # bit for bit on the machine that made the bank; another processor's floating point moves the
+    # last bits (1.1e-15 m on an AMD EPYC, 2026-11-25), far below any change of the model
+    same = functools.partial(np.testing.assert_allclose, rtol=1e-9, atol=1e-12)
+    same(again.steps[0], bank.steps[h, rows])
+    same(again.tripod[0], bank.tripod[h])
+    same(again.intact_tripod, bank.intact_tripod)
 
 
 def test_run_navigation_refuses_a_bank_it_was_told_to_use_and_goes_on_without_a_default_one(

@@ -94,20 +94,145 @@ BLOWS_UP_WITHOUT_BACK_EMF = [
 ]
 
 
+#: Demo-map gaits 405, 163 and 485 (the shipped demo_map.npz), which blew up without back-EMF on
+#: a second machine (AMD EPYC, 2026-11-25), where the gait above ended on its back instead: when a
+#: blow-up happens is chaotic, and it moves with the processor's floating point. The tests take
+#: the first gait that blows up here.
+BLOW_UP_CANDIDATES = (
+    BLOWS_UP_WITHOUT_BACK_EMF,
+    [
+        0.45175463949466116,
+        0.011788917402369085,
+        0.8824755968243185,
+        0.3833206652552253,
+        0.7249275008382469,
+        0.0,
+        1.0,
+        0.7229244089347999,
+        0.48864085176207095,
+        0.0,
+        0.322060546612167,
+        1.0,
+        0.23015843922769716,
+        0.42118795287988847,
+        0.379079303076399,
+        1.0,
+        1.0,
+        0.7374175878067509,
+        0.248157085439467,
+        0.01863351007537613,
+        0.0025964309287196154,
+        1.0,
+        0.7906494225777487,
+        0.7948976078055202,
+        0.2382456421430287,
+        0.7785727922459017,
+        0.6703553423732073,
+        0.9626237494646517,
+        0.7073574297364609,
+        0.0028835451050420423,
+        0.0,
+        0.08447092555780542,
+    ],
+    [
+        0.4664176507433134,
+        0.07807244828782686,
+        0.7437225483608034,
+        0.4128371012681526,
+        0.6874254192223979,
+        0.04065738519841852,
+        0.9610619301299855,
+        0.6670182912051238,
+        0.4300816970770508,
+        0.15985041715892156,
+        0.4720595423569169,
+        0.9649544248524788,
+        0.22612630919284898,
+        0.32570670964670784,
+        0.3663843013250482,
+        0.9517146844127113,
+        0.9978705824170633,
+        0.7561276164979693,
+        0.4626592872235492,
+        0.08477578599687963,
+        0.029119392093347816,
+        0.9737614981813427,
+        0.7862964010399269,
+        0.7371719868974225,
+        0.17997351624856142,
+        0.6952113146514826,
+        0.489897674482522,
+        0.9007864698394404,
+        0.6331688691194698,
+        0.0363290582648839,
+        0.04468066757233859,
+        0.16114943804870444,
+    ],
+    [
+        0.45877208603363157,
+        0.0,
+        0.8522483854188082,
+        0.4052290115714701,
+        0.7481683267051484,
+        0.026424479335749197,
+        1.0,
+        0.7227517942178749,
+        0.4798019717223292,
+        0.003830346335966045,
+        0.4205882905052225,
+        1.0,
+        0.20860017264493103,
+        0.37990245568762954,
+        0.35114865547480645,
+        1.0,
+        1.0,
+        0.7499469053259559,
+        0.31051050002358765,
+        0.04073637617911072,
+        0.014914924653248722,
+        1.0,
+        0.7798442300530766,
+        0.798429064753292,
+        0.20127940805447952,
+        0.7638204211538105,
+        0.6066393082249185,
+        0.9667556522112227,
+        0.6976859196383763,
+        0.0,
+        0.0,
+        0.06704721676475688,
+    ],
+)
+UNSTABLE = 'the MuJoCo physics became unstable at t = '
+
+
+def _blows_up_here(sim) -> tuple[list, str]:
+    """Return (the first candidate gait that blows up on this machine, its reason)."""
+    for gait in BLOW_UP_CANDIDATES:
+        result = evaluate_gait(gait, sim, collisions_fatal=False)
+        if result.reason.startswith(UNSTABLE):
+            return gait, result.reason
+    raise AssertionError('none of the candidate gaits blows up MuJoCo without back-EMF here')
+
+
+def _seconds(reason: str) -> float:
+    """Return the time a reason names ('... at t = 1.234 s ...')."""
+    return float(reason.split(' at t = ')[1].split(' s')[0])
+
+
 def test_a_blow_up_inside_a_batch_fails_only_that_gait():
     """Check each rollout's own time line: MuJoCo resets itself after a blow-up, carrying on."""
     with create_simulator(
         SimConfig(engine='mujoco', mujoco=MujocoSettings(back_emf=False))
     ) as sim:
-        alone = evaluate_gait(BLOWS_UP_WITHOUT_BACK_EMF, sim, collisions_fatal=False)
+        gait, alone = _blows_up_here(sim)
         batch = evaluate_gaits(
-            [BLOWS_UP_WITHOUT_BACK_EMF, preset('tripod'), preset('wave')],
+            [gait, preset('tripod'), preset('wave')],
             sim,
             collisions_fatal=False,
         )
-    assert not alone.valid and 'physics became unstable' in alone.reason
     assert [r.valid for r in batch] == [False, True, True]
-    assert batch[0].reason == alone.reason
+    assert batch[0].reason == alone
 
 
 def test_with_collisions_fatal_a_rollout_reports_what_happened_first():
@@ -116,15 +241,16 @@ def test_with_collisions_fatal_a_rollout_reports_what_happened_first():
     with create_simulator(SimConfig(engine='mujoco', mujoco=stiff)) as sim:
         whole = evaluate_gait(preset('tripod'), sim, collisions_fatal=False)
         first = evaluate_gaits([preset('tripod')], sim, collisions_fatal=True)[0]
-    assert whole.reason.startswith('the MuJoCo physics became unstable at t = 0.200 s')
+    # (0.200 s on one machine, 0.210 s on another: the moment of a blow-up is chaotic)
+    assert whole.reason.startswith(UNSTABLE) and 0.1 < _seconds(whole.reason) < 0.5
     assert first.reason == 'self-collision link_3_1 / link_3_3 at t = 0.040 s'
     with create_simulator(
         SimConfig(engine='mujoco', mujoco=MujocoSettings(back_emf=False))
     ) as sim:
-        whole = evaluate_gait(BLOWS_UP_WITHOUT_BACK_EMF, sim, collisions_fatal=False)
-        first = evaluate_gaits([BLOWS_UP_WITHOUT_BACK_EMF], sim, collisions_fatal=True)[0]
-    assert whole.reason.startswith('the MuJoCo physics became unstable at t = 4.233 s')
-    assert first.reason == 'self-collision link_3_1 / link_3_3 at t = 0.071 s'
+        gait, blow_up = _blows_up_here(sim)
+        first = evaluate_gaits([gait], sim, collisions_fatal=True)[0]
+    assert first.reason.startswith('self-collision ')
+    assert _seconds(first.reason) < _seconds(blow_up)
 
 
 def _gaits_that_collide_or_not() -> list:
