@@ -137,7 +137,7 @@ def adapt(
         reason = opt.stop_reason()
         if reason is not StopReason.CONTINUE:
             # success is the rule's, whether it ended the run or the budget did
-            result.success = reason is StopReason.ALPHA_REACHED or opt.alpha_met()
+            result.success = opt.alpha_met()
             result.message = opt.should_stop()[1]
             break
         if should_cancel and should_cancel():

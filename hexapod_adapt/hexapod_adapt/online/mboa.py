@@ -418,28 +418,22 @@ class Mboa:
         reason = self.stop_reason()
         floor = self._below_floor()
         if reason is StopReason.MAX_TRIALS:
-            met = ''
-            if self.alpha_met():
-                best = self.best()
-                assert best is not None
-                met = (
-                    f'; best measured {best.measured:.3f} m/s >= alpha x max predicted '
-                    f'({self.config.alpha:g} x {np.max(self._mu):.3f} m/s)'
-                )
+            met = f'; {self._alpha_clause()}' if self.alpha_met() else ''
             return True, f'reached the maximum of {self.config.max_trials} trials{met}{floor}'
         if reason is StopReason.ALPHA_REACHED:
-            best = self.best()
-            assert best is not None
-            return (
-                True,
-                (
-                    f'best measured {best.measured:.3f} m/s >= alpha x max predicted '
-                    f'({self.config.alpha:g} x {np.max(self._mu):.3f} m/s)'
-                ),
-            )
+            return True, self._alpha_clause()
         if reason is StopReason.MAP_EXHAUSTED:
             return True, f'every gait in the map has been tried{floor}'
         return False, ''
+
+    def _alpha_clause(self) -> str:
+        """Say how the best gait meets alpha (call only when it has one)."""
+        best = self.best()
+        assert best is not None
+        return (
+            f'best measured {best.measured:.3f} m/s >= alpha x max predicted '
+            f'({self.config.alpha:g} x {np.max(self._mu):.3f} m/s)'
+        )
 
     def _below_floor(self) -> str:
         best = self.best()
