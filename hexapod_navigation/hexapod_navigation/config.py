@@ -132,6 +132,10 @@ class NavigationConfig:
     tripod_bank: str = 'evidence'
     #: how many cycles' worth the bank's prior counts for in a direction the robot has walked
     tripod_bank_weight: float = 1.0
+    #: 'evidence': a damage the robot reported (its dead servos) that the bank models counts as
+    #: evidence too, so the tripod's first cycle is weighed under it instead of at the commanded
+    #: stride (docs/studies/navigation.md, eleventh round)
+    tripod_reported: bool = False
 
     def __post_init__(self) -> None:
         for name in (

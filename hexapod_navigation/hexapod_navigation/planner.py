@@ -203,7 +203,10 @@ class RepertoirePolicy:
             # is a candidate once the repertoire's last steps made less progress than that pace
             # (the repertoire has had its chance to learn the damage)
             k = steered_direction(pose, goal)
-            bank = self.config.tripod_bank == 'always' or self.gp.evidence > 0
+            # 'evidence': a walked step or cycle (tripod_reported: or a report of a damage the
+            # bank models, before anything is walked)
+            told = self.config.tripod_reported and self.gp.reported is not None
+            bank = self.config.tripod_bank == 'always' or self.gp.evidence > 0 or told
             cycle = self.tripod.displacement(self.gp.tripod_prior() if bank else None)[k]
             dx, dy = cycle[0], cycle[1]
             end = np.array([[pose.x + c * dx - s * dy, pose.y + s * dx + c * dy]])

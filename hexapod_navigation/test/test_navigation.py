@@ -678,6 +678,13 @@ def test_tripod_cycles_weigh_the_damage_hypotheses_and_set_the_tripods_prior(rep
     policy.observe(first, start, start.moved(0.03, 0.0, 0.0), True)
     assert policy.gp.evidence == 1
     assert policy.next_step(start.moved(0.03, 0.0, 0.0), goal, first.gait, 0.5).tripod == -1
+    # a report of a damage the bank models: evidence too with tripod_reported, so the first
+    # cycle is weighed under the bank (3 cm: a step wins); without it, the commanded stride
+    for told, expected in ((True, -1), (False, 0)):
+        config = NavigationConfig(tripod_bank='evidence', tripod_after=0, tripod_reported=told)
+        policy = RepertoirePolicy(repertoire, config, steps, poor, reported=2)
+        assert policy.gp.evidence == 0
+        assert policy.next_step(start, goal, None, 0.5).tripod == expected
     with pytest.raises(ValueError, match='tripod_bank must be one of off, always, evidence'):
         NavigationConfig(tripod_bank='sometimes')
     always = NavigationConfig(tripod_bank='always', tripod_after=0)
