@@ -722,6 +722,8 @@ def test_every_nonsensical_adapt_request_is_refused_with_a_reason(ros, launch, s
     cases += [('kappa', v, 'kappa') for v in (float('nan'), float('inf'), -1.0, 1e300)]
     cases += [('length_scale', v, 'length_scale') for v in floats]
     cases += [('noise', v, 'noise') for v in (float('nan'), float('inf'), -1.0, 1e-300, 1e300)]
+    gains = (float('nan'), float('inf'), float('-inf'), 2.0)  # a finite negative one: off
+    cases += [('stop_gain', v, 'stop_gain') for v in gains]
     cases += [('profile', 'fastest', "unknown M-BOA profile 'fastest'")]
     cases += [
         ('failed_legs', [7], 'leg 7 does not exist'),

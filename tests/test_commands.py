@@ -126,6 +126,7 @@ BOUNDS = [
     Bound('adapt_client', '--kappa', 0.0, 100.0, False),
     Bound('adapt_client', '--length-scale', 1e-3, 10.0, False, zero_means_default=True),
     Bound('adapt_client', '--noise', 1e-9, 1.0, False, zero_means_default=True),
+    Bound('adapt_client', '--stop-gain', 0.0, 1.0, False),
     Bound('adapt_client', '--timeout', 0.0, 1e6, False, low_open=True),
     Bound('run_experiment', '--max-trials', 1, 1000),
     Bound('run_experiment', '--alpha', 0.05, 1.0, False),

@@ -208,6 +208,14 @@ def test_the_thesis_profile_is_thesis_5_2_2_and_settings_override_a_profile():
         profile('fast')
     with pytest.raises(ValueError, match='alpha'):
         run_settings({**base, 'profile': 'thesis', 'alpha': 1.5})
+    # the expected-gain stop: 0 the profile's, a value replaces it, a negative one turns it off
+    default = PROFILES['default'].stop_gain
+    assert default > 0 and run_settings(base)[0].stop_gain == default
+    assert run_settings({**base, 'stop_gain': 0.01})[0].stop_gain == 0.01
+    assert run_settings({**base, 'stop_gain': -1.0})[0].stop_gain == 0.0
+    for bad in (2.0, float('nan'), float('-inf')):
+        with pytest.raises(ValueError, match='stop_gain'):
+            run_settings({**base, 'stop_gain': bad})
 
 
 def test_one_hypothesis_is_the_thesis_gp_bit_for_bit():

@@ -49,6 +49,7 @@ from hexapod_adapt.online.mboa import (
     MIN_SPEED_RANGE,
     NOISE_RANGE,
     profile,
+    STOP_GAIN_RANGE,
     TRIAL_BUDGET,
     TRIAL_DURATION,
     TRIAL_SETTLE,
@@ -62,10 +63,11 @@ RUN_SETTINGS = (
     'kappa',
     'length_scale',
     'noise',
+    'stop_gain',
     'profile',
 )
 #: Settings whose 0 means "the profile's value" (request fields and node parameters alike).
-PROFILE_SETTINGS = ('alpha', 'kappa', 'length_scale', 'noise')
+PROFILE_SETTINGS = ('alpha', 'kappa', 'length_scale', 'noise', 'stop_gain')
 
 #: A trial must cover at least one gait cycle of the controller's default 1 s period.
 TRIAL_DURATION_RANGE = (1.0, 120.0)
@@ -119,7 +121,7 @@ SETTINGS = (
         'profile',
         DEFAULT_PROFILE,
         "M-BOA settings: 'default' (chosen on a tuning set) or 'thesis' (thesis 5.2.2); alpha, "
-        'kappa, length_scale and noise override it when not 0',
+        'kappa, length_scale, noise and stop_gain override it when not 0',
     ),
     Setting(
         'alpha',
@@ -142,6 +144,13 @@ SETTINGS = (
         0.0,
         "Observation noise variance [(m/s)^2] (0 = the profile's)",
         (0.0, NOISE_RANGE[1]),
+    ),
+    Setting(
+        'stop_gain',
+        0.0,
+        "Blind runs: success also needs the next trial's expected gain below this [m/s] (0 = the"
+        " profile's: 0.002 in 'default', off in 'thesis'; negative = no such stop)",
+        (-1.0, STOP_GAIN_RANGE[1]),
     ),
     Setting(
         'min_speed',
@@ -185,8 +194,9 @@ def run_settings(values: dict) -> tuple[MboaConfig, float]:
     """
     (M-BOA configuration, trial duration [s]) from the run settings.
 
-    The named ``profile`` gives every M-BOA setting; alpha, kappa, length_scale and noise replace
-    its values when not 0. ValueError says which is out of range and what the range is.
+    The named ``profile`` gives every M-BOA setting; alpha, kappa, length_scale, noise and
+    stop_gain replace its values when not 0 (a negative stop_gain: no expected-gain stop).
+    ValueError says which is out of range and what the range is.
     """
     duration = float(values['trial_duration'])
     low, high = TRIAL_DURATION_RANGE
@@ -194,6 +204,9 @@ def run_settings(values: dict) -> tuple[MboaConfig, float]:
         raise ValueError(f'trial_duration must be in [{low:g}, {high:g}] s, got {duration!r}')
     base = profile(str(values.get('profile') or DEFAULT_PROFILE))
     chosen = {name: float(values[name]) for name in PROFILE_SETTINGS if values.get(name)}
+    gain = chosen.get('stop_gain', 0.0)
+    if -math.inf < gain < 0.0:  # negative: the stop is off (MboaConfig's 0); -inf is refused
+        chosen['stop_gain'] = 0.0
     config = replace(base, max_trials=int(values['max_trials']), **chosen)
     return config, duration
 

@@ -27,6 +27,7 @@ full ROS install).
 
     adapt_client --max-trials 20 [--alpha 0.9 --kappa 0.05 --length-scale 0.4 --noise 0.001]
     adapt_client --damage 3:unpowered:femur    # the damage known, when no report says it
+    adapt_client --no-gain-stop    # a blind run ends on alpha or max_trials alone
 """
 
 from __future__ import annotations
@@ -42,6 +43,7 @@ from hexapod_adapt.online.mboa import (
     MAX_TRIALS_LIMIT,
     NOISE_RANGE,
     PROFILES,
+    STOP_GAIN_RANGE,
 )
 from hexapod_adapt.online.run_config import TRIAL_DURATION_RANGE
 from hexapod_description.cli import interval, number, run_command
@@ -121,6 +123,21 @@ def build_parser() -> argparse.ArgumentParser:
         type=_default_or(*NOISE_RANGE),
         default=0.0,
         help='GP noise variance [(m/s)^2] (0 = default)',
+    )
+    gain = ap.add_mutually_exclusive_group()
+    gain.add_argument(
+        '--stop-gain',
+        type=_default_or(*STOP_GAIN_RANGE),
+        default=0.0,
+        help="blind runs: success also needs the next trial's expected gain below this [m/s] (0 ="
+        " the node's default: 0.002 in the default profile)",
+    )
+    gain.add_argument(
+        '--no-gain-stop',
+        action='store_const',
+        const=-1.0,
+        dest='stop_gain',
+        help='no expected-gain stop: a blind run ends on alpha or max_trials alone',
     )
     ap.add_argument(
         '--profile',
@@ -203,6 +220,7 @@ def _call(args: argparse.Namespace, ros_args: list[str]) -> int:
             kappa=args.kappa,
             length_scale=args.length_scale,
             noise=args.noise,
+            stop_gain=args.stop_gain,
             profile=args.profile,
             failed_legs=legs,
             kinds=kinds,
