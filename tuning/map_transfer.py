@@ -21,11 +21,12 @@
 """
 How a map's gaits fare off the engine that made them (the default map's transfer risk).
 
-For a map (the shipped default map unless --archive): its 100 fastest gaits and 200 of its gaits
-at random (seed 0) evaluated intact on PyBullet from rest (5 s, collisions not fatal), counting
-falls (ended on the back) and the median speed; then its 20 fastest gaits walked one after another
-on the emulated robot (ConsecutiveTrials, Xsens-like noise, seed 5) on each engine: the IMU
-odometry's worst and RMS error against the truth, and how many trials ended upside down.
+For a map (the shipped default map unless --archive): its 100 fastest gaits and 200 different
+gaits at random (seed 0) evaluated intact on PyBullet from rest (5 s, collisions not fatal),
+counting falls (ended on the back) and the median speed; then its 20 fastest gaits walked one
+after another on the emulated robot (ConsecutiveTrials, Xsens-like noise, seed 5) on each
+engine: the IMU odometry's worst and RMS error against the truth, and how many trials ended
+upside down.
 
     python -m tuning.map_transfer [--archive MAP] > docs/studies/map_transfer_<map>.txt
 """
@@ -56,7 +57,8 @@ def main() -> None:
     print(f'map: {path} ({len(elites)} gaits)')
     rng = np.random.default_rng(0)
     with create_simulator(SimConfig(engine='pybullet')) as sim:
-        for label, idx in (('fastest 100', order[:100]), ('random 200', rng.choice(elites, 200))):
+        random = rng.choice(elites, 200, replace=False)  # 200 different gaits
+        for label, idx in (('fastest 100', order[:100]), ('random 200', random)):
             res = evaluate_gaits(list(archive.genotypes[idx]), sim, collisions_fatal=False)
             falls = sum(r.reason == FELL_OVER for r in res)
             print(
