@@ -133,6 +133,7 @@ BOUNDS = [
     Bound('run_experiment', '--kappa', 0.0, 100.0, False),
     Bound('run_experiment', '--length-scale', 1e-3, 10.0, False),
     Bound('run_experiment', '--noise', 1e-9, 1.0, False),
+    Bound('run_experiment', '--stop-gain', 0.0, 1.0, False),
     Bound('run_navigation', '--goals', 1, 1000),
     Bound('run_navigation', '--goal-seed', 0, 2**32 - 1),
     Bound('run_navigation', '--workers', 1, 256),

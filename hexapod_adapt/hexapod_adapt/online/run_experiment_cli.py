@@ -58,6 +58,7 @@ from hexapod_adapt.online.mboa import (
     MAX_TRIALS_LIMIT,
     NOISE_RANGE,
     PROFILES,
+    STOP_GAIN_RANGE,
     TRIAL_BUDGET,
     TRIAL_SETTLE,
 )
@@ -198,6 +199,13 @@ def main(argv: list[str] | None = None) -> int:
         help="GP noise variance [(m/s)^2] (profile's)",
     )
     ap.add_argument(
+        '--stop-gain',
+        type=number(float, *STOP_GAIN_RANGE),
+        default=None,
+        help="blind runs: success also needs the next trial's expected gain below this [m/s]"
+        " (profile's; 0: no such stop)",
+    )
+    ap.add_argument(
         '--floor',
         action=argparse.BooleanOptionalAction,
         default=None,
@@ -268,7 +276,7 @@ def _experiment(args: argparse.Namespace) -> int:
         archive = load_archive(args.archive or shipped_map(DEFAULT_MAP))
         chosen = {
             name: getattr(args, name)
-            for name in ('alpha', 'kappa', 'length_scale', 'noise')
+            for name in ('alpha', 'kappa', 'length_scale', 'noise', 'stop_gain')
             if getattr(args, name) is not None
         }
         budget = args.max_trials or (
