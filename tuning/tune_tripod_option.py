@@ -125,11 +125,11 @@ GRID_EVIDENCE = ({'tripod_after': 0}, {'tripod_after': 0, 'tripod_bank': 'eviden
 #: Eleventh round (2026-11-25, latest): on a damage the robot reported and the bank models, the
 #: tripod's first cycle was still weighed at the commanded stride, so a goal with a dead coxa or
 #: femur began with a tripod cycle the bank already knew to be short (traced: lifted leg 1,
-#: reported, 5 of 10 goals left the tripod after that cycle). tripod_reported counts the report as evidence. The ninth
-#: round's protocol (ALL_KINDS_GOALS goals, ALL_KINDS_LIMIT, the tripod apart) on the kinds a
-#: report names and the bank models (KINDS_REPORTED), the damage reported; walked afresh on this
-#: machine into a folder of its own. Same rule; the tie-break is the median walking time of
-#: navigate's goals on those kinds.
+#: reported, 5 of 10 goals left the tripod after that cycle). tripod_reported counts the report
+#: as evidence. The ninth round's protocol (ALL_KINDS_GOALS goals, ALL_KINDS_LIMIT, the tripod
+#: apart) on the kinds a report names and the bank models (KINDS_REPORTED), the damage reported;
+#: walked afresh on this machine into a folder of its own. Same rule; the tie-break is the median
+#: walking time of navigate's goals on those kinds.
 GRID_REPORTED_TRIPOD = ({'tripod_reported': False}, {'tripod_reported': True})
 #: the grids walked the ninth round's way (ALL_KINDS_GOALS goals, ALL_KINDS_LIMIT, the tripod
 #: apart); the first two on every kind, sharing one folder, so a setting is walked once for both
