@@ -62,6 +62,7 @@ from hexapod_adapt.online.mboa import (
     TRIAL_BUDGET,
     TRIAL_SETTLE,
 )
+from hexapod_adapt.online.run_config import PROFILE_SETTINGS
 from hexapod_description.cli import (
     add_force,
     claim_outputs,
@@ -276,7 +277,7 @@ def _experiment(args: argparse.Namespace) -> int:
         archive = load_archive(args.archive or shipped_map(DEFAULT_MAP))
         chosen = {
             name: getattr(args, name)
-            for name in ('alpha', 'kappa', 'length_scale', 'noise', 'stop_gain')
+            for name in PROFILE_SETTINGS
             if getattr(args, name) is not None
         }
         budget = args.max_trials or (
