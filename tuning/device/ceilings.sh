@@ -24,9 +24,7 @@ case "${1:-}" in
     ;;
   run)
     # shellcheck disable=SC1091
-    source tuning/device/setup.sh
-    src="$PWD/.devrun/ceilsrc"
-    export PYTHONPATH="/tmp/site:$src/hexapod_adapt:$src/hexapod_sim:$src/hexapod_description:$src/hexapod_gait"
+    SRC="$PWD/.devrun/ceilsrc" source tuning/device/setup.sh
     python3 -c "import numpy, mujoco; print('numpy', numpy.__version__, 'mujoco', mujoco.__version__)"
     map="$PWD/hexapod_adapt/maps/default_map.npz"
     mkdir -p /tmp/check /tmp/ceil

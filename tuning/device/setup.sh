@@ -10,5 +10,6 @@ if [ ! -d /tmp/site/mujoco ]; then
   python3 -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --upgrade \
     --target /tmp/site .whl/*.whl
 fi
-export PYTHONPATH="/tmp/site:$PWD/hexapod_adapt:$PWD/hexapod_sim:$PWD/hexapod_description:$PWD/hexapod_gait:$PWD"
+src="${SRC:-$PWD}"  # the workspace's packages: this checkout, or SRC (e.g. an archived commit)
+export PYTHONPATH="/tmp/site:$src/hexapod_adapt:$src/hexapod_sim:$src/hexapod_description:$src/hexapod_gait:$src"
 export PYTHONUNBUFFERED=1 OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1
