@@ -6,7 +6,7 @@
 #   the one make_default_map.sh makes, and then_ceilings.sh beside it: the new map's ceilings
 #   start the moment it is written; once the map is written (kept in
 #   hexapod_adapt/maps/in_progress/, or shipped), its ceilings (resume_ceilings.sh: only the
-#   cases not cached yet);
+#   cases not cached yet), until the shipped cache holds them all;
 # (The ninth and tenth navigation tuning rounds, tuning/tune_all_kinds.sh, are done: every unit
 # is committed in tuning/navigation_all_kinds/, and running them again only reads them back.)
 # Before the session ends: bash scripts/save_progress.sh, then commit what it lists.
@@ -21,6 +21,9 @@ set -u
 # shellcheck disable=SC1091
 source scripts/map_progress.sh
 if [ "$(default_map_shipped)" = yes ] \
+  && [ "$(bash hexapod_adapt/maps/make_ceilings.sh --missing)" = 0 ]; then
+  echo "the default map and every one of its ceilings are shipped: nothing to resume"
+elif [ "$(default_map_shipped)" = yes ] \
   || [ "$(map_finished hexapod_adapt/maps/in_progress/default_map.npz)" = yes ]; then
   bash hexapod_adapt/maps/resume_ceilings.sh  # the finished map's (resume_ceilings.sh says which)
 else

@@ -192,14 +192,26 @@ def test_each_run_is_measured_against_the_maps_ceiling_under_its_damage(tmp_path
 
 
 @pytest.mark.slow
-def test_the_ceilings_command_caches_every_kind_of_damage_asked_for(tmp_path):
+def test_the_ceilings_command_caches_every_kind_of_damage_asked_for(tmp_path, capsys):
     from hexapod_adapt.online.ceilings_cli import main
 
     cache = tmp_path / 'ceilings'
     args = ['--archive', str(DEMO_MAP), '--scenarios', 'S2', '--cache-dir', str(cache)]
-    assert main([*args, '--damage-kind', 'locked', 'unpowered_femur', '--workers', '2']) == 0
+    kinds = ['--damage-kind', 'locked', 'unpowered_femur']
+    assert main([*args, *kinds, '--missing']) == 0  # computes nothing
+    assert capsys.readouterr().out.split() == ['6'] and not list(cache.glob('*.npz'))
+    assert main([*args, *kinds, '--workers', '2']) == 0
+    capsys.readouterr()
+    assert main([*args, *kinds, '--missing']) == 0
+    assert capsys.readouterr().out.split() == ['0']
+    # a damaged file is a lacking case
+    next(cache.glob('ceiling_mujoco_legs*.npz')).write_bytes(b'not a ceiling')
+    assert main([*args, *kinds, '--missing']) == 0
+    assert capsys.readouterr().out.split() == ['1']
     files = sorted(p.name for p in cache.glob('ceiling_mujoco_legs*.npz'))
     assert len(files) == 6  # S2's three leg pairs, two kinds
     assert sum('locked' in f for f in files) == 3 and sum('unpowered' in f for f in files) == 3
     with pytest.raises(SystemExit):  # argparse: an unknown kind is refused, naming the choices
         main([*args, '--damage-kind', 'melted'])
+    with pytest.raises(SystemExit):  # an approximation is never counted as a cached ceiling
+        main([*args, '--missing', '--top', '10'])

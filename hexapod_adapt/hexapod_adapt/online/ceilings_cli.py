@@ -24,6 +24,7 @@ Cache the ceilings of a map: every gait under each damage (:mod:`hexapod_adapt.o
     python -m hexapod_adapt.online.ceilings_cli --scenarios S1 S2 S3 S4 --engine mujoco --workers 2
     python -m hexapod_adapt.online.ceilings_cli --damage-kind locked weak --cache-dir DIR ...
     python -m hexapod_adapt.online.ceilings_cli --damage 1:locked,4:weak:0.3 --cache-dir DIR
+    python -m hexapod_adapt.online.ceilings_cli --damage-kind ... --cache-dir DIR --missing
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ import time
 
 from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
-from hexapod_adapt.online.ceiling import approximate_ceiling, ceiling
+from hexapod_adapt.online.ceiling import approximate_ceiling, cached_ceiling, ceiling
 from hexapod_description.cli import input_file, number, output_dir, run_command
 from hexapod_sim import ENGINES
 from hexapod_sim.damage import Damage, EXPERIMENT_KINDS, parse_damage
@@ -95,12 +96,21 @@ def build_parser() -> argparse.ArgumentParser:
         '--cache-dir', type=output_dir, required=True, help='where ceilings are cached'
     )
     ap.add_argument('--workers', type=number(int, 1, 256), default=1, help='worker processes')
+    ap.add_argument(
+        '--missing',
+        action='store_true',
+        help='compute nothing: print how many of the cases asked for the cache lacks (a file'
+        ' that is damaged or made for another map counts as lacking)',
+    )
     return ap
 
 
 def main(argv: list[str] | None = None) -> int:
     """Compute (or find in the cache) every ceiling asked for; one line per damage case."""
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.missing and args.top:
+        parser.error('--missing counts exact ceilings: leave out --top')
 
     def run() -> int:
         archive = load_archive(args.archive or shipped_map(DEFAULT_MAP))
@@ -115,6 +125,13 @@ def main(argv: list[str] | None = None) -> int:
             for legs in scenario(name)
         ]
         cases += [('-', damage) for damage in args.damage]
+        if args.missing:
+            lacking = sum(
+                cached_ceiling(archive, damage, args.engine, [args.cache_dir]) is None
+                for _, damage in cases
+            )
+            print(lacking)
+            return 0
         for name, damage in cases:
             t0 = time.monotonic()
             if args.top:
