@@ -477,8 +477,8 @@ def _bench_damage_kinds(archive, map_engine: str, cached, legs_all) -> None:
     Adaptation on every damage kind (issue 31): the default profile, blind and with the prior.
 
     Per kind K: adapt_beats_control_<K> (of the 21 S1-S4 cases), adapt_speed_mean_<K> and, where
-    the shipped cache holds the kind's 21 ceilings, adapt_ceiling_ratio_median_<K>; the same with
-    the damage-informed prior (suffix _prior), which needs those ceilings.
+    the shipped cache holds the kind's 21 ceilings, adapt_ceiling_ratio_median_<K> and _min_<K>;
+    the same with the damage-informed prior (suffix _prior), which needs those ceilings.
     """
     from hexapod_adapt.online.adaptation import run_experiment
     from hexapod_adapt.online.ceiling import cache_path, ceiling, ceiling_key
@@ -519,6 +519,7 @@ def _bench_damage_kinds(archive, map_engine: str, cached, legs_all) -> None:
             if have:
                 ratio = np.median([r.ratio for r in rows])
                 print(f'BENCH adapt_ceiling_ratio_median_{name} {ratio:.3f} 1')
+                print(f'BENCH adapt_ceiling_ratio_min_{name} {min(r.ratio for r in rows):.3f} 1')
 
 
 #: Across engines the ceiling is PyBullet over the gaits that walk best under the damage on MuJoCo.
