@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The default map's ceilings on the lent 16-core machine (the `device` tool), with the library
-# at the commit the ceilings are pinned to (hexapod_adapt/maps/in_progress/ceilings/COMMIT).
+# at the commit the ceilings are pinned to (hexapod_adapt/maps/in_progress/ceilings/COMMIT,
+# written by resume_ceilings.sh when a new map's ceilings start; the shipped ones were made at
+# 2031cb7: hexapod_adapt/maps/ceilings/README.md).
 #   bash tuning/device/pack.sh && bash tuning/device/ceilings.sh pack     # here
 #   BUDGET=430 KINDS='shortened no_tibia' bash tuning/device/ceilings.sh run   # there, as the
 #     command of a `run` that carries .whl and .devrun (the working tree must be under 64 MiB:
