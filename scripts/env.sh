@@ -16,6 +16,8 @@ export RMW_IMPLEMENTATION="${RMW_IMPLEMENTATION:-rmw_fastrtps_cpp}"
 if [ -z "${MUJOCO_GL:-}" ] && [ -z "${DISPLAY:-}" ]; then
   export MUJOCO_GL=osmesa PYOPENGL_PLATFORM=osmesa
 fi
+# shellcheck disable=SC1091
+source "$_ws/scripts/same_floats.sh"
 # Package directories at the repository root (hexapod_gait/, ...) would shadow the installed
 # Python packages of the same name when Python puts the current directory on sys.path.
 export PYTHONSAFEPATH=1

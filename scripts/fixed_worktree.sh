@@ -33,6 +33,9 @@ export HEXAPOD_VENV="$REPO/.venv"
 if [ "$(uname -m)" = x86_64 ]; then
   export OPENBLAS_CORETYPE=Haswell OPENBLAS_L2_SIZE=512
 fi
+# numpy's kernels too (a worktree pinned before this file existed has an env.sh without it)
+# shellcheck disable=SC1091
+source "$REPO/scripts/same_floats.sh"
 cd "$TREE"
 set +u  # the setup scripts read unset variables
 # shellcheck disable=SC1091
