@@ -233,7 +233,11 @@ def archive_gaits() -> int:
 
 
 def test_a_streaming_prior_starts_the_first_trial_before_the_re_score_ends(ros, launch, tmp_path):
-    """An uncached damage on the default map: the first trial after the top of the re-score."""
+    """
+    An uncached damage on the default map: the first trial after the top of the re-score.
+
+    Two dead servos on one leg: the shipped cache holds every S1-S4 case of one dead joint a leg.
+    """
     import re
     import time
 
@@ -247,7 +251,7 @@ def test_a_streaming_prior_starts_the_first_trial_before_the_re_score_ends(ros, 
         params={'record_dir': '', 'prior_cache_dir': str(tmp_path), 'prior_workers': 2},
     )
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
-    damage = SetLegFailure.Request(failed_legs=[3], kinds=['unpowered'], joints=['femur'])
+    damage = SetLegFailure.Request(failed_legs=[3], kinds=['unpowered'], joints=['femur+tibia'])
     assert ros.call(SetLegFailure, 'sim_node/set_leg_failure', damage).success
     t0 = time.monotonic()
     client = ros.node.create_client(Adapt, 'adapt')
@@ -258,7 +262,7 @@ def test_a_streaming_prior_starts_the_first_trial_before_the_re_score_ends(ros, 
     wait_for(future.done, 300, 'the run')
     response = future.result()
     print(f'first trial {first:.1f} s after the request; prior: {response.prior}')
-    assert 'under leg 3 unpowered femur' in response.prior and 'streaming' in response.prior
+    assert 'under leg 3 unpowered femur+tibia' in response.prior and 'streaming' in response.prior
     # at least the top 256; a chunk more when one finished between the wait and the snapshot
     # (CI, loaded: 320)
     best = re.search(r'streaming: the best (\d+) of (\d+) gaits', response.prior)
@@ -266,7 +270,9 @@ def test_a_streaming_prior_starts_the_first_trial_before_the_re_score_ends(ros, 
     assert 256 <= int(best.group(1)) < int(best.group(2)) == archive_gaits()
     # the first trial began while the re-score went on: it reports progress after the trial
     # (the whole is cached when it ends: hexapod_adapt/test/test_adapt_prior.py)
-    progress = re.compile(r're-scoring the map under leg 3 unpowered femur: (\d+)/(\d+) gaits')
+    progress = re.compile(
+        r're-scoring the map under leg 3 unpowered femur\+tibia: (\d+)/(\d+) gaits'
+    )
 
     def later_progress():  # beyond what the first prior held
         log = node.log()

@@ -111,6 +111,26 @@ def test_only_the_configured_bridge_is_believed_and_forget_drops_the_reports():
     assert known.for_run(None, False)[1] == 'the map as it is (no damage known)'
 
 
+def test_one_dead_servo_a_leg_in_any_s1_s4_case_has_a_shipped_ceiling():
+    """The bridge's reports on S1-S4 legs need no re-score: the default map's cache has them."""
+    from hexapod_adapt.mapping.maps import shipped_ceilings
+    from hexapod_adapt.online.ceiling import cached_ceiling
+    from hexapod_sim.scenarios import scenario
+
+    archive = load_archive(shipped_map(DEFAULT_MAP))
+    for name in ('S1', 'S2', 'S3', 'S4'):
+        for legs in scenario(name):
+            for joint in ('coxa', 'femur', 'tibia'):
+                known = KnownDamage()
+                for leg in legs:
+                    known.from_servo(100 + leg, leg, joint)  # the servo id plays no part
+                damage = known.servo_damage()
+                assert damage is not None
+                found = cached_ceiling(archive, damage, 'mujoco', [shipped_ceilings()])
+                assert found is not None, f'{damage.label}: no shipped ceiling'
+                assert found.damage == damage
+
+
 def test_the_simulators_damage_is_taken_and_a_request_that_differs_is_said():
     known = KnownDamage()
     assert known.from_sim([2, 5], ['locked', 'weak'], [1.0, 0.5]).endswith(
