@@ -20,10 +20,10 @@ source scripts/env.sh >/dev/null
 set -u
 # shellcheck disable=SC1091
 source scripts/map_progress.sh
-if [ "$(default_map_shipped)" = yes ] \
-  && [ "$(bash hexapod_adapt/maps/make_ceilings.sh --missing)" = 0 ]; then
+shipped="$(default_map_shipped)"
+if [ "$shipped" = yes ] && [ "$(bash hexapod_adapt/maps/make_ceilings.sh --missing)" = 0 ]; then
   echo "the default map and every one of its ceilings are shipped: nothing to resume"
-elif [ "$(default_map_shipped)" = yes ] \
+elif [ "$shipped" = yes ] \
   || [ "$(map_finished hexapod_adapt/maps/in_progress/default_map.npz)" = yes ]; then
   bash hexapod_adapt/maps/resume_ceilings.sh  # the finished map's (resume_ceilings.sh says which)
 else
