@@ -138,6 +138,10 @@ class NavigationConfig:
     #: (docs/studies/navigation.md, eleventh round: 8 of 8 cells either way, median goal 14.2 s
     #: against 14.7 s)
     tripod_reported: bool = True
+    #: with a damage bank: the default map's fastest gaits under each of the bank's damages
+    #: (and intact), as more steps (:mod:`hexapod_navigation.specialists`), when a file of them
+    #: measured under the bank's damages is given
+    specialists: bool = False
 
     def __post_init__(self) -> None:
         for name in (

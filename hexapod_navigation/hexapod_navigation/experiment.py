@@ -50,6 +50,7 @@ from hexapod_navigation.episode import NavigationResult, run_episode, SimBody
 from hexapod_navigation.planner import RepertoirePolicy
 from hexapod_navigation.policy import Policy
 from hexapod_navigation.repertoire import Repertoire
+from hexapod_navigation.specialists import extend, load_specialists
 from hexapod_navigation.step_bank import load_step_bank, StepBank
 from hexapod_navigation.tripod import SteeredTripod
 from hexapod_sim import create_simulator, scenario, SCENARIO_NAMES, SimConfig
@@ -91,6 +92,9 @@ class NavigationSettings:
     #: the policy is told each case's damage, as the robot's servo reports would tell it
     #: (NavigationConfig.prior_reported; only damage the bank models is favoured)
     reported: bool = False
+    #: gaits made for the bank's damages (hexapod_navigation.specialists), appended to the
+    #: repertoire and the bank as config.specialists says; None: none
+    specialists: Path | None = None
 
     def __post_init__(self) -> None:
         unknown = [m for m in self.methods if m not in METHODS]
@@ -158,6 +162,13 @@ def _case(
         bank, problem = load_step_bank(settings.bank, repertoire, repertoire.engine)
         if bank is None:
             raise ValueError(f'damage bank refused: {problem}')
+        if settings.specialists is not None and settings.config.specialists:
+            sp, problem = load_specialists(
+                settings.specialists, repertoire.engine, bank.damages, repertoire.step_duration
+            )
+            if sp is None:
+                raise ValueError(f'specialists refused: {problem}')
+            repertoire, bank = extend(repertoire, bank, sp)
         if settings.leave_out:
             bank = bank.without(damage)
     reported = damage if settings.reported else None

@@ -56,7 +56,8 @@ from hexapod_navigation.experiment import (
 )
 from hexapod_navigation.plots import plot_navigation_boxes, plot_navigation_paths
 from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
-from hexapod_navigation.step_bank import load_step_bank, shipped_step_bank
+from hexapod_navigation.specialists import shipped_specialists
+from hexapod_navigation.step_bank import load_navigation, load_step_bank, shipped_step_bank
 from hexapod_sim import ENGINES, SCENARIO_NAMES
 from hexapod_sim.damage import EXPERIMENT_KINDS
 
@@ -105,6 +106,19 @@ def build_parser() -> argparse.ArgumentParser:
         type=input_file,
         default=None,
         help="the bank (default: the shipped repertoire's, maps/navigation_bank.npz)",
+    )
+    ap.add_argument(
+        '--specialists',
+        choices=('default', 'on', 'off'),
+        default='default',
+        help="gaits made for the bank's damages as more steps (hexapod_navigation.specialists):"
+        " as NavigationConfig's specialists says, on or off (they need the bank)",
+    )
+    ap.add_argument(
+        '--specialists-file',
+        type=input_file,
+        default=None,
+        help='the specialists (default: the shipped ones, maps/navigation_specialists.npz)',
     )
     ap.add_argument(
         '--damage-kind',
@@ -162,6 +176,7 @@ def _run(args: argparse.Namespace) -> int:
             'signal_std_xy': args.signal_xy,
             'noise_std_xy': args.noise_xy,
             **({} if args.bank == 'default' else {'use_bank': args.bank != 'off'}),
+            **({} if args.specialists == 'default' else {'specialists': args.specialists == 'on'}),
         }
     )
     bank = args.bank_file or shipped_step_bank()
@@ -173,6 +188,16 @@ def _run(args: argparse.Namespace) -> int:
         if problem:  # as navigate_node does: learn without it, and say so
             print(f'run_navigation: no damage bank, the GP learns alone: {problem}', flush=True)
             config = replace(config, use_bank=False)
+    specialists = args.specialists_file or shipped_specialists()
+    if config.specialists:
+        data = load_navigation(path, bank, specialists)
+        problem = data.no_bank or data.no_specialists
+        if problem and args.specialists == 'on':
+            print(f'run_navigation: the specialists cannot be used: {problem}', file=sys.stderr)
+            return 2
+        if problem:
+            print(f'run_navigation: no specialists: {problem}', flush=True)
+            config = replace(config, specialists=False)
     settings = NavigationSettings(
         repertoire=path,
         engine=args.engine,
@@ -185,6 +210,7 @@ def _run(args: argparse.Namespace) -> int:
         leave_out=args.bank == 'leave-out',
         damage_kind=args.damage_kind,
         reported=args.reported,
+        specialists=specialists,
     )
     rows, paths = run_navigation(settings, workers=args.workers)
     print('scenario  method        goals  reached  median walking s  median efficiency')

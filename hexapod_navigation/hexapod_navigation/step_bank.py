@@ -183,7 +183,8 @@ def bank_key(repertoire: Repertoire, engine: str, damages: Sequence[Damage]) -> 
     }
 
 
-def _steps(args: tuple[str, Damage, float, np.ndarray]) -> np.ndarray:
+def step_table(args: tuple[str, Damage | None, float, np.ndarray]) -> np.ndarray:
+    """Play omni ``genes`` for one step of ``duration`` s each under ``damage``: (n, 3) moves."""
     engine, damage, duration, genes = args
     moves = evaluate_displacements(
         list(genes),
@@ -219,10 +220,10 @@ def compute_step_bank(
                 progress(len(done), len(jobs))
 
     if workers <= 1:
-        collect(map(_steps, jobs))
+        collect(map(step_table, jobs))
     else:
         with cf.ProcessPoolExecutor(workers, initializer=die_with_parent) as pool:
-            collect(pool.map(_steps, jobs))
+            collect(pool.map(step_table, jobs))
     steps = np.concatenate(done).reshape(len(damages), len(repertoire), 3)
     sim = worker_simulator(engine)  # a few seconds: 8 gaits, 2 cycles, per damage
     tripod = np.array([tripod_cycles(sim, d) for d in damages]).reshape(len(damages), 8, 3)
@@ -319,15 +320,37 @@ class NavigationData:
     bank: StepBank | None
     problem: str  # why there is no repertoire ('' if there is one)
     no_bank: str  # why there is no bank ('' if there is one)
+    specialists: int = 0  # steps of gaits made for a damage, appended to both
+    no_specialists: str = ''  # why there are none, when they were asked for
 
 
 def load_navigation(
-    repertoire_path: str | os.PathLike, bank_path: str | os.PathLike
+    repertoire_path: str | os.PathLike,
+    bank_path: str | os.PathLike,
+    specialists_path: str | os.PathLike | None = None,
 ) -> NavigationData:
-    """Load a repertoire and the damage bank made for it; a bad file is said, never raised."""
+    """
+    Load a repertoire and the damage bank made for it; a bad file is said, never raised.
+
+    ``specialists_path``: gaits made for the bank's damages
+    (:mod:`hexapod_navigation.specialists`), appended to the repertoire and the bank when they
+    were measured under the bank's damages; otherwise left out, and ``no_specialists`` says why.
+    """
+    from hexapod_navigation.specialists import extend, load_specialists
+
     try:
         repertoire = Repertoire.from_archive(load_archive(repertoire_path))
     except ArchiveError as exc:
         return NavigationData(None, None, f'no navigation repertoire: {exc}', '')
     bank, why = load_step_bank(bank_path, repertoire, repertoire.engine)
-    return NavigationData(repertoire, bank, '', why)
+    if specialists_path is None:
+        return NavigationData(repertoire, bank, '', why)
+    if bank is None:
+        return NavigationData(repertoire, bank, '', why, 0, 'no damage bank to weigh them with')
+    sp, no = load_specialists(
+        specialists_path, repertoire.engine, bank.damages, repertoire.step_duration
+    )
+    if sp is None:
+        return NavigationData(repertoire, bank, '', why, 0, no)
+    repertoire, bank = extend(repertoire, bank, sp)
+    return NavigationData(repertoire, bank, '', why, len(sp))

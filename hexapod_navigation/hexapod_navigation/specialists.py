@@ -1,0 +1,268 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Gaits made for a damage, as extra navigation steps (issue 31: lifted legs walk too slowly).
+
+The navigation repertoire's steps are omnidirectional gaits chosen on the intact robot; under a
+lifted leg its best step toward a goal makes 0.07-0.23 m/s, while the default adaptation map's
+fastest gait under that same damage walks 0.44-0.55 m/s in its own direction
+(``tuning/navigation_bound.txt``). The specialists are such gaits: for the intact robot and each
+damage of the navigation bank, the map's fastest gait under it (its shipped ceiling; intact, its
+fitness) among those that keep ``min_stance_legs`` feet down throughout, as the repertoire's
+steps must. Each is played at its own crab angle and the reverse one, with each of
+:data:`TURN_RATES` (arcs), where its feet can follow those paths.
+
+They are measured like the bank (one step from rest, collisions not fatal) intact and under each
+of the bank's damages, and :func:`extend` appends them to the repertoire and its bank: the
+correction and the planner then treat them as any other step. The file is keyed like a bank
+(:func:`hexapod_navigation.step_bank.bank_key` of the specialists' genes): one made for other
+damages, another engine or URDF is refused with the reason.
+
+``python -m hexapod_navigation.specialists_cli`` makes them
+(``maps/make_navigation_specialists.sh``).
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+from dataclasses import dataclass, replace
+import hashlib
+import io
+import json
+import math
+import os
+from pathlib import Path
+from typing import Callable, Sequence
+
+from hexapod_adapt.mapping.archive import Archive, atomic_write_bytes
+from hexapod_adapt.mapping.maps import shipped_map
+from hexapod_adapt.mapping.steps import gait_min_stance
+from hexapod_adapt.online.ceiling import cached_ceiling, map_digest
+from hexapod_description.npz import float_array, json_array, read_npz, UnreadableFile
+from hexapod_description.processes import die_with_parent
+from hexapod_gait.parameters import from_genotype, to_omni_genotype
+from hexapod_navigation.repertoire import PACKAGE, Repertoire
+from hexapod_navigation.step_bank import bank_key, step_table, StepBank
+from hexapod_sim.damage import Damage
+import numpy as np
+
+FORMAT = 'hexapod-nav-specialists/v1'
+NAVIGATION_SPECIALISTS = 'navigation_specialists.npz'
+#: rad/s: each specialist is played straight and along these arcs
+TURN_RATES = (-0.5, -0.25, 0.0, 0.25, 0.5)
+
+
+@dataclass(frozen=True)
+class Specialists:
+    """Gaits made for a damage: ``steps[h, i]`` = one step (dx, dy, dyaw) under ``damages[h]``."""
+
+    genotypes: np.ndarray  # (k, 34): omni genotypes
+    intact: np.ndarray  # (k, 3): one step on the intact robot
+    steps: np.ndarray  # (h, k, 3)
+    damages: tuple[Damage, ...]
+    step_duration: float
+
+    def __len__(self) -> int:
+        return len(self.genotypes)
+
+    def repertoire(self, engine: str) -> Repertoire:
+        """Return the specialists alone, as navigation steps (niche -1: they are in no map)."""
+        return Repertoire(
+            np.full(len(self), -1),
+            self.intact[:, :2],
+            np.abs(self.intact[:, 2]),
+            self.genotypes,
+            self.step_duration,
+            'specialists',
+            engine,
+        )
+
+
+def source_gaits(
+    archive: Archive,
+    damages: Sequence[Damage],
+    engine: str,
+    ceiling_dirs: Sequence[str | os.PathLike],
+    min_stance_legs: int,
+) -> list[int]:
+    """
+    Return the niches of the map's fastest gait intact and under each damage (each once).
+
+    Only gaits with at least ``min_stance_legs`` feet down throughout count. ValueError names a
+    damage whose ceiling no directory in ``ceiling_dirs`` holds.
+    """
+    elites = archive.elite_indices()
+    stable = {
+        int(n)
+        for n in elites
+        if gait_min_stance(from_genotype(archive.genotypes[n])) >= min_stance_legs
+    }
+    if not stable:
+        raise ValueError(f'no gait of the map keeps {min_stance_legs} feet down throughout')
+    ok = np.array([int(n) in stable for n in elites])
+    niches = [int(elites[ok][np.argmax(archive.fitness[elites[ok]])])]
+    for damage in damages:
+        ceiling = cached_ceiling(archive, damage, engine, ceiling_dirs)
+        if ceiling is None:
+            raise ValueError(
+                f'no ceiling of the map under {damage.label} in'
+                f' {", ".join(map(str, ceiling_dirs))} (hexapod_adapt/maps/make_ceilings.sh)'
+            )
+        fits = np.array([int(n) in stable for n in ceiling.niches])
+        niches.append(int(ceiling.niches[np.argmax(np.where(fits, ceiling.speeds, -np.inf))]))
+    return list(dict.fromkeys(niches))
+
+
+def variants(archive: Archive, niches: Sequence[int]) -> np.ndarray:
+    """Return each gait at its own and the reverse crab angle, with each turn rate (omni genes)."""
+    out = []
+    for n in niches:
+        gait = from_genotype(archive.genotypes[n])
+        for reverse in (0.0, math.pi):
+            angle = (gait.crab_angle + reverse + math.pi) % (2 * math.pi) - math.pi
+            for turn in TURN_RATES:
+                out.append(to_omni_genotype(replace(gait, crab_angle=angle, turn_rate=turn)))
+    return np.array(out)
+
+
+def compute_specialists(
+    archive: Archive,
+    damages: Sequence[Damage],
+    engine: str,
+    step_duration: float,
+    ceiling_dirs: Sequence[str | os.PathLike],
+    min_stance_legs: int = 3,
+    workers: int = 1,
+    progress: Callable[[int, int], None] | None = None,
+) -> Specialists:
+    """Choose the specialists and play each for one step intact and under each damage."""
+    genes = variants(
+        archive, source_gaits(archive, damages, engine, ceiling_dirs, min_stance_legs)
+    )
+    intact = step_table((engine, None, step_duration, genes))
+    reachable = np.any(intact != 0.0, axis=1)  # a gait its feet cannot follow does not move
+    genes, intact = genes[reachable], intact[reachable]
+    jobs = [(engine, d, step_duration, genes) for d in damages]
+    done: list[np.ndarray] = []
+    if workers <= 1:
+        results = map(step_table, jobs)
+    else:
+        pool = cf.ProcessPoolExecutor(workers, initializer=die_with_parent)
+        results = pool.map(step_table, jobs)
+    try:
+        for out in results:
+            done.append(out)
+            if progress is not None:
+                progress(len(done), len(jobs))
+    finally:
+        if workers > 1:
+            pool.shutdown()
+    steps = np.stack(done) if done else np.zeros((0, len(genes), 3))
+    return Specialists(genes, intact, steps, tuple(damages), step_duration)
+
+
+def specialists_key(sp: Specialists, engine: str) -> dict:
+    """Return everything the specialists' steps depend on (the bank's key of their genes)."""
+    return {'format': FORMAT, 'steps': bank_key(sp.repertoire(engine), engine, sp.damages)}
+
+
+def save_specialists(
+    path: str | os.PathLike, sp: Specialists, engine: str, archive: Archive, min_stance_legs: int
+) -> None:
+    """Write ``sp`` to ``path`` atomically, with its key and where it came from."""
+    source = {
+        'map_sha256': map_digest(archive),
+        'min_stance_legs': min_stance_legs,
+        'turn_rates': list(TURN_RATES),
+    }
+    buf = io.BytesIO()
+    np.savez_compressed(
+        buf,
+        key=np.array(json.dumps(specialists_key(sp, engine), sort_keys=True)),
+        source=np.array(json.dumps(source, sort_keys=True)),
+        genotypes=sp.genotypes,
+        intact=sp.intact,
+        steps=sp.steps,
+    )
+    atomic_write_bytes(Path(path), buf.getvalue())
+
+
+def load_specialists(
+    path: str | os.PathLike, engine: str, damages: Sequence[Damage], step_duration: float
+) -> tuple[Specialists | None, str]:
+    """Return (the specialists in ``path``, '') if they fit these damages, else (None, why)."""
+    try:
+        data = read_npz(path, ('key', 'genotypes', 'intact', 'steps'))
+        stored = json_array(data['key'], f'{path}: the key')
+        genes, intact, steps = (
+            float_array(data[name], f'{path}: {name}') for name in ('genotypes', 'intact', 'steps')
+        )
+    except FileNotFoundError:
+        return None, f'no specialists at {path}'
+    except UnreadableFile as exc:
+        return None, f'not a readable specialists file: {exc}'
+    k = len(genes)
+    if (
+        genes.ndim != 2
+        or intact.shape != (k, 3)
+        or steps.shape != (len(damages), k, 3)
+        or not all(np.all(np.isfinite(a)) for a in (genes, intact, steps))
+        or not np.all((genes >= 0.0) & (genes <= 1.0))
+    ):
+        return None, (
+            f'{path} holds genotypes {genes.shape}, steps {steps.shape}: not finite specialists'
+            f' for {len(damages)} damages'
+        )
+    sp = Specialists(genes, intact, steps, tuple(damages), step_duration)
+    key = specialists_key(sp, engine)
+    if stored != key:
+        inner = stored.get('steps') if isinstance(stored, dict) else None
+        differ = sorted(
+            n
+            for n in key['steps']
+            if not isinstance(inner, dict) or inner.get(n) != key['steps'][n]
+        )
+        what = ', '.join(differ) if differ else 'format'
+        return None, f'{path} was made for another {what}'
+    return sp, ''
+
+
+def extend(repertoire: Repertoire, bank: StepBank, sp: Specialists) -> tuple[Repertoire, StepBank]:
+    """Return the repertoire and its bank with the specialists appended as more steps."""
+    if sp.damages != bank.damages or sp.step_duration != repertoire.step_duration:
+        raise ValueError('the specialists were measured under other damages or step duration')
+    genes = hashlib.sha256(np.ascontiguousarray(sp.genotypes, dtype='<f8').tobytes()).hexdigest()
+    joined = Repertoire(
+        np.concatenate([repertoire.niches, np.full(len(sp), -1)]),
+        np.concatenate([repertoire.moves, sp.intact[:, :2]]),
+        np.concatenate([repertoire.heading_error, np.abs(sp.intact[:, 2])]),
+        np.concatenate([repertoire.genotypes, sp.genotypes]),
+        repertoire.step_duration,
+        f'{repertoire.digest}+{genes[:8]}',
+        repertoire.engine,
+    )
+    steps = np.concatenate([bank.steps, sp.steps], axis=1)
+    return joined, StepBank(bank.damages, steps, bank.tripod, bank.intact_tripod)
+
+
+def shipped_specialists() -> Path:
+    """Return where the shipped repertoire's specialists are (installed, else the source tree)."""
+    return shipped_map(NAVIGATION_SPECIALISTS, PACKAGE)

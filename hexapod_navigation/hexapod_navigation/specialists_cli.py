@@ -1,0 +1,114 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+r"""
+Choose and measure the gaits made for a damage (:mod:`hexapod_navigation.specialists`).
+
+    python -m hexapod_navigation.specialists_cli \\
+        --out hexapod_navigation/maps/navigation_specialists.npz --workers 2
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+
+from hexapod_adapt.mapping.archive import load_archive
+from hexapod_adapt.mapping.maps import shipped_ceilings, shipped_map
+from hexapod_description.cli import (
+    add_force,
+    claim_outputs,
+    FORCE_HINT,
+    input_file,
+    number,
+    output_file,
+    run_command,
+)
+from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
+from hexapod_navigation.specialists import compute_specialists, save_specialists
+from hexapod_navigation.step_bank import load_step_bank, shipped_step_bank
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Compute the specialists of a map for a repertoire's bank and write them."""
+    ap = argparse.ArgumentParser(
+        prog='specialists',
+        description="Choose the map's fastest gait under each of the bank's damages and measure"
+        ' it as navigation steps.',
+    )
+    ap.add_argument(
+        '--map', type=input_file, default=None, help='adaptation map (default: the shipped one)'
+    )
+    ap.add_argument(
+        '--ceilings',
+        type=input_file,
+        default=None,
+        help="the map's ceilings folder (default: the shipped one)",
+    )
+    ap.add_argument('--repertoire', type=input_file, default=None, help='default: the shipped one')
+    ap.add_argument(
+        '--bank', type=input_file, default=None, help="the repertoire's bank (default: shipped)"
+    )
+    ap.add_argument(
+        '--min-stance-legs',
+        type=number(int, 0, 6),
+        default=3,
+        help='only gaits with this many feet down throughout (the repertoire rule)',
+    )
+    ap.add_argument('--out', type=output_file, required=True, help='the file (.npz)')
+    ap.add_argument('--workers', type=number(int, 1, 256), default=1)
+    add_force(ap)
+    args = ap.parse_args(argv)
+
+    def run() -> int:
+        claim_outputs([args.out], args.force, FORCE_HINT)
+        archive = load_archive(args.map or shipped_map())
+        repertoire = Repertoire.from_archive(load_archive(args.repertoire or shipped_repertoire()))
+        bank, problem = load_step_bank(
+            args.bank or shipped_step_bank(), repertoire, repertoire.engine
+        )
+        if bank is None:
+            print(f'specialists: {problem}', file=sys.stderr)
+            return 2
+        t0 = time.monotonic()
+
+        def progress(done: int, total: int) -> None:
+            print(f'{done}/{total} damages, {time.monotonic() - t0:.0f} s', flush=True)
+
+        sp = compute_specialists(
+            archive,
+            bank.damages,
+            repertoire.engine,
+            repertoire.step_duration,
+            [args.ceilings or shipped_ceilings()],
+            args.min_stance_legs,
+            args.workers,
+            progress,
+        )
+        save_specialists(args.out, sp, repertoire.engine, archive, args.min_stance_legs)
+        print(f'wrote {args.out}: {len(sp)} steps x {len(bank)} damages', flush=True)
+        return 0
+
+    return run_command('specialists', run, 'nothing was written; run it again')
+
+
+if __name__ == '__main__':
+    sys.exit(main())
