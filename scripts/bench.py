@@ -602,6 +602,7 @@ def bench_navigate() -> None:
         versus_tripod,
     )
     from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
+    from hexapod_navigation.specialists import shipped_specialists
     from hexapod_navigation.step_bank import shipped_step_bank
     from hexapod_sim import create_simulator
     from hexapod_sim.damage import EXPERIMENT_KINDS
@@ -614,6 +615,7 @@ def bench_navigate() -> None:
             methods=methods,
             bank=shipped_step_bank(),
             leave_out=leave_out,
+            specialists=shipped_specialists(),
         )
         rows, _ = run_navigation(settings, workers=2)
         for s in summarise(rows):
@@ -639,6 +641,7 @@ def bench_navigate() -> None:
             methods=('repertoire', 'tripod'),
             bank=shipped_step_bank(),
             damage_kind=kind,
+            specialists=shipped_specialists(),
         )
         for v in versus_tripod(run_navigation(settings, workers=2)[0]):
             name = f'{v.scenario}_{kind}'

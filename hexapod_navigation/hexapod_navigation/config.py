@@ -142,6 +142,10 @@ class NavigationConfig:
     #: (and intact), as more steps (:mod:`hexapod_navigation.specialists`), when a file of them
     #: measured under the bank's damages is given
     specialists: bool = False
+    #: rad: only specialists whose step from rest ends no more tilted (roll or pitch) than this
+    #: under every damage of the bank (pi: all). A gait made for one damage can tip the robot
+    #: over under another
+    specialist_max_tilt: float = math.pi
 
     def __post_init__(self) -> None:
         for name in (
@@ -157,6 +161,9 @@ class NavigationConfig:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f'{name} must be a positive finite number, got {value!r}')
+        tilt = self.specialist_max_tilt
+        if not (isinstance(tilt, (int, float)) and 0.0 < tilt <= math.pi):
+            raise ValueError(f'specialist_max_tilt must be in (0, pi] rad, got {tilt!r}')
         for name in ('optimism', 'linear_std', 'unknown_optimism'):
             w = getattr(self, name)
             if not (isinstance(w, (int, float)) and math.isfinite(w) and w >= 0):

@@ -168,7 +168,9 @@ def _case(
             )
             if sp is None:
                 raise ValueError(f'specialists refused: {problem}')
-            repertoire, bank = extend(repertoire, bank, sp)
+            repertoire, bank = extend(
+                repertoire, bank, sp.stable(settings.config.specialist_max_tilt)
+            )
         if settings.leave_out:
             bank = bank.without(damage)
     reported = damage if settings.reported else None

@@ -88,6 +88,7 @@ from hexapod_navigation.episode import BodyFailure, Feedback, Outcome, run_episo
 from hexapod_navigation.goal_turns import GoalTurns
 from hexapod_navigation.planner import RepertoirePolicy
 from hexapod_navigation.repertoire import shipped_repertoire
+from hexapod_navigation.specialists import shipped_specialists
 from hexapod_navigation.step_bank import load_navigation, reported_note, shipped_step_bank
 from hexapod_sim.damage import Damage
 from nav_msgs.msg import Odometry
@@ -121,9 +122,12 @@ class NavigateNode(Node):
             raise ValueError(problem)
         self.mode = values['mode']
         self.config = settings.navigation_config(values)  # ValueError names a bad setting
+        use_specialists = self.config.use_bank and self.config.specialists
         data = load_navigation(
             values['repertoire'] or shipped_repertoire(),
             values['bank_file'] or shipped_step_bank(),
+            (values['specialists_file'] or shipped_specialists()) if use_specialists else None,
+            self.config.specialist_max_tilt,
         )
         self.repertoire, self.problem = data.repertoire, data.problem
         self.bank = data.bank  # the damage hypotheses
@@ -131,6 +135,10 @@ class NavigateNode(Node):
             self.get_logger().info(f'damage bank: {len(data.bank)} damage hypotheses')
         elif self.repertoire is not None and self.config.use_bank:
             self.get_logger().warning(f'no damage bank, the GP learns alone: {data.no_bank}')
+        if data.specialists:
+            self.get_logger().info(f'{data.specialists} steps of gaits made for a damage')
+        elif self.repertoire is not None and use_specialists:
+            self.get_logger().warning(f'no gaits made for a damage: {data.no_specialists}')
         self.known = KnownDamage()  # robot mode: the bridge's servo reports
         self.named: Damage | None = None  # the operator's word (~/set_known_damage)
         self.reports_changed = False  # a report came since the policy was made

@@ -57,6 +57,13 @@ SETTINGS = (
         ' true; empty = the shipped one (it fits the shipped repertoire only)',
         read_only=True,
     ),
+    Setting(
+        'specialists_file',
+        '',
+        "gaits made for the bank's damages (hexapod_navigation.specialists), used when"
+        ' specialists is true; empty = the shipped ones (they fit the shipped bank only)',
+        read_only=True,
+    ),
     Setting('pose_topic', '', 'external pose source; empty = odom', read_only=True),
     Setting(
         'pose_type',

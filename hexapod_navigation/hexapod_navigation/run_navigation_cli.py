@@ -190,7 +190,7 @@ def _run(args: argparse.Namespace) -> int:
             config = replace(config, use_bank=False)
     specialists = args.specialists_file or shipped_specialists()
     if config.specialists:
-        data = load_navigation(path, bank, specialists)
+        data = load_navigation(path, bank, specialists, config.specialist_max_tilt)
         problem = data.no_bank or data.no_specialists
         if problem and args.specialists == 'on':
             print(f'run_navigation: the specialists cannot be used: {problem}', file=sys.stderr)

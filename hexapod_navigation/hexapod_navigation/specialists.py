@@ -44,6 +44,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 from dataclasses import dataclass, replace
+from functools import partial
 import hashlib
 import io
 import json
@@ -64,7 +65,7 @@ from hexapod_navigation.step_bank import bank_key, step_table, StepBank
 from hexapod_sim.damage import Damage
 import numpy as np
 
-FORMAT = 'hexapod-nav-specialists/v1'
+FORMAT = 'hexapod-nav-specialists/v2'  # v2: each step's tilt
 NAVIGATION_SPECIALISTS = 'navigation_specialists.npz'
 #: rad/s: each specialist is played straight and along these arcs
 TURN_RATES = (-0.5, -0.25, 0.0, 0.25, 0.5)
@@ -79,6 +80,19 @@ class Specialists:
     steps: np.ndarray  # (h, k, 3)
     damages: tuple[Damage, ...]
     step_duration: float
+    tilt: np.ndarray  # (h, k) rad: the larger of |roll| and |pitch| at the step's end
+
+    def stable(self, max_tilt: float) -> Specialists:
+        """Return those whose step ends tilted at most ``max_tilt`` rad under every damage."""
+        keep = np.all(self.tilt <= max_tilt, axis=0)
+        return Specialists(
+            self.genotypes[keep],
+            self.intact[keep],
+            self.steps[:, keep],
+            self.damages,
+            self.step_duration,
+            self.tilt[:, keep],
+        )
 
     def __len__(self) -> int:
         return len(self.genotypes)
@@ -143,6 +157,10 @@ def variants(archive: Archive, niches: Sequence[int]) -> np.ndarray:
     return np.array(out)
 
 
+#: one step of each gene under a damage, with its end tilt: (n, 4)
+_measure = partial(step_table, tilt=True)
+
+
 def compute_specialists(
     archive: Archive,
     damages: Sequence[Damage],
@@ -157,16 +175,16 @@ def compute_specialists(
     genes = variants(
         archive, source_gaits(archive, damages, engine, ceiling_dirs, min_stance_legs)
     )
-    intact = step_table((engine, None, step_duration, genes))
+    intact = _measure((engine, None, step_duration, genes))[:, :3]
     reachable = np.any(intact != 0.0, axis=1)  # a gait its feet cannot follow does not move
     genes, intact = genes[reachable], intact[reachable]
     jobs = [(engine, d, step_duration, genes) for d in damages]
     done: list[np.ndarray] = []
     if workers <= 1:
-        results = map(step_table, jobs)
+        results = map(_measure, jobs)
     else:
         pool = cf.ProcessPoolExecutor(workers, initializer=die_with_parent)
-        results = pool.map(step_table, jobs)
+        results = pool.map(_measure, jobs)
     try:
         for out in results:
             done.append(out)
@@ -175,8 +193,8 @@ def compute_specialists(
     finally:
         if workers > 1:
             pool.shutdown()
-    steps = np.stack(done) if done else np.zeros((0, len(genes), 3))
-    return Specialists(genes, intact, steps, tuple(damages), step_duration)
+    table = np.stack(done) if done else np.zeros((0, len(genes), 4))
+    return Specialists(genes, intact, table[..., :3], tuple(damages), step_duration, table[..., 3])
 
 
 def specialists_key(sp: Specialists, engine: str) -> dict:
@@ -201,6 +219,7 @@ def save_specialists(
         genotypes=sp.genotypes,
         intact=sp.intact,
         steps=sp.steps,
+        tilt=sp.tilt,
     )
     atomic_write_bytes(Path(path), buf.getvalue())
 
@@ -210,10 +229,11 @@ def load_specialists(
 ) -> tuple[Specialists | None, str]:
     """Return (the specialists in ``path``, '') if they fit these damages, else (None, why)."""
     try:
-        data = read_npz(path, ('key', 'genotypes', 'intact', 'steps'))
+        data = read_npz(path, ('key', 'genotypes', 'intact', 'steps', 'tilt'))
         stored = json_array(data['key'], f'{path}: the key')
-        genes, intact, steps = (
-            float_array(data[name], f'{path}: {name}') for name in ('genotypes', 'intact', 'steps')
+        genes, intact, steps, tilt = (
+            float_array(data[name], f'{path}: {name}')
+            for name in ('genotypes', 'intact', 'steps', 'tilt')
         )
     except FileNotFoundError:
         return None, f'no specialists at {path}'
@@ -224,14 +244,15 @@ def load_specialists(
         genes.ndim != 2
         or intact.shape != (k, 3)
         or steps.shape != (len(damages), k, 3)
-        or not all(np.all(np.isfinite(a)) for a in (genes, intact, steps))
+        or tilt.shape != (len(damages), k)
+        or not all(np.all(np.isfinite(a)) for a in (genes, intact, steps, tilt))
         or not np.all((genes >= 0.0) & (genes <= 1.0))
     ):
         return None, (
             f'{path} holds genotypes {genes.shape}, steps {steps.shape}: not finite specialists'
             f' for {len(damages)} damages'
         )
-    sp = Specialists(genes, intact, steps, tuple(damages), step_duration)
+    sp = Specialists(genes, intact, steps, tuple(damages), step_duration, tilt)
     key = specialists_key(sp, engine)
     if stored != key:
         inner = stored.get('steps') if isinstance(stored, dict) else None

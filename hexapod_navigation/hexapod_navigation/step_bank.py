@@ -183,8 +183,14 @@ def bank_key(repertoire: Repertoire, engine: str, damages: Sequence[Damage]) -> 
     }
 
 
-def step_table(args: tuple[str, Damage | None, float, np.ndarray]) -> np.ndarray:
-    """Play omni ``genes`` for one step of ``duration`` s each under ``damage``: (n, 3) moves."""
+def step_table(
+    args: tuple[str, Damage | None, float, np.ndarray], tilt: bool = False
+) -> np.ndarray:
+    """
+    Play omni ``genes`` for one step of ``duration`` s each under ``damage``: (n, 3) moves.
+
+    ``tilt``: (n, 4), each step's end tilt (:attr:`hexapod_sim.evaluation.Displacement.tilt`) last.
+    """
     engine, damage, duration, genes = args
     moves = evaluate_displacements(
         list(genes),
@@ -194,7 +200,8 @@ def step_table(args: tuple[str, Damage | None, float, np.ndarray]) -> np.ndarray
         failed_legs=damage,
         decode=from_omni_genotype,
     )
-    return np.array([(m.x, m.y, m.yaw) for m in moves], dtype=float).reshape(-1, 3)
+    rows = [(m.x, m.y, m.yaw, m.tilt) if tilt else (m.x, m.y, m.yaw) for m in moves]
+    return np.array(rows, dtype=float).reshape(-1, 4 if tilt else 3)
 
 
 def compute_step_bank(
@@ -328,13 +335,15 @@ def load_navigation(
     repertoire_path: str | os.PathLike,
     bank_path: str | os.PathLike,
     specialists_path: str | os.PathLike | None = None,
+    max_tilt: float = np.pi,
 ) -> NavigationData:
     """
     Load a repertoire and the damage bank made for it; a bad file is said, never raised.
 
     ``specialists_path``: gaits made for the bank's damages
     (:mod:`hexapod_navigation.specialists`), appended to the repertoire and the bank when they
-    were measured under the bank's damages; otherwise left out, and ``no_specialists`` says why.
+    were measured under the bank's damages (those whose step ends tilted by at most ``max_tilt``
+    rad under each); otherwise left out, and ``no_specialists`` says why.
     """
     from hexapod_navigation.specialists import extend, load_specialists
 
@@ -352,5 +361,6 @@ def load_navigation(
     )
     if sp is None:
         return NavigationData(repertoire, bank, '', why, 0, no)
+    sp = sp.stable(max_tilt)
     repertoire, bank = extend(repertoire, bank, sp)
     return NavigationData(repertoire, bank, '', why, len(sp))

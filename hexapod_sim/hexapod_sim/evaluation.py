@@ -195,6 +195,7 @@ class Displacement:
     reason: str  # why it is invalid; empty if valid
     duration: float  # simulated seconds
     collision_steps: int = 0
+    tilt: float = 0.0  # rad: the larger of |roll| and |pitch| at the end
 
 
 def evaluate_displacements(
@@ -218,7 +219,7 @@ def evaluate_displacements(
             out.append(Displacement(0.0, 0.0, 0.0, False, p.reason, duration))
             continue
         r = p.play
-        yaw = quat_to_euler(r.final_orientation)[2]
+        roll, pitch, yaw = quat_to_euler(r.final_orientation)
         out.append(
             Displacement(
                 float(r.final_position[0]),
@@ -228,6 +229,7 @@ def evaluate_displacements(
                 '',
                 duration,
                 r.collision_steps,
+                float(max(abs(roll), abs(pitch))),
             )
         )
     return out
