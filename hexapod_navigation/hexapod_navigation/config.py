@@ -140,7 +140,10 @@ class NavigationConfig:
     tripod_reported: bool = True
     #: with a damage bank: the default map's fastest gaits under each of the bank's damages
     #: (and intact), as more steps (:mod:`hexapod_navigation.specialists`), when a file of them
-    #: measured under the bank's damages is given
+    #: measured under the bank's damages is given. Off: on the tuning goals of all eight kinds
+    #: they brought the lifted legs from 1.69 to 1.39x the intact time but lost goals to
+    #: tip-overs on damage the bank lacks, 28-30 of 32 cells against off's 32
+    #: (docs/studies/navigation.md, twelfth round)
     specialists: bool = False
     #: rad: only specialists whose step from rest ends no more tilted (roll or pitch) than this
     #: under every damage of the bank (pi: all). A gait made for one damage can tip the robot
