@@ -64,8 +64,9 @@ def bound(out) -> None:
     from hexapod_gait.trajectory import POSE_TRANSITION_S
     from hexapod_navigation.config import NavigationConfig
     from hexapod_navigation.experiment import draw_goals
+    from hexapod_navigation.loading import load_navigation
     from hexapod_navigation.repertoire import shipped_repertoire
-    from hexapod_navigation.step_bank import load_navigation, shipped_step_bank
+    from hexapod_navigation.step_bank import shipped_step_bank
     from hexapod_navigation.tripod import TripodSteps
 
     data = load_navigation(shipped_repertoire(), shipped_step_bank())
@@ -159,8 +160,9 @@ def specialists(out) -> None:
     from hexapod_adapt.online.ceiling import cached_ceiling
     from hexapod_gait.parameters import from_genotype, from_omni_genotype, to_omni_genotype
     from hexapod_navigation.config import NavigationConfig
+    from hexapod_navigation.loading import load_navigation
     from hexapod_navigation.repertoire import shipped_repertoire
-    from hexapod_navigation.step_bank import load_navigation, shipped_step_bank
+    from hexapod_navigation.step_bank import shipped_step_bank
     from hexapod_sim.evaluation import evaluate_displacements
 
     data = load_navigation(shipped_repertoire(), shipped_step_bank())

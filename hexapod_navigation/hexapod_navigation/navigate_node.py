@@ -86,10 +86,11 @@ from hexapod_navigation.bodies import PoseLog, RobotGraphBody, SimGraphBody
 from hexapod_navigation.config import goal_problem
 from hexapod_navigation.episode import BodyFailure, Feedback, Outcome, run_episode
 from hexapod_navigation.goal_turns import GoalTurns
+from hexapod_navigation.loading import load_navigation
 from hexapod_navigation.planner import RepertoirePolicy
 from hexapod_navigation.repertoire import shipped_repertoire
 from hexapod_navigation.specialists import shipped_specialists
-from hexapod_navigation.step_bank import load_navigation, reported_note, shipped_step_bank
+from hexapod_navigation.step_bank import reported_note, shipped_step_bank
 from hexapod_sim.damage import Damage
 from nav_msgs.msg import Odometry
 import rclpy

@@ -54,10 +54,11 @@ from hexapod_navigation.experiment import (
     summarise,
     write_results,
 )
+from hexapod_navigation.loading import load_navigation
 from hexapod_navigation.plots import plot_navigation_boxes, plot_navigation_paths
 from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
 from hexapod_navigation.specialists import shipped_specialists
-from hexapod_navigation.step_bank import load_navigation, load_step_bank, shipped_step_bank
+from hexapod_navigation.step_bank import load_step_bank, shipped_step_bank
 from hexapod_sim import ENGINES, SCENARIO_NAMES
 from hexapod_sim.damage import EXPERIMENT_KINDS
 

@@ -51,7 +51,7 @@ import os
 from pathlib import Path
 from typing import Callable, Sequence
 
-from hexapod_adapt.mapping.archive import ArchiveError, atomic_write_bytes, load_archive
+from hexapod_adapt.mapping.archive import atomic_write_bytes
 from hexapod_adapt.mapping.maps import shipped_map
 from hexapod_adapt.mapping.simulation import worker_simulator
 from hexapod_adapt.mapping.steps import repertoire_fingerprint
@@ -317,50 +317,3 @@ def reported_note(bank: StepBank | None, damage: Damage | None, share: float) ->
 def shipped_step_bank() -> Path:
     """Return where the shipped repertoire's bank is (installed, else the source tree)."""
     return shipped_map(NAVIGATION_BANK, PACKAGE)
-
-
-@dataclass(frozen=True)
-class NavigationData:
-    """A repertoire and its damage bank as loaded, with why either is missing."""
-
-    repertoire: Repertoire | None
-    bank: StepBank | None
-    problem: str  # why there is no repertoire ('' if there is one)
-    no_bank: str  # why there is no bank ('' if there is one)
-    specialists: int = 0  # steps of gaits made for a damage, appended to both
-    no_specialists: str = ''  # why there are none, when they were asked for
-
-
-def load_navigation(
-    repertoire_path: str | os.PathLike,
-    bank_path: str | os.PathLike,
-    specialists_path: str | os.PathLike | None = None,
-    max_tilt: float = np.pi,
-) -> NavigationData:
-    """
-    Load a repertoire and the damage bank made for it; a bad file is said, never raised.
-
-    ``specialists_path``: gaits made for the bank's damages
-    (:mod:`hexapod_navigation.specialists`), appended to the repertoire and the bank when they
-    were measured under the bank's damages (those whose step ends tilted by at most ``max_tilt``
-    rad under each); otherwise left out, and ``no_specialists`` says why.
-    """
-    from hexapod_navigation.specialists import extend, load_specialists
-
-    try:
-        repertoire = Repertoire.from_archive(load_archive(repertoire_path))
-    except ArchiveError as exc:
-        return NavigationData(None, None, f'no navigation repertoire: {exc}', '')
-    bank, why = load_step_bank(bank_path, repertoire, repertoire.engine)
-    if specialists_path is None:
-        return NavigationData(repertoire, bank, '', why)
-    if bank is None:
-        return NavigationData(repertoire, bank, '', why, 0, 'no damage bank to weigh them with')
-    sp, no = load_specialists(
-        specialists_path, repertoire.engine, bank.damages, repertoire.step_duration
-    )
-    if sp is None:
-        return NavigationData(repertoire, bank, '', why, 0, no)
-    sp = sp.stable(max_tilt)
-    repertoire, bank = extend(repertoire, bank, sp)
-    return NavigationData(repertoire, bank, '', why, len(sp))

@@ -26,8 +26,9 @@ import math
 from pathlib import Path
 
 from hexapod_navigation import node_settings as settings
+from hexapod_navigation.loading import load_navigation
 from hexapod_navigation.repertoire import shipped_repertoire
-from hexapod_navigation.step_bank import load_navigation, shipped_step_bank
+from hexapod_navigation.step_bank import shipped_step_bank
 import pytest
 
 DEFAULTS = {s.name: s.default for s in settings.SETTINGS}

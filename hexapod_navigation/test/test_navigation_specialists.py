@@ -28,6 +28,7 @@ from hexapod_adapt.mapping.maps import shipped_ceilings, shipped_map
 from hexapod_adapt.mapping.steps import gait_min_stance
 from hexapod_adapt.online.ceiling import cached_ceiling
 from hexapod_gait.parameters import from_genotype
+from hexapod_navigation.loading import load_navigation
 from hexapod_navigation.repertoire import shipped_repertoire
 from hexapod_navigation.specialists import (
     load_specialists,
@@ -36,7 +37,7 @@ from hexapod_navigation.specialists import (
     source_gaits,
     Specialists,
 )
-from hexapod_navigation.step_bank import load_navigation, shipped_step_bank, step_table
+from hexapod_navigation.step_bank import shipped_step_bank, step_table
 from hexapod_sim.damage import Damage
 import numpy as np
 import pytest

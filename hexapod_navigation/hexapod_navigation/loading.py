@@ -1,0 +1,82 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+Loading what navigate plans over: the repertoire, its damage bank and the specialists (ROS-free).
+
+One place that says, never raises, why a file is not used: navigate_node and run_navigation
+both load through :func:`load_navigation`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+import os
+
+from hexapod_adapt.mapping.archive import ArchiveError, load_archive
+from hexapod_navigation.repertoire import Repertoire
+from hexapod_navigation.specialists import extend, load_specialists
+from hexapod_navigation.step_bank import load_step_bank, StepBank
+import numpy as np
+
+
+@dataclass(frozen=True)
+class NavigationData:
+    """A repertoire and its damage bank as loaded, with why either is missing."""
+
+    repertoire: Repertoire | None
+    bank: StepBank | None
+    problem: str  # why there is no repertoire ('' if there is one)
+    no_bank: str  # why there is no bank ('' if there is one)
+    specialists: int = 0  # steps of gaits made for a damage, appended to both
+    no_specialists: str = ''  # why there are none, when they were asked for
+
+
+def load_navigation(
+    repertoire_path: str | os.PathLike,
+    bank_path: str | os.PathLike,
+    specialists_path: str | os.PathLike | None = None,
+    max_tilt: float = np.pi,
+) -> NavigationData:
+    """
+    Load a repertoire and the damage bank made for it; a bad file is said, never raised.
+
+    ``specialists_path``: gaits made for the bank's damages
+    (:mod:`hexapod_navigation.specialists`), appended to the repertoire and the bank when they
+    were measured under the bank's damages (those whose step ends tilted by at most ``max_tilt``
+    rad under each); otherwise left out, and ``no_specialists`` says why.
+    """
+    try:
+        repertoire = Repertoire.from_archive(load_archive(repertoire_path))
+    except ArchiveError as exc:
+        return NavigationData(None, None, f'no navigation repertoire: {exc}', '')
+    bank, why = load_step_bank(bank_path, repertoire, repertoire.engine)
+    if specialists_path is None:
+        return NavigationData(repertoire, bank, '', why)
+    if bank is None:
+        return NavigationData(repertoire, bank, '', why, 0, 'no damage bank to weigh them with')
+    sp, no = load_specialists(
+        specialists_path, repertoire.engine, bank.damages, repertoire.step_duration
+    )
+    if sp is None:
+        return NavigationData(repertoire, bank, '', why, 0, no)
+    sp = sp.stable(max_tilt)
+    repertoire, bank = extend(repertoire, bank, sp)
+    return NavigationData(repertoire, bank, '', why, len(sp))
