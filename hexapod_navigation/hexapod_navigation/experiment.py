@@ -50,7 +50,7 @@ from hexapod_navigation.episode import NavigationResult, run_episode, SimBody
 from hexapod_navigation.planner import RepertoirePolicy
 from hexapod_navigation.policy import Policy
 from hexapod_navigation.repertoire import Repertoire
-from hexapod_navigation.specialists import extend, load_specialists
+from hexapod_navigation.specialists import with_specialists
 from hexapod_navigation.step_bank import load_step_bank, StepBank
 from hexapod_navigation.tripod import SteeredTripod
 from hexapod_sim import create_simulator, scenario, SCENARIO_NAMES, SimConfig
@@ -163,14 +163,11 @@ def _case(
         if bank is None:
             raise ValueError(f'damage bank refused: {problem}')
         if settings.specialists is not None and settings.config.specialists:
-            sp, problem = load_specialists(
-                settings.specialists, repertoire.engine, bank.damages, repertoire.step_duration
+            repertoire, bank, _, problem = with_specialists(
+                repertoire, bank, settings.specialists, settings.config.specialist_max_tilt
             )
-            if sp is None:
+            if problem:
                 raise ValueError(f'specialists refused: {problem}')
-            repertoire, bank = extend(
-                repertoire, bank, sp.stable(settings.config.specialist_max_tilt)
-            )
         if settings.leave_out:
             bank = bank.without(damage)
     reported = damage if settings.reported else None

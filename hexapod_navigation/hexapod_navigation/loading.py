@@ -32,7 +32,7 @@ import os
 
 from hexapod_adapt.mapping.archive import ArchiveError, load_archive
 from hexapod_navigation.repertoire import Repertoire
-from hexapod_navigation.specialists import extend, load_specialists
+from hexapod_navigation.specialists import with_specialists
 from hexapod_navigation.step_bank import load_step_bank, StepBank
 import numpy as np
 
@@ -72,11 +72,5 @@ def load_navigation(
         return NavigationData(repertoire, bank, '', why)
     if bank is None:
         return NavigationData(repertoire, bank, '', why, 0, 'no damage bank to weigh them with')
-    sp, no = load_specialists(
-        specialists_path, repertoire.engine, bank.damages, repertoire.step_duration
-    )
-    if sp is None:
-        return NavigationData(repertoire, bank, '', why, 0, no)
-    sp = sp.stable(max_tilt)
-    repertoire, bank = extend(repertoire, bank, sp)
-    return NavigationData(repertoire, bank, '', why, len(sp))
+    repertoire, bank, count, no = with_specialists(repertoire, bank, specialists_path, max_tilt)
+    return NavigationData(repertoire, bank, '', why, count, no)

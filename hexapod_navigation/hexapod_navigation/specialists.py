@@ -180,19 +180,18 @@ def compute_specialists(
     genes, intact = genes[reachable], intact[reachable]
     jobs = [(engine, d, step_duration, genes) for d in damages]
     done: list[np.ndarray] = []
-    if workers <= 1:
-        results = map(_measure, jobs)
-    else:
-        pool = cf.ProcessPoolExecutor(workers, initializer=die_with_parent)
-        results = pool.map(_measure, jobs)
-    try:
+
+    def collect(results) -> None:
         for out in results:
             done.append(out)
             if progress is not None:
                 progress(len(done), len(jobs))
-    finally:
-        if workers > 1:
-            pool.shutdown()
+
+    if workers <= 1:
+        collect(map(_measure, jobs))
+    else:
+        with cf.ProcessPoolExecutor(workers, initializer=die_with_parent) as pool:
+            collect(pool.map(_measure, jobs))
     table = np.stack(done) if done else np.zeros((0, len(genes), 4))
     return Specialists(genes, intact, table[..., :3], tuple(damages), step_duration, table[..., 3])
 
@@ -264,6 +263,22 @@ def load_specialists(
         what = ', '.join(differ) if differ else 'format'
         return None, f'{path} was made for another {what}'
     return sp, ''
+
+
+def with_specialists(
+    repertoire: Repertoire, bank: StepBank, path: str | os.PathLike, max_tilt: float
+) -> tuple[Repertoire, StepBank, int, str]:
+    """
+    Return the repertoire and bank with the specialists in ``path`` that stay upright appended.
+
+    Also how many were appended, and why none were ('' when they were): the one way
+    navigate_node, run_navigation and the experiment take them.
+    """
+    sp, why = load_specialists(path, repertoire.engine, bank.damages, repertoire.step_duration)
+    if sp is None:
+        return repertoire, bank, 0, why
+    sp = sp.stable(max_tilt)
+    return (*extend(repertoire, bank, sp), len(sp), '')
 
 
 def extend(repertoire: Repertoire, bank: StepBank, sp: Specialists) -> tuple[Repertoire, StepBank]:
