@@ -60,8 +60,8 @@ def load_navigation(
 
     ``specialists_path``: gaits made for the bank's damages
     (:mod:`hexapod_navigation.specialists`), appended to the repertoire and the bank when they
-    were measured under the bank's damages (those whose step ends tilted by at most ``max_tilt``
-    rad under each); otherwise left out, and ``no_specialists`` says why.
+    were measured under the bank's damages (those whose step never tilts the body more than
+    ``max_tilt`` rad under any); otherwise left out, and ``no_specialists`` says why.
     """
     try:
         repertoire = Repertoire.from_archive(load_archive(repertoire_path))

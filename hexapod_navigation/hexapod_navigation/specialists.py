@@ -31,10 +31,11 @@ steps must. Each is played at its own crab angle and the reverse one, with each 
 :data:`TURN_RATES` (arcs), where its feet can follow those paths.
 
 They are measured like the bank (one step from rest, collisions not fatal) intact and under each
-of the bank's damages, and :func:`extend` appends them to the repertoire and its bank: the
-correction and the planner then treat them as any other step. The file is keyed like a bank
-(:func:`hexapod_navigation.step_bank.bank_key` of the specialists' genes): one made for other
-damages, another engine or URDF is refused with the reason.
+of the bank's damages, with the largest tilt each step reaches (a gait made for one damage can
+tip the robot over under another: :meth:`Specialists.stable`). :func:`extend` appends them to
+the repertoire and its bank: the correction and the planner then treat them as any other step.
+The file is keyed like a bank (:func:`hexapod_navigation.step_bank.bank_key` of the specialists'
+genes): one made for other damages, another engine or URDF is refused with the reason.
 
 ``python -m hexapod_navigation.specialists_cli`` makes them
 (``maps/make_navigation_specialists.sh``).
@@ -65,7 +66,7 @@ from hexapod_navigation.step_bank import bank_key, step_table, StepBank
 from hexapod_sim.damage import Damage
 import numpy as np
 
-FORMAT = 'hexapod-nav-specialists/v2'  # v2: each step's tilt
+FORMAT = 'hexapod-nav-specialists/v3'  # v2: each step's end tilt; v3: its largest tilt
 NAVIGATION_SPECIALISTS = 'navigation_specialists.npz'
 #: rad/s: each specialist is played straight and along these arcs
 TURN_RATES = (-0.5, -0.25, 0.0, 0.25, 0.5)
@@ -80,10 +81,10 @@ class Specialists:
     steps: np.ndarray  # (h, k, 3)
     damages: tuple[Damage, ...]
     step_duration: float
-    tilt: np.ndarray  # (h, k) rad: the larger of |roll| and |pitch| at the step's end
+    tilt: np.ndarray  # (h, k) rad: the largest |roll| or |pitch| during the step
 
     def stable(self, max_tilt: float) -> Specialists:
-        """Return those whose step ends tilted at most ``max_tilt`` rad under every damage."""
+        """Return those whose step never tilts more than ``max_tilt`` rad under any damage."""
         keep = np.all(self.tilt <= max_tilt, axis=0)
         return Specialists(
             self.genotypes[keep],
@@ -157,7 +158,7 @@ def variants(archive: Archive, niches: Sequence[int]) -> np.ndarray:
     return np.array(out)
 
 
-#: one step of each gene under a damage, with its end tilt: (n, 4)
+#: one step of each gene under a damage, with its largest tilt: (n, 4)
 _measure = partial(step_table, tilt=True)
 
 
@@ -296,7 +297,9 @@ def extend(repertoire: Repertoire, bank: StepBank, sp: Specialists) -> tuple[Rep
         repertoire.engine,
     )
     steps = np.concatenate([bank.steps, sp.steps], axis=1)
-    return joined, StepBank(bank.damages, steps, bank.tripod, bank.intact_tripod)
+    before = np.full(bank.steps.shape[:2], np.nan) if bank.tilt is None else bank.tilt
+    tilt = np.concatenate([before, sp.tilt], axis=1)
+    return joined, StepBank(bank.damages, steps, bank.tripod, bank.intact_tripod, tilt)
 
 
 def shipped_specialists() -> Path:

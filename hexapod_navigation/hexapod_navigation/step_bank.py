@@ -85,6 +85,9 @@ class StepBank:
     steps: np.ndarray  # (h, n, 3): m, m, rad, in the step's start frame
     tripod: np.ndarray  # (h, 8, 3): one cycle of each crab direction, in its start frame
     intact_tripod: np.ndarray  # (8, 3)
+    #: (h, n) rad: each step's largest tilt (roll or pitch) under each damage, NaN where not
+    #: measured (the repertoire's own steps); None: none measured
+    tilt: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.damages)
@@ -119,6 +122,7 @@ class StepBank:
             self.steps[keep],
             self.tripod[keep],
             self.intact_tripod,
+            None if self.tilt is None else self.tilt[keep],
         )
 
 
@@ -189,7 +193,8 @@ def step_table(
     """
     Play omni ``genes`` for one step of ``duration`` s each under ``damage``: (n, 3) moves.
 
-    ``tilt``: (n, 4), each step's end tilt (:attr:`hexapod_sim.evaluation.Displacement.tilt`) last.
+    ``tilt``: (n, 4), each step's largest tilt during it
+    (:attr:`hexapod_sim.evaluation.Displacement.peak_tilt`) last.
     """
     engine, damage, duration, genes = args
     moves = evaluate_displacements(
@@ -200,7 +205,7 @@ def step_table(
         failed_legs=damage,
         decode=from_omni_genotype,
     )
-    rows = [(m.x, m.y, m.yaw, m.tilt) if tilt else (m.x, m.y, m.yaw) for m in moves]
+    rows = [(m.x, m.y, m.yaw, m.peak_tilt) if tilt else (m.x, m.y, m.yaw) for m in moves]
     return np.array(rows, dtype=float).reshape(-1, 4 if tilt else 3)
 
 

@@ -195,7 +195,7 @@ class Displacement:
     reason: str  # why it is invalid; empty if valid
     duration: float  # simulated seconds
     collision_steps: int = 0
-    tilt: float = 0.0  # rad: the larger of |roll| and |pitch| at the end
+    peak_tilt: float = 0.0  # rad: the largest of |roll| and |pitch| during the execution
 
 
 def evaluate_displacements(
@@ -219,7 +219,7 @@ def evaluate_displacements(
             out.append(Displacement(0.0, 0.0, 0.0, False, p.reason, duration))
             continue
         r = p.play
-        roll, pitch, yaw = quat_to_euler(r.final_orientation)
+        _, _, yaw = quat_to_euler(r.final_orientation)
         out.append(
             Displacement(
                 float(r.final_position[0]),
@@ -229,7 +229,7 @@ def evaluate_displacements(
                 '',
                 duration,
                 r.collision_steps,
-                float(max(abs(roll), abs(pitch))),
+                r.peak_tilt,
             )
         )
     return out

@@ -78,6 +78,14 @@ COLLISION_CHUNKS = (24, 120)
 _ALL = 0x7FFFFFFF
 
 
+def _peak_tilt(wxyz: np.ndarray) -> float:
+    """Return the largest of |roll| and |pitch| [rad] over base quaternions (n, 4) (w, x, y, z)."""
+    w, x, y, z = wxyz.T
+    roll = np.arctan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
+    pitch = np.arcsin(np.clip(2 * (w * y - z * x), -1.0, 1.0))
+    return float(np.max(np.maximum(np.abs(roll), np.abs(pitch)), initial=0.0))
+
+
 def _urdf_with_free_base(path: str) -> str:
     root = ET.parse(path).getroot()
     ET.SubElement(root, 'link', name='hexapod_world_root')
@@ -440,6 +448,7 @@ class MujocoSimulator(Simulator):
                     feet[:used].copy() if record_contacts else None,
                     # qpos[3:7] is (w, x, y, z)
                     final_orientation=state[i][last, [5, 6, 7, 4]].copy(),
+                    peak_tilt=_peak_tilt(state[i][:used, 4:8]),
                 )
             )
         # leave the simulator in the final state of the last table

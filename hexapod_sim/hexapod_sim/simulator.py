@@ -177,6 +177,7 @@ class PlayResult:
     contacts: np.ndarray | None = None  # (steps, 6) bool, if recorded
     unstable: str | None = None  # why the engine's numbers cannot be trusted, or None
     final_orientation: np.ndarray | None = None  # (4,) base quaternion (x, y, z, w) at the end
+    peak_tilt: float = 0.0  # rad: the largest of |roll| and |pitch| over the steps played
 
 
 def quat_to_matrix(quat: Sequence[float]) -> np.ndarray:
@@ -200,6 +201,12 @@ def upside_down(quat: Sequence[float]) -> bool:
     """
     x, y, _, _ = (float(v) for v in quat)
     return 1.0 - 2.0 * (x * x + y * y) < 0.0  # z of the body's z axis in the world frame
+
+
+def tilt_of(quat: Sequence[float]) -> float:
+    """Return the larger of |roll| and |pitch| [rad] of a quaternion (x, y, z, w)."""
+    roll, pitch, _ = quat_to_euler(quat)
+    return max(abs(roll), abs(pitch))
 
 
 def quat_to_euler(quat: Sequence[float]) -> tuple[float, float, float]:
@@ -434,9 +441,11 @@ class Simulator(abc.ABC):
         record = np.zeros((n_steps, N_LEGS), dtype=bool) if record_contacts else None
         collision_steps, first = 0, None
         steps = n_steps
+        peak = 0.0
         for k in range(n_steps):
             self.apply_row(rows, k % n_rows)
             report = self.step()
+            peak = max(peak, tilt_of(self.base_pose()[1]))
             collided = report.collision
             if collided is not None:
                 collision_steps += 1
@@ -456,6 +465,7 @@ class Simulator(abc.ABC):
             self.base_pose()[0],
             None if record is None else record[:steps],
             final_orientation=self.base_pose()[1],
+            peak_tilt=peak,
         )
 
     def __enter__(self) -> 'Simulator':
