@@ -39,13 +39,20 @@ external pose topic (motion capture, a camera).
 from __future__ import annotations
 
 from dataclasses import dataclass
+import math
 import time
 from typing import Callable, Protocol
 
 from hexapod_adapt.online.adaptation import TrialAborted
 from hexapod_adapt.online.trials import SampleLog, Waiter
 from hexapod_gait import GaitParameters
-from hexapod_navigation.episode import BodyFailure, standing_gait, StepOutcome, tipped_over
+from hexapod_navigation.episode import (
+    BodyFailure,
+    past_guard,
+    standing_gait,
+    StepOutcome,
+    tipped_over,
+)
 from hexapod_navigation.geometry import Pose2D
 
 
@@ -103,9 +110,15 @@ class SimGraphBody:
     playing = None
 
     def __init__(
-        self, port: NavigationPort, poses: PoseLog, waiter: Waiter, timeout: float = 10.0
+        self,
+        port: NavigationPort,
+        poses: PoseLog,
+        waiter: Waiter,
+        timeout: float = 10.0,
+        tip_guard: float = math.pi,
     ) -> None:
         self.port, self.poses, self.waiter, self.timeout = port, poses, waiter, timeout
+        self.tip_guard = tip_guard  # rad: a step that tilts the body past it is stopped
         self._stand = standing_gait()
 
     def pose(self) -> Pose2D:
@@ -149,7 +162,7 @@ class SimGraphBody:
         start, t0 = first.pose, began
         end_ns = t0 + int(round(duration * 1e9))
         path, last = [start], first
-        completed = False
+        completed = tilted = False
         while True:
             try:
                 last = self.waiter.until(
@@ -165,6 +178,9 @@ class SimGraphBody:
             fallen = tipped_over(last.roll, last.pitch)
             if fallen:
                 raise BodyFailure(fallen)
+            if past_guard(last.roll, last.pitch, self.tip_guard):
+                tilted = True
+                break
             if last.stamp_ns >= end_ns:
                 # the step ends at the first pose at or after its end (a late reader may have
                 # heard newer ones by now)
@@ -175,7 +191,9 @@ class SimGraphBody:
             if stop(last.pose):
                 break
         self.halt()
-        return StepOutcome(start, last.pose, (last.stamp_ns - t0) / 1e9, completed, tuple(path))
+        return StepOutcome(
+            start, last.pose, (last.stamp_ns - t0) / 1e9, completed, tuple(path), tilted
+        )
 
     def halt(self) -> None:
         """Stand still (the standing gait); a body that does not answer is left as it is."""

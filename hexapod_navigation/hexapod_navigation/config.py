@@ -145,10 +145,19 @@ class NavigationConfig:
     #: tip-overs on damage the bank lacks, 28-30 of 32 cells against off's 32
     #: (docs/studies/navigation.md, twelfth round)
     specialists: bool = False
-    #: rad: only specialists whose step from rest ends no more tilted (roll or pitch) than this
-    #: under every damage of the bank (pi: all). A gait made for one damage can tip the robot
+    #: rad: only specialists whose step from rest never tilts the body (roll or pitch) more than
+    #: this under any damage of the bank (pi: all). A gait made for one damage can tip the robot
     #: over under another
     specialist_max_tilt: float = math.pi
+    #: rad: a step that tilts the body (roll or pitch) past this is stopped, the robot stands,
+    #: and the policy never takes that step again (:class:`hexapod_navigation.policy.Policy`'s
+    #: ``avoid``); pi: never. Where the body streams its attitude (the simulators, sim_node):
+    #: a trial on the robot through bridge_node is not stopped midway
+    tip_guard: float = math.pi
+    #: rad: a step whose largest tilt, averaged over the bank's damages by how much the robot
+    #: believes in each (the correction's hypothesis weights), is past this is not taken; only
+    #: steps measured for tilt (the specialists) can be held back; pi: none
+    expected_tilt_limit: float = math.pi
 
     def __post_init__(self) -> None:
         for name in (
@@ -164,9 +173,10 @@ class NavigationConfig:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f'{name} must be a positive finite number, got {value!r}')
-        tilt = self.specialist_max_tilt
-        if not (isinstance(tilt, (int, float)) and 0.0 < tilt <= math.pi):
-            raise ValueError(f'specialist_max_tilt must be in (0, pi] rad, got {tilt!r}')
+        for name in ('specialist_max_tilt', 'tip_guard', 'expected_tilt_limit'):
+            tilt = getattr(self, name)
+            if not (isinstance(tilt, (int, float)) and 0.0 < tilt <= math.pi):
+                raise ValueError(f'{name} must be in (0, pi] rad, got {tilt!r}')
         for name in ('optimism', 'linear_std', 'unknown_optimism'):
             w = getattr(self, name)
             if not (isinstance(w, (int, float)) and math.isfinite(w) and w >= 0):

@@ -54,6 +54,7 @@ class StepOutcome:
     elapsed: float  # s walked
     completed: bool  # walked the whole duration (not stopped early)
     path: tuple[Pose2D, ...]  # poses sampled during the step, end included
+    tilted: bool = False  # stopped by the tip guard (the body tilted past it), then stood
 
 
 class Body(Protocol):
@@ -134,6 +135,13 @@ class BodyFailure(RuntimeError):
 
 #: Roll or pitch beyond this [deg] means the robot has tipped over: the goal fails.
 TIP_OVER_DEG = 60.0
+#: s: how long a body stands after its tip guard stopped a step (walking time: the robot waits)
+GUARD_STAND_S = 1.0
+
+
+def past_guard(roll: float, pitch: float, guard: float) -> bool:
+    """Whether roll or pitch [rad] is past the tip guard ``guard`` [rad]."""
+    return max(abs(roll), abs(pitch)) > guard
 
 
 def tipped_over(roll: float, pitch: float) -> str:
@@ -205,6 +213,8 @@ def run_episode(
         steps += 1
         path.extend(outcome.path)
         completed = outcome.completed and outcome.elapsed >= step.duration - 1e-9
+        if outcome.tilted:
+            policy.avoid(step)
         error = policy.observe(step, outcome.start, outcome.end, completed)
         if error is not None:
             errors.append(error)
@@ -231,13 +241,18 @@ class SimBody:
 
     A new gait starts with the legs moving from wherever they are to its table's first row in
     POSE_TRANSITION_S (as the robot's firmware does); the same gait again simply goes on. The
-    transition is walking time too. Poses are sampled every ``sample_period`` s.
+    transition is walking time too. Poses are sampled every ``sample_period`` s. A step that
+    tilts the body past ``tip_guard`` rad (roll or pitch) is stopped, and the robot stands for
+    GUARD_STAND_S (walking time too).
     """
 
     switch_time = POSE_TRANSITION_S
 
-    def __init__(self, sim: Simulator, sample_period: float = 0.05) -> None:
+    def __init__(
+        self, sim: Simulator, sample_period: float = 0.05, tip_guard: float = math.pi
+    ) -> None:
         self.sim = sim
+        self.tip_guard = tip_guard
         self.every = max(1, int(round(sample_period / sim.dt)))
         self._tables: dict[str, tuple[object, int, np.ndarray]] = {}
         self._stand = standing_gait()
@@ -273,6 +288,26 @@ class SimBody:
         self, gait: GaitParameters, duration: float, stop: Callable[[Pose2D], bool]
     ) -> StepOutcome:
         """Play ``gait`` for ``duration`` s (or until ``stop``), sampling the pose."""
+        outcome = self._play(gait, duration, stop)
+        if not outcome.tilted:
+            return outcome
+        stood = self._play(self._stand, GUARD_STAND_S, lambda _: False, guarded=False)
+        return StepOutcome(
+            outcome.start,
+            stood.end,
+            outcome.elapsed + stood.elapsed,
+            False,
+            outcome.path + stood.path,
+            tilted=True,
+        )
+
+    def _play(
+        self,
+        gait: GaitParameters,
+        duration: float,
+        stop: Callable[[Pose2D], bool],
+        guarded: bool = True,
+    ) -> StepOutcome:
         rows, n_rows, first = self._rows(gait)
         start = self.pose()
         path: list[Pose2D] = []
@@ -283,6 +318,7 @@ class SimBody:
         self._current = gait
         n_steps = int(round(duration / self.sim.dt))
         k = 0
+        tilted = False
         while k < n_steps:
             if k < n_move:
                 self.sim.apply_row(moving, k)
@@ -298,10 +334,12 @@ class SimBody:
                 fallen = tipped_over(roll, pitch)
                 if fallen:
                     raise BodyFailure(fallen)
-                if k < n_steps and stop(path[-1]):
+                tilted = guarded and past_guard(roll, pitch, self.tip_guard)
+                if k < n_steps and (tilted or stop(path[-1])):
                     break
         end = path[-1] if path else start
-        return StepOutcome(start, end, k * self.sim.dt, k >= n_steps, tuple(path))
+        done = k >= n_steps and not tilted
+        return StepOutcome(start, end, k * self.sim.dt, done, tuple(path), tilted)
 
     def halt(self) -> None:
         """Stand: command the standing pose (nothing is simulated until the next walk)."""

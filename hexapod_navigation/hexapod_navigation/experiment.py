@@ -173,7 +173,7 @@ def _case(
     reported = damage if settings.reported else None
     sim = create_simulator(SimConfig(engine=settings.engine))
     sim.set_damage(damage)
-    body = SimBody(sim)
+    body = SimBody(sim, tip_guard=settings.config.tip_guard)
     out = []
     for k, goal in enumerate(draw_goals(settings.goals, settings.goal_seed)):
         for method in settings.methods:

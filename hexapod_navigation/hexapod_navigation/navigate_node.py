@@ -197,7 +197,9 @@ class NavigateNode(Node):
             )
         timeout = self.timeout = values['timeout']
         if self.mode == 'sim':
-            self.body = SimGraphBody(graph, self.poses, self.waiter, timeout)
+            self.body = SimGraphBody(
+                graph, self.poses, self.waiter, timeout, self.config.tip_guard
+            )
         else:
             self.body = RobotGraphBody(
                 graph,

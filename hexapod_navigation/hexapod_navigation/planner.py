@@ -106,6 +106,7 @@ class RepertoirePolicy:
         hypotheses: np.ndarray | None = None,
         tripods: np.ndarray | None = None,
         reported: int | None = None,
+        tilts: np.ndarray | None = None,
     ) -> None:
         self.repertoire = repertoire
         self.config = config
@@ -122,6 +123,9 @@ class RepertoirePolicy:
         self._made: list[tuple[float, float]] = []  # repertoire steps: (progress [m], time [s])
         self._gaits: dict[int, GaitParameters] = {}
         self.allowed = repertoire.min_stance() >= config.min_stance_legs
+        self._avoided_tripods: set[int] = set()  # crab directions that tilted past the guard
+        # (h, n) each step's largest tilt under each hypothesis of the bank (NaN: not measured)
+        self.tilts = tilts if use and config.expected_tilt_limit < math.pi else None
         if not self.allowed.any():
             raise ValueError(
                 f'no repertoire gait keeps {config.min_stance_legs} feet on the ground throughout'
@@ -145,8 +149,22 @@ class RepertoirePolicy:
             return cls(repertoire, config)
         row = bank.index_of(reported) if reported is not None else None
         return cls(
-            repertoire, config, bank.steps, bank.tripods(), None if row is None else row + 1
+            repertoire,
+            config,
+            bank.steps,
+            bank.tripods(),
+            None if row is None else row + 1,
+            bank.tilt,
         )
+
+    def _upright(self) -> np.ndarray:
+        """Return which steps may be taken: allowed, and not expected to tilt past the limit."""
+        if self.tilts is None:
+            return self.allowed
+        w = self.gp.weights[1 : 1 + len(self.tilts)]  # the bank's damages (intact is first)
+        expected = np.nansum(w[:, None] * self.tilts, axis=0) / max(float(w.sum()), 1e-12)
+        upright = self.allowed & ~(expected > self.config.expected_tilt_limit)
+        return upright if upright.any() else self.allowed
 
     def next_step(
         self,
@@ -164,6 +182,7 @@ class RepertoirePolicy:
         (:func:`time_to_goal`), the steered tripod's cycles included (``tripod_option``).
         """
         mean, var = self.gp.predict()
+        allowed = self._upright()
         c, s = math.cos(pose.yaw), math.sin(pose.yaw)
         ex = pose.x + c * mean[:, 0] - s * mean[:, 1]
         ey = pose.y + s * mean[:, 0] + c * mean[:, 1]
@@ -176,7 +195,7 @@ class RepertoirePolicy:
             switch[playing_row] = 0.0
         if self.config.planner == 'nearest':
             cost = left - shift
-            i = int(np.argmin(np.where(self.allowed, cost, np.inf)))
+            i = int(np.argmin(np.where(allowed, cost, np.inf)))
             return self._repertoire_step(i, pose, mean, switch)
         # the end moved toward the goal by the optimism's shift (no further than the goal)
         pull = np.minimum(shift, left) / np.maximum(left, 1e-12)
@@ -188,13 +207,13 @@ class RepertoirePolicy:
             # floor of 1 mm per step: no step that heads for the goal is a big cost, not an
             # infinite one
             progress = (ex - pose.x) * unit[0] + (ey - pose.y) * unit[1]
-            best = max(float(np.max(progress[self.allowed])), 1e-3)
+            best = max(float(np.max(progress[allowed])), 1e-3)
         else:
-            best = float(np.max(np.hypot(mean[:, 0], mean[:, 1])[self.allowed]))
+            best = float(np.max(np.hypot(mean[:, 0], mean[:, 1])[allowed]))
         radius = self.config.aim * self.config.tolerance
         step = self.repertoire.step_duration
         cost = time_to_goal((pose.x, pose.y), ends, goal, radius, step, switch, best / step)
-        i = int(np.argmin(np.where(self.allowed, cost, np.inf)))
+        i = int(np.argmin(np.where(allowed, cost, np.inf)))
         self._goal = goal
         if self.config.tripod_option:
             # the steered tripod's next cycle (the crab direction nearest the goal's bearing, as
@@ -203,6 +222,8 @@ class RepertoirePolicy:
             # is a candidate once the repertoire's last steps made less progress than that pace
             # (the repertoire has had its chance to learn the damage)
             k = steered_direction(pose, goal)
+            if k in self._avoided_tripods:
+                return self._repertoire_step(i, pose, mean, switch)
             # 'evidence': a walked step or cycle (tripod_reported: or a report of a damage the
             # bank models, before anything is walked)
             told = self.config.tripod_reported and self.gp.reported is not None
@@ -248,3 +269,10 @@ class RepertoirePolicy:
         if self.config.learn:
             self.gp.add(step.index, start.relative(end))
         return error
+
+    def avoid(self, step: Step) -> None:
+        """Never take ``step`` again (it tilted past the guard), unless it is the last one left."""
+        if step.tripod >= 0:
+            self._avoided_tripods.add(step.tripod)
+        elif step.index >= 0 and np.count_nonzero(self.allowed) > 1:
+            self.allowed[step.index] = False

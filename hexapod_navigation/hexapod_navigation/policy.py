@@ -60,3 +60,6 @@ class Policy(Protocol):
 
     def observe(self, step: Step, start: Pose2D, end: Pose2D, completed: bool) -> float | None:
         """Learn from a step; return its prediction error [m] (None if not predicted)."""
+
+    def avoid(self, step: Step) -> None:
+        """Never take ``step``'s gait again: it tilted the body past the tip guard."""

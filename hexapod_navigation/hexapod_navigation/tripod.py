@@ -169,3 +169,6 @@ class SteeredTripod:
     def observe(self, step: Step, start: Pose2D, end: Pose2D, completed: bool) -> float | None:
         """Nothing is learned; return the cycle's error against the commanded stride."""
         return end.distance_to(step.predicted.x, step.predicted.y) if completed else None
+
+    def avoid(self, step: Step) -> None:
+        """Nothing: the baseline has no other gait (it walks on, the guard catching each tilt)."""
