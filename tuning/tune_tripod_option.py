@@ -164,6 +164,17 @@ GRID_SPECIALISTS_GUARD = (
 )
 #: the grids walked the ninth round's way (ALL_KINDS_GOALS goals, ALL_KINDS_LIMIT, the tripod
 #: apart); the first two on every kind, sharing one folder, so a setting is walked once for both
+#: Fourteenth round (the same day): both tippers of the twelfth round (traced, with the guard or
+#: not) were gaits made for locked legs (leg 2; legs 2+4), and on lifted and dead-coxa legs the
+#: specialists made for the intact robot and lifted legs alone kept the lifted gain without those
+#: tip-overs. Those specialists (SOURCE_KINDS, the shipped file since), with and without the tip
+#: guard, against off. The off and tripod units are the twelfth round's, copied into this
+#: round's folder (specialists off, nothing they walk changed since). Same rule.
+GRID_SPECIALISTS_LIFTED = (
+    {'specialists': False},
+    {'specialists': True},
+    {'specialists': True, 'tip_guard': 0.61},
+)
 ALL_KINDS_GRIDS = (
     'all_kinds',
     'evidence',
@@ -171,6 +182,7 @@ ALL_KINDS_GRIDS = (
     'specialists',
     'specialists_tilt',
     'specialists_guard',
+    'specialists_lifted',
 )
 GRIDS = {
     'after': GRID,
@@ -187,6 +199,7 @@ GRIDS = {
     'specialists': GRID_SPECIALISTS,
     'specialists_tilt': GRID_SPECIALISTS_TILT,
     'specialists_guard': GRID_SPECIALISTS_GUARD,
+    'specialists_lifted': GRID_SPECIALISTS_LIFTED,
 }
 #: Each grid's kinds (default KINDS) and the kinds of its tie-break (default lifted).
 GRID_KINDS = {

@@ -25,10 +25,12 @@ The navigation repertoire's steps are omnidirectional gaits chosen on the intact
 lifted leg its best step toward a goal makes 0.07-0.23 m/s, while the default adaptation map's
 fastest gait under that same damage walks 0.44-0.55 m/s in its own direction
 (``tuning/navigation_bound.txt``). The specialists are such gaits: for the intact robot and each
-damage of the navigation bank, the map's fastest gait under it (its shipped ceiling; intact, its
-fitness) among those that keep ``min_stance_legs`` feet down throughout, as the repertoire's
-steps must. Each is played at its own crab angle and the reverse one, with each of
-:data:`TURN_RATES` (arcs), where its feet can follow those paths.
+damage of the navigation bank of :data:`SOURCE_KINDS`, the map's fastest gait under it (its
+shipped ceiling; intact, its fitness) among those that keep ``min_stance_legs`` feet down
+throughout, as the repertoire's steps must. Lifted legs only by default: the gaits made for locked
+legs lean on the rigid leg, and two of them tipped the robot over on dead coxas and lost tibias
+(docs/studies/navigation.md, thirteenth round). Each is played at its own crab angle and the
+reverse one, with each of :data:`TURN_RATES` (arcs), where its feet can follow those paths.
 
 They are measured like the bank (one step from rest, collisions not fatal) intact and under each
 of the bank's damages, with the largest tilt each step reaches (a gait made for one damage can
@@ -70,6 +72,8 @@ FORMAT = 'hexapod-nav-specialists/v3'  # v2: each step's end tilt; v3: its large
 NAVIGATION_SPECIALISTS = 'navigation_specialists.npz'
 #: rad/s: each specialist is played straight and along these arcs
 TURN_RATES = (-0.5, -0.25, 0.0, 0.25, 0.5)
+#: the kinds of leg damage (:attr:`hexapod_sim.damage.LegDamage.kind`) gaits are made for
+SOURCE_KINDS = ('lifted',)
 
 
 @dataclass(frozen=True)
@@ -171,10 +175,17 @@ def compute_specialists(
     min_stance_legs: int = 3,
     workers: int = 1,
     progress: Callable[[int, int], None] | None = None,
+    source_kinds: Sequence[str] = SOURCE_KINDS,
 ) -> Specialists:
-    """Choose the specialists and play each for one step intact and under each damage."""
+    """
+    Choose the specialists and play each for one step intact and under each damage.
+
+    They are made for the intact robot and the ``damages`` whose every leg's damage is of
+    ``source_kinds``.
+    """
+    sources = [d for d in damages if d.legs and all(leg.kind in source_kinds for leg in d.legs)]
     genes = variants(
-        archive, source_gaits(archive, damages, engine, ceiling_dirs, min_stance_legs)
+        archive, source_gaits(archive, sources, engine, ceiling_dirs, min_stance_legs)
     )
     intact = _measure((engine, None, step_duration, genes))[:, :3]
     reachable = np.any(intact != 0.0, axis=1)  # a gait its feet cannot follow does not move
@@ -203,13 +214,19 @@ def specialists_key(sp: Specialists, engine: str) -> dict:
 
 
 def save_specialists(
-    path: str | os.PathLike, sp: Specialists, engine: str, archive: Archive, min_stance_legs: int
+    path: str | os.PathLike,
+    sp: Specialists,
+    engine: str,
+    archive: Archive,
+    min_stance_legs: int,
+    source_kinds: Sequence[str] = SOURCE_KINDS,
 ) -> None:
     """Write ``sp`` to ``path`` atomically, with its key and where it came from."""
     source = {
         'map_sha256': map_digest(archive),
         'min_stance_legs': min_stance_legs,
         'turn_rates': list(TURN_RATES),
+        'source_kinds': list(source_kinds),
     }
     buf = io.BytesIO()
     np.savez_compressed(

@@ -43,8 +43,9 @@ from hexapod_description.cli import (
     run_command,
 )
 from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
-from hexapod_navigation.specialists import compute_specialists, save_specialists
+from hexapod_navigation.specialists import compute_specialists, save_specialists, SOURCE_KINDS
 from hexapod_navigation.step_bank import load_step_bank, shipped_step_bank
+from hexapod_sim.damage import DAMAGE_KINDS
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -72,6 +73,13 @@ def main(argv: list[str] | None = None) -> int:
         type=number(int, 0, 6),
         default=3,
         help='only gaits with this many feet down throughout (the repertoire rule)',
+    )
+    ap.add_argument(
+        '--source-kinds',
+        nargs='+',
+        choices=DAMAGE_KINDS,
+        default=list(SOURCE_KINDS),
+        help="make gaits for the bank's damages of these kinds (and the intact robot)",
     )
     ap.add_argument('--out', type=output_file, required=True, help='the file (.npz)')
     ap.add_argument('--workers', type=number(int, 1, 256), default=1)
@@ -102,8 +110,11 @@ def main(argv: list[str] | None = None) -> int:
             args.min_stance_legs,
             args.workers,
             progress,
+            args.source_kinds,
         )
-        save_specialists(args.out, sp, repertoire.engine, archive, args.min_stance_legs)
+        save_specialists(
+            args.out, sp, repertoire.engine, archive, args.min_stance_legs, args.source_kinds
+        )
         print(f'wrote {args.out}: {len(sp)} steps x {len(bank)} damages', flush=True)
         return 0
 
