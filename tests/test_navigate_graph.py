@@ -430,3 +430,23 @@ def test_robot_mode_takes_dead_servos_only_from_its_bridge_and_forgets_them(
     again = ros.call(Trigger, 'navigate_node/forget', Trigger.Request())
     assert again.success and again.message == 'what was learned about the damage is dropped'
     assert nav.alive()
+
+
+def test_the_tip_guard_stops_a_step_that_tilts_the_robot_and_says_so(ros, launch):
+    # a guard of 0.2 deg: every walking step tilts the body past it
+    launch('hexapod_sim', 'sim_node', params=SIM)
+    launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
+    nav = launch('hexapod_navigation', 'navigate_node', params={'tip_guard': 0.004})
+    client = navigate_client(ros.node)
+    assert client.wait_for_server(timeout_sec=60)
+    goal = Goal(ros, client, 1.5, 0.0)
+    assert goal.handle.accepted
+    wait_for(lambda: len(goal.feedback) >= 3, 60, 'three steps')
+    cancel = goal.handle.cancel_goal_async()
+    wait_for(cancel.done, 10, 'the cancel response')
+    status, result = goal.result()
+    assert result.outcome != Navigate.Result.FAILED, result.reason
+    last = goal.feedback[-1]
+    walked = last.navigation_time.sec + 1e-9 * last.navigation_time.nanosec
+    assert walked < 2.0 * last.steps  # steps cut short (a whole step is 2 s)
+    assert nav.log().count('past the tip guard') >= 3, nav.log()[-3000:]

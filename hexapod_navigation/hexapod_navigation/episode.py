@@ -100,6 +100,7 @@ class Feedback:
     steps: int
     prediction_error: float  # m, of the last whole step (NaN if none yet)
     walking_time: float  # s so far
+    tilted: bool = False  # the tip guard stopped the last step (the policy avoids it since)
 
 
 @dataclass
@@ -226,6 +227,7 @@ def run_episode(
                     steps,
                     errors[-1] if errors else float('nan'),
                     walked,
+                    outcome.tilted,
                 )
             )
 

@@ -52,6 +52,7 @@ gaits, the goal marker, the URDF): its path replays in Foxglove.
 
 from __future__ import annotations
 
+import math
 import sys
 
 from diagnostic_msgs.msg import DiagnosticStatus
@@ -376,6 +377,12 @@ class NavigateNode(Node):
 
             def feedback(f: Feedback) -> None:
                 self.recording.checkpoint()  # every step survives a kill or a power loss
+                if f.tilted:
+                    self.get_logger().warning(
+                        f'step {f.steps} tilted the robot past the tip guard'
+                        f' ({math.degrees(config.tip_guard):.0f} deg): stopped it, the robot'
+                        ' stood, and that step is not taken again'
+                    )
                 self._unless_closing(handle.publish_feedback, conv.feedback_msg(f, self._now()))
 
             self._status(DiagnosticStatus.OK, f'navigating to ({goal.x:.2f}, {goal.y:.2f})')

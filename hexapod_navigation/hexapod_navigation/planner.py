@@ -161,7 +161,8 @@ class RepertoirePolicy:
         """Return which steps may be taken: allowed, and not expected to tilt past the limit."""
         if self.tilts is None:
             return self.allowed
-        w = self.gp.weights[1 : 1 + len(self.tilts)]  # the bank's damages (intact is first)
+        end = 1 + len(self.tilts)
+        w = self.gp.weights[1:end]  # the bank's damages (intact is first)
         expected = np.nansum(w[:, None] * self.tilts, axis=0) / max(float(w.sum()), 1e-12)
         upright = self.allowed & ~(expected > self.config.expected_tilt_limit)
         return upright if upright.any() else self.allowed

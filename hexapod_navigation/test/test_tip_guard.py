@@ -155,7 +155,8 @@ def test_specialists_the_believed_damage_tilts_past_the_limit_are_held_back(navi
         return {policy.next_step(Pose2D(0.0, 0.0, 0.0), g).index for g in goals}
 
     free = RepertoirePolicy.with_bank(navigation.repertoire, told, bank, reported)
-    w = free.gp.weights[1 : 1 + len(bank)]
+    end = 1 + len(bank)
+    w = free.gp.weights[1:end]
     expected = np.nansum(w[:, None] * bank.tilt, axis=0) / w.sum()
     measured = ~np.isnan(bank.tilt).all(axis=0)  # the specialists
     assert measured.sum() == navigation.specialists
