@@ -48,15 +48,20 @@ SIM = {'engine': 'mujoco', 'real_time_factor': 1.0}
 ODOM = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
 
 
-@pytest.fixture
-def graph(ros, launch):
-    """sim_node (MuJoCo, 4x real time) + gait_node + navigate_node, and an action client."""
+def start_graph(ros, launch, **navigate):
+    """Start sim_node + gait_node + navigate_node (``navigate``: its parameters); a client."""
     launch('hexapod_sim', 'sim_node', params=SIM)
     launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
-    nav = launch('hexapod_navigation', 'navigate_node', params={'max_range': 5.0})
+    nav = launch('hexapod_navigation', 'navigate_node', params=navigate)
     client = navigate_client(ros.node)
     assert client.wait_for_server(timeout_sec=60)
     return nav, client
+
+
+@pytest.fixture
+def graph(ros, launch):
+    """sim_node (MuJoCo, 4x real time) + gait_node + navigate_node, and an action client."""
+    return start_graph(ros, launch, max_range=5.0)
 
 
 class Goal:
@@ -434,11 +439,7 @@ def test_robot_mode_takes_dead_servos_only_from_its_bridge_and_forgets_them(
 
 def test_the_tip_guard_stops_a_step_that_tilts_the_robot_and_says_so(ros, launch):
     # a guard of 0.2 deg: every walking step tilts the body past it
-    launch('hexapod_sim', 'sim_node', params=SIM)
-    launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
-    nav = launch('hexapod_navigation', 'navigate_node', params={'tip_guard': 0.004})
-    client = navigate_client(ros.node)
-    assert client.wait_for_server(timeout_sec=60)
+    nav, client = start_graph(ros, launch, tip_guard=0.004)
     goal = Goal(ros, client, 1.5, 0.0)
     assert goal.handle.accepted
     wait_for(lambda: len(goal.feedback) >= 3, 60, 'three steps')
