@@ -175,6 +175,16 @@ GRID_SPECIALISTS_LIFTED = (
     {'specialists': True},
     {'specialists': True, 'tip_guard': 0.61},
 )
+#: Fifteenth round (the same day): with those specialists, 31 of 32 cells; locked S3 lost 6 goals
+#: to tip-overs on legs 3+5 locked, a damage the bank holds, under which 4 of the 94 specialists
+#: flip the robot from rest (135-180 deg). Only the specialists that never tilt the robot past the
+#: tip-over line (60 deg, episode.TIP_OVER_DEG) under any of the bank's damages (87 of 94), against
+#: off and the fourteenth round's first (their units copied in). Same rule.
+GRID_SPECIALISTS_UPRIGHT = (
+    {'specialists': False},
+    {'specialists': True},
+    {'specialists': True, 'specialist_max_tilt': 1.047},
+)
 ALL_KINDS_GRIDS = (
     'all_kinds',
     'evidence',
@@ -183,6 +193,7 @@ ALL_KINDS_GRIDS = (
     'specialists_tilt',
     'specialists_guard',
     'specialists_lifted',
+    'specialists_upright',
 )
 GRIDS = {
     'after': GRID,
@@ -200,6 +211,7 @@ GRIDS = {
     'specialists_tilt': GRID_SPECIALISTS_TILT,
     'specialists_guard': GRID_SPECIALISTS_GUARD,
     'specialists_lifted': GRID_SPECIALISTS_LIFTED,
+    'specialists_upright': GRID_SPECIALISTS_UPRIGHT,
 }
 #: Each grid's kinds (default KINDS) and the kinds of its tie-break (default lifted).
 GRID_KINDS = {
@@ -245,6 +257,7 @@ def main(argv: list[str] | None = None) -> int:
         'evidence': 'all_kinds',
         'specialists_tilt': 'specialists',
         'specialists_guard': 'specialists',
+        'specialists_upright': 'specialists_lifted',
     }.get(args.grid, args.grid)
     specialists = args.grid.startswith('specialists')
     kinds = GRID_KINDS.get(args.grid, EXPERIMENT_KINDS if every else KINDS)
