@@ -244,9 +244,9 @@ class SimBody:
     A new gait starts with the legs moving from wherever they are to its table's first row in
     POSE_TRANSITION_S (as the robot's firmware does); the same gait again needs no transition,
     but starts its one-cycle table from the first row again (where a step is not a whole number
-    of the gait's cycles, its phase jumps there). The transition is walking time too. Poses are sampled every ``sample_period`` s. A step that
-    tilts the body past ``tip_guard`` rad (roll or pitch) is stopped, and the robot stands for
-    GUARD_STAND_S (walking time too).
+    of the gait's cycles, its phase jumps there). The transition is walking time too. Poses are
+    sampled every ``sample_period`` s. A step that tilts the body past ``tip_guard`` rad (roll or
+    pitch) is stopped, and the robot stands for GUARD_STAND_S (walking time too).
     """
 
     switch_time = POSE_TRANSITION_S
