@@ -100,6 +100,7 @@ def _play_gaits(
     failed_legs: Sequence[int] | Damage | None,
     record_contacts: bool,
     decode: Callable[[Sequence[float]], GaitParameters],
+    record_tilt: bool = False,
 ) -> tuple[int, list[_Played]]:
     if not math.isfinite(duration) or duration <= 0:
         raise ValueError(f'duration must be a positive number of seconds, got {duration!r}')
@@ -126,7 +127,11 @@ def _play_gaits(
         tables.append(JointRows(table.positions, table.velocities))
         slots.append(i)
     played = sim.rollout(
-        tables, n_steps, stop_on_collision=collisions_fatal, record_contacts=record_contacts
+        tables,
+        n_steps,
+        stop_on_collision=collisions_fatal,
+        record_contacts=record_contacts,
+        record_tilt=record_tilt,
     )
     for i, g, r in zip(slots, params, played):
         if r.unstable is not None:
@@ -212,7 +217,9 @@ def evaluate_displacements(
     One :class:`Displacement` each, in order; invalid gaits (unreachable, colliding when
     ``collisions_fatal``, unstable physics) carry zeros and the reason. Deterministic.
     """
-    _, played = _play_gaits(gaits, sim, duration, collisions_fatal, failed_legs, False, decode)
+    _, played = _play_gaits(
+        gaits, sim, duration, collisions_fatal, failed_legs, False, decode, record_tilt=True
+    )
     out = []
     for p in played:
         if p.reason:

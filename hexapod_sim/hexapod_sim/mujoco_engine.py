@@ -49,7 +49,14 @@ from hexapod_description import N_LEGS
 from hexapod_sim.damage import DEAD_SERVO_ARMATURE, DEAD_SERVO_FRICTION, LOST_TIBIA_MASS
 from hexapod_sim.engine_settings import MujocoSettings
 from hexapod_sim.shortened import TibiaShape
-from hexapod_sim.simulator import JointRows, PlayResult, SimConfig, Simulator, StepReport
+from hexapod_sim.simulator import (
+    JointRows,
+    peak_tilt,
+    PlayResult,
+    SimConfig,
+    Simulator,
+    StepReport,
+)
 import mujoco
 from mujoco import rollout as mj_rollout
 import numpy as np
@@ -76,14 +83,6 @@ COLLISION_CHUNKS = (24, 120)
 # Collision bits. Every geom collides with every other (contype 1, conaffinity all) unless a
 # leg is failed: then its coxa and tibia get their own bits, which each other's affinity lacks.
 _ALL = 0x7FFFFFFF
-
-
-def _peak_tilt(wxyz: np.ndarray) -> float:
-    """Return the largest of |roll| and |pitch| [rad] over base quaternions (n, 4) (w, x, y, z)."""
-    w, x, y, z = wxyz.T
-    roll = np.arctan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
-    pitch = np.arcsin(np.clip(2 * (w * y - z * x), -1.0, 1.0))
-    return float(np.max(np.maximum(np.abs(roll), np.abs(pitch)), initial=0.0))
 
 
 def _urdf_with_free_base(path: str) -> str:
@@ -369,6 +368,7 @@ class MujocoSimulator(Simulator):
         n_steps: int,
         stop_on_collision: bool = False,
         record_contacts: bool = False,
+        record_tilt: bool = False,
     ) -> list[PlayResult]:
         if not tables:
             return []
@@ -448,7 +448,8 @@ class MujocoSimulator(Simulator):
                     feet[:used].copy() if record_contacts else None,
                     # qpos[3:7] is (w, x, y, z)
                     final_orientation=state[i][last, [5, 6, 7, 4]].copy(),
-                    peak_tilt=_peak_tilt(state[i][:used, 4:8]),
+                    # qpos[3:7] as (x, y, z, w)
+                    peak_tilt=peak_tilt(state[i][:used][:, [5, 6, 7, 4]]) if record_tilt else 0.0,
                 )
             )
         # leave the simulator in the final state of the last table

@@ -177,7 +177,7 @@ class PlayResult:
     contacts: np.ndarray | None = None  # (steps, 6) bool, if recorded
     unstable: str | None = None  # why the engine's numbers cannot be trusted, or None
     final_orientation: np.ndarray | None = None  # (4,) base quaternion (x, y, z, w) at the end
-    peak_tilt: float = 0.0  # rad: the largest of |roll| and |pitch| over the steps played
+    peak_tilt: float = 0.0  # rad: the largest |roll| or |pitch| over the steps (if recorded)
 
 
 def quat_to_matrix(quat: Sequence[float]) -> np.ndarray:
@@ -203,10 +203,12 @@ def upside_down(quat: Sequence[float]) -> bool:
     return 1.0 - 2.0 * (x * x + y * y) < 0.0  # z of the body's z axis in the world frame
 
 
-def tilt_of(quat: Sequence[float]) -> float:
-    """Return the larger of |roll| and |pitch| [rad] of a quaternion (x, y, z, w)."""
-    roll, pitch, _ = quat_to_euler(quat)
-    return max(abs(roll), abs(pitch))
+def peak_tilt(quats: np.ndarray) -> float:
+    """Return the largest |roll| or |pitch| [rad] over quaternions (n, 4) (x, y, z, w)."""
+    x, y, z, w = np.asarray(quats, dtype=float).reshape(-1, 4).T
+    roll = np.arctan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))  # as quat_to_euler
+    pitch = np.arcsin(np.clip(2 * (w * y - z * x), -1.0, 1.0))
+    return float(np.max(np.maximum(np.abs(roll), np.abs(pitch)), initial=0.0))
 
 
 def quat_to_euler(quat: Sequence[float]) -> tuple[float, float, float]:
@@ -333,14 +335,18 @@ class Simulator(abc.ABC):
         n_steps: int,
         stop_on_collision: bool = False,
         record_contacts: bool = False,
+        record_tilt: bool = False,
     ) -> list[PlayResult]:
         """
         Play each table cyclically for ``n_steps`` from a reset to its first row (damage kept).
 
         The default steps in Python; an engine may run the batch natively. Afterwards the simulator
-        is in the final state of the last table.
+        is in the final state of the last table. ``record_tilt``: each result's ``peak_tilt``
+        (otherwise 0: the map's evaluations do not pay for it).
         """
-        return [self._play(t, n_steps, stop_on_collision, record_contacts) for t in tables]
+        return [
+            self._play(t, n_steps, stop_on_collision, record_contacts, record_tilt) for t in tables
+        ]
 
     # -- shared behaviour ------------------------------------------------------------------------
     def set_failed_legs(self, legs: Iterable[int]) -> tuple[int, ...]:
@@ -431,7 +437,12 @@ class Simulator(abc.ABC):
         return quat, ang_body, rot.T @ (self._accel + np.array([0.0, 0.0, GRAVITY]))
 
     def _play(
-        self, table: JointRows, n_steps: int, stop_on_collision: bool, record_contacts: bool
+        self,
+        table: JointRows,
+        n_steps: int,
+        stop_on_collision: bool,
+        record_contacts: bool,
+        record_tilt: bool = False,
     ) -> PlayResult:
         """Return the per-step loop behind the default :meth:`rollout`."""
         rows = self.prepare_rows(table.positions, table.velocities)
@@ -441,11 +452,12 @@ class Simulator(abc.ABC):
         record = np.zeros((n_steps, N_LEGS), dtype=bool) if record_contacts else None
         collision_steps, first = 0, None
         steps = n_steps
-        peak = 0.0
+        attitudes = np.zeros((n_steps, 4)) if record_tilt else None
         for k in range(n_steps):
             self.apply_row(rows, k % n_rows)
             report = self.step()
-            peak = max(peak, tilt_of(self.base_pose()[1]))
+            if attitudes is not None:
+                attitudes[k] = self.base_pose()[1]
             collided = report.collision
             if collided is not None:
                 collision_steps += 1
@@ -465,7 +477,7 @@ class Simulator(abc.ABC):
             self.base_pose()[0],
             None if record is None else record[:steps],
             final_orientation=self.base_pose()[1],
-            peak_tilt=peak,
+            peak_tilt=0.0 if attitudes is None else peak_tilt(attitudes[:steps]),
         )
 
     def __enter__(self) -> 'Simulator':
