@@ -109,6 +109,12 @@ class NavigationConfig:
     #: transition to another, and the robot can mark time until the time limit ('toward':
     #: chosen on the tuning goals, docs/navigation.md "Rest of the way")
     rest_speed: str = 'toward'
+    #: 'time' planner with 'toward': the rest of the way after a step is walked either by that
+    #: step's own gait (at the progress it makes, no transition) or by the one that makes the
+    #: most (after the body's transition to it), whichever is sooner. Off: at the most progress,
+    #: with no transition, so a step that only bridges to a better gait looks as good as that
+    #: gait, and the robot changes gait nearly every step (each change is walking time)
+    rest_switch: bool = False
     #: 'time' planner: the steered tripod's next cycle (the baseline's choice of crab direction)
     #: is a candidate too, with what the robot makes of such cycles learned as it walks
     #: (:class:`TripodSteps`). On a damage the repertoire has no good step for, the planner then
@@ -147,7 +153,7 @@ class NavigationConfig:
     #: rad: only specialists whose step from rest never tilts the body (roll or pitch) more than
     #: this under any damage of the bank (pi: all). A gait made for one damage can tip the robot
     #: over under another: 1.047, just under the tip-over line (episode.TIP_OVER_DEG, 60 deg),
-    #: keeps 87 of the 94 (fifteenth round: legs 3+5 locked tipped over without it)
+    #: kept 87 of the 94 of the fifteenth round (legs 3+5 locked tipped over without it)
     specialist_max_tilt: float = 1.047
     #: rad: a step that tilts the body (roll or pitch) past this is stopped, the robot stands,
     #: and the policy never takes that step again (:class:`hexapod_navigation.policy.Policy`'s

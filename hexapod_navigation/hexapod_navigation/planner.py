@@ -64,7 +64,7 @@ def time_to_goal(
     radius: float,
     step_time: float,
     switch: np.ndarray,
-    speed: float,
+    speed: float | np.ndarray,
 ) -> np.ndarray:
     """
     Return each step's expected time [s] until the robot is within ``radius`` of ``goal``.
@@ -72,7 +72,8 @@ def time_to_goal(
     A step (row of ``ends`` (n, 2), where it ends) first spends ``switch`` (n,) s changing gait,
     then walks ``step_time`` s along the straight line from ``start`` to its end. If that line
     enters the goal circle, the time is the switch and the time into the step at which it does;
-    otherwise the switch, the whole step, and the rest of the way from its end at ``speed`` m/s.
+    otherwise the switch, the whole step, and the rest of the way from its end at ``speed`` m/s
+    (one for every step, or each its own).
     """
     p0 = np.asarray(start, dtype=float)
     g = np.asarray(goal, dtype=float)
@@ -87,8 +88,31 @@ def time_to_goal(
     back = np.sqrt(np.maximum(radius**2 - miss2, 0.0) / length2)
     arrive = np.maximum(f - back, 0.0) * step_time
     after = np.hypot(*(g - ends).T)
-    rest = step_time + np.maximum(after - radius, 0.0) / max(speed, 1e-6)
+    rest = step_time + np.maximum(after - radius, 0.0) / np.maximum(speed, 1e-6)
     return np.asarray(switch, dtype=float) + np.where(inside, arrive, rest)
+
+
+def rest_speeds(
+    ends: np.ndarray,
+    goal: tuple[float, float],
+    radius: float,
+    progress: np.ndarray,
+    best: float,
+    step_time: float,
+    switch_time: float,
+) -> np.ndarray:
+    """
+    Return each step's average speed [m/s] over the rest of the way from its end (``ends`` (n, 2)).
+
+    The rest is walked by the step's own gait, ``progress`` (n,) m toward the goal per
+    ``step_time`` s, or after a ``switch_time`` s transition by the gait that makes ``best`` m,
+    whichever reaches the goal circle (``radius``) sooner.
+    """
+    after = np.maximum(np.hypot(goal[0] - ends[:, 0], goal[1] - ends[:, 1]) - radius, 0.0)
+    own = after * step_time / np.maximum(progress, 1e-3)
+    other = switch_time + after * step_time / best
+    fast = best / step_time  # where nothing is left, any speed gives the same time
+    return np.where(after > 0, after / np.maximum(np.minimum(own, other), 1e-12), fast)
 
 
 class RepertoirePolicy:
@@ -213,7 +237,10 @@ class RepertoirePolicy:
             best = float(np.max(np.hypot(mean[:, 0], mean[:, 1])[allowed]))
         radius = self.config.aim * self.config.tolerance
         step = self.repertoire.step_duration
-        cost = time_to_goal((pose.x, pose.y), ends, goal, radius, step, switch, best / step)
+        speed: float | np.ndarray = best / step
+        if self.config.rest_switch and self.config.rest_speed == 'toward':
+            speed = rest_speeds(ends, goal, radius, progress, best, step, switch_time)
+        cost = time_to_goal((pose.x, pose.y), ends, goal, radius, step, switch, speed)
         i = int(np.argmin(np.where(allowed, cost, np.inf)))
         self._goal = goal
         if self.config.tripod_option:

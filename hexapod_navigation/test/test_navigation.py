@@ -28,7 +28,7 @@ from hexapod_navigation.config import goal_problem, NavigationConfig
 from hexapod_navigation.correction import CorrectionGP
 from hexapod_navigation.episode import Outcome, run_episode, SimBody
 from hexapod_navigation.geometry import Pose2D
-from hexapod_navigation.planner import RepertoirePolicy
+from hexapod_navigation.planner import RepertoirePolicy, rest_speeds, time_to_goal
 from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
 from hexapod_navigation.tripod import SteeredTripod
 from hexapod_sim import create_simulator, SimConfig
@@ -371,8 +371,6 @@ def test_run_navigation_refuses_a_bank_it_was_told_to_use_and_goes_on_without_a_
 
 
 def test_time_to_goal_counts_the_switch_the_entry_into_the_goal_circle_and_the_rest():
-    from hexapod_navigation.planner import time_to_goal
-
     ends = np.array([[0.6, 0.0], [0.2, 0.0], [0.0, 0.6]])
     switch = np.array([0.5, 0.0, 0.0])
     t = time_to_goal((0.0, 0.0), ends, (0.4, 0.0), 0.075, 2.0, switch, 0.3)
@@ -607,6 +605,44 @@ def test_the_rest_of_the_way_at_the_speed_toward_the_goal_breaks_marking_time(re
     assert choices['toward'] != stuck  # takes the transition to a step that heads for the goal
     with pytest.raises(ValueError, match='rest_speed must be one of'):
         NavigationConfig(rest_speed='slowest')
+
+
+def test_rest_speeds_walk_the_rest_by_the_own_gait_or_after_a_change_whichever_is_sooner():
+    ends = np.array([[0.0, 0.0], [0.0, 0.0], [2.95, 0.0]])
+    goal, radius, step, switch = (3.0, 0.0), 0.1, 2.0, 0.5
+    progress = np.array([0.4, 0.02, 0.3])
+    speed = rest_speeds(ends, goal, radius, progress, 0.4, step, switch)
+    # the best gait itself: its own pace, no change
+    assert speed[0] == pytest.approx(0.2)
+    # a gait that barely moves: a change to the best one, then its pace
+    assert speed[1] == pytest.approx(2.9 / (0.5 + 2.9 / 0.2))
+    # nothing left to walk: any speed gives the same time; the best's
+    assert speed[2] == pytest.approx(0.2)
+    # time_to_goal takes a speed per step
+    t = time_to_goal((0.0, 0.0), ends, goal, radius, step, np.zeros(3), speed)
+    assert t[1] == pytest.approx(step + 0.5 + 2.9 / 0.2)
+
+
+def test_counting_the_change_to_the_faster_gait_changes_to_it_now(repertoire):
+    # the playing gait makes 0.35 m a step toward a goal 3 m away, another 0.40 m. Walking the
+    # rest of the way at 0.40 m a step for free, the playing gait looks best (no transition
+    # now); counting the transition the robot must then make, the faster one is taken now
+    goal, start = (3.0, 0.0), Pose2D(0.0, 0.0, 0.0)
+    choices = {}
+    for rest_switch in (False, True):
+        config = NavigationConfig(use_bank=False, tripod_option=False, rest_switch=rest_switch)
+        policy = RepertoirePolicy(repertoire, config)
+        playing_i, fast_i = (int(i) for i in np.flatnonzero(policy.allowed)[:2])
+        crafted = np.zeros((len(repertoire), 3))
+        crafted[:, 0] = 0.01
+        crafted[playing_i] = (0.35, 0.0, 0.0)
+        crafted[fast_i] = (0.40, 0.0, 0.0)
+        policy.gp.predict = lambda m=crafted: (m, np.full_like(m, 1e-4))
+        playing = policy.repertoire.gait(playing_i)
+        policy._gaits[playing_i] = playing
+        choices[rest_switch] = policy.next_step(start, goal, playing, 0.5).index
+    assert choices[False] == playing_i
+    assert choices[True] == fast_i
 
 
 def test_the_tripod_option_learns_its_cycles_and_takes_over_when_the_repertoire_lags(repertoire):
