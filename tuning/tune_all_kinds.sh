@@ -3,8 +3,9 @@
 # goals of seed 100), resumable across sessions, in the background at the lowest priority: it
 # takes what the default map leaves of the cores.
 #   [GRID=evidence] bash tuning/tune_all_kinds.sh [WORKTREE]
-# GRID: all_kinds (default: the ninth round, tripod_after), evidence (the tenth, tripod_bank) or
-# reported_tripod (the eleventh, tripod_reported, on two kinds, into a folder of its own).
+# GRID: all_kinds (default: the ninth round, tripod_after), evidence (the tenth, tripod_bank),
+# reported_tripod (the eleventh, tripod_reported, on two kinds, into a folder of its own) or a
+# later round's grid (tune_tripod_option.ALL_KINDS_GRIDS).
 # It runs from WORKTREE (default ../navtune for all_kinds, ../navtune-GRID for another), a
 # worktree of the commit named in tuning/navigation_all_kinds/COMMIT (all_kinds) or COMMIT.GRID
 # (written at the first start: HEAD then), so that every unit of a round is walked by the same

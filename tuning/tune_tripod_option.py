@@ -185,6 +185,21 @@ GRID_SPECIALISTS_UPRIGHT = (
     {'specialists': True},
     {'specialists': True, 'specialist_max_tilt': 1.047},
 )
+#: Sixteenth round (2026-11-26, tenth session): lifted goals spend a third of their time changing
+#: gait (0.5 s a change, nearly every step: 2.4 s of 13.4 s on average) and probing the tripod,
+#: and the specialists walk only along one axis (every source gait's crab angle is -30 deg). The
+#: specialists at eight crab angles and three strides (VARIANT_FILE; 1,800 variants, the ones
+#: the feet can follow kept), without and with ``rest_switch`` (the rest of the way by the
+#: step's own gait or after a change to the best one), against the fifteenth round's winner
+#: (the file of 94 steps; its units read from that round's folder, READ_FROM). Same rule.
+GRID_SPECIALIST_VARIANTS = (
+    {'specialists': True, 'specialist_max_tilt': 1.047},
+    {'specialists': True},
+    {'specialists': True, 'rest_switch': True},
+)
+#: (grid, setting's index) -> the folder its units are read from (never walked here: they ran
+#: with other code or files, which the grid's own settings cannot name)
+READ_FROM = {('specialist_variants', 0): 'specialists_lifted'}
 ALL_KINDS_GRIDS = (
     'all_kinds',
     'evidence',
@@ -194,6 +209,7 @@ ALL_KINDS_GRIDS = (
     'specialists_guard',
     'specialists_lifted',
     'specialists_upright',
+    'specialist_variants',
 )
 GRIDS = {
     'after': GRID,
@@ -212,6 +228,7 @@ GRIDS = {
     'specialists_guard': GRID_SPECIALISTS_GUARD,
     'specialists_lifted': GRID_SPECIALISTS_LIFTED,
     'specialists_upright': GRID_SPECIALISTS_UPRIGHT,
+    'specialist_variants': GRID_SPECIALIST_VARIANTS,
 }
 #: Each grid's kinds (default KINDS) and the kinds of its tie-break (default lifted).
 GRID_KINDS = {
@@ -259,11 +276,17 @@ def main(argv: list[str] | None = None) -> int:
         'specialists_guard': 'specialists',
         'specialists_upright': 'specialists_lifted',
     }.get(args.grid, args.grid)
-    specialists = args.grid.startswith('specialists')
+    specialists = args.grid.startswith('specialist')
     kinds = GRID_KINDS.get(args.grid, EXPERIMENT_KINDS if every else KINDS)
     goals, limit = (ALL_KINDS_GOALS, ALL_KINDS_LIMIT) if every else (GOALS, TRIPOD_TIME_LIMIT)
 
-    def walk(kind: str, config, methods: tuple[str, ...], unit: str) -> list:
+    def walk(
+        kind: str, config, methods: tuple[str, ...], unit: str, read_from: str | None = None
+    ) -> list:
+        if read_from is not None:
+            if args.cache_dir is None:
+                raise SystemExit(f'{unit} is read from {read_from}: give --cache-dir')
+            return read_rows(args.cache_dir / read_from / f'{unit}__{kind}' / 'runs.csv')
         cached = args.cache_dir / folder / f'{unit}__{kind}' if args.cache_dir else None
         if cached is not None and (cached / 'summary.json').is_file():  # written last
             return read_rows(cached / 'runs.csv')
@@ -295,12 +318,14 @@ def main(argv: list[str] | None = None) -> int:
         {k: walk(k, NavigationConfig(), ('tripod',), 'tripod') for k in kinds} if every else {}
     )
     results = []
-    for setting in GRIDS[args.grid]:
+    for index, setting in enumerate(GRIDS[args.grid]):
         config = replace(NavigationConfig(), **setting)
         rows, table = [], {}
+        source = READ_FROM.get((args.grid, index))
         for kind in kinds:
             if every:
-                kind_rows = walk(kind, config, ('repertoire',), unit_of(setting)) + tripod[kind]
+                walked = walk(kind, config, ('repertoire',), unit_of(setting), source)
+                kind_rows = walked + tripod[kind]
             else:
                 kind_rows = walk(kind, config, ('repertoire', 'tripod'), unit_of(setting))
             rows += [(kind, r) for r in kind_rows]

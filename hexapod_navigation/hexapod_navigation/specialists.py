@@ -30,7 +30,9 @@ shipped ceiling; intact, its fitness) among those that keep ``min_stance_legs`` 
 throughout, as the repertoire's steps must. Lifted legs only by default: the gaits made for locked
 legs lean on the rigid leg, and two of them tipped the robot over on dead coxas and lost tibias
 (docs/studies/navigation.md, thirteenth round). Each is played at its own crab angle and the
-reverse one, with each of :data:`TURN_RATES` (arcs), where its feet can follow those paths.
+other crab angles of :data:`CRAB_OFFSETS` (every 45 deg, the reverse included), at its own
+stride and the shorter ones of :data:`STRIDE_SCALES`, with each of :data:`TURN_RATES` (arcs),
+where its feet can follow those paths.
 
 They are measured like the bank (one step from rest, collisions not fatal) intact and under each
 of the bank's damages, with the largest tilt each step reaches (a gait made for one damage can
@@ -72,6 +74,11 @@ FORMAT = 'hexapod-nav-specialists/v3'  # v2: each step's end tilt; v3: its large
 NAVIGATION_SPECIALISTS = 'navigation_specialists.npz'
 #: rad/s: each specialist is played straight and along these arcs
 TURN_RATES = (-0.5, -0.25, 0.0, 0.25, 0.5)
+#: rad: ... at its own crab angle and turned by each of these (the reverse included)
+CRAB_OFFSETS = tuple(k * math.pi / 4 for k in range(8))
+#: ... at its own stride speed (body_velocity) and these fractions of it: a shorter stride lets
+#: the feet follow crab angles the gait's own stride cannot reach
+STRIDE_SCALES = (1.0, 0.75, 0.5)
 #: the kinds of leg damage (:attr:`hexapod_sim.damage.LegDamage.kind`) gaits are made for
 SOURCE_KINDS = ('lifted',)
 
@@ -151,14 +158,26 @@ def source_gaits(
 
 
 def variants(archive: Archive, niches: Sequence[int]) -> np.ndarray:
-    """Return each gait at its own and the reverse crab angle, with each turn rate (omni genes)."""
+    """
+    Return each gait at each crab angle, stride and turn rate of the variants (omni genes).
+
+    Crab angles: its own turned by each of :data:`CRAB_OFFSETS`; strides: its own times each of
+    :data:`STRIDE_SCALES`; turn rates: :data:`TURN_RATES`.
+    """
     out = []
     for n in niches:
         gait = from_genotype(archive.genotypes[n])
-        for reverse in (0.0, math.pi):
-            angle = (gait.crab_angle + reverse + math.pi) % (2 * math.pi) - math.pi
-            for turn in TURN_RATES:
-                out.append(to_omni_genotype(replace(gait, crab_angle=angle, turn_rate=turn)))
+        for offset in CRAB_OFFSETS:
+            angle = (gait.crab_angle + offset + math.pi) % (2 * math.pi) - math.pi
+            for scale in STRIDE_SCALES:
+                for turn in TURN_RATES:
+                    variant = replace(
+                        gait,
+                        crab_angle=angle,
+                        turn_rate=turn,
+                        body_velocity=gait.body_velocity * scale,
+                    )
+                    out.append(to_omni_genotype(variant))
     return np.array(out)
 
 
