@@ -26,7 +26,7 @@ import math
 from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.maps import shipped_ceilings, shipped_map
 from hexapod_adapt.mapping.simulation import worker_simulator
-from hexapod_gait.parameters import from_omni_genotype
+from hexapod_gait.parameters import from_genotype, from_omni_genotype
 from hexapod_navigation.config import NavigationConfig
 from hexapod_navigation.episode import BodyFailure, GUARD_STAND_S, run_episode, SimBody
 from hexapod_navigation.geometry import Pose2D
@@ -63,9 +63,16 @@ def tipping(navigation):
     archive = load_archive(shipped_map())
     locked = Damage.of('locked', (2,))
     niche = source_gaits(archive, [locked], 'mujoco', [shipped_ceilings()], 3)[-1]
-    genes = variants(archive, [niche])
+    source = from_genotype(archive.genotypes[niche])
+    # at its own stride, its own or the reverse crab angle (the variants the twelfth round had)
+    genes = [
+        g
+        for g in variants(archive, [niche])
+        if math.isclose(from_omni_genotype(g).body_velocity, source.body_velocity, rel_tol=1e-6)
+        and math.isclose(abs(math.cos(from_omni_genotype(g).crab_angle - source.crab_angle)), 1)
+    ]
     moves = evaluate_displacements(
-        list(genes),
+        genes,
         worker_simulator('mujoco'),
         navigation.repertoire.step_duration,
         collisions_fatal=False,
