@@ -159,7 +159,7 @@ def source_gaits(
 
 def variants(archive: Archive, niches: Sequence[int]) -> np.ndarray:
     """
-    Return each gait at each crab angle, stride and turn rate of the variants (omni genes).
+    Return each gait at every crab angle, stride and turn rate below, as omni genotypes.
 
     Crab angles: its own turned by each of :data:`CRAB_OFFSETS`; strides: its own times each of
     :data:`STRIDE_SCALES`; turn rates: :data:`TURN_RATES`.
