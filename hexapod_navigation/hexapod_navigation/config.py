@@ -113,8 +113,10 @@ class NavigationConfig:
     #: step's own gait (at the progress it makes, no transition) or by the one that makes the
     #: most (after the body's transition to it), whichever is sooner. Off: at the most progress,
     #: with no transition, so a step that only bridges to a better gait looks as good as that
-    #: gait, and the robot changes gait nearly every step (each change is walking time)
-    rest_switch: bool = False
+    #: gait. On, chosen on the tuning goals of all eight kinds with the specialists' 962 variants
+    #: (docs/studies/navigation.md, sixteenth round: 32 of 32 cells, lifted 1.365 x the intact
+    #: time, against 31 of 32 off)
+    rest_switch: bool = True
     #: 'time' planner: the steered tripod's next cycle (the baseline's choice of crab direction)
     #: is a candidate too, with what the robot makes of such cycles learned as it walks
     #: (:class:`TripodSteps`). On a damage the repertoire has no good step for, the planner then
@@ -148,7 +150,8 @@ class NavigationConfig:
     #: lifted legs, as more steps (:mod:`hexapod_navigation.specialists`), when a file of them
     #: measured under the bank's damages is given. On: on the tuning goals of all eight kinds,
     #: with specialist_max_tilt below, they bring the lifted legs from 1.69 to 1.39 x the intact
-    #: time and pass all 32 cells against the tripod (docs/studies/navigation.md, rounds 12-15)
+    #: time and pass all 32 cells against the tripod (docs/studies/navigation.md, rounds 12-15;
+    #: at eight crab angles and three strides, with rest_switch, 1.365 x, round 16)
     specialists: bool = True
     #: rad: only specialists whose step from rest never tilts the body (roll or pitch) more than
     #: this under any damage of the bank (pi: all). A gait made for one damage can tip the robot
