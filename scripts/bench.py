@@ -379,6 +379,7 @@ def bench_adapt() -> None:
         approximate_ceiling,
         approximate_key,
         cache_path,
+        cached_ceiling,
         ceiling,
         ceiling_key,
     )
@@ -441,8 +442,9 @@ def bench_adapt() -> None:
     def priors(legs):  # the map re-scored under the damage on its own engine (cached)
         return ceiling(archive, legs, map_engine, cached).speeds
 
+    # read, not only found: a damaged or stale file counts as missing (its figures are skipped)
     have_priors = all(
-        cache_path(cached, ceiling_key(archive, legs, map_engine)).is_file() for legs in legs_all
+        cached_ceiling(archive, legs, map_engine, [cached]) is not None for legs in legs_all
     )
     if have_priors:  # what the map holds under each scenario's damage (the shipped cache)
         for name in ('S1', 'S2', 'S3', 'S4'):
@@ -481,16 +483,14 @@ def _bench_damage_kinds(archive, map_engine: str, cached, legs_all) -> None:
     the same with the damage-informed prior (suffix _prior), which needs those ceilings.
     """
     from hexapod_adapt.online.adaptation import run_experiment
-    from hexapod_adapt.online.ceiling import cache_path, ceiling, ceiling_key
+    from hexapod_adapt.online.ceiling import cached_ceiling, ceiling
     from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
     from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
 
     config = replace(PROFILES['default'], max_trials=TRIAL_BUDGET)
     for kind in EXPERIMENT_KINDS:
         damages = [Damage.of(kind, legs) for legs in legs_all]
-        have = all(
-            cache_path(cached, ceiling_key(archive, d, map_engine)).is_file() for d in damages
-        )
+        have = all(cached_ceiling(archive, d, map_engine, [cached]) is not None for d in damages)
         if not have:
             print(f'# no cached ceilings of kind {kind}: no ratios, no prior', file=sys.stderr)
 
