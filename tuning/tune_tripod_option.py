@@ -188,9 +188,10 @@ GRID_SPECIALISTS_UPRIGHT = (
 #: Sixteenth round (2026-11-26, tenth session): lifted goals spend a third of their time changing
 #: gait (0.5 s a change, nearly every step: 2.4 s of 13.4 s on average) and probing the tripod,
 #: and the specialists walk only along one axis (every source gait's crab angle is -30 deg). The
-#: specialists at eight crab angles and three strides (VARIANT_FILE; 1,800 variants, the ones
-#: the feet can follow kept), without and with ``rest_switch`` (the rest of the way by the
-#: step's own gait or after a change to the best one), against the fifteenth round's winner
+#: specialists at eight crab angles and three strides (the shipped file at the round's commit,
+#: COMMIT.specialist_variants; 1,800 variants, the 962 the feet can follow kept), without and
+#: with ``rest_switch`` (the rest of the way by the step's own gait or after a change to the
+#: best one; off by default at that commit, on since), against the fifteenth round's winner
 #: (the file of 94 steps; its units read from that round's folder, READ_FROM). Same rule.
 GRID_SPECIALIST_VARIANTS = (
     {'specialists': True, 'specialist_max_tilt': 1.047},
