@@ -72,7 +72,8 @@ def bench_sim() -> None:
     does); sim_engine_speedup: PyBullet ms / MuJoCo ms. sim_engine_spearman: rank correlation of
     the two engines' fitness over the shipped demo map's gaits (walking gaits of all speeds),
     collisions not fatal; sim_engine_descriptor_mad: their mean absolute duty-factor difference.
-    sim_engine_tripod_ratio: intact control tripod speed, MuJoCo / PyBullet.
+    sim_engine_tripod_ratio: intact control tripod speed, MuJoCo / PyBullet. sim_eval_dart_ms and
+    sim_tripod_speed_dart: the same for DART, the judge engine (interleaved with the other two).
     """
     import os
     from pathlib import Path
@@ -88,6 +89,7 @@ def bench_sim() -> None:
     n = int(os.environ.get('BENCH_SIM_GAITS', '100'))
     bullet = create_simulator(SimConfig(engine='pybullet'))
     mujoco = create_simulator(SimConfig(engine='mujoco'))
+    dart = create_simulator(SimConfig(engine='dart'))
     genotypes, _ = random_feasible_genotypes(n, seed=2024, sim=bullet)
 
     def timed(sim, genes) -> float:
@@ -96,10 +98,11 @@ def bench_sim() -> None:
         return time.perf_counter() - t0
 
     evaluate_gait(genotypes[0], mujoco)  # warm-up
-    t_bullet, t_mujoco = [], []
-    for genes in genotypes:  # interleaved: both engines see the same machine state
+    t_bullet, t_mujoco, t_dart = [], [], []
+    for genes in genotypes:  # interleaved: every engine sees the same machine state
         t_bullet.append(timed(bullet, genes))
         t_mujoco.append(timed(mujoco, genes))
+        t_dart.append(timed(dart, genes))
     batch = []
     for i in range(0, n - 7, 8):
         t0 = time.perf_counter()
@@ -111,6 +114,7 @@ def bench_sim() -> None:
     print(f'BENCH sim_eval_mujoco_ms {ms_mujoco:.1f} ms')
     print(f'BENCH sim_eval_mujoco_batch8_ms {np.median(batch) * 1e3:.1f} ms')
     print(f'BENCH sim_engine_speedup {ms_bullet / ms_mujoco:.2f} x')
+    print(f'BENCH sim_eval_dart_ms {np.median(t_dart) * 1e3:.1f} ms')
     demo = Path(__file__).resolve().parent.parent / 'hexapod_adapt' / 'maps' / 'demo_map.npz'
     a = agreement(map_genotypes(demo), bullet, mujoco)
     print(f'BENCH sim_engine_agreement_gaits {a.gaits} gaits')
@@ -118,10 +122,11 @@ def bench_sim() -> None:
     print(f'BENCH sim_engine_descriptor_mad {a.mean_abs_descriptor:.4f} 1')
     tripod = [
         evaluate_gait(preset('control'), sim, collisions_fatal=False, failed_legs=()).speed
-        for sim in (bullet, mujoco)
+        for sim in (bullet, mujoco, dart)
     ]
     print(f'BENCH sim_tripod_speed_pybullet {tripod[0]:.4f} m/s')
     print(f'BENCH sim_tripod_speed_mujoco {tripod[1]:.4f} m/s')
+    print(f'BENCH sim_tripod_speed_dart {tripod[2]:.4f} m/s')
     print(f'BENCH sim_engine_tripod_ratio {tripod[1] / tripod[0]:.4f} 1')
 
 

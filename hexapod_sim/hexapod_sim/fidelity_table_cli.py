@@ -21,10 +21,10 @@
 """
 ``ros2 run hexapod_sim fidelity_table``.
 
-The fidelity table (markdown) for one or both engines, and with ``--agreement-map`` how well the
-engines agree over a map's gaits.
+The fidelity table (markdown) for one engine or all of them, and with ``--agreement-map`` how well
+each pair of engines agrees over a map's gaits.
 
-    fidelity_table                                   # both engines side by side
+    fidelity_table                                   # every engine side by side
     fidelity_table --engine mujoco
     fidelity_table --agreement-map hexapod_adapt/maps/demo_map.npz
 """
@@ -67,36 +67,38 @@ def main(argv: list[str] | None = None) -> int:
         )
     )
     parser.add_argument(
-        '--engine', choices=ENGINES + ('both',), default='both', help='engine(s) to tabulate'
+        '--engine',
+        choices=ENGINES + ('all',),
+        default='all',
+        help='engine to tabulate (default: all of them)',
     )
     parser.add_argument(
         '--agreement-map',
         type=input_file,
         default=None,
-        help='archive (.npz) whose gaits the two engines are compared on',
+        help='archive (.npz) whose gaits each pair of the tabulated engines is compared on',
     )
     args = parser.parse_args(argv)
     return run_command('fidelity_table', lambda: _tabulate(args))
 
 
 def _tabulate(args: argparse.Namespace) -> int:
-    engines = ENGINES if args.engine == 'both' else (args.engine,)
-    sims = {
-        name: create_simulator(SimConfig(engine=name))
-        for name in ENGINES
-        if name in engines or args.agreement_map
-    }
+    engines = ENGINES if args.engine == 'all' else (args.engine,)
+    sims = {name: create_simulator(SimConfig(engine=name)) for name in engines}
     try:
         rows = [row for name in engines for row in fidelity_rows(sims[name])]
         print(markdown(rows))
         if args.agreement_map:
             genotypes = map_genotypes(args.agreement_map)
-            a = agreement(genotypes, sims['pybullet'], sims['mujoco'])
-            print(
-                f'\nagreement over the {a.gaits} gaits of {args.agreement_map} (collisions not'
-                f' fatal): Spearman {a.spearman:.3f}, mean |descriptor difference|'
-                f' {a.mean_abs_descriptor:.3f}'
-            )
+            for i, first in enumerate(engines):
+                for second in engines[i + 1:]:
+                    a = agreement(genotypes, sims[first], sims[second])
+                    print(
+                        f'\n{first} vs {second} over the {a.gaits} gaits of '
+                        f'{args.agreement_map} (collisions not fatal): Spearman '
+                        f'{a.spearman:.3f}, mean |descriptor difference| '
+                        f'{a.mean_abs_descriptor:.3f}'
+                    )
     except ValueError as exc:
         print(f'fidelity_table: {exc}', file=sys.stderr)
         return 2

@@ -321,10 +321,7 @@ class MujocoSimulator(Simulator):
         mujoco.mj_forward(m, d)
 
     def prepare_rows(self, positions: np.ndarray, velocities: np.ndarray) -> np.ndarray:
-        q = np.clip(np.atleast_2d(np.asarray(positions, dtype=float)), self.lower, self.upper)
-        if self._held_slots.size:
-            q[:, self._held_slots] = self._held_values
-        return np.ascontiguousarray(q)
+        return self._position_targets(positions)
 
     def apply_row(self, rows: Any, index: int) -> None:
         self.d.ctrl[self._act] = rows[index]

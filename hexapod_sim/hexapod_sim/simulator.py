@@ -26,9 +26,11 @@ emulator) talks to a :class:`Simulator`. Two engines implement it:
 
 * ``pybullet`` (:mod:`hexapod_sim.pybullet_engine`): the thesis's engine, the reference and the
   default of ``sim_node``;
-* ``mujoco`` (:mod:`hexapod_sim.mujoco_engine`): the fast engine for maps and large experiments.
+* ``mujoco`` (:mod:`hexapod_sim.mujoco_engine`): the fast engine for maps and large experiments;
+* ``dart`` (:mod:`hexapod_sim.dart_engine`): the judge, for reporting only; it takes no part in
+  making a map, choosing a method, tuning a setting or choosing a default.
 
-Both load ``hexapod_description``'s URDF. Engine internals (clients, bodies, ``MjData``) stay in
+All load ``hexapod_description``'s URDF. Engine internals (clients, bodies, ``MjData``) stay in
 the engine modules; nothing else touches them. :func:`create_simulator` picks the engine named in
 :class:`SimConfig`.
 """
@@ -53,11 +55,13 @@ from hexapod_sim.damage import (  # noqa: F401 (re-exported: one home, hexapod_s
     MAX_FAILED_LEGS,
     validate_failed_legs,
 )
-from hexapod_sim.engine_settings import ACCURATE, DEFAULT_SETTINGS
+from hexapod_sim.engine_settings import ACCURATE, DART_DEFAULT_SETTINGS, DEFAULT_SETTINGS
 import numpy as np
 
 GRAVITY = 9.81
-ENGINES = ('pybullet', 'mujoco')
+ENGINES = ('pybullet', 'mujoco', 'dart')
+#: The engine that judges maps: it takes no part in making or tuning them (docs/simulator.md).
+JUDGE_ENGINE = 'dart'
 
 
 def validate_engine(name: str) -> str:
@@ -83,7 +87,9 @@ def body_height_from_joints(q: np.ndarray) -> float:
 #: says 1); Bullet multiplies the two surfaces' coefficients, so foot and ground meet at 0.49.
 #: MuJoCo: 1.0 (it takes the larger of the two: 1.0 between foot and ground), which already
 #: reproduces the thesis simulator's damaged tripod (docs/simulator.md, "The damaged tripod").
-DEFAULT_FRICTION = {'pybullet': 0.7, 'mujoco': 1.0}
+#: DART: 0.7, the thesis simulator's per-surface value; DART takes the smaller of the two
+#: surfaces' coefficients, so foot and ground meet at 0.7 (chosen before any DART result).
+DEFAULT_FRICTION = {'pybullet': 0.7, 'mujoco': 1.0, 'dart': 0.7}
 
 
 @dataclass(frozen=True)
@@ -99,6 +105,7 @@ class SimConfig:
     friction: float | None = None
     pybullet: Any = None  # PyBulletSettings (default: engine_settings.ACCURATE)
     mujoco: Any = None  # MujocoSettings (default: engine_settings.DEFAULT_SETTINGS)
+    dart: Any = None  # DartSettings (default: engine_settings.DART_DEFAULT_SETTINGS)
     gui: bool = False  # PyBullet only: open its GUI window
     urdf: str | None = None  # default: hexapod_description's URDF
 
@@ -113,6 +120,8 @@ class SimConfig:
         """Return the settings object of the selected engine (its default if none was given)."""
         if self.engine == 'pybullet':
             return self.pybullet or ACCURATE
+        if self.engine == 'dart':
+            return self.dart or DART_DEFAULT_SETTINGS
         return self.mujoco or DEFAULT_SETTINGS
 
     def fingerprint(self) -> dict[str, Any]:
@@ -227,7 +236,7 @@ def quat_to_euler(quat: Sequence[float]) -> tuple[float, float, float]:
 
 class Simulator(abc.ABC):
     """
-    The hexapod on a flat plane, stepped at ``dt``: one interface, two engines.
+    The hexapod on a flat plane, stepped at ``dt``: one interface, three engines.
 
     Joint vectors are 18 long in URDF order (``model.joint_names``). Failed legs (1..6, at most
     two) are held by their servos in the pose of table 5.1 as dead weight; a reset keeps them.
@@ -349,6 +358,13 @@ class Simulator(abc.ABC):
         ]
 
     # -- shared behaviour ------------------------------------------------------------------------
+    def _position_targets(self, positions: np.ndarray) -> np.ndarray:
+        """Return position rows (N, 18) clipped to the limits, the held legs at their pose."""
+        q = np.clip(np.atleast_2d(np.asarray(positions, dtype=float)), self.lower, self.upper)
+        if self._held_slots.size:
+            q[:, self._held_slots] = self._held_values
+        return np.ascontiguousarray(q)
+
     def set_failed_legs(self, legs: Iterable[int]) -> tuple[int, ...]:
         """
         Hold these legs (1..6, at most two) in the failure pose (table 5.1), from now on.

@@ -69,7 +69,9 @@ def test_a_locked_leg_holds_the_standing_pose_while_the_others_walk(sim):
     commanded, measured, _ = _walk(sim, Damage.of('locked', [2]))
     stand = standing_pose()
     leg2 = measured[:, 3:6]
-    assert np.max(np.abs(leg2 - stand[3:6])) < 0.08  # held (servo compliance under load)
+    # held (servo compliance under load); DART's hard contacts load the dragged leg past the
+    # tibia servo's stall torque for moments (0.17 rad: docs/simulator.md)
+    assert np.max(np.abs(leg2 - stand[3:6])) < (0.2 if sim.engine == 'dart' else 0.08)
     assert np.ptp(commanded[:, 3]) > 0.2  # the gait moves that coxa ...
     assert np.ptp(measured[:, 0]) > 0.2  # ... and leg 1's coxa moves
     assert np.ptp(leg2[:, 0]) < 0.1  # leg 2's does not
