@@ -77,7 +77,7 @@ def settled_speeds(small_archive):
     _, archive, _ = small_archive
     with create_simulator() as sim:
         trial = simulated_trial(archive, FAILED, sim, TIMED, SETTLE)
-        return {int(n): trial(int(n)) for n in archive.elite_indices()}
+        return {int(n): trial(int(n)).speed for n in archive.elite_indices()}
 
 
 def _set_parameter(ros, name: str, value: ParameterValue):

@@ -178,8 +178,8 @@ GRID_SPECIALISTS_LIFTED = (
 #: Fifteenth round (the same day): with those specialists, 31 of 32 cells; locked S3 lost 6 goals
 #: to tip-overs on legs 3+5 locked, a damage the bank holds, under which 4 of the 94 specialists
 #: flip the robot from rest (135-180 deg). Only the specialists that never tilt the robot past the
-#: tip-over line (60 deg, episode.TIP_OVER_DEG) under any of the bank's damages (87 of 94), against
-#: off and the fourteenth round's first (their units copied in). Same rule.
+#: tip-over line (60 deg, hexapod_sim.simulator.TIP_OVER_DEG) under any of the bank's damages
+#: (87 of 94), against off and the fourteenth round's first (their units copied in). Same rule.
 GRID_SPECIALISTS_UPRIGHT = (
     {'specialists': False},
     {'specialists': True},

@@ -95,7 +95,9 @@ def test_cross_engine_experiment_writes_csv_and_box_plots(tmp_path):
     )
     assert r.returncode == 0, r.stderr
     rows = list(csv.DictReader((tmp_path / 'runs.csv').open()))
-    assert sorted(row['trial_engine'] for row in rows) == ['mujoco'] * 3 + ['pybullet'] * 3
+    assert sorted(row['trial_engine'] for row in rows) == (
+        ['dart'] * 3 + ['mujoco'] * 3 + ['pybullet'] * 3
+    )
     assert {row['map_engine'] for row in rows} == {'pybullet'}  # the demo map is a PyBullet map
     for row in rows:
         assert 1 <= int(row['trials']) <= 4 and float(row['intact_control_speed']) > 0.25

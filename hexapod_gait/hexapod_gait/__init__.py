@@ -32,7 +32,7 @@ from hexapod_gait.parameters import (
     RANGES,
     to_genotype,
 )
-from hexapod_gait.presets import preset, PRESETS
+from hexapod_gait.presets import preset, PRESETS, standing_gait
 from hexapod_gait.trajectory import (
     build_joint_table,
     foot_trajectory,
@@ -64,6 +64,7 @@ __all__ = [
     'from_genotype',
     'key_points',
     'preset',
+    'standing_gait',
     'stance_mask',
     'to_genotype',
 ]

@@ -108,3 +108,8 @@ def preset(name: str) -> GaitParameters:
         return PRESETS[name]()
     except KeyError:
         raise ValueError(f'unknown gait preset {name!r}; known: {", ".join(PRESETS)}') from None
+
+
+def standing_gait() -> GaitParameters:
+    """Return the gait that stands still where the robot is (the control tripod's stance)."""
+    return preset('control').replace(body_velocity=0.0, step_height=[0.0] * 6)

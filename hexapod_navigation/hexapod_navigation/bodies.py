@@ -45,14 +45,8 @@ from typing import Callable, Protocol
 
 from hexapod_adapt.online.adaptation import TrialAborted
 from hexapod_adapt.online.trials import SampleLog, Waiter
-from hexapod_gait import GaitParameters
-from hexapod_navigation.episode import (
-    BodyFailure,
-    past_guard,
-    standing_gait,
-    StepOutcome,
-    tipped_over,
-)
+from hexapod_gait import GaitParameters, standing_gait
+from hexapod_navigation.episode import BodyFailure, past_guard, StepOutcome, tipped_over
 from hexapod_navigation.geometry import Pose2D
 
 

@@ -155,8 +155,9 @@ class NavigationConfig:
     specialists: bool = True
     #: rad: only specialists whose step from rest never tilts the body (roll or pitch) more than
     #: this under any damage of the bank (pi: all). A gait made for one damage can tip the robot
-    #: over under another: 1.047, just under the tip-over line (episode.TIP_OVER_DEG, 60 deg),
-    #: kept 87 of the 94 of the fifteenth round (legs 3+5 locked tipped over without it)
+    #: over under another: 1.047, just under the tip-over line
+    #: (hexapod_sim.simulator.TIP_OVER_DEG, 60 deg), kept 87 of the 94 of the fifteenth round
+    #: (legs 3+5 locked tipped over without it)
     specialist_max_tilt: float = 1.047
     #: rad: a step that tilts the body (roll or pitch) past this is stopped, the robot stands,
     #: and the policy never takes that step again (:class:`hexapod_navigation.policy.Policy`'s

@@ -35,12 +35,12 @@ import json
 import math
 from typing import Callable, Protocol, Sequence
 
-from hexapod_gait import build_joint_table, GaitParameters, preset
+from hexapod_gait import build_joint_table, GaitParameters, preset, standing_gait
 from hexapod_gait.trajectory import POSE_TRANSITION_S, transition
 from hexapod_navigation.config import NavigationConfig
 from hexapod_navigation.geometry import Pose2D
 from hexapod_navigation.policy import Policy
-from hexapod_sim.simulator import Simulator
+from hexapod_sim.simulator import Simulator, TIP_OVER_DEG
 import numpy as np
 
 
@@ -134,8 +134,6 @@ class BodyFailure(RuntimeError):
     """The body could not take a step (the robot refused, a topic went silent, it tipped over)."""
 
 
-#: Roll or pitch beyond this [deg] means the robot has tipped over: the goal fails.
-TIP_OVER_DEG = 60.0
 #: s: how long a body stands after its tip guard stopped a step (walking time: the robot waits)
 GUARD_STAND_S = 1.0
 
@@ -230,11 +228,6 @@ def run_episode(
                     outcome.tilted,
                 )
             )
-
-
-def standing_gait() -> GaitParameters:
-    """Return the gait that stands still where the robot is (the control tripod's stance)."""
-    return preset('control').replace(body_velocity=0.0, step_height=[0.0] * 6)
 
 
 class SimBody:

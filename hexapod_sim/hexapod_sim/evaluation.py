@@ -38,7 +38,7 @@ hands a whole batch to the engine at once (MuJoCo runs it natively in C).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import math
 from typing import Callable, Sequence
 
@@ -71,6 +71,7 @@ class EvaluationResult:
     collision_steps: int = 0  # steps with a collision (collisions not fatal)
     contacts: np.ndarray | None = None  # (steps, 6) measured foot contacts, if recorded
     seconds: float = 0.0  # compute time of this evaluation [s] (for utilisation figures)
+    peak_tilt: float = 0.0  # rad: the largest |roll| or |pitch| (if recorded, else 0)
 
     @property
     def speed(self) -> float:
@@ -150,15 +151,24 @@ def evaluate_gaits(
     collisions_fatal: bool = True,
     failed_legs: Sequence[int] | Damage | None = None,
     record_contacts: bool = False,
+    record_tilt: bool = False,
 ) -> list[EvaluationResult]:
     """
     Evaluate gaits (or 32-gene genotypes) on ``sim``, one result each, in order.
 
     Deterministic for a given input. ``failed_legs`` (if given: leg numbers to lift, or a
-    :class:`~hexapod_sim.damage.Damage`) is applied first and kept.
+    :class:`~hexapod_sim.damage.Damage`) is applied first and kept. ``record_tilt``: each result's
+    ``peak_tilt`` (a fall that ends upside down keeps it too).
     """
     n_steps, played = _play_gaits(
-        gaits, sim, duration, collisions_fatal, failed_legs, record_contacts, from_genotype
+        gaits,
+        sim,
+        duration,
+        collisions_fatal,
+        failed_legs,
+        record_contacts,
+        from_genotype,
+        record_tilt=record_tilt,
     )
     results = []
     for p in played:
@@ -167,7 +177,7 @@ def evaluate_gaits(
             continue
         g, r = p.gait, p.play
         if r.final_orientation is not None and upside_down(r.final_orientation):
-            results.append(failure(FELL_OVER, duration))
+            results.append(replace(failure(FELL_OVER, duration), peak_tilt=r.peak_tilt))
             continue
         direction = (math.cos(g.crab_angle), math.sin(g.crab_angle))
         fitness = float(r.final_position[0] * direction[0] + r.final_position[1] * direction[1])
@@ -180,6 +190,7 @@ def evaluate_gaits(
                 duration,
                 r.collision_steps,
                 r.contacts,
+                peak_tilt=r.peak_tilt,
             )
         )
     return results
@@ -249,6 +260,9 @@ def evaluate_gait(
     collisions_fatal: bool = True,
     failed_legs: Sequence[int] | Damage | None = None,
     record_contacts: bool = False,
+    record_tilt: bool = False,
 ) -> EvaluationResult:
     """Evaluate one gait (or 32-gene genotype) on ``sim``; deterministic for a given input."""
-    return evaluate_gaits([gait], sim, duration, collisions_fatal, failed_legs, record_contacts)[0]
+    return evaluate_gaits(
+        [gait], sim, duration, collisions_fatal, failed_legs, record_contacts, record_tilt
+    )[0]

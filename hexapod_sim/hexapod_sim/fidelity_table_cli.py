@@ -32,6 +32,7 @@ each pair of engines agrees over a map's gaits.
 from __future__ import annotations
 
 import argparse
+import itertools
 from pathlib import Path
 import sys
 
@@ -90,15 +91,13 @@ def _tabulate(args: argparse.Namespace) -> int:
         print(markdown(rows))
         if args.agreement_map:
             genotypes = map_genotypes(args.agreement_map)
-            for i, first in enumerate(engines):
-                for second in engines[i + 1:]:
-                    a = agreement(genotypes, sims[first], sims[second])
-                    print(
-                        f'\n{first} vs {second} over the {a.gaits} gaits of '
-                        f'{args.agreement_map} (collisions not fatal): Spearman '
-                        f'{a.spearman:.3f}, mean |descriptor difference| '
-                        f'{a.mean_abs_descriptor:.3f}'
-                    )
+            for first, second in itertools.combinations(engines, 2):
+                a = agreement(genotypes, sims[first], sims[second])
+                print(
+                    f'\n{first} vs {second} over the {a.gaits} gaits of {args.agreement_map}'
+                    f' (collisions not fatal): Spearman {a.spearman:.3f}, mean |descriptor'
+                    f' difference| {a.mean_abs_descriptor:.3f}'
+                )
     except ValueError as exc:
         print(f'fidelity_table: {exc}', file=sys.stderr)
         return 2

@@ -59,6 +59,9 @@ from hexapod_sim.engine_settings import ACCURATE, DART_DEFAULT_SETTINGS, DEFAULT
 import numpy as np
 
 GRAVITY = 9.81
+#: Roll or pitch beyond this [deg] means the robot has tipped over (a hexapod on its side or
+#: back does not right itself); navigation fails a goal there, map figures count a tipped gait.
+TIP_OVER_DEG = 60.0
 ENGINES = ('pybullet', 'mujoco', 'dart')
 #: The engine that judges maps: it takes no part in making or tuning them (docs/simulator.md).
 JUDGE_ENGINE = 'dart'

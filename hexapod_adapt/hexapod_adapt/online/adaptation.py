@@ -56,9 +56,38 @@ class AdaptationResult:
     message: str
     trials: list[Trial] = field(default_factory=list)
     niches: list[int] = field(default_factory=list)  # archive niche of each trial
+    tipped: list[int] = field(default_factory=list)  # niches whose trial the tip guard stopped
     best_niche: int = -1
     best_speed: float = float('nan')
     elapsed: float = 0.0
+
+
+@dataclass(frozen=True)
+class TrialOutcome:
+    """
+    What one trial measured, when it can say more than a speed.
+
+    ``tipped``: the body tilted past the tip guard and the trial was stopped; it counts as a
+    failed trial (``speed`` 0) and that gait is never tried again. ``peak_tilt``: the largest
+    roll or pitch the trial saw [rad] (nan if not measured).
+    """
+
+    speed: float  # m/s
+    tipped: bool = False
+    peak_tilt: float = float('nan')
+
+
+#: The tip guard of adaptation trials [rad] (30 deg): half the tip-over line (60 deg,
+#: hexapod_sim.simulator.TIP_OVER_DEG). Robots that tipped rolled at 70-150 deg/s
+#: (docs/studies/navigation.md), so a gait stopped at 30 deg still has 0.2-0.4 s to stand.
+DEFAULT_TIP_GUARD = math.radians(30.0)
+
+
+def tipped_outcome(peak_tilt: float, guard: float) -> TrialOutcome | None:
+    """Return the failed outcome of a trial that tilted past ``guard`` [rad] (None if not)."""
+    if math.isfinite(peak_tilt) and peak_tilt > guard:
+        return TrialOutcome(0.0, True, float(peak_tilt))
+    return None
 
 
 class TrialAborted(RuntimeError):
@@ -87,7 +116,7 @@ def _with_prior(opt: Mboa, prior: np.ndarray) -> Mboa:
 
 def adapt(
     archive: Archive,
-    trial: Callable[[int], float],
+    trial: Callable[[int], float | TrialOutcome],
     config: MboaConfig | None = None,
     on_trial: Callable[[Trial, int, Mboa], None] | None = None,
     should_cancel: Callable[[], bool] | None = None,
@@ -98,6 +127,9 @@ def adapt(
 ) -> AdaptationResult:
     """
     Run M-BOA until it stops (never more than ``config.max_trials`` trials).
+
+    ``trial(niche)`` returns the measured speed, or a :class:`TrialOutcome`: one that tipped
+    counts as a failed trial (0 m/s) and its gait is never tried again.
 
     ``prior``, if given, replaces the map's speeds as M-BOA's prior mean: one speed per elite, in
     the order of ``archive.elite_indices()`` (e.g. the map re-scored under a known damage,
@@ -149,18 +181,23 @@ def adapt(
         index = opt.next_index()
         niche = int(niches[index])
         try:
-            measured = float(trial(niche))
+            outcome = trial(niche)
         except TrialAborted as exc:
             result.message = f'trial {len(opt.trials) + 1} aborted: {exc}'
             break
+        if not isinstance(outcome, TrialOutcome):
+            outcome = TrialOutcome(float(outcome))
+        measured = 0.0 if outcome.tipped else float(outcome.speed)
         if not math.isfinite(measured):  # bad odometry: never fed to the GP, never a "best"
             result.message = (
                 f'trial {len(opt.trials) + 1} (gait {niche}) measured a non-finite speed '
                 f'({measured!r} m/s): the odometry is broken; run stopped'
             )
             break
-        t = opt.observe(index, measured)
+        t = opt.observe(index, measured, tipped=outcome.tipped)
         result.niches.append(niche)
+        if outcome.tipped:
+            result.tipped.append(niche)
         if on_trial:
             on_trial(t, niche, opt)
     result.trials = list(opt.trials)
@@ -178,9 +215,13 @@ def simulated_trial(
     sim: Simulator,
     duration: float | None = None,
     settle: float = 0.0,
-) -> Callable[[int], float]:
+    tip_guard: float = math.pi,
+) -> Callable[[int], TrialOutcome]:
     """
-    Trial function on ``sim`` (either engine) with ``failed_legs`` (leg numbers, or a Damage).
+    Trial function on ``sim`` (any engine) with ``failed_legs`` (leg numbers, or a Damage).
+
+    ``tip_guard`` [rad]: a trial whose body tilts past it is a tipped, failed trial
+    (:class:`TrialOutcome`; pi: no guard).
 
     Collisions are not fatal (thesis 5.2.2: the robot cannot detect them). The gait starts from
     standing; with ``settle`` > 0 it walks that long untimed and the speed is timed over the
@@ -190,16 +231,26 @@ def simulated_trial(
     """
     duration = duration or archive.trial_duration
 
-    def distance(genes: np.ndarray, seconds: float) -> float:
-        return evaluate_gait(
-            genes, sim, duration=seconds, collisions_fatal=False, failed_legs=failed_legs
-        ).fitness
+    def walk(genes: np.ndarray, seconds: float) -> tuple[float, float]:
+        r = evaluate_gait(
+            genes,
+            sim,
+            duration=seconds,
+            collisions_fatal=False,
+            failed_legs=failed_legs,
+            record_tilt=True,
+        )
+        return r.fitness, r.peak_tilt
 
-    def trial(niche: int) -> float:
+    def trial(niche: int) -> TrialOutcome:
         genes = archive.genotypes[niche]
+        whole, peak = walk(genes, settle + duration)
+        tipped = tipped_outcome(peak, tip_guard)
+        if tipped is not None:
+            return tipped
         if settle <= 0:
-            return distance(genes, duration) / duration
-        return (distance(genes, settle + duration) - distance(genes, settle)) / duration
+            return TrialOutcome(whole / duration, False, peak)
+        return TrialOutcome((whole - walk(genes, settle)[0]) / duration, False, peak)
 
     return trial
 

@@ -216,6 +216,7 @@ class Trial:
     gp_mean: float  # posterior mean before the trial [m/s]
     gp_std: float
     measured: float  # [m/s]
+    tipped: bool = False  # the tip guard stopped it: a failed trial, never tried again
 
 
 @dataclass
@@ -383,6 +384,12 @@ class Mboa:
         """Candidate indices tried so far."""
         return {t.index for t in self.trials}
 
+    def excluded(self) -> set[int]:
+        """Return the candidates not to try again: the tested (``exclude_tested``), the tipped."""
+        if self.config.exclude_tested:
+            return self.tested()
+        return {t.index for t in self.trials if t.tipped}
+
     def best(self) -> Trial | None:
         """Return the trial with the highest measured speed (None before the first)."""
         return max(self.trials, key=lambda t: t.measured) if self.trials else None
@@ -395,7 +402,7 @@ class Mboa:
             self.config.stop_gain <= 0.0 or self.max_expected_gain() < self.config.stop_gain
         ):
             return StopReason.ALPHA_REACHED
-        if self.config.exclude_tested and len(self.tested()) == len(self.prior):
+        if len(self.excluded()) == len(self.prior):
             return StopReason.MAP_EXHAUSTED
         return StopReason.CONTINUE
 
@@ -459,8 +466,9 @@ class Mboa:
             z = np.where(std > 0, excess / np.where(std > 0, std, 1.0), 0.0)
         gain = np.where(std > 0, excess * ndtr(z) + std * np.exp(-0.5 * z * z) / SQRT_2PI, 0.0)
         gain = np.maximum(gain, np.maximum(excess, 0.0) * (std <= 0))
-        if self.config.exclude_tested and self.trials:
-            gain[list(self.tested())] = 0.0
+        excluded = self.excluded()
+        if excluded:
+            gain[list(excluded)] = 0.0
         return gain
 
     def max_expected_gain(self) -> float:
@@ -470,13 +478,19 @@ class Mboa:
     def next_index(self) -> int:
         """Return the candidate with the highest UCB (untested ones only, by default)."""
         ucb = self._mu + self.config.kappa * self.std
-        if self.config.exclude_tested and self.trials:
+        excluded = self.excluded()
+        if excluded:
             ucb = ucb.copy()
-            ucb[list(self.tested())] = -np.inf
+            ucb[list(excluded)] = -np.inf
         return int(np.argmax(ucb))
 
-    def observe(self, index: int, measured: float) -> Trial:
-        """Record a trial of candidate ``index`` that walked at ``measured`` m/s."""
+    def observe(self, index: int, measured: float, tipped: bool = False) -> Trial:
+        """
+        Record a trial of candidate ``index`` that walked at ``measured`` m/s.
+
+        ``tipped``: the tip guard stopped it; it is never tried again, whatever
+        ``exclude_tested`` says.
+        """
         if not 0 <= index < len(self.prior):
             raise ValueError(f'candidate {index} does not exist (0..{len(self.prior) - 1})')
         if not math.isfinite(measured):
@@ -490,6 +504,7 @@ class Mboa:
             float(self._mu[index]),
             float(self.std[index]),
             float(measured),
+            bool(tipped),
         )
         self.trials.append(trial)
         self._refit()

@@ -39,6 +39,7 @@ from hexapod_adapt.mapping.archive import (
 )
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
 from hexapod_adapt.mapping.simulation import archive_engine, simulation_fingerprint
+from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
 from hexapod_adapt.online.mboa import (
     ALPHA_RANGE,
     DEFAULT_PROFILE,
@@ -180,6 +181,14 @@ SETTINGS = (
         read_only=True,
     ),
     Setting('trial_timeout', 120.0, 'Wall-clock limit for one trial [s]', (1.0, 3600.0)),
+    Setting(
+        'tip_guard',
+        DEFAULT_TIP_GUARD,
+        'A sim or robot trial whose body tilts (roll or pitch) past this is stopped, the robot'
+        ' stands, and the trial counts as 0 m/s; that gait is never tried again (3.1416 = off)'
+        ' [rad]',
+        (0.05, math.pi),
+    ),
     Setting(
         'stand_still',
         1.0,

@@ -27,8 +27,8 @@
 For every orientation of each failure scenario: one M-BOA run with simulated trials (leg
 failures as in table 5.1, collisions not fatal), next to the control tripod gait with the same
 damage and intact. Trials run on the engine that made the map, or ``--trial-engine``;
-``--cross-engine`` runs the whole experiment twice, on the map's engine and on the other one
-(a stand-in for the reality gap of thesis 5.5). ``--damage-kind`` gives the scenarios' legs
+``--cross-engine`` runs the whole experiment on the map's engine and again on each other one,
+the judge (DART) included (a stand-in for the reality gap of thesis 5.5). ``--damage-kind`` gives the scenarios' legs
 another damage than the thesis's lifted one (e.g. ``unpowered_femur``: a dead femur servo).
 Prints a row per run and a summary per scenario
 and engine; ``--out`` writes the rows as CSV (atomically); ``--out-dir`` writes runs.csv plus
@@ -162,7 +162,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         '--cross-engine',
         action='store_true',
-        help="run on the map's engine and again on the other engine",
+        help="run on the map's engine and again on each other engine (the judge included)",
     )
     ap.add_argument(
         '--max-trials',

@@ -29,6 +29,7 @@ decisions are here, tested without a graph.
 from __future__ import annotations
 
 from dataclasses import dataclass
+import math
 import time
 from typing import Callable, Sequence
 
@@ -43,6 +44,7 @@ from hexapod_adapt.online.trials import (
     reported_distance_problem,
     RobotTrials,
     SimTrials,
+    TiltLog,
     TrialPort,
     TrialTiming,
     Waiter,
@@ -95,13 +97,26 @@ def trial_walk(
 
 
 def trial_procedure(
-    mode: str, port: TrialPort, odom: OdomLog, waiter: Waiter, timing: TrialTiming, warn: Log
+    mode: str,
+    port: TrialPort,
+    odom: OdomLog,
+    waiter: Waiter,
+    timing: TrialTiming,
+    warn: Log,
+    tip_guard: float = math.pi,
+    tilts: TiltLog | None = None,
 ) -> TrialProcedure:
-    """Return the trial function of ``mode`` (sim, robot or manual)."""
+    """
+    Return the trial function of ``mode`` (sim, robot or manual).
+
+    ``tip_guard`` [rad]: sim and robot trials that tilt the body past it are stopped (the
+    odometry's attitude in sim, ``tilts``, the robot's IMU, on the robot); a manual trial has no
+    attitude to watch.
+    """
     if mode == 'sim':
-        return SimTrials(port, odom, waiter, timing, warn)
+        return SimTrials(port, odom, waiter, timing, warn, tip_guard)
     if mode == 'robot':
-        return RobotTrials(port, odom, waiter, timing)
+        return RobotTrials(port, odom, waiter, timing, tilts=tilts, tip_guard=tip_guard)
     return ManualTrials(port, waiter, timing, warn)
 
 
@@ -192,6 +207,11 @@ def start_message(archive: Archive, config: MboaConfig, timing: TrialTiming, not
 
 def trial_message(trial: Trial, niche: int) -> str:
     """Return the line a run logs after each trial."""
+    if trial.tipped:
+        return (
+            f'trial {trial.number}: gait {niche} tilted the body past the tip guard: stopped,'
+            f' counted as 0 m/s and never tried again (map {trial.predicted:.3f} m/s)'
+        )
     return (
         f'trial {trial.number}: gait {niche} walked {trial.measured:.3f} m/s '
         f'(map {trial.predicted:.3f}, GP {trial.gp_mean:.3f} +/- {trial.gp_std:.3f})'

@@ -43,7 +43,7 @@ import threading
 import time
 from typing import Callable, ClassVar, Generic, Protocol, TypeVar
 
-from hexapod_adapt.online.adaptation import TrialAborted
+from hexapod_adapt.online.adaptation import TrialAborted, TrialOutcome
 
 MODES = ('sim', 'robot', 'manual')
 T = TypeVar('T')
@@ -63,6 +63,7 @@ class OdomSample:
     vy: float
     received: float  # time.monotonic() when it arrived
     upside_down: bool = False  # the body's up axis below the horizontal (a fall)
+    tilt: float = 0.0  # the body's larger of |roll| and |pitch| [rad]
 
 
 class SampleLog(Generic[T]):
@@ -95,6 +96,38 @@ class SampleLog(Generic[T]):
 
 class OdomLog(SampleLog[OdomSample]):
     """The odometry received so far."""
+
+    def peak_tilt_since(self, stamp_ns: int) -> float:
+        """Return the largest tilt [rad] of the samples stamped at or after ``stamp_ns`` (0)."""
+        peak = 0.0
+        with self._lock:
+            for s in reversed(self._samples):  # newest first: a trial's samples are the last
+                if s.stamp_ns < stamp_ns:
+                    break
+                peak = max(peak, s.tilt)
+        return peak
+
+
+@dataclass(frozen=True)
+class TiltSample:
+    """One attitude reading (the IMU's) as a trial's tip guard reads it."""
+
+    tilt: float  # the larger of |roll| and |pitch| [rad]
+    received: float  # time.monotonic() when it arrived
+
+
+class TiltLog(SampleLog[TiltSample]):
+    """The robot's attitude readings received so far (bridge_node's imu/data)."""
+
+    def peak_since(self, t: float) -> float:
+        """Return the largest tilt [rad] received after monotonic time ``t`` (0 if none)."""
+        peak = 0.0
+        with self._lock:
+            for s in reversed(self._samples):
+                if s.received <= t:
+                    break
+                peak = max(peak, s.tilt)
+        return peak
 
 
 class Waiter:
@@ -192,6 +225,12 @@ class TrialPort(Protocol):
     def start_trial(self) -> tuple[bool, str]:
         """Call bridge_node's start_trial; TrialAborted if it does not answer."""
 
+    def stop_trial(self) -> tuple[bool, str]:
+        """Stop the robot's trial through bridge_node (it stands); TrialAborted if no answer."""
+
+    def stand(self) -> None:
+        """Publish the standing gait on gait/parameters (the simulated robot stops walking)."""
+
 
 @dataclass(frozen=True)
 class TrialTiming:
@@ -219,9 +258,12 @@ class SimTrials:
     waiter: Waiter
     timing: TrialTiming
     warn: Callable[[str], None]
+    #: [rad] a trial whose body (the odometry's attitude) tilts past this is stopped: the robot
+    #: stands, and the trial is a tipped, failed one (pi: no guard)
+    tip_guard: float = math.pi
 
-    def __call__(self, niche: int) -> float:
-        """Measure the speed of the gait of ``niche`` [m/s]."""
+    def __call__(self, niche: int) -> TrialOutcome:
+        """Measure the speed of the gait of ``niche`` [m/s], or stop it when it tips."""
         duration, timeout, wait = self.timing.duration, self.timing.timeout, self.waiter.until
         for attempt in range(self.ATTEMPTS):
             stamp, crab = self.port.publish_gait(niche)
@@ -241,13 +283,20 @@ class SimTrials:
             )
             end = t0 + int(round(self.timing.walking * 1e9))
             wait(
-                lambda: (s := self.odom.latest()) is not None and s.stamp_ns >= end,
+                lambda: (
+                    (s := self.odom.latest()) is not None
+                    and (s.stamp_ns >= end or self.odom.peak_tilt_since(t0) > self.tip_guard)
+                ),
                 timeout,
                 f'{self.timing.walking:g} s of simulated odometry',
             )
+            peak = self.odom.peak_tilt_since(t0)
+            if peak > self.tip_guard:
+                self.port.stand()
+                return TrialOutcome(0.0, True, peak)
             speed = sim_trial_speed(self.odom.snapshot(), t0, duration, crab, self.timing.settle)
             if speed is not None:
-                return speed
+                return TrialOutcome(speed, False, peak)
             self.warn(
                 f'odometry sample lost in transport; repeating the trial (attempt {attempt + 2})'
             )
@@ -281,21 +330,33 @@ class RobotTrials:
     timing: TrialTiming
     sleep: Callable[[float], None] = time.sleep
     clock: Callable[[], float] = time.monotonic
+    #: the IMU's attitude (bridge_node's imu/data) and the guard [rad]: a trial that tilts the
+    #: body past it is stopped through bridge_node's stop_trial (pi: no guard)
+    tilts: TiltLog | None = None
+    tip_guard: float = math.pi
 
-    def __call__(self, niche: int) -> float:
-        """Measure the speed of the gait of ``niche`` [m/s]."""
+    def __call__(self, niche: int) -> TrialOutcome:
+        """Measure the speed of the gait of ``niche`` [m/s], or stop it when it tips."""
         crab = _uploaded(self.port, niche, self.timing.timeout)
         self.sleep(max(0.0, self.timing.stand_still))
         ok, message = self.port.start_trial()
         if not ok:
             raise TrialAborted(f'bridge_node did not start the trial: {message}')
         started = self.clock()
+        tilts = self.tilts
+
+        def peak() -> float:
+            return tilts.peak_since(started) if tilts is not None else float('nan')
+
         sample = self.waiter.until(
-            lambda: self.odom.received_after(started),
+            lambda: self.odom.received_after(started) or (peak() > self.tip_guard and 'tipped'),
             self.timing.duration + self.timing.timeout,
             "the trial's odometry from bridge_node",
         )
-        return along(sample.vx, sample.vy, crab)
+        if sample == 'tipped':
+            self.port.stop_trial()
+            return TrialOutcome(0.0, True, peak())
+        return TrialOutcome(along(sample.vx, sample.vy, crab), False, peak())
 
 
 def reported_distance_problem(distance: float) -> str:

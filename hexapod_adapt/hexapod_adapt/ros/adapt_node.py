@@ -313,7 +313,14 @@ class AdaptNode(Node):
             path = self.recorded.start(record_dir, RECORDED_TYPES, warn)
             response.mcap_path = str(path.resolve()) if path else ''
         self.trials = session.trial_procedure(
-            self.mode, self.port, self.odom, self.waiter, timing, warn
+            self.mode,
+            self.port,
+            self.odom,
+            self.waiter,
+            timing,
+            warn,
+            float(self.get_parameter('tip_guard').value),
+            self.port.tilts,
         )
         note = engine_note(
             archive, self.port.sim_engine() if self.mode == 'sim' else 'the real robot'
@@ -335,7 +342,10 @@ class AdaptNode(Node):
             self.trial_pub.publish(msg)
             self.recording.record('adapt/trials', msg)
             self.recording.checkpoint()  # a completed trial survives a kill or power loss
-            self.get_logger().info(session.trial_message(trial, niche))
+            if trial.tipped:  # rclpy fixes a call site's severity: one call per severity
+                self.get_logger().warning(session.trial_message(trial, niche))
+            else:
+                self.get_logger().info(session.trial_message(trial, niche))
 
         try:
             result = adapt(

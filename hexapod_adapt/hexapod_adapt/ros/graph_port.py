@@ -37,17 +37,18 @@ from typing import Callable, Mapping
 
 from hexapod_adapt.online.adaptation import TrialAborted
 from hexapod_adapt.online.prior import report_source_problem
-from hexapod_adapt.online.trials import OdomLog, OdomSample, Upload
+from hexapod_adapt.online.trials import OdomLog, OdomSample, TiltLog, TiltSample, Upload
 from hexapod_adapt.ros.recording import type_name
 from hexapod_adapt.ros.run_recording import RunRecording
-from hexapod_gait import GaitParameters
+from hexapod_gait import GaitParameters, standing_gait
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_gait.ros_glue import EVENTS, LATCHED, ODOM, SENSOR, TF_QOS
 from hexapod_msgs.msg import AdaptationTrial, FootContacts, LegDamage, TrajectoryActivation
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.srv import GetLegDamage, UploadGait
-from hexapod_sim.simulator import upside_down
+from hexapod_sim.simulator import peak_tilt, upside_down
 from nav_msgs.msg import Odometry
+import numpy as np
 from rcl_interfaces.msg import ParameterType
 from rcl_interfaces.srv import GetParameters
 import rclpy
@@ -131,6 +132,7 @@ class GraphPort:
         recording: RunRecording,
     ) -> None:
         self.node, self.odom, self.recording = node, odom, recording
+        self.tilts = TiltLog(maxlen=2000)  # the robot's IMU attitude (robot trials' tip guard)
         self.gait_of: Callable[[int], GaitParameters] | None = None
         self.wait: Callable | None = None
         self._active: int | None = None
@@ -140,6 +142,7 @@ class GraphPort:
         sensors, work = MutuallyExclusiveCallbackGroup(), ReentrantCallbackGroup()
         self.gait_pub = node.create_publisher(GaitParametersMsg, 'gait/parameters', LATCHED)
         node.create_subscription(Odometry, 'odom', self._on_odom, ODOM, callback_group=sensors)
+        node.create_subscription(Imu, 'imu/data', self._on_imu, SENSOR, callback_group=sensors)
         node.create_subscription(
             Header, 'sim/active_trajectory', self._on_active, LATCHED, callback_group=sensors
         )
@@ -156,6 +159,9 @@ class GraphPort:
         self.reset_client = node.create_client(Trigger, f'{sim_name}/reset', callback_group=work)
         self.start_client = node.create_client(
             Trigger, f'{bridge_name}/start_trial', callback_group=work
+        )
+        self.stop_client = node.create_client(
+            Trigger, f'{bridge_name}/stop_trial', callback_group=work
         )
         self.upload_client = node.create_client(
             UploadGait, f'{bridge_name}/upload_gait', callback_group=work
@@ -182,9 +188,14 @@ class GraphPort:
                 t.y,
                 time.monotonic(),
                 upside_down((q.x, q.y, q.z, q.w)),
+                peak_tilt(np.array([q.x, q.y, q.z, q.w])),
             )
         )
         self.recording.record('odom', msg)
+
+    def _on_imu(self, msg: Imu) -> None:
+        q = msg.orientation
+        self.tilts.append(TiltSample(peak_tilt(np.array([q.x, q.y, q.z, q.w])), time.monotonic()))
 
     def _on_active(self, msg: Header) -> None:
         self._active = stamp_ns(msg.stamp)
@@ -261,6 +272,17 @@ class GraphPort:
         """Start a trial on the robot."""
         answer = self.call(self.start_client, 'start the trial')
         return answer.success, answer.message
+
+    def stop_trial(self) -> tuple[bool, str]:
+        """Stop the robot's trial (it stands)."""
+        answer = self.call(self.stop_client, 'stop the trial')
+        return answer.success, answer.message
+
+    def stand(self) -> None:
+        """Publish the standing gait: the simulated robot stops walking where it is."""
+        msg = gait_to_msg(standing_gait())
+        self.stamp(msg)
+        self.publish(msg)
 
     def upload_msg(self, msg: GaitParametersMsg, timeout: float) -> UploadGait.Response:
         """
@@ -363,6 +385,7 @@ def trial_msg(trial, niche: int, best_niche: int, best_speed: float, archive) ->
     msg = AdaptationTrial(trial=trial.number, archive_index=int(niche))
     msg.map_speed, msg.predicted_speed = trial.predicted, trial.gp_mean
     msg.predicted_speed_std, msg.measured_speed = trial.gp_std, trial.measured
+    msg.tipped = trial.tipped
     msg.best_speed, msg.best_archive_index = best_speed, int(best_niche)
     msg.descriptor = [float(x) for x in archive.descriptors[niche]]
     return msg

@@ -1,0 +1,152 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""The tip guard of adaptation trials: a gait that tips is a failed trial, never tried again."""
+
+from dataclasses import replace
+import math
+
+from hexapod_adapt.mapping.archive import Archive
+from hexapod_adapt.online.adaptation import (
+    adapt,
+    DEFAULT_TIP_GUARD,
+    simulated_trial,
+    tipped_outcome,
+    TrialOutcome,
+)
+from hexapod_adapt.online.mboa import Mboa, MboaConfig
+from hexapod_adapt.online.trials import OdomLog, OdomSample, TiltLog, TiltSample
+import numpy as np
+import pytest
+
+
+def _archive(n=50, seed=3):
+    rng = np.random.default_rng(seed)
+    a = Archive.empty(rng.random((n, 6)))
+    a.fitness[:] = rng.uniform(0.5, 2.0, n)
+    a.descriptors[:] = a.centroids
+    a.genotypes[:] = rng.random((n, 32))
+    return a
+
+
+def test_the_default_guard_is_half_the_tip_over_line():
+    from hexapod_sim.simulator import TIP_OVER_DEG
+
+    assert DEFAULT_TIP_GUARD == pytest.approx(math.radians(TIP_OVER_DEG) / 2)
+
+
+def test_a_tilt_past_the_guard_is_a_failed_trial_and_below_it_is_none():
+    assert tipped_outcome(0.6, 0.5) == TrialOutcome(0.0, True, 0.6)
+    assert tipped_outcome(0.4, 0.5) is None
+    assert tipped_outcome(float('nan'), 0.5) is None
+
+
+@pytest.mark.parametrize('exclude_tested', [True, False])
+def test_a_gait_that_tipped_counts_zero_and_is_never_tried_again(exclude_tested):
+    a = _archive()
+    best = int(np.argmax(a.speeds()))  # the prior's first choice tips
+    tried = []
+
+    def trial(niche):
+        tried.append(niche)
+        if niche == best:
+            return TrialOutcome(0.42, tipped=True, peak_tilt=1.2)  # the speed is not believed
+        return TrialOutcome(0.5 * a.speeds()[niche], False, 0.1)
+
+    config = replace(MboaConfig(max_trials=8), exclude_tested=exclude_tested, alpha=0.99)
+    result = adapt(a, trial, config)
+    assert tried[0] == best and tried.count(best) == 1
+    assert result.tipped == [best]
+    first = result.trials[0]
+    assert first.tipped and first.measured == 0.0
+    assert not any(t.tipped for t in result.trials[1:])
+    assert result.best_niche != best
+
+
+def test_mboa_excludes_a_tipped_candidate_even_when_retesting_is_allowed():
+    config = replace(MboaConfig(), exclude_tested=False)
+    opt = Mboa(np.random.default_rng(0).random((3, 6)), np.array([0.3, 0.2, 0.1]), config)
+    opt.observe(0, 0.0, tipped=True)
+    assert opt.excluded() == {0} and opt.next_index() != 0
+    opt.observe(1, 0.05)
+    assert opt.excluded() == {0} and opt.next_index() in (1, 2)  # 1 may be tried again
+
+
+def test_a_simulated_trial_past_the_guard_tips_and_below_it_walks():
+    from hexapod_gait import preset
+    from hexapod_gait.parameters import to_genotype
+    from hexapod_sim import create_simulator
+
+    a = Archive.empty(np.full((1, 6), 0.5))
+    a.fitness[0], a.descriptors[0], a.genotypes[0] = 1.0, 0.5, to_genotype(preset('control'))
+    with create_simulator() as sim:
+        walked = simulated_trial(a, [1], sim)(0)
+        assert not walked.tipped and walked.speed > 0.05 and 0 < walked.peak_tilt < 0.5
+        # the control tripod rocks the body a little: a guard below that rocking stops it
+        guarded = simulated_trial(a, [1], sim, tip_guard=0.5 * walked.peak_tilt)(0)
+        assert guarded.tipped and guarded.speed == 0.0
+        assert guarded.peak_tilt == pytest.approx(walked.peak_tilt)
+
+
+def test_the_logs_give_the_peak_tilt_of_a_trial():
+    odom = OdomLog()
+    for k, tilt in enumerate([0.1, 0.7, 0.2]):
+        odom.append(OdomSample(1000 + k, 0.0, 0.0, 0.0, 0.0, float(k), tilt=tilt))
+    assert odom.peak_tilt_since(1000) == pytest.approx(0.7)
+    assert odom.peak_tilt_since(1002) == pytest.approx(0.2)
+    assert odom.peak_tilt_since(5000) == 0.0
+    tilts = TiltLog()
+    for k, tilt in enumerate([0.9, 0.1, 0.3]):
+        tilts.append(TiltSample(tilt, float(k)))
+    assert tilts.peak_since(0.5) == pytest.approx(0.3)
+
+
+def test_a_robot_trial_that_tilts_past_the_guard_is_stopped_through_the_bridge():
+    import time
+
+    from hexapod_adapt.online.trials import RobotTrials, TrialTiming, Upload, Waiter
+
+    class Robot:
+        stopped = 0
+
+        def upload(self, niche, timeout):
+            return Upload(True, '', niche), 0.0
+
+        def start_trial(self):
+            return True, ''
+
+        def stop_trial(self):
+            Robot.stopped += 1
+            return True, ''
+
+    tilts = TiltLog()
+    # the IMU reports the body rolling over after the trial started (no odometry comes)
+    tilts.append(TiltSample(0.9, time.monotonic() + 60.0))
+    trials = RobotTrials(
+        Robot(),
+        OdomLog(),
+        Waiter(lambda: True, poll=0.001),
+        TrialTiming(duration=5.0, timeout=5.0, stand_still=0.0),
+        tilts=tilts,
+        tip_guard=0.5,
+    )
+    outcome = trials(3)
+    assert outcome.tipped and outcome.speed == 0.0 and outcome.peak_tilt == pytest.approx(0.9)
+    assert Robot.stopped == 1

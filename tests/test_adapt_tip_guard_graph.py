@@ -1,0 +1,103 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+The tip guard of adaptation, through the graph: adapt_node + gait_node + sim_node (fast mode).
+
+A map whose best gait tips the robot over with leg 1 lifted: its trial is stopped when the body
+tilts past adapt_node's tip_guard, counts as 0 m/s, is never tried again, and says so on
+adapt/trials and in the run's MCAP recording.
+"""
+
+from __future__ import annotations
+
+from conftest import wait_for
+from hexapod_adapt.mapping.archive import Archive, load_archive
+from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+from hexapod_adapt.mapping.simulation import simulation_fingerprint
+from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
+from hexapod_adapt.ros.recording import read_messages
+from hexapod_gait import preset, to_genotype
+from hexapod_msgs.msg import AdaptationTrial
+from hexapod_msgs.srv import Adapt
+from hexapod_sim import create_simulator, evaluate_gait
+import numpy as np
+import pytest
+
+pytestmark = pytest.mark.ros
+FAILED = [1]
+#: A default-map gait that ends on its back on PyBullet with leg 1 lifted (test_adapt_trials).
+TIPPER = 18287
+
+
+@pytest.fixture(scope='module')
+def tipping_archive(tmp_path_factory):
+    """Three gaits: the tipper, with the highest map speed, then the control and wave gaits."""
+    genes = [
+        load_archive(shipped_map(DEFAULT_MAP)).genotypes[TIPPER],
+        to_genotype(preset('control')),
+        to_genotype(preset('wave')),
+    ]
+    with create_simulator() as sim:
+        walks = [
+            evaluate_gait(g, sim, collisions_fatal=False, failed_legs=FAILED, record_tilt=True)
+            for g in genes
+        ]
+    assert walks[0].peak_tilt > DEFAULT_TIP_GUARD, 'the tipper no longer tips: pick another'
+    assert all(w.peak_tilt < DEFAULT_TIP_GUARD for w in walks[1:])
+    desc = np.eye(3, 6) * 0.5 + 0.25  # three distinct niches
+    archive = Archive(
+        desc,
+        np.array([3.0, 1.0, 0.5]),  # the map believes the tipper is the fastest
+        desc,
+        np.array(genes),
+        {'seed': 5, 'evaluations': 3, **simulation_fingerprint('pybullet')},
+    )
+    return archive.save(tmp_path_factory.mktemp('archive') / 'tipping.npz')
+
+
+def test_a_trial_that_tips_is_stopped_counted_as_failed_and_never_tried_again(
+    ros, launch, tmp_path, tipping_archive
+):
+    sim = launch(
+        'hexapod_sim',
+        'sim_node',
+        params={'real_time_factor': 0.0, 'publish_period_steps': 12, 'failed_legs': FAILED},
+    )
+    gait = launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(tipping_archive), 'record_dir': str(tmp_path / 'runs')},
+    )
+    trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
+    response = ros.call(
+        Adapt, 'adapt', Adapt.Request(max_trials=3, alpha=1.0, blind=True), timeout=300
+    )
+    assert response.trials >= 2, response.message
+    wait_for(lambda: len(trials) == response.trials, 10, 'one AdaptationTrial per trial')
+    first = trials[0]
+    assert first.archive_index == 0 and first.tipped and first.measured_speed == 0.0
+    assert [t.archive_index for t in trials].count(0) == 1  # never tried again
+    assert not any(t.tipped for t in trials[1:])
+    assert response.best_archive_index != 0 and response.best_speed > 0.0
+    recorded = [m for topic, m, _ in read_messages(response.mcap_path) if topic == '/adapt/trials']
+    assert [m.tipped for m in recorded] == [t.tipped for t in trials]
+    assert node.alive() and sim.alive() and gait.alive()
