@@ -181,11 +181,43 @@ def _running(pid: int) -> bool:
     return stat.rsplit(')', 1)[1].split()[0] != 'Z'
 
 
-def test_an_emitter_map_killed_and_resumed_equals_one_run_and_loads_in_adapt_node(tmp_path):
+def _kill_midway(args: list, out: Path, evaluations: int) -> None:
+    """Run generate_map on one worker; SIGKILL it once a checkpoint holds ``evaluations``."""
     import signal
     import time
 
     from hexapod_adapt.mapping.map_elites import load_checkpoint_state
+
+    proc = subprocess.Popen(
+        [sys.executable, '-m', 'hexapod_adapt.mapping.generate_map_cli', *args]
+        + ['--workers', '1'],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    ckpt = Path(f'{out}.ckpt.npz')
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline:
+        try:
+            archive, pending, proposer = load_checkpoint_state(ckpt)
+        except (OSError, ArchiveError, ValueError, KeyError):
+            time.sleep(0.05)
+            continue
+        if proposer is not None and archive.metadata['evaluations'] >= evaluations:
+            break
+        time.sleep(0.05)
+    workers = _children(proc.pid)
+    assert workers  # the pool's worker
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    assert not out.exists() and proposer is not None and pending  # killed mid-run
+    # the workers die with it (CI once found one still evaluating after this test)
+    deadline = time.monotonic() + 20
+    while any(Path(f'/proc/{pid}').exists() for pid in workers) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not [pid for pid in workers if _running(pid)], 'a worker outlived generate_map'
+
+
+def test_an_emitter_map_killed_and_resumed_equals_one_run_and_loads_in_adapt_node(tmp_path):
     from hexapod_adapt.online.run_config import ArchiveSlot
     from hexapod_adapt.online.trials import MODES
 
@@ -199,33 +231,7 @@ def test_an_emitter_map_killed_and_resumed_equals_one_run_and_loads_in_adapt_nod
     whole = tmp_path / 'whole' / 'map.npz'
     assert _run_cli(*args(whole), '--workers', '2').returncode == 0
     killed = tmp_path / 'killed' / 'map.npz'
-    proc = subprocess.Popen(
-        [sys.executable, '-m', 'hexapod_adapt.mapping.generate_map_cli', *args(killed)]
-        + ['--workers', '1'],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
-    ckpt = Path(f'{killed}.ckpt.npz')
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline:
-        try:
-            archive, pending, proposer = load_checkpoint_state(ckpt)
-        except (OSError, ArchiveError, ValueError, KeyError):
-            time.sleep(0.05)
-            continue
-        if proposer is not None and archive.metadata['evaluations'] >= 150:
-            break
-        time.sleep(0.05)
-    workers = _children(proc.pid)
-    assert workers  # the pool's worker
-    proc.send_signal(signal.SIGKILL)
-    proc.wait()
-    assert not killed.exists() and proposer is not None and pending  # killed mid-run
-    # the workers die with it (CI once found one still evaluating after this test)
-    deadline = time.monotonic() + 20
-    while any(Path(f'/proc/{pid}').exists() for pid in workers) and time.monotonic() < deadline:
-        time.sleep(0.05)
-    assert not [pid for pid in workers if _running(pid)], 'a worker outlived generate_map'
+    _kill_midway(args(killed), killed, 150)
     resumed = _run_cli(*args(killed), '--workers', '2', '--resume')  # other workers, too
     assert resumed.returncode == 0, resumed.stderr
     a, b = load_archive(whole), load_archive(killed)
@@ -260,3 +266,47 @@ def test_the_runs_of_a_resumed_log_are_told_apart_in_the_order_written(tmp_path)
     ]
     assert sum(r.core_seconds for r in runs) == 2 * (300.0 + 190.0)
     assert [r['evaluations'] for r in read_log(log)] == [1000, 2000, 2500, 2500, 3000, 3000, 4000]
+
+
+@pytest.mark.slow
+def test_a_walk_guarded_map_is_made_from_its_seed_and_resumes_exactly_after_sigkill(tmp_path):
+    def args(out):
+        return [
+            '--out', str(out), '--niches', '30', '--evaluations', '300', '--seed', '3',
+            '--emitters', 'cma_mae', '--emitter-count', '2', '--emitter-batch', '10',
+            '--with-presets', '--min-feet', '3', '--max-tilt', '0.52',
+            '--checkpoint-every', '0.2', '--quiet',
+        ]  # fmt: skip
+
+    first, second = tmp_path / 'a' / 'map.npz', tmp_path / 'b' / 'map.npz'
+    assert _run_cli(*args(first), '--workers', '2').returncode == 0
+    assert _run_cli(*args(second), '--workers', '1').returncode == 0
+    killed = tmp_path / 'killed' / 'map.npz'
+    _kill_midway(args(killed), killed, 100)
+    assert _run_cli(*args(killed), '--workers', '2', '--resume').returncode == 0
+    a, b, k = load_archive(first), load_archive(second), load_archive(killed)
+    for other in (b, k):
+        np.testing.assert_array_equal(a.fitness, other.fitness)
+        np.testing.assert_array_equal(a.genotypes, other.genotypes)
+    assert a.metadata['walk_guards'] == {'min_feet': 3.0, 'max_tilt': 0.52}
+    elites = a.elite_indices()
+    assert len(elites) > 0
+    # every elite keeps three feet down on average (its descriptor is its duty factors)
+    assert (a.descriptors[elites].sum(axis=1) >= 3.0).all()
+
+
+def test_walk_guards_refuse_nonsense_and_say_why_a_gait_fails():
+    from hexapod_adapt.mapping.simulation import WalkGuards
+    from hexapod_sim.evaluation import EvaluationResult
+
+    for bad in ({'min_feet': -1.0}, {'min_feet': 7.0}, {'max_tilt': 0.0}, {'max_tilt': 4.0}):
+        with pytest.raises(ValueError, match=next(iter(bad))):
+            WalkGuards(**bad)
+    assert not WalkGuards().active and WalkGuards(min_feet=3).active
+    runs = EvaluationResult(1.0, np.full(6, 0.4), True, '', 5.0)  # 2.4 feet down
+    walks = EvaluationResult(1.0, np.full(6, 0.6), True, '', 5.0, peak_tilt=0.7)
+    guards = WalkGuards(min_feet=3.0, max_tilt=0.5)
+    assert 'fewer than 3' in guards.problem(runs)
+    assert 'tilted 40 deg' in guards.problem(walks)
+    assert WalkGuards(min_feet=3.0).problem(walks) == ''
+    assert 'walk_guards' not in simulation_fingerprint('mujoco', WalkGuards())

@@ -61,6 +61,7 @@ from hexapod_adapt.mapping.simulation import (
     DEFAULT_MAP_ENGINE,
     SimulateGenotypes,
     simulation_fingerprint,
+    WalkGuards,
 )
 from hexapod_adapt.mapping.steps import preset_genotypes, repertoire_fingerprint, SimulateSteps
 from hexapod_description.processes import die_with_parent
@@ -113,6 +114,8 @@ class GenerateConfig:
     kind: str = 'gait'  # 'gait' (the thesis map) or 'navigation' (a repertoire, repertoire.py)
     #: navigation: only gaits that keep this many feet down throughout are elites (0: any)
     min_stance_legs: int = 0
+    #: gait maps: what an elite must also do (feet on the ground on average, the body's tilt)
+    guards: WalkGuards = WalkGuards()
     #: who proposes candidates after the random start: iso_line (the thesis's operator), or a
     #: pyribs emitter set (cma_me, cma_mae, bandit; mapping.emitters) with these settings
     emitters: str = 'iso_line'
@@ -140,6 +143,8 @@ class GenerateConfig:
             raise ValueError(f'min_stance_legs must be 0..6, got {self.min_stance_legs!r}')
         if self.min_stance_legs and self.kind != 'navigation':
             raise ValueError('min_stance_legs applies to navigation repertoires only')
+        if self.guards.active and self.kind != 'gait':
+            raise ValueError('walk guards (min_feet, max_tilt) apply to gait maps only')
         self.engine_config()  # the MAP-Elites settings' own checks (emitters, ...)
 
     @property
@@ -274,8 +279,8 @@ def generate_map(
         fingerprint = repertoire_fingerprint(config.engine, config.min_stance_legs)
         evaluate = SimulateSteps(config.engine, config.min_stance_legs)
     else:
-        fingerprint = simulation_fingerprint(config.engine)
-        evaluate = SimulateGenotypes(config.engine)
+        fingerprint = simulation_fingerprint(config.engine, config.guards)
+        evaluate = SimulateGenotypes(config.engine, config.guards)
     engine = config.engine_config()
     pending, proposer = None, None
     source = None  # the file a resumed run continues

@@ -36,6 +36,7 @@ Thin front end of hexapod_adapt.mapping.generate.
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 
 from hexapod_adapt.mapping.archive import MAP_KINDS
@@ -47,6 +48,7 @@ from hexapod_adapt.mapping.generate import (
     GenerateConfig,
     LIMITS,
 )
+from hexapod_adapt.mapping.simulation import WalkGuards
 from hexapod_description.cli import claim_outputs, number, output_dir, output_file, run_command
 from hexapod_sim import ENGINES
 from tqdm import tqdm
@@ -211,6 +213,20 @@ def build_parser() -> argparse.ArgumentParser:
         metavar='K',
         help='navigation: only gaits that keep K feet on the ground throughout (0: any)',
     )
+    ap.add_argument(
+        '--min-feet',
+        type=float,
+        default=0.0,
+        metavar='F',
+        help='gait maps: only gaits with at least F feet on the ground on average (0: any)',
+    )
+    ap.add_argument(
+        '--max-tilt',
+        type=float,
+        default=math.pi,
+        metavar='RAD',
+        help='gait maps: only gaits whose body never tilts past RAD (roll or pitch; pi: any)',
+    )
     ap.add_argument('--quiet', action='store_true', help='no progress bar or progress lines')
     ap.add_argument(
         '--no-bar', action='store_true', help='progress lines instead of a progress bar (logs, CI)'
@@ -251,6 +267,7 @@ def _generate(args: argparse.Namespace) -> int:
             engine=args.engine,
             kind=args.kind,
             min_stance_legs=args.min_stance_legs,
+            guards=WalkGuards(args.min_feet, args.max_tilt),
             emitters=args.emitters,
             emitter_count=args.emitter_count,
             emitter_batch=args.emitter_batch,

@@ -27,7 +27,9 @@ depends on. (``map_elites.py`` stays generic.).
 
 from __future__ import annotations
 
+from dataclasses import asdict, dataclass
 import hashlib
+import math
 from pathlib import Path
 import time
 from typing import Any
@@ -35,13 +37,49 @@ from typing import Any
 from hexapod_description import urdf_path
 from hexapod_gait import GENOTYPE_MAPPING_VERSION
 from hexapod_sim import create_simulator, evaluate_gaits, SimConfig, Simulator, validate_engine
-from hexapod_sim.evaluation import EvaluationResult, TRIAL_DURATION
+from hexapod_sim.evaluation import EvaluationResult, failure, TRIAL_DURATION
 import numpy as np
 
 #: Engine used for maps unless told otherwise: MuJoCo, ~7x cheaper per evaluation than PyBullet.
 DEFAULT_MAP_ENGINE = 'mujoco'
 
 _WORKER_SIMS: dict[str, Simulator] = {}
+
+
+@dataclass(frozen=True)
+class WalkGuards:
+    """
+    What a map gait must also do to be an elite: walk, not run (``generate_map --min-feet``).
+
+    ``min_feet``: feet on the ground on average over the trial (the sum of the descriptor's
+    duty factors; 0: any). A kinematic walker with three feet down at a time can stand on them;
+    the map's fastest gaits on the engine that made it kept 2.1 and ran on impacts and flight
+    phases, where contact models differ most (issue 49). ``max_tilt``: the body never tilts
+    (roll or pitch) past this [rad] (pi: any).
+    """
+
+    min_feet: float = 0.0
+    max_tilt: float = math.pi
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.min_feet) and 0.0 <= self.min_feet <= 6.0):
+            raise ValueError(f'min_feet must be in [0, 6] feet, got {self.min_feet!r}')
+        if not (math.isfinite(self.max_tilt) and 0.0 < self.max_tilt <= math.pi):
+            raise ValueError(f'max_tilt must be in (0, pi] rad, got {self.max_tilt!r}')
+
+    @property
+    def active(self) -> bool:
+        """Whether any guard applies."""
+        return self.min_feet > 0.0 or self.max_tilt < math.pi
+
+    def problem(self, result: EvaluationResult) -> str:
+        """Say why a valid result fails the guards ('' if it passes)."""
+        feet = float(np.sum(result.descriptor))
+        if feet < self.min_feet:
+            return f'{feet:.2f} feet on the ground on average, fewer than {self.min_feet:g}'
+        if result.peak_tilt > self.max_tilt:
+            return f'the body tilted {math.degrees(result.peak_tilt):.0f} deg, past the guard'
+        return ''
 
 
 def worker_simulator(engine: str) -> Simulator:
@@ -64,8 +102,9 @@ class SimulateGenotypes:
     fatal (thesis 4.2.5).
     """
 
-    def __init__(self, engine: str = DEFAULT_MAP_ENGINE) -> None:
+    def __init__(self, engine: str = DEFAULT_MAP_ENGINE, guards: WalkGuards | None = None) -> None:
         self.engine = validate_engine(engine)
+        self.guards = guards or WalkGuards()
 
     def __call__(self, genes: np.ndarray) -> list[EvaluationResult]:
         genes = np.atleast_2d(genes)
@@ -73,38 +112,54 @@ class SimulateGenotypes:
         # intact, said explicitly: the process's simulator is shared, and a ceiling computed in
         # this process (or a parent it was forked from) may have left legs failed in it
         results = evaluate_gaits(
-            list(genes), worker_simulator(self.engine), collisions_fatal=True, failed_legs=()
+            list(genes),
+            worker_simulator(self.engine),
+            collisions_fatal=True,
+            failed_legs=(),
+            record_tilt=self.guards.max_tilt < math.pi,
         )
         each = (time.thread_time() - t) / max(len(results), 1)
-        return [
-            EvaluationResult(
-                r.fitness,
-                r.descriptor,
-                r.valid,
-                r.reason,
-                r.duration,
-                r.collision_steps,
-                None,
-                each,
+        out = []
+        for r in results:
+            why = self.guards.problem(r) if r.valid and self.guards.active else ''
+            if why:  # the thesis's failure value, with the reason
+                out.append(failure(why, r.duration))
+                continue
+            out.append(
+                EvaluationResult(
+                    r.fitness,
+                    r.descriptor,
+                    r.valid,
+                    r.reason,
+                    r.duration,
+                    r.collision_steps,
+                    None,
+                    each,
+                )
             )
-            for r in results
-        ]
+        return out
 
 
-def simulation_fingerprint(engine: str = DEFAULT_MAP_ENGINE) -> dict[str, Any]:
+def simulation_fingerprint(
+    engine: str = DEFAULT_MAP_ENGINE, guards: WalkGuards | None = None
+) -> dict[str, Any]:
     """
     Return what a map's fitness depends on besides the genes.
 
-    The URDF, the engine and its settings, the genotype mapping and the trial duration. Stored in
-    the archive's metadata.
+    The URDF, the engine and its settings, the genotype mapping, the trial duration and the walk
+    guards (only when any applies: maps made without them keep their fingerprint). Stored in the
+    archive's metadata.
     """
     sim = SimConfig(engine=validate_engine(engine)).fingerprint()
-    return {
+    out = {
         'genotype_mapping': GENOTYPE_MAPPING_VERSION,
         'urdf_sha256': hashlib.sha256(Path(urdf_path()).read_bytes()).hexdigest(),
         'simulator': {**sim, 'collisions_fatal': True},
         'trial_duration': TRIAL_DURATION,
     }
+    if guards is not None and guards.active:
+        out['walk_guards'] = asdict(guards)
+    return out
 
 
 def archive_engine(metadata: dict[str, Any]) -> str | None:

@@ -28,8 +28,9 @@ For every orientation of each failure scenario: one M-BOA run with simulated tri
 failures as in table 5.1, collisions not fatal), next to the control tripod gait with the same
 damage and intact. Trials run on the engine that made the map, or ``--trial-engine``;
 ``--cross-engine`` runs the whole experiment on the map's engine and again on each other one,
-the judge (DART) included (a stand-in for the reality gap of thesis 5.5). ``--damage-kind`` gives the scenarios' legs
-another damage than the thesis's lifted one (e.g. ``unpowered_femur``: a dead femur servo).
+the judge (DART) included (a stand-in for the reality gap of thesis 5.5). ``--damage-kind``
+gives the scenarios' legs another damage than the thesis's lifted one (e.g.
+``unpowered_femur``: a dead femur servo).
 Prints a row per run and a summary per scenario
 and engine; ``--out`` writes the rows as CSV (atomically); ``--out-dir`` writes runs.csv plus
 the box plots adapted_speed.png and trials.png (thesis figs 5.4-5.5).

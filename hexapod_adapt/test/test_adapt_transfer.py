@@ -1,0 +1,66 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""A map's gaits on another engine: the fastest's speed and tip-overs, the ranking's agreement."""
+
+from hexapod_adapt.mapping.archive import Archive, load_archive
+from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+from hexapod_adapt.mapping.transfer import ranked_gaits, transfer_figures
+from hexapod_gait import preset, to_genotype
+from hexapod_sim import create_simulator, evaluate_gaits
+import numpy as np
+import pytest
+
+#: A default-map gait that ends on its back on PyBullet (test_adapt_trials; intact it tips too).
+TIPPER = 18287
+
+
+def _archive():
+    genes = [to_genotype(preset(name)) for name in ('control', 'tripod', 'wave', 'quadruped')]
+    genes.append(load_archive(shipped_map(DEFAULT_MAP)).genotypes[TIPPER])
+    desc = np.eye(5, 6) * 0.5 + 0.25
+    # the map ranks the tipper first, then the presets as they walk
+    return Archive(desc, np.array([1.4, 1.3, 0.8, 1.1, 3.0]), desc, np.array(genes))
+
+
+def test_ranked_gaits_are_the_fastest_then_others_at_random_without_repeats():
+    a = _archive()
+    niches = ranked_gaits(a, fastest=2, random=2, seed=0)
+    assert niches[:2].tolist() == [4, 0]
+    assert len(set(niches.tolist())) == 4 and set(niches[2:]) <= {1, 2, 3}
+    assert ranked_gaits(a, 2, 2, seed=0).tolist() == niches.tolist()  # seeded
+
+
+def test_transfer_figures_count_the_tipped_and_rank_against_the_engine():
+    a = _archive()
+    with create_simulator() as sim:
+        figures = transfer_figures(a, sim, top=2, fastest=2, random=3)
+        walked = evaluate_gaits(
+            list(a.genotypes[[4, 0]]), sim, collisions_fatal=False, failed_legs=(),
+            record_tilt=True,
+        )  # fmt: skip
+    assert figures.engine == 'pybullet' and figures.top == 2 and figures.ranked == 5
+    tipped = sum(r.peak_tilt > np.radians(60) for r in walked)
+    assert figures.top_tipped == tipped
+    assert figures.top_speed_median == pytest.approx(np.median([r.speed for r in walked]))
+    assert figures.top_map_speed_median == pytest.approx(np.median([3.0, 1.4]) / 5.0)
+    assert -1.0 <= figures.spearman <= 1.0
+    with pytest.raises(ValueError, match='among'):
+        transfer_figures(a, sim, top=3, fastest=2)
