@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Start or resume the transfer study's map runs (docs/studies/transfer.md) in the background, from
+# a worktree pinned to the commit that started them (tuning/transfer_study/COMMIT), one worker,
+# niced. Each run: 200,000 MuJoCo evaluations, 10,000 niches (the CVT of the map study's
+# baselines), seed 1, presets first: the map study's budget, so the baselines
+# (tuning/map_study/{cma_mae,iso_line}_10000_s1.npz) compare at equal cost.
+#   bash tuning/transfer_study.sh [WORKTREE]
+# Before the session ends: bash scripts/save_progress.sh (keeps checkpoints and logs in
+# tuning/transfer_study/), then commit what it lists.
+set -euo pipefail
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+tree="${1:-$repo/../transfer-study}"
+keep="$repo/tuning/transfer_study"
+REPO="$repo" TREE="$tree" PIN_FILE="$keep/COMMIT"
+# shellcheck disable=SC1091
+source "$repo/scripts/fixed_worktree.sh"
+mkdir -p out tuning/transfer_study
+cp -n "$repo/tuning/transfer_study/"* tuning/transfer_study/ 2>/dev/null || true
+# the baselines' niches, from their archive (the CVT file itself is 1.2 MB: not kept in git)
+[ -f tuning/transfer_study/centroids_10000_6.dat ] || python - <<'PY'
+from hexapod_adapt.mapping.archive import load_archive
+from hexapod_adapt.mapping.cvt import cvt_cache_path, save_centroids
+
+base = load_archive('tuning/map_study/cma_mae_10000_s1.npz')
+save_centroids(cvt_cache_path('tuning/transfer_study', 10000), base.centroids)
+PY
+run() {  # run NAME EMITTERS: one guarded map, resumed where it stopped
+  python -m hexapod_adapt.mapping.generate_map_cli --out "tuning/transfer_study/$1.npz" \
+    --engine mujoco --niches 10000 --evaluations 200000 --seed 1 --with-presets \
+    --emitters "$2" --cvt-dir tuning/transfer_study --workers 1 \
+    --min-feet 3 --max-tilt 0.5236 --checkpoint-every 300 --log-every 60 --no-bar --resume
+}
+nohup nice -n 19 bash -c "$(declare -f run); run walk_cma_mae_10000_s1 cma_mae \
+  && run walk_iso_line_10000_s1 iso_line" >> out/transfer_study.out 2>&1 &
+echo "transfer study running in $tree (pid $!): tail -f $tree/out/transfer_study.out"
