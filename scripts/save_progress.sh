@@ -115,4 +115,29 @@ for nav_tree in "${nav_trees[@]}"; do
   done
   echo "saved $n new navigation units from $nav_tree to $nav_keep"
 done
+# The transfer study (tuning/transfer_study.sh, worktree TRANSFER_TREE, default ../transfer-study):
+# each run's checkpoint and log (the log up to its last whole row), and a finished map. The run
+# goes on; a checkpoint is written atomically, so the copy is a whole one.
+transfer_tree="${TRANSFER_TREE:-$repo/../transfer-study}"
+if [ -d "$transfer_tree/tuning/transfer_study" ]; then
+  mkdir -p "$repo/tuning/transfer_study"
+  for f in "$transfer_tree"/tuning/transfer_study/walk_*.npz*; do
+    [ -f "$f" ] || continue
+    case "$f" in
+      *.tmp*) continue ;;
+      *.log.jsonl)
+        python3 - "$f" "$repo/tuning/transfer_study/$(basename "$f")" <<'EOF'
+import os, sys
+data = open(sys.argv[1], 'rb').read()
+tmp = sys.argv[2] + '.tmp'
+with open(tmp, 'wb') as out:
+    out.write(data[: data.rfind(b'\n') + 1])
+os.replace(tmp, sys.argv[2])
+EOF
+        ;;
+      *) copy_atomic "$f" "$repo/tuning/transfer_study/$(basename "$f")" ;;
+    esac
+    echo "saved $(basename "$f") ($(du -h "$f" | cut -f1)) to tuning/transfer_study"
+  done
+fi
 echo "now commit them (git add the folders above)"
