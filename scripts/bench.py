@@ -306,9 +306,36 @@ def _default_map_figures() -> None:
     print(f'BENCH map_best {speeds.max():.3f} m/s')
 
 
+def _transfer_figures() -> None:
+    """
+    The default map's gaits on the engines that did not make it (intact, 5 s from standing).
+
+    map_<engine>_top100_speed_median and map_<engine>_top100_tipped (past 60 deg of roll or
+    pitch) over its 100 fastest gaits; map_<engine>_spearman: the map's speeds against the
+    engine's over its 300 fastest and 100 others at random (seed 0). Engines: the judge (DART,
+    as map_judge_...) and PyBullet (map_pybullet_...), or any other that did not make the map.
+    """
+    from hexapod_adapt.mapping.archive import load_archive
+    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+    from hexapod_adapt.mapping.simulation import archive_engine
+    from hexapod_adapt.mapping.transfer import transfer_figures
+    from hexapod_sim import create_simulator, ENGINES, SimConfig
+    from hexapod_sim.simulator import JUDGE_ENGINE
+
+    archive = load_archive(shipped_map(DEFAULT_MAP))
+    made_on = archive_engine(archive.metadata)
+    for engine in (e for e in ENGINES if e != made_on):
+        name = 'judge' if engine == JUDGE_ENGINE else engine
+        with create_simulator(SimConfig(engine=engine)) as sim:
+            f = transfer_figures(archive, sim)
+        print(f'BENCH map_{name}_top100_speed_median {f.top_speed_median:.3f} m/s')
+        print(f'BENCH map_{name}_top100_tipped {f.top_tipped} gaits')
+        print(f'BENCH map_{name}_spearman {f.spearman:.3f} 1')
+
+
 def bench_map() -> None:
     """
-    The default map's figures (_default_map_figures), then the generator's speed.
+    The default map's own figures and those on other engines, then the generator's speed.
 
     map_evals_per_s_mujoco and map_worker_utilisation_mujoco.
 
@@ -324,6 +351,7 @@ def bench_map() -> None:
     from hexapod_adapt.mapping.generate import generate_map, GenerateConfig
 
     _default_map_figures()
+    _transfer_figures()
     with tempfile.TemporaryDirectory() as tmp:
         for engine, evaluations, suffix in (('mujoco', 3000, '_mujoco'), ('pybullet', 600, '')):
             last = []
@@ -371,7 +399,9 @@ def bench_adapt() -> None:
     shipped: docs/studies/adaptation.md, "Regret against the ceiling", says why). Runs end by
     M-BOA's stopping rule, capped at the budget users get (24 trials), and for the thesis profile
     at EXPERIMENT_MAX_TRIALS (100) so that its rule ends them. Trials are 5 s from standing (the
-    product's and the thesis's trial).
+    product's and the thesis's trial), with adapt_node's tip guard (a trial that tilts the body past
+    30 deg scores 0; adapt_tipped_trials counts them). Then the default profile, blind (_judge)
+    and from the damage-informed prior (_prior_judge), with trials on the judge engine (DART).
     """
     import os
     from pathlib import Path
@@ -379,7 +409,7 @@ def bench_adapt() -> None:
     from hexapod_adapt.mapping.archive import load_archive
     from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
     from hexapod_adapt.mapping.simulation import archive_engine
-    from hexapod_adapt.online.adaptation import run_experiment
+    from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD, run_experiment
     from hexapod_adapt.online.ceiling import (
         approximate_ceiling,
         approximate_key,
@@ -391,6 +421,7 @@ def bench_adapt() -> None:
     from hexapod_adapt.online.mboa import Mboa, MboaConfig, PROFILES, TRIAL_BUDGET
     from hexapod_sim import ENGINES
     from hexapod_sim.scenarios import scenario
+    from hexapod_sim.simulator import JUDGE_ENGINE
 
     rng = np.random.default_rng(0)
     descriptors, prior = rng.random((40000, 6)), rng.uniform(0.1, 0.45, 40000)
@@ -474,8 +505,24 @@ def bench_adapt() -> None:
                 floor=floor,
                 priors=priors if informed else None,
                 setup=name + ('+prior' if informed else ''),
+                tip_guard=DEFAULT_TIP_GUARD,
             )
             _print_experiment(rows, suffix, have, engine, cached)
+    # the judge: trials walked on the engine that takes no part in making or tuning anything
+    if map_engine != JUDGE_ENGINE:
+        for label, informed in (('', False), ('_prior', True)):
+            if informed and not have_priors:
+                continue
+            rows = run_experiment(
+                archive,
+                config=replace(PROFILES['default'], max_trials=TRIAL_BUDGET),
+                trial_engine=JUDGE_ENGINE,
+                floor=True,
+                priors=priors if informed else None,
+                setup='default' + ('+prior' if informed else ''),
+                tip_guard=DEFAULT_TIP_GUARD,
+            )
+            _print_experiment(rows, f'{label}_judge', False, JUDGE_ENGINE, cached)
     _bench_damage_kinds(archive, map_engine, cached, legs_all)
 
 
@@ -566,6 +613,8 @@ def _print_experiment(rows, suffix: str, have: bool, engine: str, cached) -> Non
         f' {len(rows)} runs'
     )
     print(f'BENCH adapt_trials_max{suffix} {max(r.trials for r in rows)} trials')
+    print(f'BENCH adapt_trials_median{suffix} {np.median([r.trials for r in rows]):.1f} trials')
+    print(f'BENCH adapt_tipped_trials{suffix} {sum(r.tipped_trials for r in rows)} trials')
     # the run's best met M-BOA's rule (alpha, the floor) when it ended, by the rule or at the
     # budget (a blind default run goes on for an expected gain; until 2026-11-25: ended by it)
     print(

@@ -317,6 +317,7 @@ class ExperimentRow:
     setup: str = 'thesis'  # M-BOA profile, '+prior' when it started from a damage-informed prior
     trial_speed: float = float('nan')  # the best trial as the run's trials measured it [m/s]
     damage_kind: str = 'lifted'  # what failed_legs suffer (hexapod_sim.damage.EXPERIMENT_KINDS)
+    tipped_trials: int = 0  # trials the tip guard stopped
 
 
 def run_experiment(
@@ -334,6 +335,7 @@ def run_experiment(
     bank: DamageBank | None = None,
     leave_out: bool = False,
     kind: str = 'lifted',
+    tip_guard: float = math.pi,
 ) -> list[ExperimentRow]:
     """
     Thesis experiment 5.2 on one map.
@@ -354,7 +356,8 @@ def run_experiment(
     for them; ``leave_out`` drops each run's own damage from them (damage the
     bank does not model). ``kind``: what the failed legs of each orientation suffer (the thesis's
     ``lifted``, or any of :data:`hexapod_sim.damage.EXPERIMENT_KINDS`); ``ceilings`` and
-    ``priors`` then get that :class:`Damage` in place of the legs.
+    ``priors`` then get that :class:`Damage` in place of the legs. ``tip_guard`` [rad]: trials
+    that tilt the body past it are stopped and scored 0, as adapt_node's (pi: no guard).
     """
     config = config or MboaConfig(max_trials=EXPERIMENT_MAX_TRIALS)
     duration = archive.trial_duration
@@ -373,7 +376,7 @@ def run_experiment(
                 ).speed
                 result = adapt(
                     archive,
-                    simulated_trial(archive, damage, sim, trial_duration, settle),
+                    simulated_trial(archive, damage, sim, trial_duration, settle, tip_guard),
                     config,
                     floor=(lambda: control) if floor else None,
                     prior=priors(damage) if priors is not None else None,
@@ -399,6 +402,7 @@ def run_experiment(
                     setup=setup,
                     trial_speed=result.best_speed,
                     damage_kind=kind,
+                    tipped_trials=len(result.tipped),
                 )
                 if ceilings is not None:
                     c = ceilings(damage, trial_engine)
