@@ -7,6 +7,8 @@
 #   start the moment it is written; once the map is written (kept in
 #   hexapod_adapt/maps/in_progress/, or shipped), its ceilings (resume_ceilings.sh: only the
 #   cases not cached yet), until the shipped cache holds them all;
+# - the transfer study's map runs (tuning/transfer_study.sh; docs/studies/transfer.md), until
+#   both of its maps are written;
 # (The ninth and tenth navigation tuning rounds, tuning/tune_all_kinds.sh, are done: every unit
 # is committed in tuning/navigation_all_kinds/, and running them again only reads them back.)
 # Before the session ends: bash scripts/save_progress.sh, then commit what it lists.
@@ -30,4 +32,13 @@ else
   bash hexapod_adapt/maps/resume_default_map.sh
   nohup bash hexapod_adapt/maps/then_ceilings.sh >> out/then_ceilings.out 2>&1 &
   echo "then_ceilings.sh waiting for the map (pid $!): out/then_ceilings.out"
+fi
+# the transfer study: resumed from the checkpoints save_progress.sh kept, until both maps exist
+if [ ! -f tuning/transfer_study/walk_cma_mae_10000_s1.npz ] \
+  || [ ! -f tuning/transfer_study/walk_iso_line_10000_s1.npz ]; then
+  if pgrep -f 'tuning/transfer_study/walk_' >/dev/null; then
+    echo "the transfer study is running already"
+  else
+    bash tuning/transfer_study.sh
+  fi
 fi
