@@ -89,7 +89,7 @@ def _gaits_with_library_speeds(n_random: int, engine: str) -> list[tuple[object,
     return chosen
 
 
-@pytest.mark.parametrize('engine,n_random', [('pybullet', 18), ('mujoco', 10)])
+@pytest.mark.parametrize('engine,n_random', [('pybullet', 18), ('mujoco', 10), ('dart', 3)])
 def test_graph_trials_match_library_speeds(ros, launch, engine, n_random):
     gaits = _gaits_with_library_speeds(n_random, engine)
     assert len(gaits) == 3 + n_random

@@ -88,7 +88,8 @@ PARAMETERS = (
     ParamSpec(
         'engine',
         'pybullet',
-        "Physics engine: 'pybullet' (the thesis's, the reference) or 'mujoco' (fast)",
+        "Physics engine: 'pybullet' (the thesis's, the reference), 'mujoco' (fast) or 'dart'"
+        ' (the judge of maps)',
         read_only=True,
     ),
     ParamSpec('gui', False, 'Open the PyBullet GUI window (engine pybullet only)', read_only=True),
