@@ -195,9 +195,11 @@ def _call(args: argparse.Namespace, ros_args: list[str]) -> int:
             AdaptationTrial,
             'adapt/trials',
             lambda m: print(
-                f'trial {m.trial:>3d}: gait {m.archive_index:>6d}  measured'
-                f' {m.measured_speed:+.3f} m/s  (map {m.map_speed:.3f}, GP {m.predicted_speed:.3f}'
-                f' +/- {m.predicted_speed_std:.3f})  best {m.best_speed:+.3f} m/s',
+                f'trial {m.trial:>3d}: gait {m.archive_index:>6d}  '
+                + ('TIPPED: stopped by the tip guard, scored' if m.tipped else 'measured')
+                + f' {m.measured_speed:+.3f} m/s  (map {m.map_speed:.3f}, GP'
+                f' {m.predicted_speed:.3f} +/- {m.predicted_speed_std:.3f})'
+                f'  best {m.best_speed:+.3f} m/s',
                 flush=True,
             ),
             10,
