@@ -237,3 +237,17 @@ def finish_message(result: AdaptationResult) -> str:
         f'adaptation finished: {result.message}; {len(result.trials)} trials, best gait'
         f' {result.best_niche} at {result.best_speed:.3f} m/s'
     )
+
+
+def shutdown_message(result: AdaptationResult) -> str:
+    """Return the one line a run logs when its node shuts down in the middle of it."""
+    best = (
+        f'; best gait {result.best_niche} at {result.best_speed:.3f} m/s'
+        if result.best_niche >= 0
+        else ''
+    )
+    return (
+        f'shutting down: the adaptation ended after {len(result.trials)} trials{best}; the best'
+        ' gait was not left on the robot or the simulator (the recording holds every completed'
+        ' trial)'
+    )

@@ -84,6 +84,7 @@ from hexapod_msgs.msg import AdaptationTrial, LegDamage, ServoFailure
 from hexapod_msgs.srv import Adapt, ReportDistance
 from rcl_interfaces.msg import SetParametersResult
 import rclpy
+from rclpy._rclpy_pybind11 import RCLError
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.node import Node
 from std_srvs.srv import Trigger
@@ -339,7 +340,11 @@ class AdaptNode(Node):
             msg.header.stamp = self.get_clock().now().to_msg()
             msg.gait = gait_to_msg(self.port.gait_of(niche))
             msg.recording = self.recording.problem
-            self.trial_pub.publish(msg)
+            try:
+                self.trial_pub.publish(msg)
+            except RCLError:  # the node is shutting down: the recording still takes the trial
+                if rclpy.ok(context=self.context):
+                    raise
             self.recording.record('adapt/trials', msg)
             self.recording.checkpoint()  # a completed trial survives a kill or power loss
             if trial.tipped:  # rclpy fixes a call site's severity: one call per severity
@@ -362,6 +367,12 @@ class AdaptNode(Node):
         response.success = result.success
         response.message = session.result_message(result, note, self.recording.problem)
         response.trials, response.elapsed = len(result.trials), result.elapsed
+        if not rclpy.ok(context=self.context):  # Ctrl-C or SIGTERM mid-run: one line, no more
+            line = session.shutdown_message(result)
+            response.message = f'adapt_node shut down mid-run: {response.message}'
+            # not the ROS logger: its /rosout publisher is gone, and rcl would add a line saying so
+            print(f'{self.get_name()}: {line}', file=sys.stderr, flush=True)
+            return response
         if result.best_niche >= 0:
             response.best_archive_index = result.best_niche
             response.best_speed = result.best_speed

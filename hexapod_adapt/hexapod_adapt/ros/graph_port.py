@@ -308,7 +308,12 @@ class GraphPort:
     def leave_on(self, msg: GaitParametersMsg, timeout: float, upload: bool) -> str:
         """Leave the simulator (publish) or the robot (``upload``) on a gait; '' or why not."""
         if not upload:
-            self.gait_pub.publish(msg)
+            try:
+                self.gait_pub.publish(msg)
+            except RCLError:
+                if rclpy.ok(context=self.node.context):
+                    raise
+                return 'shutting down'
             return ''
         try:
             answer = self.upload_msg(msg, timeout)

@@ -1,0 +1,109 @@
+# Copyright 2026 Hexapod adaptation team
+# All rights reserved.
+#
+# Permission is hereby granted, free of charge, to any person obtaining a copy
+# of this software and associated documentation files (the "Software"), to deal
+# in the Software without restriction, including without limitation the rights
+# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+# copies of the Software, and to permit persons to whom the Software is
+# furnished to do so, subject to the following conditions:
+#
+# The above copyright notice and this permission notice shall be included in all
+# copies or substantial portions of the Software.
+#
+# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+# SOFTWARE.
+"""
+A node that shuts down in the middle of an adaptation (issue 51): one line, no traceback, and
+the client says its server went away instead of waiting out its timeout.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import time
+
+from conftest import executable, wait_for, WS
+import pytest
+
+pytestmark = pytest.mark.ros
+DEMO_MAP = WS / 'hexapod_adapt' / 'maps' / 'demo_map.npz'
+
+
+def test_sigint_mid_adaptation_ends_the_run_in_one_line_and_the_client_says_so(
+    launch, domain_id, tmp_path
+):
+    launch(
+        'hexapod_sim',
+        'sim_node',
+        params={'real_time_factor': 1.0, 'publish_period_steps': 24, 'failed_legs': [2]},
+    )
+    launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(DEMO_MAP), 'record_dir': str(tmp_path / 'runs')},
+    )
+    client = subprocess.Popen(
+        [str(executable('hexapod_adapt', 'adapt_client')), '--max-trials', '20', '--blind']
+        + ['--timeout', '300'],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=dict(os.environ, ROS_DOMAIN_ID=str(domain_id)),
+    )
+    try:
+        wait_for(lambda: 'trial 1:' in node.log(), 120, "adapt_node's first trial")
+        t0 = time.monotonic()
+        node.stop()  # SIGINT, as Ctrl-C in the launcher's terminal
+        out, err = client.communicate(timeout=60)
+    finally:
+        if client.poll() is None:
+            client.kill()
+    log = node.log()
+    assert 'Traceback' not in log and 'RCLError' not in log, log[-3000:]
+    assert 'context is invalid' not in log, log[-3000:]
+    assert log.count('shutting down: the adaptation ended after 1 trials') == 1, log[-3000:]
+    # the node's last answer reached the client, or the client saw the server go
+    answered = 'stopped: adapt_node shut down mid-run' in out and client.returncode == 3
+    gone = 'shut down before it answered' in err and client.returncode == 1
+    assert answered or gone, (client.returncode, out, err)
+    assert time.monotonic() - t0 < 30  # not its 300 s timeout
+
+
+def test_a_client_whose_server_dies_says_so_instead_of_waiting_out_its_timeout(
+    launch, domain_id, tmp_path
+):
+    import signal
+
+    launch(
+        'hexapod_sim',
+        'sim_node',
+        params={'real_time_factor': 1.0, 'publish_period_steps': 24, 'failed_legs': [2]},
+    )
+    launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
+    node = launch('hexapod_adapt', 'adapt_node', params={'archive': str(DEMO_MAP)})
+    client = subprocess.Popen(
+        [str(executable('hexapod_adapt', 'adapt_client')), '--max-trials', '20', '--blind']
+        + ['--timeout', '300'],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=dict(os.environ, ROS_DOMAIN_ID=str(domain_id)),
+    )
+    try:
+        wait_for(lambda: 'trial 1:' in node.log(), 120, "adapt_node's first trial")
+        t0 = time.monotonic()
+        os.killpg(node.proc.pid, signal.SIGKILL)  # no last answer can come
+        out, err = client.communicate(timeout=60)
+    finally:
+        if client.poll() is None:
+            client.kill()
+    assert client.returncode == 1 and 'shut down before it answered' in err, (out, err)
+    assert time.monotonic() - t0 < 30
