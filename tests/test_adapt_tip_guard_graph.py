@@ -101,3 +101,66 @@ def test_a_trial_that_tips_is_stopped_counted_as_failed_and_never_tried_again(
     recorded = [m for topic, m, _ in read_messages(response.mcap_path) if topic == '/adapt/trials']
     assert [m.tipped for m in recorded] == [t.tipped for t in trials]
     assert node.alive() and sim.alive() and gait.alive()
+
+
+#: A guard with margin for the robot test: the tipper peaks at 33 deg intact on PyBullet, the
+#: tripod and the wave stay under 10 deg.
+ROBOT_GUARD = 0.35
+
+
+@pytest.fixture(scope='module')
+def intact_tipping_archive(tmp_path_factory):
+    """The tipper (fastest by the map), then the tripod and the wave, measured intact."""
+    genes = [
+        load_archive(shipped_map(DEFAULT_MAP)).genotypes[TIPPER],
+        to_genotype(preset('tripod')),
+        to_genotype(preset('wave')),
+    ]
+    with create_simulator() as sim:
+        walks = [
+            evaluate_gait(g, sim, collisions_fatal=False, failed_legs=(), record_tilt=True)
+            for g in genes
+        ]
+    assert walks[0].peak_tilt > ROBOT_GUARD + 0.1, walks[0].peak_tilt
+    assert all(w.peak_tilt < ROBOT_GUARD - 0.1 for w in walks[1:]), [w.peak_tilt for w in walks]
+    desc = np.eye(3, 6) * 0.5 + 0.25
+    archive = Archive(
+        desc,
+        np.array([3.0, 1.0, 0.5]),
+        desc,
+        np.array(genes),
+        {'seed': 6, 'evaluations': 3, **simulation_fingerprint('pybullet')},
+    )
+    return archive.save(tmp_path_factory.mktemp('archive') / 'intact_tipping.npz')
+
+
+@pytest.mark.slow
+def test_a_robot_trial_that_tips_is_stopped_through_the_bridge_by_the_imu(
+    ros, launch, tmp_path, intact_tipping_archive
+):
+    from std_srvs.srv import SetBool
+    from test_adapt_graph import _emulated_robot
+
+    emu, radio, imu = _emulated_robot(launch, tmp_path, '--sim', '--seed', '5')
+    bridge = launch('hexapod_bridge', 'bridge_node', params={'port': radio, 'imu_port': imu})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={
+            'archive': str(intact_tipping_archive),
+            'mode': 'robot',
+            'record_dir': '',
+            'tip_guard': ROBOT_GUARD,
+        },
+    )
+    trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
+    assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
+    response = ros.call(
+        Adapt, 'adapt', Adapt.Request(max_trials=2, alpha=1.0, blind=True), timeout=180
+    )
+    assert response.trials == 2, response.message
+    wait_for(lambda: len(trials) == 2, 10, 'one AdaptationTrial per trial')
+    assert trials[0].archive_index == 0 and trials[0].tipped and trials[0].measured_speed == 0.0
+    assert trials[1].archive_index != 0 and not trials[1].tipped
+    assert 'tip guard' in node.log()
+    assert node.alive() and bridge.alive() and emu.alive()
