@@ -203,6 +203,7 @@ class BaseStation:
         self.trial: ActiveTrial | None = None
         self._configured_connects = 0
         self._was_connected = False
+        self._told_error = ''  # the last reason told for a port that is not open
         self._counter_base = 0
         self._last_counter: int | None = None
         if config.arm_on_start:
@@ -435,11 +436,20 @@ class BaseStation:
                 self.on_attitude(frame)
 
     def _report_connection_change(self) -> None:
-        """Tell at once (not at the next status tick) when the port goes or comes."""
+        """
+        Tell at once (not at the next status tick) when the port goes or comes.
+
+        A port that cannot be opened is told too, once per reason (a port that does not exist
+        at start-up never "goes", and its reason would otherwise only be in the link status).
+        """
         connected = self.radio.connected
-        if connected != self._was_connected:
+        why = self.radio.last_error
+        if connected != self._was_connected or (
+            not connected and why and why != self._told_error
+        ):
             self._was_connected = connected
-            self.on_connection(connected, self.radio.last_error)
+            self._told_error = '' if connected else why
+            self.on_connection(connected, why)
 
     def _imu_once(self) -> None:
         now = time.monotonic()

@@ -177,3 +177,20 @@ def test_a_port_that_is_not_there_is_reported_not_raised(tmp_path):
         assert math.isinf(snap.seconds_since_heard)
     finally:
         station.stop()
+
+
+def test_a_port_that_does_not_exist_is_told_once_with_its_reason(tmp_path):
+    told = []
+    station = BaseStation(
+        StationConfig(port=str(tmp_path / 'no_such_port')),
+        on_connection=lambda up, why: told.append((up, why)),
+    )
+    station.start()
+    try:
+        _until(lambda: told, 10, 'the reason the port did not open')
+        time.sleep(1.5)  # the radio thread keeps retrying: the same reason is not told again
+    finally:
+        station.stop()
+    assert len(told) == 1, told
+    up, why = told[0]
+    assert not up and 'no_such_port' in why and 'cannot open' in why
