@@ -107,3 +107,32 @@ def test_a_client_whose_server_dies_says_so_instead_of_waiting_out_its_timeout(
             client.kill()
     assert client.returncode == 1 and 'shut down before it answered' in err, (out, err)
     assert time.monotonic() - t0 < 30
+
+
+def test_navigate_client_says_when_its_server_dies_mid_goal(ros, launch, domain_id, tmp_path):
+    import signal
+
+    from test_navigate_graph import start_graph
+
+    from hexapod_msgs.action import Navigate
+
+    nav, _ = start_graph(ros, launch, max_range=5.0)
+    feedback = ros.collect(Navigate.Impl.FeedbackMessage, 'navigate/_action/feedback', 10)
+    client = subprocess.Popen(
+        [str(executable('hexapod_navigation', 'navigate_client')), '4.0', '0.0']
+        + ['--timeout', '300'],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=dict(os.environ, ROS_DOMAIN_ID=str(domain_id)),
+    )
+    try:
+        wait_for(lambda: feedback, 120, "the goal's first feedback")
+        t0 = time.monotonic()
+        os.killpg(nav.proc.pid, signal.SIGKILL)
+        out, err = client.communicate(timeout=60)
+    finally:
+        if client.poll() is None:
+            client.kill()
+    assert client.returncode == 1 and 'shut down before it answered' in err, (out, err)
+    assert time.monotonic() - t0 < 30  # not its 300 s timeout

@@ -37,6 +37,7 @@ already depends on it (docs/architecture.md).
 from __future__ import annotations
 
 from dataclasses import dataclass
+import enum
 import os
 import re
 import signal
@@ -334,3 +335,42 @@ def watch_for_duplicates(node: Node, report: Callable[[str], None], period: floa
         state['reported'] = count > 1
 
     node.create_timer(period, check)
+
+
+#: s without a matched server before a client says its server went away: DDS takes a moment to
+#: tell a server that left from one not rediscovered yet.
+SERVER_GONE_S = 2.0
+
+
+class Waited(enum.Enum):
+    """How a client's wait for an answer ended."""
+
+    DONE = 'done'
+    TIMEOUT = 'timeout'
+    SERVER_GONE = 'server gone'
+
+
+def spin_until_done(
+    node: Node, future: Any, deadline: float, server_ready: Callable[[], bool]
+) -> Waited:
+    """
+    Spin ``node`` until ``future`` is done, ``deadline`` (monotonic) passes or the server goes.
+
+    ``server_ready`` is the client's ``service_is_ready`` or ``server_is_ready``: a server
+    unmatched for :data:`SERVER_GONE_S` has gone (its node stopped), so the client can say so
+    instead of waiting out its whole timeout.
+    """
+    gone_since = None
+    while not future.done():
+        if time.monotonic() >= deadline:
+            return Waited.TIMEOUT
+        rclpy.spin_once(node, timeout_sec=0.1)
+        if future.done():
+            break
+        if server_ready():
+            gone_since = None
+        elif gone_since is None:
+            gone_since = time.monotonic()
+        elif time.monotonic() - gone_since > SERVER_GONE_S:
+            return Waited.SERVER_GONE
+    return Waited.DONE

@@ -38,6 +38,7 @@ import sys
 import time
 
 from hexapod_description.cli import number, run_command
+from hexapod_gait.ros_glue import spin_until_done, Waited
 from hexapod_msgs.action import Navigate
 from hexapod_navigation.navigate_msgs import navigate_client
 import rclpy
@@ -86,6 +87,15 @@ def main(argv: list[str] | None = None) -> int:
     )
 
 
+def _server_gone(action: str) -> int:
+    print(
+        f'navigate_client: the server of {action} shut down before it answered'
+        ' (navigate_node stopped mid-goal; its recording holds the steps it walked)',
+        file=sys.stderr,
+    )
+    return 1
+
+
 def _send(args: argparse.Namespace, ros_args: list[str]) -> int:
     deadline = time.monotonic() + args.timeout
     rclpy.init(args=ros_args, signal_handler_options=SignalHandlerOptions.NO)
@@ -115,8 +125,8 @@ def _send(args: argparse.Namespace, ros_args: list[str]) -> int:
             x=args.x, y=args.y, tolerance=args.tolerance, time_limit=args.time_limit
         )
         sent = client.send_goal_async(goal, feedback_callback=show)
-        while not sent.done() and time.monotonic() < deadline:
-            rclpy.spin_once(node, timeout_sec=0.1)
+        if spin_until_done(node, sent, deadline, client.server_is_ready) is Waited.SERVER_GONE:
+            return _server_gone(args.action)
         handle = sent.result() if sent.done() else None
         if handle is None:
             print(f'navigate_client: no answer within {args.timeout:g} s', file=sys.stderr)
@@ -129,8 +139,9 @@ def _send(args: argparse.Namespace, ros_args: list[str]) -> int:
             )
             return 4
         done = handle.get_result_async()
-        while not done.done() and time.monotonic() < deadline:
-            rclpy.spin_once(node, timeout_sec=0.1)
+        if spin_until_done(node, done, deadline, client.server_is_ready) is Waited.SERVER_GONE:
+            handle = None  # no server left to cancel the goal on
+            return _server_gone(args.action)
         if not done.done():
             print(f'navigate_client: no result within {args.timeout:g} s', file=sys.stderr)
             return 1

@@ -47,15 +47,12 @@ from hexapod_adapt.online.mboa import (
 )
 from hexapod_adapt.online.run_config import TRIAL_DURATION_RANGE
 from hexapod_description.cli import interval, number, run_command
+from hexapod_gait.ros_glue import spin_until_done, Waited
 from hexapod_msgs.msg import AdaptationTrial
 from hexapod_msgs.srv import Adapt
 from hexapod_sim.damage import Damage, parse_damage
 import rclpy
 from rclpy.signals import SignalHandlerOptions
-
-#: s without a matched server before the client says the server went away: DDS takes a moment
-#: to tell a server that left from one not discovered yet again.
-SERVER_GONE_S = 2.0
 
 
 def _default_or(low: float, high: float, kind: type = float):
@@ -235,20 +232,14 @@ def _call(args: argparse.Namespace, ros_args: list[str]) -> int:
             blind=args.blind,
         )
         future = client.call_async(request)
-        gone_since = None  # when the server was last seen gone (it may only be re-discovered)
-        while not future.done() and time.monotonic() < deadline:
-            rclpy.spin_once(node, timeout_sec=0.1)
-            if client.service_is_ready():
-                gone_since = None
-            elif gone_since is None:
-                gone_since = time.monotonic()
-            elif time.monotonic() - gone_since > SERVER_GONE_S and not future.done():
-                print(
-                    f'adapt_client: the server of {args.service} shut down before it answered'
-                    ' (adapt_node stopped mid-run; its recording holds the trials it completed)',
-                    file=sys.stderr,
-                )
-                return 1
+        waited = spin_until_done(node, future, deadline, client.service_is_ready)
+        if waited is Waited.SERVER_GONE:
+            print(
+                f'adapt_client: the server of {args.service} shut down before it answered'
+                ' (adapt_node stopped mid-run; its recording holds the trials it completed)',
+                file=sys.stderr,
+            )
+            return 1
         if not future.done():
             print(f'adapt_client: no answer within {args.timeout:g} s', file=sys.stderr)
             return 1
