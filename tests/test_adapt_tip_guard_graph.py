@@ -100,6 +100,17 @@ def test_a_trial_that_tips_is_stopped_counted_as_failed_and_never_tried_again(
     assert response.best_archive_index != 0 and response.best_speed > 0.0
     recorded = [m for topic, m, _ in read_messages(response.mcap_path) if topic == '/adapt/trials']
     assert [m.tipped for m in recorded] == [t.tipped for t in trials]
+    # each channel says how it was offered (the ros2 MCAP profile): latched ones replay latched
+    from mcap.reader import make_reader
+    import yaml
+
+    with open(response.mcap_path, 'rb') as f:
+        channels = make_reader(f).get_summary().channels.values()
+    offered = {c.topic: yaml.safe_load(c.metadata['offered_qos_profiles'])[0] for c in channels}
+    assert {'/adapt/trials', '/odom', '/gait/parameters'} <= set(offered), sorted(offered)
+    assert offered['/gait/parameters']['durability'] == 1  # transient local
+    assert offered['/odom']['durability'] == 2 and offered['/odom']['depth'] == 5000
+    assert offered['/adapt/trials']['reliability'] == 1
     assert node.alive() and sim.alive() and gait.alive()
 
 

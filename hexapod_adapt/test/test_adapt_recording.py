@@ -282,3 +282,18 @@ def test_a_recording_still_being_written_is_refused(tmp_path):
     finally:
         proc.kill()
         proc.wait()
+
+
+def test_offered_qos_profiles_say_how_each_topic_is_offered():
+    from hexapod_adapt.ros.recording import offered_qos_yaml
+    from hexapod_gait.ros_glue import LATCHED, SENSOR
+    import yaml
+
+    latched = yaml.safe_load(offered_qos_yaml(LATCHED))[0]
+    assert (latched['durability'], latched['reliability'], latched['depth']) == (1, 1, 1)
+    assert latched['history'] == 1 and latched['deadline'] == {
+        'sec': 9223372036,
+        'nsec': 854775807,
+    }
+    sensor = yaml.safe_load(offered_qos_yaml(SENSOR))[0]
+    assert (sensor['durability'], sensor['reliability']) == (2, 2)  # volatile, best effort

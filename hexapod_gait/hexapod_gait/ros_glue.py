@@ -100,6 +100,8 @@ EVENTS = QoSProfile(
 ACTION_SERVICES = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
 #: Sensor streams (joint states, IMU, foot contacts): best effort, latest wins.
 SENSOR = qos_profile_sensor_data
+#: adapt/trials: one message per trial, reliable, the last 10 kept for a slow reader.
+TRIALS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 #: /tf as tf2's broadcasters publish it.
 TF_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
 

@@ -78,6 +78,7 @@ from hexapod_gait.ros_glue import (
     nodes_named,
     param_specs,
     run_node,
+    TRIALS,
     watch_for_duplicates,
 )
 from hexapod_msgs.msg import AdaptationTrial, LegDamage, ServoFailure
@@ -121,7 +122,7 @@ class AdaptNode(Node):
         self.port = GraphPort(self, sim_name, bridge_name, self.odom, self.recording)
         self.port.wait = self.waiter.until
         self.recorded = RecordedTopics(self, self.recording)
-        self.trial_pub = self.create_publisher(AdaptationTrial, 'adapt/trials', 10)
+        self.trial_pub = self.create_publisher(AdaptationTrial, 'adapt/trials', TRIALS)
         self.known = KnownDamage()
         self.stream: StreamingPrior | None = None  # the last run's re-score (may still stream)
         if self.mode == 'sim':

@@ -42,7 +42,7 @@ from hexapod_adapt.ros.recording import type_name
 from hexapod_adapt.ros.run_recording import RunRecording
 from hexapod_gait import GaitParameters, standing_gait
 from hexapod_gait.ros_conversions import gait_to_msg
-from hexapod_gait.ros_glue import EVENTS, LATCHED, ODOM, SENSOR, TF_QOS
+from hexapod_gait.ros_glue import EVENTS, LATCHED, ODOM, SENSOR, TF_QOS, TRIALS
 from hexapod_msgs.msg import AdaptationTrial, FootContacts, LegDamage, TrajectoryActivation
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.srv import GetLegDamage, UploadGait
@@ -69,6 +69,15 @@ SENSOR_TOPICS = (
 )
 #: Latched topics: the latest message of each opens every recording.
 LATCHED_TOPICS = ((TFMessage, '/tf_static'), (String, 'robot_description'))
+#: The QoS each recorded topic is offered with in the graph (the recording's channel metadata, so
+#: that ``ros2 bag play`` offers them again alike: the latched ones transient local).
+RECORDED_QOS = {
+    **{topic: qos for _, topic, qos in SENSOR_TOPICS},
+    **{topic: LATCHED for _, topic in LATCHED_TOPICS},
+    'odom': ODOM,
+    'gait/parameters': LATCHED,
+    'adapt/trials': TRIALS,
+}
 #: How long a recording waits at its start for the URDF and static frames (latched topics).
 LATCHED_GRACE_S = 5.0
 #: Every topic a run records, with its type: resolved when a recording starts.
@@ -472,4 +481,4 @@ class RecordedTopics:
                 f'recording starts without {", ".join(left)}: nothing received in {grace:g} s'
                 ' (is a state publisher running?); it is recorded if it comes during the run'
             )
-        return self.recording.start(directory, types, prefix=prefix)
+        return self.recording.start(directory, types, prefix=prefix, qos=RECORDED_QOS)

@@ -45,7 +45,7 @@ import re
 import struct
 import threading
 import time
-from typing import Any, Iterator
+from typing import Any, Iterator, Mapping
 
 from ament_index_python.packages import get_package_share_directory, PackageNotFoundError
 from hexapod_adapt.mapping.archive import atomic_output
@@ -147,6 +147,35 @@ def type_name(msg_or_class: Any) -> str:
     return f'{cls.__module__.split(".")[0]}/msg/{cls.__name__}'
 
 
+def offered_qos_yaml(qos: Any) -> str:
+    """
+    Return the ros2 MCAP profile's ``offered_qos_profiles`` of one publisher with ``qos``.
+
+    ``qos`` is an rclpy QoSProfile. Enums as rmw numbers (history 1 keep last, 2 keep all;
+    reliability 1 reliable, 2 best effort; durability 1 transient local, 2 volatile; liveliness
+    1 automatic), durations as sec/nsec: what ``ros2 bag play`` reads to offer the topic again
+    as it was offered, so that latched topics replay latched.
+    """
+
+    def duration(d: Any) -> str:
+        ns = d.nanoseconds
+        if ns == 0:  # unset: rmw's 'infinite' as rosbag2 writes it
+            return '\n    sec: 9223372036\n    nsec: 854775807'
+        return f'\n    sec: {ns // 1_000_000_000}\n    nsec: {ns % 1_000_000_000}'
+
+    return (
+        f'- history: {int(qos.history)}\n'
+        f'  depth: {int(qos.depth)}\n'
+        f'  reliability: {int(qos.reliability)}\n'
+        f'  durability: {int(qos.durability)}\n'
+        f'  deadline:{duration(qos.deadline)}\n'
+        f'  lifespan:{duration(qos.lifespan)}\n'
+        f'  liveliness: {int(qos.liveliness) or 1}\n'
+        f'  liveliness_lease_duration:{duration(qos.liveliness_lease_duration)}\n'
+        f'  avoid_ros_namespace_conventions: false\n'
+    )
+
+
 class RecordingClosed(RuntimeError):
     """A message came for a recording that has already been finished."""
 
@@ -159,8 +188,10 @@ class McapRecorder:
     and summary.
     """
 
-    def __init__(self, path: str | os.PathLike):
+    def __init__(self, path: str | os.PathLike, qos: Mapping[str, Any] | None = None):
         self.path = Path(path)
+        # topic -> the QoS it is offered with (rclpy QoSProfile): the channel's metadata
+        self._qos = dict(qos or {})
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._file = open(self.path, 'xb')  # exclusive: never overwrite a recording
         self._writer = Writer(self._file, chunk_size=1 << 20, compression=CompressionType.ZSTD)
@@ -183,8 +214,12 @@ class McapRecorder:
         if name not in self._schemas:
             self._register(name)
         if topic not in self._channels:
+            qos = self._qos.get(topic)
             self._channels[topic] = self._writer.register_channel(
-                topic, 'cdr', self._schemas[name]
+                topic,
+                'cdr',
+                self._schemas[name],
+                {'offered_qos_profiles': offered_qos_yaml(qos)} if qos is not None else {},
             )
         now = log_time_ns if log_time_ns is not None else time.time_ns()
         self._writer.add_message(self._channels[topic], log_time=now, data=data, publish_time=now)
@@ -231,18 +266,21 @@ class McapRecorder:
         self.close()
 
 
-def create_recording(directory: str | os.PathLike, prefix: str = 'adapt') -> McapRecorder:
+def create_recording(
+    directory: str | os.PathLike, prefix: str = 'adapt', qos: Mapping[str, Any] | None = None
+) -> McapRecorder:
     """
     Return a recorder on a new file ``<prefix>_<UTC date-time>[_<n>].mcap`` in ``directory``.
 
     The first name not taken, created exclusively (several runs in one second each get their own).
+    ``qos``: topic -> the QoSProfile it is offered with (each channel's ``offered_qos_profiles``).
     """
     directory = Path(directory)
     stamp = time.strftime('%Y%m%d_%H%M%S', time.gmtime())
     for n in range(1, 10_000):
         path = directory / (f'{prefix}_{stamp}.mcap' if n == 1 else f'{prefix}_{stamp}_{n}.mcap')
         try:
-            return McapRecorder(path)
+            return McapRecorder(path, qos)
         except FileExistsError:
             continue
     raise OSError(f'no free recording name for {prefix}_{stamp} in {directory}')

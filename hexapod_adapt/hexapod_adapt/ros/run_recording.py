@@ -85,10 +85,16 @@ class RunRecording:
             self._write(topic, msg)
 
     def start(
-        self, directory: str | os.PathLike, types: Mapping[str, str], prefix: str = 'adapt'
+        self,
+        directory: str | os.PathLike,
+        types: Mapping[str, str],
+        prefix: str = 'adapt',
+        qos: Mapping[str, Any] | None = None,
     ) -> Path | None:
         """
         Open a new file in ``directory`` for a run that records ``types`` (topic -> pkg/msg/Type).
+
+        ``qos`` (topic -> QoSProfile) goes into each channel's ``offered_qos_profiles``.
 
         The file is named ``<prefix>_<UTC date-time>.mcap``.
 
@@ -98,7 +104,11 @@ class RunRecording:
         self.stop()
         self.problem = ''
         try:
-            recorder = create_recording(Path(directory).expanduser(), prefix)
+            recorder = create_recording(
+                Path(directory).expanduser(),
+                prefix,
+                {self._resolve(topic): profile for topic, profile in (qos or {}).items()},
+            )
         except OSError as exc:
             return self._fail(f'cannot record in {directory}: {exc}; running without a recording')
         refused: dict[str, list[str]] = {}
