@@ -32,6 +32,7 @@ setup(
         ('share/ament_index/resource_index/packages', [f'resource/{package_name}']),
         (f'share/{package_name}', ['package.xml']),
         (f'share/{package_name}/launch', glob('launch/*.py')),
+        (f'share/{package_name}/config', glob('config/*.yaml')),
         # the shipped maps with their generation logs (plot_map draws them), not a checkpoint
         (
             f'share/{package_name}/maps',

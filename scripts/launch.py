@@ -108,14 +108,26 @@ def main(argv: list[str] | None = None) -> int:
         '--manual', action='store_true', help='adapt_node takes tape-measured distances'
     )
     parser.add_argument(
-        '--rtf', type=float, default=1.0, help='sim real_time_factor (0 = as fast as possible)'
+        '--rtf',
+        type=float,
+        default=None,
+        help="sim real_time_factor (0 = as fast as possible; default: sim_node's, 1)",
     )
     parser.add_argument(
         '--engine',
-        choices=['pybullet', 'mujoco'],
+        choices=['pybullet', 'mujoco', 'dart'],
         help="sim_node's physics engine (default: pybullet; adapt-sim: the map's)",
     )
-    parser.add_argument('--preset', default='tripod', help='gait_node initial preset')
+    parser.add_argument(
+        '--preset', default=None, help="gait_node initial preset (default: gait_node's, tripod)"
+    )
+    parser.add_argument(
+        '--params-file',
+        default=None,
+        metavar='YAML',
+        help='a ros__parameters file for every node it names (config/*.yaml of the packages);'
+        ' the options above, when given, take precedence',
+    )
     parser.add_argument(
         '--failed-legs', type=int, nargs='*', default=[], help='sim profiles: legs lifted'
     )
@@ -173,7 +185,7 @@ def main(argv: list[str] | None = None) -> int:
 
         bridge_trial = {'trial_duration': STEP_DURATION}
     if simulated:
-        sim_params = {'real_time_factor': args.rtf}
+        sim_params = {} if args.rtf is None else {'real_time_factor': args.rtf}
         if args.engine:
             sim_params['engine'] = args.engine
         if args.failed_legs:
@@ -183,7 +195,10 @@ def main(argv: list[str] | None = None) -> int:
             (
                 'gait_node',
                 [exe('hexapod_gait', 'gait_node')]
-                + ros_args({'initial_preset': args.preset, 'use_sim_time': True}),
+                + ros_args(
+                    ({} if args.preset is None else {'initial_preset': args.preset})
+                    | {'use_sim_time': True}
+                ),
             ),
             ('sim_node', [exe('hexapod_sim', 'sim_node')] + ros_args(sim_params)),
         ]
@@ -265,6 +280,18 @@ def main(argv: list[str] | None = None) -> int:
             )
         )
 
+    if args.params_file:
+        path = Path(args.params_file).expanduser().resolve()
+        if not path.is_file():
+            parser.error(f'--params-file {args.params_file}: no such file')
+        commands = [  # the nodes (the emulator is a program of its own, not a node)
+            (
+                name,
+                cmd
+                + ([] if name == 'robot_emulator' else ['--ros-args', '--params-file', str(path)]),
+            )
+            for name, cmd in commands
+        ]
     env = dict(os.environ, PYTHONUNBUFFERED='1')
     # Ctrl-C and SIGTERM stop the graph even when this process was started with SIGINT ignored
     # (a background job of a non-interactive shell inherits SIG_IGN, and Python keeps it).

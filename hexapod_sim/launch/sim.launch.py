@@ -44,7 +44,9 @@ def generate_launch_description() -> LaunchDescription:
             DeclareLaunchArgument('initial_preset', default_value='tripod'),
             DeclareLaunchArgument('gui', default_value='false'),
             DeclareLaunchArgument(
-                'engine', default_value='pybullet', description='physics engine: pybullet | mujoco'
+                'engine',
+                default_value='pybullet',
+                description='physics engine: pybullet | mujoco | dart (the judge)',
             ),
             DeclareLaunchArgument(
                 'publish_period_steps',
