@@ -59,6 +59,7 @@ MODULE_KEYS = {
     'pybullet': 'python3-pybullet-pip',
     'pybullet_data': 'python3-pybullet-pip',
     'mujoco': 'python3-mujoco-pip',
+    'dartpy': 'python3-dartpy-pip',
     'mcap': 'python3-mcap-pip',
     'ribs': 'python3-ribs-pip',
     'mcap_ros2': 'python3-mcap-ros2-support-pip',
