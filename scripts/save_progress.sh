@@ -38,6 +38,18 @@ copy_atomic() {  # copy_atomic SRC DEST: DEST is never seen half written
   cp "$1" "$2.tmp.$$" && mv -f "$2.tmp.$$" "$2"
 }
 
+copy_whole_rows() {  # copy_whole_rows LOG DEST: LOG up to its last whole row (a row being
+  # written is torn), written atomically
+  python3 - "$1" "$2" <<'EOF'
+import os, sys
+data = open(sys.argv[1], 'rb').read()
+tmp = sys.argv[2] + '.tmp'
+with open(tmp, 'wb') as out:
+    out.write(data[: data.rfind(b'\n') + 1])
+os.replace(tmp, sys.argv[2])
+EOF
+}
+
 maps="$map_tree/hexapod_adapt/maps"
 ckpt="$maps/default_map.npz.ckpt.npz"
 pidfile="$map_tree/out/default_map.pid"
@@ -73,14 +85,7 @@ elif [ -f "$ckpt" ]; then
   mkdir -p "$keep"
   copy_atomic "$ckpt" "$keep/default_map.npz.ckpt.npz"
   # the log up to its last whole row (a row being written is torn)
-  python3 - "$maps/default_map.npz.log.jsonl" "$keep/default_map.npz.log.jsonl" <<'EOF'
-import os, sys
-data = open(sys.argv[1], 'rb').read()
-tmp = sys.argv[2] + '.tmp'
-with open(tmp, 'wb') as out:
-    out.write(data[: data.rfind(b'\n') + 1])
-os.replace(tmp, sys.argv[2])
-EOF
+  copy_whole_rows "$maps/default_map.npz.log.jsonl" "$keep/default_map.npz.log.jsonl"
   echo "saved the map's checkpoint ($here evaluations, $(du -h "$keep/default_map.npz.ckpt.npz" | cut -f1)) and log to $keep"
 fi
 
@@ -117,7 +122,9 @@ for nav_tree in "${nav_trees[@]}"; do
 done
 # The transfer study (tuning/transfer_study.sh, worktree TRANSFER_TREE, default ../transfer-study):
 # each run's checkpoint and log (the log up to its last whole row), and a finished map. The run
-# goes on; a checkpoint is written atomically, so the copy is a whole one.
+# goes on; a checkpoint is written atomically, so the copy is a whole one. Its checkpoints are
+# several MB: git ignores them (.gitignore); they survive where the machine does, and a run
+# without one starts again from its seed.
 transfer_tree="${TRANSFER_TREE:-$repo/../transfer-study}"
 if [ -d "$transfer_tree/tuning/transfer_study" ]; then
   mkdir -p "$repo/tuning/transfer_study"
@@ -126,14 +133,7 @@ if [ -d "$transfer_tree/tuning/transfer_study" ]; then
     case "$f" in
       *.tmp*) continue ;;
       *.log.jsonl)
-        python3 - "$f" "$repo/tuning/transfer_study/$(basename "$f")" <<'EOF'
-import os, sys
-data = open(sys.argv[1], 'rb').read()
-tmp = sys.argv[2] + '.tmp'
-with open(tmp, 'wb') as out:
-    out.write(data[: data.rfind(b'\n') + 1])
-os.replace(tmp, sys.argv[2])
-EOF
+        copy_whole_rows "$f" "$repo/tuning/transfer_study/$(basename "$f")"
         ;;
       *) copy_atomic "$f" "$repo/tuning/transfer_study/$(basename "$f")" ;;
     esac

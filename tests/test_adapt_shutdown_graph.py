@@ -36,36 +36,49 @@ pytestmark = pytest.mark.ros
 DEMO_MAP = WS / 'hexapod_adapt' / 'maps' / 'demo_map.npz'
 
 
-def test_sigint_mid_adaptation_ends_the_run_in_one_line_and_the_client_says_so(
-    launch, domain_id, tmp_path
-):
+def _client(args: list[str], domain_id: int) -> subprocess.Popen:
+    """A client command, in the graph's domain, its output captured."""
+    return subprocess.Popen(
+        args + ['--timeout', '300'],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=dict(os.environ, ROS_DOMAIN_ID=str(domain_id)),
+    )
+
+
+def _stop_mid_run(node, client, stop) -> tuple[str, str, float]:
+    """After adapt_node's first trial, ``stop()`` it; the client's output and how long it took."""
+    try:
+        wait_for(lambda: 'trial 1:' in node.log(), 120, "adapt_node's first trial")
+        t0 = time.monotonic()
+        stop()
+        out, err = client.communicate(timeout=60)
+    finally:
+        if client.poll() is None:
+            client.kill()
+    return out, err, time.monotonic() - t0
+
+
+def _adaptation(launch, domain_id, **adapt_params):
+    """sim_node (real time, leg 2 lifted) + gait_node + adapt_node, and adapt_client running."""
     launch(
         'hexapod_sim',
         'sim_node',
         params={'real_time_factor': 1.0, 'publish_period_steps': 24, 'failed_legs': [2]},
     )
     launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
-    node = launch(
-        'hexapod_adapt',
-        'adapt_node',
-        params={'archive': str(DEMO_MAP), 'record_dir': str(tmp_path / 'runs')},
-    )
-    client = subprocess.Popen(
-        [str(executable('hexapod_adapt', 'adapt_client')), '--max-trials', '20', '--blind']
-        + ['--timeout', '300'],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=dict(os.environ, ROS_DOMAIN_ID=str(domain_id)),
-    )
-    try:
-        wait_for(lambda: 'trial 1:' in node.log(), 120, "adapt_node's first trial")
-        t0 = time.monotonic()
-        node.stop()  # SIGINT, as Ctrl-C in the launcher's terminal
-        out, err = client.communicate(timeout=60)
-    finally:
-        if client.poll() is None:
-            client.kill()
+    node = launch('hexapod_adapt', 'adapt_node', params={'archive': str(DEMO_MAP), **adapt_params})
+    exe = str(executable('hexapod_adapt', 'adapt_client'))
+    return node, _client([exe, '--max-trials', '20', '--blind'], domain_id)
+
+
+def test_sigint_mid_adaptation_ends_the_run_in_one_line_and_the_client_says_so(
+    launch, domain_id, tmp_path
+):
+    node, client = _adaptation(launch, domain_id, record_dir=str(tmp_path / 'runs'))
+    # SIGINT, as Ctrl-C in the launcher's terminal
+    out, err, seconds = _stop_mid_run(node, client, node.stop)
     log = node.log()
     assert 'Traceback' not in log and 'RCLError' not in log, log[-3000:]
     assert 'context is invalid' not in log, log[-3000:]
@@ -74,7 +87,7 @@ def test_sigint_mid_adaptation_ends_the_run_in_one_line_and_the_client_says_so(
     answered = 'stopped: adapt_node shut down mid-run' in out and client.returncode == 3
     gone = 'shut down before it answered' in err and client.returncode == 1
     assert answered or gone, (client.returncode, out, err)
-    assert time.monotonic() - t0 < 30  # not its 300 s timeout
+    assert seconds < 30  # not its 300 s timeout
 
 
 def test_a_client_whose_server_dies_says_so_instead_of_waiting_out_its_timeout(
@@ -82,31 +95,13 @@ def test_a_client_whose_server_dies_says_so_instead_of_waiting_out_its_timeout(
 ):
     import signal
 
-    launch(
-        'hexapod_sim',
-        'sim_node',
-        params={'real_time_factor': 1.0, 'publish_period_steps': 24, 'failed_legs': [2]},
+    node, client = _adaptation(launch, domain_id)
+    # SIGKILL: no last answer can come
+    out, err, seconds = _stop_mid_run(
+        node, client, lambda: os.killpg(node.proc.pid, signal.SIGKILL)
     )
-    launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
-    node = launch('hexapod_adapt', 'adapt_node', params={'archive': str(DEMO_MAP)})
-    client = subprocess.Popen(
-        [str(executable('hexapod_adapt', 'adapt_client')), '--max-trials', '20', '--blind']
-        + ['--timeout', '300'],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=dict(os.environ, ROS_DOMAIN_ID=str(domain_id)),
-    )
-    try:
-        wait_for(lambda: 'trial 1:' in node.log(), 120, "adapt_node's first trial")
-        t0 = time.monotonic()
-        os.killpg(node.proc.pid, signal.SIGKILL)  # no last answer can come
-        out, err = client.communicate(timeout=60)
-    finally:
-        if client.poll() is None:
-            client.kill()
     assert client.returncode == 1 and 'shut down before it answered' in err, (out, err)
-    assert time.monotonic() - t0 < 30
+    assert seconds < 30
 
 
 def test_navigate_client_says_when_its_server_dies_mid_goal(ros, launch, domain_id, tmp_path):
@@ -118,13 +113,8 @@ def test_navigate_client_says_when_its_server_dies_mid_goal(ros, launch, domain_
 
     nav, _ = start_graph(ros, launch, max_range=5.0)
     feedback = ros.collect(Navigate.Impl.FeedbackMessage, 'navigate/_action/feedback', 10)
-    client = subprocess.Popen(
-        [str(executable('hexapod_navigation', 'navigate_client')), '4.0', '0.0']
-        + ['--timeout', '300'],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=dict(os.environ, ROS_DOMAIN_ID=str(domain_id)),
+    client = _client(
+        [str(executable('hexapod_navigation', 'navigate_client')), '4.0', '0.0'], domain_id
     )
     try:
         wait_for(lambda: feedback, 120, "the goal's first feedback")

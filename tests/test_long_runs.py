@@ -65,7 +65,11 @@ def _save(tree: Path, keep: Path) -> subprocess.CompletedProcess:
     return subprocess.run(
         ['bash', str(SAVE), str(tree), str(tree.parent / 'no_ceilings'), str(keep)],
         capture_output=True, text=True, timeout=120,
-        env={**os.environ, 'NAV_TREE': str(tree.parent / 'no_navtune')},
+        env={
+            **os.environ,
+            'NAV_TREE': str(tree.parent / 'no_navtune'),
+            'TRANSFER_TREE': str(tree.parent / 'no_transfer_study'),
+        },
     )  # fmt: skip
 
 
@@ -178,7 +182,11 @@ def test_only_the_ceilings_computed_in_the_worktree_are_kept(tmp_path):
     r = subprocess.run(
         ['bash', str(SAVE), str(tmp_path / 'no_map'), str(tree), str(keep)],
         capture_output=True, text=True, timeout=60,
-        env={**os.environ, 'NAV_TREE': str(tmp_path / 'no_navtune')},
+        env={
+            **os.environ,
+            'NAV_TREE': str(tmp_path / 'no_navtune'),
+            'TRANSFER_TREE': str(tmp_path / 'no_transfer_study'),
+        },
     )  # fmt: skip
     assert r.returncode == 0, r.stderr
     assert sorted(p.name for p in (keep / 'ceilings').iterdir()) == [
@@ -206,7 +214,12 @@ def test_every_rounds_finished_navigation_units_are_kept_and_unfinished_ones_lef
     r = subprocess.run(
         ['bash', str(SAVE), str(tmp_path / 'no_map'), str(tmp_path / 'no_ceilings'), str(keep)],
         capture_output=True, text=True, timeout=60,
-        env={**os.environ, 'NAV_TREE': ' '.join(map(str, trees)), 'NAV_KEEP': str(nav_keep)},
+        env={
+            **os.environ,
+            'NAV_TREE': ' '.join(map(str, trees)),
+            'NAV_KEEP': str(nav_keep),
+            'TRANSFER_TREE': str(tmp_path / 'no_transfer_study'),
+        },
     )  # fmt: skip
     assert r.returncode == 0, r.stderr
     kept = sorted(p.name for p in (nav_keep / 'all_kinds').iterdir())
