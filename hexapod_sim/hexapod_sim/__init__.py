@@ -21,7 +21,7 @@
 """
 The hexapod simulator, gait evaluation and failure scenarios (ROS-free).
 
-One simulator interface, two engines: PyBullet and MuJoCo.
+One simulator interface, three engines: PyBullet, MuJoCo and DART (the judge).
 """
 
 from hexapod_sim.engines import create_simulator

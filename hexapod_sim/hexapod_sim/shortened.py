@@ -19,12 +19,12 @@
 # OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
 # SOFTWARE.
 """
-A shortened tibia (damage kind ``shortened``): the geometry both engines give it (ROS-free).
+A shortened tibia (damage kind ``shortened``): the geometry every engine gives it (ROS-free).
 
 The tibia is cut so that its tip is at ``fraction`` of its length from the knee: the foot sphere
 moves in, the shank's box is cut where the foot now is, and the mass and its centre scale with
-the length. One home for the arithmetic: MuJoCo applies it to its compiled model, PyBullet to the
-URDF it loads.
+the length. One home for the arithmetic: MuJoCo applies it to its compiled model, DART to its
+shape nodes, PyBullet to the URDF it loads.
 """
 
 from __future__ import annotations
