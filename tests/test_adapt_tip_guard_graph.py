@@ -47,21 +47,22 @@ FAILED = [1]
 TIPPER = 18287
 
 
-@pytest.fixture(scope='module')
-def tipping_archive(tmp_path_factory):
-    """Three gaits: the tipper, with the highest map speed, then the control and wave gaits."""
-    genes = [
-        load_archive(shipped_map(DEFAULT_MAP)).genotypes[TIPPER],
-        to_genotype(preset('control')),
-        to_genotype(preset('wave')),
-    ]
+def _tipper_first(genes, failed_legs, guard, path, margin=0.0):
+    """
+    An archive of ``genes`` whose first (the tipper) the map ranks fastest.
+
+    Checked on PyBullet with ``failed_legs``: the first tilts past ``guard`` [rad] by more than
+    ``margin``, the others stay under it by more than ``margin``.
+    """
     with create_simulator() as sim:
         walks = [
-            evaluate_gait(g, sim, collisions_fatal=False, failed_legs=FAILED, record_tilt=True)
+            evaluate_gait(
+                g, sim, collisions_fatal=False, failed_legs=failed_legs, record_tilt=True
+            )
             for g in genes
         ]
-    assert walks[0].peak_tilt > DEFAULT_TIP_GUARD, 'the tipper no longer tips: pick another'
-    assert all(w.peak_tilt < DEFAULT_TIP_GUARD for w in walks[1:])
+    assert walks[0].peak_tilt > guard + margin, 'the tipper no longer tips: pick another'
+    assert all(w.peak_tilt < guard - margin for w in walks[1:]), [w.peak_tilt for w in walks]
     desc = np.eye(3, 6) * 0.5 + 0.25  # three distinct niches
     archive = Archive(
         desc,
@@ -70,7 +71,19 @@ def tipping_archive(tmp_path_factory):
         np.array(genes),
         {'seed': 5, 'evaluations': 3, **simulation_fingerprint('pybullet')},
     )
-    return archive.save(tmp_path_factory.mktemp('archive') / 'tipping.npz')
+    return archive.save(path)
+
+
+@pytest.fixture(scope='module')
+def tipping_archive(tmp_path_factory):
+    """Three gaits: the tipper, with the highest map speed, then the control and wave gaits."""
+    genes = [
+        load_archive(shipped_map(DEFAULT_MAP)).genotypes[TIPPER],
+        to_genotype(preset('control')),
+        to_genotype(preset('wave')),
+    ]
+    path = tmp_path_factory.mktemp('archive') / 'tipping.npz'
+    return _tipper_first(genes, FAILED, DEFAULT_TIP_GUARD, path)
 
 
 def test_a_trial_that_tips_is_stopped_counted_as_failed_and_never_tried_again(
@@ -127,22 +140,8 @@ def intact_tipping_archive(tmp_path_factory):
         to_genotype(preset('tripod')),
         to_genotype(preset('wave')),
     ]
-    with create_simulator() as sim:
-        walks = [
-            evaluate_gait(g, sim, collisions_fatal=False, failed_legs=(), record_tilt=True)
-            for g in genes
-        ]
-    assert walks[0].peak_tilt > ROBOT_GUARD + 0.1, walks[0].peak_tilt
-    assert all(w.peak_tilt < ROBOT_GUARD - 0.1 for w in walks[1:]), [w.peak_tilt for w in walks]
-    desc = np.eye(3, 6) * 0.5 + 0.25
-    archive = Archive(
-        desc,
-        np.array([3.0, 1.0, 0.5]),
-        desc,
-        np.array(genes),
-        {'seed': 6, 'evaluations': 3, **simulation_fingerprint('pybullet')},
-    )
-    return archive.save(tmp_path_factory.mktemp('archive') / 'intact_tipping.npz')
+    path = tmp_path_factory.mktemp('archive') / 'intact_tipping.npz'
+    return _tipper_first(genes, (), ROBOT_GUARD, path, margin=0.1)
 
 
 @pytest.mark.slow

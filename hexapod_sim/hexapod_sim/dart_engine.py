@@ -52,6 +52,7 @@ from hexapod_sim.shortened import TibiaShape
 from hexapod_sim.simulator import (
     GRAVITY,
     JointRows,
+    matrix_to_quat,
     PlayResult,
     SimConfig,
     Simulator,
@@ -70,25 +71,6 @@ _FOOT_JOINT = re.compile(r'<joint name="joint_\d_foot".*?</joint>', re.S)
 _NO_LIMIT = 1e6
 #: The ground: a box this large, its top face at z = 0.
 _GROUND_SIZE = (50.0, 50.0, 0.1)
-
-
-def _quat_from_matrix(r: np.ndarray) -> np.ndarray:
-    """Return the unit quaternion (x, y, z, w) of a rotation matrix (3, 3)."""
-    t = r[0, 0] + r[1, 1] + r[2, 2]
-    if t > 0:
-        s = 2.0 * np.sqrt(t + 1.0)
-        q = [(r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s, s / 4]
-    elif r[0, 0] > r[1, 1] and r[0, 0] > r[2, 2]:
-        s = 2.0 * np.sqrt(1.0 + r[0, 0] - r[1, 1] - r[2, 2])
-        q = [s / 4, (r[0, 1] + r[1, 0]) / s, (r[0, 2] + r[2, 0]) / s, (r[2, 1] - r[1, 2]) / s]
-    elif r[1, 1] > r[2, 2]:
-        s = 2.0 * np.sqrt(1.0 + r[1, 1] - r[0, 0] - r[2, 2])
-        q = [(r[0, 1] + r[1, 0]) / s, s / 4, (r[1, 2] + r[2, 1]) / s, (r[0, 2] - r[2, 0]) / s]
-    else:
-        s = 2.0 * np.sqrt(1.0 + r[2, 2] - r[0, 0] - r[1, 1])
-        q = [(r[0, 2] + r[2, 0]) / s, (r[1, 2] + r[2, 1]) / s, s / 4, (r[1, 0] - r[0, 1]) / s]
-    q = np.array(q)
-    return q / np.linalg.norm(q)
 
 
 class DartSimulator(Simulator):
@@ -350,7 +332,7 @@ class DartSimulator(Simulator):
     # -- readings -------------------------------------------------------------------------------
     def base_pose(self) -> tuple[np.ndarray, np.ndarray]:
         t = self._base.getWorldTransform()
-        return np.array(t.translation(), dtype=float), _quat_from_matrix(np.asarray(t.rotation()))
+        return np.array(t.translation(), dtype=float), matrix_to_quat(np.asarray(t.rotation()))
 
     def base_velocity(self) -> tuple[np.ndarray, np.ndarray]:
         return (
@@ -364,7 +346,7 @@ class DartSimulator(Simulator):
             t = body.getWorldTransform()
             poses[name] = (
                 np.array(t.translation(), dtype=float),
-                _quat_from_matrix(np.asarray(t.rotation())),
+                matrix_to_quat(np.asarray(t.rotation())),
             )
         return poses
 

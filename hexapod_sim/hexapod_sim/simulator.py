@@ -204,6 +204,25 @@ def quat_to_matrix(quat: Sequence[float]) -> np.ndarray:
     )
 
 
+def matrix_to_quat(r: np.ndarray) -> np.ndarray:
+    """Return the unit quaternion (x, y, z, w) of a rotation matrix (3, 3), as quat_to_matrix's."""
+    t = r[0, 0] + r[1, 1] + r[2, 2]
+    if t > 0:
+        s = 2.0 * np.sqrt(t + 1.0)
+        q = [(r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s, s / 4]
+    elif r[0, 0] > r[1, 1] and r[0, 0] > r[2, 2]:
+        s = 2.0 * np.sqrt(1.0 + r[0, 0] - r[1, 1] - r[2, 2])
+        q = [s / 4, (r[0, 1] + r[1, 0]) / s, (r[0, 2] + r[2, 0]) / s, (r[2, 1] - r[1, 2]) / s]
+    elif r[1, 1] > r[2, 2]:
+        s = 2.0 * np.sqrt(1.0 + r[1, 1] - r[0, 0] - r[2, 2])
+        q = [(r[0, 1] + r[1, 0]) / s, s / 4, (r[1, 2] + r[2, 1]) / s, (r[0, 2] - r[2, 0]) / s]
+    else:
+        s = 2.0 * np.sqrt(1.0 + r[2, 2] - r[0, 0] - r[1, 1])
+        q = [(r[0, 2] + r[2, 0]) / s, (r[1, 2] + r[2, 1]) / s, s / 4, (r[1, 0] - r[0, 1]) / s]
+    q = np.array(q)
+    return q / np.linalg.norm(q)
+
+
 def upside_down(quat: Sequence[float]) -> bool:
     """
     Whether a base orientation (x, y, z, w) has the body's up axis below the horizontal.
