@@ -36,9 +36,5 @@ fi
 # the transfer study: resumed from the checkpoints save_progress.sh kept, until both maps exist
 if [ ! -f tuning/transfer_study/walk_cma_mae_10000_s1.npz ] \
   || [ ! -f tuning/transfer_study/walk_iso_line_10000_s1.npz ]; then
-  if pgrep -f 'tuning/transfer_study/walk_' >/dev/null; then
-    echo "the transfer study is running already"
-  else
-    bash tuning/transfer_study.sh
-  fi
+  bash tuning/transfer_study.sh  # starts only the runs that are neither finished nor running
 fi

@@ -30,6 +30,17 @@ run() {  # run NAME EMITTERS: one guarded map, resumed where it stopped
     --emitters "$2" --cvt-dir tuning/transfer_study --workers 1 \
     --min-feet 3 --max-tilt 0.5236 --checkpoint-every 300 --log-every 60 --no-bar --resume
 }
-nohup nice -n 19 bash -c "$(declare -f run); run walk_cma_mae_10000_s1 cma_mae \
-  && run walk_iso_line_10000_s1 iso_line" >> out/transfer_study.out 2>&1 &
-echo "transfer study running in $tree (pid $!): tail -f $tree/out/transfer_study.out"
+# the two runs side by side (each deterministic from its seed, so order does not matter), each
+# started only when it is neither finished nor running
+for spec in walk_cma_mae_10000_s1:cma_mae walk_iso_line_10000_s1:iso_line; do
+  name="${spec%%:*}" emitters="${spec#*:}"
+  if [ -f "tuning/transfer_study/$name.npz" ]; then
+    echo "$name: finished"
+  elif pgrep -f "tuning/transfer_study/$name.npz" >/dev/null; then
+    echo "$name: running already"
+  else
+    nohup nice -n 19 bash -c "$(declare -f run); run $name $emitters" \
+      >> "out/transfer_study_$name.out" 2>&1 &
+    echo "$name running in $tree (pid $!): tail -f $tree/out/transfer_study_$name.out"
+  fi
+done
