@@ -28,7 +28,7 @@ if [ -f "$_ws/install/local_setup.bash" ]; then
   # shellcheck disable=SC1091
   source "$_ws/install/local_setup.bash"
 fi
-# The studies (tuning/: `python -m tuning.NAME`) import the library as a package of their own. The
+# The studies (studies/: `python -m studies.STUDY.NAME`) import the library as a package of their own. The
 # root goes last, so an installed package always wins over a source directory of the same name.
 case ":${PYTHONPATH:-}:" in *":$_ws:"*) ;; *) export PYTHONPATH="${PYTHONPATH:+$PYTHONPATH:}$_ws" ;; esac
 unset _ws

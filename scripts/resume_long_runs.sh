@@ -7,10 +7,8 @@
 #   start the moment it is written; once the map is written (kept in
 #   hexapod_adapt/maps/in_progress/, or shipped), its ceilings (resume_ceilings.sh: only the
 #   cases not cached yet), until the shipped cache holds them all;
-# - the transfer study's map runs (tuning/transfer_study.sh; docs/studies/transfer.md), until
+# - the transfer study's map runs (studies/transfer/transfer_study.sh; studies/transfer/README.md), until
 #   both of its maps are written;
-# (The ninth and tenth navigation tuning rounds, tuning/tune_all_kinds.sh, are done: every unit
-# is committed in tuning/navigation_all_kinds/, and running them again only reads them back.)
 # Before the session ends: bash scripts/save_progress.sh, then commit what it lists.
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -34,7 +32,7 @@ else
   echo "then_ceilings.sh waiting for the map (pid $!): out/then_ceilings.out"
 fi
 # the transfer study: resumed from the checkpoints save_progress.sh kept, until both maps exist
-if [ ! -f tuning/transfer_study/walk_cma_mae_10000_s1.npz ] \
-  || [ ! -f tuning/transfer_study/walk_iso_line_10000_s1.npz ]; then
-  bash tuning/transfer_study.sh  # starts only the runs that are neither finished nor running
+if [ ! -f studies/out/transfer_study/walk_cma_mae_10000_s1.npz ] \
+  || [ ! -f studies/out/transfer_study/walk_iso_line_10000_s1.npz ]; then
+  bash studies/transfer/transfer_study.sh  # starts only the runs that are neither finished nor running
 fi

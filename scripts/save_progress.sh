@@ -13,20 +13,16 @@
 #   (default_map.npz and its log), to ship with its ceilings.
 # - The ceilings' finished cases in CEILING_WORKTREE (default ../ceilgen, resume_ceilings.sh) go
 #   to CHECKPOINTS/ceilings; the run goes on (a case in progress is recomputed on resume).
-# - The navigation rounds' finished units in NAV_TREE (worktrees, separated by spaces; default
-#   ../navtune and every ../navtune-GRID, tuning/tune_all_kinds.sh) go to NAV_KEEP (default
-#   tuning/navigation_all_kinds); the rounds go on (a unit in progress is walked again).
+# - The transfer study's runs in TRANSFER_TREE (default ../transfer-study,
+#   studies/transfer/transfer_study.sh): each checkpoint and log to studies/checkpoints/
+#   transfer_study/ (a checkpoint only when it is further on than the one kept there); a
+#   finished map and its log to studies/out/transfer_study/, and its checkpoint is then dropped
+#   (TRANSFER_KEEP and TRANSFER_DONE name other folders). The runs go on.
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 map_tree="${1:-$repo/../mapgen}"
 ceil_tree="${2:-$repo/../ceilgen}"
 keep="${3:-$repo/hexapod_adapt/maps/in_progress}"
-if [ -n "${NAV_TREE:-}" ]; then
-  read -ra nav_trees <<< "$NAV_TREE"  # one or more, separated by spaces
-else
-  nav_trees=("$repo/../navtune" "$repo"/../navtune-*)
-fi
-nav_keep="${NAV_KEEP:-$repo/tuning/navigation_all_kinds}"
 set +u  # the setup scripts read unset variables
 # shellcheck disable=SC1091
 source "$repo/scripts/env.sh" >/dev/null
@@ -103,41 +99,36 @@ if [ -d "$ceil_tree/hexapod_adapt/maps/ceilings" ]; then
   echo "saved $n ceiling cases to $keep/ceilings"
 fi
 
-# a unit is finished once its summary.json, written last, is there; its episodes (runs.csv) and
-# summary are kept, not its paths (about 0.3 MB a unit, for plots only)
-for nav_tree in "${nav_trees[@]}"; do
-  [ -d "$nav_tree" ] || continue
-  n=0
-  for summary in "$nav_tree"/tuning/navigation_all_kinds/*/*/summary.json; do
-    [ -f "$summary" ] || continue
-    unit="$(dirname "$summary")"
-    dest="$nav_keep/$(basename "$(dirname "$unit")")/$(basename "$unit")"
-    [ -f "$dest/summary.json" ] && continue
-    rm -rf "$dest.tmp"
-    mkdir -p "$dest.tmp"
-    cp "$unit/runs.csv" "$unit/summary.json" "$dest.tmp/" && mv "$dest.tmp" "$dest"
-    n=$((n + 1))
-  done
-  echo "saved $n new navigation units from $nav_tree to $nav_keep"
-done
-# The transfer study (tuning/transfer_study.sh, worktree TRANSFER_TREE, default ../transfer-study):
-# each run's checkpoint and log (the log up to its last whole row), and a finished map. The run
-# goes on; a checkpoint is written atomically, so the copy is a whole one. Its checkpoints are
-# several MB: git ignores them (.gitignore); they survive where the machine does, and a run
-# without one starts again from its seed.
+# The transfer study. Its checkpoints are several MB: git ignores them (.gitignore); they survive
+# where the machine does, and a run without one starts again from its seed. A checkpoint is
+# written atomically, so the copy is a whole one.
 transfer_tree="${TRANSFER_TREE:-$repo/../transfer-study}"
-if [ -d "$transfer_tree/tuning/transfer_study" ]; then
-  mkdir -p "$repo/tuning/transfer_study"
-  for f in "$transfer_tree"/tuning/transfer_study/walk_*.npz*; do
-    [ -f "$f" ] || continue
-    case "$f" in
-      *.tmp*) continue ;;
-      *.log.jsonl)
-        copy_whole_rows "$f" "$repo/tuning/transfer_study/$(basename "$f")"
-        ;;
-      *) copy_atomic "$f" "$repo/tuning/transfer_study/$(basename "$f")" ;;
-    esac
-    echo "saved $(basename "$f") ($(du -h "$f" | cut -f1)) to tuning/transfer_study"
+transfer_keep="${TRANSFER_KEEP:-$repo/studies/checkpoints/transfer_study}"
+transfer_done="${TRANSFER_DONE:-$repo/studies/out/transfer_study}"
+if [ -d "$transfer_tree/tuning/transfer_study" ]; then  # the pinned commit's layout
+  mkdir -p "$transfer_keep" "$transfer_done"
+  for log in "$transfer_tree"/tuning/transfer_study/walk_*.npz.log.jsonl; do
+    [ -f "$log" ] || continue
+    map="${log%.log.jsonl}"
+    name="$(basename "$map")"
+    if [ -f "$map" ]; then  # finished: the map and its log, and no checkpoint any more
+      copy_atomic "$map" "$transfer_done/$name"
+      copy_whole_rows "$log" "$transfer_done/$name.log.jsonl"
+      rm -f "$transfer_keep/$name.ckpt.npz" "$transfer_keep/$name.log.jsonl"
+      echo "saved the finished $name and its log to $transfer_done"
+      continue
+    fi
+    ckpt="$map.ckpt.npz"
+    [ -f "$ckpt" ] || continue
+    here="$(checkpoint_evaluations "$ckpt")"
+    kept="$(checkpoint_evaluations "$transfer_keep/$name.ckpt.npz")"
+    if [ "$here" -lt "$kept" ]; then
+      echo "not saved: $transfer_keep holds $name further on ($kept evaluations) than $transfer_tree ($here)" >&2
+      continue
+    fi
+    copy_atomic "$ckpt" "$transfer_keep/$name.ckpt.npz"
+    copy_whole_rows "$log" "$transfer_keep/$name.log.jsonl"
+    echo "saved $name's checkpoint ($here evaluations, $(du -h "$ckpt" | cut -f1)) and log to $transfer_keep"
   done
 fi
 echo "now commit them (git add the folders above)"

@@ -23,7 +23,7 @@ The import contracts (.importlinter) hold, and they catch a violation.
 
 DESIGN.md's layers (description < gait < sim < adapt < navigation; the bridge above sim and
 independent of adapt and navigation), no module importing a node, rclpy only in nodes and ROS
-glue, no study (tuning/) imported by the library, and no import cycle in any package.
+glue, no study (studies/) imported by the library, and no import cycle in any package.
 """
 
 from __future__ import annotations
@@ -76,7 +76,7 @@ def _copy_with(tmp_path: Path, package: str, module: str, line: str) -> str:
     [
         ('hexapod_sim', 'damage', 'import hexapod_adapt', 'Layers'),
         ('hexapod_bridge', 'crc', 'import hexapod_navigation', 'independent'),
-        ('hexapod_adapt', 'online/mboa', 'import tuning.tuning_set', 'Layers'),
+        ('hexapod_adapt', 'online/mboa', 'import studies.tuning_set', 'Layers'),
         ('hexapod_adapt', 'mapping/cvt', 'import hexapod_adapt.online.mboa', 'by job'),
         ('hexapod_navigation', 'planner', 'import hexapod_navigation.navigate_node', 'a node'),
         ('hexapod_adapt', 'online/prior', 'import rclpy', 'rclpy only'),

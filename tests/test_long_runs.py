@@ -67,7 +67,6 @@ def _save(tree: Path, keep: Path) -> subprocess.CompletedProcess:
         capture_output=True, text=True, timeout=120,
         env={
             **os.environ,
-            'NAV_TREE': str(tree.parent / 'no_navtune'),
             'TRANSFER_TREE': str(tree.parent / 'no_transfer_study'),
         },
     )  # fmt: skip
@@ -184,7 +183,6 @@ def test_only_the_ceilings_computed_in_the_worktree_are_kept(tmp_path):
         capture_output=True, text=True, timeout=60,
         env={
             **os.environ,
-            'NAV_TREE': str(tmp_path / 'no_navtune'),
             'TRANSFER_TREE': str(tmp_path / 'no_transfer_study'),
         },
     )  # fmt: skip
@@ -195,39 +193,52 @@ def test_only_the_ceilings_computed_in_the_worktree_are_kept(tmp_path):
     assert 'saved 1 ceiling cases' in r.stdout
 
 
-def test_every_rounds_finished_navigation_units_are_kept_and_unfinished_ones_left(tmp_path):
-    """Units of two rounds' worktrees; one of them is still being walked (no summary.json)."""
-    trees = [tmp_path / 'navtune', tmp_path / 'navtune-evidence']
-    units = {
-        trees[0]: {'tripod__weak': True, 'tripod_after-2__weak': False},
-        trees[1]: {'tripod_after-0_tripod_bank-evidence__weak': True},
-    }
-    for tree, walked in units.items():
-        for name, finished in walked.items():
-            unit = tree / 'tuning' / 'navigation_all_kinds' / 'all_kinds' / name
-            unit.mkdir(parents=True)
-            (unit / 'runs.csv').write_text(f'scenario,goal\nS1,{name}\n')
-            (unit / 'paths.json').write_text('[]')  # not kept
-            if finished:
-                (unit / 'summary.json').write_text('{}')
-    keep, nav_keep = tmp_path / 'kept', tmp_path / 'nav_kept'
-    r = subprocess.run(
-        ['bash', str(SAVE), str(tmp_path / 'no_map'), str(tmp_path / 'no_ceilings'), str(keep)],
+def _transfer_save(tmp_path: Path) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        ['bash', str(SAVE), str(tmp_path / 'no_map'), str(tmp_path / 'no_ceilings'),
+         str(tmp_path / 'kept')],
         capture_output=True, text=True, timeout=60,
         env={
             **os.environ,
-            'NAV_TREE': ' '.join(map(str, trees)),
-            'NAV_KEEP': str(nav_keep),
-            'TRANSFER_TREE': str(tmp_path / 'no_transfer_study'),
+            'TRANSFER_TREE': str(tmp_path / 'transfer'),
+            'TRANSFER_KEEP': str(tmp_path / 'checkpoints'),
+            'TRANSFER_DONE': str(tmp_path / 'done'),
         },
     )  # fmt: skip
+
+
+def _with_evaluations(path: Path, evaluations: int) -> None:
+    """Write the demo map to ``path`` as if it held ``evaluations`` evaluations."""
+    archive = load_archive(DEMO_MAP)
+    archive.metadata['evaluations'] = evaluations
+    archive.save(path)
+
+
+def test_the_transfer_study_keeps_checkpoints_further_on_and_finished_maps(tmp_path):
+    """Run a: a checkpoint behind the kept one; run b: one further on; run c: finished."""
+    runs = tmp_path / 'transfer' / 'tuning' / 'transfer_study'
+    keep, done = tmp_path / 'checkpoints', tmp_path / 'done'
+    runs.mkdir(parents=True)
+    keep.mkdir()
+    for name in ('walk_a', 'walk_b', 'walk_c'):
+        (runs / f'{name}.npz.log.jsonl').write_text('{"evaluations": 5}\n{"evalu')  # torn row
+    _with_evaluations(runs / 'walk_a.npz.ckpt.npz', 100)
+    _with_evaluations(keep / 'walk_a.npz.ckpt.npz', 200)
+    _with_evaluations(runs / 'walk_b.npz.ckpt.npz', 300)
+    _with_evaluations(keep / 'walk_b.npz.ckpt.npz', 200)
+    _with_evaluations(runs / 'walk_c.npz', 400)
+    _with_evaluations(keep / 'walk_c.npz.ckpt.npz', 350)
+    before_a = (keep / 'walk_a.npz.ckpt.npz').read_bytes()
+    r = _transfer_save(tmp_path)
     assert r.returncode == 0, r.stderr
-    kept = sorted(p.name for p in (nav_keep / 'all_kinds').iterdir())
-    assert kept == ['tripod__weak', 'tripod_after-0_tripod_bank-evidence__weak']
-    unit = nav_keep / 'all_kinds' / 'tripod__weak'
-    assert sorted(p.name for p in unit.iterdir()) == ['runs.csv', 'summary.json']
-    assert 'tripod__weak' in (unit / 'runs.csv').read_text()
-    assert 'saved 1 new navigation units from' in r.stdout and not keep.exists()
+    assert 'walk_a.npz further on (200 evaluations)' in r.stderr
+    assert (keep / 'walk_a.npz.ckpt.npz').read_bytes() == before_a
+    assert not (keep / 'walk_a.npz.log.jsonl').exists()
+    assert load_archive(keep / 'walk_b.npz.ckpt.npz').metadata['evaluations'] == 300
+    assert (keep / 'walk_b.npz.log.jsonl').read_text() == '{"evaluations": 5}\n'
+    assert load_archive(done / 'walk_c.npz').metadata['evaluations'] == 400
+    assert (done / 'walk_c.npz.log.jsonl').read_text() == '{"evaluations": 5}\n'
+    assert not (keep / 'walk_c.npz.ckpt.npz').exists()  # the run ended: its checkpoint goes
 
 
 def test_make_ceilings_counts_the_cases_the_shipped_cache_lacks():

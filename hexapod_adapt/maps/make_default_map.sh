@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The default map: the exact command, resumable (docs/studies/map.md: the winner of the map study,
+# The default map: the exact command, resumable (studies/map_methods/README.md: the winner of the map study,
 # issue 30). Run it from the repository root; run it again after any interruption (it resumes from
 # default_map.npz.ckpt.npz) until it prints "wrote". FRESH=1 starts from scratch: the map, its
 # checkpoint and log already there are kept as NAME.bak (without it, a finished map made with

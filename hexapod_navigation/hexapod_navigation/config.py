@@ -23,7 +23,7 @@ How navigate pursues a goal: its settings (:class:`NavigationConfig`), the goal 
 
 The settings of the learned correction (:mod:`hexapod_navigation.correction`), the planner
 (:mod:`hexapod_navigation.planner`) and the episode loop (:mod:`hexapod_navigation.episode`),
-each chosen on the tuning goals (docs/studies/navigation.md says how).
+each chosen on the tuning goals (studies/navigation/README.md says how).
 """
 
 from __future__ import annotations
@@ -88,7 +88,7 @@ class NavigationConfig:
     #: a damage reported by the robot (its dead servos, from the bridge) that the bank models:
     #: this share of the known models' prior weight goes to it, the rest as without a report
     #: (0: reports are not used; 0.5 chosen on the tuning goals over 0 and 0.9,
-    #: docs/studies/navigation.md, sixth round)
+    #: studies/navigation/README.md, sixth round)
     prior_reported: float = 0.5
     #: optimism added in proportion to the weight of 'unknown damage': when no known model
     #: fits, the planner looks beyond steps the GP predicts short (0: none)
@@ -114,7 +114,7 @@ class NavigationConfig:
     #: most (after the body's transition to it), whichever is sooner. Off: at the most progress,
     #: with no transition, so a step that only bridges to a better gait looks as good as that
     #: gait. On, chosen on the tuning goals of all eight kinds with the specialists' 962 variants
-    #: (docs/studies/navigation.md, sixteenth round: 32 of 32 cells, lifted 1.365 x the intact
+    #: (studies/navigation/README.md, sixteenth round: 32 of 32 cells, lifted 1.365 x the intact
     #: time, against 31 of 32 off)
     rest_switch: bool = True
     #: 'time' planner: the steered tripod's next cycle (the baseline's choice of crab direction)
@@ -124,7 +124,7 @@ class NavigationConfig:
     tripod_option: bool = True
     #: the tripod becomes a candidate once the last this many repertoire steps made less progress
     #: toward the goal than the tripod's pace (0: from the first step). 0, chosen on the tuning
-    #: goals of all eight damage kinds over 1 and 2 (docs/studies/navigation.md, ninth round: 29
+    #: goals of all eight damage kinds over 1 and 2 (studies/navigation/README.md, ninth round: 29
     #: of 32 cells at <= 1.05x the tripod's time, against 27 and 27; the seventh round, on four
     #: kinds without weak legs, had chosen 2)
     tripod_after: int = 0
@@ -134,7 +134,7 @@ class NavigationConfig:
     #: damages and intact, mixed by how well each explains the steps and cycles walked: 'off'
     #: (never), 'always', or 'evidence': once a step or cycle has been walked (before that, the
     #: stride above: the tripod is tried while nothing is known). 'evidence', chosen on the tuning
-    #: goals of all eight damage kinds (docs/studies/navigation.md, tenth round: 32 of 32 cells
+    #: goals of all eight damage kinds (studies/navigation/README.md, tenth round: 32 of 32 cells
     #: at <= 1.05x the tripod's time against 'always''s 29, which lost weak legs: damage the bank
     #: lacks, on which its mixture predicts a short cycle and the tripod is never tried)
     tripod_bank: str = 'evidence'
@@ -143,14 +143,14 @@ class NavigationConfig:
     #: 'evidence': a damage the robot reported (its dead servos) that the bank models counts as
     #: evidence too, so the tripod's first cycle is weighed under it instead of at the commanded
     #: stride. On, chosen on the tuning goals of the kinds a report names and the bank models
-    #: (docs/studies/navigation.md, eleventh round: 8 of 8 cells either way, median goal 14.2 s
+    #: (studies/navigation/README.md, eleventh round: 8 of 8 cells either way, median goal 14.2 s
     #: against 14.7 s)
     tripod_reported: bool = True
     #: with a damage bank: the default map's fastest gaits intact and under each of the bank's
     #: lifted legs, as more steps (:mod:`hexapod_navigation.specialists`), when a file of them
     #: measured under the bank's damages is given. On: on the tuning goals of all eight kinds,
     #: with specialist_max_tilt below, they bring the lifted legs from 1.69 to 1.39 x the intact
-    #: time and pass all 32 cells against the tripod (docs/studies/navigation.md, rounds 12-15;
+    #: time and pass all 32 cells against the tripod (studies/navigation/README.md, rounds 12-15;
     #: at eight crab angles and three strides, with rest_switch, 1.365 x, round 16)
     specialists: bool = True
     #: rad: only specialists whose step from rest never tilts the body (roll or pitch) more than
@@ -164,12 +164,12 @@ class NavigationConfig:
     #: ``avoid``); pi: never. Where the body streams its attitude (the simulators, sim_node):
     #: a trial on the robot through bridge_node is not stopped midway. Off: at 0.52 rad it cut
     #: legit steps short (no_tibia S4 1.16 x the tripod), and the robots it was for tip faster
-    #: than standing can catch them (docs/studies/navigation.md, rounds 13-14)
+    #: than standing can catch them (studies/navigation/README.md, rounds 13-14)
     tip_guard: float = math.pi
     #: rad: a step whose largest tilt, averaged over the bank's damages by how much the robot
     #: believes in each (the correction's hypothesis weights), is past this is not taken; only
     #: steps measured for tilt (the specialists) can be held back; pi: none (tried on two kinds
-    #: only, docs/studies/navigation.md; not tuned)
+    #: only, studies/navigation/README.md; not tuned)
     expected_tilt_limit: float = math.pi
 
     def __post_init__(self) -> None:

@@ -24,12 +24,12 @@ Gaits made for a damage, as extra navigation steps (issue 31: lifted legs walk t
 The navigation repertoire's steps are omnidirectional gaits chosen on the intact robot; under a
 lifted leg its best step toward a goal makes 0.07-0.23 m/s, while the default adaptation map's
 fastest gait under that same damage walks 0.44-0.55 m/s in its own direction
-(``tuning/navigation_bound.txt``). The specialists are such gaits: for the intact robot and each
+(``studies/navigation/results/navigation_bound.txt``). The specialists are such gaits: for the intact robot and each
 damage of the navigation bank of :data:`SOURCE_KINDS`, the map's fastest gait under it (its
 shipped ceiling; intact, its fitness) among those that keep ``min_stance_legs`` feet down
 throughout, as the repertoire's steps must. Lifted legs only by default: the gaits made for locked
 legs lean on the rigid leg, and two of them tipped the robot over on dead coxas and lost tibias
-(docs/studies/navigation.md, thirteenth round). Each is played at its own crab angle and the
+(studies/navigation/README.md, thirteenth round). Each is played at its own crab angle and the
 other crab angles of :data:`CRAB_OFFSETS` (every 45 deg, the reverse included), at its own
 stride and the shorter ones of :data:`STRIDE_SCALES`, with each of :data:`TURN_RATES` (arcs),
 where its feet can follow those paths.

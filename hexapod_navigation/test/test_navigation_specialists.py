@@ -66,7 +66,7 @@ def test_the_shipped_specialists_extend_the_repertoire_and_its_bank_row_for_row(
 
 
 def test_on_every_lifted_case_a_specialist_outwalks_the_repertoire_its_way(shipped):
-    """The premise (tuning/navigation_bound.txt): gaits made for a damage beat the steps."""
+    """The premise (studies/navigation/results/navigation_bound.txt): gaits made for a damage beat the steps."""
     base, both = shipped
     k = both.specialists
     allowed = base.repertoire.min_stance() >= 3

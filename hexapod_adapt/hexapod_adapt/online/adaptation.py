@@ -79,7 +79,7 @@ class TrialOutcome:
 
 #: The tip guard of adaptation trials [rad] (30 deg): half the tip-over line (60 deg,
 #: hexapod_sim.simulator.TIP_OVER_DEG). Robots that tipped rolled at 70-150 deg/s
-#: (docs/studies/navigation.md), so a gait stopped at 30 deg still has 0.2-0.4 s to stand.
+#: (studies/navigation/README.md), so a gait stopped at 30 deg still has 0.2-0.4 s to stand.
 DEFAULT_TIP_GUARD = math.radians(30.0)
 
 

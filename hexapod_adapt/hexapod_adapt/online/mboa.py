@@ -144,7 +144,7 @@ class MboaConfig:
 #: The default's kernel variance is in physical units: over the tuning set, damage moved the
 #: map's speeds by a variance of 0.0079 (m/s)^2 (docs/adaptation.md, "Tuning"). Its length scale
 #: and expected-gain stop were chosen again on maps of the deployed kind (CMA-MAE, the map
-#: study's seed-2 maps; ``tuning.score_grid_deployed``): 0.2 and none before.
+#: study's seed-2 maps; ``studies.adaptation.score_grid_deployed``): 0.2 and none before.
 PROFILES: dict[str, MboaConfig] = {
     'thesis': MboaConfig(),
     'default': MboaConfig(

@@ -23,7 +23,7 @@ Replaying adaptation runs against ceilings: M-BOA with trials answered from a ta
 
 A ceiling (:mod:`hexapod_adapt.online.ceiling`) holds every gait of a map evaluated under one
 damage, so an adaptation run under that damage can be replayed without a simulator: each trial's
-speed is looked up. Studies (``tuning/``) score M-BOA settings this way on damage cases they
+speed is looked up. Studies (``studies/``) score M-BOA settings this way on damage cases they
 choose; the library holds no damage set of its own.
 """
 

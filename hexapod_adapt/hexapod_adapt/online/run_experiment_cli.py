@@ -240,7 +240,7 @@ def main(argv: list[str] | None = None) -> int:
         default='profile',
         help='damage hypotheses (hexapod_adapt.online.bank, read from the shipped ceilings and'
         ' --ceilings) for runs without --prior damage: as the profile says (none uses them:'
-        " docs/studies/adaptation.md, 'Damage bank'), 'off', 'on', or 'leave-out': each run's own"
+        " studies/adaptation/README.md, 'Damage bank'), 'off', 'on', or 'leave-out': each run's own"
         ' damage left out of them',
     )
     ap.add_argument(

@@ -1,0 +1,1 @@
+"""The engines study (README.md)."""

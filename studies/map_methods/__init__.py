@@ -1,0 +1,1 @@
+"""The map methods study (README.md)."""

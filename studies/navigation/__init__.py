@@ -1,0 +1,1 @@
+"""The navigation study (README.md)."""
