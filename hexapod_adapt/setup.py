@@ -40,7 +40,7 @@ setup(
             + glob('maps/*.log.jsonl'),
         ),
         # the default map's cached ceilings (hexapod_adapt.online.ceiling; maps/make_ceilings.sh)
-        (f'share/{package_name}/maps/ceilings', glob('maps/ceilings/*.npz')),
+        (f'share/{package_name}/maps/ceilings', glob('maps/ceilings/*.zip')),
     ],
     install_requires=['setuptools'],
     zip_safe=True,

@@ -14,8 +14,8 @@
 # its map, engine and damage: a file of another map is never used).
 # Output: WORKTREE/out/ceilings.out. Before a session ends `bash
 # scripts/save_progress.sh` copies the finished cases to in_progress/ceilings: commit
-# them. When every case is cached, copy them into this checkout's hexapod_adapt/maps/ceilings/
-# and commit them with the map.
+# them. When every case is cached, copy them into this checkout's hexapod_adapt/maps/ceilings/,
+# pack them (make_ceilings.sh --pack) and commit the packs with the map.
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 tree="${1:-$repo/../ceilgen}"
@@ -48,7 +48,7 @@ fi
 # the cases kept so far, and those this checkout ships (a worktree pinned before the map shipped
 # holds the older map's)
 for d in "$keep" "$repo/hexapod_adapt/maps/ceilings"; do
-  if [ -d "$d" ]; then cp -n "$d"/*.npz hexapod_adapt/maps/ceilings/ 2>/dev/null || true; fi
+  if [ -d "$d" ]; then cp -n "$d"/*.npz "$d"/*.zip hexapod_adapt/maps/ceilings/ 2>/dev/null || true; fi
 done
 nohup nice -n 10 bash hexapod_adapt/maps/make_ceilings.sh >> out/ceilings.out 2>&1 &
 echo $! > out/ceilings.pid

@@ -24,7 +24,14 @@ from __future__ import annotations
 
 from hexapod_adapt.mapping.archive import Archive, load_archive
 from hexapod_adapt.mapping.maps import DEMO_MAP, shipped_map
-from hexapod_adapt.online.ceiling import cache_path, ceiling, ceiling_key, compute_ceiling
+from hexapod_adapt.online.ceiling import (
+    cache_path,
+    cached_ceiling,
+    ceiling,
+    ceiling_key,
+    compute_ceiling,
+    pack_ceilings,
+)
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig
 import numpy as np
 import pytest
@@ -75,6 +82,49 @@ def test_a_cached_ceiling_is_reused_and_a_damaged_one_recomputed(small_map, tmp_
     np.testing.assert_array_equal(first.speeds, fixed.speeds)
     other = ceiling_key(small_map, [3], 'mujoco')
     assert cache_path(tmp_path, other) != path  # another damage, another file
+
+
+def test_packed_ceilings_read_as_the_loose_files_did(small_map, tmp_path):
+    from hexapod_sim.damage import Damage
+
+    cases = [Damage.lifted([2]), Damage.lifted([3]), Damage.lifted([5]), Damage.of('locked', [2])]
+    loose = {c: ceiling(small_map, c, 'mujoco', cache_dir=tmp_path) for c in cases}
+    damaged = tmp_path / 'ceiling_mujoco_legs4_0000000000000000.npz'
+    damaged.write_bytes(b'not a ceiling')
+    packs = pack_ceilings(tmp_path, per_pack=2)
+    assert sorted(p.name for p in packs) == [
+        'ceilings_mujoco_lifted_0.zip',
+        'ceilings_mujoco_lifted_1.zip',
+        'ceilings_mujoco_locked_0.zip',
+    ]
+    assert [p.name for p in tmp_path.glob('*.npz')] == [damaged.name]  # left loose
+    for case, before in loose.items():
+        after = cached_ceiling(small_map, case, 'mujoco', [tmp_path])
+        assert after is not None and after.damage == case
+        np.testing.assert_array_equal(after.speeds, before.speeds)
+        np.testing.assert_array_equal(after.niches, before.niches)
+    # packing again packs nothing new and keeps the packs' names
+    assert pack_ceilings(tmp_path, per_pack=2) == []
+    # a damaged pack holds nothing: its cases are computed again, loose, and read from there
+    pack = tmp_path / 'ceilings_mujoco_locked_0.zip'
+    pack.write_bytes(pack.read_bytes()[:200])
+    assert cached_ceiling(small_map, cases[3], 'mujoco', [tmp_path]) is None
+    again = ceiling(small_map, cases[3], 'mujoco', cache_dir=tmp_path)
+    np.testing.assert_array_equal(again.speeds, loose[cases[3]].speeds)
+    assert cache_path(tmp_path, ceiling_key(small_map, cases[3], 'mujoco')).is_file()
+    # a new loose case packs beside the old packs, under a free name
+    assert [p.name for p in pack_ceilings(tmp_path, per_pack=2)] == ['ceilings_mujoco_locked_1.zip']
+    with pytest.raises(ValueError, match='per_pack'):
+        pack_ceilings(tmp_path, per_pack=0)
+
+
+def test_the_cli_refuses_to_pack_while_only_counting(capsys):
+    from hexapod_adapt.online.ceilings_cli import main
+
+    with pytest.raises(SystemExit) as exit_:
+        main(['--cache-dir', '/tmp', '--missing', '--pack'])
+    assert exit_.value.code == 2
+    assert 'leave out --pack' in capsys.readouterr().err
 
 
 def test_a_ceiling_under_another_damage_type_is_keyed_and_cached_by_it(small_map, tmp_path):

@@ -29,6 +29,7 @@ all of them. Pickles are never loaded.
 from __future__ import annotations
 
 import errno
+import io
 import json
 import os
 from pathlib import Path
@@ -53,21 +54,34 @@ def read_npz(
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(errno.ENOENT, 'no such file', str(path))
+    return _read(path, str(path), names, optional)
+
+
+def read_npz_bytes(
+    data: bytes, where: str, names: Sequence[str], optional: Sequence[str] = ()
+) -> dict[str, np.ndarray]:
+    """As :func:`read_npz`, for an ``.npz`` held in memory (``where`` names it in errors)."""
+    return _read(io.BytesIO(data), where, names, optional)
+
+
+def _read(
+    source: Path | io.BytesIO, where: str, names: Sequence[str], optional: Sequence[str]
+) -> dict[str, np.ndarray]:
     try:
-        loaded = np.load(path, allow_pickle=False)
+        loaded = np.load(source, allow_pickle=False)
         if not isinstance(loaded, np.lib.npyio.NpzFile):
-            raise UnreadableFile(f'{path}: a single array, not an .npz archive of named arrays')
+            raise UnreadableFile(f'{where}: a single array, not an .npz archive of named arrays')
         with loaded as data:
             missing = [name for name in names if name not in data.files]
             if missing:
-                raise UnreadableFile(f'{path}: missing {", ".join(missing)}')
+                raise UnreadableFile(f'{where}: missing {", ".join(missing)}')
             wanted = [*names, *(name for name in optional if name in data.files)]
             return {name: np.asarray(data[name]) for name in wanted}
     except UnreadableFile:
         raise
     except Exception as exc:  # noqa: BLE001 - numpy's readers raise many kinds on damaged bytes
         raise UnreadableFile(
-            f'{path}: truncated or corrupted ({type(exc).__name__}: {exc})'
+            f'{where}: truncated or corrupted ({type(exc).__name__}: {exc})'
         ) from exc
 
 

@@ -33,7 +33,7 @@ after 3, 6, 10, 16 and 24 trials (median and 10th percentile over the cases). Ke
   as Mboa (checked below).
 'Left out' rows: the 21 lifted cases of the bank, each with its own case dropped from D.
 
-    python -m studies.adaptation.analyse_anytime > studies/adaptation/results/analyse_anytime.txt
+    python -m studies.adaptation.analyse_anytime    # its section of studies/adaptation/results/analyses.txt
 """
 
 from __future__ import annotations

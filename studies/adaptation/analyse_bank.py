@@ -30,7 +30,7 @@ Stopping rules compared: M-BOA's (best >= alpha x the mixture's highest mean), '
 (alpha x the weighted mean of each hypothesis's highest mean) and 'most likely' (alpha x the
 most likely hypothesis's highest mean).
 
-    python -m studies.adaptation.analyse_bank > studies/adaptation/results/analyse_bank.txt
+    python -m studies.adaptation.analyse_bank > studies/adaptation/results/analyses.txt
 """
 
 from __future__ import annotations

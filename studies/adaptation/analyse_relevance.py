@@ -28,9 +28,9 @@ their GP marginal likelihood (with the determinant), as hexapod_adapt.online.mbo
 Replayed on the tuning set (the seed-2 map; 63 out-of-set cases, and its 21 lifted cases): the
 best-so-far ratio after 3, 6, 10, 16, 24 trials with no stopping rule, then with M-BOA's rule and
 the damaged tripod as floor. 'single' is the default profile (it reproduces
-studies/adaptation/results/analyse_anytime.txt).
+studies/adaptation/results/analyses.txt).
 
-    python -m studies.adaptation.analyse_relevance 0.2 > studies/adaptation/results/analyse_relevance.txt
+    python -m studies.adaptation.analyse_relevance 0.2    # its section of studies/adaptation/results/analyses.txt
 """
 
 from __future__ import annotations

@@ -19,10 +19,10 @@ nice -n 10 python -m studies.adaptation.tuning_ceilings --archive "$MAP" --engin
 nice -n 10 python -m hexapod_adapt.online.ceilings_cli --archive "$MAP" --engine mujoco \
   --scenarios S1 S2 S3 S4 --cache-dir studies/out/bank --workers "${WORKERS:-2}"
 python -m studies.adaptation.analyse_stops --archive "$MAP" --cache-dir studies/out/ceilings --profile thesis \
-  | tee studies/adaptation/results/analyse_stops_thesis.txt
+  | tee studies/adaptation/results/analyses.txt
 python -m studies.adaptation.score_grid --archive "$MAP" --cache-dir studies/out/ceilings --bank-dir studies/out/bank \
   --out studies/out/grid.csv \
-  | tee studies/adaptation/results/grid_top.txt
+  | tee studies/adaptation/results/grids.txt
 nice -n 10 python -m studies.trial_length.trial_length --archive "$MAP" --cache-dir studies/out/ceilings \
   --engine mujoco --every 3 --out studies/trial_length/results/trial_length.csv --plot studies/trial_length/results/trial_length.png \
   | tee studies/trial_length/results/trial_length.txt

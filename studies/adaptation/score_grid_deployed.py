@@ -37,7 +37,7 @@ in steps of 0.005; ties go to the higher 10th-percentile ratio, then to fewer me
 It replaces the default profile only if its worst leg-set median beats the default's by more
 than 0.02.
 
-    python -m studies.adaptation.score_grid_deployed > studies/adaptation/results/grid_deployed_top.txt
+    python -m studies.adaptation.score_grid_deployed    # its section of studies/adaptation/results/grids.txt
 """
 
 from __future__ import annotations

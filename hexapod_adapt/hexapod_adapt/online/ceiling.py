@@ -29,11 +29,16 @@ what it depends on: the map's gaits, the engine and its settings, the URDF, the 
 the trial duration and the damage (:func:`ceiling_key`). A cached file is checked against its
 key when read; a damaged or foreign one is recomputed, never trusted.
 
+A finished cache can be packed (:func:`pack_ceilings`): its files go, unchanged, into a few zip
+files of the same folder (``ceilings_<engine>_<kind>_<n>.zip``), so a shipped cache of hundreds
+of cases is a few dozen files. Loose files are read before packs.
+
 Cache them with ``python -m hexapod_adapt.online.ceilings_cli`` (``maps/make_ceilings.sh``).
 """
 
 from __future__ import annotations
 
+from collections import defaultdict
 import concurrent.futures as cf
 from dataclasses import dataclass
 import hashlib
@@ -42,10 +47,18 @@ import json
 import os
 from pathlib import Path
 from typing import Callable, Iterable, Sequence
+import zipfile
+import zlib
 
 from hexapod_adapt.mapping.archive import Archive, atomic_write_bytes
 from hexapod_adapt.mapping.simulation import simulation_fingerprint, worker_simulator
-from hexapod_description.npz import float_array, json_array, read_npz, UnreadableFile
+from hexapod_description.npz import (
+    float_array,
+    json_array,
+    read_npz,
+    read_npz_bytes,
+    UnreadableFile,
+)
 from hexapod_description.processes import die_with_parent
 from hexapod_sim import evaluate_gaits
 from hexapod_sim.damage import as_damage, Damage, LegDamage
@@ -53,6 +66,10 @@ from hexapod_sim.evaluation import EVALUATION_VERSION
 import numpy as np
 
 FORMAT = 'hexapod-ceiling/v1'
+#: Cached ceilings per pack: the default map's (about 130 kB each) keep a pack under 1 MB.
+PACK_MEMBERS = 6
+#: How a damaged pack reads (zipfile and zlib raise these on bad bytes).
+_BAD_PACK = (OSError, EOFError, ValueError, NotImplementedError, zipfile.BadZipFile, zlib.error)
 
 
 @dataclass(frozen=True)
@@ -204,13 +221,87 @@ def _read(path: Path, key: dict) -> Ceiling | None:
     """Return the cached ceiling at ``path`` if it is one for ``key`` (None if absent or not)."""
     try:
         data = read_npz(path, ('key', 'niches', 'speeds'))
-        stored = json_array(data['key'], f'{path}: the key')
-        niches, speeds = data['niches'], float_array(data['speeds'], f'{path}: speeds')
     except (OSError, UnreadableFile):  # absent or damaged: computed again and rewritten
+        return None
+    return _checked(data, str(path), key)
+
+
+def _checked(data: dict[str, np.ndarray], where: str, key: dict) -> Ceiling | None:
+    try:
+        stored = json_array(data['key'], f'{where}: the key')
+        niches, speeds = data['niches'], float_array(data['speeds'], f'{where}: speeds')
+    except UnreadableFile:
         return None
     if stored != key or niches.shape != speeds.shape or not np.all(np.isfinite(speeds)):
         return None
     return Ceiling(_damage_of(key), key['engine'], niches, speeds)
+
+
+def _cached_in(directory: str | os.PathLike, key: dict) -> Ceiling | None:
+    """Return the ceiling for ``key`` that ``directory`` holds, loose or packed, or None."""
+    path = cache_path(directory, key)
+    cached = _read(path, key)
+    if cached is not None:
+        return cached
+    for pack in sorted(Path(directory).glob('ceilings_*.zip')):
+        try:
+            with zipfile.ZipFile(pack) as packed:
+                if path.name not in packed.namelist():
+                    continue
+                raw = packed.read(path.name)
+            data = read_npz_bytes(raw, f'{pack}:{path.name}', ('key', 'niches', 'speeds'))
+        except (*_BAD_PACK, UnreadableFile):  # a damaged pack holds nothing to trust
+            continue
+        cached = _checked(data, f'{pack}:{path.name}', key)
+        if cached is not None:
+            return cached
+    return None
+
+
+def _pack_group(path: Path) -> str | None:
+    """Return the pack group of a cached ceiling file (engine and damage kind), None if damaged."""
+    try:
+        key = json_array(read_npz(path, ('key',))['key'], f'{path}: the key')
+        kinds = sorted({'-'.join(map(str, [d[1], *d[3:]])) for d in key.get('damage', [])})
+        return f'{key["engine"]}_{"+".join(kinds) or "lifted"}'
+    except (OSError, UnreadableFile, AttributeError, IndexError, KeyError, TypeError):
+        return None
+
+
+def pack_ceilings(directory: str | os.PathLike, per_pack: int = PACK_MEMBERS) -> list[Path]:
+    """
+    Move the loose cached ceilings of ``directory`` into packs; return the packs written.
+
+    Grouped by engine and damage kind, in name order, ``per_pack`` files to a pack; each pack is
+    written atomically before its files go. Damaged files stay loose (recomputed when asked).
+    """
+    if per_pack < 1:
+        raise ValueError(f'per_pack must be at least 1, got {per_pack}')
+    directory = Path(directory)
+    groups: dict[str, list[Path]] = defaultdict(list)
+    for path in sorted(directory.glob('ceiling_*.npz')):
+        group = _pack_group(path)
+        if group is not None:
+            groups[group].append(path)
+    written = []
+    for group, paths in groups.items():
+        taken = {p.name for p in directory.glob(f'ceilings_{group}_*.zip')}
+        n = 0
+        for start in range(0, len(paths), per_pack):
+            while f'ceilings_{group}_{n}.zip' in taken:
+                n += 1
+            pack = directory / f'ceilings_{group}_{n}.zip'
+            taken.add(pack.name)
+            members = paths[start : start + per_pack]  # noqa: E203 - ruff's slice spacing
+            buf = io.BytesIO()
+            with zipfile.ZipFile(buf, 'w', zipfile.ZIP_STORED) as packed:  # members: compressed
+                for member in members:
+                    packed.writestr(member.name, member.read_bytes())
+            atomic_write_bytes(pack, buf.getvalue())
+            for member in members:
+                member.unlink()
+            written.append(pack)
+    return written
 
 
 def cached_ceiling(
@@ -222,7 +313,7 @@ def cached_ceiling(
     """Return the ceiling cached in the first of ``dirs`` that holds it, or None (no compute)."""
     key = ceiling_key(archive, damage, engine)
     for directory in dirs:
-        cached = _read(cache_path(directory, key), key)
+        cached = _cached_in(directory, key)
         if cached is not None:  # the key's map digest covers the elites' niches
             return cached
     return None

@@ -25,6 +25,7 @@ Cache the ceilings of a map: every gait under each damage (:mod:`hexapod_adapt.o
     python -m hexapod_adapt.online.ceilings_cli --damage-kind locked weak --cache-dir DIR ...
     python -m hexapod_adapt.online.ceilings_cli --damage 1:locked,4:weak:0.3 --cache-dir DIR
     python -m hexapod_adapt.online.ceilings_cli --damage-kind ... --cache-dir DIR --missing
+    python -m hexapod_adapt.online.ceilings_cli ... --cache-dir DIR --pack   # then pack DIR
 """
 
 from __future__ import annotations
@@ -35,7 +36,12 @@ import time
 
 from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
-from hexapod_adapt.online.ceiling import approximate_ceiling, cached_ceiling, ceiling
+from hexapod_adapt.online.ceiling import (
+    approximate_ceiling,
+    cached_ceiling,
+    ceiling,
+    pack_ceilings,
+)
 from hexapod_description.cli import input_file, number, output_dir, run_command
 from hexapod_sim import ENGINES
 from hexapod_sim.damage import Damage, EXPERIMENT_KINDS, parse_damage
@@ -102,6 +108,12 @@ def build_parser() -> argparse.ArgumentParser:
         help='compute nothing: print how many of the cases asked for the cache lacks (a file'
         ' that is damaged or made for another map counts as lacking)',
     )
+    ap.add_argument(
+        '--pack',
+        action='store_true',
+        help='once every case is cached, move the cache\'s loose files into a few zip packs'
+        ' (read as before; for a cache to ship)',
+    )
     return ap
 
 
@@ -111,6 +123,8 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.missing and args.top:
         parser.error('--missing counts exact ceilings: leave out --top')
+    if args.missing and args.pack:
+        parser.error('--missing computes nothing and packs nothing: leave out --pack')
 
     def run() -> int:
         archive = load_archive(args.archive or shipped_map(DEFAULT_MAP))
@@ -146,6 +160,9 @@ def main(argv: list[str] | None = None) -> int:
                 f' (gait {c.best_niche}), {len(c.speeds)} gaits, {time.monotonic() - t0:.0f} s',
                 flush=True,
             )
+        if args.pack:
+            packs = pack_ceilings(args.cache_dir)
+            print(f'packed the loose cases of {args.cache_dir} into {len(packs)} packs')
         return 0
 
     return run_command('ceiling', run, 'finished damage cases are cached; run again to go on')
