@@ -44,7 +44,7 @@ format: bootstrap
 	@$(ENV) && ruff format . && ruff check --fix . && \
 	  python scripts/copyright_check.py --fix hexapod_description hexapod_gait hexapod_sim \
 	    hexapod_bridge hexapod_adapt hexapod_navigation hexapod_msgs && \
-	  python scripts/copyright_check.py --fix --notice-from hexapod_sim/LICENSE scripts tests
+	  python scripts/copyright_check.py --fix --license MIT scripts tests studies
 
 bench: bootstrap
 	@$(ENV) && python scripts/bench.py all

@@ -1,23 +1,5 @@
 # Copyright 2026 Hexapod adaptation team
-# All rights reserved.
-#
-# Permission is hereby granted, free of charge, to any person obtaining a copy
-# of this software and associated documentation files (the "Software"), to deal
-# in the Software without restriction, including without limitation the rights
-# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
-# copies of the Software, and to permit persons to whom the Software is
-# furnished to do so, subject to the following conditions:
-#
-# The above copyright notice and this permission notice shall be included in all
-# copies or substantial portions of the Software.
-#
-# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
-# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
-# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
-# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
-# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
-# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
-# SOFTWARE.
+# SPDX-License-Identifier: MIT
 """The map's ceiling under a damage: against a brute-force loop, cached, never trusted blindly."""
 
 from __future__ import annotations
@@ -113,7 +95,8 @@ def test_packed_ceilings_read_as_the_loose_files_did(small_map, tmp_path):
     np.testing.assert_array_equal(again.speeds, loose[cases[3]].speeds)
     assert cache_path(tmp_path, ceiling_key(small_map, cases[3], 'mujoco')).is_file()
     # a new loose case packs beside the old packs, under a free name
-    assert [p.name for p in pack_ceilings(tmp_path, per_pack=2)] == ['ceilings_mujoco_locked_1.zip']
+    packed = pack_ceilings(tmp_path, per_pack=2)
+    assert [p.name for p in packed] == ['ceilings_mujoco_locked_1.zip']
     with pytest.raises(ValueError, match='per_pack'):
         pack_ceilings(tmp_path, per_pack=0)
 

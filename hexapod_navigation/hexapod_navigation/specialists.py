@@ -1,38 +1,20 @@
 # Copyright 2026 Hexapod adaptation team
-# All rights reserved.
-#
-# Permission is hereby granted, free of charge, to any person obtaining a copy
-# of this software and associated documentation files (the "Software"), to deal
-# in the Software without restriction, including without limitation the rights
-# to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
-# copies of the Software, and to permit persons to whom the Software is
-# furnished to do so, subject to the following conditions:
-#
-# The above copyright notice and this permission notice shall be included in all
-# copies or substantial portions of the Software.
-#
-# THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
-# IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
-# FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
-# AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
-# LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
-# OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
-# SOFTWARE.
+# SPDX-License-Identifier: MIT
 """
 Gaits made for a damage, as extra navigation steps (issue 31: lifted legs walk too slowly).
 
 The navigation repertoire's steps are omnidirectional gaits chosen on the intact robot; under a
 lifted leg its best step toward a goal makes 0.07-0.23 m/s, while the default adaptation map's
 fastest gait under that same damage walks 0.44-0.55 m/s in its own direction
-(``studies/navigation/results/navigation_bound.txt``). The specialists are such gaits: for the intact robot and each
-damage of the navigation bank of :data:`SOURCE_KINDS`, the map's fastest gait under it (its
-shipped ceiling; intact, its fitness) among those that keep ``min_stance_legs`` feet down
-throughout, as the repertoire's steps must. Lifted legs only by default: the gaits made for locked
-legs lean on the rigid leg, and two of them tipped the robot over on dead coxas and lost tibias
-(studies/navigation/README.md, thirteenth round). Each is played at its own crab angle and the
-other crab angles of :data:`CRAB_OFFSETS` (every 45 deg, the reverse included), at its own
-stride and the shorter ones of :data:`STRIDE_SCALES`, with each of :data:`TURN_RATES` (arcs),
-where its feet can follow those paths.
+(``studies/navigation/results/navigation_bound.txt``). The specialists are such gaits: for the
+intact robot and each damage of the navigation bank of :data:`SOURCE_KINDS`, the map's fastest gait
+under it (its shipped ceiling; intact, its fitness) among those that keep ``min_stance_legs`` feet
+down throughout, as the repertoire's steps must. Lifted legs only by default: the gaits made for
+locked legs lean on the rigid leg, and two of them tipped the robot over on dead coxas and lost
+tibias (studies/navigation/README.md, thirteenth round). Each is played at its own crab angle and
+the other crab angles of :data:`CRAB_OFFSETS` (every 45 deg, the reverse included), at its own
+stride and the shorter ones of :data:`STRIDE_SCALES`, with each of :data:`TURN_RATES` (arcs), where
+its feet can follow those paths.
 
 They are measured like the bank (one step from rest, collisions not fatal) intact and under each
 of the bank's damages, with the largest tilt each step reaches (a gait made for one damage can
