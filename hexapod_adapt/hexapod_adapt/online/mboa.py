@@ -120,13 +120,10 @@ class MboaConfig:
             raise ValueError('; '.join(problems))
 
 
-#: Named M-BOA settings. ``thesis``: thesis 5.2.2 (kept for the thesis-comparison figures).
-#: ``default``: chosen on the tuning set (another map's seed, other damage types), never on the
-#: reported S1-S4 experiment (docs/adaptation.md, "Tuning"). max_trials is the caller's budget.
-#: The default's kernel variance is in physical units: over the tuning set, damage moved the
-#: map's speeds by a variance of 0.0079 (m/s)^2 (docs/adaptation.md, "Tuning"). Its length scale
-#: and expected-gain stop were chosen again on maps of the deployed kind (CMA-MAE, the map
-#: study's seed-2 maps; ``studies.adaptation.score_grid_deployed``): 0.2 and none before.
+#: Named M-BOA settings. ``thesis``: thesis 5.2.2. ``default``: the best worst-case ratio to
+#: the ceiling on a tuning set of other maps and other damage kinds; a kernel variance of 0.01
+#: (m/s)^2 because damage moves speeds by about that much (studies/adaptation/README.md).
+#: max_trials is the caller's budget.
 PROFILES: dict[str, MboaConfig] = {
     'thesis': MboaConfig(),
     'default': MboaConfig(
@@ -139,12 +136,10 @@ PROFILES: dict[str, MboaConfig] = {
     ),
 }
 DEFAULT_PROFILE = 'default'
-#: The trial budget users get: 2 minutes of 5 s trials (the thesis's runs used 20).
+#: The trial budget users get: 2 minutes of 5 s trials.
 TRIAL_BUDGET = 24
-#: The trial users get: the thesis's, 5 s timed from standing. Settled shorter trials (1 s
-#: untimed, then 2 s) found what 5 s trials find on MuJoCo for half the walking, but with trials
-#: on the other engine they chose gaits that fall or turn back after the timed part: 15 of 21
-#: tuning runs beat the damaged tripod, against 21 of 21 (docs/adaptation.md, "Trial length").
+#: The trial users get: 5 s timed from standing, the thesis's. Shorter settled trials pick gaits
+#: that fall or turn back on another engine (studies/trial_length/README.md).
 TRIAL_DURATION = 5.0  # s timed
 TRIAL_SETTLE = 0.0  # s walked before the timing starts
 
