@@ -29,7 +29,7 @@ test: bootstrap
 	@$(ENV) && python -m pytest $(PYTEST_ARGS)
 
 test-unit: bootstrap
-	@$(ENV) && python -m pytest hexapod_description/test hexapod_gait/test hexapod_sim/test hexapod_bridge/test hexapod_adapt/test hexapod_navigation/test $(PYTEST_ARGS)
+	@$(ENV) && python -m pytest hexapod_util/test hexapod_description/test hexapod_gait/test hexapod_sim/test hexapod_bridge/test hexapod_adapt/test hexapod_navigation/test $(PYTEST_ARGS)
 
 test-integration: bootstrap
 	@$(ENV) && python -m pytest tests $(PYTEST_ARGS)
@@ -42,7 +42,7 @@ lint: bootstrap
 # wording (docstring mood, over-long text), and adds missing copyright headers.
 format: bootstrap
 	@$(ENV) && ruff format . && ruff check --fix . && \
-	  python scripts/copyright_check.py --fix hexapod_description hexapod_gait hexapod_sim \
+	  python scripts/copyright_check.py --fix hexapod_util hexapod_description hexapod_gait hexapod_sim \
 	    hexapod_bridge hexapod_adapt hexapod_navigation hexapod_msgs && \
 	  python scripts/copyright_check.py --fix --license MIT scripts tests studies
 

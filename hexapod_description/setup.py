@@ -14,7 +14,6 @@ setup(
         ('share/ament_index/resource_index/packages', [f'resource/{package_name}']),
         (f'share/{package_name}', ['package.xml']),
         (f'share/{package_name}/urdf', glob('urdf/*')),
-        (f'share/{package_name}/config', glob('config/*.xml')),
         (f'share/{package_name}/launch', glob('launch/*.py')),
     ],
     install_requires=['setuptools'],

@@ -177,8 +177,8 @@ def _port_loss_latencies(cycles: int = 10) -> tuple[list[float], list[float]]:
 
     from hexapod_bridge.bridge_node import reports_down_since
     from hexapod_bridge.emulator.robot_emulator_cli import radio_gone_times
-    from hexapod_gait.ros_glue import ros_args
     from hexapod_msgs.msg import LinkStatus
+    from hexapod_util.ros_glue import ros_args
     import rclpy
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.qos import qos_profile_sensor_data

@@ -72,7 +72,9 @@ def file_problem(path: Path, license_id: str) -> str | None:
         return f'{path}: no "Copyright <year> <holder>" line in the first comment block'
     ids = [m.group(1) for m in map(SPDX_LINE.match, block) if m]
     if not ids:
-        return f'{path}: no "SPDX-License-Identifier: {license_id}" line in the first comment block'
+        return (
+            f'{path}: no "SPDX-License-Identifier: {license_id}" line in the first comment block'
+        )
     if ids[0] != license_id:
         return f'{path}: SPDX-License-Identifier {ids[0]}, but the licence is {license_id}'
     return None
@@ -113,7 +115,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[1])
     ap.add_argument('folders', nargs='+', type=Path, help='package directories, or others')
     ap.add_argument('--fix', action='store_true', help='add the header to files that lack one')
-    ap.add_argument('--license', help="the SPDX id for folders that are not packages (e.g. MIT)")
+    ap.add_argument('--license', help='the SPDX id for folders that are not packages (e.g. MIT)')
     args = ap.parse_args(argv)
     problems = []
     for folder in args.folders:

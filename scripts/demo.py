@@ -50,12 +50,12 @@ def main(argv: list[str] | None = None) -> int:
     from hexapod_adapt.mapping.archive import load_archive
     from hexapod_adapt.mapping.maps import shipped_map
     from hexapod_adapt.mapping.simulation import archive_engine
-    from hexapod_adapt.ros.recording import read_messages
     from hexapod_description import load_model, summary
-    from hexapod_description.processes import die_with_parent
     from hexapod_gait import preset
-    from hexapod_gait.ros_glue import ros_args
     from hexapod_sim import create_simulator, evaluate_gait, SimConfig
+    from hexapod_util.processes import die_with_parent
+    from hexapod_util.recording import read_messages
+    from hexapod_util.ros_glue import ros_args
 
     out.mkdir(parents=True, exist_ok=True)
     section('robot model (hexapod_description)')

@@ -36,11 +36,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument('--out', type=Path, default=WS / 'out' / 'demo_navigate')
     out = parser.parse_args(argv).out
     out.mkdir(parents=True, exist_ok=True)
-    from hexapod_adapt.ros.recording import read_messages
-    from hexapod_description.processes import die_with_parent
-    from hexapod_gait.ros_glue import ros_args
     from hexapod_msgs.action import Navigate
     from hexapod_navigation.navigate_msgs import navigate_client
+    from hexapod_util.processes import die_with_parent
+    from hexapod_util.recording import read_messages
+    from hexapod_util.ros_glue import ros_args
     import rclpy
 
     domain = 60 + os.getpid() % 30

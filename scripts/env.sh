@@ -22,8 +22,8 @@ source "$_ws/scripts/same_floats.sh"
 # Python packages of the same name when Python puts the current directory on sys.path.
 export PYTHONSAFEPATH=1
 # Fast DDS profile: services wait up to 2 s for a new client to be discovered before they answer
-# (hexapod_description/config/fastdds.xml says why). A profile file you chose stays.
-export FASTRTPS_DEFAULT_PROFILES_FILE="${FASTRTPS_DEFAULT_PROFILES_FILE:-$_ws/hexapod_description/config/fastdds.xml}"
+# (hexapod_util/config/fastdds.xml says why). A profile file you chose stays.
+export FASTRTPS_DEFAULT_PROFILES_FILE="${FASTRTPS_DEFAULT_PROFILES_FILE:-$_ws/hexapod_util/config/fastdds.xml}"
 if [ -f "$_ws/install/local_setup.bash" ]; then
   # shellcheck disable=SC1091
   source "$_ws/install/local_setup.bash"

@@ -65,8 +65,8 @@ def simulated_profile(profile: str) -> bool:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from hexapod_description.processes import die_with_parent
-    from hexapod_gait.ros_glue import ros_args
+    from hexapod_util.processes import die_with_parent
+    from hexapod_util.ros_glue import ros_args
 
     parser = argparse.ArgumentParser(
         description='Start the hexapod node graph (no `ros2 launch` needed).'

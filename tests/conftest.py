@@ -25,8 +25,8 @@ WS = Path(__file__).resolve().parent.parent
 
 
 def status_log_qos():
-    """The status-as-a-log reader profile (hexapod_gait.ros_glue.STATUS_LOG)."""
-    from hexapod_gait.ros_glue import STATUS_LOG
+    """The status-as-a-log reader profile (hexapod_util.ros_glue.STATUS_LOG)."""
+    from hexapod_util.ros_glue import STATUS_LOG
 
     return STATUS_LOG
 
@@ -54,7 +54,7 @@ class NodeProcess:
         self.log_path = log_dir / f'{exe}.log'
         cmd = [str(executable(pkg, exe))] + list(args or [])
         if params:
-            from hexapod_gait.ros_glue import ros_args
+            from hexapod_util.ros_glue import ros_args
 
             cmd += ros_args(params)
         full_env = dict(
@@ -143,7 +143,7 @@ def wait_for(
 # (subscribers name a message's sender by its node, so the test harness cannot play it).
 _IMPOSTOR = """
 import rclpy, sys, time
-from hexapod_gait.ros_glue import EVENTS
+from hexapod_util.ros_glue import EVENTS
 from hexapod_msgs.msg import ServoFailure
 rclpy.init()
 node = rclpy.create_node(sys.argv[1])

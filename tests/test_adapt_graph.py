@@ -17,12 +17,12 @@ from conftest import publish_servo_report_as, status_log_qos, wait_for
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import simulation_fingerprint
 from hexapod_adapt.online.adaptation import simulated_trial
-from hexapod_adapt.ros.recording import read_messages
 from hexapod_msgs.msg import AdaptationTrial
 from hexapod_msgs.srv import Adapt
 from hexapod_sim import create_simulator, evaluate_gait
 from hexapod_sim.damage import parse_damage
 from hexapod_sim.sampling import random_feasible_genotypes
+from hexapod_util.recording import read_messages
 import numpy as np
 import pytest
 from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
@@ -289,8 +289,8 @@ def test_a_request_before_the_simulator_reports_its_damage_waits_for_the_report(
 
 
 def test_bad_servo_reports_are_refused_and_the_node_lives(ros, launch, domain_id):
-    from hexapod_gait.ros_glue import EVENTS
     from hexapod_msgs.msg import ServoFailure
+    from hexapod_util.ros_glue import EVENTS
     from std_srvs.srv import Trigger
 
     # the test's node plays the bridge adapt_node is configured to believe

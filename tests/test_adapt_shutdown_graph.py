@@ -89,9 +89,8 @@ def test_a_client_whose_server_dies_says_so_instead_of_waiting_out_its_timeout(
 def test_navigate_client_says_when_its_server_dies_mid_goal(ros, launch, domain_id, tmp_path):
     import signal
 
-    from test_navigate_graph import start_graph
-
     from hexapod_msgs.action import Navigate
+    from test_navigate_graph import start_graph
 
     nav, _ = start_graph(ros, launch, max_range=5.0)
     feedback = ros.collect(Navigate.Impl.FeedbackMessage, 'navigate/_action/feedback', 10)

@@ -15,11 +15,11 @@ from hexapod_adapt.mapping.archive import Archive, load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
 from hexapod_adapt.mapping.simulation import simulation_fingerprint
 from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
-from hexapod_adapt.ros.recording import read_messages
 from hexapod_gait import preset, to_genotype
 from hexapod_msgs.msg import AdaptationTrial
 from hexapod_msgs.srv import Adapt
 from hexapod_sim import create_simulator, evaluate_gait
+from hexapod_util.recording import read_messages
 import numpy as np
 import pytest
 

@@ -17,9 +17,9 @@ from hexapod_bridge.odometry import SPEED_ACCURACY
 from hexapod_bridge.ros_conversions import reports_down_since
 from hexapod_gait import preset
 from hexapod_gait.ros_conversions import gait_to_msg
-from hexapod_gait.ros_glue import EVENTS
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.msg import LinkStatus
+from hexapod_util.ros_glue import EVENTS
 from nav_msgs.msg import Odometry
 import numpy as np
 import pytest

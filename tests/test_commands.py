@@ -346,7 +346,7 @@ def _digest(path: Path) -> str:
 
 def _a_recording(path: Path) -> Path:
     """A small finished MCAP recording, written by the product's recorder."""
-    from hexapod_adapt.ros.recording import McapRecorder
+    from hexapod_util.recording import McapRecorder
     from nav_msgs.msg import Odometry
 
     with McapRecorder(path) as rec:

@@ -41,7 +41,9 @@ def test_the_two_line_header_passes_and_every_other_is_named(tmp_path):
     )
     (pkg / 'no_spdx.py').write_text('# Copyright 2026 Team\n"""Doc."""\n')
     (pkg / 'no_copyright.py').write_text('# SPDX-License-Identifier: MIT\n"""Doc."""\n')
-    (pkg / 'other_licence.py').write_text('# Copyright 2026 Team\n# SPDX-License-Identifier: GPL-3.0-only\n')
+    (pkg / 'other_licence.py').write_text(
+        '# Copyright 2026 Team\n# SPDX-License-Identifier: GPL-3.0-only\n'
+    )
     (pkg / 'empty.py').write_text('')
     problems = check.check_package(pkg)
     assert len(problems) == 3
@@ -54,7 +56,9 @@ def test_fix_adds_the_header_after_a_shebang_and_the_licence_comes_from_package_
     pkg = _package(tmp_path, 'Apache-2.0')
     script = pkg / 'tool.py'
     script.write_text('#!/usr/bin/env python3\n"""Doc."""\n')
-    r = subprocess.run([sys.executable, str(CHECK), '--fix', str(pkg)], capture_output=True, text=True)
+    r = subprocess.run(
+        [sys.executable, str(CHECK), '--fix', str(pkg)], capture_output=True, text=True
+    )
     assert r.returncode == 0, r.stdout
     assert script.read_text().splitlines()[:3] == [
         '#!/usr/bin/env python3',

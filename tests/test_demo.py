@@ -9,7 +9,7 @@ from pathlib import Path
 import subprocess
 import sys
 
-from hexapod_adapt.ros.recording import read_messages
+from hexapod_util.recording import read_messages
 
 WS = Path(__file__).resolve().parent.parent
 

@@ -150,7 +150,7 @@ def test_the_readme_adaptation_lines_succeed(env):
 
 DEAD_SERVO_CLIENT = """
 import time, rclpy
-from hexapod_gait.ros_glue import EVENTS
+from hexapod_util.ros_glue import EVENTS
 from hexapod_msgs.msg import ServoFailure
 from std_srvs.srv import SetBool, Trigger
 rclpy.init()

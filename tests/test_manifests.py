@@ -17,6 +17,7 @@ import pytest
 
 WS = Path(__file__).resolve().parent.parent
 PACKAGES = [
+    'hexapod_util',
     'hexapod_description',
     'hexapod_gait',
     'hexapod_sim',

@@ -18,7 +18,7 @@ import sys
 import time
 
 from conftest import wait_for, WS
-from hexapod_description.middleware import fastdds_profile_path, profile_environment, PROFILES_ENV
+from hexapod_util.middleware import fastdds_profile_path, profile_environment, PROFILES_ENV
 import pytest
 
 SERVER = """
@@ -56,7 +56,7 @@ def test_env_sh_sets_the_profile_unless_one_is_set(preset):
         text=True,
         check=True,
     ).stdout.strip()
-    assert out == (preset or str(WS / 'hexapod_description' / 'config' / 'fastdds.xml'))
+    assert out == (preset or str(WS / 'hexapod_util' / 'config' / 'fastdds.xml'))
 
 
 def _answer_spacing(ros, tmp_path: Path, with_profile: bool) -> float:

@@ -360,9 +360,9 @@ def test_a_goal_storm_is_answered_at_once_and_only_the_newest_is_walked(ros, gra
 def test_robot_mode_takes_dead_servos_only_from_its_bridge_and_forgets_them(
     ros, launch, domain_id
 ):
-    from hexapod_gait.ros_glue import EVENTS
     from hexapod_msgs.msg import ServoFailure
     from hexapod_msgs.srv import SetLegFailure
+    from hexapod_util.ros_glue import EVENTS
     from std_srvs.srv import Trigger
 
     # the test's node plays the bridge navigate_node is configured to believe

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from conftest import wait_for
 from hexapod_description import load_model
-from hexapod_gait.ros_glue import LATCHED, TF_QOS
+from hexapod_util.ros_glue import LATCHED, TF_QOS
 import numpy as np
 import pytest
 from std_msgs.msg import String

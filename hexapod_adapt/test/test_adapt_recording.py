@@ -11,8 +11,8 @@ import subprocess
 import sys
 import textwrap
 
-from hexapod_adapt.ros.recording import McapRecorder, read_messages, RecordingClosed, schema_text
 from hexapod_msgs.msg import AdaptationTrial
+from hexapod_util.recording import McapRecorder, read_messages, RecordingClosed, schema_text
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
 from nav_msgs.msg import Odometry
@@ -63,7 +63,7 @@ def _killed_recording(path, trials: int, extra: int) -> None:
         import time
         from hexapod_msgs.msg import AdaptationTrial
         from nav_msgs.msg import Odometry
-        from hexapod_adapt.ros.recording import McapRecorder
+        from hexapod_util.recording import McapRecorder
         rec = McapRecorder({str(path)!r})
         for i in range({trials}):
             for k in range(30):
@@ -82,7 +82,7 @@ def _killed_recording(path, trials: int, extra: int) -> None:
 
 
 def test_a_hard_killed_writer_keeps_every_completed_trial_and_recover_makes_it_indexed(tmp_path):
-    from hexapod_adapt.ros.recording import recover
+    from hexapod_util.recording import recover
 
     path = tmp_path / 'killed.mcap'
     _killed_recording(path, trials=5, extra=7)
@@ -137,7 +137,7 @@ def test_a_cleanly_closed_recording_is_chunked_indexed_and_summarised(tmp_path):
 
 
 def test_recordings_are_never_overwritten(tmp_path):
-    from hexapod_adapt.ros.recording import create_recording
+    from hexapod_util.recording import create_recording
 
     recorders = [create_recording(tmp_path) for _ in range(3)]  # three runs in the same second
     for i, rec in enumerate(recorders):
@@ -231,7 +231,7 @@ def test_in_place_refuses_when_the_copy_would_hold_fewer_messages(tmp_path):
     data[middle:end] = b'\xff' * 32  # the second chunk's compressed data
     path.write_bytes(bytes(data))
     before = path.read_bytes()
-    from hexapod_adapt.ros.recording import readable_messages
+    from hexapod_util.recording import readable_messages
 
     assert readable_messages(path) == 400
     proc = _recover(path, '--in-place')
@@ -246,7 +246,7 @@ def test_a_recording_still_being_written_is_refused(tmp_path):
     script = textwrap.dedent(f"""
         import time
         from nav_msgs.msg import Odometry
-        from hexapod_adapt.ros.recording import McapRecorder
+        from hexapod_util.recording import McapRecorder
         rec = McapRecorder({str(path)!r})
         rec.record("odom", Odometry())
         rec.checkpoint()
@@ -267,8 +267,8 @@ def test_a_recording_still_being_written_is_refused(tmp_path):
 
 
 def test_offered_qos_profiles_say_how_each_topic_is_offered():
-    from hexapod_adapt.ros.recording import offered_qos_yaml
-    from hexapod_gait.ros_glue import LATCHED, SENSOR
+    from hexapod_util.recording import offered_qos_yaml
+    from hexapod_util.ros_glue import LATCHED, SENSOR
     import yaml
 
     latched = yaml.safe_load(offered_qos_yaml(LATCHED))[0]

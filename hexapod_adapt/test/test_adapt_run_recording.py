@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import os
 
-from hexapod_adapt.ros.recording import read_messages, schema_text, SchemaUnavailable
 from hexapod_adapt.ros.run_recording import RunRecording
 from hexapod_msgs.msg import AdaptationTrial
+from hexapod_util.recording import read_messages, schema_text, SchemaUnavailable
 from nav_msgs.msg import Odometry
 import pytest
 from std_msgs.msg import String
@@ -66,7 +66,7 @@ def test_a_type_without_a_definition_is_refused_at_the_start_and_the_rest_record
 
 
 def test_a_type_not_declared_is_refused_when_it_comes(tmp_path, monkeypatch):
-    import hexapod_adapt.ros.recording as recording
+    import hexapod_util.recording as recording
 
     errors: list[str] = []
     rec = _recording(errors)

@@ -36,7 +36,10 @@ from hexapod_bridge.reports import Report, servo_report, Severity, trial_report
 from hexapod_bridge.station import BaseStation, StationConfig, TrialResult
 from hexapod_gait.parameters import GaitParameterError
 from hexapod_gait.ros_conversions import gait_from_msg
-from hexapod_gait.ros_glue import (
+from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
+from hexapod_msgs.msg import LinkStatus, ServoFailure
+from hexapod_msgs.srv import UploadGait
+from hexapod_util.ros_glue import (
     declare,
     EVENTS,
     LATCHED,
@@ -48,9 +51,6 @@ from hexapod_gait.ros_glue import (
     SENSOR,
     TF_QOS,
 )
-from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
-from hexapod_msgs.msg import LinkStatus, ServoFailure
-from hexapod_msgs.srv import UploadGait
 from nav_msgs.msg import Odometry
 import rclpy
 from rclpy.callback_groups import ReentrantCallbackGroup

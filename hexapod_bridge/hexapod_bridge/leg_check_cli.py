@@ -20,10 +20,10 @@ import sys
 import time
 
 from hexapod_description import load_model
-from hexapod_description.cli import number, run_command
 from hexapod_gait.presets import leg_check, LEG_CHECK_LIFT
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_msgs.srv import UploadGait
+from hexapod_util.cli import number, run_command
 from rcl_interfaces.srv import GetParameters
 import rclpy
 from rclpy.signals import SignalHandlerOptions

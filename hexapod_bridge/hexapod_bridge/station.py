@@ -426,9 +426,7 @@ class BaseStation:
         """
         connected = self.radio.connected
         why = self.radio.last_error
-        if connected != self._was_connected or (
-            not connected and why and why != self._told_error
-        ):
+        if connected != self._was_connected or (not connected and why and why != self._told_error):
             self._was_connected = connected
             self._told_error = '' if connected else why
             self.on_connection(connected, why)

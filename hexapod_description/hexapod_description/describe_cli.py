@@ -7,8 +7,8 @@ from __future__ import annotations
 import argparse
 import sys
 
-from hexapod_description.cli import input_file, run_command
 from hexapod_description.model import load_model, summary
+from hexapod_util.cli import input_file, run_command
 
 
 def main(argv: list[str] | None = None) -> int:

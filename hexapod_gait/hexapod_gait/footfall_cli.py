@@ -13,7 +13,10 @@ import argparse
 from pathlib import Path
 import sys
 
-from hexapod_description.cli import (
+from hexapod_gait.footfall import plot_footfall
+from hexapod_gait.presets import preset, PRESETS
+from hexapod_gait.trajectory import SIM_RATE, stance_mask
+from hexapod_util.cli import (
     add_force,
     claim_outputs,
     FORCE_HINT,
@@ -21,9 +24,6 @@ from hexapod_description.cli import (
     output_dir,
     run_command,
 )
-from hexapod_gait.footfall import plot_footfall
-from hexapod_gait.presets import preset, PRESETS
-from hexapod_gait.trajectory import SIM_RATE, stance_mask
 import numpy as np
 
 

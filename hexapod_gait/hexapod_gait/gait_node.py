@@ -20,9 +20,9 @@ from hexapod_description import load_model
 from hexapod_gait.parameters import GaitParameterError, GaitParameters
 from hexapod_gait.presets import preset, PRESETS
 from hexapod_gait.ros_conversions import gait_from_msg, table_to_trajectory
-from hexapod_gait.ros_glue import declare, LATCHED, ParamSpec, publish_status, run_node
 from hexapod_gait.trajectory import build_joint_table, ReachabilityError, samples_per_cycle
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
+from hexapod_util.ros_glue import declare, LATCHED, ParamSpec, publish_status, run_node
 from rclpy.node import Node
 from trajectory_msgs.msg import JointTrajectory
 

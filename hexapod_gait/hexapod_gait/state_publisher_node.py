@@ -22,7 +22,7 @@ import sys
 from geometry_msgs.msg import TransformStamped
 from hexapod_description import urdf_path
 from hexapod_description.tf_tree import joint_frames, moving_transforms, static_transforms
-from hexapod_gait.ros_glue import declare, LATCHED, ParamSpec, run_node, SENSOR, TF_QOS
+from hexapod_util.ros_glue import declare, LATCHED, ParamSpec, run_node, SENSOR, TF_QOS
 from rclpy.node import Node
 from sensor_msgs.msg import JointState
 from std_msgs.msg import String

@@ -25,8 +25,7 @@ import math
 from pathlib import Path
 from typing import Sequence
 
-from hexapod_adapt.mapping.archive import atomic_write_bytes, load_archive
-from hexapod_description.processes import die_with_parent
+from hexapod_adapt.mapping.archive import load_archive
 from hexapod_navigation.config import NavigationConfig
 from hexapod_navigation.episode import NavigationResult, run_episode, SimBody
 from hexapod_navigation.planner import RepertoirePolicy
@@ -37,6 +36,8 @@ from hexapod_navigation.step_bank import load_step_bank, StepBank
 from hexapod_navigation.tripod import SteeredTripod
 from hexapod_sim import create_simulator, scenario, SCENARIO_NAMES, SimConfig
 from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
+from hexapod_util.files import atomic_write_bytes
+from hexapod_util.processes import die_with_parent
 import numpy as np
 
 METHODS = ('repertoire', 'no_learning', 'tripod')

@@ -19,10 +19,10 @@ import argparse
 import sys
 import time
 
-from hexapod_description.cli import number, run_command
-from hexapod_gait.ros_glue import spin_until_done, Waited
 from hexapod_msgs.action import Navigate
 from hexapod_navigation.navigate_msgs import navigate_client
+from hexapod_util.cli import number, run_command
+from hexapod_util.ros_glue import spin_until_done, Waited
 import rclpy
 from rclpy.signals import SignalHandlerOptions
 

@@ -12,12 +12,12 @@ from geometry_msgs.msg import PoseStamped
 from hexapod_adapt.ros.graph_port import GraphPort, stamp_ns
 from hexapod_gait import GaitParameters
 from hexapod_gait.ros_conversions import gait_to_msg
-from hexapod_gait.ros_glue import ACTION_SERVICES
 from hexapod_msgs.action import Navigate
 from hexapod_navigation.bodies import PoseSample
 from hexapod_navigation.episode import Feedback, NavigationResult, Outcome
 from hexapod_navigation.geometry import Pose2D
 from hexapod_sim.simulator import quat_to_euler
+from hexapod_util.ros_glue import ACTION_SERVICES
 from nav_msgs.msg import Odometry
 from rclpy.action import ActionClient
 from rclpy.client import Client

@@ -48,18 +48,7 @@ from hexapod_adapt.ros.graph_port import (
     RecordedTopics,
     servo_report_problem,
 )
-from hexapod_adapt.ros.recording import type_name
 from hexapod_adapt.ros.run_recording import RunRecording
-from hexapod_gait.ros_glue import (
-    ACTION_SERVICES,
-    declare,
-    EVENTS,
-    LATCHED,
-    param_specs,
-    POSES,
-    publish_status,
-    run_node,
-)
 from hexapod_msgs.action import Navigate
 from hexapod_msgs.msg import ServoFailure
 from hexapod_msgs.srv import SetLegFailure
@@ -75,6 +64,17 @@ from hexapod_navigation.repertoire import shipped_repertoire
 from hexapod_navigation.specialists import shipped_specialists
 from hexapod_navigation.step_bank import reported_note, shipped_step_bank
 from hexapod_sim.damage import Damage
+from hexapod_util.recording import type_name
+from hexapod_util.ros_glue import (
+    ACTION_SERVICES,
+    declare,
+    EVENTS,
+    LATCHED,
+    param_specs,
+    POSES,
+    publish_status,
+    run_node,
+)
 from nav_msgs.msg import Odometry
 import rclpy
 from rclpy._rclpy_pybind11 import InvalidHandle, RCLError

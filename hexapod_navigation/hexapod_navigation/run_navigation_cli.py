@@ -19,15 +19,6 @@ from dataclasses import asdict, replace
 import sys
 
 from hexapod_adapt.mapping.archive import ArchiveError, load_archive
-from hexapod_description.cli import (
-    add_force,
-    claim_outputs,
-    FORCE_HINT,
-    input_file,
-    number,
-    output_dir,
-    run_command,
-)
 from hexapod_navigation.config import NavigationConfig
 from hexapod_navigation.experiment import (
     METHODS,
@@ -43,6 +34,15 @@ from hexapod_navigation.specialists import shipped_specialists
 from hexapod_navigation.step_bank import load_step_bank, shipped_step_bank
 from hexapod_sim import ENGINES, SCENARIO_NAMES
 from hexapod_sim.damage import EXPERIMENT_KINDS
+from hexapod_util.cli import (
+    add_force,
+    claim_outputs,
+    FORCE_HINT,
+    input_file,
+    number,
+    output_dir,
+    run_command,
+)
 
 _DEFAULT = NavigationConfig()
 

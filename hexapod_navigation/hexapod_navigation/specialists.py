@@ -40,16 +40,17 @@ import os
 from pathlib import Path
 from typing import Callable, Sequence
 
-from hexapod_adapt.mapping.archive import Archive, atomic_write_bytes
+from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.maps import shipped_map
 from hexapod_adapt.mapping.steps import gait_min_stance
 from hexapod_adapt.online.ceiling import cached_ceiling, map_digest
-from hexapod_description.npz import float_array, json_array, read_npz, UnreadableFile
-from hexapod_description.processes import die_with_parent
 from hexapod_gait.parameters import from_genotype, to_omni_genotype
 from hexapod_navigation.repertoire import PACKAGE, Repertoire
 from hexapod_navigation.step_bank import bank_key, step_table, StepBank
 from hexapod_sim.damage import Damage
+from hexapod_util.files import atomic_write_bytes
+from hexapod_util.npz import float_array, json_array, read_npz, UnreadableFile
+from hexapod_util.processes import die_with_parent
 import numpy as np
 
 FORMAT = 'hexapod-nav-specialists/v3'  # v2: each step's end tilt; v3: its largest tilt

@@ -15,7 +15,11 @@ import time
 
 from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.maps import shipped_ceilings, shipped_map
-from hexapod_description.cli import (
+from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
+from hexapod_navigation.specialists import compute_specialists, save_specialists, SOURCE_KINDS
+from hexapod_navigation.step_bank import load_step_bank, shipped_step_bank
+from hexapod_sim.damage import DAMAGE_KINDS
+from hexapod_util.cli import (
     add_force,
     claim_outputs,
     FORCE_HINT,
@@ -24,10 +28,6 @@ from hexapod_description.cli import (
     output_file,
     run_command,
 )
-from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
-from hexapod_navigation.specialists import compute_specialists, save_specialists, SOURCE_KINDS
-from hexapod_navigation.step_bank import load_step_bank, shipped_step_bank
-from hexapod_sim.damage import DAMAGE_KINDS
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -33,18 +33,18 @@ import os
 from pathlib import Path
 from typing import Callable, Sequence
 
-from hexapod_adapt.mapping.archive import atomic_write_bytes
 from hexapod_adapt.mapping.maps import shipped_map
 from hexapod_adapt.mapping.simulation import worker_simulator
 from hexapod_adapt.mapping.steps import repertoire_fingerprint
 from hexapod_adapt.online.bank import BANK_DAMAGES
-from hexapod_description.npz import float_array, json_array, read_npz, UnreadableFile
-from hexapod_description.processes import die_with_parent
 from hexapod_gait.parameters import from_omni_genotype
 from hexapod_navigation.repertoire import PACKAGE, Repertoire
 from hexapod_navigation.tripod import tripod_cycles, tripod_gaits
 from hexapod_sim.damage import Damage, LegDamage
 from hexapod_sim.evaluation import evaluate_displacements, EVALUATION_VERSION
+from hexapod_util.files import atomic_write_bytes
+from hexapod_util.npz import float_array, json_array, read_npz, UnreadableFile
+from hexapod_util.processes import die_with_parent
 import numpy as np
 
 FORMAT = 'hexapod-step-bank/v3'  # v2: the steered tripod's cycles; v3: damages of any kind

@@ -14,15 +14,6 @@ import sys
 import time
 
 from hexapod_adapt.mapping.archive import load_archive
-from hexapod_description.cli import (
-    add_force,
-    claim_outputs,
-    FORCE_HINT,
-    input_file,
-    number,
-    output_file,
-    run_command,
-)
 from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
 from hexapod_navigation.step_bank import (
     compute_step_bank,
@@ -32,6 +23,15 @@ from hexapod_navigation.step_bank import (
 )
 from hexapod_sim import ENGINES
 from hexapod_sim.damage import EXPERIMENT_KINDS
+from hexapod_util.cli import (
+    add_force,
+    claim_outputs,
+    FORCE_HINT,
+    input_file,
+    number,
+    output_file,
+    run_command,
+)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -18,7 +18,11 @@ from pathlib import Path
 import sys
 
 from hexapod_description import N_LEGS
-from hexapod_description.cli import (
+from hexapod_gait import build_joint_table, preset, PRESETS
+from hexapod_gait.footfall import plot_footfall
+from hexapod_sim.engines import create_simulator
+from hexapod_sim.simulator import ENGINES, SimConfig
+from hexapod_util.cli import (
     add_force,
     claim_outputs,
     FORCE_HINT,
@@ -26,10 +30,6 @@ from hexapod_description.cli import (
     output_file,
     run_command,
 )
-from hexapod_gait import build_joint_table, preset, PRESETS
-from hexapod_gait.footfall import plot_footfall
-from hexapod_sim.engines import create_simulator
-from hexapod_sim.simulator import ENGINES, SimConfig
 import numpy as np
 
 

@@ -24,7 +24,16 @@ import sys
 
 from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_gait import preset
-from hexapod_gait.ros_glue import (
+from hexapod_gait.trajectory import build_joint_table
+from hexapod_msgs.msg import FootContacts, LegDamage, TrajectoryActivation
+from hexapod_msgs.srv import GetLegDamage, SetLegFailure
+from hexapod_sim import ros_conversions as conv
+from hexapod_sim.damage import applied_message, Damage, damage_from_lists
+from hexapod_sim.engines import create_simulator
+from hexapod_sim.physics_loop import LoopHooks, PhysicsLoop, publish_period_steps
+from hexapod_sim.simulator import DEFAULT_FRICTION, SimConfig
+from hexapod_sim.trajectory_input import CycleTable, TrajectoryError
+from hexapod_util.ros_glue import (
     declare,
     EVENTS,
     LATCHED,
@@ -37,15 +46,6 @@ from hexapod_gait.ros_glue import (
     TF_QOS,
     watch_for_duplicates,
 )
-from hexapod_gait.trajectory import build_joint_table
-from hexapod_msgs.msg import FootContacts, LegDamage, TrajectoryActivation
-from hexapod_msgs.srv import GetLegDamage, SetLegFailure
-from hexapod_sim import ros_conversions as conv
-from hexapod_sim.damage import applied_message, Damage, damage_from_lists
-from hexapod_sim.engines import create_simulator
-from hexapod_sim.physics_loop import LoopHooks, PhysicsLoop, publish_period_steps
-from hexapod_sim.simulator import DEFAULT_FRICTION, SimConfig
-from hexapod_sim.trajectory_input import CycleTable, TrajectoryError
 from nav_msgs.msg import Odometry
 import numpy as np
 from rcl_interfaces.msg import SetParametersResult

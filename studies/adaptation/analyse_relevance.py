@@ -82,9 +82,12 @@ def main() -> int:
     )
     sets = {
         'out': {
-            c: cached_ceiling(archive, c, 'mujoco', ['studies/out/ceilings']) for c in TUNING_DAMAGES
+            c: cached_ceiling(archive, c, 'mujoco', ['studies/out/ceilings'])
+            for c in TUNING_DAMAGES
         },
-        'lifted': {c: cached_ceiling(archive, c, 'mujoco', ['studies/out/bank']) for c in BANK_DAMAGES},
+        'lifted': {
+            c: cached_ceiling(archive, c, 'mujoco', ['studies/out/bank']) for c in BANK_DAMAGES
+        },
     }
     floors = control_speeds(TUNING_DAMAGES + BANK_DAMAGES, 'mujoco', archive.trial_duration)
     cols = [n - 1 for n in AT]

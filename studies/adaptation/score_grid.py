@@ -25,7 +25,7 @@ from pathlib import Path
 import sys
 from typing import Sequence
 
-from hexapod_adapt.mapping.archive import atomic_write_bytes, load_archive
+from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.simulation import archive_engine
 from hexapod_adapt.online.bank import load_bank
 from hexapod_adapt.online.ceiling import ceiling
@@ -37,7 +37,8 @@ from hexapod_adapt.online.replay import (
     summarise,
     Summary,
 )
-from hexapod_description.cli import input_file, number, output_dir, output_file, run_command
+from hexapod_util.cli import input_file, number, output_dir, output_file, run_command
+from hexapod_util.files import atomic_write_bytes
 from studies.tuning_set import TUNING_DAMAGES, TUNING_MAX_TRIALS
 
 #: The candidate settings scored on the tuning set: the thesis's values and the levers the

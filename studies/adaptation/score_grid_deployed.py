@@ -30,11 +30,12 @@ import functools
 from pathlib import Path
 import sys
 
-from hexapod_adapt.mapping.archive import Archive, atomic_write_bytes, load_archive
+from hexapod_adapt.mapping.archive import Archive, load_archive
 from hexapod_adapt.online.ceiling import Ceiling, ceiling
 from hexapod_adapt.online.mboa import MboaConfig, PROFILES
 from hexapod_adapt.online.replay import control_speeds, score, TuningRun
 from hexapod_sim.damage import Damage
+from hexapod_util.files import atomic_write_bytes
 import numpy as np
 from studies.adaptation.score_grid import grid_configs
 from studies.tuning_set import TUNING_KINDS, TUNING_MAX_TRIALS

@@ -14,8 +14,8 @@ import time
 
 from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.online.ceiling import ceiling
-from hexapod_description.cli import input_file, number, output_dir, run_command
 from hexapod_sim import ENGINES
+from hexapod_util.cli import input_file, number, output_dir, run_command
 from studies.tuning_set import TUNING_DAMAGES
 
 

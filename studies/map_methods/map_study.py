@@ -36,11 +36,12 @@ import statistics
 import subprocess
 import sys
 
-from hexapod_adapt.mapping.archive import atomic_write_bytes, load_archive
+from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.online.ceiling import ceiling
-from hexapod_description.cli import run_command
 from hexapod_sim.damage import Damage
 from hexapod_sim.scenarios import scenario
+from hexapod_util.cli import run_command
+from hexapod_util.files import atomic_write_bytes
 
 WS = Path(__file__).resolve().parent.parent
 OUT = WS / 'studies' / 'out' / 'map_study'

@@ -22,14 +22,15 @@ from pathlib import Path
 import sys
 from typing import Any, Callable, Sequence
 
-from hexapod_adapt.mapping.archive import Archive, atomic_write_bytes, load_archive
+from hexapod_adapt.mapping.archive import Archive, load_archive
 from hexapod_adapt.mapping.plots import save_figure
 from hexapod_adapt.mapping.simulation import archive_engine
 from hexapod_adapt.online.adaptation import adapt, map_speed, simulated_trial
 from hexapod_adapt.online.ceiling import approximate_ceiling, Ceiling, ceiling
 from hexapod_adapt.online.mboa import MboaConfig, PROFILES, TRIAL_BUDGET
-from hexapod_description.cli import input_file, output_dir, output_file, run_command
 from hexapod_sim import create_simulator, ENGINES, SimConfig
+from hexapod_util.cli import input_file, output_dir, output_file, run_command
+from hexapod_util.files import atomic_write_bytes
 import matplotlib.pyplot as plt
 import numpy as np
 from studies.tuning_set import TUNING_DAMAGES

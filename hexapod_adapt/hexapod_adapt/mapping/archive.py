@@ -27,7 +27,6 @@ per row, filled niches only) and ``centroids_<n>_<dim>.dat`` files import and ex
 
 from __future__ import annotations
 
-import contextlib
 from dataclasses import dataclass, field
 import datetime as _dt
 import enum
@@ -37,12 +36,12 @@ import json
 import math
 import os
 from pathlib import Path
-import tempfile
-from typing import Any, BinaryIO, Iterator, Mapping
+from typing import Any, Mapping
 
-from hexapod_description.npz import float_array, json_array, read_npz, UnreadableFile
 from hexapod_gait import GENOTYPE_MAPPING_VERSION, GENOTYPE_SIZE
 from hexapod_gait.parameters import OMNI_GENOTYPE_SIZE, OMNI_MAPPING_VERSION
+from hexapod_util.files import atomic_write_bytes
+from hexapod_util.npz import float_array, json_array, read_npz, UnreadableFile
 import numpy as np
 
 FORMAT = 'hexapod-archive'
@@ -299,46 +298,6 @@ def _check_arrays(
                 f'{where}: {name} of filled niches must lie in [0, 1], '
                 f'found [{rows.min():.6g}, {rows.max():.6g}]'
             )
-
-
-@contextlib.contextmanager
-def atomic_output(path: str | os.PathLike) -> Iterator[BinaryIO]:
-    """
-    Return a binary file to write ``path`` through.
-
-    Readers see the old file or the complete new one, never a part (temporary file in the same
-    directory, fsync, rename, directory fsync). If the block raises, the old file stays and the
-    temporary is removed.
-    """
-    path = Path(path)
-    directory = path.parent if str(path.parent) else Path('.')
-    directory.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f'.{path.name}.', suffix='.tmp', dir=directory)
-    try:
-        umask = os.umask(0)
-        os.umask(umask)
-        os.fchmod(fd, 0o666 & ~umask)  # mkstemp makes 0600; a map is an ordinary file
-        with os.fdopen(fd, 'wb') as fh:
-            yield fh
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
-    with contextlib.suppress(OSError):  # directory fsync: not possible on every filesystem
-        dfd = os.open(directory, os.O_RDONLY)
-        try:
-            os.fsync(dfd)
-        finally:
-            os.close(dfd)
-
-
-def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> None:
-    """Write ``data`` to ``path`` atomically (see :func:`atomic_output`)."""
-    with atomic_output(path) as fh:
-        fh.write(data)
 
 
 #: Longest trial an archive may be measured over [s] (thesis 4.1.1 uses 5 s).

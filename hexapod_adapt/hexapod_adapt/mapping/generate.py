@@ -46,10 +46,10 @@ from hexapod_adapt.mapping.simulation import (
     WalkGuards,
 )
 from hexapod_adapt.mapping.steps import preset_genotypes, repertoire_fingerprint, SimulateSteps
-from hexapod_description.processes import die_with_parent
 from hexapod_gait import preset, PRESETS, to_genotype
 from hexapod_sim import validate_engine
 from hexapod_sim.sampling import random_reachable_genes
+from hexapod_util.processes import die_with_parent
 
 BACKENDS = ('local', 'dask', 'mpi', 'inline')
 

@@ -31,8 +31,8 @@ from hexapod_adapt.mapping.generate import (
     LIMITS,
 )
 from hexapod_adapt.mapping.simulation import WalkGuards
-from hexapod_description.cli import claim_outputs, number, output_dir, output_file, run_command
 from hexapod_sim import ENGINES
+from hexapod_util.cli import claim_outputs, number, output_dir, output_file, run_command
 from tqdm import tqdm
 
 

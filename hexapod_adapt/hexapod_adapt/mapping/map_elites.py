@@ -31,7 +31,7 @@ from typing import Callable, Protocol, Sequence
 
 from hexapod_adapt.mapping.archive import Archive, ArchiveError, InsertStatus, load_archive
 from hexapod_adapt.mapping.emitters import EMITTER_SETS, EmitterSettings, RibsProposer
-from hexapod_description.npz import read_npz, UnreadableFile
+from hexapod_util.npz import read_npz, UnreadableFile
 import numpy as np
 
 

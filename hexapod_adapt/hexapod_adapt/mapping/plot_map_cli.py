@@ -25,7 +25,7 @@ from hexapod_adapt.mapping.plots import (
     plot_repertoire_progress,
     read_log,
 )
-from hexapod_description.cli import (
+from hexapod_util.cli import (
     add_force,
     claim_outputs,
     FORCE_HINT,

@@ -23,7 +23,8 @@ import json
 from pathlib import Path
 from typing import Any, Sequence
 
-from hexapod_adapt.mapping.archive import Archive, atomic_output
+from hexapod_adapt.mapping.archive import Archive
+from hexapod_util.files import atomic_output
 import matplotlib
 
 matplotlib.use('Agg')

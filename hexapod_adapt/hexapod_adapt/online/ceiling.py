@@ -32,19 +32,20 @@ from typing import Callable, Iterable, Sequence
 import zipfile
 import zlib
 
-from hexapod_adapt.mapping.archive import Archive, atomic_write_bytes
+from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import simulation_fingerprint, worker_simulator
-from hexapod_description.npz import (
+from hexapod_sim import evaluate_gaits
+from hexapod_sim.damage import as_damage, Damage, LegDamage
+from hexapod_sim.evaluation import EVALUATION_VERSION
+from hexapod_util.files import atomic_write_bytes
+from hexapod_util.npz import (
     float_array,
     json_array,
     read_npz,
     read_npz_bytes,
     UnreadableFile,
 )
-from hexapod_description.processes import die_with_parent
-from hexapod_sim import evaluate_gaits
-from hexapod_sim.damage import as_damage, Damage, LegDamage
-from hexapod_sim.evaluation import EVALUATION_VERSION
+from hexapod_util.processes import die_with_parent
 import numpy as np
 
 FORMAT = 'hexapod-ceiling/v1'

@@ -24,10 +24,10 @@ from hexapod_adapt.online.ceiling import (
     ceiling,
     pack_ceilings,
 )
-from hexapod_description.cli import input_file, number, output_dir, run_command
 from hexapod_sim import ENGINES
 from hexapod_sim.damage import Damage, EXPERIMENT_KINDS, parse_damage
 from hexapod_sim.scenarios import scenario, SCENARIO_NAMES
+from hexapod_util.cli import input_file, number, output_dir, run_command
 
 
 def _damage_arg(text: str) -> Damage:

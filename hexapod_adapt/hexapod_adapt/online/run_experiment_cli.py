@@ -26,7 +26,7 @@ from dataclasses import asdict, replace
 import io
 import sys
 
-from hexapod_adapt.mapping.archive import ArchiveError, atomic_write_bytes, load_archive
+from hexapod_adapt.mapping.archive import ArchiveError, load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
 from hexapod_adapt.mapping.simulation import archive_engine
 from hexapod_adapt.online.adaptation import EXPERIMENT_MAX_TRIALS, ExperimentRow, run_experiment
@@ -46,7 +46,9 @@ from hexapod_adapt.online.mboa import (
     TRIAL_SETTLE,
 )
 from hexapod_adapt.online.run_config import PROFILE_SETTINGS
-from hexapod_description.cli import (
+from hexapod_sim import ENGINES
+from hexapod_sim.damage import EXPERIMENT_KINDS
+from hexapod_util.cli import (
     add_force,
     claim_outputs,
     FORCE_HINT,
@@ -56,8 +58,7 @@ from hexapod_description.cli import (
     output_file,
     run_command,
 )
-from hexapod_sim import ENGINES
-from hexapod_sim.damage import EXPERIMENT_KINDS
+from hexapod_util.files import atomic_write_bytes
 import numpy as np
 
 SCENARIOS = ('S1', 'S2', 'S3', 'S4')

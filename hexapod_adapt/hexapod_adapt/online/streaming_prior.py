@@ -23,8 +23,8 @@ from typing import Callable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.online.ceiling import cached_ceiling, Ceiling, evaluate_part, store_ceiling
-from hexapod_description.processes import die_with_parent
 from hexapod_sim.damage import Damage
+from hexapod_util.processes import die_with_parent
 import numpy as np
 
 #: Gaits scored before the first trial: the map's best by intact speed (about 4 s on 2 cores).

@@ -28,11 +28,11 @@ from hexapod_adapt.online.mboa import (
     STOP_GAIN_RANGE,
 )
 from hexapod_adapt.online.run_config import TRIAL_DURATION_RANGE
-from hexapod_description.cli import interval, number, run_command
-from hexapod_gait.ros_glue import spin_until_done, Waited
 from hexapod_msgs.msg import AdaptationTrial
 from hexapod_msgs.srv import Adapt
 from hexapod_sim.damage import Damage, parse_damage
+from hexapod_util.cli import interval, number, run_command
+from hexapod_util.ros_glue import spin_until_done, Waited
 import rclpy
 from rclpy.signals import SignalHandlerOptions
 

@@ -53,7 +53,9 @@ from hexapod_adapt.ros.graph_port import (
 from hexapod_adapt.ros.run_recording import RunRecording
 from hexapod_gait import from_genotype
 from hexapod_gait.ros_conversions import gait_to_msg
-from hexapod_gait.ros_glue import (
+from hexapod_msgs.msg import AdaptationTrial, LegDamage, ServoFailure
+from hexapod_msgs.srv import Adapt, ReportDistance
+from hexapod_util.ros_glue import (
     declare,
     EVENTS,
     LATCHED,
@@ -63,8 +65,6 @@ from hexapod_gait.ros_glue import (
     TRIALS,
     watch_for_duplicates,
 )
-from hexapod_msgs.msg import AdaptationTrial, LegDamage, ServoFailure
-from hexapod_msgs.srv import Adapt, ReportDistance
 from rcl_interfaces.msg import SetParametersResult
 import rclpy
 from rclpy._rclpy_pybind11 import RCLError

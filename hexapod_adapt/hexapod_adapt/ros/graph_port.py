@@ -20,15 +20,15 @@ from typing import Callable, Mapping
 from hexapod_adapt.online.adaptation import TrialAborted
 from hexapod_adapt.online.prior import report_source_problem
 from hexapod_adapt.online.trials import OdomLog, OdomSample, TiltLog, TiltSample, Upload
-from hexapod_adapt.ros.recording import type_name
 from hexapod_adapt.ros.run_recording import RunRecording
 from hexapod_gait import GaitParameters, standing_gait
 from hexapod_gait.ros_conversions import gait_to_msg
-from hexapod_gait.ros_glue import EVENTS, LATCHED, ODOM, SENSOR, TF_QOS, TRIALS
 from hexapod_msgs.msg import AdaptationTrial, FootContacts, LegDamage, TrajectoryActivation
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.srv import GetLegDamage, UploadGait
 from hexapod_sim.simulator import peak_tilt, upside_down
+from hexapod_util.recording import type_name
+from hexapod_util.ros_glue import EVENTS, LATCHED, ODOM, SENSOR, TF_QOS, TRIALS
 from nav_msgs.msg import Odometry
 import numpy as np
 from rcl_interfaces.msg import ParameterType

@@ -25,14 +25,14 @@ import os
 from pathlib import Path
 import sys
 
-from hexapod_adapt.ros.recording import readable_messages, recording_problem, recover
-from hexapod_description.cli import (
+from hexapod_util.cli import (
     claim_outputs,
     input_file,
     open_for_writing_by,
     output_file,
     run_command,
 )
+from hexapod_util.recording import readable_messages, recording_problem, recover
 
 #: What --in-place keeps the original as: NAME + this.
 ORIGINAL_SUFFIX = '.orig'

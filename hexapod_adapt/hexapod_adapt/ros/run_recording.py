@@ -18,7 +18,7 @@ from pathlib import Path
 import threading
 from typing import Any, Callable, Mapping
 
-from hexapod_adapt.ros.recording import (
+from hexapod_util.recording import (
     create_recording,
     McapRecorder,
     RecordingClosed,

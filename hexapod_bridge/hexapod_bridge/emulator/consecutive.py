@@ -26,7 +26,6 @@ from hexapod_bridge.station import StationConfig
 from hexapod_bridge.xbus import MTData, XbusParser
 from hexapod_sim import Simulator
 
-
 #: The rest after a walk before the odometry window closes: bridge_node's settings
 REST_MIN, REST_MAX = StationConfig().settle_time, StationConfig().settle_time_max
 

@@ -8,7 +8,7 @@ import argparse
 import sys
 
 from hexapod_bridge.emulator.differential import fuzz, FuzzResult
-from hexapod_description.cli import number, run_command
+from hexapod_util.cli import number, run_command
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -40,9 +40,9 @@ from hexapod_bridge.emulator.firmware import FirmwareTiming, ImuNoise, RobotFirm
 from hexapod_bridge.emulator.native import NativeRobotFirmware
 from hexapod_bridge.reports import servo_report
 from hexapod_bridge.servos import SERVO_IDS, servo_place
-from hexapod_description.cli import number, run_command
 from hexapod_sim import create_simulator, ENGINES, SimConfig
 from hexapod_sim.damage import Damage
+from hexapod_util.cli import number, run_command
 
 # The line the emulator prints when its radio port vanishes, followed by the time on
 # CLOCK_MONOTONIC (comparable with time.monotonic() in any process on the machine).

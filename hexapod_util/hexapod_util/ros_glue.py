@@ -11,9 +11,6 @@ The ROS glue every node of this workspace shares, in one place:.
   what it holds (``shutdown()`` if it has one), is destroyed, rclpy shut down; start-up
   parameters it cannot use are one line and exit status 2);
 * the check for a second node of the same name in the graph.
-
-It lives in hexapod_gait because that is the bottom of the package graph: every node package
-already depends on it (docs/architecture.md).
 """
 
 from __future__ import annotations
@@ -30,7 +27,7 @@ from typing import Any, Callable, Sequence
 
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from geometry_msgs.msg import TransformStamped
-from hexapod_description.middleware import profile_environment
+from hexapod_util.middleware import profile_environment
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 import rclpy

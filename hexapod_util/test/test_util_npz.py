@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import io
 
-from hexapod_description.npz import float_array, json_array, read_npz, UnreadableFile
+from hexapod_util.npz import float_array, json_array, read_npz, UnreadableFile
 from hypothesis import given, HealthCheck, settings
 from hypothesis import strategies as st
 import numpy as np

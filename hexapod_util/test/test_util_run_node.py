@@ -10,7 +10,7 @@ import sys
 import textwrap
 import time
 
-from hexapod_gait.ros_glue import SAME_CTRL_C_S
+from hexapod_util.ros_glue import SAME_CTRL_C_S
 import pytest
 
 NODE = textwrap.dedent(
@@ -20,7 +20,7 @@ NODE = textwrap.dedent(
     import rclpy
     from rclpy.node import Node
 
-    from hexapod_gait.ros_glue import run_node
+    from hexapod_util.ros_glue import run_node
 
 
     class Failing(Node):
@@ -63,7 +63,7 @@ SPINNING = textwrap.dedent(
 
     from rclpy.node import Node
 
-    from hexapod_gait.ros_glue import run_node
+    from hexapod_util.ros_glue import run_node
 
 
     class Spinning(Node):
@@ -128,7 +128,7 @@ def test_a_node_started_by_a_killed_script_does_not_run_on_as_an_orphan():
     script = textwrap.dedent(
         """
         import subprocess, sys, time
-        from hexapod_description.processes import die_with_parent
+        from hexapod_util.processes import die_with_parent
         child = subprocess.Popen(
             [sys.executable, '-c', 'import time; time.sleep(120)'], preexec_fn=die_with_parent
         )

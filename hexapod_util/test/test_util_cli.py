@@ -8,7 +8,7 @@ import signal
 import sys
 import time
 
-from hexapod_description.cli import (
+from hexapod_util.cli import (
     input_file,
     interval,
     number,

@@ -30,7 +30,7 @@ import time
 from typing import Any, Iterator, Mapping
 
 from ament_index_python.packages import get_package_share_directory, PackageNotFoundError
-from hexapod_adapt.mapping.archive import atomic_output
+from hexapod_util.files import atomic_output
 from mcap.exceptions import McapError
 from mcap.reader import make_reader
 from mcap.records import Channel, Message, Schema
