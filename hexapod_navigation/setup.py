@@ -33,9 +33,9 @@ setup(
     license='MIT',
     entry_points={
         'console_scripts': [
-            'navigate_node = hexapod_navigation.navigate_node:main',
-            'navigate_client = hexapod_navigation.navigate_client_cli:main',
-            'run_navigation = hexapod_navigation.run_navigation_cli:main',
+            'navigate_node = hexapod_navigation.ros.navigate_node:main',
+            'navigate_client = hexapod_navigation.ros.navigate_client_cli:main',
+            'run_navigation = hexapod_navigation.offline.run_navigation_cli:main',
         ]
     },
 )

@@ -367,23 +367,23 @@ def bench_adapt() -> None:
     """
     Adaptation benchmarks.
 
-    adapt_mboa_step_ms: one M-BOA step (observe a trial + pick the next gait) on a 40 000-gait
-    map after 19 trials (median of 20 runs' last steps). adapt_prior_rescore_s: the default map
-    re-scored under a damage no cache holds (leg 3 locked), 2 processes. Then thesis experiment
-    5.2 on the
-    default map (``BENCH_ADAPT_MAP`` overrides it): every orientation of S1-S4, with trials on
-    the map's engine and again across engines (suffix _cross), in three setups: the default
+    adapt_mboa_step_ms: one M-BOA step (observe a trial + pick the next gait) on a 40 000-gait map
+    after 19 trials (median of 20 runs' last steps). adapt_prior_rescore_s: the default map
+    re-scored under a damage no cache holds (leg 3 locked), 2 processes. Then thesis experiment 5.2
+    on the default map (``BENCH_ADAPT_MAP`` overrides it): every orientation of S1-S4, with trials
+    on the map's engine and again across engines (suffix _cross), in three setups: the default
     profile (no suffix; the damaged control tripod is each run's success floor), the default
-    profile starting from the damage-informed prior (suffix _prior), and the thesis profile
-    (suffix _thesis; the thesis rule, no floor). Per run: the best speed found, the trials, the
-    control tripod with the same damage, and the ratio to the map's ceiling under the damage
-    (cached ceilings only; across engines, approximate PyBullet ceilings if cached -- none are
-    shipped: studies/adaptation/README.md, "Regret against the ceiling", says why). Runs end by
-    M-BOA's stopping rule, capped at the budget users get (24 trials), and for the thesis profile
-    at EXPERIMENT_MAX_TRIALS (100) so that its rule ends them. Trials are 5 s from standing (the
-    product's and the thesis's trial), with adapt_node's tip guard (a trial that tilts the body past
-    30 deg scores 0; adapt_tipped_trials counts them). Then the default profile, blind (_judge)
-    and from the damage-informed prior (_prior_judge), with trials on the judge engine (DART).
+    profile starting from the damage-informed prior (suffix _prior), and the thesis profile (suffix
+    _thesis; the thesis rule, no floor). Per run: the best speed found, the trials, the control
+    tripod with the same damage, and the ratio to the map's ceiling under the damage (cached
+    ceilings only; across engines, approximate PyBullet ceilings if cached -- none are shipped:
+    studies/adaptation/README.md, "Regret against the ceiling", says why). Runs end by M-BOA's
+    stopping rule, capped at the budget users get (24 trials), and for the thesis profile at
+    EXPERIMENT_MAX_TRIALS (100) so that its rule ends them. Trials are 5 s from standing (the
+    product's and the thesis's trial), with adapt_node's tip guard (a trial that tilts the body
+    past 30 deg scores 0; adapt_tipped_trials counts them). Then the default profile, blind
+    (_judge) and from the damage-informed prior (_prior_judge), with trials on the judge engine
+    (DART).
     """
     import os
     from pathlib import Path
@@ -630,16 +630,16 @@ def bench_navigate() -> None:
     """
     from hexapod_adapt.mapping.archive import load_archive
     from hexapod_bridge.emulator.consecutive import dead_reckoning
-    from hexapod_navigation.experiment import (
+    from hexapod_navigation.offline.experiment import (
         METHODS,
         NavigationSettings,
         run_navigation,
         summarise,
         versus_tripod,
     )
-    from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
-    from hexapod_navigation.specialists import shipped_specialists
-    from hexapod_navigation.step_bank import shipped_step_bank
+    from hexapod_navigation.core.repertoire import Repertoire, shipped_repertoire
+    from hexapod_navigation.core.specialists import shipped_specialists
+    from hexapod_navigation.core.step_bank import shipped_step_bank
     from hexapod_sim import create_simulator
     from hexapod_sim.damage import EXPERIMENT_KINDS
 

@@ -10,9 +10,9 @@ packages). Two lines, so a module's first visible text is its docstring; the ful
 is the package's LICENSE file. Every package test runs this check: ``ament_copyright``
 recognises a licence only by its full file-header text, so it does not accept SPDX headers.
 
-    python scripts/copyright_check.py hexapod_sim                 # list files without a valid header
-    python scripts/copyright_check.py --fix hexapod_*             # add the header where it is missing
-    python scripts/copyright_check.py --license MIT scripts tests # folders that are not packages
+    python scripts/copyright_check.py hexapod_sim             # the files without a valid header
+    python scripts/copyright_check.py --fix hexapod_*         # add it where it is missing
+    python scripts/copyright_check.py --license MIT scripts   # a folder that is not a package
 """
 
 from __future__ import annotations

@@ -37,7 +37,7 @@ def main(argv: list[str] | None = None) -> int:
     out = parser.parse_args(argv).out
     out.mkdir(parents=True, exist_ok=True)
     from hexapod_msgs.action import Navigate
-    from hexapod_navigation.navigate_msgs import navigate_client
+    from hexapod_navigation.ros.navigate_msgs import navigate_client
     from hexapod_util.processes import die_with_parent
     from hexapod_util.recording import read_messages
     from hexapod_util.ros_glue import ros_args

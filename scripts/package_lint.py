@@ -27,7 +27,7 @@ def _copyright_check():
 
 
 def copyright_problems(package: Path) -> list[str]:
-    """Check the package's SPDX copyright headers (scripts/copyright_check.py says why not ament's)."""
+    """Check the package's SPDX copyright headers (copyright_check.py: why not ament's)."""
     return _copyright_check().check_package(package)
 
 

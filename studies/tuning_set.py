@@ -3,8 +3,8 @@
 """
 The tuning set (issue 19): damage that is not the reported experiment's lifted legs.
 
-Settings are chosen on these cases (with the seed-2 map, ``studies/adaptation/make_tuning_map.sh``), never on
-S1-S4's lifted legs, which are reported once.
+Settings are chosen on these cases (with the seed-2 map,
+``studies/adaptation/make_tuning_map.sh``), never on S1-S4's lifted legs, which are reported once.
 """
 
 from __future__ import annotations

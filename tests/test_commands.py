@@ -52,9 +52,9 @@ def _main(command: str) -> Callable[[list[str]], int]:
     elif command == 'run_experiment':
         from hexapod_adapt.online.run_experiment_cli import main
     elif command == 'run_navigation':
-        from hexapod_navigation.run_navigation_cli import main
+        from hexapod_navigation.offline.run_navigation_cli import main
     elif command == 'navigate_client':
-        from hexapod_navigation.navigate_client_cli import build_parser
+        from hexapod_navigation.ros.navigate_client_cli import build_parser
 
         return lambda argv: build_parser().parse_args(argv)
     elif command == 'robot_emulator':
@@ -487,7 +487,7 @@ def test_a_command_never_modifies_its_inputs(command, args, inputs, tmp_path):
     import shutil
 
     from hexapod_description import urdf_path
-    from hexapod_navigation.repertoire import shipped_repertoire
+    from hexapod_navigation.core.repertoire import shipped_repertoire
 
     src = tmp_path / 'inputs'
     src.mkdir()

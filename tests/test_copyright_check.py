@@ -37,7 +37,8 @@ def test_the_two_line_header_passes_and_every_other_is_named(tmp_path):
     check = _check()
     pkg = _package(tmp_path)
     (pkg / 'good.py').write_text(
-        '#!/usr/bin/env python3\n# Copyright 2026 Team\n# SPDX-License-Identifier: MIT\n"""Doc."""\n'
+        '#!/usr/bin/env python3\n# Copyright 2026 Team\n'
+        '# SPDX-License-Identifier: MIT\n"""Doc."""\n'
     )
     (pkg / 'no_spdx.py').write_text('# Copyright 2026 Team\n"""Doc."""\n')
     (pkg / 'no_copyright.py').write_text('# SPDX-License-Identifier: MIT\n"""Doc."""\n')

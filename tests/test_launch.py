@@ -90,7 +90,7 @@ def _declared() -> dict[str, dict[str, object]]:
     from hexapod_adapt.ros.adapt_node import PARAMETERS as ADAPT
     from hexapod_bridge.bridge_node import PARAMETERS as BRIDGE
     from hexapod_gait.gait_node import PARAMETERS as GAIT
-    from hexapod_navigation.navigate_node import PARAMETERS as NAVIGATE
+    from hexapod_navigation.ros.navigate_node import PARAMETERS as NAVIGATE
     from hexapod_sim.sim_node import PARAMETERS as SIM
 
     nodes = {

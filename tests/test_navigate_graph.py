@@ -15,7 +15,7 @@ import time
 from conftest import executable, publish_servo_report_as, status_log_qos, wait_for
 from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_msgs.action import Navigate
-from hexapod_navigation.navigate_msgs import navigate_client
+from hexapod_navigation.ros.navigate_msgs import navigate_client
 from nav_msgs.msg import Odometry
 import pytest
 from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue

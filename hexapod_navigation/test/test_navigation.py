@@ -6,13 +6,13 @@ import functools
 import math
 
 from hexapod_adapt.mapping.archive import load_archive
-from hexapod_navigation.config import goal_problem, NavigationConfig
-from hexapod_navigation.correction import CorrectionGP
-from hexapod_navigation.episode import Outcome, run_episode, SimBody
-from hexapod_navigation.geometry import Pose2D
-from hexapod_navigation.planner import RepertoirePolicy, rest_speeds, time_to_goal
-from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
-from hexapod_navigation.tripod import SteeredTripod
+from hexapod_navigation.core.config import goal_problem, NavigationConfig
+from hexapod_navigation.core.correction import CorrectionGP
+from hexapod_navigation.core.episode import Outcome, run_episode, SimBody
+from hexapod_navigation.core.geometry import Pose2D
+from hexapod_navigation.core.planner import RepertoirePolicy, rest_speeds, time_to_goal
+from hexapod_navigation.core.repertoire import Repertoire, shipped_repertoire
+from hexapod_navigation.core.tripod import SteeredTripod
 from hexapod_sim import create_simulator, SimConfig
 import numpy as np
 import pytest
@@ -121,7 +121,7 @@ def test_a_gait_is_played_with_its_own_table_even_if_ids_coincide(sim, monkeypat
     # the old gait's table, and the experiment's figures changed with the allocator's history.
     # Here every object gets the same id, as a reused one would.
     from hexapod_gait import build_joint_table, preset
-    import hexapod_navigation.planner as navigation
+    import hexapod_navigation.core.planner as navigation
 
     monkeypatch.setattr(navigation, 'id', lambda obj: 0, raising=False)
     body = SimBody(sim)
@@ -186,7 +186,7 @@ def test_a_step_bank_is_each_step_played_with_the_damage_and_refused_for_another
     from dataclasses import replace
 
     from hexapod_gait.parameters import from_omni_genotype
-    from hexapod_navigation.step_bank import compute_step_bank, load_step_bank, save_step_bank
+    from hexapod_navigation.core.step_bank import compute_step_bank, load_step_bank, save_step_bank
     from hexapod_sim.damage import Damage
     from hexapod_sim.evaluation import evaluate_displacements
 
@@ -240,7 +240,7 @@ def test_a_bank_file_says_which_damages_it_holds_and_a_bad_list_is_refused(reper
     import json
     import zipfile
 
-    from hexapod_navigation.step_bank import load_step_bank, save_step_bank, StepBank
+    from hexapod_navigation.core.step_bank import load_step_bank, save_step_bank, StepBank
     from hexapod_sim.damage import Damage, parse_damage
 
     damages = (
@@ -277,7 +277,7 @@ def test_a_bank_file_says_which_damages_it_holds_and_a_bad_list_is_refused(reper
 
 
 def test_a_damaged_bank_file_is_refused_saying_so_never_raised(repertoire, tmp_path):
-    from hexapod_navigation.step_bank import load_step_bank, save_step_bank, StepBank
+    from hexapod_navigation.core.step_bank import load_step_bank, save_step_bank, StepBank
     from hexapod_sim.damage import Damage
 
     rng = np.random.default_rng(1)
@@ -311,7 +311,7 @@ def test_a_damaged_bank_file_is_refused_saying_so_never_raised(repertoire, tmp_p
 def test_the_shipped_bank_fits_the_shipped_repertoire_and_re_measures_identically(repertoire):
     from dataclasses import replace
 
-    from hexapod_navigation.step_bank import (
+    from hexapod_navigation.core.step_bank import (
         compute_step_bank,
         load_step_bank,
         navigation_bank_damages,
@@ -337,7 +337,7 @@ def test_the_shipped_bank_fits_the_shipped_repertoire_and_re_measures_identicall
 def test_run_navigation_refuses_a_bank_it_was_told_to_use_and_goes_on_without_a_default_one(
     tmp_path, capsys
 ):
-    from hexapod_navigation.run_navigation_cli import main
+    from hexapod_navigation.offline.run_navigation_cli import main
 
     garbage = tmp_path / 'bank.npz'
     garbage.write_bytes(b'not a bank')
@@ -425,7 +425,7 @@ def test_the_intact_repertoire_may_get_a_prior_weight_among_the_bank_hypotheses(
 def test_runs_csv_keeps_how_each_episode_ended_and_reads_older_files(tmp_path):
     import csv
 
-    from hexapod_navigation.experiment import (
+    from hexapod_navigation.offline.experiment import (
         NavigationRow,
         NavigationSettings,
         read_rows,
@@ -446,7 +446,7 @@ def test_runs_csv_keeps_how_each_episode_ended_and_reads_older_files(tmp_path):
 
 
 def test_a_method_beats_a_baseline_by_success_then_by_walking_time():
-    from hexapod_navigation.experiment import (
+    from hexapod_navigation.offline.experiment import (
         beats,
         MethodSummary,
         scenarios_beating_baselines,
@@ -528,7 +528,7 @@ def test_known_models_get_a_tight_gp_and_an_unknown_damage_hypothesis_catches_th
 
 
 def test_the_experiment_can_walk_damage_of_another_kind_than_the_banks():
-    from hexapod_navigation.experiment import _case, NavigationSettings
+    from hexapod_navigation.offline.experiment import _case, NavigationSettings
 
     with pytest.raises(ValueError, match="unknown damage kind 'bent'"):
         NavigationSettings(repertoire=REPERTOIRE, damage_kind='bent')
@@ -628,7 +628,7 @@ def test_counting_the_change_to_the_faster_gait_changes_to_it_now(repertoire):
 
 
 def test_the_tripod_option_learns_its_cycles_and_takes_over_when_the_repertoire_lags(repertoire):
-    from hexapod_navigation.tripod import TripodSteps
+    from hexapod_navigation.core.tripod import TripodSteps
 
     tripod = TripodSteps()
     stride = tripod.displacement()
@@ -713,7 +713,7 @@ def test_tripod_cycles_weigh_the_damage_hypotheses_and_set_the_tripods_prior(rep
 def test_a_reported_damage_the_bank_models_is_favoured_and_a_dead_coxa_is_a_folded_leg(
     repertoire,
 ):
-    from hexapod_navigation.step_bank import reported_note, StepBank
+    from hexapod_navigation.core.step_bank import reported_note, StepBank
     from hexapod_sim.damage import Damage
 
     damages = (Damage.lifted([1]), Damage.of('unpowered_femur', [2]), Damage.of('locked', [3]))

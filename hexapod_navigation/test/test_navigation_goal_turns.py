@@ -7,7 +7,7 @@ from __future__ import annotations
 import threading
 import time
 
-from hexapod_navigation.goal_turns import GoalTurns
+from hexapod_navigation.ros.goal_turns import GoalTurns
 
 
 def _never() -> bool:

@@ -7,10 +7,10 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from hexapod_navigation import node_settings as settings
-from hexapod_navigation.loading import load_navigation
-from hexapod_navigation.repertoire import shipped_repertoire
-from hexapod_navigation.step_bank import shipped_step_bank
+from hexapod_navigation.core.loading import load_navigation
+from hexapod_navigation.core.repertoire import shipped_repertoire
+from hexapod_navigation.core.step_bank import shipped_step_bank
+from hexapod_navigation.ros import node_settings as settings
 import pytest
 
 DEFAULTS = {s.name: s.default for s in settings.SETTINGS}

@@ -14,7 +14,7 @@ from hexapod_adapt.mapping.steps import (
 )
 from hexapod_gait import preset
 from hexapod_gait.parameters import to_omni_genotype
-from hexapod_navigation.repertoire import Repertoire
+from hexapod_navigation.core.repertoire import Repertoire
 import numpy as np
 import pytest
 

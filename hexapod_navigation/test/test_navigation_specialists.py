@@ -1,6 +1,6 @@
 # Copyright 2026 Hexapod adaptation team
 # SPDX-License-Identifier: MIT
-"""Gaits made for a damage as navigation steps (hexapod_navigation.specialists; issue 31)."""
+"""Gaits made for a damage as navigation steps (hexapod_navigation.core.specialists; issue 31)."""
 
 import math
 from pathlib import Path
@@ -10,16 +10,16 @@ from hexapod_adapt.mapping.maps import shipped_ceilings, shipped_map
 from hexapod_adapt.mapping.steps import gait_min_stance
 from hexapod_adapt.online.ceiling import cached_ceiling
 from hexapod_gait.parameters import from_genotype
-from hexapod_navigation.loading import load_navigation
-from hexapod_navigation.repertoire import shipped_repertoire
-from hexapod_navigation.specialists import (
+from hexapod_navigation.core.loading import load_navigation
+from hexapod_navigation.core.repertoire import shipped_repertoire
+from hexapod_navigation.core.specialists import (
     load_specialists,
     save_specialists,
     shipped_specialists,
     source_gaits,
     Specialists,
 )
-from hexapod_navigation.step_bank import shipped_step_bank, step_table
+from hexapod_navigation.core.step_bank import shipped_step_bank, step_table
 from hexapod_sim.damage import Damage
 import numpy as np
 import pytest
@@ -159,7 +159,7 @@ def test_reverse_and_arcs_are_the_same_gait_in_other_directions(shipped):
 def test_run_navigation_refuses_specialists_it_was_told_to_use_and_says_when_it_goes_without(
     tmp_path: Path, capsys
 ):
-    from hexapod_navigation.run_navigation_cli import main
+    from hexapod_navigation.offline.run_navigation_cli import main
 
     garbage = tmp_path / 'specialists.npz'
     garbage.write_bytes(b'not specialists')

@@ -9,14 +9,14 @@ from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.maps import shipped_ceilings, shipped_map
 from hexapod_adapt.mapping.simulation import worker_simulator
 from hexapod_gait.parameters import from_genotype, from_omni_genotype
-from hexapod_navigation.config import NavigationConfig
-from hexapod_navigation.episode import BodyFailure, GUARD_STAND_S, run_episode, SimBody
-from hexapod_navigation.geometry import Pose2D
-from hexapod_navigation.loading import load_navigation
-from hexapod_navigation.planner import RepertoirePolicy
-from hexapod_navigation.repertoire import shipped_repertoire
-from hexapod_navigation.specialists import shipped_specialists, source_gaits, variants
-from hexapod_navigation.step_bank import shipped_step_bank
+from hexapod_navigation.core.config import NavigationConfig
+from hexapod_navigation.core.episode import BodyFailure, GUARD_STAND_S, run_episode, SimBody
+from hexapod_navigation.core.geometry import Pose2D
+from hexapod_navigation.core.loading import load_navigation
+from hexapod_navigation.core.planner import RepertoirePolicy
+from hexapod_navigation.core.repertoire import shipped_repertoire
+from hexapod_navigation.core.specialists import shipped_specialists, source_gaits, variants
+from hexapod_navigation.core.step_bank import shipped_step_bank
 from hexapod_sim import create_simulator, SimConfig
 from hexapod_sim.damage import Damage
 from hexapod_sim.evaluation import evaluate_displacements

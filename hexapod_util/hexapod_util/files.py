@@ -8,7 +8,7 @@ import contextlib
 import os
 from pathlib import Path
 import tempfile
-from typing import BinaryIO, Iterator
+from typing import Any, BinaryIO, Iterator
 
 
 @contextlib.contextmanager
@@ -49,3 +49,14 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> None:
     """Write ``data`` to ``path`` atomically (see :func:`atomic_output`)."""
     with atomic_output(path) as fh:
         fh.write(data)
+
+
+def save_png(fig: Any, out: str | os.PathLike) -> Path:
+    """Write a matplotlib figure to ``out`` as a PNG, atomically, and close it."""
+    import matplotlib.pyplot as plt  # here: importing this module costs no matplotlib
+
+    out = Path(out)
+    with atomic_output(out) as fh:
+        fig.savefig(fh, format='png', dpi=110, bbox_inches='tight')
+    plt.close(fig)
+    return out

@@ -9,13 +9,13 @@ after 3, 6, 10, 16 and 24 trials (median and 10th percentile over the cases). Ke
 - the default profile's (Matern 5/2 on the duty factors, rho 0.2, variance 0.01 (m/s)^2), run
   through the product's Mboa;
 - 'bank features' (tried 2026-11-23): the same plus c x D D^T, with D (gaits x 21) each gait's
-  speed change under the damage bank's 21 lifted failures (studies/out/bank). A Bayesian linear model
-  over the bank's responses: damage of another kind may be a blend of the modelled ones. A full
-  GP refit per trial here (the product has no such kernel); with c = 0 it picks the same trials
-  as Mboa (checked below).
+  speed change under the damage bank's 21 lifted failures (studies/out/bank). A Bayesian linear
+  model over the bank's responses: damage of another kind may be a blend of the modelled ones. A
+  full GP refit per trial here (the product has no such kernel); with c = 0 it picks the same
+  trials as Mboa (checked below).
 'Left out' rows: the 21 lifted cases of the bank, each with its own case dropped from D.
 
-    python -m studies.adaptation.analyse_anytime    # its section of studies/adaptation/results/analyses.txt
+    python -m studies.adaptation.analyse_anytime  # its section of results/analyses.txt
 """
 
 from __future__ import annotations

@@ -12,7 +12,7 @@ best-so-far ratio after 3, 6, 10, 16, 24 trials with no stopping rule, then with
 the damaged tripod as floor. 'single' is the default profile (it reproduces
 studies/adaptation/results/analyses.txt).
 
-    python -m studies.adaptation.analyse_relevance 0.2    # its section of studies/adaptation/results/analyses.txt
+    python -m studies.adaptation.analyse_relevance 0.2  # its section of results/analyses.txt
 """
 
 from __future__ import annotations

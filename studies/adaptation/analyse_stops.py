@@ -7,7 +7,8 @@ For every tuning damage case: the ratio reached, the GP's highest posterior mean
 rule fired, the GP's mean and std at the map's true best gait under that damage, and where that
 gait ranked in the prior. Prints one line per case and the medians.
 
-    python -m studies.adaptation.analyse_stops --archive studies/out/tuning_map_s2.npz --cache-dir studies/out/ceilings
+    python -m studies.adaptation.analyse_stops \
+        --archive studies/out/tuning_map_s2.npz --cache-dir studies/out/ceilings
 """
 
 from __future__ import annotations

@@ -3,15 +3,16 @@
 """
 Choosing M-BOA's settings honestly: on a tuning set that is not the reported experiment.
 
-The tuning set (issue 19): a map made with another seed (``studies/adaptation/make_tuning_map.sh``) and damage
-other than S1-S4's lifted legs (:data:`TUNING_DAMAGES`: locked legs, weak servos, lost tibias).
-Every gait of the map is evaluated once per damage case (a ceiling,
+The tuning set (issue 19): a map made with another seed (``studies/adaptation/make_tuning_map.sh``)
+and damage other than S1-S4's lifted legs (:data:`TUNING_DAMAGES`: locked legs, weak servos, lost
+tibias). Every gait of the map is evaluated once per damage case (a ceiling,
 :mod:`hexapod_adapt.online.ceiling`). A simulated trial is deterministic, so a run over the map is
 replayed from its ceiling: a trial of a gait is its ceiling speed (:func:`lookup_trial`). That
 makes a setting's score over 63 damage cases cost a second, and lets every candidate setting be
 scored on identical trials.
 
-    python -m studies.adaptation.score_grid --archive studies/out/tuning_map_s2.npz --cache-dir studies/out/ceilings
+    python -m studies.adaptation.score_grid \
+        --archive studies/out/tuning_map_s2.npz --cache-dir studies/out/ceilings
 """
 
 from __future__ import annotations

@@ -3,15 +3,15 @@
 """
 M-BOA's settings scored on maps of the deployed kind (CMA-MAE), not on the 2,000-niche map.
 
-The default profile was chosen on ``studies/out/tuning_map_s2.npz`` (iso+line, 2,000 niches), and it
-did not carry over to the default map's S4 (studies/adaptation/README.md: the target gaits of a
+The default profile was chosen on ``studies/out/tuning_map_s2.npz`` (iso+line, 2,000 niches), and
+it did not carry over to the default map's S4 (studies/adaptation/README.md: the target gaits of a
 large CMA-MAE map are rarer). This set is the map study's two seed-2 CMA-MAE maps (10,000 and
-20,000 niches, 200,000 evaluations: the default map's method, another seed) under the tuning
-damage (locked, weak, lost tibia; never S1-S4's lifted legs) on one orientation of each
-scenario's leg set: leg 1 (S1-like), legs 1+4 (S2), 1+3 (S3), 1+2 (S4). 2 maps x 3 kinds x 4
-leg sets = 24 cases, replayed from their ceilings (``studies/out/map_study/ceilings``; the study
-computed legs 1, 1+2 and 1+3, this adds 1+4) with the product's 24-trial budget and the damaged
-tripod as each run's floor, over the grid of ``studies.adaptation.score_grid`` (without a bank).
+20,000 niches, 200,000 evaluations: the default map's method, another seed) under the tuning damage
+(locked, weak, lost tibia; never S1-S4's lifted legs) on one orientation of each scenario's leg
+set: leg 1 (S1-like), legs 1+4 (S2), 1+3 (S3), 1+2 (S4). 2 maps x 3 kinds x 4 leg sets = 24 cases,
+replayed from their ceilings (``studies/out/map_study/ceilings``; the study computed legs 1, 1+2
+and 1+3, this adds 1+4) with the product's 24-trial budget and the damaged tripod as each run's
+floor, over the grid of ``studies.adaptation.score_grid`` (without a bank).
 
 The rule, fixed before the runs: the setting with the highest **worst leg-set median ratio**
 (the lowest, over the four leg sets, of the median adapted/ceiling of their 6 cases), compared
@@ -19,7 +19,7 @@ in steps of 0.005; ties go to the higher 10th-percentile ratio, then to fewer me
 It replaces the default profile only if its worst leg-set median beats the default's by more
 than 0.02.
 
-    python -m studies.adaptation.score_grid_deployed    # its section of studies/adaptation/results/grids.txt
+    python -m studies.adaptation.score_grid_deployed  # its section of results/grids.txt
 """
 
 from __future__ import annotations

@@ -3,7 +3,8 @@
 """
 The tuning set's ceilings: every gait of the tuning map under each tuning damage case, cached.
 
-    python -m studies.adaptation.tuning_ceilings --archive studies/out/tuning_map_s2.npz --cache-dir studies/out/ceilings
+    python -m studies.adaptation.tuning_ceilings \
+        --archive studies/out/tuning_map_s2.npz --cache-dir studies/out/ceilings
 """
 
 from __future__ import annotations

@@ -3,15 +3,15 @@
 """
 Does a randomised MuJoCo predict PyBullet? The engines' agreement on a map's gaits.
 
-The question behind a transfer-aware map (studies/map_methods/README.md, "Which gaits the engines agree
-on"): if the fastest gaits of a MuJoCo map that fall or stall on PyBullet also degrade when
+The question behind a transfer-aware map (studies/map_methods/README.md, "Which gaits the engines
+agree on"): if the fastest gaits of a MuJoCo map that fall or stall on PyBullet also degrade when
 MuJoCo's own parameters are perturbed, a map made under randomised MuJoCo would transfer, and
-PyBullet could stay the held-out engine. For a map (a study map, never the default map): its
-300 fastest gaits and 100 others at random (seed 0), intact, 5 s from rest, collisions not fatal,
-on MuJoCo as the map was made, on six one-parameter MuJoCo variants, and on PyBullet. Printed:
-each variant's rank agreement with nominal MuJoCo and with PyBullet; two robust scores (mean and
-minimum over the seven MuJoCo runs); what the 10 and 50 best gaits of each score do on PyBullet;
-and the gaits' commanded body velocity, duty factor and feet on the ground against the engines'
+PyBullet could stay the held-out engine. For a map (a study map, never the default map): its 300
+fastest gaits and 100 others at random (seed 0), intact, 5 s from rest, collisions not fatal, on
+MuJoCo as the map was made, on six one-parameter MuJoCo variants, and on PyBullet. Printed: each
+variant's rank agreement with nominal MuJoCo and with PyBullet; two robust scores (mean and minimum
+over the seven MuJoCo runs); what the 10 and 50 best gaits of each score do on PyBullet; and the
+gaits' commanded body velocity, duty factor and feet on the ground against the engines'
 disagreement.
 
     python -m studies.engines.engine_agreement --archive studies/out/map_study/cma_mae_10000_s2.npz

@@ -9,7 +9,8 @@ process) with today's settings and with each candidate; a candidate keeps the ra
 Spearman correlation of the fitness is >= 0.98 and the top-100 sets overlap by >= 95 %. The
 time per evaluation is measured on one core (run it on a quiet machine).
 
-    python -m studies.map_methods.eval_cost [--gaits 2000] > studies/map_methods/results/eval_cost.txt
+    python -m studies.map_methods.eval_cost [--gaits 2000] \
+        > studies/map_methods/results/eval_cost.txt
 """
 
 from __future__ import annotations

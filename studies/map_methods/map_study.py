@@ -22,8 +22,8 @@ QD-score per niche is below 90 % of iso_line's at 10,000 niches is out: a map is
 and a thin one has little to offer M-BOA. Ties within 0.005 m/s go to the higher QD-score per
 niche.
 
-    python -m studies.map_methods.map_study run       # the runs the rule calls for next, in order (resumable)
-    python -m studies.map_methods.map_study report    # the table (studies/map_methods/results/map_study.txt), and what is next
+    python -m studies.map_methods.map_study run     # the runs the rule calls for next (resumable)
+    python -m studies.map_methods.map_study report  # the table (results/map_study.txt), what next
 """
 
 from __future__ import annotations

@@ -44,12 +44,12 @@ def _progress_speed(steps: np.ndarray, duration: float, bearing: float) -> float
 
 def bound(out) -> None:
     from hexapod_gait.trajectory import POSE_TRANSITION_S
-    from hexapod_navigation.config import NavigationConfig
-    from hexapod_navigation.experiment import draw_goals
-    from hexapod_navigation.loading import load_navigation
-    from hexapod_navigation.repertoire import shipped_repertoire
-    from hexapod_navigation.step_bank import shipped_step_bank
-    from hexapod_navigation.tripod import TripodSteps
+    from hexapod_navigation.core.config import NavigationConfig
+    from hexapod_navigation.offline.experiment import draw_goals
+    from hexapod_navigation.core.loading import load_navigation
+    from hexapod_navigation.core.repertoire import shipped_repertoire
+    from hexapod_navigation.core.step_bank import shipped_step_bank
+    from hexapod_navigation.core.tripod import TripodSteps
 
     data = load_navigation(shipped_repertoire(), shipped_step_bank())
     rep, bank = data.repertoire, data.bank
@@ -93,10 +93,10 @@ def bound(out) -> None:
 
 
 def known(out) -> None:
-    from hexapod_navigation.config import NavigationConfig
-    from hexapod_navigation.experiment import NavigationSettings, run_navigation
-    from hexapod_navigation.repertoire import shipped_repertoire
-    from hexapod_navigation.step_bank import shipped_step_bank
+    from hexapod_navigation.core.config import NavigationConfig
+    from hexapod_navigation.offline.experiment import NavigationSettings, run_navigation
+    from hexapod_navigation.core.repertoire import shipped_repertoire
+    from hexapod_navigation.core.step_bank import shipped_step_bank
 
     print('\n## 2. navigate on the tuning goals (seed 100), lifted legs', file=out)
     for name, config, reported in (
@@ -141,10 +141,10 @@ def specialists(out) -> None:
     from hexapod_adapt.mapping.simulation import worker_simulator
     from hexapod_adapt.online.ceiling import cached_ceiling
     from hexapod_gait.parameters import from_genotype, from_omni_genotype, to_omni_genotype
-    from hexapod_navigation.config import NavigationConfig
-    from hexapod_navigation.loading import load_navigation
-    from hexapod_navigation.repertoire import shipped_repertoire
-    from hexapod_navigation.step_bank import shipped_step_bank
+    from hexapod_navigation.core.config import NavigationConfig
+    from hexapod_navigation.core.loading import load_navigation
+    from hexapod_navigation.core.repertoire import shipped_repertoire
+    from hexapod_navigation.core.step_bank import shipped_step_bank
     from hexapod_sim.evaluation import evaluate_displacements
 
     data = load_navigation(shipped_repertoire(), shipped_step_bank())

@@ -13,5 +13,5 @@ python -m hexapod_adapt.mapping.generate_map_cli --kind navigation \
   --out "$dir/navigation_map.npz" --cvt-dir hexapod_adapt/maps --engine mujoco --niches 1000 \
   --evaluations 150000 --min-stance-legs 3 --seed 1 --with-presets --workers "${WORKERS:-2}" \
   --checkpoint-every 300 --log-every 30 --no-bar --resume
-python -m hexapod_navigation.step_bank_cli --engine mujoco --repertoire "$dir/navigation_map.npz" \
+python -m hexapod_navigation.offline.step_bank_cli --engine mujoco --repertoire "$dir/navigation_map.npz" \
   --out "$dir/navigation_bank.npz" --workers "${WORKERS:-2}"

@@ -7,7 +7,8 @@ How navigate's settings were chosen (studies/navigation/README.md, "Tuning").
 A grid of settings on the tuning goals (seed 100), never on the reported experiment's goals
 (seed 0).
 
-    python -m studies.navigation.tune_navigation [--grid rest|known|planner|bank|stance] [--damage-kind K]
+    python -m studies.navigation.tune_navigation [--grid rest|known|planner|bank|stance] \
+        [--damage-kind K]
         [--repertoire FILE] [--bank FILE] [--workers 2] [--from-row N] [--to-row N]
 
 For each setting: the repertoire method over every damage case of S0-S4 x 10 tuning goals; the
@@ -44,9 +45,9 @@ GRID = (
     {'min_stance_legs': 4, 'length_scale': 0.3},
     {'min_stance_legs': 4, 'signal_std_xy': 0.4},
 )
-#: Run on 2026-11-23 (studies/navigation/README.md, "Damage bank"), from the then defaults (no bank,
-#: optimism 1, min_stance_legs 3): the bank off and on, then on with the planner's optimism and
-#: the GP's spread lowered (the bank already explains much of the damage). The rule, fixed
+#: Run on 2026-11-23 (studies/navigation/README.md, "Damage bank"), from the then defaults (no
+#: bank, optimism 1, min_stance_legs 3): the bank off and on, then on with the planner's optimism
+#: and the GP's spread lowered (the bank already explains much of the damage). The rule, fixed
 #: before: the highest damaged success rate, then the lowest damaged median walking time.
 BANK_BASE = {
     'use_bank': False,
@@ -138,15 +139,15 @@ GRIDS = {
 
 
 def main(argv: list[str] | None = None) -> int:
-    from hexapod_navigation.config import NavigationConfig
-    from hexapod_navigation.experiment import (
+    from hexapod_navigation.core.config import NavigationConfig
+    from hexapod_navigation.offline.experiment import (
         NavigationSettings,
         run_navigation,
         scenarios_beating_baselines,
         summarise,
     )
-    from hexapod_navigation.repertoire import shipped_repertoire
-    from hexapod_navigation.step_bank import shipped_step_bank
+    from hexapod_navigation.core.repertoire import shipped_repertoire
+    from hexapod_navigation.core.step_bank import shipped_step_bank
 
     ap = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     ap.add_argument('--repertoire', type=Path, default=shipped_repertoire())

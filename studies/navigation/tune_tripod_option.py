@@ -2,7 +2,8 @@
 # Copyright 2026 Hexapod adaptation team
 # SPDX-License-Identifier: MIT
 """
-How the steered tripod became an option of navigate's planner (issue 31; studies/navigation/README.md).
+How the steered tripod became an option of navigate's planner (issue 31;
+studies/navigation/README.md).
 
 On the tuning goals (seed 100, 5 per case), never the reported experiment's (seed 0): for each
 setting, the repertoire method and the steered tripod over every damage case of S1-S4, on the
@@ -13,7 +14,8 @@ damage kinds lifted, locked and unpowered_femur (each grid below says if it uses
 
 With ``--cache-dir`` each unit (a setting, or the tripod, on one damage kind) is written to its own
 folder as it finishes and read back on the next run, so a round can go on across sessions
-(``studies/navigation/tune_all_kinds.sh`` runs the ninth round that way, from a worktree of a fixed commit).
+(``studies/navigation/tune_all_kinds.sh`` runs the ninth round that way, from a worktree of a fixed
+commit).
 
 The rule, fixed before the runs: a (kind, scenario) cell passes when navigate reaches at least as
 many goals as the tripod and its median walking time on the goals both reached is at most 1.1x
@@ -115,13 +117,13 @@ GRID_EVIDENCE = ({'tripod_after': 0}, {'tripod_after': 0, 'tripod_bank': 'eviden
 GRID_REPORTED_TRIPOD = ({'tripod_reported': False}, {'tripod_reported': True})
 #: Twelfth round (2026-11-26): gaits made for a damage as more steps (specialists: the default
 #: map's fastest 3-feet gait under each of the bank's damages and intact, at its own and the
-#: reverse crab angle, straight and along four arcs; hexapod_navigation.specialists). The
+#: reverse crab angle, straight and along four arcs; hexapod_navigation.core.specialists). The
 #: lifted legs' bound with the repertoire's steps alone is 1.57x the intact robot's
-#: (studies/navigation/results/navigation_bound.txt), over issue 31's 1.4x. The ninth round's protocol on all eight
-#: kinds (ALL_KINDS_GOALS goals, ALL_KINDS_LIMIT, the tripod apart; walked afresh on this machine
-#: into a folder of its own). The rule, fixed before the run: a setting that misses a lifted
-#: S1-S4 goal is out; then the most cells passing; then the lowest ratio of the lifted damaged
-#: median to the intact (S0) one.
+#: (studies/navigation/results/navigation_bound.txt), over issue 31's 1.4x. The ninth round's
+#: protocol on all eight kinds (ALL_KINDS_GOALS goals, ALL_KINDS_LIMIT, the tripod apart; walked
+#: afresh on this machine into a folder of its own). The rule, fixed before the run: a setting that
+#: misses a lifted S1-S4 goal is out; then the most cells passing; then the lowest ratio of the
+#: lifted damaged median to the intact (S0) one.
 GRID_SPECIALISTS = ({'specialists': False}, {'specialists': True})
 #: The same round, continued (2026-11-26): with every specialist, 28 of 32 cells passed, the
 #: other four (unpowered_coxa S1 and S3, locked S3, no_tibia S3) losing 1-7 goals to tip-overs;
@@ -231,8 +233,8 @@ REPORTED_GRIDS = ('reported', 'reported_tripod')
 
 
 def main(argv: list[str] | None = None) -> int:
-    from hexapod_navigation.config import NavigationConfig
-    from hexapod_navigation.experiment import (
+    from hexapod_navigation.core.config import NavigationConfig
+    from hexapod_navigation.offline.experiment import (
         NavigationSettings,
         read_rows,
         run_navigation,
@@ -240,9 +242,9 @@ def main(argv: list[str] | None = None) -> int:
         versus_tripod,
         write_results,
     )
-    from hexapod_navigation.repertoire import shipped_repertoire
-    from hexapod_navigation.specialists import shipped_specialists
-    from hexapod_navigation.step_bank import shipped_step_bank
+    from hexapod_navigation.core.repertoire import shipped_repertoire
+    from hexapod_navigation.core.specialists import shipped_specialists
+    from hexapod_navigation.core.step_bank import shipped_step_bank
     from hexapod_sim.damage import EXPERIMENT_KINDS
 
     ap = argparse.ArgumentParser(prog='tune_tripod_option', description=__doc__.split('\n\n')[0])

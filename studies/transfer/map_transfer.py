@@ -10,7 +10,7 @@ after another on the emulated robot (ConsecutiveTrials, Xsens-like noise, seed 5
 engine: the IMU odometry's worst and RMS error against the truth, and how many trials ended
 upside down.
 
-    python -m studies.transfer.map_transfer [--archive MAP]   # a section of studies/transfer/results/map_transfer.txt
+    python -m studies.transfer.map_transfer [--archive MAP]  # results/map_transfer.txt
 """
 
 from __future__ import annotations

@@ -23,7 +23,7 @@ import sys
 from typing import Any, Callable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive, load_archive
-from hexapod_adapt.mapping.plots import save_figure
+from hexapod_util.files import save_png
 from hexapod_adapt.mapping.simulation import archive_engine
 from hexapod_adapt.online.adaptation import adapt, map_speed, simulated_trial
 from hexapod_adapt.online.ceiling import approximate_ceiling, Ceiling, ceiling
@@ -119,7 +119,7 @@ def plot_trial_length(runs: Sequence[Any], out: str | Path) -> Path:
         axes.grid(alpha=0.3)
     fig.suptitle('Trial length: what M-BOA finds, and the walking it costs (25-75 % band)')
     fig.tight_layout()
-    return save_figure(fig, out)
+    return save_png(fig, out)
 
 
 def build_parser() -> argparse.ArgumentParser:

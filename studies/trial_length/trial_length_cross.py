@@ -9,7 +9,7 @@ against the damaged control tripod there (each run's success floor, as in the pr
 third tuning case (21), default profile, budget 24, for the thesis's trial (5 s from standing)
 and settled trials (1 s, then 2, 3 or 5 s timed).
 
-    python -m studies.trial_length.trial_length_cross    # its section of studies/trial_length/results/trial_length.txt
+    python -m studies.trial_length.trial_length_cross  # its section of results/trial_length.txt
 """
 
 from __future__ import annotations

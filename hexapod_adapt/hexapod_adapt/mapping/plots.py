@@ -12,7 +12,7 @@ Pictures of maps (PNG, matplotlib's headless Agg backend); ROS-free.
   repertoire): where its steps end, and its generation.
 
 The experiments' pictures are beside them: :mod:`hexapod_adapt.online.experiment_plots`,
-:mod:`hexapod_navigation.plots`.
+:mod:`hexapod_navigation.offline.plots`.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ from pathlib import Path
 from typing import Any, Sequence
 
 from hexapod_adapt.mapping.archive import Archive
-from hexapod_util.files import atomic_output
+from hexapod_util.files import save_png
 import matplotlib
 
 matplotlib.use('Agg')
@@ -98,15 +98,6 @@ def log_runs(path: str | Path, default_workers: int = 2) -> list[LogRun]:
     return runs
 
 
-def save_figure(fig: Any, out: str | Path) -> Path:
-    """Write ``fig`` to ``out`` as a PNG, atomically, and close it."""
-    out = Path(out)
-    with atomic_output(out) as fh:
-        fig.savefig(fh, format='png', dpi=110, bbox_inches='tight')
-    plt.close(fig)
-    return out
-
-
 def evaluation_axes(axes: Any) -> None:
     """Label every axis's x as evaluations, in engineering notation, with a light grid."""
     for ax in axes:
@@ -141,7 +132,7 @@ def plot_progress(
     axes[2].set_ylabel('QD-score (sum of elite fitness, m)')
     evaluation_axes(axes)
     fig.suptitle(title or 'map generation progress')
-    return save_figure(fig, out)
+    return save_png(fig, out)
 
 
 def plot_projections(archive: Archive, out: str | Path, bins: int = 20, title: str = '') -> Path:
@@ -180,7 +171,7 @@ def plot_projections(archive: Archive, out: str | Path, bins: int = 20, title: s
         title
         or f'{archive.n_filled} gaits in {archive.n_niches} niches: best speed per pair of legs'
     )
-    return save_figure(fig, out)
+    return save_png(fig, out)
 
 
 def plot_repertoire(archive: Archive, out: str | Path, title: str = '') -> Path:
@@ -205,7 +196,7 @@ def plot_repertoire(archive: Archive, out: str | Path, title: str = '') -> Path:
         title
         or f'{len(idx)} gaits of {archive.n_niches} niches, {archive.trial_duration:g} s steps'
     )
-    return save_figure(fig, out)
+    return save_png(fig, out)
 
 
 def plot_repertoire_progress(
@@ -230,4 +221,4 @@ def plot_repertoire_progress(
     axes[1].legend(loc='upper right', fontsize=8)
     evaluation_axes(axes)
     fig.suptitle(title or 'navigation repertoire generation progress')
-    return save_figure(fig, out)
+    return save_png(fig, out)

@@ -4,7 +4,7 @@
 Step maps (the ``navigation`` map kind): gaits indexed by where one execution takes the body.
 
 How such a map is made and measured (ROS-free); the navigator's view of one is
-:class:`hexapod_navigation.repertoire.Repertoire`.
+:class:`hexapod_navigation.core.repertoire.Repertoire`.
 
 As in reset-free trial and error (Chatzilygeroudis, Vassiliades and Mouret 2018), each elite is
 an omnidirectional gait (34-gene ``omni/v1`` genotype) and its niche is the body's displacement

@@ -13,7 +13,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Sequence
 
-from hexapod_adapt.mapping.plots import save_figure
+from hexapod_util.files import save_png
 import matplotlib.pyplot as plt
 import numpy as np
 
@@ -117,5 +117,5 @@ def plot_experiment(
         ax.legend(fontsize=7, loc='upper center', bbox_to_anchor=(0.5, -0.14), ncol=2)
         fig.tight_layout()
         figures.append(fig)
-    saved = (save_figure(figures[0], out_speed), save_figure(figures[1], out_trials))
-    return saved + ((save_figure(figures[2], out_ratio),) if with_ratio else ())
+    saved = (save_png(figures[0], out_speed), save_png(figures[1], out_trials))
+    return saved + ((save_png(figures[2], out_ratio),) if with_ratio else ())

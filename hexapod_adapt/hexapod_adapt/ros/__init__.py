@@ -1,3 +1,26 @@
 # Copyright 2026 Hexapod adaptation team
 # SPDX-License-Identifier: MIT
-"""The ROS side: adapt_node, adapt_client, the graph port the nodes share, MCAP recording."""
+"""
+The ROS side: adapt_node, adapt_client, and what other nodes use of it (exported here).
+
+The graph port (trials through sim_node or bridge_node), the recorded topics and a run's MCAP
+recording; navigate_node walks its steps through them.
+"""
+
+from hexapod_adapt.ros.graph_port import (
+    GraphPort,
+    RECORDED_TYPES,
+    RecordedTopics,
+    servo_report_problem,
+    stamp_ns,
+)
+from hexapod_adapt.ros.run_recording import RunRecording
+
+__all__ = [
+    'GraphPort',
+    'RECORDED_TYPES',
+    'RecordedTopics',
+    'RunRecording',
+    'servo_report_problem',
+    'stamp_ns',
+]

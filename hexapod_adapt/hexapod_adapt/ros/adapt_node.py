@@ -3,20 +3,13 @@
 """
 ``ros2 run hexapod_adapt adapt_node``: Intelligent Trial & Error on the simulator or the robot.
 
-Loads an archive (``archive``, by default the shipped default map; refused, with the reason, if it
-does not fit this installation) and runs M-BOA when ``adapt`` is called. Each trial publishes the
-gait on ``gait/parameters`` and measures its speed through gait_node + sim_node (mode ``sim``),
-bridge_node's IMU odometry (``robot``) or the operator's tape measure (``manual``):
-:mod:`hexapod_adapt.online.trials`. When the damage is known (the request's ``failed_legs`` with
-their ``kinds``, ``sim/damage`` or the bridge's ``servo_failures``) M-BOA starts from the map
-re-scored under it (:mod:`hexapod_adapt.online.prior`; ``blind`` skips it). Servo reports are
-believed only while the configured ``bridge_node`` is the topic's only publisher; ``~/forget``
-drops them.
-
-Publishes ``adapt/trials`` per trial and records each run to an MCAP file in ``record_dir`` (a
-recording problem never stops a run). Services: ``adapt`` (hexapod_msgs/Adapt),
-``~/report_distance`` (hexapod_msgs/ReportDistance), ``~/cancel`` and ``~/forget``
-(std_srvs/Trigger).
+Loads an archive (``archive``, by default the shipped default map; refused with the reason if it
+does not fit) and runs M-BOA when ``adapt`` is called. Each trial's gait goes to gait_node +
+sim_node (mode ``sim``), bridge_node (``robot``) or the operator's tape measure (``manual``):
+:mod:`hexapod_adapt.online.trials`. A known damage (the request's, ``sim/damage`` or the bridge's
+``servo_failures``) starts M-BOA from the map re-scored under it (``blind`` skips it). Publishes
+``adapt/trials`` and records each run to MCAP in ``record_dir``. Services: ``adapt``,
+``~/report_distance``, ``~/cancel``, ``~/forget``.
 """
 
 from __future__ import annotations
@@ -31,7 +24,7 @@ from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.maps import shipped_ceilings
 from hexapod_adapt.online import session
 from hexapod_adapt.online.adaptation import adapt, TrialAborted
-from hexapod_adapt.online.prior import damage_of_request, KnownDamage
+from hexapod_adapt.online.prior import damage_of_request
 from hexapod_adapt.online.run_config import (
     ArchiveSlot,
     engine_note,
@@ -42,23 +35,21 @@ from hexapod_adapt.online.run_config import (
 )
 from hexapod_adapt.online.streaming_prior import StreamingPrior
 from hexapod_adapt.online.trials import MODES, OdomLog, TrialTiming, Waiter
+from hexapod_adapt.ros.damage_reports import DamageReports
 from hexapod_adapt.ros.graph_port import (
     GraphPort,
     qualified,
     RECORDED_TYPES,
     RecordedTopics,
-    servo_report_problem,
     trial_msg,
 )
 from hexapod_adapt.ros.run_recording import RunRecording
 from hexapod_gait import from_genotype
 from hexapod_gait.ros_conversions import gait_to_msg
-from hexapod_msgs.msg import AdaptationTrial, LegDamage, ServoFailure
+from hexapod_msgs.msg import AdaptationTrial
 from hexapod_msgs.srv import Adapt, ReportDistance
 from hexapod_util.ros_glue import (
     declare,
-    EVENTS,
-    LATCHED,
     nodes_named,
     param_specs,
     run_node,
@@ -68,14 +59,14 @@ from hexapod_util.ros_glue import (
 from rcl_interfaces.msg import SetParametersResult
 import rclpy
 from rclpy._rclpy_pybind11 import RCLError
-from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
+from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.node import Node
 from std_srvs.srv import Trigger
 
 PARAMETERS = param_specs(SETTINGS)
 
 
-class AdaptNode(Node):
+class AdaptNode(DamageReports, Node):
     """Run M-BOA over an archive when its ``adapt`` service is called."""
 
     def __init__(self) -> None:
@@ -105,25 +96,14 @@ class AdaptNode(Node):
         self.port.wait = self.waiter.until
         self.recorded = RecordedTopics(self, self.recording)
         self.trial_pub = self.create_publisher(AdaptationTrial, 'adapt/trials', TRIALS)
-        self.known = KnownDamage()
         self.stream: StreamingPrior | None = None  # the last run's re-score (may still stream)
-        if self.mode == 'sim':
-            self.create_subscription(LegDamage, 'sim/damage', self._on_sim_damage, LATCHED)
-        else:
-            self.create_subscription(  # its own group: a report may wait on the graph
-                ServoFailure,
-                'servo_failures',
-                self._on_servo_failure,
-                EVENTS,
-                callback_group=MutuallyExclusiveCallbackGroup(),
-            )
         work = ReentrantCallbackGroup()
+        self.listen_for_damage(work)
         self.create_service(Adapt, 'adapt', self._on_adapt, callback_group=work)
         self.create_service(
             ReportDistance, '~/report_distance', self._on_report, callback_group=work
         )
         self.create_service(Trigger, '~/cancel', self._on_cancel, callback_group=work)
-        self.create_service(Trigger, '~/forget', self._on_forget, callback_group=work)
         watch_for_duplicates(self, self.get_logger().error)
         self.get_logger().info(f'adapt_node ready: mode {self.mode}; {self.slot.describe()}')
 
@@ -142,13 +122,10 @@ class AdaptNode(Node):
         if s is None or s.archive is not archive or s.damage != damage or s.error or s.stopped:
             if s is not None:
                 s.close()
+            cache = os.path.expanduser(str(self._param('prior_cache_dir'))) or None
+            workers, log = int(self._param('prior_workers')), self.get_logger().info
             self.stream = session.streaming_prior(
-                archive,
-                damage,
-                os.path.expanduser(str(self._param('prior_cache_dir'))) or None,
-                [shipped_ceilings()],
-                int(self._param('prior_workers')),
-                self.get_logger().info,
+                archive, damage, cache, [shipped_ceilings()], workers, log
             )
         return self.stream
 
@@ -170,32 +147,6 @@ class AdaptNode(Node):
         problem = session.report_distance(self.trials, request.distance)
         response.accepted = not problem
         response.message = problem or f'{request.distance:.3f} m recorded'
-        return response
-
-    def _on_sim_damage(self, msg: LegDamage) -> None:
-        self.get_logger().info(
-            self.known.from_sim(
-                list(msg.failed_legs), list(msg.kinds), list(msg.strengths), list(msg.joints)
-            )
-        )
-
-    def _on_servo_failure(self, msg: ServoFailure) -> None:
-        problem = servo_report_problem(self, self._param('bridge_node'))
-        what = f'servo {msg.servo_id} (leg {msg.leg}) reported dead'
-        if problem:
-            self.get_logger().error(f'{what}: {problem}')
-            return
-        self.get_logger().warning(
-            self.known.from_servo(int(msg.servo_id), int(msg.leg), str(msg.joint))
-        )
-
-    def _on_forget(self, request, response):
-        if self.busy.locked():
-            response.success, response.message = False, 'an adaptation is running; cancel it first'
-        else:
-            response.success, response.message = True, self.known.forget()
-            if self.mode == 'sim':
-                response.message += ' (in sim mode the simulator reports the damage it has)'
         return response
 
     def _on_cancel(self, request, response):

@@ -18,20 +18,20 @@ import argparse
 from dataclasses import asdict, replace
 import sys
 
-from hexapod_adapt.mapping.archive import ArchiveError, load_archive
-from hexapod_navigation.config import NavigationConfig
-from hexapod_navigation.experiment import (
+from hexapod_adapt import ArchiveError, load_archive
+from hexapod_navigation.core.config import NavigationConfig
+from hexapod_navigation.core.loading import load_navigation
+from hexapod_navigation.core.repertoire import Repertoire, shipped_repertoire
+from hexapod_navigation.core.specialists import shipped_specialists
+from hexapod_navigation.core.step_bank import load_step_bank, shipped_step_bank
+from hexapod_navigation.offline.experiment import (
     METHODS,
     NavigationSettings,
     run_navigation,
     summarise,
     write_results,
 )
-from hexapod_navigation.loading import load_navigation
-from hexapod_navigation.plots import plot_navigation_boxes, plot_navigation_paths
-from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
-from hexapod_navigation.specialists import shipped_specialists
-from hexapod_navigation.step_bank import load_step_bank, shipped_step_bank
+from hexapod_navigation.offline.plots import plot_navigation_boxes, plot_navigation_paths
 from hexapod_sim import ENGINES, SCENARIO_NAMES
 from hexapod_sim.damage import EXPERIMENT_KINDS
 from hexapod_util.cli import (
@@ -81,7 +81,7 @@ def build_parser() -> argparse.ArgumentParser:
         '--bank',
         choices=('default', 'on', 'off', 'leave-out'),
         default='default',
-        help="the damage bank of the repertoire's steps (hexapod_navigation.step_bank): as"
+        help="the damage bank of the repertoire's steps (hexapod_navigation.core.step_bank): as"
         " NavigationConfig's use_bank says, on, off, or on with each case's own damage left out",
     )
     ap.add_argument(
@@ -94,7 +94,8 @@ def build_parser() -> argparse.ArgumentParser:
         '--specialists',
         choices=('default', 'on', 'off'),
         default='default',
-        help="gaits made for the bank's damages as more steps (hexapod_navigation.specialists):"
+        help="gaits made for the bank's damages as more steps (hexapod_navigation.core"
+        '.specialists):'
         " as NavigationConfig's specialists says, on or off (they need the bank)",
     )
     ap.add_argument(

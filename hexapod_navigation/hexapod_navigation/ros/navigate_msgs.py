@@ -9,13 +9,13 @@ import time
 
 from builtin_interfaces.msg import Duration, Time
 from geometry_msgs.msg import PoseStamped
-from hexapod_adapt.ros.graph_port import GraphPort, stamp_ns
+from hexapod_adapt.ros import GraphPort, stamp_ns
 from hexapod_gait import GaitParameters
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_msgs.action import Navigate
-from hexapod_navigation.bodies import PoseSample
-from hexapod_navigation.episode import Feedback, NavigationResult, Outcome
-from hexapod_navigation.geometry import Pose2D
+from hexapod_navigation.core.episode import Feedback, NavigationResult, Outcome
+from hexapod_navigation.core.geometry import Pose2D
+from hexapod_navigation.ros.bodies import PoseSample
 from hexapod_sim.simulator import quat_to_euler
 from hexapod_util.ros_glue import ACTION_SERVICES
 from nav_msgs.msg import Odometry
@@ -117,8 +117,47 @@ def result_msg(
     return out
 
 
+def ending(
+    result: NavigationResult | None,
+    reason: str,
+    goal: tuple[float, float],
+    recording: str,
+    stamp: Time,
+    preempted: bool,
+    cancel_requested: bool,
+) -> tuple[str, Navigate.Result]:
+    """
+    Return how a walked goal ends: the goal handle's call and the result.
+
+    The call is 'succeed', 'canceled' or 'abort'. ``result`` None: the graph stopped answering,
+    and ``reason`` says how.
+    """
+    if result is None:
+        failed = Navigate.Result(outcome=Navigate.Result.FAILED, reason=reason)
+        failed.recording = recording
+        return 'abort', failed
+    out = result_msg(result, goal, recording, stamp)
+    if result.outcome is Outcome.CANCELED and preempted and not cancel_requested:
+        out.outcome, out.reason = Navigate.Result.PREEMPTED, 'preempted by a newer goal'
+        return 'abort', out
+    if result.outcome is Outcome.CANCELED:
+        return 'canceled', out
+    return ('succeed' if result.reached else 'abort'), out
+
+
+def unwalked(closing: bool, cancel_requested: bool) -> tuple[str, Navigate.Result]:
+    """Return how a goal that never got its turn ends: cancelled, superseded, or closing."""
+    if closing:
+        return 'abort', Navigate.Result(outcome=Navigate.Result.FAILED, reason='shutting down')
+    if cancel_requested:
+        return 'canceled', Navigate.Result(outcome=Navigate.Result.CANCELED, reason='canceled')
+    return 'abort', Navigate.Result(
+        outcome=Navigate.Result.PREEMPTED, reason='preempted by a newer goal before it started'
+    )
+
+
 class GraphNavigationPort:
-    """The bodies' :class:`~hexapod_navigation.bodies.NavigationPort` over a GraphPort."""
+    """The bodies' :class:`~hexapod_navigation.ros.bodies.NavigationPort` over a GraphPort."""
 
     def __init__(self, port: GraphPort, stop_client: Client) -> None:
         self.port, self.stop_client = port, stop_client

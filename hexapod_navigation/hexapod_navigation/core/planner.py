@@ -6,21 +6,22 @@ Reaching a goal with a damaged robot, learning while it walks, with no resets (R
 Reset-free trial and error (Chatzilygeroudis, Vassiliades and Mouret 2018), adapted to a
 crab-walking hexapod:
 
-* a :class:`~hexapod_navigation.repertoire.Repertoire` of omnidirectional gaits, each indexed by
-  the displacement one step (one execution, ``step_duration`` s) gives the intact robot;
-* :class:`~hexapod_navigation.correction.CorrectionGP`: one Gaussian process per displacement
+* a :class:`~hexapod_navigation.core.repertoire.Repertoire` of omnidirectional gaits, each indexed
+  by the displacement one step (one execution, ``step_duration`` s) gives the intact robot;
+* :class:`~hexapod_navigation.core.correction.CorrectionGP`: one Gaussian process per displacement
   dimension (x, y, heading) over the repertoire's descriptor, learning from every step how the
   damage changes the steps;
 * a planner (:class:`RepertoirePolicy`) that picks the step whose predicted end lies nearest
   the goal, from the pose the robot is actually in;
-* :func:`hexapod_navigation.episode.run_episode` walks a body with them (the loop, its bodies).
+* :func:`hexapod_navigation.core.episode.run_episode` walks a body with them (the loop, its
+  bodies).
 
-The baseline :class:`~hexapod_navigation.tripod.SteeredTripod` is what the robot's firmware can
-do: the control tripod, steered every cycle toward the goal in the nearest of its eight crab
+The baseline :class:`~hexapod_navigation.core.tripod.SteeredTripod` is what the robot's firmware
+can do: the control tripod, steered every cycle toward the goal in the nearest of its eight crab
 directions; the planner weighs its next cycle too
-(:class:`~hexapod_navigation.tripod.TripodSteps`).
-Poses: :mod:`hexapod_navigation.geometry`; what a policy is: :mod:`hexapod_navigation.policy`;
-the settings: :mod:`hexapod_navigation.config`.
+(:class:`~hexapod_navigation.core.tripod.TripodSteps`). Poses:
+:mod:`hexapod_navigation.core.geometry`; what a policy is: :mod:`hexapod_navigation.core.policy`;
+the settings: :mod:`hexapod_navigation.core.config`.
 """
 
 from __future__ import annotations
@@ -28,13 +29,13 @@ from __future__ import annotations
 import math
 
 from hexapod_gait import GaitParameters
-from hexapod_navigation.config import NavigationConfig
-from hexapod_navigation.correction import CorrectionGP
-from hexapod_navigation.geometry import Pose2D
-from hexapod_navigation.policy import Step
-from hexapod_navigation.repertoire import Repertoire
-from hexapod_navigation.step_bank import StepBank
-from hexapod_navigation.tripod import steered_direction, TripodSteps
+from hexapod_navigation.core.config import NavigationConfig
+from hexapod_navigation.core.correction import CorrectionGP
+from hexapod_navigation.core.geometry import Pose2D
+from hexapod_navigation.core.policy import Step
+from hexapod_navigation.core.repertoire import Repertoire
+from hexapod_navigation.core.step_bank import StepBank
+from hexapod_navigation.core.tripod import steered_direction, TripodSteps
 from hexapod_sim.damage import Damage
 import numpy as np
 
@@ -101,8 +102,9 @@ class RepertoirePolicy:
     """
     The repertoire planner, with (``config.learn``) or without the GP correction.
 
-    ``hypotheses``: a damage bank's step tables (:class:`hexapod_navigation.step_bank.StepBank`'s
-    ``steps``), weighed when ``config.use_bank`` and ``config.learn``.
+    ``hypotheses``: a damage bank's step tables
+    (:class:`hexapod_navigation.core.step_bank.StepBank`'s ``steps``), weighed when
+    ``config.use_bank`` and ``config.learn``.
     """
 
     def __init__(

@@ -4,17 +4,18 @@
 Navigation's damage bank: every repertoire step re-measured under each damage hypothesis.
 
 The navigation counterpart of :mod:`hexapod_adapt.online.bank`: each gait of the repertoire played
-for one step (``STEP_DURATION`` s, from rest, collisions not fatal) under each damage of the
-bank. The shipped bank (:func:`navigation_bank_damages`) holds every one- and two-leg failure of
-S1-S4 (the orientations of :data:`hexapod_adapt.online.bank.BANK_DAMAGES`) of each kind in
+for one step (``STEP_DURATION`` s, from rest, collisions not fatal) under each damage of the bank.
+The shipped bank (:func:`navigation_bank_damages`) holds every one- and two-leg failure of S1-S4
+(the orientations of :data:`hexapod_adapt.online.bank.BANK_DAMAGES`) of each kind in
 :data:`NAVIGATION_BANK_KINDS`: legs lifted (the thesis's damage), locked where they stood, and
 hanging from a dead femur servo (a real servo failure). The navigator's correction
-(:class:`hexapod_navigation.correction.CorrectionGP`) weighs these step tables against the intact
-repertoire by how well they explain the steps walked, and learns the rest. The bank also holds
-the steered tripod's cycle in each crab direction under each damage and intact
-(:func:`hexapod_navigation.tripod.tripod_cycles`): the planner's prior for the tripod option.
+(:class:`hexapod_navigation.core.correction.CorrectionGP`) weighs these step tables against the
+intact repertoire by how well they explain the steps walked, and learns the rest. The bank also
+holds the steered tripod's cycle in each crab direction under each damage and intact
+(:func:`hexapod_navigation.core.tripod.tripod_cycles`): the planner's prior for the tripod option.
 
-``python -m hexapod_navigation.step_bank_cli`` makes one (``maps/make_navigation_bank.sh``).
+``python -m hexapod_navigation.offline.step_bank_cli`` makes one
+(``maps/make_navigation_bank.sh``).
 
 The file is keyed by everything the steps depend on (the repertoire's gaits, the engine and its
 settings, the URDF, the scoring rules' version, the damages); a file made for anything else is
@@ -33,13 +34,10 @@ import os
 from pathlib import Path
 from typing import Callable, Sequence
 
-from hexapod_adapt.mapping.maps import shipped_map
-from hexapod_adapt.mapping.simulation import worker_simulator
-from hexapod_adapt.mapping.steps import repertoire_fingerprint
-from hexapod_adapt.online.bank import BANK_DAMAGES
+from hexapod_adapt import BANK_DAMAGES, repertoire_fingerprint, shipped_map, worker_simulator
 from hexapod_gait.parameters import from_omni_genotype
-from hexapod_navigation.repertoire import PACKAGE, Repertoire
-from hexapod_navigation.tripod import tripod_cycles, tripod_gaits
+from hexapod_navigation.core.repertoire import PACKAGE, Repertoire
+from hexapod_navigation.core.tripod import tripod_cycles, tripod_gaits
 from hexapod_sim.damage import Damage, LegDamage
 from hexapod_sim.evaluation import evaluate_displacements, EVALUATION_VERSION
 from hexapod_util.files import atomic_write_bytes
@@ -59,7 +57,7 @@ class StepBank:
     """
     The repertoire's steps under each of ``damages``: ``steps[h, i]`` = (dx, dy, dyaw).
 
-    And the steered tripod's cycles (:func:`hexapod_navigation.tripod.tripod_cycles`):
+    And the steered tripod's cycles (:func:`hexapod_navigation.core.tripod.tripod_cycles`):
     ``tripod[h, k]`` under each damage, ``intact_tripod[k]`` on the intact robot.
     """
 

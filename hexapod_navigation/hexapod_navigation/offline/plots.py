@@ -7,7 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Sequence
 
-from hexapod_adapt.mapping.plots import save_figure
+from hexapod_util.files import save_png
 import matplotlib.pyplot as plt
 import numpy as np
 
@@ -56,7 +56,7 @@ def plot_navigation_paths(rows: Sequence[Any], paths: Sequence[Any], out: str | 
         ax.set_xlabel('x [m]')
     for row in axes:
         row[0].set_ylabel('y [m]')
-    return save_figure(fig, out)
+    return save_png(fig, out)
 
 
 def plot_navigation_boxes(rows: Sequence[Any], out: str | Path) -> Path:
@@ -108,4 +108,4 @@ def plot_navigation_boxes(rows: Sequence[Any], out: str | Path) -> Path:
         ax.grid(axis='y', alpha=0.3)
     axes[2].axhline(85, color='k', lw=0.8, ls='--')
     axes[2].legend(fontsize=8)
-    return save_figure(fig, out)
+    return save_png(fig, out)

@@ -1,9 +1,9 @@
 # Copyright 2026 Hexapod adaptation team
 # SPDX-License-Identifier: MIT
 r"""
-Choose and measure the gaits made for a damage (:mod:`hexapod_navigation.specialists`).
+Choose and measure the gaits made for a damage (:mod:`hexapod_navigation.core.specialists`).
 
-    python -m hexapod_navigation.specialists_cli \\
+    python -m hexapod_navigation.offline.specialists_cli \\
         --out hexapod_navigation/maps/navigation_specialists.npz --workers 2
 """
 
@@ -13,11 +13,10 @@ import argparse
 import sys
 import time
 
-from hexapod_adapt.mapping.archive import load_archive
-from hexapod_adapt.mapping.maps import shipped_ceilings, shipped_map
-from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
-from hexapod_navigation.specialists import compute_specialists, save_specialists, SOURCE_KINDS
-from hexapod_navigation.step_bank import load_step_bank, shipped_step_bank
+from hexapod_adapt import load_archive, shipped_ceilings, shipped_map
+from hexapod_navigation.core.repertoire import Repertoire, shipped_repertoire
+from hexapod_navigation.core.specialists import compute_specialists, save_specialists, SOURCE_KINDS
+from hexapod_navigation.core.step_bank import load_step_bank, shipped_step_bank
 from hexapod_sim.damage import DAMAGE_KINDS
 from hexapod_util.cli import (
     add_force,

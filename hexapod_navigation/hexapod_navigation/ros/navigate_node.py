@@ -4,32 +4,13 @@
 ``ros2 run hexapod_navigation navigate_node``: walk to a place after damage, learning on the way.
 
 Serves the ``navigate`` action (hexapod_msgs/Navigate), modelled on nav2's NavigateToPose: a goal
-(x, y) in ``odom`` is pursued step by step over the navigation repertoire (``repertoire``
-parameter, by default the shipped one) with the learned correction of
-:mod:`hexapod_navigation.planner`, with no resets. Through gait_node + sim_node (``mode:=sim``) or
-bridge_node (``mode:=robot``). The pose comes from ``odom``, or from ``pose_topic`` (a
-geometry_msgs/PoseStamped or nav_msgs/Odometry, e.g. motion capture).
-
-* An invalid goal (not finite, beyond ``max_range``, outside the arena, no repertoire) is
-  rejected; the reason is logged and published on ``navigate/status``. What needs an answer from
-  the graph (the first pose, bridge_node's trial length) is checked when the goal's turn comes,
-  and a goal that fails it is aborted with the reason.
-* A new goal preempts the one being pursued (that one ends PREEMPTED); goals superseded before
-  their turn end PREEMPTED without walking, so a storm of goals is answered at once and only the
-  newest is walked (:mod:`hexapod_navigation.goal_turns`); a cancel stops the robot within one
-  gait cycle; a client that vanishes leaves the goal to run to its end.
-* What was learned about the damage is kept from goal to goal; ``~/forget`` drops it (after a
-  repair, or new damage).
-* Robot mode: dead servos reported on ``servo_failures`` by the configured ``bridge_node`` (and
-  no other node: the graph names a topic's publishers) become that damage, favoured among the
-  damage bank's hypotheses from the next goal (``prior_reported``); ``~/forget`` drops them.
-* ``~/set_known_damage`` (hexapod_msgs/SetLegFailure): the operator names the damage, of any
-  kind, for what no servo report can tell (a locked joint, a broken tibia). It wins over the
-  servo reports from the next goal, as they do; an empty request or ``~/forget`` drops it.
-
-Publishes ``navigate/goal`` (visualization_msgs/Marker, latched) and ``navigate/status``. With
-``record_dir`` set, each goal is recorded to an MCAP file there (odometry, frames, joint states,
-gaits, the goal marker, the URDF): its path replays in Foxglove.
+in ``odom`` is pursued step by step over the navigation repertoire with the learned correction
+(:mod:`hexapod_navigation.core`), through gait_node + sim_node (``mode:=sim``) or bridge_node
+(``mode:=robot``), with no resets. An invalid goal is rejected with the reason; a new goal
+preempts the one being walked; a cancel stops the robot within one gait cycle. What was learned
+about the damage, the bridge's dead-servo reports and the operator's word
+(``~/set_known_damage``) carry from goal to goal; ``~/forget`` drops them. docs/navigation.md
+says more.
 """
 
 from __future__ import annotations
@@ -38,48 +19,40 @@ import math
 import sys
 
 from diagnostic_msgs.msg import DiagnosticStatus
-from geometry_msgs.msg import PoseStamped
-from hexapod_adapt.online.adaptation import TrialAborted
-from hexapod_adapt.online.prior import damage_of_request, KnownDamage
-from hexapod_adapt.online.trials import OdomLog, Waiter
-from hexapod_adapt.ros.graph_port import (
+from hexapod_adapt import OdomLog, TrialAborted, Waiter
+from hexapod_adapt.ros import (
     GraphPort,
     RECORDED_TYPES,
     RecordedTopics,
-    servo_report_problem,
+    RunRecording,
 )
-from hexapod_adapt.ros.run_recording import RunRecording
 from hexapod_msgs.action import Navigate
-from hexapod_msgs.msg import ServoFailure
-from hexapod_msgs.srv import SetLegFailure
-from hexapod_navigation import navigate_msgs as conv
-from hexapod_navigation import node_settings as settings
-from hexapod_navigation.bodies import PoseLog, RobotGraphBody, SimGraphBody
-from hexapod_navigation.config import goal_problem
-from hexapod_navigation.episode import BodyFailure, Feedback, Outcome, run_episode
-from hexapod_navigation.goal_turns import GoalTurns
-from hexapod_navigation.loading import load_navigation
-from hexapod_navigation.planner import RepertoirePolicy
-from hexapod_navigation.repertoire import shipped_repertoire
-from hexapod_navigation.specialists import shipped_specialists
-from hexapod_navigation.step_bank import reported_note, shipped_step_bank
-from hexapod_sim.damage import Damage
+from hexapod_navigation.core.config import goal_problem
+from hexapod_navigation.core.damage_knowledge import DamageKnowledge
+from hexapod_navigation.core.episode import BodyFailure, Feedback, run_episode
+from hexapod_navigation.core.loading import load_navigation
+from hexapod_navigation.core.repertoire import shipped_repertoire
+from hexapod_navigation.core.specialists import shipped_specialists
+from hexapod_navigation.core.step_bank import shipped_step_bank
+from hexapod_navigation.ros import navigate_msgs as conv
+from hexapod_navigation.ros import node_settings as settings
+from hexapod_navigation.ros.bodies import PoseLog
+from hexapod_navigation.ros.damage_services import DamageServices
+from hexapod_navigation.ros.goal_turns import GoalTurns
+from hexapod_navigation.ros.wiring import make_body, subscribe_poses
 from hexapod_util.recording import type_name
 from hexapod_util.ros_glue import (
     ACTION_SERVICES,
     declare,
-    EVENTS,
     LATCHED,
     param_specs,
-    POSES,
     publish_status,
     run_node,
 )
-from nav_msgs.msg import Odometry
 import rclpy
 from rclpy._rclpy_pybind11 import InvalidHandle, RCLError
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
-from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
+from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.node import Node
 from std_srvs.srv import Trigger
 from visualization_msgs.msg import Marker
@@ -95,7 +68,7 @@ GOAL_SETTLE_S = 0.5
 PARAMETERS = param_specs(settings.SETTINGS)
 
 
-class NavigateNode(Node):
+class NavigateNode(DamageServices, Node):
     """Serve the ``navigate`` action over the navigation repertoire."""
 
     def __init__(self) -> None:
@@ -114,20 +87,11 @@ class NavigateNode(Node):
             self.config.specialist_max_tilt,
         )
         self.repertoire, self.problem = data.repertoire, data.problem
-        self.bank = data.bank  # the damage hypotheses
-        if data.bank is not None:
-            self.get_logger().info(f'damage bank: {len(data.bank)} damage hypotheses')
-        elif self.repertoire is not None and self.config.use_bank:
-            self.get_logger().warning(f'no damage bank, the GP learns alone: {data.no_bank}')
-        if data.specialists:
-            self.get_logger().info(f'{data.specialists} steps of gaits made for a damage')
-        elif self.repertoire is not None and use_specialists:
-            self.get_logger().warning(f'no gaits made for a damage: {data.no_specialists}')
-        self.known = KnownDamage()  # robot mode: the bridge's servo reports
-        self.named: Damage | None = None  # the operator's word (~/set_known_damage)
-        self.reports_changed = False  # a report came since the policy was made
+        for warning, note in data.notes(self.config.use_bank, use_specialists):
+            (self.get_logger().warning if warning else self.get_logger().info)(note)
+        self.damage = DamageKnowledge(self.config, data.bank)
         self.bridge_name = values['bridge_node']
-        self.policy = self._policy() if self.repertoire else None
+        self.policy = self.damage.policy(self.repertoire) if self.repertoire else None
 
         self.status_pub = self.create_publisher(DiagnosticStatus, 'navigate/status', LATCHED)
         self.marker_pub = self.create_publisher(Marker, 'navigate/goal', LATCHED)
@@ -149,50 +113,12 @@ class NavigateNode(Node):
         stop_client = self.create_client(Trigger, f'{values["bridge_node"]}/stop_trial')
         graph = conv.GraphNavigationPort(self.port, stop_client)
         self.trial_duration = values['trial_duration']
-        # poses: the newest few only (POSES), so a reader that falls behind the source skips
-        # stale poses instead of timing steps by them
-        sensors = MutuallyExclusiveCallbackGroup()
-        external = bool(values['pose_topic'])
-        if external:
-            kind = PoseStamped if values['pose_type'] == 'pose' else Odometry
-            self.create_subscription(
-                kind,
-                values['pose_topic'],
-                lambda m: self.poses.append(conv.pose_sample(m)),
-                POSES,
-                callback_group=sensors,
-            )
-        odom_log = self.trial_poses if (self.mode == 'robot' or external) else self.poses
-        self.create_subscription(
-            Odometry,
-            'odom',
-            lambda m: odom_log.append(conv.pose_sample(m)),
-            POSES,
-            callback_group=sensors,
-        )
-        if self.mode == 'robot':
-            self.create_subscription(  # its own group: a report may wait on the graph
-                ServoFailure,
-                'servo_failures',
-                self._on_servo_failure,
-                EVENTS,
-                callback_group=MutuallyExclusiveCallbackGroup(),
-            )
-        timeout = self.timeout = values['timeout']
-        if self.mode == 'sim':
-            self.body = SimGraphBody(
-                graph, self.poses, self.waiter, timeout, self.config.tip_guard
-            )
-        else:
-            self.body = RobotGraphBody(
-                graph,
-                self.poses,
-                self.trial_poses,
-                self.waiter,
-                values['trial_duration'],
-                external,
-                timeout,
-            )
+        external = subscribe_poses(self, values, self.poses, self.trial_poses)
+        self.timeout = values['timeout']
+        self.body = make_body(
+            values, graph, self.poses, self.trial_poses, self.waiter, external,
+            self.config.tip_guard,
+        )  # fmt: skip
         self.turns = GoalTurns(GOAL_SETTLE_S)
         work = ReentrantCallbackGroup()
         self.server = ActionServer(
@@ -208,10 +134,7 @@ class NavigateNode(Node):
             result_service_qos_profile=ACTION_SERVICES,
             cancel_service_qos_profile=ACTION_SERVICES,
         )
-        self.create_service(Trigger, '~/forget', self._on_forget, callback_group=work)
-        self.create_service(
-            SetLegFailure, '~/set_known_damage', self._on_set_known_damage, callback_group=work
-        )
+        self.serve_damage(self.mode == 'robot', work)
         if self.problem:
             self._status(DiagnosticStatus.ERROR, self.problem)
         else:
@@ -220,52 +143,6 @@ class NavigateNode(Node):
                 f'navigate_node ready: mode {self.mode}, {len(self.repertoire)} gaits in the'
                 f' repertoire, pose from {values["pose_topic"] or "odom"}',
             )
-
-    def _known_damage(self) -> Damage | None:
-        """Return the damage the next goal starts from: the operator's, else the servo reports'."""
-        return self.named if self.named is not None else self.known.servo_damage()
-
-    def _policy(self) -> RepertoirePolicy:
-        self.reports_changed = False
-        reported = self._known_damage()
-        return RepertoirePolicy.with_bank(self.repertoire, self.config, self.bank, reported)
-
-    def _on_servo_failure(self, msg: ServoFailure) -> None:
-        problem = servo_report_problem(self, self.bridge_name)
-        if problem:
-            self.get_logger().error(
-                f'servo {msg.servo_id} (leg {msg.leg}) reported dead: {problem}'
-            )
-            return
-        said = self.known.from_servo(int(msg.servo_id), int(msg.leg), str(msg.joint))
-        self.reports_changed = True  # the next goal starts from them
-        if self.named is not None:
-            note = f'the damage the operator named, {self.named.label}, still wins'
-        else:
-            note = reported_note(self.bank, self.known.servo_damage(), self.config.prior_reported)
-        self.get_logger().warning(f'{said}; {note}')
-
-    def _on_set_known_damage(self, request, response):
-        try:
-            named = damage_of_request(request)
-        except ValueError as exc:
-            response.success, response.message = False, f'bad request: {exc}'
-            return response
-        self.named = named
-        self.reports_changed = True  # the next goal starts from it
-        damage = self._known_damage()
-        response.success = True
-        response.failed_legs = list(damage.failed_legs) if damage else []
-        response.damage = damage.label if damage else ''
-        if named is None:
-            response.message = 'the damage the operator named is dropped; ' + reported_note(
-                self.bank, damage, self.config.prior_reported
-            )
-        else:
-            note = reported_note(self.bank, named, self.config.prior_reported)
-            response.message = f'{named.label}, as the operator says: {note}'
-        self.get_logger().warning(response.message)
-        return response
 
     def _status(self, level: bytes, message: str) -> None:
         self._unless_closing(
@@ -341,8 +218,8 @@ class NavigateNode(Node):
             self._unless_closing(handle.abort)
             return Navigate.Result(outcome=Navigate.Result.FAILED, reason=problem)
         try:
-            if self.reports_changed:  # what was learned before a new dead servo is stale
-                self.policy = self._policy()
+            if self.damage.changed:  # what was learned before a new damage report is stale
+                self.policy = self.damage.policy(self.repertoire)
             config = settings.goal_config(self.config, goal.tolerance, goal.time_limit)
             self.policy.config = config
             path = self._start_recording()
@@ -374,34 +251,32 @@ class NavigateNode(Node):
                 )
             except (TrialAborted, BodyFailure) as exc:  # the graph stopped answering
                 result, reason = None, str(exc)
+            else:
+                reason = ''
+
             finally:
                 self.recording.stop()
             preempted = self.turns.superseded(key)
         finally:
             self.turns.done(key)
         if not rclpy.ok(context=self.context):
-            self._unless_closing(handle.abort)
-            return Navigate.Result(outcome=Navigate.Result.FAILED, reason='shutting down')
+            return self._end(*conv.unwalked(True, False), handle)
         recording = str(path) if path else ''
-        if result is None:
-            self._unless_closing(handle.abort)
-            return Navigate.Result(
-                outcome=Navigate.Result.FAILED, reason=reason, recording=recording
+        call, out = conv.ending(
+            result, reason, (goal.x, goal.y), recording, self._now(), preempted,
+            handle.is_cancel_requested,
+        )  # fmt: skip
+        if result is not None:
+            self._status(
+                DiagnosticStatus.OK if result.reached else DiagnosticStatus.WARN,
+                f'goal ({goal.x:.2f}, {goal.y:.2f}): {out.reason}'
+                f' after {result.walking_time:.1f} s',
             )
-        out = conv.result_msg(result, (goal.x, goal.y), recording, self._now())
-        if result.outcome is Outcome.CANCELED and preempted and not handle.is_cancel_requested:
-            out.outcome, out.reason = Navigate.Result.PREEMPTED, 'preempted by a newer goal'
-            self._unless_closing(handle.abort)
-        elif result.outcome is Outcome.CANCELED:
-            self._unless_closing(handle.canceled)
-        elif result.reached:
-            self._unless_closing(handle.succeed)
-        else:
-            self._unless_closing(handle.abort)
-        self._status(
-            DiagnosticStatus.OK if result.reached else DiagnosticStatus.WARN,
-            f'goal ({goal.x:.2f}, {goal.y:.2f}): {out.reason} after {result.walking_time:.1f} s',
-        )
+        return self._end(call, out, handle)
+
+    def _end(self, call: str, out: Navigate.Result, handle) -> Navigate.Result:
+        """End the goal by the handle's ``call`` (succeed, canceled, abort); return ``out``."""
+        self._unless_closing(getattr(handle, call))
         return out
 
     def _unless_closing(self, call, *args) -> None:
@@ -418,16 +293,8 @@ class NavigateNode(Node):
 
     def _end_unwalked(self, handle) -> Navigate.Result:
         """End a goal that never got its turn: cancelled, superseded, or the node closing."""
-        if not rclpy.ok(context=self.context):
-            self._unless_closing(handle.abort)
-            return Navigate.Result(outcome=Navigate.Result.FAILED, reason='shutting down')
-        if handle.is_cancel_requested:
-            self._unless_closing(handle.canceled)
-            return Navigate.Result(outcome=Navigate.Result.CANCELED, reason='canceled')
-        self._unless_closing(handle.abort)
-        return Navigate.Result(
-            outcome=Navigate.Result.PREEMPTED, reason='preempted by a newer goal before it started'
-        )
+        closing = not rclpy.ok(context=self.context)
+        return self._end(*conv.unwalked(closing, handle.is_cancel_requested), handle)
 
     def _now(self):
         return self.get_clock().now().to_msg()
@@ -445,24 +312,6 @@ class NavigateNode(Node):
         # is not destroyed under it
         self.turns.close(timeout_s=5.0)
         self.recording.stop()
-
-    def _on_forget(self, request, response):
-        if self.turns.walking:
-            response.success, response.message = False, 'a goal is being pursued; cancel it first'
-        elif self.repertoire is None:
-            response.success, response.message = False, self.problem
-        else:
-            dead = sorted(servo for on_leg in self.known.servos.values() for servo in on_leg)
-            named, self.named = self.named, None
-            self.known.forget()
-            self.policy = self._policy()
-            response.success = True
-            response.message = (
-                'what was learned about the damage is dropped'
-                + (f', and the reports of dead servos {dead}' if dead else '')
-                + (f', and the damage the operator named ({named.label})' if named else '')
-            )
-        return response
 
 
 def main(args: list[str] | None = None) -> int:

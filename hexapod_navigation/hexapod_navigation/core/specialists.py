@@ -16,14 +16,14 @@ the other crab angles of :data:`CRAB_OFFSETS` (every 45 deg, the reverse include
 stride and the shorter ones of :data:`STRIDE_SCALES`, with each of :data:`TURN_RATES` (arcs), where
 its feet can follow those paths.
 
-They are measured like the bank (one step from rest, collisions not fatal) intact and under each
-of the bank's damages, with the largest tilt each step reaches (a gait made for one damage can
-tip the robot over under another: :meth:`Specialists.stable`). :func:`extend` appends them to
-the repertoire and its bank: the correction and the planner then treat them as any other step.
-The file is keyed like a bank (:func:`hexapod_navigation.step_bank.bank_key` of the specialists'
+They are measured like the bank (one step from rest, collisions not fatal) intact and under each of
+the bank's damages, with the largest tilt each step reaches (a gait made for one damage can tip the
+robot over under another: :meth:`Specialists.stable`). :func:`extend` appends them to the
+repertoire and its bank: the correction and the planner then treat them as any other step. The file
+is keyed like a bank (:func:`hexapod_navigation.core.step_bank.bank_key` of the specialists'
 genes): one made for other damages, another engine or URDF is refused with the reason.
 
-``python -m hexapod_navigation.specialists_cli`` makes them
+``python -m hexapod_navigation.offline.specialists_cli`` makes them
 (``maps/make_navigation_specialists.sh``).
 """
 
@@ -40,13 +40,10 @@ import os
 from pathlib import Path
 from typing import Callable, Sequence
 
-from hexapod_adapt.mapping.archive import Archive
-from hexapod_adapt.mapping.maps import shipped_map
-from hexapod_adapt.mapping.steps import gait_min_stance
-from hexapod_adapt.online.ceiling import cached_ceiling, map_digest
+from hexapod_adapt import Archive, cached_ceiling, gait_min_stance, map_digest, shipped_map
 from hexapod_gait.parameters import from_genotype, to_omni_genotype
-from hexapod_navigation.repertoire import PACKAGE, Repertoire
-from hexapod_navigation.step_bank import bank_key, step_table, StepBank
+from hexapod_navigation.core.repertoire import PACKAGE, Repertoire
+from hexapod_navigation.core.step_bank import bank_key, step_table, StepBank
 from hexapod_sim.damage import Damage
 from hexapod_util.files import atomic_write_bytes
 from hexapod_util.npz import float_array, json_array, read_npz, UnreadableFile

@@ -1,9 +1,9 @@
 # Copyright 2026 Hexapod adaptation team
 # SPDX-License-Identifier: MIT
 r"""
-Make a repertoire's damage bank (:mod:`hexapod_navigation.step_bank`).
+Make a repertoire's damage bank (:mod:`hexapod_navigation.core.step_bank`).
 
-    python -m hexapod_navigation.step_bank_cli --engine mujoco \\
+    python -m hexapod_navigation.offline.step_bank_cli --engine mujoco \\
         --out hexapod_navigation/maps/navigation_bank.npz --workers 2
 """
 
@@ -13,9 +13,9 @@ import argparse
 import sys
 import time
 
-from hexapod_adapt.mapping.archive import load_archive
-from hexapod_navigation.repertoire import Repertoire, shipped_repertoire
-from hexapod_navigation.step_bank import (
+from hexapod_adapt import load_archive
+from hexapod_navigation.core.repertoire import Repertoire, shipped_repertoire
+from hexapod_navigation.core.step_bank import (
     compute_step_bank,
     navigation_bank_damages,
     NAVIGATION_BANK_KINDS,

@@ -13,10 +13,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from hexapod_adapt.mapping.archive import Archive, ArchiveError
-from hexapod_adapt.mapping.maps import shipped_map
-from hexapod_adapt.mapping.simulation import archive_engine, DEFAULT_MAP_ENGINE
-from hexapod_adapt.mapping.steps import from_descriptor, gait_min_stance
+from hexapod_adapt import (
+    Archive,
+    archive_engine,
+    ArchiveError,
+    DEFAULT_MAP_ENGINE,
+    from_descriptor,
+    gait_min_stance,
+    shipped_map,
+)
 from hexapod_gait import GaitParameters
 from hexapod_gait.parameters import from_omni_genotype
 import numpy as np

@@ -20,7 +20,7 @@ import sys
 import time
 
 from hexapod_msgs.action import Navigate
-from hexapod_navigation.navigate_msgs import navigate_client
+from hexapod_navigation.ros.navigate_msgs import navigate_client
 from hexapod_util.cli import number, run_command
 from hexapod_util.ros_glue import spin_until_done, Waited
 import rclpy

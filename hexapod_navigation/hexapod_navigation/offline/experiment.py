@@ -25,15 +25,15 @@ import math
 from pathlib import Path
 from typing import Sequence
 
-from hexapod_adapt.mapping.archive import load_archive
-from hexapod_navigation.config import NavigationConfig
-from hexapod_navigation.episode import NavigationResult, run_episode, SimBody
-from hexapod_navigation.planner import RepertoirePolicy
-from hexapod_navigation.policy import Policy
-from hexapod_navigation.repertoire import Repertoire
-from hexapod_navigation.specialists import with_specialists
-from hexapod_navigation.step_bank import load_step_bank, StepBank
-from hexapod_navigation.tripod import SteeredTripod
+from hexapod_adapt import load_archive
+from hexapod_navigation.core.config import NavigationConfig
+from hexapod_navigation.core.episode import NavigationResult, run_episode, SimBody
+from hexapod_navigation.core.planner import RepertoirePolicy
+from hexapod_navigation.core.policy import Policy
+from hexapod_navigation.core.repertoire import Repertoire
+from hexapod_navigation.core.specialists import with_specialists
+from hexapod_navigation.core.step_bank import load_step_bank, StepBank
+from hexapod_navigation.core.tripod import SteeredTripod
 from hexapod_sim import create_simulator, scenario, SCENARIO_NAMES, SimConfig
 from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
 from hexapod_util.files import atomic_write_bytes
@@ -64,7 +64,8 @@ class NavigationSettings:
     goal_seed: int = 0
     methods: tuple[str, ...] = METHODS
     config: NavigationConfig = field(default_factory=NavigationConfig)
-    #: the repertoire's damage bank (hexapod_navigation.step_bank), used as config.use_bank says
+    #: the repertoire's damage bank (hexapod_navigation.core.step_bank), used as config.use_bank
+    #: says
     bank: Path | None = None
     #: leave each case's own damage out of the bank (damage the bank does not model)
     leave_out: bool = False
@@ -75,7 +76,7 @@ class NavigationSettings:
     #: the policy is told each case's damage, as the robot's servo reports would tell it
     #: (NavigationConfig.prior_reported; only damage the bank models is favoured)
     reported: bool = False
-    #: gaits made for the bank's damages (hexapod_navigation.specialists), appended to the
+    #: gaits made for the bank's damages (hexapod_navigation.core.specialists), appended to the
     #: repertoire and the bank as config.specialists says; None: none
     specialists: Path | None = None
 

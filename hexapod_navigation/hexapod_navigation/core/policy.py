@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from typing import Protocol
 
 from hexapod_gait import GaitParameters
-from hexapod_navigation.geometry import Pose2D
+from hexapod_navigation.core.geometry import Pose2D
 
 
 @dataclass(frozen=True)

@@ -12,10 +12,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 import os
 
-from hexapod_adapt.mapping.archive import ArchiveError, load_archive
-from hexapod_navigation.repertoire import Repertoire
-from hexapod_navigation.specialists import with_specialists
-from hexapod_navigation.step_bank import load_step_bank, StepBank
+from hexapod_adapt import ArchiveError, load_archive
+from hexapod_navigation.core.repertoire import Repertoire
+from hexapod_navigation.core.specialists import with_specialists
+from hexapod_navigation.core.step_bank import load_step_bank, StepBank
 import numpy as np
 
 
@@ -30,6 +30,20 @@ class NavigationData:
     specialists: int = 0  # steps of gaits made for a damage, appended to both
     no_specialists: str = ''  # why there are none, when they were asked for
 
+    def notes(self, use_bank: bool, use_specialists: bool) -> list[tuple[bool, str]]:
+        """Return what a node logs of this (each: whether it is a warning, the text)."""
+        found = self.repertoire is not None
+        notes = []
+        if self.bank is not None:
+            notes.append((False, f'damage bank: {len(self.bank)} damage hypotheses'))
+        elif found and use_bank:
+            notes.append((True, f'no damage bank, the GP learns alone: {self.no_bank}'))
+        if self.specialists:
+            notes.append((False, f'{self.specialists} steps of gaits made for a damage'))
+        elif found and use_specialists:
+            notes.append((True, f'no gaits made for a damage: {self.no_specialists}'))
+        return notes
+
 
 def load_navigation(
     repertoire_path: str | os.PathLike,
@@ -41,7 +55,7 @@ def load_navigation(
     Load a repertoire and the damage bank made for it; a bad file is said, never raised.
 
     ``specialists_path``: gaits made for the bank's damages
-    (:mod:`hexapod_navigation.specialists`), appended to the repertoire and the bank when they
+    (:mod:`hexapod_navigation.core.specialists`), appended to the repertoire and the bank when they
     were measured under the bank's damages (those whose step never tilts the body more than
     ``max_tilt`` rad under any); otherwise left out, and ``no_specialists`` says why.
     """

@@ -3,9 +3,10 @@
 """
 How navigate pursues a goal: its settings (:class:`NavigationConfig`), the goal checks (ROS-free).
 
-The settings of the learned correction (:mod:`hexapod_navigation.correction`), the planner
-(:mod:`hexapod_navigation.planner`) and the episode loop (:mod:`hexapod_navigation.episode`),
-each chosen on the tuning goals (studies/navigation/README.md says how).
+The settings of the learned correction (:mod:`hexapod_navigation.core.correction`), the planner
+(:mod:`hexapod_navigation.core.planner`) and the episode loop
+(:mod:`hexapod_navigation.core.episode`), each chosen on the tuning goals
+(studies/navigation/README.md says how).
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 import math
 
-from hexapod_navigation.geometry import Pose2D
+from hexapod_navigation.core.geometry import Pose2D
 
 #: NavigationConfig.planner's choices
 PLANNERS = ('nearest', 'time')
@@ -102,8 +103,8 @@ class NavigationConfig:
     #: (on: the median goal 14.2 s against 14.7 s)
     tripod_reported: bool = True
     #: the default map's fastest gaits intact and under each of the bank's lifted legs as more
-    #: steps (:mod:`hexapod_navigation.specialists`), when such a file is given. On: lifted legs
-    #: 1.69 -> 1.39 x the intact time
+    #: steps (:mod:`hexapod_navigation.core.specialists`), when such a file is given. On: lifted
+    #: legs 1.69 -> 1.39 x the intact time
     specialists: bool = True
     #: rad: only specialists whose step never tilts the body past this under any of the bank's
     #: damages (pi: all). 1.047, just under the 60 deg tip-over line: without it legs 3+5

@@ -14,8 +14,8 @@ from __future__ import annotations
 import math
 
 from hexapod_gait import GaitParameters, preset
-from hexapod_navigation.geometry import Pose2D, wrap_angle
-from hexapod_navigation.policy import Step
+from hexapod_navigation.core.geometry import Pose2D, wrap_angle
+from hexapod_navigation.core.policy import Step
 from hexapod_sim.damage import Damage
 from hexapod_sim.evaluation import evaluate_displacements
 from hexapod_sim.simulator import Simulator

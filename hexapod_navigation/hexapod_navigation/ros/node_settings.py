@@ -13,8 +13,8 @@ from dataclasses import asdict, fields
 import math
 from typing import Any, Mapping
 
-from hexapod_adapt.online.run_config import Setting
-from hexapod_navigation.config import NavigationConfig
+from hexapod_adapt import Setting
+from hexapod_navigation.core.config import NavigationConfig
 
 MODES = ('sim', 'robot')
 POSE_TYPES = ('pose', 'odometry')
@@ -35,14 +35,15 @@ SETTINGS = (
     Setting(
         'bank_file',
         '',
-        "the repertoire's damage bank (hexapod_navigation.step_bank), weighed when use_bank is"
+        "the repertoire's damage bank (hexapod_navigation.core.step_bank), weighed when use_bank"
+        ' is'
         ' true; empty = the shipped one (it fits the shipped repertoire only)',
         read_only=True,
     ),
     Setting(
         'specialists_file',
         '',
-        "gaits made for the bank's damages (hexapod_navigation.specialists), used when"
+        "gaits made for the bank's damages (hexapod_navigation.core.specialists), used when"
         ' specialists is true; empty = the shipped ones (they fit the shipped bank only)',
         read_only=True,
     ),

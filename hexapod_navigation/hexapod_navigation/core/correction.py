@@ -5,19 +5,18 @@ The learned correction of the repertoire's steps under damage (ROS-free).
 
 :class:`CorrectionGP`: one Gaussian process per displacement dimension (x, y, heading) over the
 repertoire's descriptor, learning from every step how the damage changes the steps, and weighing
-the damage bank's hypotheses (:mod:`hexapod_navigation.step_bank`) by how well they explain the
-steps and tripod cycles walked. The planner (:mod:`hexapod_navigation.planner`) plans on its
-predictions.
+the damage bank's hypotheses (:mod:`hexapod_navigation.core.step_bank`) by how well they explain
+the steps and tripod cycles walked. The planner (:mod:`hexapod_navigation.core.planner`) plans on
+its predictions.
 """
 
 from __future__ import annotations
 
 from typing import Sequence
 
-from hexapod_adapt.mapping.steps import REACH
-from hexapod_adapt.online.mboa import mixture
-from hexapod_navigation.config import NavigationConfig
-from hexapod_navigation.repertoire import Repertoire
+from hexapod_adapt import mixture, REACH
+from hexapod_navigation.core.config import NavigationConfig
+from hexapod_navigation.core.repertoire import Repertoire
 import numpy as np
 from scipy.linalg import solve_triangular
 
@@ -33,10 +32,10 @@ class CorrectionGP:
     a few steps for the whole repertoire). Hyperparameters from NavigationConfig.
 
     ``hypotheses`` (h, n, 3), optional: other prior means, e.g. the steps re-measured under each
-    one- and two-leg failure (:mod:`hexapod_navigation.step_bank`). Each, the intact repertoire
-    among them, is weighted by its prior (``config.prior_intact``) times its marginal likelihood
-    over the steps walked (the three dimensions' GPs together), and predictions are the mixture (as
-    in :class:`hexapod_adapt.online.mboa.Mboa`).
+    one- and two-leg failure (:mod:`hexapod_navigation.core.step_bank`). Each, the intact
+    repertoire among them, is weighted by its prior (``config.prior_intact``) times its marginal
+    likelihood over the steps walked (the three dimensions' GPs together), and predictions are the
+    mixture (as in :class:`hexapod_adapt.online.mboa.Mboa`).
 
     ``tripods`` (h + 1, 8, 3), optional with ``hypotheses``: the steered tripod's cycle in each
     crab direction under each hypothesis, intact first. Tripod cycles walked are evidence too

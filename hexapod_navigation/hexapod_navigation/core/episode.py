@@ -4,9 +4,10 @@
 A navigation episode: the loop that walks a body toward a goal step by step (ROS-free).
 
 :func:`run_episode` is shared by the experiment (:class:`SimBody`, a simulator) and the
-``navigate`` action (a body over the ROS graph, :mod:`hexapod_navigation.bodies`). It stops as
+``navigate`` action (a body over the ROS graph, :mod:`hexapod_navigation.ros.bodies`). It stops as
 soon as the robot is within the tolerance, the walking time is spent, the robot leaves the arena,
-or the caller cancels. The planners it asks for steps are in :mod:`hexapod_navigation.planner`.
+or the caller cancels. The planners it asks for steps are in
+:mod:`hexapod_navigation.core.planner`.
 """
 
 from __future__ import annotations
@@ -19,9 +20,9 @@ from typing import Callable, Protocol, Sequence
 
 from hexapod_gait import build_joint_table, GaitParameters, preset, standing_gait
 from hexapod_gait.trajectory import POSE_TRANSITION_S, transition
-from hexapod_navigation.config import NavigationConfig
-from hexapod_navigation.geometry import Pose2D
-from hexapod_navigation.policy import Policy
+from hexapod_navigation.core.config import NavigationConfig
+from hexapod_navigation.core.geometry import Pose2D
+from hexapod_navigation.core.policy import Policy
 from hexapod_sim.simulator import Simulator, TIP_OVER_DEG
 import numpy as np
 

@@ -25,11 +25,10 @@ import math
 import time
 from typing import Callable, Protocol
 
-from hexapod_adapt.online.adaptation import TrialAborted
-from hexapod_adapt.online.trials import SampleLog, Waiter
+from hexapod_adapt import SampleLog, TrialAborted, Waiter
 from hexapod_gait import GaitParameters, standing_gait
-from hexapod_navigation.episode import BodyFailure, past_guard, StepOutcome, tipped_over
-from hexapod_navigation.geometry import Pose2D
+from hexapod_navigation.core.episode import BodyFailure, past_guard, StepOutcome, tipped_over
+from hexapod_navigation.core.geometry import Pose2D
 
 
 @dataclass(frozen=True)

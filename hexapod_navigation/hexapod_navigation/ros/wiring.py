@@ -1,0 +1,60 @@
+# Copyright 2026 Hexapod adaptation team
+# SPDX-License-Identifier: MIT
+"""How navigate_node is wired to the graph: its pose subscriptions and the body it walks."""
+
+from __future__ import annotations
+
+from typing import Any, Mapping
+
+from geometry_msgs.msg import PoseStamped
+from hexapod_adapt import Waiter
+from hexapod_navigation.ros import navigate_msgs as conv
+from hexapod_navigation.ros.bodies import PoseLog, RobotGraphBody, SimGraphBody
+from hexapod_util.ros_glue import POSES
+from nav_msgs.msg import Odometry
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
+from rclpy.node import Node
+
+
+def subscribe_poses(
+    node: Node, values: Mapping[str, Any], poses: PoseLog, trial_poses: PoseLog
+) -> bool:
+    """
+    Feed ``poses`` from the pose source, and ``trial_poses`` from ``odom`` where that is not it.
+
+    The pose source is ``pose_topic`` when set (a PoseStamped or an Odometry, e.g. motion
+    capture), else ``odom``; on the robot ``odom`` is the bridge's trial odometry. The newest few
+    only (POSES), so a reader that falls behind skips stale poses instead of timing steps by them.
+    Returns whether the pose source is external.
+    """
+    sensors = MutuallyExclusiveCallbackGroup()
+    external = bool(values['pose_topic'])
+    if external:
+        kind = PoseStamped if values['pose_type'] == 'pose' else Odometry
+        node.create_subscription(
+            kind, values['pose_topic'], lambda m: poses.append(conv.pose_sample(m)), POSES,
+            callback_group=sensors,
+        )  # fmt: skip
+    odom_log = trial_poses if (values['mode'] == 'robot' or external) else poses
+    node.create_subscription(
+        Odometry, 'odom', lambda m: odom_log.append(conv.pose_sample(m)), POSES,
+        callback_group=sensors,
+    )  # fmt: skip
+    return external
+
+
+def make_body(
+    values: Mapping[str, Any],
+    graph: conv.GraphNavigationPort,
+    poses: PoseLog,
+    trial_poses: PoseLog,
+    waiter: Waiter,
+    external: bool,
+    tip_guard: float,
+) -> SimGraphBody | RobotGraphBody:
+    """Return the body navigate walks: sim_node's (``mode`` sim) or bridge_node's (robot)."""
+    if values['mode'] == 'sim':
+        return SimGraphBody(graph, poses, waiter, values['timeout'], tip_guard)
+    return RobotGraphBody(
+        graph, poses, trial_poses, waiter, values['trial_duration'], external, values['timeout']
+    )  # fmt: skip
