@@ -9,7 +9,8 @@ python scripts/bench.py all|gait|sim|map|adapt|bridge|navigate|firmware
 
 from __future__ import annotations
 
-from dataclasses import replace
+import importlib.util
+from pathlib import Path
 import sys
 import time
 
@@ -121,10 +122,10 @@ def bench_bridge() -> None:
     emulated time; bridge_link_down_max_ms / bridge_link_up_max_ms: the slowest of 10 radio-port
     losses to be reported, and of 10 returns to bring telemetry back, through the ROS graph.
     """
-    from hexapod_bridge import extension as ext
     from hexapod_bridge.emulator.firmware import RobotFirmware
     from hexapod_bridge.link import RobotLink
-    from hexapod_bridge.stream import HostParser
+    from hexapod_bridge.protocol import extension as ext
+    from hexapod_bridge.protocol.stream import HostParser
     from hexapod_gait import preset
 
     stream = b''.join(
@@ -364,244 +365,12 @@ def bench_map() -> None:
 
 
 def bench_adapt() -> None:
-    """
-    Adaptation benchmarks.
-
-    adapt_mboa_step_ms: one M-BOA step (observe a trial + pick the next gait) on a 40 000-gait map
-    after 19 trials (median of 20 runs' last steps). adapt_prior_rescore_s: the default map
-    re-scored under a damage no cache holds (leg 3 locked), 2 processes. Then thesis experiment 5.2
-    on the default map (``BENCH_ADAPT_MAP`` overrides it): every orientation of S1-S4, with trials
-    on the map's engine and again across engines (suffix _cross), in three setups: the default
-    profile (no suffix; the damaged control tripod is each run's success floor), the default
-    profile starting from the damage-informed prior (suffix _prior), and the thesis profile (suffix
-    _thesis; the thesis rule, no floor). Per run: the best speed found, the trials, the control
-    tripod with the same damage, and the ratio to the map's ceiling under the damage (cached
-    ceilings only; across engines, approximate PyBullet ceilings if cached -- none are shipped:
-    studies/adaptation/README.md, "Regret against the ceiling", says why). Runs end by M-BOA's
-    stopping rule, capped at the budget users get (24 trials), and for the thesis profile at
-    EXPERIMENT_MAX_TRIALS (100) so that its rule ends them. Trials are 5 s from standing (the
-    product's and the thesis's trial), with adapt_node's tip guard (a trial that tilts the body
-    past 30 deg scores 0; adapt_tipped_trials counts them). Then the default profile, blind
-    (_judge) and from the damage-informed prior (_prior_judge), with trials on the judge engine
-    (DART).
-    """
-    import os
-    from pathlib import Path
-
-    from hexapod_adapt.mapping.archive import load_archive
-    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
-    from hexapod_adapt.mapping.simulation import archive_engine
-    from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD, run_experiment
-    from hexapod_adapt.online.ceiling import (
-        approximate_ceiling,
-        approximate_key,
-        cache_path,
-        cached_ceiling,
-        ceiling,
-        ceiling_key,
-    )
-    from hexapod_adapt.online.mboa import Mboa, MboaConfig, PROFILES, TRIAL_BUDGET
-    from hexapod_sim import ENGINES
-    from hexapod_sim.scenarios import scenario
-    from hexapod_sim.simulator import JUDGE_ENGINE
-
-    rng = np.random.default_rng(0)
-    descriptors, prior = rng.random((40000, 6)), rng.uniform(0.1, 0.45, 40000)
-    steps = []
-    for _ in range(20):
-        opt = Mboa(descriptors, prior, MboaConfig(max_trials=20))
-        for _ in range(19):
-            opt.observe(opt.next_index(), float(rng.uniform(0, 0.3)))
-        t0 = time.perf_counter()
-        opt.observe(opt.next_index(), 0.2)
-        steps.append(time.perf_counter() - t0)
-    print(f'BENCH adapt_mboa_step_ms {np.median(steps) * 1e3:.2f} ms')
-
-    path = Path(os.environ.get('BENCH_ADAPT_MAP', shipped_map(DEFAULT_MAP)))
-    print(f'# experiment on {path}', file=sys.stderr)
-    archive = load_archive(path)
-    print(f'BENCH adapt_map_gaits {archive.n_filled} gaits')
-    map_engine = archive_engine(archive.metadata) or 'pybullet'
-    other = next(e for e in ENGINES if e != map_engine)
-    cached = shipped_ceilings()
-    # the damage-informed prior: the whole map re-scored under a damage no cache holds, as
-    # adapt_node does before a run (2 processes, the project machine's cores)
-    import tempfile
-
-    from hexapod_adapt.online.prior import damage_prior
-    from hexapod_sim.damage import Damage
-
-    with tempfile.TemporaryDirectory() as scratch:
-        prior = damage_prior(archive, Damage.of('locked', [3]), map_engine, scratch, workers=2)
-    print(f'BENCH adapt_prior_rescore_s {prior.seconds:.1f} s')
-    # the streaming prior: the time until the top of the map is re-scored and the first trial
-    # may start (the rest streams in between trials), same damage, no cache
-    from hexapod_adapt.online.streaming_prior import StreamingPrior
-
-    with tempfile.TemporaryDirectory() as scratch:
-        t0 = time.monotonic()
-        stream = StreamingPrior(archive, Damage.of('locked', [3]), map_engine, scratch, workers=2)
-        stream.wait_first(600)
-        print(f'BENCH adapt_prior_first_trial_s {time.monotonic() - t0:.1f} s')
-        stream.close()
-    legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
-
-    def ceilings(legs, engine):
-        if engine == map_engine:
-            return ceiling(archive, legs, engine, cached)
-        guide = ceiling(archive, legs, map_engine, cached)
-        return approximate_ceiling(archive, legs, engine, guide, CROSS_TOP, cached)
-
-    def key(legs, engine):
-        if engine == map_engine:
-            return ceiling_key(archive, legs, engine)
-        return approximate_key(archive, legs, engine, map_engine, CROSS_TOP)
-
-    def priors(legs):  # the map re-scored under the damage on its own engine (cached)
-        return ceiling(archive, legs, map_engine, cached).speeds
-
-    # read, not only found: a damaged or stale file counts as missing (its figures are skipped)
-    have_priors = all(
-        cached_ceiling(archive, legs, map_engine, [cached]) is not None for legs in legs_all
-    )
-    if have_priors:  # what the map holds under each scenario's damage (the shipped cache)
-        for name in ('S1', 'S2', 'S3', 'S4'):
-            best = [
-                ceiling(archive, legs, map_engine, cached).best_speed for legs in scenario(name)
-            ]
-            print(f'BENCH map_ceiling_median_{name} {np.median(best):.3f} m/s')
-    setups = [('', 'default', True, False), ('_thesis', 'thesis', False, False)]
-    if have_priors:
-        setups.insert(1, ('_prior', 'default', True, True))
-    for engine, cross in ((map_engine, ''), (other, '_cross')):
-        # cached ceilings only: a missing PyBullet ceiling costs many minutes of a core
-        have = all(cache_path(cached, key(legs, engine)).is_file() for legs in legs_all)
-        for label, name, floor, informed in setups:
-            suffix = label + cross
-            config = PROFILES[name]
-            rows = run_experiment(
-                archive,
-                config=replace(config, max_trials=100 if name == 'thesis' else TRIAL_BUDGET),
-                trial_engine=engine,
-                ceilings=ceilings if have else None,
-                floor=floor,
-                priors=priors if informed else None,
-                setup=name + ('+prior' if informed else ''),
-                tip_guard=DEFAULT_TIP_GUARD,
-            )
-            _print_experiment(rows, suffix, have, engine, cached)
-    # the judge: trials walked on the engine that takes no part in making or tuning anything
-    if map_engine != JUDGE_ENGINE:
-        for label, informed in (('', False), ('_prior', True)):
-            if informed and not have_priors:
-                continue
-            rows = run_experiment(
-                archive,
-                config=replace(PROFILES['default'], max_trials=TRIAL_BUDGET),
-                trial_engine=JUDGE_ENGINE,
-                floor=True,
-                priors=priors if informed else None,
-                setup='default' + ('+prior' if informed else ''),
-                tip_guard=DEFAULT_TIP_GUARD,
-            )
-            _print_experiment(rows, f'{label}_judge', False, JUDGE_ENGINE, cached)
-    _bench_damage_kinds(archive, map_engine, cached, legs_all)
-
-
-def _bench_damage_kinds(archive, map_engine: str, cached, legs_all) -> None:
-    """
-    Adaptation on every damage kind (issue 31): the default profile, blind and with the prior.
-
-    Per kind K: adapt_beats_control_<K> (of the 21 S1-S4 cases), adapt_speed_mean_<K> and, where
-    the shipped cache holds the kind's 21 ceilings, adapt_ceiling_ratio_median_<K> and _min_<K>;
-    the same with the damage-informed prior (suffix _prior), which needs those ceilings.
-    """
-    from hexapod_adapt.online.adaptation import run_experiment
-    from hexapod_adapt.online.ceiling import cached_ceiling, ceiling
-    from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
-    from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
-
-    config = replace(PROFILES['default'], max_trials=TRIAL_BUDGET)
-    for kind in EXPERIMENT_KINDS:
-        damages = [Damage.of(kind, legs) for legs in legs_all]
-        have = all(cached_ceiling(archive, d, map_engine, [cached]) is not None for d in damages)
-        if not have:
-            print(f'# no cached ceilings of kind {kind}: no ratios, no prior', file=sys.stderr)
-
-        def ceilings(damage, engine):
-            return ceiling(archive, damage, engine, cached)
-
-        for suffix, informed in (('', False), ('_prior', True)):
-            if informed and not have:
-                continue
-            rows = run_experiment(
-                archive,
-                config=config,
-                ceilings=ceilings if have else None,
-                floor=True,
-                priors=(lambda d: ceilings(d, map_engine).speeds) if informed else None,
-                setup='default' + ('+prior' if informed else ''),
-                kind=kind,
-            )
-            best = np.array([r.best_speed for r in rows])
-            control = np.array([r.control_speed for r in rows])
-            name = f'{kind}{suffix}'
-            beats = int(np.sum(best > control))
-            print(f'BENCH adapt_beats_control_{name} {beats} of {len(rows)} runs')
-            print(f'BENCH adapt_speed_mean_{name} {best.mean():.3f} m/s')
-            print(f'BENCH control_speed_mean_{name} {control.mean():.3f} m/s')
-            if have:
-                ratio = np.median([r.ratio for r in rows])
-                print(f'BENCH adapt_ceiling_ratio_median_{name} {ratio:.3f} 1')
-                print(f'BENCH adapt_ceiling_ratio_min_{name} {min(r.ratio for r in rows):.3f} 1')
-
-
-#: Across engines the ceiling is PyBullet over the gaits that walk best under the damage on MuJoCo.
-CROSS_TOP = 1000
-
-
-def _print_experiment(rows, suffix: str, have: bool, engine: str, cached) -> None:
-    """Print one experiment's BENCH lines (``have``: its rows carry ceiling ratios)."""
-    if have:
-        ratios = {r.scenario: [] for r in rows}
-        for r in rows:
-            ratios[r.scenario].append(r.ratio)
-        for name, values in ratios.items():
-            print(f'BENCH adapt_ceiling_ratio_median_{name}{suffix} {np.median(values):.3f} 1')
-        print(f'BENCH adapt_ceiling_ratio_min{suffix} {min(r.ratio for r in rows):.3f} 1')
-    else:
-        print(f'# no cached ceilings for {engine} in {cached}: no ratios', file=sys.stderr)
-    print(
-        f'BENCH adapt_walking_s_median{suffix} {np.median([r.walking_time for r in rows]):.1f} s'
-    )
-    best = np.array([r.best_speed for r in rows])
-    control = np.array([r.control_speed for r in rows])
-    print(f'BENCH adapt_speed_mean{suffix} {best.mean():.3f} m/s')
-    for name in ('S1', 'S2', 'S3', 'S4'):
-        sel = [r for r in rows if r.scenario == name]
-        print(
-            f'BENCH adapt_speed_median_{name}{suffix}'
-            f' {np.median([r.best_speed for r in sel]):.3f} m/s'
-        )
-        print(
-            f'BENCH adapt_trials_median_{name}{suffix}'
-            f' {np.median([r.trials for r in sel]):.1f} trials'
-        )
-    print(f'BENCH control_speed_mean{suffix} {control.mean():.3f} m/s')
-    print(f'BENCH control_speed_intact{suffix} {rows[0].intact_control_speed:.3f} m/s')
-    print(f'BENCH adapt_beats_control{suffix} {int(np.sum(best > control))} of {len(rows)} runs')
-    print(
-        f'BENCH adapt_within_24_trials{suffix} {sum(r.trials <= 24 for r in rows)} of'
-        f' {len(rows)} runs'
-    )
-    print(f'BENCH adapt_trials_max{suffix} {max(r.trials for r in rows)} trials')
-    print(f'BENCH adapt_trials_median{suffix} {np.median([r.trials for r in rows]):.1f} trials')
-    print(f'BENCH adapt_tipped_trials{suffix} {sum(r.tipped_trials for r in rows)} trials')
-    # the run's best met M-BOA's rule (alpha, the floor) when it ended, by the rule or at the
-    # budget (a blind default run goes on for an expected gain; until 2026-11-25: ended by it)
-    print(
-        f'BENCH adapt_stopped_by_rule{suffix} {sum(r.success for r in rows)} of {len(rows)} runs'
-    )
+    """Run the adaptation area, scripts/bench_adapt.py (loaded by path: PYTHONSAFEPATH)."""
+    path = Path(__file__).with_name('bench_adapt.py')
+    spec = importlib.util.spec_from_file_location('bench_adapt', path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    module.bench_adapt()
 
 
 def _not_yet(area: str):
@@ -630,6 +399,9 @@ def bench_navigate() -> None:
     """
     from hexapod_adapt.mapping.archive import load_archive
     from hexapod_bridge.emulator.consecutive import dead_reckoning
+    from hexapod_navigation.core.repertoire import Repertoire, shipped_repertoire
+    from hexapod_navigation.core.specialists import shipped_specialists
+    from hexapod_navigation.core.step_bank import shipped_step_bank
     from hexapod_navigation.offline.experiment import (
         METHODS,
         NavigationSettings,
@@ -637,9 +409,6 @@ def bench_navigate() -> None:
         summarise,
         versus_tripod,
     )
-    from hexapod_navigation.core.repertoire import Repertoire, shipped_repertoire
-    from hexapod_navigation.core.specialists import shipped_specialists
-    from hexapod_navigation.core.step_bank import shipped_step_bank
     from hexapod_sim import create_simulator
     from hexapod_sim.damage import EXPERIMENT_KINDS
 

@@ -50,8 +50,8 @@ def xmllint_problems(package: Path) -> list[str]:
     Run ament_xmllint on the package's XML files.
 
     Offline, xmllint cannot fetch package.xml's schema: then every file is checked to be
-    well-formed, the files without a schema reference fully, and tests/test_manifests.py checks
-    the manifests' content with catkin_pkg.
+    well-formed, the files without a schema reference fully, and tests/workspace/test_manifests.py
+    checks the manifests' content with catkin_pkg.
     """
     from ament_xmllint.main import main
 

@@ -19,8 +19,8 @@ import math
 
 from hexapod_gait import preset
 from hexapod_sim import evaluate_gait, SimConfig
-import hexapod_sim.pybullet_engine as engine
-from hexapod_sim.pybullet_engine import PyBulletSimulator
+import hexapod_sim.physics.pybullet_engine as engine
+from hexapod_sim.physics.pybullet_engine import PyBulletSimulator
 from hexapod_sim.scenarios import scenario
 import hexapod_sim.simulator as simulator
 import numpy as np

@@ -19,9 +19,35 @@ import threading
 import time
 from typing import Any, Callable
 
+from hexapod_adapt.mapping.archive import Archive
+from hexapod_adapt.mapping.simulation import simulation_fingerprint
+from hexapod_sim import create_simulator, evaluate_gait
+from hexapod_sim.sampling import random_feasible_genotypes
+import numpy as np
 import pytest
 
 WS = Path(__file__).resolve().parent.parent
+FAILED = [2]  # the legs the small archive's damaged speeds are measured with
+
+
+@pytest.fixture(scope='module')
+def small_archive(tmp_path_factory):
+    """12 feasible gaits, each its own niche, with their map-generation evaluations."""
+    with create_simulator() as sim:
+        genes, results = random_feasible_genotypes(12, seed=77, sim=sim)
+        damaged = [
+            evaluate_gait(g, sim, collisions_fatal=False, failed_legs=FAILED).speed for g in genes
+        ]
+    desc = np.array([r.descriptor for r in results])
+    archive = Archive(
+        desc,
+        np.array([r.fitness for r in results]),
+        desc,
+        genes,
+        {'seed': 77, 'evaluations': 12, **simulation_fingerprint('pybullet')},
+    )
+    path = archive.save(tmp_path_factory.mktemp('archive') / 'map.npz')
+    return path, archive, np.array(damaged)
 
 
 def status_log_qos():

@@ -6,8 +6,9 @@ Write firmware/include/hexapod_fw/generated.hpp from the Python packages that ow
 
 The C++ module never retypes a number: link lengths and leg mounts come from the URDF
 (hexapod_description), parameter ranges, tolerances and the compiled-in tripod from hexapod_gait,
-the protocol's codes from hexapod_bridge.extension, the firmware timing from the emulator's model.
-The header is committed (a firmware build has no Python); a test checks it is up to date.
+the protocol's codes from hexapod_bridge.protocol.extension, the firmware timing from the
+emulator's model. The header is committed (a firmware build has no Python); a test checks it is up
+to date.
 
     python firmware/tools/gen_constants.py [--check]
 """
@@ -29,9 +30,10 @@ def _f(value: float) -> str:
 
 def render() -> str:
     """Return the header's text."""
-    from hexapod_bridge import extension as ext
-    from hexapod_bridge import legacy, servos
+    from hexapod_bridge import servos
     from hexapod_bridge.emulator import firmware as model
+    from hexapod_bridge.protocol import extension as ext
+    from hexapod_bridge.protocol import legacy
     from hexapod_description import load_model
     from hexapod_gait import preset, RANGES, ROBOT_RATE, trajectory
     from hexapod_sim.damage import FAILURE_POSE
@@ -66,7 +68,7 @@ def render() -> str:
         f'constexpr uint32_t kPoseTransitionMs = {round(trajectory.POSE_TRANSITION_S * 1000)};',
         f'constexpr double kMaxPeriod = {_f(RANGES["period"][1])};  // [s]',
         '',
-        '// --- radio protocol (hexapod_bridge.extension, docs/radio-protocol.md) ---',
+        '// --- radio protocol (hexapod_bridge.protocol.extension, docs/radio-protocol.md) ---',
         f'constexpr int kParams = {ext.N_PARAMS};',
         f'constexpr uint8_t kMarker = 0x{ext.MARKER:02X};',
         f'constexpr uint8_t kProtocolMajor = {ext.PROTOCOL_MAJOR};',

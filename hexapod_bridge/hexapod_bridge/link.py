@@ -27,10 +27,10 @@ import itertools
 import math
 from typing import Any
 
-from hexapod_bridge import extension as ext
-from hexapod_bridge import legacy
+from hexapod_bridge.protocol import extension as ext
+from hexapod_bridge.protocol import legacy
+from hexapod_bridge.protocol.stream import AMBIGUOUS_ACKS, HostParser
 from hexapod_bridge.servos import SERVO_PING_FAILED
-from hexapod_bridge.stream import AMBIGUOUS_ACKS, HostParser
 
 PRIORITY_ESTOP, PRIORITY_PING, PRIORITY_TRIAL, PRIORITY_MOVE, PRIORITY_UPLOAD = range(5)
 

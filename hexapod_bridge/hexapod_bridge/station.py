@@ -21,10 +21,10 @@ import threading
 import time
 from typing import Callable
 
-from hexapod_bridge import legacy, xbus
-from hexapod_bridge.extension import TrialState
 from hexapod_bridge.link import Operation, RobotLink
 from hexapod_bridge.odometry import TrialEstimate, TrialOdometry
+from hexapod_bridge.protocol import legacy, xbus
+from hexapod_bridge.protocol.extension import TrialState
 from hexapod_bridge.serial_port import ReconnectingPort
 
 #: The robot's reports that end a trial.

@@ -10,11 +10,11 @@ from __future__ import annotations
 
 import struct
 
-from hexapod_bridge import extension as ext
-from hexapod_bridge import legacy
-from hexapod_bridge.crc import crc16
 from hexapod_bridge.emulator.firmware import RobotFirmware
 from hexapod_bridge.link import RobotLink
+from hexapod_bridge.protocol import extension as ext
+from hexapod_bridge.protocol import legacy
+from hexapod_bridge.protocol.crc import crc16
 from hexapod_gait import preset
 import pytest
 
@@ -146,7 +146,7 @@ def test_legacy_firmware_fallbacks():
 
 
 def test_movement_acks_are_never_ambiguous():
-    from hexapod_bridge.stream import AMBIGUOUS_ACKS
+    from hexapod_bridge.protocol.stream import AMBIGUOUS_ACKS
 
     link = RobotLink()
     for speed in range(0, 100):

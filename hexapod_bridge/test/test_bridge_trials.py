@@ -9,10 +9,10 @@ and garbled (seeded, no ROS; firmware emulator in the loop).
 
 from __future__ import annotations
 
-from hexapod_bridge import extension as ext
 from hexapod_bridge.emulator.firmware import RobotFirmware
 from hexapod_bridge.link import RobotLink
-from hexapod_bridge.stream import HostParser
+from hexapod_bridge.protocol import extension as ext
+from hexapod_bridge.protocol.stream import HostParser
 from hexapod_gait import preset
 import numpy as np
 import pytest

@@ -6,7 +6,6 @@ The hexapod simulator, gait evaluation and failure scenarios (ROS-free).
 One simulator interface, three engines: PyBullet, MuJoCo and DART (the judge).
 """
 
-from hexapod_sim.engines import create_simulator
 from hexapod_sim.evaluation import (
     evaluate_gait,
     evaluate_gaits,
@@ -14,6 +13,7 @@ from hexapod_sim.evaluation import (
     FAILURE_FITNESS,
     TRIAL_DURATION,
 )
+from hexapod_sim.physics.engines import create_simulator
 from hexapod_sim.scenarios import all_scenarios, scenario, SCENARIO_NAMES
 from hexapod_sim.simulator import (
     ENGINES,

@@ -18,8 +18,8 @@ import itertools
 from pathlib import Path
 import sys
 
-from hexapod_sim.engines import create_simulator
 from hexapod_sim.fidelity import agreement, fidelity_rows, markdown
+from hexapod_sim.physics.engines import create_simulator
 from hexapod_sim.simulator import ENGINES, SimConfig
 from hexapod_util.cli import input_file, run_command
 from hexapod_util.npz import float_array, read_npz, UnreadableFile

@@ -20,7 +20,7 @@ import sys
 from hexapod_description import N_LEGS
 from hexapod_gait import build_joint_table, preset, PRESETS
 from hexapod_gait.footfall import plot_footfall
-from hexapod_sim.engines import create_simulator
+from hexapod_sim.physics.engines import create_simulator
 from hexapod_sim.simulator import ENGINES, SimConfig
 from hexapod_util.cli import (
     add_force,

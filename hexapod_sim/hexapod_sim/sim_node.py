@@ -4,7 +4,7 @@
 ``ros2 run hexapod_sim sim_node``: the simulated hexapod in the ROS graph (PyBullet or MuJoCo).
 
 Plays the latest one-cycle ``gait/joint_trajectory`` (latched) cyclically from phase 0, with the
-physics in its own thread (:mod:`hexapod_sim.physics_loop`). Publishes ``/clock``; every
+physics in its own thread (:mod:`hexapod_sim.physics.physics_loop`). Publishes ``/clock``; every
 ``publish_period_steps`` steps from the last reset ``odom`` (pose and twist, reliable) with
 odom -> base_link on ``/tf``, ``joint_states``, ``imu/data`` and ``foot_contacts`` (sensor QoS);
 latched ``sim/active_trajectory`` (the stamp being played), ``sim/last_reset``, ``sim/status``
@@ -29,8 +29,8 @@ from hexapod_msgs.msg import FootContacts, LegDamage, TrajectoryActivation
 from hexapod_msgs.srv import GetLegDamage, SetLegFailure
 from hexapod_sim import ros_conversions as conv
 from hexapod_sim.damage import applied_message, Damage, damage_from_lists
-from hexapod_sim.engines import create_simulator
-from hexapod_sim.physics_loop import LoopHooks, PhysicsLoop, publish_period_steps
+from hexapod_sim.physics.engines import create_simulator
+from hexapod_sim.physics.physics_loop import LoopHooks, PhysicsLoop, publish_period_steps
 from hexapod_sim.simulator import DEFAULT_FRICTION, SimConfig
 from hexapod_sim.trajectory_input import CycleTable, TrajectoryError
 from hexapod_util.ros_glue import (

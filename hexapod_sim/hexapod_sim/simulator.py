@@ -6,11 +6,12 @@ The engine-neutral simulator interface (thesis section 3.5); ROS-free.
 Every loop that steps physics (gait evaluation, ``sim_node``, ``render_walk``, the robot
 emulator) talks to a :class:`Simulator`. Two engines implement it:
 
-* ``pybullet`` (:mod:`hexapod_sim.pybullet_engine`): the thesis's engine, the reference and the
-  default of ``sim_node``;
-* ``mujoco`` (:mod:`hexapod_sim.mujoco_engine`): the fast engine for maps and large experiments;
-* ``dart`` (:mod:`hexapod_sim.dart_engine`): the judge, for reporting only; it takes no part in
-  making a map, choosing a method, tuning a setting or choosing a default.
+* ``pybullet`` (:mod:`hexapod_sim.physics.pybullet_engine`): the thesis's engine, the reference and
+  the default of ``sim_node``;
+* ``mujoco`` (:mod:`hexapod_sim.physics.mujoco_engine`): the fast engine for maps and large
+  experiments;
+* ``dart`` (:mod:`hexapod_sim.physics.dart_engine`): the judge, for reporting only; it takes no
+  part in making a map, choosing a method, tuning a setting or choosing a default.
 
 All load ``hexapod_description``'s URDF. Engine internals (clients, bodies, ``MjData``) stay in
 the engine modules; nothing else touches them. :func:`create_simulator` picks the engine named in

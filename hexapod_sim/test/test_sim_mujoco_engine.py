@@ -252,7 +252,7 @@ def test_a_rollout_that_stops_at_its_first_collision_is_the_whole_rollout_cut_sh
     only the steps up to the end of that chunk.
     """
     from hexapod_gait import build_joint_table
-    from hexapod_sim import mujoco_engine
+    from hexapod_sim.physics import mujoco_engine
     from hexapod_sim.simulator import JointRows
 
     played: list[int] = []

@@ -9,8 +9,8 @@ import time
 
 from hexapod_gait import build_joint_table, preset
 from hexapod_sim.damage import Damage
-from hexapod_sim.engines import create_simulator
-from hexapod_sim.physics_loop import LoopHooks, PhysicsLoop, publish_period_steps
+from hexapod_sim.physics.engines import create_simulator
+from hexapod_sim.physics.physics_loop import LoopHooks, PhysicsLoop, publish_period_steps
 from hexapod_sim.simulator import SimConfig
 from hexapod_sim.trajectory_input import CycleTable
 import pytest

@@ -45,11 +45,11 @@ def _progress_speed(steps: np.ndarray, duration: float, bearing: float) -> float
 def bound(out) -> None:
     from hexapod_gait.trajectory import POSE_TRANSITION_S
     from hexapod_navigation.core.config import NavigationConfig
-    from hexapod_navigation.offline.experiment import draw_goals
     from hexapod_navigation.core.loading import load_navigation
     from hexapod_navigation.core.repertoire import shipped_repertoire
     from hexapod_navigation.core.step_bank import shipped_step_bank
     from hexapod_navigation.core.tripod import TripodSteps
+    from hexapod_navigation.offline.experiment import draw_goals
 
     data = load_navigation(shipped_repertoire(), shipped_step_bank())
     rep, bank = data.repertoire, data.bank
@@ -94,9 +94,9 @@ def bound(out) -> None:
 
 def known(out) -> None:
     from hexapod_navigation.core.config import NavigationConfig
-    from hexapod_navigation.offline.experiment import NavigationSettings, run_navigation
     from hexapod_navigation.core.repertoire import shipped_repertoire
     from hexapod_navigation.core.step_bank import shipped_step_bank
+    from hexapod_navigation.offline.experiment import NavigationSettings, run_navigation
 
     print('\n## 2. navigate on the tuning goals (seed 100), lifted legs', file=out)
     for name, config, reported in (

@@ -140,14 +140,14 @@ GRIDS = {
 
 def main(argv: list[str] | None = None) -> int:
     from hexapod_navigation.core.config import NavigationConfig
+    from hexapod_navigation.core.repertoire import shipped_repertoire
+    from hexapod_navigation.core.step_bank import shipped_step_bank
     from hexapod_navigation.offline.experiment import (
         NavigationSettings,
         run_navigation,
         scenarios_beating_baselines,
         summarise,
     )
-    from hexapod_navigation.core.repertoire import shipped_repertoire
-    from hexapod_navigation.core.step_bank import shipped_step_bank
 
     ap = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     ap.add_argument('--repertoire', type=Path, default=shipped_repertoire())

@@ -234,6 +234,9 @@ REPORTED_GRIDS = ('reported', 'reported_tripod')
 
 def main(argv: list[str] | None = None) -> int:
     from hexapod_navigation.core.config import NavigationConfig
+    from hexapod_navigation.core.repertoire import shipped_repertoire
+    from hexapod_navigation.core.specialists import shipped_specialists
+    from hexapod_navigation.core.step_bank import shipped_step_bank
     from hexapod_navigation.offline.experiment import (
         NavigationSettings,
         read_rows,
@@ -242,9 +245,6 @@ def main(argv: list[str] | None = None) -> int:
         versus_tripod,
         write_results,
     )
-    from hexapod_navigation.core.repertoire import shipped_repertoire
-    from hexapod_navigation.core.specialists import shipped_specialists
-    from hexapod_navigation.core.step_bank import shipped_step_bank
     from hexapod_sim.damage import EXPERIMENT_KINDS
 
     ap = argparse.ArgumentParser(prog='tune_tripod_option', description=__doc__.split('\n\n')[0])

@@ -23,14 +23,13 @@ import sys
 from typing import Any, Callable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive, load_archive
-from hexapod_util.files import save_png
 from hexapod_adapt.mapping.simulation import archive_engine
 from hexapod_adapt.online.adaptation import adapt, map_speed, simulated_trial
 from hexapod_adapt.online.ceiling import approximate_ceiling, Ceiling, ceiling
 from hexapod_adapt.online.mboa import MboaConfig, PROFILES, TRIAL_BUDGET
 from hexapod_sim import create_simulator, ENGINES, SimConfig
 from hexapod_util.cli import input_file, output_dir, output_file, run_command
-from hexapod_util.files import atomic_write_bytes
+from hexapod_util.files import atomic_write_bytes, save_png
 import matplotlib.pyplot as plt
 import numpy as np
 from studies.tuning_set import TUNING_DAMAGES

@@ -27,7 +27,7 @@ constexpr int kTimeDecimals = 12;
 constexpr uint32_t kPoseTransitionMs = 500;
 constexpr double kMaxPeriod = 10.0;  // [s]
 
-// --- radio protocol (hexapod_bridge.extension, docs/radio-protocol.md) ---
+// --- radio protocol (hexapod_bridge.protocol.extension, docs/radio-protocol.md) ---
 constexpr int kParams = 36;
 constexpr uint8_t kMarker = 0xE7;
 constexpr uint8_t kProtocolMajor = 1;

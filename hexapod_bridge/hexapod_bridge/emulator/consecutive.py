@@ -17,13 +17,13 @@ from dataclasses import dataclass
 import math
 from typing import Sequence
 
-from hexapod_bridge import extension as ext
 from hexapod_bridge.emulator.firmware import ImuNoise, RobotFirmware
 from hexapod_bridge.emulator.native import NativeRobotFirmware
 from hexapod_bridge.link import RobotLink
 from hexapod_bridge.odometry import TrialOdometry
+from hexapod_bridge.protocol import extension as ext
+from hexapod_bridge.protocol.xbus import MTData, XbusParser
 from hexapod_bridge.station import StationConfig
-from hexapod_bridge.xbus import MTData, XbusParser
 from hexapod_sim import Simulator
 
 #: The rest after a walk before the odometry window closes: bridge_node's settings

@@ -29,11 +29,11 @@ import math
 import struct
 from typing import Callable, Sequence
 
-from hexapod_bridge import extension as ext
-from hexapod_bridge import legacy, xbus
 from hexapod_bridge.emulator.servo_targets import ServoTargets
+from hexapod_bridge.protocol import extension as ext
+from hexapod_bridge.protocol import legacy, xbus
+from hexapod_bridge.protocol.stream import LegacyCommand, PingFrame, RobotReceiver
 from hexapod_bridge.servos import SERVO_IDS, SERVO_PING_FAILED
-from hexapod_bridge.stream import LegacyCommand, PingFrame, RobotReceiver
 from hexapod_gait import build_joint_table, preset, RANGES, ReachabilityError, ROBOT_RATE
 from hexapod_gait.trajectory import POSE_TRANSITION_S, transition
 from hexapod_sim.simulator import quat_to_euler, quat_to_matrix

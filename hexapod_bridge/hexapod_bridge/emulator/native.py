@@ -17,7 +17,6 @@ import ctypes
 import os
 from typing import Callable, Sequence
 
-from hexapod_bridge import extension as ext
 from hexapod_bridge.emulator.differential import firmware_prefix, FirmwareBuildMissing
 from hexapod_bridge.emulator.firmware import (
     EmulatedImu,
@@ -27,6 +26,7 @@ from hexapod_bridge.emulator.firmware import (
     to_ms,
     TrialRecord,
 )
+from hexapod_bridge.protocol import extension as ext
 import numpy as np
 
 N_JOINTS = 18

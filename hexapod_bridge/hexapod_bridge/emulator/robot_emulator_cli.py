@@ -35,9 +35,9 @@ import sys
 import time
 import tty
 
-from hexapod_bridge import extension as ext
 from hexapod_bridge.emulator.firmware import FirmwareTiming, ImuNoise, RobotFirmware
 from hexapod_bridge.emulator.native import NativeRobotFirmware
+from hexapod_bridge.protocol import extension as ext
 from hexapod_bridge.reports import servo_report
 from hexapod_bridge.servos import SERVO_IDS, servo_place
 from hexapod_sim import create_simulator, ENGINES, SimConfig

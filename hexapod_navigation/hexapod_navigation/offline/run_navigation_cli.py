@@ -131,8 +131,8 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     # the engines' compiled modules load before the signal handlers, as part of start-up: a
     # signal inside a compiled module's import surfaces as a bare ImportError
-    import hexapod_sim.mujoco_engine  # noqa: F401
-    import hexapod_sim.pybullet_engine  # noqa: F401
+    import hexapod_sim.physics.mujoco_engine  # noqa: F401
+    import hexapod_sim.physics.pybullet_engine  # noqa: F401
 
     return run_command('run_navigation', lambda: _run(args))
 

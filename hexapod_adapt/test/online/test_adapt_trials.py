@@ -1,0 +1,256 @@
+# Copyright 2026 Hexapod adaptation team
+# SPDX-License-Identifier: MIT
+"""
+The trial procedures of adapt_node without ROS: a port that behaves like the graph.
+
+The same procedures run through the real graph in tests/graph/test_adapt_graph.py; here each rule
+is pinned down on its own, including the faults a loaded graph produces (lost samples, refusals, a
+node that never answers).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+from hexapod_adapt.online.adaptation import TrialAborted
+from hexapod_adapt.online.trials import (
+    along,
+    ManualTrials,
+    OdomLog,
+    OdomSample,
+    RobotTrials,
+    sim_trial_speed,
+    SimTrials,
+    TrialTiming,
+    Upload,
+    Waiter,
+)
+import pytest
+
+SECOND = 1_000_000_000
+
+
+class FakeClock:
+    """Time that moves only when the code under test sleeps."""
+
+    def __init__(self) -> None:
+        self.t = 0.0
+
+    def __call__(self) -> float:
+        return self.t
+
+    def sleep(self, dt: float) -> None:
+        self.t += dt
+
+
+def _waiter(clock: FakeClock, check=None) -> Waiter:
+    return Waiter(lambda: True, check, clock=clock, sleep=clock.sleep)
+
+
+class SimGraph:
+    """sim_node as a trial sees it: plays the published gait, resets, streams odometry."""
+
+    def __init__(self, odom: OdomLog, speed: float, crab: float = 0.0, lose=(), lag=0.0):
+        self.odom, self.speed, self.crab = odom, speed, crab
+        self.lag = lag  # s the robot takes to get going after the reset
+        self.lose = set(lose)  # attempts whose end sample is lost in transport
+        self.stamps = itertools.count(1)
+        self.now = 100 * SECOND
+        self.attempt = 0
+        self._active = self._reset = None
+        self.refuse_reset = ''
+
+    def publish_gait(self, niche):
+        stamp = next(self.stamps)
+        self._active = stamp  # played at once
+        return stamp, self.crab
+
+    def active_stamp(self):
+        return self._active
+
+    def reset_stamp(self):
+        return self._reset
+
+    def reset(self):
+        if self.refuse_reset:
+            return False, self.refuse_reset
+        self.attempt += 1
+        self._reset = self.now
+        for k in range(0, 51):  # 10 Hz of sim time for 5 s, starting at the reset
+            t = self.now + k * SECOND // 10
+            if k == 50 and self.attempt in self.lose:
+                continue
+            d = self.speed * max(0.0, k / 10 - self.lag)
+            self.odom.append(
+                OdomSample(t, d * math.cos(self.crab), d * math.sin(self.crab), 0, 0, 0.0)
+            )
+        self.now += 60 * SECOND
+        if self.attempt in self.lose:  # a later sample arrives, so the trial knows it is over
+            self.odom.append(OdomSample(self.now, 0, 0, 0, 0, 0.0))
+        return True, ''
+
+
+def test_along_projects_on_the_walking_direction():
+    assert along(1.0, 0.0, 0.0) == 1.0
+    assert along(0.0, 2.0, math.pi / 2) == pytest.approx(2.0)
+    assert along(1.0, 1.0, math.pi) == pytest.approx(-1.0)
+
+
+def test_sim_trial_speed_needs_both_samples():
+    samples = [OdomSample(0, 0.0, 0.0, 0, 0, 0), OdomSample(5 * SECOND, 1.5, 0.0, 0, 0, 0)]
+    assert sim_trial_speed(samples, 0, 5.0, 0.0) == pytest.approx(0.3)
+    assert sim_trial_speed(samples[:1], 0, 5.0, 0.0) is None
+    assert sim_trial_speed(samples[1:], 0, 5.0, 0.0) is None
+
+
+@pytest.mark.parametrize('crab', [0.0, 0.5, -2.0])
+def test_a_sim_trial_measures_along_the_gait_direction(crab):
+    clock, odom = FakeClock(), OdomLog()
+    graph = SimGraph(odom, speed=0.25, crab=crab)
+    trial = SimTrials(graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), warn=print)
+    assert trial(7).speed == pytest.approx(0.25)
+
+
+def test_a_settled_sim_trial_times_only_the_walk_after_the_settling():
+    clock, odom = FakeClock(), OdomLog()
+    graph = SimGraph(odom, speed=0.3, lag=0.8)  # standing for 0.8 s, then 0.3 m/s
+    settled = SimTrials(graph, odom, _waiter(clock), TrialTiming(2.0, 10.0, settle=1.0), print)
+    assert settled.timing.walking == 3.0
+    assert settled(4).speed == pytest.approx(0.3)
+    from_standing = SimTrials(graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), print)
+    assert from_standing(4).speed == pytest.approx(0.3 * (5.0 - 0.8) / 5.0)
+    samples = [OdomSample(k * SECOND, 0.1 * k * k, 0.0, 0, 0, 0) for k in range(4)]
+    assert sim_trial_speed(samples, 0, 2.0, 0.0, settle=1.0) == pytest.approx((0.9 - 0.1) / 2)
+    assert sim_trial_speed(samples, 0, 2.0, 0.0, settle=0.5) is None  # no sample at 0.5 s
+
+
+def test_a_lost_sample_repeats_the_trial_then_gives_up_with_the_reason():
+    clock, odom, warnings = FakeClock(), OdomLog(), []
+    graph = SimGraph(odom, speed=0.2, lose={1})
+    trial = SimTrials(graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), warnings.append)
+    assert trial(3).speed == pytest.approx(0.2) and graph.attempt == 2
+    assert 'repeating the trial (attempt 2)' in warnings[0]
+    graph = SimGraph(odom := OdomLog(), speed=0.2, lose={1, 2, 3})
+    trial = SimTrials(graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), warnings.append)
+    with pytest.raises(TrialAborted, match='kept getting lost'):
+        trial(3)
+
+
+def test_a_refused_reset_and_a_silent_simulator_abort_with_what_happened():
+    clock, odom = FakeClock(), OdomLog()
+    graph = SimGraph(odom, speed=0.2)
+    graph.refuse_reset = 'engine busy'
+    trial = SimTrials(graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), print)
+    with pytest.raises(TrialAborted, match='refused the reset: engine busy'):
+        trial(1)
+    graph.refuse_reset = ''
+    graph.publish_gait = lambda niche: (999, 0.0)  # published, but sim_node never plays it
+    with pytest.raises(TrialAborted, match='timed out after 10 s waiting for sim_node to play'):
+        trial(1)
+
+
+class Bridge:
+    """bridge_node as a trial sees it: uploads, starts, then publishes the trial's odometry."""
+
+    def __init__(self, odom: OdomLog, clock: FakeClock, velocity=(0.3, 0.0), crab=0.0):
+        self.odom, self.clock, self.velocity, self.crab = odom, clock, velocity, crab
+        self.answer = None
+
+    def upload(self, niche, timeout):
+        return self.answer or Upload(True, 'uploaded', niche), self.crab
+
+    def start_trial(self):
+        t = self.clock() + 6.0
+        self.odom.append(OdomSample(0, 0, 0, *self.velocity, received=t))
+        return True, 'started'
+
+
+def test_a_robot_trial_reads_the_bridge_odometry_that_follows_its_start():
+    clock, odom = FakeClock(), OdomLog()
+    odom.append(OdomSample(0, 0, 0, 9.0, 9.0, received=-1.0))  # an earlier trial's message
+    bridge = Bridge(odom, clock, velocity=(0.0, 0.2), crab=math.pi / 2)
+    trial = RobotTrials(
+        bridge, odom, _waiter(clock), TrialTiming(5.0, 10.0, 1.0), clock.sleep, clock
+    )
+    assert trial(4).speed == pytest.approx(0.2)
+    assert clock.t >= 1.0  # stood still first
+
+
+def test_a_gait_the_robot_refuses_or_confirms_for_another_index_aborts():
+    clock, odom = FakeClock(), OdomLog()
+    bridge = Bridge(odom, clock)
+    trial = RobotTrials(bridge, odom, _waiter(clock), TrialTiming(5.0, 10.0), clock.sleep, clock)
+    bridge.answer = Upload(False, 'gait not uploaded: step height out of range', 4)
+    with pytest.raises(TrialAborted, match='step height out of range'):
+        trial(4)
+    bridge.answer = Upload(True, 'uploaded', 5)
+    with pytest.raises(TrialAborted, match='did not confirm'):
+        trial(4)
+
+
+def test_manual_trials_take_a_plausible_distance_only_while_waiting():
+    clock = FakeClock()
+    prompts = []
+    manual = ManualTrials(Bridge(OdomLog(), clock), None, TrialTiming(5.0, 10.0), prompts.append)
+    assert manual.report(1.0) == 'no manual trial is waiting for a distance'
+
+    class Operator(Waiter):
+        """The operator measures while the trial waits."""
+
+        def until(self, predicate, timeout, what):
+            assert manual.report(float('nan')).startswith('distance nan m')
+            assert manual.report(51.0).startswith('distance 51.0 m')
+            assert manual.report(1.5) == ''
+            return super().until(predicate, timeout, what)
+
+    manual.waiter = Operator(lambda: True, clock=clock, sleep=clock.sleep)
+    assert manual(2) == pytest.approx(0.3)
+    assert 'archive gait 2' in prompts[0] and not manual.waiting
+
+
+def test_the_waiter_stops_for_a_check_and_on_shutdown():
+    clock = FakeClock()
+    waiter = _waiter(clock, check=lambda: 'two nodes named /sim_node' if clock.t > 2 else '')
+    with pytest.raises(TrialAborted, match='two nodes named'):
+        waiter.until(lambda: False, 60.0, 'nothing')
+    assert 2.0 < clock.t < 4.0
+    alive = iter([True, False])
+    waiter = Waiter(lambda: next(alive), clock=clock, sleep=clock.sleep)
+    with pytest.raises(TrialAborted, match='shutting down'):
+        waiter.until(lambda: False, 60.0, 'nothing')
+    assert _waiter(clock).until(lambda: 42, 1.0, 'an answer') == 42
+
+
+def test_a_gait_that_ends_upside_down_is_a_fall_not_a_walk():
+    """
+    On PyBullet this default-map gait ends on its back with leg 1 lifted: a fall, scored 0.
+
+    (Gait 18287 of the 14,607-gait map; on the first default map gait 6312 did, sliding 5 m.)
+    """
+    from hexapod_adapt.mapping.archive import load_archive
+    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+    from hexapod_sim.evaluation import FELL_OVER
+    from hexapod_sim.simulator import upside_down
+
+    genes = load_archive(shipped_map(DEFAULT_MAP)).genotypes[18287]
+    from hexapod_sim import create_simulator, evaluate_gait, SimConfig
+
+    with create_simulator(SimConfig(engine='pybullet')) as s:
+        result = evaluate_gait(genes, s, collisions_fatal=False, failed_legs=[1])
+        assert upside_down(s.base_pose()[1])  # it did end on its back
+        assert result.fitness == 0.0 and result.reason == FELL_OVER and not result.valid
+        upright = evaluate_gait(genes, s, collisions_fatal=False, failed_legs=[])
+        assert upright.valid and upright.fitness != 0.0
+    assert not upside_down((0.0, 0.0, 0.0, 1.0)) and upside_down((1.0, 0.0, 0.0, 0.0))
+    assert not upside_down((0.38, 0.0, 0.0, 0.92))  # rolled 45 degrees: still up
+
+
+def test_a_graph_trial_that_ends_upside_down_measures_0():
+    from hexapod_adapt.online.trials import OdomSample, sim_trial_speed
+
+    start = OdomSample(0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    walked = OdomSample(5_000_000_000, 1.5, 0.0, 0.0, 0.0, 0.0)
+    fell = OdomSample(5_000_000_000, 1.5, 0.0, 0.0, 0.0, 0.0, upside_down=True)
+    assert sim_trial_speed([start, walked], 0, 5.0, 0.0) == pytest.approx(0.3)
+    assert sim_trial_speed([start, fell], 0, 5.0, 0.0) == 0.0

@@ -1,0 +1,317 @@
+# Copyright 2026 Hexapod adaptation team
+# SPDX-License-Identifier: MIT
+"""
+adapt_node on the robot's side of the graph: bridge_node with the emulated robot, manual mode.
+
+Trials measured by the bridge's IMU odometry (the Python firmware model and the C++ module), the
+operator's tape measure, a second request refused, Ctrl-C mid-run, a gait the robot refuses,
+servo reports that are not to be believed, a status publisher that is not the bridge.
+"""
+
+from __future__ import annotations
+
+import os
+
+from conftest import publish_servo_report_as, status_log_qos, wait_for
+from hexapod_adapt.mapping.archive import Archive
+from hexapod_adapt.mapping.simulation import simulation_fingerprint
+from hexapod_msgs.msg import AdaptationTrial
+from hexapod_msgs.srv import Adapt
+from hexapod_sim import create_simulator, evaluate_gait
+from hexapod_util.recording import read_messages
+import numpy as np
+import pytest
+
+pytestmark = pytest.mark.ros
+
+
+def _preset_archive(tmp_path):
+    from hexapod_gait import preset
+    from hexapod_gait.parameters import to_genotype
+
+    with create_simulator() as sim:
+        genes = np.array([to_genotype(preset(name)) for name in ('tripod', 'wave', 'quadruped')])
+        results = [evaluate_gait(g, sim) for g in genes]
+    desc = np.array([r.descriptor for r in results])
+    return Archive(
+        desc,
+        np.array([r.fitness for r in results]),
+        desc,
+        genes,
+        {'seed': 0, 'evaluations': 3, **simulation_fingerprint('pybullet')},
+    ).save(tmp_path / 'presets.npz')
+
+
+def _emulated_robot(launch, tmp_path, *extra):
+    radio, imu = str(tmp_path / 'radio'), str(tmp_path / 'imu')
+    emu = launch(
+        'hexapod_bridge', 'robot_emulator', args=['--radio-link', radio, '--imu-link', imu, *extra]
+    )
+    wait_for(lambda: os.path.exists(radio) and os.path.exists(imu), 60, 'emulator ports')
+    return emu, radio, imu
+
+
+def _every_trial_measured_within_the_stated_accuracy(emu, trials, n: int) -> None:
+    """Each of the run's ``n`` trials: walked to its end, its speed within the IMU's accuracy."""
+    import json
+
+    from hexapod_bridge.odometry import SPEED_ACCURACY
+
+    wait_for(
+        lambda: len(trials) == n and emu.log().count('TRIAL ') >= n, 20, 'every trial reported'
+    )
+    truths = [
+        json.loads(line.split('TRIAL ', 1)[1])
+        for line in emu.log().splitlines()
+        if 'TRIAL ' in line
+    ]
+    for t, truth in zip(trials, truths):
+        assert truth['state'] == 'done'
+        assert abs(t.measured_speed - truth['speed']) <= SPEED_ACCURACY, (
+            t.measured_speed,
+            truth['speed'],
+        )
+
+
+@pytest.mark.slow
+def test_adaptation_on_the_emulated_robot_uses_the_bridge_odometry(
+    ros, launch, tmp_path, small_archive
+):
+    from std_srvs.srv import SetBool
+
+    # the preset gaits: the IMU estimate's stated accuracy was measured on such calm gaits (a
+    # random map gait can walk very differently on the emulated firmware; see docs/adaptation.md)
+    path = _preset_archive(tmp_path)
+    emu, radio, imu = _emulated_robot(launch, tmp_path, '--sim', '--imu-noise', '--seed', '3')
+    bridge = launch('hexapod_bridge', 'bridge_node', params={'port': radio, 'imu_port': imu})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'mode': 'robot', 'record_dir': ''},
+    )
+    trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
+    assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
+    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=2, alpha=1.0), timeout=120)
+    # one trial suffices when the measured speed beats every prediction (the tripod walks
+    # ~0.288 m/s, as mapped)
+    assert 1 <= response.trials <= 2, response.message
+    _every_trial_measured_within_the_stated_accuracy(emu, trials, response.trials)
+    assert node.alive() and bridge.alive() and emu.alive()
+
+
+@pytest.mark.slow
+def test_two_failed_legs_adapted_on_the_robot_running_the_cpp_firmware(ros, launch, tmp_path):
+    """
+    The whole robot path with the C++ firmware module: robot_emulator --firmware native.
+
+    Two servos dead (legs 1 and 4 hang in the failure pose), adapt_node in robot mode: every
+    gait goes out as an upload the module validates and compiles, every trial is walked by the
+    module's table, measured by the bridge's IMU odometry, and the run ends on the best gait.
+    """
+    from hexapod_msgs.msg import ServoFailure
+    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+    from std_srvs.srv import SetBool, Trigger
+
+    path = _preset_archive(tmp_path)
+    emu, radio, imu = _emulated_robot(
+        launch,
+        tmp_path,
+        '--sim',
+        '--imu-noise',
+        '--seed',
+        '4',
+        '--firmware',
+        'native',
+        '--dead-servo',
+        '3',
+        '--dead-servo',
+        '12',
+    )
+    bridge = launch('hexapod_bridge', 'bridge_node', params={'port': radio, 'imu_port': imu})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'mode': 'robot', 'record_dir': ''},
+    )
+    failures = ros.collect(
+        ServoFailure,
+        'servo_failures',
+        QoSProfile(
+            depth=64,
+            durability=DurabilityPolicy.TRANSIENT_LOCAL,
+            reliability=ReliabilityPolicy.RELIABLE,
+        ),
+    )
+    trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
+    assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
+    # before any trial: HELLO, and the module's health check names both dead servos
+    check = ros.call(Trigger, 'bridge_node/check_servos', Trigger.Request())
+    assert check.success and 'protocol 1.1' in check.message, check.message
+    wait_for(lambda: {f.servo_id for f in failures} == {3, 12}, 20, 'servo failure reports')
+    before = len(failures)
+    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=3, alpha=1.0), timeout=180)
+    assert response.trials >= 1, response.message
+    _every_trial_measured_within_the_stated_accuracy(emu, trials, response.trials)
+    best = max(trials, key=lambda t: t.measured_speed)
+    assert response.best_archive_index == best.archive_index
+    assert response.best_speed == pytest.approx(best.measured_speed)
+    # and again after each walk, on the right legs
+    wait_for(lambda: len(failures) >= before + 2, 20, 'reports after the walks')
+    assert {(f.servo_id, f.leg, f.joint) for f in failures} == {(3, 1, 'femur'), (12, 4, 'femur')}
+    assert node.alive() and bridge.alive() and emu.alive()
+
+
+def test_manual_mode_takes_the_operators_distance(ros, launch, tmp_path, small_archive):
+    from hexapod_msgs.srv import ReportDistance
+    from std_srvs.srv import SetBool
+
+    path, archive, _ = small_archive
+    _emu, radio, _imu = _emulated_robot(launch, tmp_path)
+    launch('hexapod_bridge', 'bridge_node', params={'port': radio})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'mode': 'manual', 'record_dir': ''},
+    )
+    trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
+    early = ros.call(
+        ReportDistance, 'adapt_node/report_distance', ReportDistance.Request(distance=1.0)
+    )
+    assert not early.accepted and 'no manual trial' in early.message
+    assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
+    client = ros.node.create_client(Adapt, 'adapt')
+    assert client.wait_for_service(timeout_sec=20)
+    future = client.call_async(Adapt.Request(max_trials=1))
+    wait_for(lambda: 'report the distance' in node.log(), 30, 'adapt_node asking for the distance')
+    silly = ros.call(
+        ReportDistance, 'adapt_node/report_distance', ReportDistance.Request(distance=float('nan'))
+    )
+    assert not silly.accepted and 'not a plausible' in silly.message
+    assert ros.call(
+        ReportDistance, 'adapt_node/report_distance', ReportDistance.Request(distance=0.62)
+    ).accepted
+    wait_for(future.done, 30, 'the adaptation to finish')
+    assert future.result().trials == 1
+    wait_for(lambda: trials, 10, 'the trial message')
+    assert trials[0].measured_speed == pytest.approx(0.62 / 5.0)
+
+
+def test_second_request_refused_and_ctrl_c_mid_run_finishes_the_recording(
+    ros, launch, tmp_path, small_archive
+):
+    from mcap.reader import make_reader
+    from std_srvs.srv import SetBool
+
+    path, _archive, _ = small_archive
+    _emu, radio, _imu = _emulated_robot(launch, tmp_path)
+    launch('hexapod_bridge', 'bridge_node', params={'port': radio})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'mode': 'manual', 'record_dir': str(tmp_path / 'runs')},
+    )
+    assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
+    client = ros.node.create_client(Adapt, 'adapt')
+    assert client.wait_for_service(timeout_sec=20)
+    client.call_async(Adapt.Request(max_trials=3))
+    wait_for(lambda: 'report the distance' in node.log(), 30, 'a trial waiting for the operator')
+    busy = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=1))
+    assert not busy.success and 'already running' in busy.message
+    assert node.stop() == 0
+    files = list((tmp_path / 'runs').glob('*.mcap'))
+    assert len(files) == 1
+    with open(files[0], 'rb') as f:
+        assert make_reader(f).get_summary() is not None  # finished cleanly: index and footer
+    # the run so far: one gait sent, no trial completed (sensor topics are recorded beside them)
+    run_topics = [
+        t for t, _, _ in read_messages(files[0]) if t in ('/gait/parameters', '/adapt/trials')
+    ]
+    assert run_topics == ['/gait/parameters']
+
+
+def test_a_gait_the_robot_refuses_stops_the_run_with_the_robots_reason(ros, launch, tmp_path):
+    from hexapod_gait.trajectory import reachable_key_points
+    from std_srvs.srv import SetBool
+
+    rng = np.random.default_rng(5)
+    genes = next(g for g in rng.random((1000, 32)) if not reachable_key_points(g[None])[0])
+    unreachable = Archive(
+        np.full((1, 6), 0.5),
+        np.array([1.0]),
+        np.full((1, 6), 0.5),
+        genes[None],
+        {'seed': 0, 'evaluations': 1, **simulation_fingerprint('pybullet')},
+    ).save(tmp_path / 'bad.npz')
+    _emu, radio, _imu = _emulated_robot(launch, tmp_path)
+    launch('hexapod_bridge', 'bridge_node', params={'port': radio})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(unreachable), 'mode': 'robot', 'record_dir': ''},
+    )
+    assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
+    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=3), timeout=120)
+    assert not response.success and response.trials == 0
+    assert 'trial 1 aborted' in response.message and 'UNREACHABLE' in response.message
+    assert node.alive()
+
+
+def test_bad_servo_reports_are_refused_and_the_node_lives(ros, launch, domain_id):
+    from hexapod_msgs.msg import ServoFailure
+    from hexapod_util.ros_glue import EVENTS
+    from std_srvs.srv import Trigger
+
+    # the test's node plays the bridge adapt_node is configured to believe
+    params = {'mode': 'robot', 'record_dir': '', 'bridge_node': 'test_harness'}
+    node = launch('hexapod_adapt', 'adapt_node', params=params)
+    pub = ros.node.create_publisher(ServoFailure, 'servo_failures', EVENTS)
+    wait_for(lambda: pub.get_subscription_count() > 0, 20, 'adapt_node subscribed')
+    for servo, leg in [(40, 0), (3, 1), (3, 1), (12, 4), (8, 3)]:
+        pub.publish(ServoFailure(servo_id=servo, robot_leg=leg, leg=leg, joint='femur'))
+    wait_for(lambda: 'name 3 failed legs' in node.log(), 20, 'the third leg refused')
+    log = node.log()
+    assert 'servo 40 reported dead names no leg (leg 0)' in log
+    assert 'servo 3 (leg 1) reported dead again: already known' in log
+    assert 'servo 12 reported dead: leg 4 femur unpowered' in log
+    # only the bridge is believed: a report from another node is logged, naming it, and ignored
+    impostor = publish_servo_report_as('not_the_bridge', domain_id, 5, 3, 'tibia')
+    says = 'servo 5 (leg 3) reported dead: servo report ignored: it may come from /not_the_bridge'
+    wait_for(lambda: says in node.log(), 30, 'the impostor named')
+    impostor.wait(30)
+    # forget drops what the bridge reported (after a repair), and the impostor's was never taken
+    forget = ros.call(Trigger, 'adapt_node/forget', Trigger.Request())
+    assert forget.success and 'forgot the reports of dead servos [3, 8, 12]' in forget.message
+    again = ros.call(Trigger, 'adapt_node/forget', Trigger.Request())
+    assert again.success and again.message == 'no servo reports to forget'
+    assert node.alive()
+
+
+def test_a_rogue_status_publisher_cannot_confirm_an_upload(ros, launch, small_archive):
+    """
+    Only bridge_node's ~/upload_gait answer confirms an upload.
+
+    Status texts that look like a confirmation (from any publisher, or radio text the bridge
+    reposts) do not.
+    """
+    from diagnostic_msgs.msg import DiagnosticStatus
+
+    path, archive, _ = small_archive
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={'archive': str(path), 'mode': 'robot', 'record_dir': '', 'trial_timeout': 3.0},
+    )
+    rogue = ros.node.create_publisher(DiagnosticStatus, 'bridge/status', status_log_qos())
+    for niche in archive.elite_indices():
+        rogue.publish(
+            DiagnosticStatus(
+                level=DiagnosticStatus.OK,
+                name='bridge_node',
+                message=f'gait uploaded (archive index {niche})',
+            )
+        )
+    trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
+    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=2), timeout=60)
+    assert not response.success and response.trials == 0 and not trials
+    assert 'upload_gait is not available' in response.message
+    assert node.alive()

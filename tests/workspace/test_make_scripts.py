@@ -1,0 +1,46 @@
+# Copyright 2026 Hexapod adaptation team
+# SPDX-License-Identifier: MIT
+"""The make_*.sh scripts that regenerate shipped files write them where they ship."""
+
+from __future__ import annotations
+
+from pathlib import Path
+import re
+import subprocess
+
+WS = Path(__file__).resolve().parents[2]
+
+
+def _scripts() -> list[Path]:
+    out = subprocess.run(
+        ['git', 'ls-files', '*make_*.sh'], cwd=WS, capture_output=True, text=True, check=True
+    )
+    return [WS / line for line in out.stdout.split()]
+
+
+def test_every_make_script_writes_into_its_own_folder_and_names_itself():
+    """After the package split two scripts wrote to hexapod_adapt/maps, not where files ship."""
+    scripts = _scripts()
+    assert len(scripts) >= 5
+    for script in scripts:
+        text = script.read_text()
+        own = script.parent.relative_to(WS).as_posix()
+        targets = re.findall(r'--(?:out|cache-dir) (\S+)', text)
+        assert targets, f'{script.name} names no output'
+        for target in targets:
+            assert Path(target).parent.as_posix() == own or target == own, (script, target)
+            assert (WS / target).exists(), f'{script.name} writes {target}, which is not shipped'
+        for usage in re.findall(r'bash (\S+make_\S+\.sh)', text):
+            assert usage == script.relative_to(WS).as_posix(), (script, usage)
+
+
+def test_every_shell_script_parses():
+    """A script run once a session (resume_default_map.sh ...) must not fail on its syntax."""
+    out = subprocess.run(
+        ['git', 'ls-files', '*.sh'], cwd=WS, capture_output=True, text=True, check=True
+    )
+    scripts = out.stdout.split()
+    assert len(scripts) >= 10
+    for script in scripts:
+        r = subprocess.run(['bash', '-n', script], cwd=WS, capture_output=True, text=True)
+        assert r.returncode == 0, f'{script}: {r.stderr}'
