@@ -7,10 +7,9 @@ Uploads each ``gait/parameters`` (latched) to the robot (gait-upload extension, 
 retried). Publishes ``imu/data`` (the Xsens on ``imu_port``, or the robot's 2 Hz attitude),
 ``odom`` (one message per trial: the IMU estimate of the displacement since the trial started, in
 the frame it started in; twist = mean velocity; covariances = the estimate's accuracy),
-``~/link_status`` at ``status_rate``, ``bridge/status`` (latched) and ``servo_failures`` (the last
-64 kept): a servo that did not answer the robot's ping (``FF FD 0B <id>``), checked at start-up,
-after every walk and after ``~/check_servos``; an id the robot does not have is logged, never
-published.
+``~/link_status``, ``bridge/status`` (latched), ``servo_failures`` (the last 64 kept: a servo
+that did not answer the robot's ping) and ``/diagnostics`` (each servo, the link, the IMU:
+:mod:`hexapod_bridge.health`).
 
 Services: ``~/arm`` (nothing is transmitted unless armed), ``~/upload_gait`` (answers once the
 robot acknowledged), ``~/start_trial`` (walk ``trial_settle`` s, then ``trial_duration`` s
@@ -31,6 +30,7 @@ import time
 
 from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_bridge import ros_conversions as conv
+from hexapod_bridge.health import imu_health, link_health, servo_health
 from hexapod_bridge.link import Operation
 from hexapod_bridge.reports import Report, servo_report, Severity, trial_report
 from hexapod_bridge.station import BaseStation, StationConfig, TrialResult
@@ -39,6 +39,7 @@ from hexapod_gait.ros_conversions import gait_from_msg
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.msg import LinkStatus, ServoFailure
 from hexapod_msgs.srv import UploadGait
+from hexapod_util.diagnostics import DiagnosticsPublisher, Health
 from hexapod_util.ros_glue import (
     declare,
     EVENTS,
@@ -92,6 +93,11 @@ class BridgeNode(Node):
         super().__init__('bridge_node', **kwargs)
         v = declare(self, PARAMETERS)
         self.frames = {k: str(v[f'{k}_frame']) for k in ('odom', 'base', 'imu')}
+        self.dead: dict[int, float] = {}  # servo -> when reported dead (monotonic s)
+        self.imu_last: float | None = None  # when the last IMU message came (monotonic s)
+        imu = (
+            f'Xsens MTi on {v["imu_port"]}' if v['imu_port'] else "the robot's attitude telemetry"
+        )
         self.station = BaseStation(
             StationConfig(**{f.name: v[f.name] for f in fields(StationConfig)}),
             on_imu=self._publish_imu,
@@ -122,12 +128,20 @@ class BridgeNode(Node):
         ):
             self.create_service(srv, name, callback, callback_group=group)
         self.create_timer(1.0 / float(v['status_rate']), self._tick, callback_group=group)
+        self.diagnostics = DiagnosticsPublisher(self, lambda: self._health(imu))
         self.station.start()
         self.get_logger().info(
             f'radio on {v["port"]} at {v["baud"]} baud, firmware {v["firmware"]}, '
             f'IMU {"on " + str(v["imu_port"]) if v["imu_port"] else "from robot telemetry"}; '
             f'{"armed" if v["arm_on_start"] else "disarmed (call ~/arm to transmit)"}'
         )
+
+    def _health(self, imu: str) -> list[Health]:
+        now, config = time.monotonic(), self.station.config
+        return servo_health(self.dead, config.leg_map, now) + [
+            link_health(self.station.snapshot(now), str(config.port)),
+            imu_health(self.imu_last, now, imu),
+        ]
 
     def _status(self, level: bytes, message: str, **values) -> None:
         publish_status(self, self.status_pub, level, message, 'hexapod', **values)
@@ -248,6 +262,7 @@ class BridgeNode(Node):
 
     def _on_connection(self, connected: bool, why: str) -> None:
         self.link_pub.publish(self._link_status())  # at once, not at the next tick
+        self.diagnostics.publish_now()
         if connected:
             self.get_logger().info(f'radio port {self.station.config.port} open')
         else:
@@ -279,6 +294,8 @@ class BridgeNode(Node):
         msg.header.stamp = self.get_clock().now().to_msg()
         msg.header.frame_id = self.frames['base']
         self.servo_pub.publish(msg)
+        self.dead.setdefault(servo, time.monotonic())
+        self.diagnostics.publish_now()  # its status turns ERROR at once
         self._report(r.report)
 
     def _report_trial(self, r: TrialResult) -> None:
@@ -290,10 +307,12 @@ class BridgeNode(Node):
         self._report(trial_report(r, self.station.imu_port is not None))
 
     def _publish_imu(self, m) -> None:
+        self.imu_last = time.monotonic()
         now = self.get_clock().now().to_msg()
         self.imu_pub.publish(conv.xsens_imu(m, now, self.frames['imu']))
 
     def _publish_attitude(self, t) -> None:
+        self.imu_last = time.monotonic()
         now = self.get_clock().now().to_msg()
         self.imu_pub.publish(conv.attitude_imu(t, now, self.frames['base']))
 

@@ -27,8 +27,8 @@ BUDGET = 200_000
 CANDIDATES = {
     'A1 cma_mae': Path('studies/out/map_study/cma_mae_10000_s1.npz'),
     'A2 iso_line': Path('studies/out/map_study/iso_line_10000_s1.npz'),
-    'B1 cma_mae + walk guards': Path('tuning/transfer_study/walk_cma_mae_10000_s1.npz'),
-    'B2 iso_line + walk guards': Path('tuning/transfer_study/walk_iso_line_10000_s1.npz'),
+    'B1 cma_mae + walk guards': Path('studies/out/transfer_study/walk_cma_mae_10000_s1.npz'),
+    'B2 iso_line + walk guards': Path('studies/out/transfer_study/walk_iso_line_10000_s1.npz'),
 }
 #: The rule (studies/transfer/README.md): out above this many top-100 tip-overs on PyBullet ...
 MAX_TIPPED = 10

@@ -112,6 +112,66 @@ def test_servo_failure_reports_are_published_with_their_leg_and_bad_ones_are_not
         os.close(slave)
 
 
+def test_diagnostics_name_every_servo_the_link_and_the_imu_and_a_dead_servo_turns_error(
+    ros, launch, tmp_path
+):
+    """/diagnostics (DiagnosticArray): 18 servos by their URDF joint, the radio, the IMU."""
+    import pty
+    import tty
+
+    from diagnostic_msgs.msg import DiagnosticArray
+    from hexapod_msgs.msg import ServoFailure
+
+    master, slave = pty.openpty()
+    tty.setraw(master)
+    tty.setraw(slave)
+    link = tmp_path / 'radio'
+    os.symlink(os.ttyname(slave), link)
+    bridge = launch(
+        'hexapod_bridge', 'bridge_node', params={'port': str(link), 'leg_map': [1, 6, 5, 4, 3, 2]}
+    )
+    arrays = ros.collect(DiagnosticArray, '/diagnostics', 10)
+    failures = ros.collect(ServoFailure, 'servo_failures', EVENTS)
+
+    def statuses(array) -> dict:
+        return {st.name.split(': ', 1)[1]: st for st in array.status}
+
+    try:
+
+        def connected() -> bool:
+            link = arrays and statuses(arrays[-1]).get('radio link')
+            return bool(link) and link.message.startswith('connected')
+
+        wait_for(connected, 30, 'the bridge connected, on /diagnostics')
+        first = statuses(arrays[-1])
+        servos = {n: st for n, st in first.items() if '(servo ' in n}
+        assert len(servos) == 18 and all(st.level == DiagnosticStatus.OK for st in servos.values())
+        # the robot's leg 2 is URDF leg 6 here: servo 5, its coxa, is joint_6_1
+        assert servos['joint_6_1 (servo 5)'].hardware_id == 'Dynamixel servo id 5'
+        assert first['IMU'].level == DiagnosticStatus.WARN  # no telemetry yet from the pty
+        assert first['radio link'].hardware_id.startswith('433 MHz radio on ')
+        os.write(master, bytes([0xFF, 0xFD, 0x0B, 0x05]))
+        wait_for(lambda: failures, 20, 'the servo failure report')
+        reported = failures[0].header.stamp
+
+        def dead_in(array) -> bool:
+            st = statuses(array).get('joint_6_1 (servo 5)')
+            return st is not None and st.level == DiagnosticStatus.ERROR
+
+        wait_for(lambda: any(dead_in(a) for a in arrays), 5, 'servo 5 ERROR on /diagnostics')
+        shown = next(a for a in arrays if dead_in(a)).header.stamp
+        delay = (shown.sec - reported.sec) + (shown.nanosec - reported.nanosec) * 1e-9
+        print(f'servo 5 ERROR on /diagnostics {delay * 1000:.0f} ms after its report')
+        assert 0 <= delay <= 1.0
+        latest = statuses(arrays[-1])
+        others = [st for n, st in latest.items() if '(servo ' in n and n != 'joint_6_1 (servo 5)']
+        assert len(others) == 17 and all(st.level == DiagnosticStatus.OK for st in others)
+        assert bridge.alive()
+    finally:
+        os.close(master)
+        os.close(slave)
+
+
 def test_bad_requests_are_refused_with_reasons(ros, launch, tmp_path):
     _emu, radio, _imu = _emulator(launch, tmp_path)
     bridge = launch('hexapod_bridge', 'bridge_node', params={'port': radio})

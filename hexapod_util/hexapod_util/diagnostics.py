@@ -1,0 +1,66 @@
+# Copyright 2026 Hexapod adaptation team
+# SPDX-License-Identifier: MIT
+"""
+A node's health on ``/diagnostics``, as rqt_robot_monitor, Foxglove and the aggregator read it.
+
+A node hands :class:`DiagnosticsPublisher` a function that returns its :class:`Health` list (one
+per part: a servo, the radio link, the IMU, the simulator, the map, the job in progress); the
+publisher sends them as one ``diagnostic_msgs/DiagnosticArray`` every ``period`` seconds, and at
+once when the node calls :meth:`DiagnosticsPublisher.publish_now` after a change.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Mapping
+
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from rclpy.node import Node
+
+OK, WARN, ERROR, STALE = 0, 1, 2, 3  # DiagnosticStatus levels
+TOPIC = '/diagnostics'
+PERIOD_S = 1.0
+
+
+@dataclass(frozen=True)
+class Health:
+    """One part's health: ``name`` (as the node names it), level, a sentence, the real part."""
+
+    name: str
+    level: int
+    message: str
+    hardware_id: str
+    values: Mapping[str, str] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.level not in (OK, WARN, ERROR, STALE):
+            raise ValueError(f'level must be OK, WARN, ERROR or STALE (0..3), got {self.level}')
+
+
+def status_msg(node_name: str, health: Health) -> DiagnosticStatus:
+    """Return ``health`` as a DiagnosticStatus named ``<node>: <part>``."""
+    return DiagnosticStatus(
+        level=bytes([health.level]),
+        name=f'{node_name}: {health.name}',
+        message=health.message,
+        hardware_id=health.hardware_id,
+        values=[KeyValue(key=k, value=str(v)) for k, v in health.values.items()],
+    )
+
+
+class DiagnosticsPublisher:
+    """Publish a node's :class:`Health` list on ``/diagnostics`` (see the module docstring)."""
+
+    def __init__(
+        self, node: Node, health: Callable[[], list[Health]], period: float = PERIOD_S
+    ) -> None:
+        self.node, self.health = node, health
+        self.pub = node.create_publisher(DiagnosticArray, TOPIC, 10)
+        node.create_timer(period, self.publish_now)
+
+    def publish_now(self) -> None:
+        """Publish every part's health now (after a change; the timer calls it too)."""
+        name = self.node.get_name()
+        msg = DiagnosticArray(status=[status_msg(name, h) for h in self.health()])
+        msg.header.stamp = self.node.get_clock().now().to_msg()
+        self.pub.publish(msg)
