@@ -39,7 +39,8 @@ from hexapod_gait.ros_conversions import gait_from_msg
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.msg import LinkStatus, ServoFailure
 from hexapod_msgs.srv import UploadGait
-from hexapod_util.diagnostics import DiagnosticsPublisher, Health
+from hexapod_util.diagnostics import DiagnosticsPublisher
+from hexapod_util.health import Health
 from hexapod_util.ros_glue import (
     declare,
     EVENTS,
@@ -95,9 +96,7 @@ class BridgeNode(Node):
         self.frames = {k: str(v[f'{k}_frame']) for k in ('odom', 'base', 'imu')}
         self.dead: dict[int, float] = {}  # servo -> when reported dead (monotonic s)
         self.imu_last: float | None = None  # when the last IMU message came (monotonic s)
-        imu = (
-            f'Xsens MTi on {v["imu_port"]}' if v['imu_port'] else "the robot's attitude telemetry"
-        )
+        imu = f'Xsens MTi on {v["imu_port"]}' if v['imu_port'] else "robot's attitude telemetry"
         self.station = BaseStation(
             StationConfig(**{f.name: v[f.name] for f in fields(StationConfig)}),
             on_imu=self._publish_imu,

@@ -15,7 +15,7 @@ from typing import Mapping, Sequence
 
 from hexapod_bridge.servos import JOINTS, SERVO_IDS, servo_place
 from hexapod_bridge.station import LinkSnapshot
-from hexapod_util.diagnostics import ERROR, Health, OK, WARN
+from hexapod_util.health import ERROR, Health, OK, WARN
 
 #: The radio is heard at least this often when it works (the robot's 2 Hz telemetry) [s].
 LINK_SILENT_S = 2.0

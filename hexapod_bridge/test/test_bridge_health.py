@@ -4,7 +4,7 @@
 
 from hexapod_bridge.health import imu_health, link_health, servo_health, urdf_joint
 from hexapod_bridge.station import LinkSnapshot
-from hexapod_util.diagnostics import ERROR, Health, OK, WARN
+from hexapod_util.health import ERROR, Health, OK, WARN
 import pytest
 
 MIRRORED = (1, 6, 5, 4, 3, 2)  # the robot's leg 2 is URDF leg 6

@@ -33,6 +33,7 @@ from hexapod_sim.physics.engines import create_simulator
 from hexapod_sim.physics.physics_loop import LoopHooks, PhysicsLoop, publish_period_steps
 from hexapod_sim.simulator import DEFAULT_FRICTION, SimConfig
 from hexapod_sim.trajectory_input import CycleTable, TrajectoryError
+from hexapod_util.diagnostics import StatusHealth
 from hexapod_util.ros_glue import (
     declare,
     EVENTS,
@@ -186,6 +187,13 @@ class SimNode(Node):
             self._apply_failure(Damage.lifted(list(initial or [])))
         except ValueError as exc:  # never start an intact robot when a damaged one was asked for
             raise ValueError(f'parameter failed_legs: {exc}') from None
+        self.health = StatusHealth(  # its last status, also on /diagnostics
+            self,
+            'simulator',
+            f'simulated robot, {engine} physics engine',
+            self._values,
+            'simulating',
+        )
         self.loop.start()
         watch_for_duplicates(self, lambda text: self._status(DiagnosticStatus.ERROR, text))
         self.get_logger().info(
@@ -269,6 +277,10 @@ class SimNode(Node):
 
     def _status(self, level: bytes, message: str) -> None:
         publish_status(self, self.status_pub, level, message, 'hexapod_sim')
+        self.health.update(level, message)
+
+    def _values(self) -> dict[str, str]:
+        return {'sim_time_s': f'{self.loop.sim_time:.2f}', 'damage': self.sim.damage.label}
 
     # -- physics thread ------------------------------------------------------------------------
     def _apply_failure(self, damage: Damage) -> Damage:

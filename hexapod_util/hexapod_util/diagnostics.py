@@ -11,30 +11,14 @@ once when the node calls :meth:`DiagnosticsPublisher.publish_now` after a change
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from typing import Callable, Mapping
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from hexapod_util.health import Health, OK
 from rclpy.node import Node
 
-OK, WARN, ERROR, STALE = 0, 1, 2, 3  # DiagnosticStatus levels
 TOPIC = '/diagnostics'
 PERIOD_S = 1.0
-
-
-@dataclass(frozen=True)
-class Health:
-    """One part's health: ``name`` (as the node names it), level, a sentence, the real part."""
-
-    name: str
-    level: int
-    message: str
-    hardware_id: str
-    values: Mapping[str, str] = field(default_factory=dict)
-
-    def __post_init__(self) -> None:
-        if self.level not in (OK, WARN, ERROR, STALE):
-            raise ValueError(f'level must be OK, WARN, ERROR or STALE (0..3), got {self.level}')
 
 
 def status_msg(node_name: str, health: Health) -> DiagnosticStatus:
@@ -64,3 +48,29 @@ class DiagnosticsPublisher:
         msg = DiagnosticArray(status=[status_msg(name, h) for h in self.health()])
         msg.header.stamp = self.node.get_clock().now().to_msg()
         self.pub.publish(msg)
+
+
+class StatusHealth:
+    """A node whose health is one part's last status (a simulator, a job): on ``/diagnostics``."""
+
+    def __init__(
+        self,
+        node: Node,
+        name: str,
+        hardware_id: str,
+        values: Callable[[], Mapping[str, str]] = dict,
+        message: str = 'starting',
+    ) -> None:
+        self.name, self.hardware_id, self.values = name, hardware_id, values
+        self.level, self.message = OK, message
+        self.publisher = DiagnosticsPublisher(node, self.health)
+
+    def health(self) -> list[Health]:
+        """Return the part's last status, with its current values."""
+        return [Health(self.name, self.level, self.message, self.hardware_id, self.values())]
+
+    def update(self, level: int | bytes, message: str) -> None:
+        """Take a new status (a DiagnosticStatus level or its byte) and publish it at once."""
+        self.level = level[0] if isinstance(level, bytes) else int(level)
+        self.message = message
+        self.publisher.publish_now()

@@ -37,6 +37,7 @@ from hexapod_adapt.online.streaming_prior import StreamingPrior
 from hexapod_adapt.online.trials import MODES, OdomLog, TrialTiming, Waiter
 from hexapod_adapt.ros.damage_reports import DamageReports
 from hexapod_adapt.ros.graph_port import (
+    duplicate_peers,
     GraphPort,
     qualified,
     RECORDED_TYPES,
@@ -48,9 +49,10 @@ from hexapod_gait import from_genotype
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_msgs.msg import AdaptationTrial
 from hexapod_msgs.srv import Adapt, ReportDistance
+from hexapod_util.diagnostics import DiagnosticsPublisher
+from hexapod_util.health import ERROR, Health, OK, WARN
 from hexapod_util.ros_glue import (
     declare,
-    nodes_named,
     param_specs,
     run_node,
     TRIALS,
@@ -64,6 +66,7 @@ from rclpy.node import Node
 from std_srvs.srv import Trigger
 
 PARAMETERS = param_specs(SETTINGS)
+CANCEL_ANSWERS = {True: 'cancelling after the current trial', False: 'no adaptation is running'}
 
 
 class AdaptNode(DamageReports, Node):
@@ -91,7 +94,7 @@ class AdaptNode(DamageReports, Node):
         sim_name = self._param('sim_node')
         bridge_name = self._param('bridge_node')
         self.peer = qualified(self, sim_name if self.mode == 'sim' else bridge_name)
-        self.waiter = Waiter(lambda: rclpy.ok(context=self.context), self._duplicate_peers)
+        self.waiter = Waiter(lambda: rclpy.ok(context=self.context), self._duplicates)
         self.port = GraphPort(self, sim_name, bridge_name, self.odom, self.recording)
         self.port.wait = self.waiter.until
         self.recorded = RecordedTopics(self, self.recording)
@@ -105,6 +108,8 @@ class AdaptNode(DamageReports, Node):
         )
         self.create_service(Trigger, '~/cancel', self._on_cancel, callback_group=work)
         watch_for_duplicates(self, self.get_logger().error)
+        self.run_status = (OK, 'idle')
+        self.diagnostics = DiagnosticsPublisher(self, self._health)
         self.get_logger().info(f'adapt_node ready: mode {self.mode}; {self.slot.describe()}')
 
     def _param(self, name: str):
@@ -150,20 +155,24 @@ class AdaptNode(DamageReports, Node):
         return response
 
     def _on_cancel(self, request, response):
-        running = self.busy.locked()
-        self.cancel_requested = running
-        response.success = running
-        response.message = (
-            'cancelling after the current trial' if running else 'no adaptation is running'
-        )
+        self.cancel_requested = response.success = self.busy.locked()
+        response.message = CANCEL_ANSWERS[response.success]
         return response
 
-    def _duplicate_peers(self) -> str:
-        """Say why a run must stop: this node's or its peer's name is taken twice ('' if not)."""
-        names = (self.get_fully_qualified_name(), self.peer)
-        return next(
-            filter(None, (session.duplicate_problem(n, nodes_named(self, n)) for n in names)), ''
-        )
+    def _duplicates(self) -> str:
+        return duplicate_peers(self, self.peer)
+
+    def _health(self) -> list[Health]:
+        usable = OK if self.slot.archive is not None else ERROR
+        hardware = f'adapt_node, {self.mode} mode'
+        return [
+            Health('map', usable, self.slot.describe(), 'behaviour-performance map'),
+            Health('adaptation', *self.run_status, hardware),
+        ]
+
+    def _run_status(self, level: int, message: str) -> None:
+        self.run_status = (level, message)
+        self.diagnostics.publish_now()
 
     def _on_adapt(self, request: Adapt.Request, response: Adapt.Response):
         response.best_archive_index = -1
@@ -177,7 +186,7 @@ class AdaptNode(DamageReports, Node):
             damage, source = self.known.for_run(named, bool(request.blind))
         except ValueError as exc:
             problem = problem or f'bad request: {exc}'
-        problem = problem or self._duplicate_peers()
+        problem = problem or self._duplicates()
         if not problem and not self.busy.acquire(blocking=False):
             problem = 'an adaptation is already running'
         if problem:
@@ -185,6 +194,7 @@ class AdaptNode(DamageReports, Node):
             return response
         auto = named is None and not request.blind  # the damage as reported
         run = session.RunRequest(config, duration, damage, source, auto)
+        self._run_status(OK, f'adapting ({source or "blind"})')
         try:
             return self._run(self.slot.archive, run, response)
         except Exception as exc:  # noqa: BLE001 - the service must answer and the node stay up
@@ -198,6 +208,7 @@ class AdaptNode(DamageReports, Node):
         finally:
             self.cancel_requested = False
             self.busy.release()
+            self._run_status(OK if response.success else WARN, f'last run: {response.message}')
 
     # -- a run ------------------------------------------------------------------------------
     def _run(
@@ -247,15 +258,9 @@ class AdaptNode(DamageReports, Node):
         if record_dir:
             path = self.recorded.start(record_dir, RECORDED_TYPES, warn)
             response.mcap_path = str(path.resolve()) if path else ''
+        tip_guard = float(self._param('tip_guard'))
         self.trials = session.trial_procedure(
-            self.mode,
-            self.port,
-            self.odom,
-            self.waiter,
-            timing,
-            warn,
-            float(self.get_parameter('tip_guard').value),
-            self.port.tilts,
+            self.mode, self.port, self.odom, self.waiter, timing, warn, tip_guard, self.port.tilts
         )
         note = engine_note(
             archive, self.port.sim_engine() if self.mode == 'sim' else 'the real robot'
@@ -287,15 +292,9 @@ class AdaptNode(DamageReports, Node):
                 self.get_logger().info(session.trial_message(trial, niche))
 
         try:
-            result = adapt(
-                archive,
-                self.trials,
-                config,
-                on_trial,
-                lambda: self.cancel_requested,
-                prior=prior,
-                prior_update=prior_update,
-            )
+            stop = lambda: self.cancel_requested  # noqa: E731 - read at every trial
+            extra = {'prior': prior, 'prior_update': prior_update}
+            result = adapt(archive, self.trials, config, on_trial, stop, **extra)
         finally:
             self.recording.stop()
         response.success = result.success

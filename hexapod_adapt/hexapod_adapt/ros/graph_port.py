@@ -19,6 +19,7 @@ from typing import Callable, Mapping
 
 from hexapod_adapt.online.adaptation import TrialAborted
 from hexapod_adapt.online.prior import report_source_problem
+from hexapod_adapt.online.session import duplicate_problem
 from hexapod_adapt.online.trials import OdomLog, OdomSample, TiltLog, TiltSample, Upload
 from hexapod_adapt.ros.run_recording import RunRecording
 from hexapod_gait import GaitParameters, standing_gait
@@ -28,7 +29,7 @@ from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.srv import GetLegDamage, UploadGait
 from hexapod_sim.simulator import peak_tilt, upside_down
 from hexapod_util.recording import type_name
-from hexapod_util.ros_glue import EVENTS, LATCHED, ODOM, SENSOR, TF_QOS, TRIALS
+from hexapod_util.ros_glue import EVENTS, LATCHED, nodes_named, ODOM, SENSOR, TF_QOS, TRIALS
 from nav_msgs.msg import Odometry
 import numpy as np
 from rcl_interfaces.msg import ParameterType
@@ -99,6 +100,15 @@ def topic_publishers(node: Node, topic: str, wait_s: float = 2.0) -> list[str]:
         if time.monotonic() > deadline or all(i.node_name != UNKNOWN_NODE for i in infos):
             return [f'{i.node_namespace.rstrip("/")}/{i.node_name}' for i in infos]
         time.sleep(0.05)
+
+
+def duplicate_peers(node: Node, peer: str) -> str:
+    """Say why a run must stop: the node's or its peer's name is taken twice ('' if not)."""
+    for name in (node.get_fully_qualified_name(), peer):
+        problem = duplicate_problem(name, nodes_named(node, name))
+        if problem:
+            return problem
+    return ''
 
 
 def servo_report_problem(node: Node, bridge_name: str) -> str:

@@ -40,6 +40,7 @@ from hexapod_navigation.ros.bodies import PoseLog
 from hexapod_navigation.ros.damage_services import DamageServices
 from hexapod_navigation.ros.goal_turns import GoalTurns
 from hexapod_navigation.ros.wiring import make_body, subscribe_poses
+from hexapod_util.diagnostics import StatusHealth
 from hexapod_util.recording import type_name
 from hexapod_util.ros_glue import (
     ACTION_SERVICES,
@@ -88,12 +89,16 @@ class NavigateNode(DamageServices, Node):
         )
         self.repertoire, self.problem = data.repertoire, data.problem
         for warning, note in data.notes(self.config.use_bank, use_specialists):
-            (self.get_logger().warning if warning else self.get_logger().info)(note)
+            if warning:  # rclpy fixes a call site's severity: one call per severity
+                self.get_logger().warning(note)
+            else:
+                self.get_logger().info(note)
         self.damage = DamageKnowledge(self.config, data.bank)
         self.bridge_name = values['bridge_node']
         self.policy = self.damage.policy(self.repertoire) if self.repertoire else None
 
         self.status_pub = self.create_publisher(DiagnosticStatus, 'navigate/status', LATCHED)
+        self.health = StatusHealth(self, 'navigation', f'navigate, {self.mode} mode')
         self.marker_pub = self.create_publisher(Marker, 'navigate/goal', LATCHED)
         self.poses, self.trial_poses = PoseLog(), PoseLog()
         self.waiter = Waiter(lambda: rclpy.ok(context=self.context))
@@ -148,6 +153,7 @@ class NavigateNode(DamageServices, Node):
         self._unless_closing(
             publish_status, self, self.status_pub, level, message, 'navigate_node'
         )
+        self._unless_closing(self.health.update, level, message)
 
     # -- the action ----------------------------------------------------------------------------
     def _goal_problem(self, goal) -> str:
