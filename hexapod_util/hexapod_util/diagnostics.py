@@ -15,6 +15,8 @@ from typing import Callable, Mapping
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from hexapod_util.health import Health, OK
+import rclpy
+from rclpy._rclpy_pybind11 import RCLError
 from rclpy.node import Node
 
 TOPIC = '/diagnostics'
@@ -44,10 +46,16 @@ class DiagnosticsPublisher:
 
     def publish_now(self) -> None:
         """Publish every part's health now (after a change; the timer calls it too)."""
+        if not rclpy.ok(context=self.node.context):
+            return  # shutting down: there is no one to tell, and the publisher is gone
         name = self.node.get_name()
         msg = DiagnosticArray(status=[status_msg(name, h) for h in self.health()])
         msg.header.stamp = self.node.get_clock().now().to_msg()
-        self.pub.publish(msg)
+        try:
+            self.pub.publish(msg)
+        except RCLError:  # the context closed in between
+            if rclpy.ok(context=self.node.context):
+                raise
 
 
 class StatusHealth:

@@ -14,6 +14,7 @@ import os
 import subprocess
 
 from conftest import FAILED, status_log_qos, wait_for
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.online.adaptation import simulated_trial
 from hexapod_msgs.msg import AdaptationTrial
@@ -69,6 +70,7 @@ def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive, sett
         },
     )
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
+    diagnostics = ros.collect(DiagnosticArray, '/diagnostics', 50)
 
     refused = ros.call(Adapt, 'adapt', Adapt.Request(alpha=1.5), timeout=60)
     assert not refused.success and 'alpha' in refused.message and refused.trials == 0
@@ -95,6 +97,21 @@ def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive, sett
         and response.best_speed == best.measured_speed
     )
     assert [t.trial for t in trials] == list(range(1, response.trials + 1))
+
+    # /diagnostics: the map, the adaptation (adapting, then the run's answer), the simulator
+    def seen(name: str) -> list:
+        return [st for a in diagnostics for st in a.status if st.name == name]
+
+    wait_for(
+        lambda: any(st.message.startswith('last run: ') for st in seen('adapt_node: adaptation')),
+        5,
+        'the run on /diagnostics',
+    )
+    assert any(st.message.startswith('adapting') for st in seen('adapt_node: adaptation'))
+    assert seen('adapt_node: map')[-1].level == DiagnosticStatus.OK
+    assert str(archive.n_filled) in seen('adapt_node: map')[-1].message
+    simulator = seen('sim_node: simulator')[-1]
+    assert simulator.level == DiagnosticStatus.OK and 'pybullet' in simulator.hardware_id
 
     recorded = list(read_messages(response.mcap_path))
     topics = [topic for topic, _, _ in recorded]
