@@ -42,7 +42,8 @@ class Candidate:
 
     name: str
     path: Path
-    core_hours: float
+    core_hours: float | None  # CPU core-hours (None: its log predates the CPU time)
+    held_hours: float  # core-hours held: wall time x workers
     filled: int
     pybullet: TransferFigures
 
@@ -72,17 +73,22 @@ def main() -> None:
                 print(f'{name}: {archive.metadata.get("evaluations")} of {BUDGET} evaluations')
                 continue
             runs = log_runs(path.with_name(path.name + '.log.jsonl'))
-            cpu = sum(r.cpu_s or 0.0 for r in runs) / 3600
-            found.append(
-                Candidate(name, path, cpu, archive.n_filled, transfer_figures(archive, sim))
-            )
-    print('| candidate | CPU core-hours | niches | PyBullet top-100 median | tipped | Spearman |')
-    print('|---|---|---|---|---|---|')
+            known = all(r.cpu_s is not None for r in runs)
+            cpu = sum(r.cpu_s for r in runs) / 3600 if known else None
+            held = sum(r.core_seconds for r in runs) / 3600
+            figures = transfer_figures(archive, sim)
+            found.append(Candidate(name, path, cpu, held, archive.n_filled, figures))
+    print(
+        '| candidate | CPU core-hours | core-hours held | niches | PyBullet top-100 median'
+        ' | tipped | Spearman |'
+    )
+    print('|---|---|---|---|---|---|---|')
     for c in found:
         f = c.pybullet
+        cpu = f'{c.core_hours:.2f}' if c.core_hours is not None else 'not logged'
         print(
-            f'| {c.name} | {c.core_hours:.2f} | {c.filled} | {f.top_speed_median:.3f} m/s'
-            f' | {f.top_tipped} | {f.spearman:.3f} |'
+            f'| {c.name} | {cpu} | {c.held_hours:.2f} | {c.filled} | {f.top_speed_median:.3f}'
+            f' m/s | {f.top_tipped} | {f.spearman:.3f} |'
         )
     if len(found) < len(CANDIDATES):
         print('not every candidate is finished: no winner yet')
