@@ -22,6 +22,7 @@ from hexapod_gait.presets import preset, PRESETS
 from hexapod_gait.ros_conversions import gait_from_msg, table_to_trajectory
 from hexapod_gait.trajectory import build_joint_table, ReachabilityError, samples_per_cycle
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
+from hexapod_util.diagnostics import StatusHealth
 from hexapod_util.ros_glue import declare, LATCHED, ParamSpec, publish_status, run_node
 from rclpy.node import Node
 from trajectory_msgs.msg import JointTrajectory
@@ -62,6 +63,7 @@ class GaitNode(Node):
             JointTrajectory, 'gait/joint_trajectory', LATCHED
         )
         self.status_pub = self.create_publisher(DiagnosticStatus, 'gait/status', LATCHED)
+        self.health = StatusHealth(self, 'gait', 'gait controller', message='no gait yet')
         self.create_subscription(GaitParametersMsg, 'gait/parameters', self.on_parameters, LATCHED)
 
         name = str(self.get_parameter('initial_preset').value)
@@ -116,6 +118,7 @@ class GaitNode(Node):
         if self.active is not None:
             values['active_archive_index'] = self.active.archive_index
         publish_status(self, self.status_pub, level, message, 'hexapod', **values)
+        self.health.update(level, message)
 
 
 def main(args: list[str] | None = None) -> int:

@@ -22,6 +22,7 @@ import sys
 from geometry_msgs.msg import TransformStamped
 from hexapod_description import urdf_path
 from hexapod_description.tf_tree import joint_frames, moving_transforms, static_transforms
+from hexapod_util.diagnostics import StatusHealth
 from hexapod_util.ros_glue import declare, LATCHED, ParamSpec, run_node, SENSOR, TF_QOS
 from rclpy.node import Node
 from sensor_msgs.msg import JointState
@@ -67,9 +68,9 @@ class StatePublisher(Node):
         )
         self.tf_pub = self.create_publisher(TFMessage, '/tf', TF_QOS)
         self.create_subscription(JointState, 'joint_states', self._on_joint_states, SENSOR)
-        self.get_logger().info(
-            f'publishing {path.name}: {len(self.frames)} joints, {len(statics)} static'
-        )
+        said = f'publishing {path.name}: {len(self.frames)} joints, {len(statics)} static'
+        self.get_logger().info(said)
+        self.health = StatusHealth(self, 'robot model', f'URDF {path}', message=said)
 
     def _on_joint_states(self, msg: JointState) -> None:
         if len(msg.name) != len(msg.position):

@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 
 from conftest import status_log_qos, wait_for
-from diagnostic_msgs.msg import DiagnosticStatus
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from hexapod_gait import build_joint_table, preset
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
@@ -27,6 +27,7 @@ def test_publishes_cycles_and_rejects_bad_gaits(ros, launch):
     node = launch('hexapod_gait', 'gait_node', params={'initial_preset': 'tripod'})
     trajectories = ros.collect(JointTrajectory, 'gait/joint_trajectory', LATCHED)
     statuses = ros.collect(DiagnosticStatus, 'gait/status', status_log_qos())
+    diagnostics = ros.collect(DiagnosticArray, '/diagnostics', 50)
     pub = ros.node.create_publisher(GaitParametersMsg, 'gait/parameters', LATCHED)
 
     # late joiner gets the latched initial preset
@@ -72,6 +73,16 @@ def test_publishes_cycles_and_rejects_bad_gaits(ros, launch):
     )
     assert 'leg ' in statuses[-1].message
     assert len(trajectories) == n_good, 'a rejected gait must not replace the trajectory'
+    # the same on /diagnostics: gait_node's gait is in ERROR, with the reason
+    wait_for(
+        lambda: any(
+            st.name == 'gait_node: gait' and st.level == DiagnosticStatus.ERROR
+            and 'cannot follow its foot path' in st.message
+            for a in diagnostics for st in a.status
+        ),
+        5,
+        'the rejection on /diagnostics',
+    )  # fmt: skip
     assert node.alive()
 
     # still working afterwards
