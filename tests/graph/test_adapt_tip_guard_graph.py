@@ -131,7 +131,7 @@ def test_a_robot_trial_that_tips_is_stopped_through_the_bridge_by_the_imu(
     ros, launch, tmp_path, intact_tipping_archive
 ):
     from std_srvs.srv import SetBool
-    from test_adapt_graph import _emulated_robot
+    from test_adapt_robot_graph import _emulated_robot
 
     emu, radio, imu = _emulated_robot(launch, tmp_path, '--sim', '--seed', '5')
     bridge = launch('hexapod_bridge', 'bridge_node', params={'port': radio, 'imu_port': imu})
