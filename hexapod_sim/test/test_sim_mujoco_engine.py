@@ -325,3 +325,26 @@ def test_the_per_step_path_reports_a_blow_up_too():
             sim.apply_row(rows, k % len(table.positions))
             flagged.append(sim.step().unstable)
     assert any(flagged) and not flagged[0]
+
+
+def test_a_damage_leaves_nothing_behind_when_another_replaces_it():
+    """The broad phase's body masks follow the geoms' (a lifted leg's outlived it: CI found it)."""
+    from hexapod_sim.damage import Damage
+
+    from hexapod_sim.sampling import random_feasible_genotypes
+
+    used = create_simulator(SimConfig(engine='mujoco'))
+    fresh = create_simulator(SimConfig(engine='mujoco'))
+    genes = list(random_feasible_genotypes(3, seed=3, sim=fresh)[0])
+    for before in (Damage.of('unpowered_femur', [2]), Damage.lifted([1])):
+        evaluate_gaits(genes, used, collisions_fatal=False, failed_legs=before)
+    damage = Damage.lifted([2])
+    after = [
+        r.speed for r in evaluate_gaits(genes, used, collisions_fatal=False, failed_legs=damage)
+    ]
+    new = [
+        r.speed for r in evaluate_gaits(genes, fresh, collisions_fatal=False, failed_legs=damage)
+    ]
+    assert after == new
+    np.testing.assert_array_equal(used.m.body_contype, fresh.m.body_contype)
+    np.testing.assert_array_equal(used.m.body_conaffinity, fresh.m.body_conaffinity)

@@ -262,6 +262,9 @@ class MujocoSimulator(Simulator):
             masses_changed = True  # the armature enters the constants
         if masses_changed:  # the derived constants follow (on scratch data: the state stays)
             mujoco.mj_setConst(m, mujoco.MjData(m))
+        # the broad phase filters body pairs by the OR of their geoms' masks, which MuJoCo derives
+        # only when compiling (and in mj_setConst): without this a damage's masks outlived it
+        _sync_body_masks(m)
         if self._held_slots.size:
             self.d.ctrl[self._act[self._held_slots]] = self._held_values
 
@@ -553,3 +556,13 @@ class MujocoSimulator(Simulator):
         if renderer is not None:
             renderer.close()
             self._renderer = None
+
+
+def _sync_body_masks(m: 'mujoco.MjModel') -> None:
+    """Set each body's collision masks to the OR of its geoms' (as compiling does)."""
+    contype = np.zeros(m.nbody, dtype=np.int64)
+    conaffinity = np.zeros(m.nbody, dtype=np.int64)
+    np.bitwise_or.at(contype, m.geom_bodyid, m.geom_contype.astype(np.int64))
+    np.bitwise_or.at(conaffinity, m.geom_bodyid, m.geom_conaffinity.astype(np.int64))
+    m.body_contype[:] = contype
+    m.body_conaffinity[:] = conaffinity
