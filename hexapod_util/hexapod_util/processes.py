@@ -4,8 +4,13 @@
 
 from __future__ import annotations
 
+import concurrent.futures as cf
 import signal
 import sys
+from typing import Callable, Iterator, Sequence, TypeVar
+
+T = TypeVar('T')
+R = TypeVar('R')
 
 
 def die_with_parent() -> None:
@@ -28,3 +33,16 @@ def die_with_parent() -> None:
     pr_set_pdeathsig = 1
     libc = ctypes.CDLL(None, use_errno=True)
     libc.prctl(pr_set_pdeathsig, signal.SIGTERM, 0, 0, 0)
+
+
+def map_in_workers(fn: Callable[[T], R], jobs: Sequence[T], workers: int) -> Iterator[R]:
+    """
+    Yield ``fn(job)`` for each job, in order: in this process (``workers`` <= 1) or in a pool.
+
+    The pool's processes die with this one (:func:`die_with_parent`); ``fn`` must be picklable.
+    """
+    if workers <= 1:
+        yield from map(fn, jobs)
+        return
+    with cf.ProcessPoolExecutor(workers, initializer=die_with_parent) as pool:
+        yield from pool.map(fn, jobs)

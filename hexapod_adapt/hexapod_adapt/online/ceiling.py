@@ -21,7 +21,6 @@ Cache them with ``python -m hexapod_adapt.online.ceilings_cli`` (``maps/make_cei
 from __future__ import annotations
 
 from collections import defaultdict
-import concurrent.futures as cf
 from dataclasses import dataclass
 import hashlib
 import io
@@ -45,7 +44,7 @@ from hexapod_util.npz import (
     read_npz_bytes,
     UnreadableFile,
 )
-from hexapod_util.processes import die_with_parent
+from hexapod_util.processes import map_in_workers
 import numpy as np
 
 FORMAT = 'hexapod-ceiling/v1'
@@ -191,11 +190,7 @@ def compute_ceiling(
             if progress is not None:
                 progress(sum(len(x) for x in parts), len(genes))
 
-    if workers <= 1:
-        collect(map(evaluate_part, jobs))
-    else:
-        with cf.ProcessPoolExecutor(workers, initializer=die_with_parent) as pool:
-            collect(pool.map(evaluate_part, jobs))
+    collect(map_in_workers(evaluate_part, jobs, workers))
     speeds = np.concatenate(parts) if parts else np.zeros(0)
     return Ceiling(damage, engine, niches, speeds)
 

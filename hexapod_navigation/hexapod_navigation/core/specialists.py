@@ -29,7 +29,6 @@ genes): one made for other damages, another engine or URDF is refused with the r
 
 from __future__ import annotations
 
-import concurrent.futures as cf
 from dataclasses import dataclass, replace
 from functools import partial
 import hashlib
@@ -47,7 +46,7 @@ from hexapod_navigation.core.step_bank import bank_key, step_table, StepBank
 from hexapod_sim.damage import Damage
 from hexapod_util.files import atomic_write_bytes
 from hexapod_util.npz import float_array, json_array, read_npz, UnreadableFile
-from hexapod_util.processes import die_with_parent
+from hexapod_util.processes import map_in_workers
 import numpy as np
 
 FORMAT = 'hexapod-nav-specialists/v3'  # v2: each step's end tilt; v3: its largest tilt
@@ -198,11 +197,7 @@ def compute_specialists(
             if progress is not None:
                 progress(len(done), len(jobs))
 
-    if workers <= 1:
-        collect(map(_measure, jobs))
-    else:
-        with cf.ProcessPoolExecutor(workers, initializer=die_with_parent) as pool:
-            collect(pool.map(_measure, jobs))
+    collect(map_in_workers(_measure, jobs, workers))
     table = np.stack(done) if done else np.zeros((0, len(genes), 4))
     return Specialists(genes, intact, table[..., :3], tuple(damages), step_duration, table[..., 3])
 

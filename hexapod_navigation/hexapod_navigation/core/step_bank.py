@@ -25,7 +25,6 @@ set of damages (``step_bank_cli --kinds``) loads as it is.
 
 from __future__ import annotations
 
-import concurrent.futures as cf
 from dataclasses import asdict, dataclass
 import hashlib
 import io
@@ -42,7 +41,7 @@ from hexapod_sim.damage import Damage, LegDamage
 from hexapod_sim.evaluation import evaluate_displacements, EVALUATION_VERSION
 from hexapod_util.files import atomic_write_bytes
 from hexapod_util.npz import float_array, json_array, read_npz, UnreadableFile
-from hexapod_util.processes import die_with_parent
+from hexapod_util.processes import map_in_workers
 import numpy as np
 
 FORMAT = 'hexapod-step-bank/v3'  # v2: the steered tripod's cycles; v3: damages of any kind
@@ -211,11 +210,7 @@ def compute_step_bank(
             if progress is not None:
                 progress(len(done), len(jobs))
 
-    if workers <= 1:
-        collect(map(step_table, jobs))
-    else:
-        with cf.ProcessPoolExecutor(workers, initializer=die_with_parent) as pool:
-            collect(pool.map(step_table, jobs))
+    collect(map_in_workers(step_table, jobs, workers))
     steps = np.concatenate(done).reshape(len(damages), len(repertoire), 3)
     sim = worker_simulator(engine)  # a few seconds: 8 gaits, 2 cycles, per damage
     tripod = np.array([tripod_cycles(sim, d) for d in damages]).reshape(len(damages), 8, 3)
