@@ -137,8 +137,16 @@ def main(argv: list[str] | None = None) -> int:
         help="robot profiles: the robot's leg number of URDF legs 1..6 (bridge_node's leg_map;"
         ' emulated-robot: the emulated robot is numbered so too); default identity',
     )
-    parser.add_argument('--port', default='/tmp/hexapod_radio')
-    parser.add_argument('--imu-port', default='')
+    parser.add_argument(
+        '--port',
+        default=None,
+        help="robot: the radio's port (default: the --params-file's, else /tmp/hexapod_radio)",
+    )
+    parser.add_argument(
+        '--imu-port',
+        default=None,
+        help="robot: the Xsens IMU's port (default: the file's, else '')",
+    )
     args = parser.parse_args(argv)
     if args.profile == 'emulated-robot' and args.failed_legs:
         parser.error(
@@ -217,13 +225,14 @@ def main(argv: list[str] | None = None) -> int:
             ),
         ]
     else:
+        defaults = {} if args.params_file else {'port': '/tmp/hexapod_radio', 'imu_port': ''}
+        ports = {'port': args.port, 'imu_port': args.imu_port}
+        ports = defaults | {name: value for name, value in ports.items() if value is not None}
         commands = [
             (
                 'bridge_node',
                 [exe('hexapod_bridge', 'bridge_node')]
-                + ros_args(
-                    {'port': args.port, 'imu_port': args.imu_port, **bridge_trial, **leg_map}
-                ),
+                + ros_args({**ports, **bridge_trial, **leg_map}),
             )
         ]
     # robot_state_publisher's job: leg links on /tf, latched robot_description and /tf_static
@@ -266,12 +275,10 @@ def main(argv: list[str] | None = None) -> int:
         path = Path(args.params_file).expanduser().resolve()
         if not path.is_file():
             parser.error(f'--params-file {args.params_file}: no such file')
+        # the file first: the options given (later on the command line) take precedence
+        file = ['--ros-args', '--params-file', str(path)]
         commands = [  # the nodes (the emulator is a program of its own, not a node)
-            (
-                name,
-                cmd
-                + ([] if name == 'robot_emulator' else ['--ros-args', '--params-file', str(path)]),
-            )
+            (name, cmd if name == 'robot_emulator' else cmd[:1] + file + cmd[1:])
             for name, cmd in commands
         ]
     env = dict(os.environ, PYTHONUNBUFFERED='1')

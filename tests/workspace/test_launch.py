@@ -8,6 +8,7 @@ scripts/launch.py starts a working graph and stops it cleanly on Ctrl-C.
 
 from __future__ import annotations
 
+import ast
 import os
 from pathlib import Path
 import py_compile
@@ -81,6 +82,18 @@ def test_launcher_starts_the_sim_graph_and_stops_on_ctrl_c(ros, domain_id, tmp_p
     assert 'Traceback' not in text, text[text.index('Traceback') - 200 :][:3000]
 
 
+def _stop(proc: subprocess.Popen, log) -> int | None:
+    """Ctrl-C the launcher; return its exit status (None: it had to be killed)."""
+    proc.send_signal(signal.SIGINT)
+    try:
+        code = proc.wait(40)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        code = None
+    log.close()
+    return code
+
+
 def math_dist(o: Odometry) -> float:
     return (o.pose.pose.position.x**2 + o.pose.pose.position.y**2) ** 0.5
 
@@ -147,13 +160,150 @@ def test_the_launcher_takes_a_parameter_file(ros, domain_id, tmp_path):
     try:
         wait_for(lambda: odom and math_dist(odom[-1]) > 0.05, 60, 'the simulated robot walking')
     finally:
-        proc.send_signal(signal.SIGINT)
-        try:
-            code = proc.wait(40)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            code = None
-        log.close()
+        code = _stop(proc, log)
     text = (tmp_path / 'launch.log').read_text()
     assert 'simulating with the mujoco engine at real_time_factor 0' in text, text[-2000:]
     assert code == 0, text[-2000:]
+
+
+def _module_dicts(path: Path) -> dict[str, dict]:
+    """The module-level ``NAME = {...}`` literals of a Python file, read without importing it."""
+    found = {}
+    for node in ast.parse(path.read_text()).body:
+        if isinstance(node, ast.Assign) and isinstance(node.value, ast.Dict):
+            for target in node.targets:
+                if isinstance(target, ast.Name):
+                    found[target.id] = ast.literal_eval(node.value)
+    return found
+
+
+def _names(expr: ast.expr, dicts: dict[str, dict]) -> set[str]:
+    """The argument names a ``configured_node`` argument expression stands for."""
+    if isinstance(expr, ast.Name):
+        return set(dicts[expr.id])
+    if isinstance(expr, ast.BinOp) and isinstance(expr.op, ast.BitOr):
+        return _names(expr.left, dicts) | _names(expr.right, dicts)
+    return set(ast.literal_eval(expr))  # a tuple of names, () for none
+
+
+LAUNCH_FILES = sorted(
+    p for p in WS.glob('hexapod_*/launch/*.launch.py') if p.name != 'display.launch.py'
+)
+
+
+@pytest.mark.parametrize('path', LAUNCH_FILES, ids=lambda p: p.name)
+def test_each_launch_file_takes_a_parameter_file_and_its_arguments_are_node_parameters(
+    path: Path,
+):
+    """
+    ``params_file`` defaults to a file of the package's config/; every argument an operator may
+    give is a declared parameter of each node it goes to, and a parameter the file can set.
+    """
+    import yaml
+
+    dicts = _module_dicts(WS / 'hexapod_description/hexapod_description/launch_actions.py')
+    dicts |= _module_dicts(path)
+    declared = _declared()
+    calls = [
+        n
+        for n in ast.walk(ast.parse(path.read_text()))
+        if isinstance(n, ast.Call) and getattr(n.func, 'id', '') in ('configured_node',
+                                                                      'params_file_argument')
+    ]  # fmt: skip
+    files = [ast.literal_eval(c.args[1]) for c in calls if c.func.id == 'params_file_argument']
+    assert len(files) == 1, f'{path.name}: one params_file argument'
+    package = path.parent.parent
+    config = yaml.safe_load((package / 'config' / files[0]).read_text())
+    nodes = [c for c in calls if c.func.id == 'configured_node']
+    assert nodes, f'{path.name} starts no node through configured_node'
+    for call in nodes:
+        node = ast.literal_eval(call.args[1])
+        arguments = _names(call.args[2], dicts) if len(call.args) > 2 else set()
+        unknown = arguments - set(declared[node])
+        assert not unknown, f'{path.name}: {node} has no parameter {sorted(unknown)}'
+        assert node in config, f'{path.name}: its default file {files[0]} does not name {node}'
+
+
+#: Each launcher profile: its options, a parameter file of its package, the nodes it starts, and
+#: a parameter that file sets (changed in the test's copy), with the option that wins over it.
+PROFILE_FILES = {
+    'sim': (['--rtf', '0'], 'hexapod_sim/config/sim.yaml', ('sim_node', 'engine', 'mujoco')),
+    'adapt-sim': ([], 'hexapod_adapt/config/adapt.yaml', ('adapt_node', 'max_trials', 7)),
+    'navigate-sim': (
+        [], 'hexapod_navigation/config/navigate.yaml', ('navigate_node', 'tolerance', 0.25)
+    ),
+    'emulated-robot': (
+        [], 'hexapod_bridge/config/robot.yaml', ('bridge_node', 'trial_duration', 4.0)
+    ),
+    'robot': (
+        ['--navigate'],
+        'hexapod_navigation/config/navigate_robot.yaml',
+        ('navigate_node', 'max_range', 7.0),
+    ),
+}  # fmt: skip
+NODES = {
+    'sim': {'gait_node', 'sim_node'},
+    'adapt-sim': {'gait_node', 'sim_node', 'adapt_node'},
+    'navigate-sim': {'gait_node', 'sim_node', 'navigate_node'},
+    'emulated-robot': {'bridge_node'},
+    'robot': {'bridge_node', 'navigate_node'},
+}
+
+
+def _parameter(ros, node: str, name: str):
+    from rcl_interfaces.srv import GetParameters
+    from rclpy.parameter import parameter_value_to_python
+
+    answer = ros.call(
+        GetParameters, f'/{node}/get_parameters', GetParameters.Request(names=[name])
+    )
+    return parameter_value_to_python(answer.values[0])
+
+
+@pytest.mark.ros
+@pytest.mark.parametrize('with_file', [False, True], ids=['defaults', 'params-file'])
+@pytest.mark.parametrize('profile', sorted(PROFILE_FILES))
+def test_every_profile_starts_with_its_defaults_and_with_a_parameter_file(
+    ros, domain_id, tmp_path, profile: str, with_file: bool
+):
+    import yaml
+
+    options, file, (node, name, value) = PROFILE_FILES[profile]
+    command = [sys.executable, str(WS / 'scripts' / 'launch.py'), profile, *options]
+    if with_file:
+        params = yaml.safe_load((WS / file).read_text())
+        assert params[node]['ros__parameters'].get(name) != value  # the test changes it
+        params[node]['ros__parameters'][name] = value
+        mine = tmp_path / 'mine.yaml'
+        mine.write_text(yaml.safe_dump(params))
+        command += ['--params-file', str(mine)]
+    log = open(tmp_path / 'launch.log', 'w')
+    proc = subprocess.Popen(
+        command,
+        env=dict(os.environ, ROS_DOMAIN_ID=str(domain_id)),
+        stdout=log,
+        stderr=subprocess.STDOUT,
+        start_new_session=True,
+    )
+    try:
+        expected = NODES[profile] | {'state_publisher'}
+        wait_for(
+            lambda: expected <= set(ros.node.get_node_names()), 90, f'the nodes {sorted(expected)}'
+        )
+        got = _parameter(ros, node, name)
+        if with_file:
+            assert got == value, (node, name, got)
+        else:
+            assert got != value, (node, name, got)
+        if profile == 'emulated-robot' and with_file:  # the profile's own port wins the file's
+            assert _parameter(ros, 'bridge_node', 'port') == '/tmp/hexapod_radio'
+        if profile == 'robot' and with_file:  # no --port given: the file's
+            assert (
+                _parameter(ros, 'bridge_node', 'port')
+                == params['bridge_node']['ros__parameters']['port']
+            )
+    finally:
+        code = _stop(proc, log)
+    text = (tmp_path / 'launch.log').read_text()
+    assert code == 0, text[-3000:]
+    assert 'Traceback' not in text, text[text.index('Traceback') - 200 :][:3000]
