@@ -15,6 +15,9 @@ setup(
         (f'share/{package_name}', ['package.xml']),
         (f'share/{package_name}/urdf', glob('urdf/*')),
         (f'share/{package_name}/launch', glob('launch/*.py')),
+        # views that open ready: RViz 2 and Foxglove (docs/ros.md)
+        (f'share/{package_name}/rviz', glob('rviz/*.rviz')),
+        (f'share/{package_name}/foxglove', glob('foxglove/*.json')),
     ],
     install_requires=['setuptools'],
     zip_safe=True,
