@@ -10,7 +10,7 @@
    gait, the robot's original gait, no longer walks forwards.
 3. Adaptation through the ROS graph: gait_node + state_publisher + sim_node (the map's engine,
    legs failed, as fast as possible) + adapt_node as separate processes, and adapt_client calling
-   the `adapt` service the way an operator would from the base station. Each 5 s trial is printed
+   the `adapt` action the way an operator would from the base station. Each 5 s trial is printed
    as it completes.
 4. The run's MCAP recording (with the URDF and frames for a 3D replay), read back.
 """

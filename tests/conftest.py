@@ -127,6 +127,7 @@ class RosHarness:
         self.context = rclpy.Context()
         rclpy.init(context=self.context, domain_id=domain_id)
         self.node = rclpy.create_node('test_harness', context=self.context)
+        self._adapt_client = None
         self.executor = MultiThreadedExecutor(num_threads=2, context=self.context)
         self.executor.add_node(self.node)
         self._thread = threading.Thread(target=self.executor.spin, daemon=True)
@@ -146,10 +147,103 @@ class RosHarness:
         wait_for(future.done, timeout, f'response from {name}')
         return future.result()
 
+    def play_bridge(self) -> Callable[[Any], None]:
+        """
+        Play bridge_node's servo reports: return ``report(ServoFailure)``.
+
+        It publishes the report on servo_failures and holds the servo dead on
+        ``test_harness/get_servo_failures``, as bridge_node does, for nodes configured with
+        ``bridge_node: test_harness``.
+        """
+        from hexapod_msgs.msg import ServoFailure
+        from hexapod_msgs.srv import GetServoFailures
+        from hexapod_util.ros_glue import EVENTS
+
+        held: dict[int, Any] = {}
+
+        def answer(request, response):
+            response.failures = list(held.values())
+            return response
+
+        self.node.create_service(GetServoFailures, '~/get_servo_failures', answer)
+        pub = self.node.create_publisher(ServoFailure, 'servo_failures', EVENTS)
+        wait_for(lambda: pub.get_subscription_count() > 0, 30, 'a subscriber of servo_failures')
+
+        def report(msg) -> None:
+            held.setdefault(msg.servo_id, msg)
+            pub.publish(msg)
+
+        return report
+
+    def send_adapt(self, goal, timeout: float = 30.0) -> 'AdaptRun':
+        """Send a goal to adapt_node's ``adapt`` action (waiting for the server); do not wait."""
+        from hexapod_msgs.action import Adapt
+        from hexapod_util.ros_glue import ACTION_QOS
+        from rclpy.action import ActionClient
+
+        if self._adapt_client is None:
+            self._adapt_client = ActionClient(
+                self.node, Adapt, 'adapt',
+                **ACTION_QOS,
+            )  # fmt: skip
+        if not self._adapt_client.wait_for_server(timeout_sec=timeout):
+            raise TimeoutError('action adapt not available')
+        return AdaptRun(self._adapt_client, goal)
+
+    def adapt(self, goal, timeout: float = 20.0):
+        """Run one adapt goal to its end and return its result (``Adapt.Result``)."""
+        run = self.send_adapt(goal, timeout)
+        wait_for(run.done, timeout, 'the result of adapt')
+        return run.result()
+
     def close(self) -> None:
         self.executor.shutdown()
         self.node.destroy_node()
         self.rclpy.try_shutdown(context=self.context)
+
+
+class AdaptRun:
+    """One goal sent to the ``adapt`` action: its answer, feedback and result as they arrive."""
+
+    def __init__(self, client, goal) -> None:
+        self.feedback: list = []  # Adapt.Feedback, one per trial
+        self.sent = client.send_goal_async(goal, feedback_callback=self._on_feedback)
+        self._answer = None
+
+    def _on_feedback(self, message) -> None:
+        self.feedback.append(message.feedback)
+
+    def handle(self, timeout: float = 30.0):
+        """Return the goal's handle once adapt_node answered (accepted or rejected)."""
+        wait_for(self.sent.done, timeout, 'the goal response of adapt')
+        return self.sent.result()
+
+    def done(self) -> bool:
+        """True when the goal was rejected, or its result arrived."""
+        if not self.sent.done():
+            return False
+        handle = self.sent.result()
+        if not handle.accepted:
+            return True
+        if self._answer is None:
+            self._answer = handle.get_result_async()
+        return self._answer.done()
+
+    @property
+    def status(self) -> int:
+        """The goal's final ``GoalStatus`` (``done()`` first)."""
+        return self._answer.result().status
+
+    def result(self):
+        """The goal's ``Adapt.Result`` (``done()`` first; the goal was accepted)."""
+        assert self.done() and self._answer is not None, 'the goal was rejected or is running'
+        return self._answer.result().result
+
+    def cancel(self, timeout: float = 10.0) -> bool:
+        """Ask for a cancel; return whether adapt_node accepted it."""
+        future = self.handle().cancel_goal_async()
+        wait_for(future.done, timeout, 'the answer to a cancel')
+        return len(future.result().goals_canceling) > 0
 
 
 def wait_for(
@@ -165,31 +259,72 @@ def wait_for(
     raise AssertionError(f'timed out after {timeout:g} s waiting for {what}')
 
 
-# A separate process whose node is not the bridge publishes one ServoFailure on servo_failures
-# (subscribers name a message's sender by its node, so the test harness cannot play it).
+# A separate process whose node is not the bridge publishes ServoFailure reports on
+# servo_failures: ``times`` nodes one after another (NAME_0, NAME_1, ... when several), each
+# publishing one report as soon as a subscriber matched, then lingering ``linger`` s after it
+# was delivered (0: destroyed at once, the forger who leaves).
 _IMPOSTOR = """
 import rclpy, sys, time
 from hexapod_util.ros_glue import EVENTS
 from hexapod_msgs.msg import ServoFailure
+from rclpy.duration import Duration
+name, servo, leg, joint, times, linger = sys.argv[1:]
 rclpy.init()
-node = rclpy.create_node(sys.argv[1])
-pub = node.create_publisher(ServoFailure, 'servo_failures', EVENTS)
-end = time.monotonic() + 30
-while pub.get_subscription_count() < 1 and time.monotonic() < end:
-    time.sleep(0.05)
-pub.publish(ServoFailure(servo_id=int(sys.argv[2]), robot_leg=int(sys.argv[3]),
-                         leg=int(sys.argv[3]), joint=sys.argv[4]))
-time.sleep(5)
+for i in range(int(times)):
+    node = rclpy.create_node(name if int(times) == 1 else f'{name}_{i}')
+    pub = node.create_publisher(ServoFailure, 'servo_failures', EVENTS)
+    end = time.monotonic() + 30
+    while pub.get_subscription_count() < 1 and time.monotonic() < end:
+        time.sleep(0.01)
+    pub.publish(ServoFailure(servo_id=int(servo), robot_leg=int(leg), leg=int(leg), joint=joint))
+    pub.wait_for_all_acked(Duration(seconds=10))  # delivered: then it leaves
+    time.sleep(float(linger))
+    node.destroy_node()
+    time.sleep(0.5)  # the next forger is a new node: let the graph see this one go
 """
 
 
 def publish_servo_report_as(
-    node_name: str, domain_id: int, servo_id: int, leg: int, joint: str
+    node_name: str,
+    domain_id: int,
+    servo_id: int,
+    leg: int,
+    joint: str,
+    times: int = 1,
+    linger: float = 5.0,
 ) -> subprocess.Popen:
     """Start a process whose node ``node_name`` reports ``servo_id`` (on ``leg``) dead."""
     env = dict(os.environ, ROS_DOMAIN_ID=str(domain_id))
-    args = [node_name, str(servo_id), str(leg), joint]
+    args = [node_name, str(servo_id), str(leg), joint, str(times), str(linger)]
     return subprocess.Popen([sys.executable, '-c', _IMPOSTOR, *args], env=env)
+
+
+def forgers_are_ignored_and_named(node, domain_id: int, tries: int = 20) -> None:
+    """
+    Nodes that are not the bridge report servo 5 dead, ``tries`` times: every report ignored.
+
+    Each forger publishes one report and leaves at once (its node destroyed once the report was
+    delivered); then one that lingers, which is named. A forger that left at once is named when
+    the graph learned its node's name in time, else the refusal says it left (rclpy does not say
+    who sent a message: the bridge is asked, and the graph watched for who joins).
+    """
+    ignored = 'servo 5 (leg 3) reported dead: servo report ignored: the bridge /test_harness does'
+    quick = publish_servo_report_as('not_the_bridge', domain_id, 5, 3, 'tibia', tries, linger=0)
+    assert quick.wait(120) == 0
+    wait_for(lambda: node.log().count(ignored) == tries, 30, f'{tries} forged reports refused')
+    lines = [line for line in node.log().splitlines() if ignored in line]
+    named = [i for i, line in enumerate(lines) if f'/not_the_bridge_{i}' in line]
+    left = [i for i, line in enumerate(lines) if 'the sender left at once' in line]
+    print(
+        f'forgers who left at once: {len(named)} of {tries} named, {len(left)} said to have left'
+    )
+    assert all('not hold servo 5 dead' in line for line in lines)
+    assert all('/not_the_bridge_' in line or i in left for i, line in enumerate(lines))
+    lingering = publish_servo_report_as('not_the_bridge', domain_id, 5, 3, 'tibia')
+    wait_for(lambda: node.log().count(ignored) == tries + 1, 30, 'a lingering forger refused')
+    last = [line for line in node.log().splitlines() if ignored in line][-1]
+    assert last.endswith('/not_the_bridge') or '/not_the_bridge,' in last, last
+    lingering.wait(30)
 
 
 @pytest.fixture

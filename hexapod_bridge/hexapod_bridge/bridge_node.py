@@ -14,7 +14,9 @@ that did not answer the robot's ping) and ``/diagnostics`` (each servo, the link
 Services: ``~/arm`` (nothing is transmitted unless armed), ``~/upload_gait`` (answers once the
 robot acknowledged), ``~/start_trial`` (walk ``trial_settle`` s, then ``trial_duration`` s
 timed), ``~/stop_trial``, ``~/emergency_stop`` (always transmitted, then disarms),
-``~/motor_power`` (on also clears a latched e-stop), ``~/check_servos`` (HELLO).
+``~/motor_power`` (on also clears a latched e-stop), ``~/check_servos`` (HELLO),
+``~/get_servo_failures`` (the servos reported dead so far: how a subscriber of ``servo_failures``
+tells the bridge's reports from forged ones).
 
 After an emergency stop the robot refuses trials (ESTOPPED) until, in this order:
 ``~/arm true``, ``~/motor_power true`` and a gait upload; then ``~/start_trial`` works again.
@@ -23,22 +25,18 @@ After an emergency stop the robot refuses trials (ESTOPPED) until, in this order
 from __future__ import annotations
 
 from dataclasses import asdict, fields
-import math
 import sys
-import threading
 import time
 
 from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_bridge import ros_conversions as conv
+from hexapod_bridge.gait_uploads import GaitUploads
 from hexapod_bridge.health import imu_health, link_health, servo_health
-from hexapod_bridge.link import Operation
 from hexapod_bridge.reports import Report, servo_report, Severity, trial_report
 from hexapod_bridge.station import BaseStation, StationConfig, TrialResult
-from hexapod_gait.parameters import GaitParameterError
-from hexapod_gait.ros_conversions import gait_from_msg
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.msg import LinkStatus, ServoFailure
-from hexapod_msgs.srv import UploadGait
+from hexapod_msgs.srv import GetServoFailures, UploadGait
 from hexapod_util.diagnostics import DiagnosticsPublisher
 from hexapod_util.health import Health
 from hexapod_util.ros_glue import (
@@ -87,7 +85,7 @@ PARAMETERS = tuple(
 )
 
 
-class BridgeNode(Node):
+class BridgeNode(GaitUploads, Node):
     """The base station's link to the robot's radio and IMU (see the module docstring)."""
 
     def __init__(self, **kwargs) -> None:
@@ -95,6 +93,7 @@ class BridgeNode(Node):
         v = declare(self, PARAMETERS)
         self.frames = {k: str(v[f'{k}_frame']) for k in ('odom', 'base', 'imu')}
         self.dead: dict[int, float] = {}  # servo -> when reported dead (monotonic s)
+        self.failures: dict[int, ServoFailure] = {}  # servo -> its report (~/get_servo_failures)
         self.imu_last: float | None = None  # when the last IMU message came (monotonic s)
         imu = f'Xsens MTi on {v["imu_port"]}' if v['imu_port'] else "robot's attitude telemetry"
         self.station = BaseStation(
@@ -124,6 +123,7 @@ class BridgeNode(Node):
             (Trigger, '~/stop_trial', self._on_stop),
             (Trigger, '~/emergency_stop', self._on_estop),
             (Trigger, '~/check_servos', self._on_check_servos),
+            (GetServoFailures, '~/get_servo_failures', self._on_get_servo_failures),
         ):
             self.create_service(srv, name, callback, callback_group=group)
         self.create_timer(1.0 / float(v['status_rate']), self._tick, callback_group=group)
@@ -147,70 +147,6 @@ class BridgeNode(Node):
 
     def _alive(self) -> bool:
         return rclpy.ok(context=self.context)
-
-    # -- gaits ---------------------------------------------------------------------------------
-    def _on_gait(self, msg: GaitParametersMsg) -> None:
-        try:
-            gait = gait_from_msg(msg)
-        except GaitParameterError as exc:
-            self._status(DiagnosticStatus.ERROR, f'gait not uploaded: {exc}')
-            return
-        op = self.station.upload(gait)
-        if op.done and not op.ok:
-            self._status(DiagnosticStatus.ERROR, f'gait not uploaded: {op.message}')
-            return
-        if not self.station.armed:
-            self._status(
-                DiagnosticStatus.WARN, 'gait queued; it is uploaded once the bridge is armed'
-            )
-        threading.Thread(target=self._finish_upload, args=(op, gait), daemon=True).start()
-
-    def _finish_upload(self, op: Operation, gait) -> None:
-        self.station.wait(op, math.inf)
-        if op.ok:
-            self.station.uploaded(op, gait)
-            self._status(
-                DiagnosticStatus.OK,
-                f'gait uploaded (archive index {gait.archive_index})',
-                gait_id=op.result['gait_id'],
-                archive_index=gait.archive_index,
-            )
-        elif op.done:
-            self._status(DiagnosticStatus.ERROR, f'gait upload failed: {op.message}')
-
-    def _on_upload_gait(self, request: UploadGait.Request, response: UploadGait.Response):
-        """Upload and answer once the robot acknowledged (or refused) it: the typed contract."""
-        response.archive_index = request.gait.archive_index
-        timeout = request.timeout if 0 < request.timeout <= 600 else 30.0  # NaN: the default
-        try:
-            gait = gait_from_msg(request.gait)
-        except GaitParameterError as exc:
-            response.success, response.message = False, f'gait not uploaded: {exc}'
-            return response
-        if not self.station.armed:
-            response.success, response.message = False, 'not armed: call ~/arm first'
-            return response
-        op = self.station.upload(gait)
-        if not self.station.wait(op, timeout, self._alive):
-            response.success, response.message = (
-                False,
-                f'gait not uploaded: no answer in {timeout:g} s',
-            )
-            return response
-        if not op.ok:
-            response.success, response.message = False, f'gait not uploaded: {op.message}'
-            self._status(DiagnosticStatus.ERROR, response.message)
-            return response
-        self.station.uploaded(op, gait)
-        response.success, response.gait_id = True, int(op.result['gait_id'])
-        response.message = f'gait uploaded as robot gait {response.gait_id}'
-        self._status(
-            DiagnosticStatus.OK,
-            f'{response.message} (archive index {gait.archive_index})',
-            gait_id=response.gait_id,
-            archive_index=gait.archive_index,
-        )
-        return response
 
     # -- trials and power ------------------------------------------------------------------
     def _on_arm(self, request: SetBool.Request, response: SetBool.Response):
@@ -242,6 +178,10 @@ class BridgeNode(Node):
             if ok
             else message
         )
+        return response
+
+    def _on_get_servo_failures(self, request, response: GetServoFailures.Response):
+        response.failures = list(self.failures.values())
         return response
 
     def _on_motor_power(self, request: SetBool.Request, response: SetBool.Response):
@@ -292,8 +232,9 @@ class BridgeNode(Node):
         msg = ServoFailure(servo_id=servo, robot_leg=r.robot_leg, leg=r.leg, joint=r.joint)
         msg.header.stamp = self.get_clock().now().to_msg()
         msg.header.frame_id = self.frames['base']
-        self.servo_pub.publish(msg)
+        self.failures.setdefault(servo, msg)  # held before it is told: a subscriber asks at once
         self.dead.setdefault(servo, time.monotonic())
+        self.servo_pub.publish(msg)
         self.diagnostics.publish_now()  # its status turns ERROR at once
         self._report(r.report)
 

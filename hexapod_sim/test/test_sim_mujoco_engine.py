@@ -330,7 +330,6 @@ def test_the_per_step_path_reports_a_blow_up_too():
 def test_a_damage_leaves_nothing_behind_when_another_replaces_it():
     """The broad phase's body masks follow the geoms' (a lifted leg's outlived it: CI found it)."""
     from hexapod_sim.damage import Damage
-
     from hexapod_sim.sampling import random_feasible_genotypes
 
     used = create_simulator(SimConfig(engine='mujoco'))

@@ -31,6 +31,7 @@ from hexapod_util.middleware import profile_environment
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 import rclpy
+from rclpy._rclpy_pybind11 import InvalidHandle, RCLError
 from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
 from rclpy.executors import (
     ExternalShutdownException,
@@ -77,6 +78,12 @@ EVENTS = QoSProfile(
 #: the last 10 requests (or responses) not yet taken, so a burst of goals lost some (a storm of 50
 #: goals in a second lost 37 result responses at a default client).
 ACTION_SERVICES = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
+#: An action server's or client's keyword arguments that give all three services ACTION_SERVICES.
+ACTION_QOS = {
+    'goal_service_qos_profile': ACTION_SERVICES,
+    'result_service_qos_profile': ACTION_SERVICES,
+    'cancel_service_qos_profile': ACTION_SERVICES,
+}
 #: Sensor streams (joint states, IMU, foot contacts): best effort, latest wins.
 SENSOR = qos_profile_sensor_data
 #: adapt/trials: one message per trial, reliable, the last 10 kept for a slow reader.
@@ -285,6 +292,20 @@ def run_node(
             node.destroy_node()
         rclpy.try_shutdown()
     return 0
+
+
+def unless_closing(node: Node, call: Callable[..., Any], *args: Any) -> None:
+    """
+    Call ``call(*args)`` (a goal handle's ``succeed`` / ``abort``, a publish), which publishes.
+
+    At shutdown the publishing fails (a goal handle's state is still set): that is ignored, as a
+    closing node has no one to tell. While ``node``'s context is valid the error is raised.
+    """
+    try:
+        call(*args)
+    except (RCLError, InvalidHandle):
+        if rclpy.ok(context=node.context):
+            raise
 
 
 def nodes_named(node: Node, fully_qualified_name: str) -> int:

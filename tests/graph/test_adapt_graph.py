@@ -13,12 +13,13 @@ from __future__ import annotations
 import os
 import subprocess
 
+from action_msgs.msg import GoalStatus
 from conftest import FAILED, status_log_qos, wait_for
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.online.adaptation import simulated_trial
+from hexapod_msgs.action import Adapt
 from hexapod_msgs.msg import AdaptationTrial
-from hexapod_msgs.srv import Adapt
 from hexapod_sim import create_simulator
 from hexapod_sim.damage import parse_damage
 from hexapod_util.recording import read_messages
@@ -72,12 +73,22 @@ def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive, sett
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
     diagnostics = ros.collect(DiagnosticArray, '/diagnostics', 50)
 
-    refused = ros.call(Adapt, 'adapt', Adapt.Request(alpha=1.5), timeout=60)
-    assert not refused.success and 'alpha' in refused.message and refused.trials == 0
+    refused = ros.send_adapt(Adapt.Goal(alpha=1.5), timeout=60)
+    wait_for(refused.done, 60, 'the refusal')
+    assert refused.status == GoalStatus.STATUS_ABORTED and not refused.feedback
+    r = refused.result()
+    assert not r.success and 'alpha' in r.message and r.trials == 0
 
-    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=4, alpha=1.0), timeout=300)
+    run = ros.send_adapt(Adapt.Goal(max_trials=4, alpha=1.0))
+    wait_for(run.done, 300, 'the run')
+    response = run.result()
     assert 1 <= response.trials <= 4, response.message
     wait_for(lambda: len(trials) == response.trials, 10, 'one AdaptationTrial per trial')
+    # the action's feedback: one per trial, the trial as on adapt/trials, the trials left
+    assert [f.trial.measured_speed for f in run.feedback] == [t.measured_speed for t in trials]
+    assert [f.trials_left for f in run.feedback] == [4 - t.trial for t in trials]
+    ends = {True: GoalStatus.STATUS_SUCCEEDED, False: GoalStatus.STATUS_ABORTED}
+    assert run.status == ends[response.success]
     niches = archive.elite_indices()
     for t in trials:
         # a settled trial (1 s untimed, then 2 s timed), as the library times it
@@ -130,15 +141,26 @@ def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive, sett
     broken.write_bytes(path.read_bytes()[:1000])
     result = _set_archive(ros, str(broken))
     assert not result.successful and 'truncated' in result.reason
-    again = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=1), timeout=120)
+    again = ros.adapt(Adapt.Goal(max_trials=1), timeout=120)
     assert again.trials == 1
 
     # a success floor no gait of the damaged robot reaches: the run says so, unsuccessful
     assert not _set_min_speed(ros, -0.5).successful
     assert _set_min_speed(ros, 1.5).successful
-    floored = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=2, alpha=0.05), timeout=120)
+    floored = ros.adapt(Adapt.Goal(max_trials=2, alpha=0.05), timeout=120)
     assert not floored.success and floored.trials == 2
     assert 'below the success floor 1.500 m/s' in floored.message
+
+    # a cancel ends the run after the trial being walked (the floor keeps it going)
+    long_run = ros.send_adapt(Adapt.Goal(max_trials=20, alpha=0.05))
+    wait_for(lambda: long_run.feedback, 120, 'the first trial of a long run')
+    assert long_run.cancel()
+    walked = len(long_run.feedback)
+    wait_for(long_run.done, 120, 'the cancelled run to end')
+    assert long_run.status == GoalStatus.STATUS_CANCELED
+    cancelled = long_run.result()
+    assert cancelled.trials <= walked + 1 and not cancelled.success, cancelled.message
+    assert 'cancelled' in cancelled.message
     assert node.alive() and sim.alive() and gait.alive()
 
 
@@ -167,7 +189,7 @@ def test_the_damage_informed_prior_through_the_graph(ros, launch, tmp_path, smal
         SetLegFailure, 'sim_node/set_leg_failure', SetLegFailure.Request(failed_legs=[1, 4])
     )
     assert changed.success
-    informed = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=1), timeout=300)
+    informed = ros.adapt(Adapt.Goal(max_trials=1), timeout=300)
     truth = compute_ceiling(archive, [1, 4], 'pybullet')
     assert informed.trials == 1, informed.message
     assert 'under legs 1+4 lifted' in informed.prior and 'from the simulator' in informed.prior
@@ -175,7 +197,7 @@ def test_the_damage_informed_prior_through_the_graph(ros, launch, tmp_path, smal
     assert trials[0].archive_index == truth.best_niche  # the re-scored map's best goes first
     assert trials[0].measured_speed == pytest.approx(truth.best_speed, rel=0.02)
 
-    blind = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=1, blind=True), timeout=300)
+    blind = ros.adapt(Adapt.Goal(max_trials=1, blind=True), timeout=300)
     assert blind.prior == 'the map as it is (blind prior requested)'
     wait_for(lambda: len(trials) == 2, 10, 'the blind trial')
     elites = archive.elite_indices()
@@ -184,10 +206,10 @@ def test_the_damage_informed_prior_through_the_graph(ros, launch, tmp_path, smal
     # the operator names a damage of another kind: it wins over the simulator's, which is said
     femur = parse_damage('2:unpowered:femur')
     legs, kinds, strengths, joints = femur.as_lists()
-    named = Adapt.Request(
+    named = Adapt.Goal(
         max_trials=1, failed_legs=legs, kinds=kinds, strengths=strengths, joints=joints
     )
-    answer = ros.call(Adapt, 'adapt', named, timeout=300)
+    answer = ros.adapt(named, timeout=300)
     assert answer.trials == 1, answer.message
     assert 'under leg 2 unpowered femur' in answer.prior
     assert 'from the request: leg 2 unpowered femur' in answer.prior
@@ -195,7 +217,7 @@ def test_the_damage_informed_prior_through_the_graph(ros, launch, tmp_path, smal
     wait_for(lambda: len(trials) == 3, 10, 'the trial of the named damage')
     assert trials[2].archive_index == compute_ceiling(archive, femur, 'pybullet').best_niche
 
-    refused = ros.call(Adapt, 'adapt', Adapt.Request(failed_legs=[1, 2, 3]), timeout=60)
+    refused = ros.adapt(Adapt.Goal(failed_legs=[1, 2, 3]), timeout=60)
     assert not refused.success and refused.trials == 0
     assert 'at most 2 legs' in refused.message
     assert node.alive() and sim.alive() and gait.alive()
@@ -230,9 +252,7 @@ def test_a_streaming_prior_starts_the_first_trial_before_the_re_score_ends(ros, 
     damage = SetLegFailure.Request(failed_legs=[3], kinds=['unpowered'], joints=['femur+tibia'])
     assert ros.call(SetLegFailure, 'sim_node/set_leg_failure', damage).success
     t0 = time.monotonic()
-    client = ros.node.create_client(Adapt, 'adapt')
-    assert client.wait_for_service(timeout_sec=30)
-    future = client.call_async(Adapt.Request(max_trials=2))
+    future = ros.send_adapt(Adapt.Goal(max_trials=2))
     wait_for(lambda: trials, 240, 'the first trial')  # CI: 76 s to score the best 256
     first = time.monotonic() - t0
     wait_for(future.done, 300, 'the run')
@@ -270,9 +290,7 @@ def test_a_request_before_the_simulator_reports_its_damage_waits_for_the_report(
         'adapt_node',
         params={'archive': str(path), 'record_dir': '', 'prior_cache_dir': str(tmp_path)},
     )
-    client = ros.node.create_client(Adapt, 'adapt')
-    assert client.wait_for_service(timeout_sec=30)
-    future = client.call_async(Adapt.Request(max_trials=1))  # no simulator yet
+    future = ros.send_adapt(Adapt.Goal(max_trials=1))  # no simulator yet
     launch('hexapod_sim', 'sim_node', params={'real_time_factor': 0.0, 'failed_legs': FAILED})
     launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
     wait_for(future.done, 300, 'the run')
@@ -301,7 +319,7 @@ def test_without_an_archive_parameter_the_node_adapts_on_the_default_map(ros, la
     gait = launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
     node = launch('hexapod_adapt', 'adapt_node', params={'record_dir': ''})
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
-    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=1), timeout=180)
+    response = ros.adapt(Adapt.Goal(max_trials=1), timeout=180)
     assert response.trials == 1, response.message
     wait_for(lambda: len(trials) == 1, 10, 'the trial message')
     t = trials[0]
@@ -323,7 +341,7 @@ def test_archive_for_another_simulator_is_refused(ros, launch, tmp_path, small_a
     node = launch(
         'hexapod_adapt', 'adapt_node', params={'archive': str(foreign_path), 'record_dir': ''}
     )
-    answer = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=1), timeout=60)
+    answer = ros.adapt(Adapt.Goal(max_trials=1), timeout=60)
     assert (
         not answer.success and 'urdf_sha256' in answer.message and 'does not fit' in answer.message
     )
@@ -338,7 +356,7 @@ def test_an_unknown_mode_is_reported_not_replaced(ros, launch, small_archive):
         'adapt_node',
         params={'archive': str(path), 'mode': 'warp', 'record_dir': ''},
     )
-    answer = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=1), timeout=60)
+    answer = ros.adapt(Adapt.Goal(max_trials=1), timeout=60)
     assert not answer.success and 'mode must be one of sim, robot, manual' in answer.message
     assert node.alive()
 
@@ -363,7 +381,7 @@ def test_two_simulators_with_one_name_are_reported_not_waited_on(ros, launch, sm
         'sim_node reporting its twin',
     )
     t0 = time.monotonic()
-    answer = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=2), timeout=60)
+    answer = ros.adapt(Adapt.Goal(max_trials=2), timeout=60)
     assert (
         not answer.success and answer.trials == 0 and '2 nodes named /sim_node' in answer.message
     )
@@ -379,10 +397,8 @@ def test_a_twin_that_joins_during_a_run_stops_it_with_the_reason(ros, launch, sm
         'adapt_node',
         params={'archive': str(path), 'mode': 'sim', 'record_dir': '', 'trial_timeout': 300.0},
     )
-    client = ros.node.create_client(Adapt, 'adapt')
-    assert client.wait_for_service(timeout_sec=30)
     # without gait_node the first trial waits (up to trial_timeout) for its gait to play
-    running = client.call_async(Adapt.Request(max_trials=2))
+    running = ros.send_adapt(Adapt.Goal(max_trials=2))
     wait_for(lambda: 'adaptation started' in node.log(), 30, 'the run to start')
     launch('hexapod_sim', 'sim_node', params={'real_time_factor': 0.0})
     wait_for(running.done, 60, 'the run to stop on the twin')
@@ -430,10 +446,10 @@ def test_every_nonsensical_adapt_request_is_refused_with_a_reason(ros, launch, s
     ]
     cases += [(fields, None, named) for fields, named in damages]
     for field, value, named in cases:
-        request = Adapt.Request()
+        request = Adapt.Goal()
         for name, v in field.items() if isinstance(field, dict) else [(field, value)]:
             setattr(request, name, v)
-        answer = ros.call(Adapt, 'adapt', request, timeout=30)
+        answer = ros.adapt(request, timeout=30)
         assert not answer.success and answer.trials == 0, (field, value, answer.message)
         assert answer.message.startswith('bad request') and named in answer.message, (
             field,
@@ -496,9 +512,7 @@ def test_a_simulated_graph_has_one_time_base(ros, launch, tmp_path, small_archiv
     )
     clock = ros.collect(Clock, '/clock', 10)
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
-    response = ros.call(
-        Adapt, 'adapt', Adapt.Request(max_trials=2, alpha=1.0, blind=True), timeout=300
-    )
+    response = ros.adapt(Adapt.Goal(max_trials=2, alpha=1.0, blind=True), timeout=300)
     assert response.trials >= 1, response.message
     wait_for(lambda: len(trials) == response.trials and clock, 10, 'trials and clock')
     latest_sim = max(_ns(c.clock) for c in clock)
@@ -584,9 +598,7 @@ def test_a_recorded_type_without_a_definition_is_refused_and_the_run_goes_on(
         env={'AMENT_PREFIX_PATH': _prefix_without('nav_msgs', tmp_path)},
     )
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
-    response = ros.call(
-        Adapt, 'adapt', Adapt.Request(max_trials=2, alpha=1.0, blind=True), timeout=300
-    )
+    response = ros.adapt(Adapt.Goal(max_trials=2, alpha=1.0, blind=True), timeout=300)
     assert response.trials == 2, response.message
     why = 'not recording odom: no definition of nav_msgs/msg/Odometry'
     assert why in response.message
@@ -595,5 +607,5 @@ def test_a_recorded_type_without_a_definition_is_refused_and_the_run_goes_on(
     assert why in node.log()
     topics = {topic for topic, _, _ in read_messages(response.mcap_path)}
     assert '/adapt/trials' in topics and '/odom' not in topics
-    again = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=1), timeout=120)
+    again = ros.adapt(Adapt.Goal(max_trials=1), timeout=120)
     assert again.trials == 1 and node.alive() and sim.alive()

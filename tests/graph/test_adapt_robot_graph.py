@@ -12,11 +12,12 @@ from __future__ import annotations
 
 import os
 
-from conftest import publish_servo_report_as, status_log_qos, wait_for
+from conftest import forgers_are_ignored_and_named, status_log_qos, wait_for
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import simulation_fingerprint
+from hexapod_adapt.ros.adapt_action import BUSY
+from hexapod_msgs.action import Adapt
 from hexapod_msgs.msg import AdaptationTrial
-from hexapod_msgs.srv import Adapt
 from hexapod_sim import create_simulator, evaluate_gait
 from hexapod_util.recording import read_messages
 import numpy as np
@@ -91,7 +92,7 @@ def test_adaptation_on_the_emulated_robot_uses_the_bridge_odometry(
     )
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
     assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
-    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=2, alpha=1.0), timeout=120)
+    response = ros.adapt(Adapt.Goal(max_trials=2, alpha=1.0), timeout=120)
     # one trial suffices when the measured speed beats every prediction (the tripod walks
     # ~0.288 m/s, as mapped)
     assert 1 <= response.trials <= 2, response.message
@@ -149,7 +150,7 @@ def test_two_failed_legs_adapted_on_the_robot_running_the_cpp_firmware(ros, laun
     assert check.success and 'protocol 1.1' in check.message, check.message
     wait_for(lambda: {f.servo_id for f in failures} == {3, 12}, 20, 'servo failure reports')
     before = len(failures)
-    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=3, alpha=1.0), timeout=180)
+    response = ros.adapt(Adapt.Goal(max_trials=3, alpha=1.0), timeout=180)
     assert response.trials >= 1, response.message
     _every_trial_measured_within_the_stated_accuracy(emu, trials, response.trials)
     best = max(trials, key=lambda t: t.measured_speed)
@@ -179,9 +180,7 @@ def test_manual_mode_takes_the_operators_distance(ros, launch, tmp_path, small_a
     )
     assert not early.accepted and 'no manual trial' in early.message
     assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
-    client = ros.node.create_client(Adapt, 'adapt')
-    assert client.wait_for_service(timeout_sec=20)
-    future = client.call_async(Adapt.Request(max_trials=1))
+    future = ros.send_adapt(Adapt.Goal(max_trials=1))
     wait_for(lambda: 'report the distance' in node.log(), 30, 'adapt_node asking for the distance')
     silly = ros.call(
         ReportDistance, 'adapt_node/report_distance', ReportDistance.Request(distance=float('nan'))
@@ -196,7 +195,7 @@ def test_manual_mode_takes_the_operators_distance(ros, launch, tmp_path, small_a
     assert trials[0].measured_speed == pytest.approx(0.62 / 5.0)
 
 
-def test_second_request_refused_and_ctrl_c_mid_run_finishes_the_recording(
+def test_a_second_goal_is_rejected_and_ctrl_c_mid_run_finishes_the_recording(
     ros, launch, tmp_path, small_archive
 ):
     from mcap.reader import make_reader
@@ -211,12 +210,11 @@ def test_second_request_refused_and_ctrl_c_mid_run_finishes_the_recording(
         params={'archive': str(path), 'mode': 'manual', 'record_dir': str(tmp_path / 'runs')},
     )
     assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
-    client = ros.node.create_client(Adapt, 'adapt')
-    assert client.wait_for_service(timeout_sec=20)
-    client.call_async(Adapt.Request(max_trials=3))
+    assert ros.send_adapt(Adapt.Goal(max_trials=3)).handle().accepted
     wait_for(lambda: 'report the distance' in node.log(), 30, 'a trial waiting for the operator')
-    busy = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=1))
-    assert not busy.success and 'already running' in busy.message
+    busy = ros.send_adapt(Adapt.Goal(max_trials=1))
+    assert not busy.handle().accepted  # rejected, and the node says why
+    wait_for(lambda: BUSY in node.log(), 10, 'the reason for the rejection in the log')
     assert node.stop() == 0
     files = list((tmp_path / 'runs').glob('*.mcap'))
     assert len(files) == 1
@@ -250,7 +248,7 @@ def test_a_gait_the_robot_refuses_stops_the_run_with_the_robots_reason(ros, laun
         params={'archive': str(unreachable), 'mode': 'robot', 'record_dir': ''},
     )
     assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
-    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=3), timeout=120)
+    response = ros.adapt(Adapt.Goal(max_trials=3), timeout=120)
     assert not response.success and response.trials == 0
     assert 'trial 1 aborted' in response.message and 'UNREACHABLE' in response.message
     assert node.alive()
@@ -258,27 +256,21 @@ def test_a_gait_the_robot_refuses_stops_the_run_with_the_robots_reason(ros, laun
 
 def test_bad_servo_reports_are_refused_and_the_node_lives(ros, launch, domain_id):
     from hexapod_msgs.msg import ServoFailure
-    from hexapod_util.ros_glue import EVENTS
     from std_srvs.srv import Trigger
 
     # the test's node plays the bridge adapt_node is configured to believe
     params = {'mode': 'robot', 'record_dir': '', 'bridge_node': 'test_harness'}
     node = launch('hexapod_adapt', 'adapt_node', params=params)
-    pub = ros.node.create_publisher(ServoFailure, 'servo_failures', EVENTS)
-    wait_for(lambda: pub.get_subscription_count() > 0, 20, 'adapt_node subscribed')
+    report = ros.play_bridge()
     for servo, leg in [(40, 0), (3, 1), (3, 1), (12, 4), (8, 3)]:
-        pub.publish(ServoFailure(servo_id=servo, robot_leg=leg, leg=leg, joint='femur'))
+        report(ServoFailure(servo_id=servo, robot_leg=leg, leg=leg, joint='femur'))
     wait_for(lambda: 'name 3 failed legs' in node.log(), 20, 'the third leg refused')
     log = node.log()
     assert 'servo 40 reported dead names no leg (leg 0)' in log
     assert 'servo 3 (leg 1) reported dead again: already known' in log
     assert 'servo 12 reported dead: leg 4 femur unpowered' in log
-    # only the bridge is believed: a report from another node is logged, naming it, and ignored
-    impostor = publish_servo_report_as('not_the_bridge', domain_id, 5, 3, 'tibia')
-    says = 'servo 5 (leg 3) reported dead: servo report ignored: it may come from /not_the_bridge'
-    wait_for(lambda: says in node.log(), 30, 'the impostor named')
-    impostor.wait(30)
-    # forget drops what the bridge reported (after a repair), and the impostor's was never taken
+    forgers_are_ignored_and_named(node, domain_id)
+    # forget drops what the bridge reported (after a repair), and the forgers' were never taken
     forget = ros.call(Trigger, 'adapt_node/forget', Trigger.Request())
     assert forget.success and 'forgot the reports of dead servos [3, 8, 12]' in forget.message
     again = ros.call(Trigger, 'adapt_node/forget', Trigger.Request())
@@ -311,7 +303,7 @@ def test_a_rogue_status_publisher_cannot_confirm_an_upload(ros, launch, small_ar
             )
         )
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
-    response = ros.call(Adapt, 'adapt', Adapt.Request(max_trials=2), timeout=60)
+    response = ros.adapt(Adapt.Goal(max_trials=2), timeout=60)
     assert not response.success and response.trials == 0 and not trials
     assert 'upload_gait is not available' in response.message
     assert node.alive()

@@ -16,8 +16,8 @@ from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
 from hexapod_adapt.mapping.simulation import simulation_fingerprint
 from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
 from hexapod_gait import preset, to_genotype
+from hexapod_msgs.action import Adapt
 from hexapod_msgs.msg import AdaptationTrial
-from hexapod_msgs.srv import Adapt
 from hexapod_sim import create_simulator, evaluate_gait
 from hexapod_util.recording import read_messages
 import numpy as np
@@ -83,9 +83,7 @@ def test_a_trial_that_tips_is_stopped_counted_as_failed_and_never_tried_again(
         params={'archive': str(tipping_archive), 'record_dir': str(tmp_path / 'runs')},
     )
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
-    response = ros.call(
-        Adapt, 'adapt', Adapt.Request(max_trials=3, alpha=1.0, blind=True), timeout=300
-    )
+    response = ros.adapt(Adapt.Goal(max_trials=3, alpha=1.0, blind=True), timeout=300)
     assert response.trials >= 2, response.message
     wait_for(lambda: len(trials) == response.trials, 10, 'one AdaptationTrial per trial')
     first = trials[0]
@@ -147,9 +145,7 @@ def test_a_robot_trial_that_tips_is_stopped_through_the_bridge_by_the_imu(
     )
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
     assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
-    response = ros.call(
-        Adapt, 'adapt', Adapt.Request(max_trials=2, alpha=1.0, blind=True), timeout=180
-    )
+    response = ros.adapt(Adapt.Goal(max_trials=2, alpha=1.0, blind=True), timeout=180)
     assert response.trials == 2, response.message
     wait_for(lambda: len(trials) == 2, 10, 'one AdaptationTrial per trial')
     assert trials[0].archive_index == 0 and trials[0].tipped and trials[0].measured_speed == 0.0

@@ -10,6 +10,7 @@ import signal
 import subprocess
 import sys
 
+from hexapod_msgs.action import Adapt, Navigate
 from hexapod_msgs.msg import (
     AdaptationTrial,
     FootContacts,
@@ -19,7 +20,7 @@ from hexapod_msgs.msg import (
     ServoFailure,
     TrajectoryActivation,
 )
-from hexapod_msgs.srv import Adapt, GetLegDamage, ReportDistance, SetLegFailure, UploadGait
+from hexapod_msgs.srv import GetLegDamage, ReportDistance, SetLegFailure, UploadGait
 import pytest
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
@@ -32,7 +33,9 @@ MESSAGES = [
     TrajectoryActivation,
     LegDamage,
 ]
-SERVICES = [Adapt, SetLegFailure, ReportDistance, UploadGait, GetLegDamage]
+SERVICES = [SetLegFailure, ReportDistance, UploadGait, GetLegDamage]
+# the actions go through their servers in tests/graph (test_adapt_graph, test_navigate_graph)
+ACTIONS = [Adapt, Navigate]
 QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 
 
@@ -53,6 +56,7 @@ def test_every_interface_is_covered():
     declared_srvs = {f.stem for f in (pkg / 'srv').glob('*.srv')}
     assert declared_msgs == {m.__name__ for m in MESSAGES}
     assert declared_srvs == {s.__name__ for s in SERVICES}
+    assert {f.stem for f in (pkg / 'action').glob('*.action')} == {a.__name__ for a in ACTIONS}
 
 
 @pytest.mark.ros

@@ -12,7 +12,7 @@ import sys
 import textwrap
 import time
 
-from conftest import executable, publish_servo_report_as, status_log_qos, wait_for
+from conftest import executable, forgers_are_ignored_and_named, status_log_qos, wait_for
 from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_msgs.action import Navigate
 from hexapod_navigation.ros.navigate_msgs import navigate_client
@@ -362,7 +362,6 @@ def test_robot_mode_takes_dead_servos_only_from_its_bridge_and_forgets_them(
 ):
     from hexapod_msgs.msg import ServoFailure
     from hexapod_msgs.srv import SetLegFailure
-    from hexapod_util.ros_glue import EVENTS
     from std_srvs.srv import Trigger
 
     # the test's node plays the bridge navigate_node is configured to believe
@@ -371,23 +370,19 @@ def test_robot_mode_takes_dead_servos_only_from_its_bridge_and_forgets_them(
         'navigate_node',
         params={'mode': 'robot', 'trial_duration': 2.0, 'bridge_node': 'test_harness'},
     )
-    pub = ros.node.create_publisher(ServoFailure, 'servo_failures', EVENTS)
-    wait_for(lambda: pub.get_subscription_count() > 0, 30, 'navigate_node subscribed')
-    pub.publish(ServoFailure(servo_id=12, robot_leg=4, leg=4, joint='femur'))
+    report = ros.play_bridge()
+    report(ServoFailure(servo_id=12, robot_leg=4, leg=4, joint='femur'))
     says = (
         'servo 12 reported dead: leg 4 femur unpowered; navigation favours the damage bank'
         "'s leg 4 unpowered femur from the next goal"
     )
     wait_for(lambda: says in nav.log(), 20, 'the report taken')
     # a second dead servo on another leg: a damage the bank does not hold
-    pub.publish(ServoFailure(servo_id=3, robot_leg=1, leg=1, joint='tibia'))
+    report(ServoFailure(servo_id=3, robot_leg=1, leg=1, joint='tibia'))
     says = 'the damage bank does not model leg 1 unpowered tibia, leg 4 unpowered femur'
     wait_for(lambda: says in nav.log(), 20, 'the second report')
-    # only the bridge is believed: a report from another node is logged, naming it, and ignored
-    impostor = publish_servo_report_as('not_the_bridge', domain_id, 5, 3, 'tibia')
-    says = 'servo 5 (leg 3) reported dead: servo report ignored: it may come from /not_the_bridge'
-    wait_for(lambda: says in nav.log(), 30, 'the impostor named')
-    impostor.wait(30)
+    # only what the bridge confirms is believed: forgers are ignored and named
+    forgers_are_ignored_and_named(nav, domain_id)
     # the operator names a damage no servo report can tell: it wins over the reports
     named = ros.call(
         SetLegFailure,
@@ -399,7 +394,7 @@ def test_robot_mode_takes_dead_servos_only_from_its_bridge_and_forgets_them(
         "leg 2 locked, as the operator says: navigation favours the damage bank's leg 2 locked"
         ' from the next goal (prior share 0.5)'
     )
-    pub.publish(ServoFailure(servo_id=13, robot_leg=4, leg=4, joint='tibia'))
+    report(ServoFailure(servo_id=13, robot_leg=4, leg=4, joint='tibia'))
     says = 'servo 13 reported dead: leg 4 tibia unpowered; the damage the operator named, leg 2'
     wait_for(lambda: says in nav.log(), 20, 'a report after the named damage')
     for request, why in (

@@ -13,7 +13,10 @@ WS = Path(__file__).resolve().parents[2]
 
 def _scripts() -> list[Path]:
     out = subprocess.run(
-        ['git', 'ls-files', '*make_*.sh', ':!studies'], cwd=WS, capture_output=True, text=True,
+        ['git', 'ls-files', '*make_*.sh', ':!studies'],
+        cwd=WS,
+        capture_output=True,
+        text=True,
         check=True,
     )
     return [WS / line for line in out.stdout.split()]

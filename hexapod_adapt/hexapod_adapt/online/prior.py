@@ -61,24 +61,32 @@ def damage_prior(
     return DamagePrior(damage, engine, c.speeds, time.monotonic() - t0)
 
 
-def report_source_problem(publishers: Sequence[str], bridge: str) -> str:
+def servo_report_verdict(
+    servo: int, confirmed: bool | None, bridge: str, others: Sequence[str]
+) -> str:
     """
-    Say why a servo report cannot be believed ('' if it can): only ``bridge`` may publish them.
+    Say why a report that ``servo`` is dead cannot be believed ('' if it can).
 
-    ``publishers`` are the fully qualified names of the nodes publishing the report's topic when
-    it arrives (the graph names a topic's publishers, not a message's, so any other publisher
-    makes every report on the topic doubtful). ``bridge`` is the bridge node the node is
-    configured to use.
+    A topic does not tell its subscriber which publisher sent a message (rclpy's message info
+    holds no sender), and a sender that left at once is gone from the graph when its message is
+    handled. So a report is believed only when ``bridge`` (the bridge node the node is configured
+    to use) confirms it holds that servo dead: ``confirmed`` is its answer (None: no answer).
+    ``others`` are the other publishers of the topic seen lately, named when a report is not
+    believed.
     """
-    others = sorted({p for p in publishers if p != bridge})
-    if others:
-        return (
-            f'servo report ignored: it may come from {", ".join(others)}, not only from the '
-            f'bridge {bridge} (only the bridge is believed)'
-        )
-    if bridge not in publishers:
-        return f'servo report ignored: the bridge {bridge} does not publish it'
-    return ''
+    if confirmed:
+        return ''
+    names = ', '.join(sorted(set(others)))
+    seen = (
+        f'; publishers of servo_failures besides the bridge since the last report: {names}'
+        if others
+        else '; no publisher of servo_failures but the bridge was seen (the sender left at once)'
+    )
+    if confirmed is None:
+        why = f'did not answer whether servo {servo} is dead'
+    else:
+        why = f'does not hold servo {servo} dead'
+    return f'servo report ignored: the bridge {bridge} {why}{seen}'
 
 
 def requested_damage(

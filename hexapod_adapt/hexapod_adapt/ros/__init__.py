@@ -11,16 +11,16 @@ from hexapod_adapt.ros.graph_port import (
     GraphPort,
     RECORDED_TYPES,
     RecordedTopics,
-    servo_report_problem,
     stamp_ns,
 )
 from hexapod_adapt.ros.run_recording import RunRecording
+from hexapod_adapt.ros.servo_reports import ServoReports
 
 __all__ = [
     'GraphPort',
     'RECORDED_TYPES',
     'RecordedTopics',
     'RunRecording',
-    'servo_report_problem',
+    'ServoReports',
     'stamp_ns',
 ]

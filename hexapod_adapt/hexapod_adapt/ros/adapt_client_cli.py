@@ -3,9 +3,10 @@
 """
 ``ros2 run hexapod_adapt adapt_client``.
 
-Call the ``adapt`` service from a base-station PC and print each trial as it completes (the same as
-``ros2 service call /adapt hexapod_msgs/srv/Adapt`` plus ``ros2 topic echo /adapt/trials`` on a
-full ROS install).
+Send one goal to adapt_node's ``adapt`` action from a base-station PC and print each trial's
+feedback as it completes (the same as ``ros2 action send_goal --feedback /adapt
+hexapod_msgs/action/Adapt`` on a full ROS install). Ctrl-C cancels the run (after the trial being
+walked), as ``ros2 action send_goal`` does.
 
     adapt_client --max-trials 20 [--alpha 0.9 --kappa 0.05 --length-scale 0.4 --noise 0.001]
     adapt_client --damage 3:unpowered:femur    # the damage known, when no report says it
@@ -18,6 +19,7 @@ import argparse
 import sys
 import time
 
+from action_msgs.msg import GoalStatus
 from hexapod_adapt.online.mboa import (
     ALPHA_RANGE,
     KAPPA_RANGE,
@@ -28,12 +30,14 @@ from hexapod_adapt.online.mboa import (
     STOP_GAIN_RANGE,
 )
 from hexapod_adapt.online.run_config import TRIAL_DURATION_RANGE
+from hexapod_adapt.ros.adapt_action import BUSY
+from hexapod_msgs.action import Adapt
 from hexapod_msgs.msg import AdaptationTrial
-from hexapod_msgs.srv import Adapt
 from hexapod_sim.damage import Damage, parse_damage
 from hexapod_util.cli import interval, number, run_command
-from hexapod_util.ros_glue import spin_until_done, Waited
+from hexapod_util.ros_glue import ACTION_QOS, spin_until_done, Waited
 import rclpy
+from rclpy.action import ActionClient
 from rclpy.signals import SignalHandlerOptions
 
 
@@ -148,24 +152,56 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument(
         '--blind', action='store_true', help='ignore known damage: start from the map as it is'
     )
-    ap.add_argument('--service', default='adapt', help='name of the adapt service')
+    ap.add_argument('--action', default='adapt', help='name of the adapt action')
     ap.add_argument(
         '--timeout',
         type=number(float, 0, 10**6, low_open=True),
         default=3600.0,
-        help='give up after this many seconds, waiting for the service included',
+        help='give up after this many seconds, waiting for the action server included',
     )
     return ap
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Parse the options, call the adapt service, print each trial; exit status 0 on success."""
+    """Parse the options, send one adapt goal, print each trial; exit status 0 on success."""
     args, ros_args = build_parser().parse_known_args(argv)
-    return run_command(
-        'adapt_client',
-        lambda: _call(args, ros_args),
-        'a run it started goes on in adapt_node (~/cancel stops it)',
+    return run_command('adapt_client', lambda: _call(args, ros_args))
+
+
+def trial_line(m: AdaptationTrial, trials_left: int) -> str:
+    """Return the line printed for one trial's feedback."""
+    return (
+        f'trial {m.trial:>3d}: gait {m.archive_index:>6d}  '
+        + ('TIPPED: stopped by the tip guard, scored' if m.tipped else 'measured')
+        + f' {m.measured_speed:+.3f} m/s  (map {m.map_speed:.3f}, GP'
+        f' {m.predicted_speed:.3f} +/- {m.predicted_speed_std:.3f})'
+        f'  best {m.best_speed:+.3f} m/s  ({trials_left} left at most)'
     )
+
+
+def _goal(args: argparse.Namespace) -> Adapt.Goal:
+    legs, kinds, strengths, joints = (
+        args.damage.as_lists() if args.damage else (args.failed_legs, [], [], [])
+    )
+    return Adapt.Goal(
+        max_trials=args.max_trials,
+        trial_duration=args.trial_duration,
+        alpha=args.alpha,
+        kappa=args.kappa,
+        length_scale=args.length_scale,
+        noise=args.noise,
+        stop_gain=args.stop_gain,
+        profile=args.profile,
+        failed_legs=legs,
+        kinds=kinds,
+        strengths=strengths,
+        joints=joints,
+        blind=args.blind,
+    )
+
+
+def _say(text: str) -> None:
+    print(f'adapt_client: {text}', file=sys.stderr, flush=True)
 
 
 def _call(args: argparse.Namespace, ros_args: list[str]) -> int:
@@ -174,74 +210,86 @@ def _call(args: argparse.Namespace, ros_args: list[str]) -> int:
     rclpy.init(args=ros_args, signal_handler_options=SignalHandlerOptions.NO)
     node = rclpy.create_node('adapt_client')
     try:
-        node.create_subscription(
-            AdaptationTrial,
-            'adapt/trials',
-            lambda m: print(
-                f'trial {m.trial:>3d}: gait {m.archive_index:>6d}  '
-                + ('TIPPED: stopped by the tip guard, scored' if m.tipped else 'measured')
-                + f' {m.measured_speed:+.3f} m/s  (map {m.map_speed:.3f}, GP'
-                f' {m.predicted_speed:.3f} +/- {m.predicted_speed_std:.3f})'
-                f'  best {m.best_speed:+.3f} m/s',
-                flush=True,
+        client = ActionClient(
+            node, Adapt, args.action,
+            **ACTION_QOS,
+        )  # fmt: skip
+        if not client.wait_for_server(timeout_sec=max(0.0, deadline - time.monotonic())):
+            _say(
+                f'action {args.action} not available within {args.timeout:g} s'
+                ' (is adapt_node running?)'
+            )
+            return 1
+        sent = client.send_goal_async(
+            _goal(args),
+            feedback_callback=lambda f: print(
+                trial_line(f.feedback.trial, f.feedback.trials_left), flush=True
             ),
-            10,
         )
-        client = node.create_client(Adapt, args.service)
-        if not client.wait_for_service(timeout_sec=max(0.0, deadline - time.monotonic())):
-            print(
-                f'adapt_client: service {args.service} not available within {args.timeout:g} s '
-                '(is adapt_node running?)',
-                file=sys.stderr,
-            )
+        outcome = _wait(node, client, sent, deadline, args)
+        if outcome is not None:
+            return outcome
+        handle = sent.result()
+        if not handle.accepted:
+            _say(BUSY)
             return 1
-        legs, kinds, strengths, joints = (
-            args.damage.as_lists() if args.damage else (args.failed_legs, [], [], [])
-        )
-        request = Adapt.Request(
-            max_trials=args.max_trials,
-            trial_duration=args.trial_duration,
-            alpha=args.alpha,
-            kappa=args.kappa,
-            length_scale=args.length_scale,
-            noise=args.noise,
-            stop_gain=args.stop_gain,
-            profile=args.profile,
-            failed_legs=legs,
-            kinds=kinds,
-            strengths=strengths,
-            joints=joints,
-            blind=args.blind,
-        )
-        future = client.call_async(request)
-        waited = spin_until_done(node, future, deadline, client.service_is_ready)
-        if waited is Waited.SERVER_GONE:
-            print(
-                f'adapt_client: the server of {args.service} shut down before it answered'
-                ' (adapt_node stopped mid-run; its recording holds the trials it completed)',
-                file=sys.stderr,
-            )
-            return 1
-        if not future.done():
-            print(f'adapt_client: no answer within {args.timeout:g} s', file=sys.stderr)
-            return 1
-        for _ in range(5):  # let the last trial message arrive
-            rclpy.spin_once(node, timeout_sec=0.05)
-        r = future.result()
-        print(f'{"success" if r.success else "stopped"}: {r.message}')
-        if r.best_archive_index >= 0:
-            print(
-                f'best gait {r.best_archive_index}: {r.best_speed:.3f} m/s after {r.trials} trials'
-                f' ({r.elapsed:.1f} s)'
-            )
-        if r.prior:
-            print(f'prior: {r.prior}')
-        if r.mcap_path:
-            print(f'recording: {r.mcap_path}')
-        return 0 if r.success else 3
+        answer = handle.get_result_async()
+        try:
+            outcome = _wait(node, client, answer, deadline, args)
+        except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the run stops too, after its trial
+            _cancel(node, handle, deadline)
+            raise
+        if outcome is not None:
+            return outcome
+        return _report(answer.result().status, answer.result().result)
     finally:
         node.destroy_node()
         rclpy.try_shutdown()
+
+
+def _wait(node, client: ActionClient, future, deadline: float, args) -> int | None:
+    """Spin until ``future`` is done (None) or return the exit status of why it is not."""
+    waited = spin_until_done(node, future, deadline, client.server_is_ready)
+    if waited is Waited.SERVER_GONE:
+        _say(
+            f'the server of {args.action} shut down before it answered (adapt_node stopped'
+            ' mid-run; its recording holds the trials it completed)'
+        )
+        return 1
+    if waited is Waited.TIMEOUT:
+        _say(f'no answer within {args.timeout:g} s')
+        return 1
+    return None
+
+
+def _cancel(node, handle, deadline: float) -> None:
+    """Ask adapt_node to cancel the goal, waiting at most 2 s for its answer."""
+    future = handle.cancel_goal_async()
+    end = min(deadline, time.monotonic() + 2.0)
+    while not future.done() and time.monotonic() < end:
+        rclpy.spin_once(node, timeout_sec=0.1)
+    accepted = future.done() and len(future.result().goals_canceling) > 0
+    _say(
+        'cancel sent: adapt_node stops the run after the trial being walked'
+        if accepted
+        else 'the cancel was not confirmed: the run may go on in adapt_node'
+    )
+
+
+def _report(status: int, r: Adapt.Result) -> int:
+    """Print the result; return the exit status (0: M-BOA's rule met)."""
+    word = {GoalStatus.STATUS_SUCCEEDED: 'success', GoalStatus.STATUS_CANCELED: 'cancelled'}
+    print(f'{word.get(status, "stopped")}: {r.message}')
+    if r.best_archive_index >= 0:
+        print(
+            f'best gait {r.best_archive_index}: {r.best_speed:.3f} m/s after {r.trials} trials'
+            f' ({r.elapsed:.1f} s)'
+        )
+    if r.prior:
+        print(f'prior: {r.prior}')
+    if r.mcap_path:
+        print(f'recording: {r.mcap_path}')
+    return 0 if r.success else 3
 
 
 if __name__ == '__main__':

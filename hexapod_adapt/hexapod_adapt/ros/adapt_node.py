@@ -4,12 +4,13 @@
 ``ros2 run hexapod_adapt adapt_node``: Intelligent Trial & Error on the simulator or the robot.
 
 Loads an archive (``archive``, by default the shipped default map; refused with the reason if it
-does not fit) and runs M-BOA when ``adapt`` is called. Each trial's gait goes to gait_node +
-sim_node (mode ``sim``), bridge_node (``robot``) or the operator's tape measure (``manual``):
+does not fit) and runs M-BOA for each goal of its ``adapt`` action (one at a time). Each
+trial's gait goes to gait_node + sim_node (mode ``sim``), bridge_node (``robot``) or the
+operator's tape measure (``manual``):
 :mod:`hexapod_adapt.online.trials`. A known damage (the request's, ``sim/damage`` or the bridge's
 ``servo_failures``) starts M-BOA from the map re-scored under it (``blind`` skips it). Publishes
-``adapt/trials`` and records each run to MCAP in ``record_dir``. Services: ``adapt``,
-``~/report_distance``, ``~/cancel``, ``~/forget``.
+``adapt/trials`` (also each goal's feedback) and records each run to MCAP in ``record_dir``.
+Services: ``~/report_distance``, ``~/forget``.
 """
 
 from __future__ import annotations
@@ -17,7 +18,6 @@ from __future__ import annotations
 from dataclasses import replace
 import os
 import sys
-import threading
 import traceback
 
 from hexapod_adapt.mapping.archive import Archive
@@ -35,6 +35,7 @@ from hexapod_adapt.online.run_config import (
 )
 from hexapod_adapt.online.streaming_prior import StreamingPrior
 from hexapod_adapt.online.trials import MODES, OdomLog, TrialTiming, Waiter
+from hexapod_adapt.ros.adapt_action import AdaptAction
 from hexapod_adapt.ros.damage_reports import DamageReports
 from hexapod_adapt.ros.graph_port import (
     duplicate_peers,
@@ -47,8 +48,9 @@ from hexapod_adapt.ros.graph_port import (
 from hexapod_adapt.ros.run_recording import RunRecording
 from hexapod_gait import from_genotype
 from hexapod_gait.ros_conversions import gait_to_msg
+from hexapod_msgs.action import Adapt
 from hexapod_msgs.msg import AdaptationTrial
-from hexapod_msgs.srv import Adapt, ReportDistance
+from hexapod_msgs.srv import ReportDistance
 from hexapod_util.diagnostics import DiagnosticsPublisher
 from hexapod_util.health import ERROR, Health, OK, WARN
 from hexapod_util.ros_glue import (
@@ -56,21 +58,19 @@ from hexapod_util.ros_glue import (
     param_specs,
     run_node,
     TRIALS,
+    unless_closing,
     watch_for_duplicates,
 )
 from rcl_interfaces.msg import SetParametersResult
 import rclpy
-from rclpy._rclpy_pybind11 import RCLError
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.node import Node
-from std_srvs.srv import Trigger
 
 PARAMETERS = param_specs(SETTINGS)
-CANCEL_ANSWERS = {True: 'cancelling after the current trial', False: 'no adaptation is running'}
 
 
-class AdaptNode(DamageReports, Node):
-    """Run M-BOA over an archive when its ``adapt`` service is called."""
+class AdaptNode(AdaptAction, DamageReports, Node):
+    """Run M-BOA over an archive for each goal of its ``adapt`` action."""
 
     def __init__(self) -> None:
         super().__init__('adapt_node')
@@ -82,8 +82,6 @@ class AdaptNode(DamageReports, Node):
         (self.get_logger().error if problem else self.get_logger().info)(self.slot.describe())
         self.add_on_set_parameters_callback(self._on_set_parameters)
 
-        self.busy = threading.Lock()
-        self.cancel_requested = False
         self.trials: session.TrialProcedure | None = None
         self.odom = OdomLog()
         self.recording = RunRecording(
@@ -102,11 +100,10 @@ class AdaptNode(DamageReports, Node):
         self.stream: StreamingPrior | None = None  # the last run's re-score (may still stream)
         work = ReentrantCallbackGroup()
         self.listen_for_damage(work)
-        self.create_service(Adapt, 'adapt', self._on_adapt, callback_group=work)
+        self.serve_adapt(work)
         self.create_service(
             ReportDistance, '~/report_distance', self._on_report, callback_group=work
         )
-        self.create_service(Trigger, '~/cancel', self._on_cancel, callback_group=work)
         watch_for_duplicates(self, self.get_logger().error)
         self.run_status = (OK, 'idle')
         self.diagnostics = DiagnosticsPublisher(self, self._health)
@@ -154,11 +151,6 @@ class AdaptNode(DamageReports, Node):
         response.message = problem or f'{request.distance:.3f} m recorded'
         return response
 
-    def _on_cancel(self, request, response):
-        self.cancel_requested = response.success = self.busy.locked()
-        response.message = CANCEL_ANSWERS[response.success]
-        return response
-
     def _duplicates(self) -> str:
         return duplicate_peers(self, self.peer)
 
@@ -174,8 +166,10 @@ class AdaptNode(DamageReports, Node):
         self.run_status = (level, message)
         self.diagnostics.publish_now()
 
-    def _on_adapt(self, request: Adapt.Request, response: Adapt.Response):
-        response.best_archive_index = -1
+    # -- a goal ------------------------------------------------------------------------------
+    def _adapt(self, handle, response: Adapt.Result) -> None:
+        """Check the goal, run it, and fill ``response``."""
+        request = handle.request
         problem = self.slot.problem if self.slot.archive is None else ''
         try:  # a zero field means "the node's parameter"
             config, duration = run_settings(
@@ -187,33 +181,28 @@ class AdaptNode(DamageReports, Node):
         except ValueError as exc:
             problem = problem or f'bad request: {exc}'
         problem = problem or self._duplicates()
-        if not problem and not self.busy.acquire(blocking=False):
-            problem = 'an adaptation is already running'
         if problem:
             response.success, response.message = False, problem
-            return response
+            return
         auto = named is None and not request.blind  # the damage as reported
         run = session.RunRequest(config, duration, damage, source, auto)
         self._run_status(OK, f'adapting ({source or "blind"})')
         try:
-            return self._run(self.slot.archive, run, response)
-        except Exception as exc:  # noqa: BLE001 - the service must answer and the node stay up
+            self._run(self.slot.archive, run, response, handle)
+        except Exception as exc:  # noqa: BLE001 - the goal must end and the node stay up
             self.get_logger().error(
                 f'adaptation failed unexpectedly: {type(exc).__name__}: {exc}\n'
                 f'{traceback.format_exc()}'
             )
             response.success = False
             response.message = f'internal error, run stopped: {type(exc).__name__}: {exc}'
-            return response
         finally:
-            self.cancel_requested = False
-            self.busy.release()
             self._run_status(OK if response.success else WARN, f'last run: {response.message}')
 
     # -- a run ------------------------------------------------------------------------------
     def _run(
-        self, archive: Archive, run: session.RunRequest, response: Adapt.Response
-    ) -> Adapt.Response:
+        self, archive: Archive, run: session.RunRequest, response: Adapt.Result, handle
+    ) -> None:
         """
         Run one adaptation, M-BOA starting from the map re-scored under ``run.damage``.
 
@@ -254,7 +243,7 @@ class AdaptNode(DamageReports, Node):
                 damage, source = self.known.for_run(None, False)
         except TrialAborted as exc:
             response.success, response.message = False, f'run not started: {exc}'
-            return response
+            return
         if record_dir:
             path = self.recorded.start(record_dir, RECORDED_TYPES, warn)
             response.mcap_path = str(path.resolve()) if path else ''
@@ -279,11 +268,12 @@ class AdaptNode(DamageReports, Node):
             msg.header.stamp = self.get_clock().now().to_msg()
             msg.gait = gait_to_msg(self.port.gait_of(niche))
             msg.recording = self.recording.problem
-            try:
-                self.trial_pub.publish(msg)
-            except RCLError:  # the node is shutting down: the recording still takes the trial
-                if rclpy.ok(context=self.context):
-                    raise
+            # a node shutting down publishes nothing more: the recording still takes the trial
+            unless_closing(self, self.trial_pub.publish, msg)
+            left = max(0, config.max_trials - trial.number)
+            unless_closing(
+                self, handle.publish_feedback, Adapt.Feedback(trial=msg, trials_left=left)
+            )
             self.recording.record('adapt/trials', msg)
             self.recording.checkpoint()  # a completed trial survives a kill or power loss
             if trial.tipped:  # rclpy fixes a call site's severity: one call per severity
@@ -292,7 +282,7 @@ class AdaptNode(DamageReports, Node):
                 self.get_logger().info(session.trial_message(trial, niche))
 
         try:
-            stop = lambda: self.cancel_requested  # noqa: E731 - read at every trial
+            stop = lambda: handle.is_cancel_requested  # noqa: E731 - read at every trial
             extra = {'prior': prior, 'prior_update': prior_update}
             result = adapt(archive, self.trials, config, on_trial, stop, **extra)
         finally:
@@ -305,7 +295,7 @@ class AdaptNode(DamageReports, Node):
             response.message = f'adapt_node shut down mid-run: {response.message}'
             # not the ROS logger: its /rosout publisher is gone, and rcl would add a line saying so
             print(f'{self.get_name()}: {line}', file=sys.stderr, flush=True)
-            return response
+            return
         if result.best_niche >= 0:
             response.best_archive_index = result.best_niche
             response.best_speed = result.best_speed
@@ -315,7 +305,6 @@ class AdaptNode(DamageReports, Node):
             if problem:
                 self.get_logger().error(f'could not upload the best gait: {problem}')
         self.get_logger().info(session.finish_message(result))
-        return response
 
 
 def main(args: list[str] | None = None) -> int:

@@ -4,16 +4,17 @@
 adapt_node's damage reports: the simulator's ``sim/damage``, the bridge's ``servo_failures``.
 
 What they mean (and ``~/forget``) is :class:`~hexapod_adapt.online.prior.KnownDamage`'s; a
-servo report is believed only from the configured bridge_node.
+servo report is believed only when the configured bridge_node confirms it
+(:mod:`hexapod_adapt.ros.servo_reports`).
 """
 
 from __future__ import annotations
 
 from hexapod_adapt.online.prior import KnownDamage
-from hexapod_adapt.ros.graph_port import servo_report_problem
+from hexapod_adapt.ros.servo_reports import ServoReports
 from hexapod_msgs.msg import LegDamage, ServoFailure
-from hexapod_util.ros_glue import EVENTS, LATCHED
-from rclpy.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
+from hexapod_util.ros_glue import LATCHED
+from rclpy.callback_groups import CallbackGroup
 from std_srvs.srv import Trigger
 
 
@@ -26,23 +27,19 @@ class DamageReports:
         if self.mode == 'sim':
             self.create_subscription(LegDamage, 'sim/damage', self._on_sim_damage, LATCHED)
         else:
-            self.create_subscription(  # its own group: a report may wait on the graph
-                ServoFailure, 'servo_failures', self._on_servo_failure, EVENTS,
-                callback_group=MutuallyExclusiveCallbackGroup(),
-            )  # fmt: skip
+            self.servo_reports = ServoReports(
+                self, self._param('bridge_node'), self._on_servo_failure, self._refuse_report
+            )
         self.create_service(Trigger, '~/forget', self._on_forget, callback_group=work)
 
     def _on_sim_damage(self, msg: LegDamage) -> None:
         legs, kinds, strengths = list(msg.failed_legs), list(msg.kinds), list(msg.strengths)
         self.get_logger().info(self.known.from_sim(legs, kinds, strengths, list(msg.joints)))
 
+    def _refuse_report(self, msg: ServoFailure, why: str) -> None:
+        self.get_logger().error(f'servo {msg.servo_id} (leg {msg.leg}) reported dead: {why}')
+
     def _on_servo_failure(self, msg: ServoFailure) -> None:
-        problem = servo_report_problem(self, self._param('bridge_node'))
-        if problem:
-            self.get_logger().error(
-                f'servo {msg.servo_id} (leg {msg.leg}) reported dead: {problem}'
-            )
-            return
         said = self.known.from_servo(int(msg.servo_id), int(msg.leg), str(msg.joint))
         self.get_logger().warning(said)
 

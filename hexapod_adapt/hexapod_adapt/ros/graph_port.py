@@ -18,7 +18,6 @@ import time
 from typing import Callable, Mapping
 
 from hexapod_adapt.online.adaptation import TrialAborted
-from hexapod_adapt.online.prior import report_source_problem
 from hexapod_adapt.online.session import duplicate_problem
 from hexapod_adapt.online.trials import OdomLog, OdomSample, TiltLog, TiltSample, Upload
 from hexapod_adapt.ros.run_recording import RunRecording
@@ -109,12 +108,6 @@ def duplicate_peers(node: Node, peer: str) -> str:
         if problem:
             return problem
     return ''
-
-
-def servo_report_problem(node: Node, bridge_name: str) -> str:
-    """Why a report on ``servo_failures`` cannot be believed now ('' if only the bridge sends)."""
-    publishers = topic_publishers(node, node.resolve_topic_name('servo_failures'))
-    return report_source_problem(publishers, qualified(node, bridge_name))
 
 
 class GraphPort:

@@ -8,7 +8,7 @@ frames), then takes whatever the run records. Every message type the run will re
 when the recording starts: a type whose definition cannot be found is refused then, by name, and
 its topics are not recorded; the rest is. After that, nothing the recording does can stop the run
 or the node: a failed write ends the recording of that run, and :attr:`RunRecording.problem` says
-why, for the service's answer, the log and ``adapt/trials``.
+why, for the goal's result, the log and ``adapt/trials``.
 """
 
 from __future__ import annotations

@@ -15,8 +15,8 @@ from hexapod_adapt.online.mboa import MboaConfig, PROFILES
 from hexapod_adapt.online.prior import (
     damage_prior,
     KnownDamage,
-    report_source_problem,
     requested_damage,
+    servo_report_verdict,
 )
 from hexapod_adapt.online.replay import lookup_trial
 from hexapod_sim.damage import Damage, damage_from_lists, DAMAGE_KINDS, parse_damage
@@ -77,14 +77,16 @@ def test_a_request_names_any_damage_and_nonsense_is_refused_saying_why():
             requested_damage(*lists)
 
 
-def test_only_the_configured_bridge_is_believed_and_forget_drops_the_reports():
+def test_only_what_the_bridge_confirms_is_believed_and_forget_drops_the_reports():
     bridge = '/bridge_node'
-    assert report_source_problem([bridge], bridge) == ''
-    assert report_source_problem([bridge, bridge], bridge) == ''  # two of its publishers
-    problem = report_source_problem([bridge, '/not_the_bridge'], bridge)
-    assert 'may come from /not_the_bridge' in problem and 'only the bridge is believed' in problem
-    assert 'does not publish it' in report_source_problem([], bridge)
-    assert 'from /bridge_node' in report_source_problem(['/bridge_node'], '/robot/bridge_node')
+    assert servo_report_verdict(6, True, bridge, []) == ''
+    assert servo_report_verdict(6, True, bridge, ['/other']) == ''  # true, whoever sent it
+    denied = servo_report_verdict(6, False, bridge, ['/not_the_bridge', '/not_the_bridge'])
+    assert 'does not hold servo 6 dead' in denied and denied.endswith(
+        'since the last report: /not_the_bridge'
+    )
+    assert 'the sender left at once' in servo_report_verdict(6, False, bridge, [])
+    assert 'did not answer whether servo 6' in servo_report_verdict(6, None, bridge, [])
     known = KnownDamage()
     assert known.from_servo(12, 4, 'femur') == 'servo 12 reported dead: leg 4 femur unpowered'
     assert known.servo_damage() is not None

@@ -10,11 +10,10 @@ what they mean is :class:`~hexapod_navigation.core.damage_knowledge.DamageKnowle
 from __future__ import annotations
 
 from hexapod_adapt import damage_of_request
-from hexapod_adapt.ros import servo_report_problem
+from hexapod_adapt.ros import ServoReports
 from hexapod_msgs.msg import ServoFailure
 from hexapod_msgs.srv import SetLegFailure
-from hexapod_util.ros_glue import EVENTS
-from rclpy.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
+from rclpy.callback_groups import CallbackGroup
 from std_srvs.srv import Trigger
 
 
@@ -24,22 +23,18 @@ class DamageServices:
     def serve_damage(self, robot: bool, work: CallbackGroup) -> None:
         """Create the services, and on the robot the subscription to the servo reports."""
         if robot:
-            self.create_subscription(  # its own group: a report may wait on the graph
-                ServoFailure, 'servo_failures', self._on_servo_failure, EVENTS,
-                callback_group=MutuallyExclusiveCallbackGroup(),
-            )  # fmt: skip
+            self.servo_reports = ServoReports(
+                self, self.bridge_name, self._on_servo_failure, self._refuse_report
+            )
         self.create_service(Trigger, '~/forget', self._on_forget, callback_group=work)
         self.create_service(
             SetLegFailure, '~/set_known_damage', self._on_set_known_damage, callback_group=work
         )
 
+    def _refuse_report(self, msg: ServoFailure, why: str) -> None:
+        self.get_logger().error(f'servo {msg.servo_id} (leg {msg.leg}) reported dead: {why}')
+
     def _on_servo_failure(self, msg: ServoFailure) -> None:
-        problem = servo_report_problem(self, self.bridge_name)
-        if problem:
-            self.get_logger().error(
-                f'servo {msg.servo_id} (leg {msg.leg}) reported dead: {problem}'
-            )
-            return
         note = self.damage.servo_report(int(msg.servo_id), int(msg.leg), str(msg.joint))
         self.get_logger().warning(note)
 

@@ -17,7 +17,7 @@ from hexapod_navigation.core.episode import Feedback, NavigationResult, Outcome
 from hexapod_navigation.core.geometry import Pose2D
 from hexapod_navigation.ros.bodies import PoseSample
 from hexapod_sim.simulator import quat_to_euler
-from hexapod_util.ros_glue import ACTION_SERVICES
+from hexapod_util.ros_glue import ACTION_QOS
 from nav_msgs.msg import Odometry
 from rclpy.action import ActionClient
 from rclpy.client import Client
@@ -38,9 +38,7 @@ def navigate_client(node: Node, action: str = 'navigate') -> ActionClient:
         node,
         Navigate,
         action,
-        goal_service_qos_profile=ACTION_SERVICES,
-        result_service_qos_profile=ACTION_SERVICES,
-        cancel_service_qos_profile=ACTION_SERVICES,
+        **ACTION_QOS,
     )
 
 

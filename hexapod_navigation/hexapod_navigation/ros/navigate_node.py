@@ -43,15 +43,15 @@ from hexapod_navigation.ros.wiring import make_body, subscribe_poses
 from hexapod_util.diagnostics import StatusHealth
 from hexapod_util.recording import type_name
 from hexapod_util.ros_glue import (
-    ACTION_SERVICES,
+    ACTION_QOS,
     declare,
     LATCHED,
     param_specs,
     publish_status,
     run_node,
+    unless_closing,
 )
 import rclpy
-from rclpy._rclpy_pybind11 import InvalidHandle, RCLError
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.node import Node
@@ -135,9 +135,7 @@ class NavigateNode(DamageServices, Node):
             handle_accepted_callback=self._on_accepted,
             cancel_callback=lambda _: CancelResponse.ACCEPT,
             callback_group=work,
-            goal_service_qos_profile=ACTION_SERVICES,
-            result_service_qos_profile=ACTION_SERVICES,
-            cancel_service_qos_profile=ACTION_SERVICES,
+            **ACTION_QOS,
         )
         self.serve_damage(self.mode == 'robot', work)
         if self.problem:
@@ -150,10 +148,10 @@ class NavigateNode(DamageServices, Node):
             )
 
     def _status(self, level: bytes, message: str) -> None:
-        self._unless_closing(
-            publish_status, self, self.status_pub, level, message, 'navigate_node'
+        unless_closing(
+            self, publish_status, self, self.status_pub, level, message, 'navigate_node'
         )
-        self._unless_closing(self.health.update, level, message)
+        unless_closing(self, self.health.update, level, message)
 
     # -- the action ----------------------------------------------------------------------------
     def _goal_problem(self, goal) -> str:
@@ -202,7 +200,7 @@ class NavigateNode(DamageServices, Node):
 
     def _on_accepted(self, handle) -> None:
         self.turns.accepted(self._key(handle))  # the goal being walked stops at its next check
-        self._unless_closing(handle.execute)
+        unless_closing(self, handle.execute)
 
     @staticmethod
     def _key(handle) -> bytes:
@@ -221,7 +219,7 @@ class NavigateNode(DamageServices, Node):
         if problem:
             self.turns.done(key)
             self._status(DiagnosticStatus.WARN, f'goal ({goal.x}, {goal.y}) aborted: {problem}')
-            self._unless_closing(handle.abort)
+            unless_closing(self, handle.abort)
             return Navigate.Result(outcome=Navigate.Result.FAILED, reason=problem)
         try:
             if self.damage.changed:  # what was learned before a new damage report is stale
@@ -248,7 +246,7 @@ class NavigateNode(DamageServices, Node):
                         f' ({math.degrees(config.tip_guard):.0f} deg): stopped it, the robot'
                         ' stood, and that step is not taken again'
                     )
-                self._unless_closing(handle.publish_feedback, conv.feedback_msg(f, self._now()))
+                unless_closing(self, handle.publish_feedback, conv.feedback_msg(f, self._now()))
 
             self._status(DiagnosticStatus.OK, f'navigating to ({goal.x:.2f}, {goal.y:.2f})')
             try:
@@ -282,20 +280,8 @@ class NavigateNode(DamageServices, Node):
 
     def _end(self, call: str, out: Navigate.Result, handle) -> Navigate.Result:
         """End the goal by the handle's ``call`` (succeed, canceled, abort); return ``out``."""
-        self._unless_closing(getattr(handle, call))
+        unless_closing(self, getattr(handle, call))
         return out
-
-    def _unless_closing(self, call, *args) -> None:
-        """
-        Call ``call(*args)`` (a goal handle's ``abort`` ..., a status message), which publishes.
-
-        At shutdown the publishing fails (the handle's state is still set): that is ignored.
-        """
-        try:
-            call(*args)
-        except (RCLError, InvalidHandle):  # a closing node has no one to tell
-            if rclpy.ok(context=self.context):
-                raise
 
     def _end_unwalked(self, handle) -> Navigate.Result:
         """End a goal that never got its turn: cancelled, superseded, or the node closing."""

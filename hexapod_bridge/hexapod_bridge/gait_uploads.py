@@ -1,0 +1,82 @@
+# Copyright 2026 Hexapod adaptation team
+# SPDX-License-Identifier: MIT
+"""bridge_node's gait uploads: each ``gait/parameters`` (latched), and ``~/upload_gait``."""
+
+from __future__ import annotations
+
+import math
+import threading
+
+from diagnostic_msgs.msg import DiagnosticStatus
+from hexapod_bridge.link import Operation
+from hexapod_gait.parameters import GaitParameterError
+from hexapod_gait.ros_conversions import gait_from_msg
+from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
+from hexapod_msgs.srv import UploadGait
+
+
+class GaitUploads:
+    """Mixed into bridge_node: it has ``station``, ``_status`` and ``_alive``."""
+
+    def _on_gait(self, msg: GaitParametersMsg) -> None:
+        try:
+            gait = gait_from_msg(msg)
+        except GaitParameterError as exc:
+            self._status(DiagnosticStatus.ERROR, f'gait not uploaded: {exc}')
+            return
+        op = self.station.upload(gait)
+        if op.done and not op.ok:
+            self._status(DiagnosticStatus.ERROR, f'gait not uploaded: {op.message}')
+            return
+        if not self.station.armed:
+            self._status(
+                DiagnosticStatus.WARN, 'gait queued; it is uploaded once the bridge is armed'
+            )
+        threading.Thread(target=self._finish_upload, args=(op, gait), daemon=True).start()
+
+    def _finish_upload(self, op: Operation, gait) -> None:
+        self.station.wait(op, math.inf)
+        if op.ok:
+            self.station.uploaded(op, gait)
+            self._status(
+                DiagnosticStatus.OK,
+                f'gait uploaded (archive index {gait.archive_index})',
+                gait_id=op.result['gait_id'],
+                archive_index=gait.archive_index,
+            )
+        elif op.done:
+            self._status(DiagnosticStatus.ERROR, f'gait upload failed: {op.message}')
+
+    def _on_upload_gait(self, request: UploadGait.Request, response: UploadGait.Response):
+        """Upload and answer once the robot acknowledged (or refused) it: the typed contract."""
+        response.archive_index = request.gait.archive_index
+        timeout = request.timeout if 0 < request.timeout <= 600 else 30.0  # NaN: the default
+        try:
+            gait = gait_from_msg(request.gait)
+        except GaitParameterError as exc:
+            response.success, response.message = False, f'gait not uploaded: {exc}'
+            return response
+        if not self.station.armed:
+            response.success, response.message = False, 'not armed: call ~/arm first'
+            return response
+        op = self.station.upload(gait)
+        if not self.station.wait(op, timeout, self._alive):
+            response.success, response.message = (
+                False,
+                f'gait not uploaded: no answer in {timeout:g} s',
+            )
+            return response
+        if not op.ok:
+            response.success, response.message = False, f'gait not uploaded: {op.message}'
+            self._status(DiagnosticStatus.ERROR, response.message)
+            return response
+        self.station.uploaded(op, gait)
+        response.success, response.gait_id = True, int(op.result['gait_id'])
+        response.message = f'gait uploaded as robot gait {response.gait_id}'
+        self._status(
+            DiagnosticStatus.OK,
+            f'{response.message} (archive index {gait.archive_index})',
+            gait_id=response.gait_id,
+            archive_index=gait.archive_index,
+        )
+        return response
