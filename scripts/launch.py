@@ -218,6 +218,7 @@ def main(argv: list[str] | None = None) -> int:
                     {
                         'port': '/tmp/hexapod_radio',
                         'imu_port': '/tmp/hexapod_imu',
+                        'arm_on_start': True,  # up to active: configured and armed
                         **bridge_trial,
                         **leg_map,
                     }
@@ -225,7 +226,12 @@ def main(argv: list[str] | None = None) -> int:
             ),
         ]
     else:
-        defaults = {} if args.params_file else {'port': '/tmp/hexapod_radio', 'imu_port': ''}
+        # a lifecycle node brought up to active (armed) unless a file says otherwise
+        defaults = (
+            {}
+            if args.params_file
+            else {'port': '/tmp/hexapod_radio', 'imu_port': '', 'arm_on_start': True}
+        )
         ports = {'port': args.port, 'imu_port': args.imu_port}
         ports = defaults | {name: value for name, value in ports.items() if value is not None}
         commands = [

@@ -11,7 +11,9 @@ the frame it started in; twist = mean velocity; covariances = the estimate's acc
 that did not answer the robot's ping) and ``/diagnostics`` (each servo, the link, the IMU:
 :mod:`hexapod_bridge.health`).
 
-Services: ``~/arm`` (nothing is transmitted unless armed), ``~/upload_gait`` (answers once the
+A lifecycle node (:mod:`hexapod_bridge.lifecycle`: configure opens the ports, activate arms,
+deactivate stops the robot). Services: ``~/arm`` (activate / deactivate: nothing is transmitted
+unless armed), ``~/upload_gait`` (answers once the
 robot acknowledged), ``~/start_trial`` (walk ``trial_settle`` s, then ``trial_duration`` s
 timed), ``~/stop_trial``, ``~/emergency_stop`` (always transmitted, then disarms),
 ``~/motor_power`` (on also clears a latched e-stop), ``~/check_servos`` (HELLO),
@@ -32,8 +34,9 @@ from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_bridge import ros_conversions as conv
 from hexapod_bridge.gait_uploads import GaitUploads
 from hexapod_bridge.health import imu_health, link_health, servo_health
+from hexapod_bridge.lifecycle import ACTIVE, BridgeLifecycle, INACTIVE
 from hexapod_bridge.reports import Report, servo_report, Severity, trial_report
-from hexapod_bridge.station import BaseStation, StationConfig, TrialResult
+from hexapod_bridge.station import StationConfig, TrialResult
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.msg import LinkStatus, ServoFailure
 from hexapod_msgs.srv import GetServoFailures, UploadGait
@@ -54,7 +57,7 @@ from hexapod_util.ros_glue import (
 from nav_msgs.msg import Odometry
 import rclpy
 from rclpy.callback_groups import ReentrantCallbackGroup
-from rclpy.node import Node
+from rclpy.lifecycle import LifecycleNode
 from sensor_msgs.msg import Imu
 from std_srvs.srv import SetBool, Trigger
 from tf2_msgs.msg import TFMessage
@@ -82,27 +85,30 @@ PARAMETERS = tuple(
     ParamSpec(
         'status_rate', 5.0, 'LinkStatus publish rate [Hz]', read_only=True, range=(0.1, 100.0)
     ),
+    ParamSpec(
+        'autostart',
+        True,
+        'Configure at start-up, retrying while the port cannot be opened (false: a lifecycle'
+        ' manager drives the node); arm_on_start then activates it',
+        read_only=True,
+    ),
 )
 
 
-class BridgeNode(GaitUploads, Node):
+class BridgeNode(BridgeLifecycle, GaitUploads, LifecycleNode):
     """The base station's link to the robot's radio and IMU (see the module docstring)."""
 
     def __init__(self, **kwargs) -> None:
         super().__init__('bridge_node', **kwargs)
-        v = declare(self, PARAMETERS)
+        self.values = v = declare(self, PARAMETERS)
+        self.diagnostics = None
+        self.link_problem = 'not configured'  # why there is no link ('' once configured)
+        self.pending_gait = None  # the last gait/parameters, uploaded once configured
         self.frames = {k: str(v[f'{k}_frame']) for k in ('odom', 'base', 'imu')}
         self.dead: dict[int, float] = {}  # servo -> when reported dead (monotonic s)
         self.failures: dict[int, ServoFailure] = {}  # servo -> its report (~/get_servo_failures)
         self.imu_last: float | None = None  # when the last IMU message came (monotonic s)
         imu = f'Xsens MTi on {v["imu_port"]}' if v['imu_port'] else "robot's attitude telemetry"
-        self.station = BaseStation(
-            StationConfig(**{f.name: v[f.name] for f in fields(StationConfig)}),
-            on_imu=self._publish_imu,
-            on_attitude=self._publish_attitude,
-            on_connection=self._on_connection,
-            log_error=self.get_logger().error,
-        )
         group = ReentrantCallbackGroup()
         self.imu_pub = self.create_publisher(Imu, 'imu/data', SENSOR)
         self.odom_pub = self.create_publisher(Odometry, 'odom', ODOM)
@@ -128,19 +134,21 @@ class BridgeNode(GaitUploads, Node):
             self.create_service(srv, name, callback, callback_group=group)
         self.create_timer(1.0 / float(v['status_rate']), self._tick, callback_group=group)
         self.diagnostics = DiagnosticsPublisher(self, lambda: self._health(imu))
-        self.station.start()
-        self.get_logger().info(
-            f'radio on {v["port"]} at {v["baud"]} baud, firmware {v["firmware"]}, '
-            f'IMU {"on " + str(v["imu_port"]) if v["imu_port"] else "from robot telemetry"}; '
-            f'{"armed" if v["arm_on_start"] else "disarmed (call ~/arm to transmit)"}'
-        )
+        self.start_lifecycle()
 
     def _health(self, imu: str) -> list[Health]:
-        now, config = time.monotonic(), self.station.config
-        return servo_health(self.dead, config.leg_map, now) + [
-            link_health(self.station.snapshot(now), str(config.port)),
+        now, v = time.monotonic(), self.values
+        snapshot = self.station.snapshot(now) if self.station is not None else None
+        return servo_health(self.dead, v['leg_map'], now) + [
+            link_health(snapshot, str(v['port']), f'{self.state_label()}: {self.link_problem}'),
             imu_health(self.imu_last, now, imu),
         ]
+
+    def unconfigured(self, response):
+        """Fill a Trigger / SetBool response that refuses: the node has no ports open."""
+        response.success = False
+        response.message = f'bridge_node is {self.state_label()}: configure it first'
+        return response
 
     def _status(self, level: bytes, message: str, **values) -> None:
         publish_status(self, self.status_pub, level, message, 'hexapod', **values)
@@ -150,27 +158,42 @@ class BridgeNode(GaitUploads, Node):
 
     # -- trials and power ------------------------------------------------------------------
     def _on_arm(self, request: SetBool.Request, response: SetBool.Response):
-        self.station.arm(request.data)
-        response.success = True
+        """Activate (arm) or deactivate (stop the robot, disarm): the lifecycle's transitions."""
+        if self.station is None:
+            return self.unconfigured(response)
+        want = ACTIVE if request.data else INACTIVE
+        if self._state_id() != want:
+            (self.trigger_activate if request.data else self.trigger_deactivate)()
+        response.success = self._state_id() == want
         response.message = 'armed: transmitting' if request.data else 'disarmed: silent'
         return response
 
     def _on_start(self, request: Trigger.Request, response: Trigger.Response):
+        if self.station is None:
+            return self.unconfigured(response)
         response.success, response.message = self.station.start_trial(self._alive)
         return response
 
     def _on_stop(self, request: Trigger.Request, response: Trigger.Response):
+        if self.station is None:
+            return self.unconfigured(response)
         response.success, response.message = self.station.stop_trial()
         return response
 
     def _on_estop(self, request: Trigger.Request, response: Trigger.Response):
+        if self.station is None:
+            return self.unconfigured(response)
         self.station.emergency_stop()
+        if self._state_id() == ACTIVE:  # disarmed: the lifecycle says so too
+            self.trigger_deactivate()
         self._status(DiagnosticStatus.WARN, 'EMERGENCY STOP sent; bridge disarmed')
         response.success, response.message = True, 'emergency stop sent; bridge disarmed'
         return response
 
     def _on_check_servos(self, request: Trigger.Request, response: Trigger.Response):
         """HELLO: the robot answers VERSION and pings its servos (reports on servo_failures)."""
+        if self.station is None:
+            return self.unconfigured(response)
         ok, message = self.station.hello()
         response.success = ok
         response.message = (
@@ -186,6 +209,8 @@ class BridgeNode(GaitUploads, Node):
 
     def _on_motor_power(self, request: SetBool.Request, response: SetBool.Response):
         """After an e-stop: ~/arm true, then ~/motor_power true, then upload and start trials."""
+        if self.station is None:
+            return self.unconfigured(response)
         op = self.station.motor_power(request.data)
         response.success, response.message = op.ok, op.message
         if op.ok:
@@ -208,6 +233,8 @@ class BridgeNode(GaitUploads, Node):
             self.get_logger().warning(f'radio link down: {why}')
 
     def _tick(self) -> None:
+        if self.station is None:
+            return
         self.link_pub.publish(self._link_status())
         for kind, value in self.station.take_events():
             if kind == 'error':
@@ -257,8 +284,9 @@ class BridgeNode(GaitUploads, Node):
         self.imu_pub.publish(conv.attitude_imu(t, now, self.frames['base']))
 
     def shutdown(self) -> None:
-        """Stop the I/O threads and close the ports (called by run_node)."""
-        self.station.stop()
+        """Ctrl-C / SIGTERM: stop the robot and close the ports (called by run_node)."""
+        self._halt()
+        self._release()
 
 
 def main(args: list[str] | None = None) -> int:

@@ -16,7 +16,7 @@ from hexapod_msgs.srv import UploadGait
 
 
 class GaitUploads:
-    """Mixed into bridge_node: it has ``station``, ``_status`` and ``_alive``."""
+    """Mixed into bridge_node: it has ``station`` (None unconfigured), ``_status``, ``_alive``."""
 
     def _on_gait(self, msg: GaitParametersMsg) -> None:
         try:
@@ -24,20 +24,31 @@ class GaitUploads:
         except GaitParameterError as exc:
             self._status(DiagnosticStatus.ERROR, f'gait not uploaded: {exc}')
             return
-        op = self.station.upload(gait)
+        station = self.station
+        if station is None:  # kept: uploaded once the node is configured
+            self.pending_gait = msg
+            self._status(DiagnosticStatus.WARN, 'gait kept; it is uploaded once configured')
+            return
+        op = station.upload(gait)
         if op.done and not op.ok:
             self._status(DiagnosticStatus.ERROR, f'gait not uploaded: {op.message}')
             return
-        if not self.station.armed:
+        if not station.armed:
             self._status(
                 DiagnosticStatus.WARN, 'gait queued; it is uploaded once the bridge is armed'
             )
-        threading.Thread(target=self._finish_upload, args=(op, gait), daemon=True).start()
+        threading.Thread(target=self._finish_upload, args=(station, op, gait), daemon=True).start()
 
-    def _finish_upload(self, op: Operation, gait) -> None:
-        self.station.wait(op, math.inf)
+    def upload_pending(self) -> None:
+        """Upload the gait that came before the node was configured (if one did)."""
+        msg, self.pending_gait = self.pending_gait, None
+        if msg is not None:
+            self._on_gait(msg)
+
+    def _finish_upload(self, station, op: Operation, gait) -> None:
+        station.wait(op, math.inf, lambda: self.station is station)  # until its link closes
         if op.ok:
-            self.station.uploaded(op, gait)
+            station.uploaded(op, gait)
             self._status(
                 DiagnosticStatus.OK,
                 f'gait uploaded (archive index {gait.archive_index})',
@@ -55,6 +66,9 @@ class GaitUploads:
             gait = gait_from_msg(request.gait)
         except GaitParameterError as exc:
             response.success, response.message = False, f'gait not uploaded: {exc}'
+            return response
+        if self.station is None:
+            response.success, response.message = False, 'not configured: configure it first'
             return response
         if not self.station.armed:
             response.success, response.message = False, 'not armed: call ~/arm first'

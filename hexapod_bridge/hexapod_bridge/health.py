@@ -48,8 +48,14 @@ def servo_health(dead: Mapping[int, float], leg_map: Sequence[int], now: float) 
     return out
 
 
-def link_health(snap: LinkSnapshot, port: str) -> Health:
-    """Return the radio link's status: connected, heard lately, frames and errors."""
+def link_health(snap: LinkSnapshot | None, port: str, why_none: str = '') -> Health:
+    """
+    Return the radio link's status: connected, heard lately, frames and errors.
+
+    ``snap`` None: the node has no link (not configured), for ``why_none``.
+    """
+    if snap is None:
+        return Health('radio link', ERROR, f'no link: {why_none}', f'433 MHz radio on {port}')
     frames = snap.frames_ok + snap.checksum_errors
     quality = snap.frames_ok / frames if frames else 1.0
     values = {
