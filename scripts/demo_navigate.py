@@ -36,8 +36,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument('--out', type=Path, default=WS / 'out' / 'demo_navigate')
     out = parser.parse_args(argv).out
     out.mkdir(parents=True, exist_ok=True)
-    from hexapod_msgs.action import Navigate
-    from hexapod_navigation.ros.navigate_msgs import navigate_client
+    from hexapod_navigation.ros.navigate_msgs import goal_at, navigate_client
     from hexapod_util.processes import die_with_parent
     from hexapod_util.recording import read_messages
     from hexapod_util.ros_glue import ros_args
@@ -89,7 +88,7 @@ def main(argv: list[str] | None = None) -> int:
             return 1
         for x, y in GOALS:
             sent = client.send_goal_async(
-                Navigate.Goal(x=x, y=y),
+                goal_at(x, y),
                 feedback_callback=lambda m: print(
                     f'  step {m.feedback.steps}: {m.feedback.distance_remaining:.2f} m left,'
                     f' prediction error {m.feedback.prediction_error:.2f} m',

@@ -5,7 +5,8 @@ Walking to goals on the simulated robot: gait_node + sim_node + navigate_node (f
 
     ros2 launch hexapod_navigation navigate_sim.launch.py [params_file:=my.yaml] \
         failed_legs:='[1, 2]'
-    ros2 action send_goal /navigate hexapod_msgs/action/Navigate "{x: 1.5, y: 0.5}" --feedback
+    ros2 action send_goal --feedback /navigate hexapod_msgs/action/Navigate \
+        "{pose: {header: {frame_id: odom}, pose: {position: {x: 1.5, y: 0.5}}}}"
 In this workspace without `launch`:
     python scripts/launch.py navigate-sim --failed-legs 1 2 [--params-file YAML]
 """

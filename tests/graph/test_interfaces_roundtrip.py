@@ -20,7 +20,13 @@ from hexapod_msgs.msg import (
     ServoFailure,
     TrajectoryActivation,
 )
-from hexapod_msgs.srv import GetLegDamage, ReportDistance, SetLegFailure, UploadGait
+from hexapod_msgs.srv import (
+    GetLegDamage,
+    GetServoFailures,
+    ReportDistance,
+    SetLegFailure,
+    UploadGait,
+)
 import pytest
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
@@ -33,7 +39,7 @@ MESSAGES = [
     TrajectoryActivation,
     LegDamage,
 ]
-SERVICES = [SetLegFailure, ReportDistance, UploadGait, GetLegDamage]
+SERVICES = [GetServoFailures, SetLegFailure, ReportDistance, UploadGait, GetLegDamage]
 # the actions go through their servers in tests/graph (test_adapt_graph, test_navigate_graph)
 ACTIONS = [Adapt, Navigate]
 QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)

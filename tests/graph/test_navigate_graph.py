@@ -15,7 +15,7 @@ import time
 from conftest import executable, forgers_are_ignored_and_named, status_log_qos, wait_for
 from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_msgs.action import Navigate
-from hexapod_navigation.ros.navigate_msgs import navigate_client
+from hexapod_navigation.ros.navigate_msgs import goal_at, navigate_client
 from nav_msgs.msg import Odometry
 import pytest
 from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
@@ -52,7 +52,7 @@ class Goal:
     def __init__(self, ros, client, x, y, **fields):
         self.feedback = []
         future = client.send_goal_async(
-            Navigate.Goal(x=float(x), y=float(y), **fields),
+            goal_at(x, y, **fields),
             feedback_callback=lambda m: self.feedback.append(m.feedback),
         )
         self.handle = wait_for(lambda: future.done() and future.result(), 30, 'the goal response')
@@ -111,6 +111,12 @@ def test_invalid_goals_are_rejected_with_a_reason_and_the_node_goes_on(ros, grap
     ):
         assert not Goal(ros, client, x, y, **fields).handle.accepted
         wait_for(lambda: any(reason in s.message for s in status), 10, reason)
+    # a pose in a frame the node does not hold (it knows odom only)
+    in_map = goal_at(1.0, 0.0)
+    in_map.pose.header.frame_id = 'map'
+    sent = client.send_goal_async(in_map)
+    assert not wait_for(lambda: sent.done() and sent.result(), 30, 'the answer').accepted
+    wait_for(lambda: any("frame 'map'" in s.message for s in status), 10, 'the frame refusal')
     # the range needs the robot's pose: before the node's first one (CI twice), a far goal is
     # accepted and then ends at its start with the reason, unwalked; once it has one, refused
     deadline = time.monotonic() + 30
@@ -134,6 +140,14 @@ def test_invalid_goals_are_rejected_with_a_reason_and_the_node_goes_on(ros, grap
     assert nav.alive()
     ok = Goal(ros, client, 0.5, 0.0)
     assert ok.handle.accepted and ok.result()[1].reached
+    # RViz's "2D Goal Pose": a PoseStamped on goal_pose is walked as a goal
+    from geometry_msgs.msg import PoseStamped
+
+    rviz = ros.node.create_publisher(PoseStamped, 'goal_pose', 10)
+    wait_for(lambda: rviz.get_subscription_count() > 0, 10, 'navigate_node on goal_pose')
+    rviz.publish(goal_at(0.8, 0.0).pose)
+    wait_for(lambda: any('navigating to (0.80, 0.00)' in s.message for s in status), 30, 'rviz')
+    wait_for(lambda: any(s.message.startswith('goal (0.80, 0.00):') for s in status), 120, 'end')
 
 
 def test_before_the_first_pose_a_bad_goal_is_rejected_and_a_good_one_waits_for_it(ros, launch):
@@ -190,11 +204,12 @@ def test_the_node_survives_a_client_that_vanishes(ros, graph, domain_id):
         import rclpy, time
         from rclpy.action import ActionClient
         from hexapod_msgs.action import Navigate
+        from hexapod_navigation.ros.navigate_msgs import goal_at
         rclpy.init()
         node = rclpy.create_node('vanishing_client')
         c = ActionClient(node, Navigate, 'navigate')
         c.wait_for_server(timeout_sec=30)
-        c.send_goal_async(Navigate.Goal(x=2.0, y=0.0))
+        c.send_goal_async(goal_at(2.0, 0.0))
         end = time.monotonic() + 60
         while time.monotonic() < end:
             rclpy.spin_once(node, timeout_sec=0.1)
@@ -310,7 +325,7 @@ def _storm(client, goals, spacing_s):
     for x, y in goals:
         answered: list[float] = []
         t = time.monotonic()
-        future = client.send_goal_async(Navigate.Goal(x=float(x), y=float(y)))
+        future = client.send_goal_async(goal_at(x, y))
         future.add_done_callback(lambda _f, a=answered: a.append(time.monotonic()))
         sent.append((t, answered, future))
         time.sleep(spacing_s)

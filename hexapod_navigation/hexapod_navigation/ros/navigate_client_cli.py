@@ -4,8 +4,10 @@
 ``ros2 run hexapod_adapt navigate_client X Y``.
 
 Send a goal to the ``navigate`` action from a base-station PC, print its feedback after every
-step and its result (the same as ``ros2 action send_goal /navigate hexapod_msgs/action/Navigate
-"{x: X, y: Y}" --feedback`` on a full ROS install). Ctrl-C cancels the goal, then exits.
+step and its result (the same as ``ros2 action send_goal --feedback /navigate
+hexapod_msgs/action/Navigate "{pose: {header: {frame_id: odom}, pose: {position: {x: X, y: Y}}}}"``
+on a full ROS install: the goal is a PoseStamped, X Y its position in odom). Ctrl-C cancels the
+goal, then exits.
 
     navigate_client 1.5 0.5 [--tolerance 0.15] [--time-limit 90]
 
@@ -20,7 +22,7 @@ import sys
 import time
 
 from hexapod_msgs.action import Navigate
-from hexapod_navigation.ros.navigate_msgs import navigate_client
+from hexapod_navigation.ros.navigate_msgs import goal_at, navigate_client
 from hexapod_util.cli import number, run_command
 from hexapod_util.ros_glue import spin_until_done, Waited
 import rclpy
@@ -103,9 +105,7 @@ def _send(args: argparse.Namespace, ros_args: list[str]) -> int:
                 flush=True,
             )
 
-        goal = Navigate.Goal(
-            x=args.x, y=args.y, tolerance=args.tolerance, time_limit=args.time_limit
-        )
+        goal = goal_at(args.x, args.y, tolerance=args.tolerance, time_limit=args.time_limit)
         sent = client.send_goal_async(goal, feedback_callback=show)
         if spin_until_done(node, sent, deadline, client.server_is_ready) is Waited.SERVER_GONE:
             return _server_gone(args.action)

@@ -52,6 +52,29 @@ OUTCOME_CODES = {
 }
 
 
+#: The frames a goal's pose may name: the odometry frame, or none (meaning it).
+GOAL_FRAMES = ('', 'odom')
+
+
+def goal_position(goal: Navigate.Goal) -> tuple[float, float, str]:
+    """Return the goal's position in odom and '' (or NaN, NaN and why its frame is refused)."""
+    frame = goal.pose.header.frame_id
+    if frame not in GOAL_FRAMES:
+        nan = float('nan')
+        return nan, nan, f"goal in frame '{frame}': navigate_node takes goals in odom only"
+    position = goal.pose.pose.position
+    return float(position.x), float(position.y), ''
+
+
+def goal_at(x: float, y: float, **fields) -> Navigate.Goal:
+    """Return a Navigate goal at (x, y) in odom (``fields``: tolerance, time_limit)."""
+    goal = Navigate.Goal(**fields)
+    goal.pose.header.frame_id = 'odom'
+    goal.pose.pose.position.x, goal.pose.pose.position.y = float(x), float(y)
+    goal.pose.pose.orientation.w = 1.0
+    return goal
+
+
 def pose_msg(pose: Pose2D, stamp: Time, frame: str = 'odom') -> PoseStamped:
     """Return a planar pose as a PoseStamped in ``frame``."""
     msg = PoseStamped()

@@ -7,7 +7,8 @@ Serves the ``navigate`` action (hexapod_msgs/Navigate), modelled on nav2's Navig
 in ``odom`` is pursued step by step over the navigation repertoire with the learned correction
 (:mod:`hexapod_navigation.core`), through gait_node + sim_node (``mode:=sim``) or bridge_node
 (``mode:=robot``), with no resets. An invalid goal is rejected with the reason; a new goal
-preempts the one being walked; a cancel stops the robot within one gait cycle. What was learned
+preempts the one being walked; a cancel stops the robot within one gait cycle; a PoseStamped on
+``goal_pose`` (RViz's "2D Goal Pose") is sent as a goal. What was learned
 about the damage, the bridge's dead-servo reports and the operator's word
 (``~/set_known_damage``) carry from goal to goal; ``~/forget`` drops them. docs/navigation.md
 says more.
@@ -19,6 +20,7 @@ import math
 import sys
 
 from diagnostic_msgs.msg import DiagnosticStatus
+from geometry_msgs.msg import PoseStamped
 from hexapod_adapt import OdomLog, TrialAborted, Waiter
 from hexapod_adapt.ros import (
     GraphPort,
@@ -137,6 +139,12 @@ class NavigateNode(DamageServices, Node):
             callback_group=work,
             **ACTION_QOS,
         )
+        # RViz's "2D Goal Pose" (a PoseStamped on goal_pose) is a goal, as for nav2's navigator
+        self.own = conv.navigate_client(self)
+        self.create_subscription(
+            PoseStamped, 'goal_pose', lambda m: self.own.send_goal_async(Navigate.Goal(pose=m)),
+            10, callback_group=work,
+        )  # fmt: skip
         self.serve_damage(self.mode == 'robot', work)
         if self.problem:
             self._status(DiagnosticStatus.ERROR, self.problem)
@@ -158,11 +166,12 @@ class NavigateNode(DamageServices, Node):
         """Say what is wrong with ``goal`` that can be told at once ('' if nothing yet)."""
         if self.policy is None:
             return self.problem
-        problem = settings.goal_settings_problem(goal.tolerance, goal.time_limit)
+        x, y, problem = conv.goal_position(goal)
+        problem = problem or settings.goal_settings_problem(goal.tolerance, goal.time_limit)
         if problem:
             return problem
         # before the first pose, all but the range (CI once saw a NaN goal accepted then)
-        return goal_problem(goal.x, goal.y, self._known_pose(), self.config)
+        return goal_problem(x, y, self._known_pose(), self.config)
 
     def _known_pose(self):
         """Return the robot's pose if known now (None before the pose source's first message)."""
@@ -189,12 +198,14 @@ class NavigateNode(DamageServices, Node):
                 self.waiter.until(self.poses.latest, FIRST_POSE_WAIT_S, 'a pose')
             except TrialAborted:
                 return 'no pose received yet (is the pose source publishing?)'
-        return goal_problem(goal.x, goal.y, self._known_pose(), self.config)
+        x, y, _ = conv.goal_position(goal)
+        return goal_problem(x, y, self._known_pose(), self.config)
 
     def _on_goal(self, goal) -> GoalResponse:
         problem = self._goal_problem(goal)  # never waits: every request is answered at once
         if problem:
-            self._status(DiagnosticStatus.WARN, f'goal ({goal.x}, {goal.y}) rejected: {problem}')
+            x, y, _ = conv.goal_position(goal)
+            self._status(DiagnosticStatus.WARN, f'goal ({x}, {y}) rejected: {problem}')
             return GoalResponse.REJECT
         return GoalResponse.ACCEPT
 
@@ -208,6 +219,7 @@ class NavigateNode(DamageServices, Node):
 
     def _execute(self, handle) -> Navigate.Result:
         key, goal = self._key(handle), handle.request
+        x, y, _ = conv.goal_position(goal)  # its frame was checked when it came
         # a goal superseded before its turn ends at once, without walking, and waiting holds no
         # lock the node's other callbacks need (a storm of goals is answered at once)
         if not self.turns.wait_turn(key, lambda: handle.is_cancel_requested):
@@ -218,7 +230,7 @@ class NavigateNode(DamageServices, Node):
             return self._end_unwalked(handle)  # the wait for a pose ended with the node
         if problem:
             self.turns.done(key)
-            self._status(DiagnosticStatus.WARN, f'goal ({goal.x}, {goal.y}) aborted: {problem}')
+            self._status(DiagnosticStatus.WARN, f'goal ({x}, {y}) aborted: {problem}')
             unless_closing(self, handle.abort)
             return Navigate.Result(outcome=Navigate.Result.FAILED, reason=problem)
         try:
@@ -227,7 +239,7 @@ class NavigateNode(DamageServices, Node):
             config = settings.goal_config(self.config, goal.tolerance, goal.time_limit)
             self.policy.config = config
             path = self._start_recording()
-            marker = conv.goal_marker(goal.x, goal.y, config.tolerance, self._now())
+            marker = conv.goal_marker(x, y, config.tolerance, self._now())
             self.marker_pub.publish(marker)
             self.recording.record('navigate/goal', marker)
 
@@ -248,11 +260,9 @@ class NavigateNode(DamageServices, Node):
                     )
                 unless_closing(self, handle.publish_feedback, conv.feedback_msg(f, self._now()))
 
-            self._status(DiagnosticStatus.OK, f'navigating to ({goal.x:.2f}, {goal.y:.2f})')
+            self._status(DiagnosticStatus.OK, f'navigating to ({x:.2f}, {y:.2f})')
             try:
-                result = run_episode(
-                    self.body, self.policy, (goal.x, goal.y), config, stopped, feedback
-                )
+                result = run_episode(self.body, self.policy, (x, y), config, stopped, feedback)
             except (TrialAborted, BodyFailure) as exc:  # the graph stopped answering
                 result, reason = None, str(exc)
             else:
@@ -267,14 +277,13 @@ class NavigateNode(DamageServices, Node):
             return self._end(*conv.unwalked(True, False), handle)
         recording = str(path) if path else ''
         call, out = conv.ending(
-            result, reason, (goal.x, goal.y), recording, self._now(), preempted,
+            result, reason, (x, y), recording, self._now(), preempted,
             handle.is_cancel_requested,
         )  # fmt: skip
         if result is not None:
             self._status(
                 DiagnosticStatus.OK if result.reached else DiagnosticStatus.WARN,
-                f'goal ({goal.x:.2f}, {goal.y:.2f}): {out.reason}'
-                f' after {result.walking_time:.1f} s',
+                f'goal ({x:.2f}, {y:.2f}): {out.reason} after {result.walking_time:.1f} s',
             )
         return self._end(call, out, handle)
 
