@@ -6,25 +6,30 @@ alive() {
   kill -0 "$1" 2>/dev/null && [ "$(ps -o stat= -p "$1" | cut -c1)" != Z ]
 }
 
-# checkpoint_evaluations FILE: the evaluations a map or checkpoint holds (0 if FILE is missing or
-# unreadable), from its metadata (hexapod_adapt.mapping.archive.load_archive).
+# checkpoint_evaluations FILE [EMITTERS]: the evaluations a map or checkpoint holds (0 if FILE is
+# missing or unreadable, or, with EMITTERS, made by other emitters), from its metadata
+# (hexapod_adapt.mapping.archive.load_archive).
 checkpoint_evaluations() {
   [ -f "$1" ] || { echo 0; return; }
-  python - "$1" <<'PY' 2>/dev/null || echo 0
+  python - "$1" "${2:-}" <<'PY' 2>/dev/null || echo 0
 import sys
 
 from hexapod_adapt.mapping.archive import load_archive
 
-print(int(load_archive(sys.argv[1]).metadata.get('evaluations', 0)))
+meta = load_archive(sys.argv[1]).metadata
+made_by = meta.get('map_elites', {}).get('emitters')
+same = not sys.argv[2] or made_by == sys.argv[2]
+print(int(meta.get('evaluations', 0)) if same else 0)
 PY
 }
 
-# map_finished FILE: "yes" when the map FILE holds the evaluations make_default_map.sh asks for
-# (the new default map, written), else "no".
+# map_finished FILE: "yes" when the map FILE holds the evaluations make_default_map.sh asks for,
+# made by its emitters (the new default map, written), else "no".
 map_finished() {
-  local target
+  local target emitters
   target="$(grep -o -- '--evaluations [0-9]*' hexapod_adapt/maps/make_default_map.sh | cut -d' ' -f2)"
-  if [ "$(checkpoint_evaluations "$1")" -ge "$target" ]; then
+  emitters="$(grep -o -- '--emitters [a-z_]*' hexapod_adapt/maps/make_default_map.sh | cut -d' ' -f2)"
+  if [ "$(checkpoint_evaluations "$1" "$emitters")" -ge "$target" ]; then
     echo yes
   else
     echo no

@@ -7,8 +7,6 @@
 #   start the moment it is written; once the map is written (kept in
 #   hexapod_adapt/maps/in_progress/, or shipped), its ceilings (resume_ceilings.sh: only the
 #   cases not cached yet), until the shipped cache holds them all;
-# - the transfer study's map runs (studies/transfer/transfer_study.sh; studies/transfer/README.md), until
-#   both of its maps are written;
 # Before the session ends: bash scripts/save_progress.sh, then commit what it lists.
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -30,9 +28,4 @@ else
   bash hexapod_adapt/maps/resume_default_map.sh
   nohup bash hexapod_adapt/maps/then_ceilings.sh >> out/then_ceilings.out 2>&1 &
   echo "then_ceilings.sh waiting for the map (pid $!): out/then_ceilings.out"
-fi
-# the transfer study: resumed from the checkpoints save_progress.sh kept, until both maps exist
-if [ ! -f studies/out/transfer_study/walk_cma_mae_10000_s1.npz ] \
-  || [ ! -f studies/out/transfer_study/walk_iso_line_10000_s1.npz ]; then
-  bash studies/transfer/transfer_study.sh  # starts only the runs that are neither finished nor running
 fi

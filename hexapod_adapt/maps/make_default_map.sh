@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# The default map: the exact command, resumable (studies/map_methods/README.md: the winner of the map study,
-# issue 30). Run it from the repository root; run it again after any interruption (it resumes from
+# The default map: the exact command, resumable. Its method is the transfer study's winner
+# (studies/transfer/README.md, issue 49: iso+line, whose gaits walk on the engines that did not
+# make the map); its budget, 1,000,000 evaluations, is about 12 core-hours at the study's rate,
+# within the issue's 16. Run it from the repository root; run it again after any interruption (it resumes from
 # default_map.npz.ckpt.npz) until it prints "wrote". FRESH=1 starts from scratch: the map, its
 # checkpoint and log already there are kept as NAME.bak (without it, a finished map made with
 # other settings is refused, not continued).
@@ -14,6 +16,6 @@ source scripts/env.sh
 if [ "$(uname -m)" = x86_64 ]; then export OPENBLAS_CORETYPE=Haswell OPENBLAS_L2_SIZE=512; fi
 if [ "${FRESH:-0}" = 1 ]; then how=--force; else how=--resume; fi
 exec python -m hexapod_adapt.mapping.generate_map_cli \
-  --out hexapod_adapt/maps/default_map.npz --engine mujoco --niches 20000 --evaluations 1500000 \
-  --seed 1 --with-presets --emitters cma_mae --workers "${WORKERS:-2}" --checkpoint-every 300 \
+  --out hexapod_adapt/maps/default_map.npz --engine mujoco --niches 20000 --evaluations 1000000 \
+  --seed 1 --with-presets --emitters iso_line --workers "${WORKERS:-2}" --checkpoint-every 300 \
   --log-every 30 --no-bar "$how"

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Start or resume the transfer study's map runs (studies/transfer/README.md) in the background, from
-# a worktree pinned to the commit that started them (studies/checkpoints/transfer_study/COMMIT),
+# a worktree pinned to the commit that started them (studies/transfer/COMMIT),
 # one worker each, niced. Each run: 200,000 MuJoCo evaluations, 10,000 niches (the CVT of the map study's
 # baselines), seed 1, presets first: the map study's budget, so the baselines
 # (studies/out/map_study/{cma_mae,iso_line}_10000_s1.npz here) compare at equal cost.
@@ -12,7 +12,7 @@ set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 tree="${1:-$repo/../transfer-study}"
 keep="$repo/studies/checkpoints/transfer_study"
-REPO="$repo" TREE="$tree" PIN_FILE="$keep/COMMIT"
+REPO="$repo" TREE="$tree" PIN_FILE="$repo/studies/transfer/COMMIT"  # the code that made B1, B2
 # shellcheck disable=SC1091
 source "$repo/scripts/fixed_worktree.sh"
 mkdir -p out tuning/transfer_study
