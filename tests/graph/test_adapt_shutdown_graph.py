@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 """
 A node that shuts down in the middle of an adaptation (issue 51): one line, no traceback, and
-the client says its server went away instead of waiting out its timeout.
+the client says its server went away instead of waiting out its timeout. The client's own
+timeout and option checks.
 """
 
 from __future__ import annotations
@@ -107,3 +108,26 @@ def test_navigate_client_says_when_its_server_dies_mid_goal(ros, launch, domain_
             client.kill()
     assert client.returncode == 1 and 'shut down before it answered' in err, (out, err)
     assert time.monotonic() - t0 < 30  # not its 300 s timeout
+
+
+def test_adapt_client_honours_its_timeout(domain_id):
+    t0 = time.monotonic()
+    result = subprocess.run(
+        [str(executable('hexapod_adapt', 'adapt_client')), '--timeout', '3'],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    elapsed = time.monotonic() - t0
+    assert result.returncode == 1 and 'not available within 3 s' in result.stderr
+    assert elapsed < 15.0, elapsed  # 3 s plus process start-up (CI, loaded: 8.5 s), not 30 s
+    bad = subprocess.run(
+        [str(executable('hexapod_adapt', 'adapt_client')), '--max-trials', str(2**32 + 3)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert (
+        bad.returncode == 2
+        and "--max-trials: must be 0 (the node's default) or in [1, 1000]" in bad.stderr
+    )

@@ -19,6 +19,8 @@ import rclpy
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.callback_groups import CallbackGroup
 
+#: s a goal ending at shutdown waits for the executor to stop, and the shutdown for the goal.
+SHUTDOWN_WAIT_S = 5.0
 BUSY = 'adapt goal rejected: an adaptation is already running (adapt_node runs one at a time)'
 
 
@@ -33,6 +35,7 @@ class AdaptAction:
     def serve_adapt(self, work: CallbackGroup) -> None:
         """Serve the ``adapt`` action; ``busy`` is held from a goal's acceptance to its end."""
         self.busy = threading.Lock()
+        self.spin_ended = threading.Event()  # set by the node's shutdown, after its executor
         self.server = ActionServer(
             self,
             Adapt,
@@ -60,5 +63,14 @@ class AdaptAction:
             end = goal_end(handle.is_cancel_requested, result.success)
         else:  # shutting down: nobody can be told, the goal's state is set quietly
             end = 'abort'
+            # returned while the executor still spins, the result would be sent on a context
+            # that is gone (a warning, and rcl's "publisher's context is invalid" line)
+            self.spin_ended.wait(SHUTDOWN_WAIT_S)
         unless_closing(self, getattr(handle, end))
         return result
+
+    def end_goals(self) -> None:
+        """At shutdown, after the executor: let the goal in progress end, quietly (5 s at most)."""
+        self.spin_ended.set()
+        if self.busy.acquire(timeout=SHUTDOWN_WAIT_S):
+            self.busy.release()

@@ -114,6 +114,7 @@ class AdaptNode(AdaptAction, DamageReports, Node):
 
     def shutdown(self) -> None:
         """Ctrl-C / SIGTERM mid-run: finish the MCAP file (called by run_node)."""
+        self.end_goals()
         self.recording.stop()
         if self.stream is not None:
             self.stream.close()
