@@ -1,6 +1,6 @@
 # Copyright 2026 Hexapod adaptation team
 # SPDX-License-Identifier: MIT
-"""`make demo` (scripts/demo.py) runs end to end: the README's first command works."""
+"""`make demo` and `make demo-navigate` run end to end: the README's first commands work."""
 
 from __future__ import annotations
 
@@ -30,3 +30,23 @@ def test_the_demo_adapts_through_the_graph_and_records_a_replayable_run(tmp_path
     # the run starts with what Foxglove's 3D panel needs, then the trials
     assert set(topics[:2]) == {'/robot_description', '/tf_static'}, topics[:5]
     assert topics.count('/adapt/trials') >= 1
+
+
+def test_the_navigation_demo_reaches_its_three_goals_and_records_each(tmp_path):
+    """`make demo-navigate` (scripts/demo_navigate.py): the README's navigation demo works."""
+    env = dict(os.environ, ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
+    done = subprocess.run(
+        [sys.executable, str(WS / 'scripts' / 'demo_navigate.py'), '--out', str(tmp_path)],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert done.returncode == 0, done.stdout + done.stderr
+    ended = [line for line in done.stdout.splitlines() if line.startswith('goal (')]
+    assert len(ended) == 3, done.stdout
+    recordings = sorted((tmp_path / 'runs').glob('*.mcap'))
+    assert len(recordings) == 3
+    for recording in recordings:
+        topics = {topic for topic, _, _ in read_messages(recording)}
+        assert {'/navigate/goal', '/odom', '/robot_description', '/tf_static'} <= topics
