@@ -7,6 +7,8 @@ Uploads each ``gait/parameters`` (latched) to the robot (gait-upload extension, 
 retried). Publishes ``imu/data`` (the Xsens on ``imu_port``, or the robot's 2 Hz attitude),
 ``odom`` (one message per trial: the IMU estimate of the displacement since the trial started, in
 the frame it started in; twist = mean velocity; covariances = the estimate's accuracy),
+``joint_states`` (the commanded angles of the uploaded gait, 30 Hz: the radio carries no measured
+ones; :mod:`hexapod_bridge.commanded`),
 ``~/link_status``, ``bridge/status`` (latched), ``servo_failures`` (the last 64 kept: a servo
 that did not answer the robot's ping) and ``/diagnostics`` (each servo, the link, the IMU:
 :mod:`hexapod_bridge.health`).
@@ -32,11 +34,13 @@ import time
 
 from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_bridge import ros_conversions as conv
+from hexapod_bridge.commanded import CommandedJoints
 from hexapod_bridge.gait_uploads import GaitUploads
 from hexapod_bridge.health import imu_health, link_health, servo_health
 from hexapod_bridge.lifecycle import ACTIVE, BridgeLifecycle, INACTIVE
 from hexapod_bridge.reports import Report, servo_report, Severity, trial_report
 from hexapod_bridge.station import StationConfig, TrialResult
+from hexapod_description.model import load_model
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.msg import LinkStatus, ServoFailure
 from hexapod_msgs.srv import GetServoFailures, UploadGait
@@ -58,10 +62,12 @@ from nav_msgs.msg import Odometry
 import rclpy
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.lifecycle import LifecycleNode
-from sensor_msgs.msg import Imu
+from sensor_msgs.msg import Imu, JointState
 from std_srvs.srv import SetBool, Trigger
 from tf2_msgs.msg import TFMessage
 
+#: joint_states rate [Hz] (commanded angles).
+JOINT_STATES_HZ = 30.0
 #: bridge/status's level of each report's severity.
 LEVELS = {
     Severity.OK: DiagnosticStatus.OK,
@@ -133,6 +139,10 @@ class BridgeNode(BridgeLifecycle, GaitUploads, LifecycleNode):
         ):
             self.create_service(srv, name, callback, callback_group=group)
         self.create_timer(1.0 / float(v['status_rate']), self._tick, callback_group=group)
+        # the legs in 3D on the robot: the commanded angles (the radio carries no measured ones)
+        self.commanded, self.joint_names = CommandedJoints(), load_model().joint_names
+        self.joints_pub = self.create_publisher(JointState, 'joint_states', SENSOR)
+        self.create_timer(1.0 / JOINT_STATES_HZ, self._publish_commanded, callback_group=group)
         self.diagnostics = DiagnosticsPublisher(self, lambda: self._health(imu))
         self.start_lifecycle()
 
@@ -272,6 +282,15 @@ class BridgeNode(BridgeLifecycle, GaitUploads, LifecycleNode):
             self.odom_pub.publish(odom)
             self.tf_pub.publish(TFMessage(transforms=[odom_transform(odom)]))
         self._report(trial_report(r, self.station.imu_port is not None))
+
+    def _publish_commanded(self) -> None:
+        trial = self.station.trial if self.station is not None else None
+        walked = time.monotonic() - trial.start if trial is not None else None
+        positions = self.commanded.positions(walked)
+        if positions is not None:
+            msg = JointState(name=list(self.joint_names), position=[float(a) for a in positions])
+            msg.header.stamp = self.get_clock().now().to_msg()
+            self.joints_pub.publish(msg)
 
     def _publish_imu(self, m) -> None:
         self.imu_last = time.monotonic()

@@ -49,6 +49,7 @@ class GaitUploads:
         station.wait(op, math.inf, lambda: self.station is station)  # until its link closes
         if op.ok:
             station.uploaded(op, gait)
+            self.commanded.set_gait(gait)
             self._status(
                 DiagnosticStatus.OK,
                 f'gait uploaded (archive index {gait.archive_index})',
@@ -85,6 +86,7 @@ class GaitUploads:
             self._status(DiagnosticStatus.ERROR, response.message)
             return response
         self.station.uploaded(op, gait)
+        self.commanded.set_gait(gait)
         response.success, response.gait_id = True, int(op.result['gait_id'])
         response.message = f'gait uploaded as robot gait {response.gait_id}'
         self._status(

@@ -218,3 +218,22 @@ def test_a_noisy_stream_never_ends_a_trial_with_another_trials_report():
         f'{completed} trials completed; {len(bench.ended)} ends seen; stale reports'
         f' {bench.link.stats.stale_reports}'
     )
+
+
+def test_the_commanded_joints_follow_the_uploaded_gait_cycle():
+    """joint_states on the robot: the gait's joint table, row by time into the walk."""
+    from hexapod_bridge.commanded import CommandedJoints
+    from hexapod_gait import preset
+    from hexapod_gait.trajectory import build_joint_table
+
+    commanded = CommandedJoints()
+    assert commanded.positions(None) is None and commanded.positions(1.0) is None  # no gait
+    gait = preset('tripod')
+    commanded.set_gait(gait)
+    table = build_joint_table(gait)
+    assert (commanded.positions(None) == table.positions[0]).all()  # standing
+    quarter = gait.period / 4
+    assert (commanded.positions(quarter) == table.positions[int(quarter * table.rate)]).all()
+    # one cycle later, the same angles; in between, others
+    assert (commanded.positions(quarter + gait.period) == commanded.positions(quarter)).all()
+    assert (commanded.positions(quarter) != commanded.positions(None)).any()

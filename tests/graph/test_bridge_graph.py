@@ -26,7 +26,7 @@ from nav_msgs.msg import Odometry
 import numpy as np
 import pytest
 from rclpy.qos import DurabilityPolicy, qos_profile_sensor_data, QoSProfile, ReliabilityPolicy
-from sensor_msgs.msg import Imu
+from sensor_msgs.msg import Imu, JointState
 from std_srvs.srv import SetBool, Trigger
 
 pytestmark = pytest.mark.ros
@@ -351,9 +351,13 @@ def test_every_lifecycle_transition_and_a_missing_or_vanishing_port(ros, launch,
     pub = ros.node.create_publisher(GaitParametersMsg, 'gait/parameters', LATCHED)
     pub.publish(gait_to_msg(preset('tripod').replace(archive_index=3)))
     wait_for(lambda: 'gait uploaded' in node.log(), 30, 'the upload')
+    joints = ros.collect(JointState, 'joint_states', qos_profile_sensor_data)
     started = trigger('start_trial')
     assert started.success, started.message
     time.sleep(1.5)
+    # the legs in 3D: the commanded angles, 18 URDF joints, moving as the robot walks
+    assert len(joints) > 10 and len(joints[-1].name) == 18 and joints[-1].name[0] == 'joint_1_1'
+    assert len({tuple(j.position) for j in joints[-10:]}) > 1
     # deactivate: the robot stops (its walk ends before its 5 s), the bridge disarms
     assert change(Transition.TRANSITION_DEACTIVATE) and state() == 'inactive'
     wait_for(lambda: 'TRIAL ' in emu.log(), 20, "the emulator's report of the walk")
