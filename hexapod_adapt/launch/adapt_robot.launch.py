@@ -7,7 +7,8 @@ Adaptation on the real robot: bridge_node + adapt_node (full ROS 2 Jazzy install
         port:=/dev/ttyUSB0 imu_port:=/dev/ttyUSB1 leg_map:='[1, 6, 5, 4, 3, 2]'
     ... mode:=manual     # no IMU: report tape-measured distances with
                          # ros2 service call /adapt_node/report_distance ...
-Arm the bridge first: ros2 service call /bridge_node/arm std_srvs/srv/SetBool "{data: true}"
+bridge_node comes up active (armed) with the shipped file (autostart, arm_on_start); it is a
+lifecycle node: ros2 lifecycle set /bridge_node deactivate stops the robot and disarms.
 In this workspace without `launch`:
     python scripts/launch.py robot --archive [MAP] \
         --params-file hexapod_adapt/config/adapt_robot.yaml

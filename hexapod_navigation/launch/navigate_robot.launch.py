@@ -5,7 +5,6 @@ Walking to goals on the real robot: bridge_node + navigate_node (full ROS 2 Jazz
 
     ros2 launch hexapod_navigation navigate_robot.launch.py [params_file:=my.yaml] \
         port:=/dev/ttyUSB0 imu_port:=/dev/ttyUSB1 leg_map:='[1, 6, 5, 4, 3, 2]'
-    ros2 service call /bridge_node/arm std_srvs/srv/SetBool "{data: true}"
     ros2 action send_goal --feedback /navigate hexapod_msgs/action/Navigate \
         "{pose: {header: {frame_id: odom}, pose: {position: {x: 1.5, y: 0.5}}}}"
 One bridge trial is one repertoire step (trial_duration in the parameter file, 2 s).
