@@ -27,7 +27,7 @@ from rclpy.node import Node
 
 #: s between looks at the publishers of servo_failures (to name a sender that leaves at once).
 WATCH_S = 0.005
-#: s a refused report waits for a sender's node name to reach the graph (if none is known).
+#: s a refused report waits for a sender's node name to reach the graph (one not seen before).
 NAME_WAIT_S = 1.0
 #: s to wait for the bridge's answer to "which servos are dead".
 ASK_TIMEOUT_S = 3.0
@@ -103,12 +103,14 @@ class ServoReports:
 
     def _on_report(self, msg: ServoFailure) -> None:
         servo = int(msg.servo_id)
-        confirmed, others = self.confirmed(servo), self.others()
-        deadline = time.monotonic() + NAME_WAIT_S
-        while not confirmed and not others and time.monotonic() < deadline:
-            time.sleep(0.02)  # a new process's node name reaches the graph after its data
-            others = self.others()
-        verdict = servo_report_verdict(servo, confirmed, self.bridge, others)
+        confirmed, others = self.confirmed(servo), set(self.others())
+        first, deadline = set(others), time.monotonic() + NAME_WAIT_S
+        # a refused report waits for a name the graph did not hold yet: a new process's node
+        # name reaches the graph after its data (names seen before may be an earlier sender's)
+        while not confirmed and not others - first and time.monotonic() < deadline:
+            time.sleep(0.02)
+            others |= set(self.others())
+        verdict = servo_report_verdict(servo, confirmed, self.bridge, sorted(others))
         if verdict:
             self.refuse(msg, verdict)
         else:
