@@ -14,15 +14,17 @@ from hexapod_util.recording import read_messages
 WS = Path(__file__).resolve().parents[2]
 
 
-def test_the_demo_adapts_through_the_graph_and_records_a_replayable_run(tmp_path):
+def _run_demo(script: str, out: Path, timeout: float) -> subprocess.CompletedProcess:
+    """Run scripts/SCRIPT --out OUT on this machine's loopback only; return what it did."""
     env = dict(os.environ, ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
-    done = subprocess.run(
-        [sys.executable, str(WS / 'scripts' / 'demo.py'), '--out', str(tmp_path)],
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
+    return subprocess.run(
+        [sys.executable, str(WS / 'scripts' / script), '--out', str(out)],
+        env=env, capture_output=True, text=True, timeout=timeout,
+    )  # fmt: skip
+
+
+def test_the_demo_adapts_through_the_graph_and_records_a_replayable_run(tmp_path):
+    done = _run_demo('demo.py', tmp_path, timeout=300)
     assert done.returncode == 0, done.stdout + done.stderr
     assert 'adapted gait' in done.stdout, done.stdout
     (recording,) = (tmp_path / 'runs').glob('*.mcap')
@@ -34,14 +36,7 @@ def test_the_demo_adapts_through_the_graph_and_records_a_replayable_run(tmp_path
 
 def test_the_navigation_demo_reaches_its_three_goals_and_records_each(tmp_path):
     """`make demo-navigate` (scripts/demo_navigate.py): the README's navigation demo works."""
-    env = dict(os.environ, ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
-    done = subprocess.run(
-        [sys.executable, str(WS / 'scripts' / 'demo_navigate.py'), '--out', str(tmp_path)],
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
+    done = _run_demo('demo_navigate.py', tmp_path, timeout=600)
     assert done.returncode == 0, done.stdout + done.stderr
     ended = [line for line in done.stdout.splitlines() if line.startswith('goal (')]
     assert len(ended) == 3, done.stdout
