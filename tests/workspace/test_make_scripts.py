@@ -1,6 +1,6 @@
 # Copyright 2026 Hexapod adaptation team
 # SPDX-License-Identifier: MIT
-"""The make_*.sh scripts that regenerate shipped files write them where they ship."""
+"""The scripts behind make: make_*.sh write where files ship; bench.py imports what exists."""
 
 from __future__ import annotations
 
@@ -48,3 +48,26 @@ def test_every_shell_script_parses():
     for script in scripts:
         r = subprocess.run(['bash', '-n', script], cwd=WS, capture_output=True, text=True)
         assert r.returncode == 0, f'{script}: {r.stderr}'
+
+
+def test_every_name_the_benchmarks_import_exists():
+    """bench.py imports per area, when it runs: a name moved by a refactor broke bench-bridge."""
+    import ast
+    import importlib
+
+    tree = ast.parse((WS / 'scripts' / 'bench.py').read_text())
+    missing = []
+    for node in ast.walk(tree):
+        if not (isinstance(node, ast.ImportFrom) and node.module):
+            continue
+        if not node.module.startswith(('hexapod_', 'studies')):
+            continue
+        module = importlib.import_module(node.module)
+        for alias in node.names:
+            if hasattr(module, alias.name):
+                continue
+            try:  # a submodule: from package import module
+                importlib.import_module(f'{node.module}.{alias.name}')
+            except ImportError:
+                missing.append(f'{node.module}.{alias.name}')
+    assert not missing, f'scripts/bench.py imports names that do not exist: {missing}'
