@@ -5,10 +5,11 @@
 
 Uploads each ``gait/parameters`` (latched) to the robot (gait-upload extension, acknowledged and
 retried). Publishes ``imu/data`` (the Xsens on ``imu_port``, or the robot's 2 Hz attitude),
-``odom`` (one message per trial: the IMU estimate of the displacement since the trial started, in
-the frame it started in; twist = mean velocity; covariances = the estimate's accuracy),
-``joint_states`` (the commanded angles of the uploaded gait, 30 Hz: the radio carries no measured
-ones; :mod:`hexapod_bridge.commanded`),
+``trial_odom`` (one message per trial: the IMU estimate of its displacement, in the frame it
+started in; twist = mean velocity; covariances = the estimate's accuracy), ``odom`` and
+odom -> base_link on ``/tf`` (30 Hz, continuous: the trials chained,
+:class:`hexapod_bridge.odometry.ChainedPose`), ``joint_states`` (the commanded angles of the
+uploaded gait, 30 Hz: the radio carries no measured ones; :mod:`hexapod_bridge.commanded`),
 ``~/link_status``, ``bridge/status`` (latched), ``servo_failures`` (the last 64 kept: a servo
 that did not answer the robot's ping) and ``/diagnostics`` (each servo, the link, the IMU:
 :mod:`hexapod_bridge.health`).
@@ -38,6 +39,7 @@ from hexapod_bridge.commanded import CommandedJoints
 from hexapod_bridge.gait_uploads import GaitUploads
 from hexapod_bridge.health import imu_health, link_health, servo_health
 from hexapod_bridge.lifecycle import ACTIVE, BridgeLifecycle, INACTIVE
+from hexapod_bridge.odometry import ChainedPose
 from hexapod_bridge.reports import Report, servo_report, Severity, trial_report
 from hexapod_bridge.station import StationConfig, TrialResult
 from hexapod_description.model import load_model
@@ -117,7 +119,9 @@ class BridgeNode(BridgeLifecycle, GaitUploads, LifecycleNode):
         imu = f'Xsens MTi on {v["imu_port"]}' if v['imu_port'] else "robot's attitude telemetry"
         group = ReentrantCallbackGroup()
         self.imu_pub = self.create_publisher(Imu, 'imu/data', SENSOR)
+        self.pose = ChainedPose()  # odom -> base_link: the trials so far, chained
         self.odom_pub = self.create_publisher(Odometry, 'odom', ODOM)
+        self.trial_odom_pub = self.create_publisher(Odometry, 'trial_odom', ODOM)
         self.tf_pub = self.create_publisher(TFMessage, '/tf', TF_QOS)
         self.link_pub = self.create_publisher(LinkStatus, '~/link_status', 10)
         self.status_pub = self.create_publisher(DiagnosticStatus, 'bridge/status', LATCHED)
@@ -139,10 +143,10 @@ class BridgeNode(BridgeLifecycle, GaitUploads, LifecycleNode):
         ):
             self.create_service(srv, name, callback, callback_group=group)
         self.create_timer(1.0 / float(v['status_rate']), self._tick, callback_group=group)
-        # the legs in 3D on the robot: the commanded angles (the radio carries no measured ones)
+        # the robot in 3D: odom -> base_link and the commanded angles (none measured on the radio)
         self.commanded, self.joint_names = CommandedJoints(), load_model().joint_names
         self.joints_pub = self.create_publisher(JointState, 'joint_states', SENSOR)
-        self.create_timer(1.0 / JOINT_STATES_HZ, self._publish_commanded, callback_group=group)
+        self.create_timer(1.0 / JOINT_STATES_HZ, self._publish_state, callback_group=group)
         self.diagnostics = DiagnosticsPublisher(self, lambda: self._health(imu))
         self.start_lifecycle()
 
@@ -278,18 +282,23 @@ class BridgeNode(BridgeLifecycle, GaitUploads, LifecycleNode):
     def _report_trial(self, r: TrialResult) -> None:
         if r.estimate is not None:
             now = self.get_clock().now().to_msg()
+            self.pose.add(r.x, r.y, r.yaw, max(r.walk, r.duration))
             odom = conv.trial_odometry(r, now, self.frames['odom'], self.frames['base'])
-            self.odom_pub.publish(odom)
-            self.tf_pub.publish(TFMessage(transforms=[odom_transform(odom)]))
+            self.trial_odom_pub.publish(odom)
         self._report(trial_report(r, self.station.imu_port is not None))
 
-    def _publish_commanded(self) -> None:
+    def _publish_state(self) -> None:
         trial = self.station.trial if self.station is not None else None
         walked = time.monotonic() - trial.start if trial is not None else None
+        now = self.get_clock().now().to_msg()
+        frames = self.frames['odom'], self.frames['base']
+        odom = conv.continuous_odometry(self.pose, trial is not None, now, *frames)
+        self.odom_pub.publish(odom)
+        self.tf_pub.publish(TFMessage(transforms=[odom_transform(odom)]))
         positions = self.commanded.positions(walked)
         if positions is not None:
             msg = JointState(name=list(self.joint_names), position=[float(a) for a in positions])
-            msg.header.stamp = self.get_clock().now().to_msg()
+            msg.header.stamp = now
             self.joints_pub.publish(msg)
 
     def _publish_imu(self, m) -> None:

@@ -216,3 +216,29 @@ class TrialOdometry:
             math.pi - (math.pi - turned) % (2.0 * math.pi),
             part,
         )
+
+
+@dataclass
+class ChainedPose:
+    """
+    The robot's pose in ``odom`` (REP 105: continuous), trial after trial.
+
+    Each trial's displacement, given in the frame the robot started that trial in, is composed
+    onto the pose it started from. Nothing is measured between trials (the robot stands), so
+    the pose changes at a trial's end only; ``variance`` (of x and of y) adds each trial's
+    stated accuracy over its walk.
+    """
+
+    x: float = 0.0  # [m]
+    y: float = 0.0
+    yaw: float = 0.0  # [rad], in (-pi, pi]
+    variance: float = 0.0  # [m^2]
+    trials: int = 0
+
+    def add(self, dx: float, dy: float, dyaw: float, walked: float) -> None:
+        """Compose one trial: (dx, dy) [m] in its start frame, dyaw [rad], ``walked`` [s]."""
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        self.x, self.y = self.x + c * dx - s * dy, self.y + s * dx + c * dy
+        self.yaw = math.atan2(math.sin(self.yaw + dyaw), math.cos(self.yaw + dyaw))
+        self.variance += (SPEED_ACCURACY * walked) ** 2
+        self.trials += 1

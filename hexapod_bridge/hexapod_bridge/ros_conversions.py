@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 
 from builtin_interfaces.msg import Time
-from hexapod_bridge.odometry import SPEED_ACCURACY
+from hexapod_bridge.odometry import ChainedPose, SPEED_ACCURACY
 from hexapod_bridge.station import TrialResult
 from hexapod_description.tf_tree import quat_from_rpy
 from hexapod_msgs.msg import LinkStatus
@@ -17,7 +17,7 @@ from sensor_msgs.msg import Imu
 
 def trial_odometry(r: TrialResult, stamp: Time, odom_frame: str, base_frame: str) -> Odometry:
     """
-    Return a trial's odometry: the displacement since it started, in the frame it started in.
+    Return a trial's odometry (``trial_odom``): its displacement, in the frame it started in.
 
     The orientation is the heading change over the trial (the IMU's yaw); the pose covers the
     whole walk, settling included, and the twist is the mean velocity over the timed part (a
@@ -32,6 +32,30 @@ def trial_odometry(r: TrialResult, stamp: Time, odom_frame: str, base_frame: str
     walked = max(r.walk, r.duration)
     odom.pose.covariance[0] = odom.pose.covariance[7] = (SPEED_ACCURACY * walked) ** 2
     odom.twist.covariance[0] = odom.twist.covariance[7] = SPEED_ACCURACY**2
+    return odom
+
+
+#: The twist variance of ``odom`` while a trial walks [m^2/s^2]: unknown until the trial ends.
+UNKNOWN_TWIST_VARIANCE = 1.0e6
+
+
+def continuous_odometry(
+    pose: ChainedPose, walking: bool, stamp: Time, odom_frame: str, base_frame: str
+) -> Odometry:
+    """
+    Return ``odom``: the chained pose (:class:`ChainedPose`), published continuously.
+
+    The twist is zero: true while the robot stands; while a trial walks, its velocity is known at
+    its end only (``trial_odom``), so the covariance says unknown (UNKNOWN_TWIST_VARIANCE).
+    """
+    odom = Odometry()
+    odom.header.stamp, odom.header.frame_id, odom.child_frame_id = stamp, odom_frame, base_frame
+    odom.pose.pose.position.x, odom.pose.pose.position.y = pose.x, pose.y
+    odom.pose.pose.orientation.z = math.sin(pose.yaw / 2.0)
+    odom.pose.pose.orientation.w = math.cos(pose.yaw / 2.0)
+    odom.pose.covariance[0] = odom.pose.covariance[7] = pose.variance
+    twist_variance = UNKNOWN_TWIST_VARIANCE if walking else SPEED_ACCURACY**2
+    odom.twist.covariance[0] = odom.twist.covariance[7] = twist_variance
     return odom
 
 

@@ -12,6 +12,7 @@ walked from rest, odometry.SPEED_ACCURACY for fast gaits walked one after anothe
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 from hexapod_bridge.emulator.consecutive import ConsecutiveTrials
@@ -180,3 +181,17 @@ def test_the_window_closes_once_the_body_is_at_rest_or_at_the_longest_rest():
     assert still.window_closes(0.5, 0.5, 1.5) and not shaking.window_closes(1.4, 0.5, 1.5)
     assert shaking.window_closes(1.5, 0.5, 1.5)  # the longest rest ends it anyway
     assert not TrialOdometry().at_rest()  # no samples: nothing says it is still
+
+
+def test_trials_chain_into_one_continuous_pose():
+    from hexapod_bridge.odometry import ChainedPose
+
+    pose = ChainedPose()
+    pose.add(1.0, 0.0, math.pi / 2, 5.0)  # 1 m ahead, then turned left
+    pose.add(0.5, 0.0, 0.0, 5.0)  # "ahead" is now +y
+    assert (pose.x, pose.y, pose.yaw) == pytest.approx((1.0, 0.5, math.pi / 2))
+    pose.add(0.0, 0.0, 3.0, 0.0)  # the heading stays in (-pi, pi]
+    assert -math.pi < pose.yaw <= math.pi and pose.yaw == pytest.approx(
+        math.pi / 2 + 3.0 - 2 * math.pi
+    )
+    assert pose.trials == 3 and pose.variance == pytest.approx(2 * (SPEED_ACCURACY * 5.0) ** 2)

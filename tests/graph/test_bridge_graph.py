@@ -51,8 +51,10 @@ def test_upload_and_trial_end_to_end_over_pseudo_terminals(ros, launch, tmp_path
     )
     bridge = launch('hexapod_bridge', 'bridge_node', params={'port': radio, 'imu_port': imu})
     status = ros.collect(DiagnosticStatus, 'bridge/status', status_log_qos())
-    odom = ros.collect(
-        Odometry, 'odom', QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+    reliable = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+    odom, trial_odom = (
+        ros.collect(Odometry, 'odom', reliable),
+        ros.collect(Odometry, 'trial_odom', reliable),
     )
     assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
     pub = ros.node.create_publisher(GaitParametersMsg, 'gait/parameters', LATCHED)
@@ -64,13 +66,16 @@ def test_upload_and_trial_end_to_end_over_pseudo_terminals(ros, launch, tmp_path
     time.sleep(1.0)  # the robot stands still before the trial
     response = ros.call(Trigger, 'bridge_node/start_trial', Trigger.Request())
     assert response.success, response.message
-    wait_for(lambda: odom, 30, 'trial odometry')
-    o = odom[-1].pose.pose.position
+    wait_for(lambda: trial_odom, 30, 'trial odometry')
+    o = trial_odom[-1].pose.pose.position
     bridge_speed = (o.x * math.cos(gait.crab_angle) + o.y * math.sin(gait.crab_angle)) / 5.0
     wait_for(lambda: 'TRIAL ' in emu.log(), 10, 'emulator trial report')
     truth = json.loads(emu.log().split('TRIAL ', 1)[1].splitlines()[0])
     print(f'bridge odom {bridge_speed:.4f} m/s vs simulator {truth["speed"]:.4f} m/s')
     assert truth['state'] == 'done' and abs(bridge_speed - truth['speed']) <= SPEED_ACCURACY
+    # odom is continuous (REP 105): from the origin, it ends the first trial where the trial did
+    wait_for(lambda: odom[-1].pose.pose.position.x == o.x, 5, 'odom at the end of the trial')
+    assert odom[-1].pose.pose.position.y == o.y and odom[-1].header.frame_id == 'odom'
     assert bridge.alive() and emu.alive()
 
 

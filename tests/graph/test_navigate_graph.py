@@ -245,15 +245,23 @@ def test_the_robot_path_walks_its_first_gait_through_the_bridge(ros, launch, tmp
     )
     client = navigate_client(ros.node)
     assert client.wait_for_server(timeout_sec=60)
-    odom = ros.collect(Odometry, 'odom', ODOM)
+    odom, trial_odom = (
+        ros.collect(Odometry, 'odom', ODOM),
+        ros.collect(Odometry, 'trial_odom', ODOM),
+    )
     goal = Goal(ros, client, 3.0, 0.0)
     assert goal.handle.accepted
     wait_for(lambda: goal.feedback, 90, 'the first executed gait')
     first = goal.feedback[0]
-    assert first.steps == 1 and odom  # one trial, measured by the bridge's IMU odometry
-    o = odom[0].pose.pose.position
+    assert first.steps == 1 and trial_odom  # one trial, measured by the bridge's IMU odometry
+    o = trial_odom[0].pose.pose.position
     p = first.current_pose.pose.position
     assert (p.x, p.y) == pytest.approx((o.x, o.y))  # dead reckoning from the trial's odometry
+    # and the bridge's continuous odom, the same trial chained onto the origin, says the same
+    wait_for(lambda: odom[-1].pose.pose.position.x != 0.0, 5, 'odom after the first trial')
+    assert (odom[-1].pose.pose.position.x, odom[-1].pose.pose.position.y) == pytest.approx(
+        (p.x, p.y)
+    )
     goal.handle.cancel_goal_async()
     assert goal.result(timeout=60)[1].outcome == Navigate.Result.CANCELED
     assert nav.alive()

@@ -250,8 +250,9 @@ class AdaptNode(AdaptAction, DamageReports, Node):
             response.mcap_path = str(path.resolve()) if path else ''
         tip_guard = float(self._param('tip_guard'))
         self.trials = session.trial_procedure(
-            self.mode, self.port, self.odom, self.waiter, timing, warn, tip_guard, self.port.tilts
-        )
+            self.mode, self.port, self.port.odometry(self.mode), self.waiter, timing, warn,
+            tip_guard, self.port.tilts,
+        )  # fmt: skip
         note = engine_note(
             archive, self.port.sim_engine() if self.mode == 'sim' else 'the real robot'
         )

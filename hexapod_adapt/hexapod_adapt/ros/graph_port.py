@@ -57,6 +57,7 @@ RECORDED_QOS = {
     **{topic: qos for _, topic, qos in SENSOR_TOPICS},
     **{topic: LATCHED for _, topic in LATCHED_TOPICS},
     'odom': ODOM,
+    'trial_odom': ODOM,
     'gait/parameters': LATCHED,
     'adapt/trials': TRIALS,
 }
@@ -69,6 +70,7 @@ RECORDED_TYPES = {
         *((cls, topic) for cls, topic, _ in SENSOR_TOPICS),
         *LATCHED_TOPICS,
         (Odometry, 'odom'),
+        (Odometry, 'trial_odom'),
         (GaitParametersMsg, 'gait/parameters'),
         (AdaptationTrial, 'adapt/trials'),
     )
@@ -78,6 +80,16 @@ RECORDED_TYPES = {
 def stamp_ns(stamp) -> int:
     """Nanoseconds of a builtin_interfaces/Time."""
     return stamp.sec * 1_000_000_000 + stamp.nanosec
+
+
+def odom_sample(msg: Odometry) -> OdomSample:
+    """One odometry message as a trial reads it (received now)."""
+    p, t, q = msg.pose.pose.position, msg.twist.twist.linear, msg.pose.pose.orientation
+    quat = (q.x, q.y, q.z, q.w)
+    return OdomSample(
+        stamp_ns(msg.header.stamp), p.x, p.y, t.x, t.y, time.monotonic(),
+        upside_down(quat), peak_tilt(np.array(quat)),
+    )  # fmt: skip
 
 
 def qualified(node: Node, name: str) -> str:
@@ -127,6 +139,7 @@ class GraphPort:
     ) -> None:
         self.node, self.odom, self.recording = node, odom, recording
         self.tilts = TiltLog(maxlen=2000)  # the robot's IMU attitude (robot trials' tip guard)
+        self.trial_odom = OdomLog(maxlen=100)  # bridge_node's: one per robot trial
         self.gait_of: Callable[[int], GaitParameters] | None = None
         self.wait: Callable | None = None
         self._active: int | None = None
@@ -136,6 +149,9 @@ class GraphPort:
         sensors, work = MutuallyExclusiveCallbackGroup(), ReentrantCallbackGroup()
         self.gait_pub = node.create_publisher(GaitParametersMsg, 'gait/parameters', LATCHED)
         node.create_subscription(Odometry, 'odom', self._on_odom, ODOM, callback_group=sensors)
+        node.create_subscription(
+            Odometry, 'trial_odom', self._on_trial_odom, ODOM, callback_group=sensors
+        )
         node.create_subscription(Imu, 'imu/data', self._on_imu, SENSOR, callback_group=sensors)
         node.create_subscription(
             Header, 'sim/active_trajectory', self._on_active, LATCHED, callback_group=sensors
@@ -172,20 +188,16 @@ class GraphPort:
 
     # -- inputs -----------------------------------------------------------------------------
     def _on_odom(self, msg: Odometry) -> None:
-        p, t, q = msg.pose.pose.position, msg.twist.twist.linear, msg.pose.pose.orientation
-        self.odom.append(
-            OdomSample(
-                stamp_ns(msg.header.stamp),
-                p.x,
-                p.y,
-                t.x,
-                t.y,
-                time.monotonic(),
-                upside_down((q.x, q.y, q.z, q.w)),
-                peak_tilt(np.array([q.x, q.y, q.z, q.w])),
-            )
-        )
+        self.odom.append(odom_sample(msg))
         self.recording.record('odom', msg)
+
+    def _on_trial_odom(self, msg: Odometry) -> None:
+        self.trial_odom.append(odom_sample(msg))
+        self.recording.record('trial_odom', msg)
+
+    def odometry(self, mode: str) -> OdomLog:
+        """Return the odometry a trial of ``mode`` is measured by: sim_node's, or trial_odom."""
+        return self.trial_odom if mode == 'robot' else self.odom
 
     def _on_imu(self, msg: Imu) -> None:
         q = msg.orientation

@@ -20,7 +20,7 @@ from typing import Sequence
 from hexapod_bridge.emulator.firmware import ImuNoise, RobotFirmware
 from hexapod_bridge.emulator.native import NativeRobotFirmware
 from hexapod_bridge.link import RobotLink
-from hexapod_bridge.odometry import TrialOdometry
+from hexapod_bridge.odometry import ChainedPose, TrialOdometry
 from hexapod_bridge.protocol import extension as ext
 from hexapod_bridge.protocol.xbus import MTData, XbusParser
 from hexapod_bridge.station import StationConfig
@@ -158,7 +158,7 @@ class DeadReckoning:
 def dead_reckoning(sim: Simulator, gaits, duration: float, seed: int) -> DeadReckoning:
     """Walk ``gaits`` one after another on an emulated robot; compose both poses; compare."""
     robot = ConsecutiveTrials(sim, seed)
-    true_pose, est_pose = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
+    true_pose, est_pose = ChainedPose(), ChainedPose()  # est_pose: what bridge_node's odom says
     steps, yaws, drift = [], [], []
     for gait in gaits:
         m = robot.measure(gait, duration)
@@ -166,10 +166,7 @@ def dead_reckoning(sim: Simulator, gaits, duration: float, seed: int) -> DeadRec
             math.hypot(m.estimated_move[0] - m.true_move[0], m.estimated_move[1] - m.true_move[1])
         )
         yaws.append(m.estimated_move[2] - m.true_move[2])
-        for pose, move in ((true_pose, m.true_move), (est_pose, m.estimated_move)):
-            c, s = math.cos(pose[2]), math.sin(pose[2])
-            pose[0] += c * move[0] - s * move[1]
-            pose[1] += s * move[0] + c * move[1]
-            pose[2] += move[2]
-        drift.append(math.hypot(est_pose[0] - true_pose[0], est_pose[1] - true_pose[1]))
+        true_pose.add(*m.true_move, duration)
+        est_pose.add(*m.estimated_move, duration)
+        drift.append(math.hypot(est_pose.x - true_pose.x, est_pose.y - true_pose.y))
     return DeadReckoning(tuple(steps), tuple(yaws), tuple(drift))

@@ -182,9 +182,10 @@ class RobotGraphBody:
     """
     A navigator's body through bridge_node: one trial per step.
 
-    Without an external pose source (``external`` False) the pose is dead reckoning: each trial's
-    odometry (its displacement in the frame the robot started the trial in, and the IMU's heading
-    change) composed onto the previous pose.
+    A step starts from the newest pose (bridge_node's ``odom``, or the external source). Without an
+    external source (``external`` False) it ends where the trial's odometry (``trial_odom``: its
+    displacement in the frame the robot started the trial in, and the IMU's heading change) moves
+    the start: the same composition bridge_node's continuous ``odom`` makes.
     """
 
     #: the firmware moves the legs to a gait's first pose before the trial's time starts, and
@@ -207,14 +208,12 @@ class RobotGraphBody:
         self.port, self.poses, self.trials, self.waiter = port, poses, trials, waiter
         self.trial_duration, self.external, self.timeout = trial_duration, external, timeout
         self.stand_still, self.sleep = stand_still, sleep
-        self._dead_reckoned = Pose2D(0.0, 0.0, 0.0)
 
     def pose(self) -> Pose2D:
-        """Return the external pose, or the dead-reckoned one."""
-        if not self.external:
-            return self._dead_reckoned
+        """Return where the robot is: the external source's newest pose, or bridge_node's odom."""
+        source = 'the external pose topic' if self.external else "bridge_node's odom"
         sample = self.poses.latest() or self.waiter.until(
-            self.poses.latest, self.timeout, 'a pose from the external pose topic'
+            self.poses.latest, self.timeout, f'a pose from {source}'
         )
         return sample.pose
 
@@ -243,7 +242,7 @@ class RobotGraphBody:
             end = self.pose()
         else:
             d = trial.pose
-            end = self._dead_reckoned = start.moved(d.x, d.y, d.yaw)
+            end = start.moved(d.x, d.y, d.yaw)
         return StepOutcome(
             start, end, self.trial_duration, duration >= self.trial_duration, (end,)
         )

@@ -23,7 +23,8 @@ def subscribe_poses(
     Feed ``poses`` from the pose source, and ``trial_poses`` from ``odom`` where that is not it.
 
     The pose source is ``pose_topic`` when set (a PoseStamped or an Odometry, e.g. motion
-    capture), else ``odom``; on the robot ``odom`` is the bridge's trial odometry. The newest few
+    capture), else ``odom`` (sim_node's, or on the robot bridge_node's trials chained); on the
+    robot ``trial_odom`` (bridge_node's, one per trial) goes to ``trial_poses``. The newest few
     only (POSES), so a reader that falls behind skips stale poses instead of timing steps by them.
     Returns whether the pose source is external.
     """
@@ -35,11 +36,16 @@ def subscribe_poses(
             kind, values['pose_topic'], lambda m: poses.append(conv.pose_sample(m)), POSES,
             callback_group=sensors,
         )  # fmt: skip
-    odom_log = trial_poses if (values['mode'] == 'robot' or external) else poses
-    node.create_subscription(
-        Odometry, 'odom', lambda m: odom_log.append(conv.pose_sample(m)), POSES,
-        callback_group=sensors,
-    )  # fmt: skip
+    else:
+        node.create_subscription(
+            Odometry, 'odom', lambda m: poses.append(conv.pose_sample(m)), POSES,
+            callback_group=sensors,
+        )  # fmt: skip
+    if values['mode'] == 'robot':
+        node.create_subscription(
+            Odometry, 'trial_odom', lambda m: trial_poses.append(conv.pose_sample(m)), POSES,
+            callback_group=sensors,
+        )  # fmt: skip
     return external
 
 
