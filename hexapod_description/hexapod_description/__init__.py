@@ -9,6 +9,7 @@ from hexapod_description.model import (
     load_model,
     N_LEGS,
     parse_model,
+    robot_description_path,
     summary,
     urdf_path,
 )
@@ -21,5 +22,6 @@ __all__ = [
     'load_model',
     'parse_model',
     'summary',
+    'robot_description_path',
     'urdf_path',
 ]

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from typing import Any, Mapping, Sequence
 
-from hexapod_description.model import urdf_path
+from hexapod_description.model import robot_description_path
 from launch.actions import DeclareLaunchArgument, OpaqueFunction
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
@@ -91,5 +91,10 @@ def state_publisher(use_sim_time: bool = False) -> Node:
         package='robot_state_publisher',
         executable='robot_state_publisher',
         output='screen',
-        parameters=[{'robot_description': urdf_path().read_text(), 'use_sim_time': use_sim_time}],
+        parameters=[
+            {
+                'robot_description': robot_description_path().read_text(),
+                'use_sim_time': use_sim_time,
+            }
+        ],
     )

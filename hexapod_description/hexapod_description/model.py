@@ -54,6 +54,20 @@ def urdf_path() -> Path:
     return share_path('urdf', 'hexapod.urdf')
 
 
+def robot_description_path() -> Path:
+    """
+    Path of the URDF that ROS is shown (``robot_description``, ``/tf_static``).
+
+    The physics model (:func:`urdf_path`, which the simulators load and maps record the hash of)
+    plus massless sensor frames (``imu_link``): ``urdf/hexapod_robot.urdf``, or ``$HEXAPOD_URDF``
+    if set (a user's whole description).
+    """
+    override = os.environ.get('HEXAPOD_URDF')
+    if override:
+        return Path(override)
+    return share_path('urdf', 'hexapod_robot.urdf')
+
+
 @dataclass(frozen=True)
 class JointLimit:
     """Limits of one revolute joint, in URDF units (rad, N m, rad/s)."""

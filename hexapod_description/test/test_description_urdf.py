@@ -127,17 +127,38 @@ def test_no_ascii_looking_binary_stl():
         assert not head.startswith(b'solid') or b'facet' in stl.read_bytes()[:400], stl
 
 
-def test_committed_urdf_matches_xacro():
+@pytest.mark.parametrize('name', ['hexapod', 'hexapod_robot'])
+def test_committed_urdf_matches_xacro(name):
     xacro = shutil.which('xacro')
     assert xacro, 'xacro is a pinned dependency'
     pkg = Path(__file__).resolve().parent.parent
     expanded = subprocess.run(
-        [xacro, 'urdf/hexapod.urdf.xacro'], cwd=pkg, check=True, capture_output=True, text=True
+        [xacro, f'urdf/{name}.urdf.xacro'], cwd=pkg, check=True, capture_output=True, text=True
     ).stdout
-    assert expanded.strip() == (pkg / 'urdf' / 'hexapod.urdf').read_text().strip(), (
-        'hexapod.urdf is stale: in hexapod_description/ run  xacro urdf/hexapod.urdf.xacro >'
-        ' urdf/hexapod.urdf'
+    assert expanded.strip() == (pkg / 'urdf' / f'{name}.urdf').read_text().strip(), (
+        f'{name}.urdf is stale: in hexapod_description/ run  xacro urdf/{name}.urdf.xacro >'
+        f' urdf/{name}.urdf'
     )
+
+
+def test_the_robot_description_is_the_physics_model_plus_massless_sensor_frames():
+    import xml.etree.ElementTree as ET
+
+    from hexapod_description import robot_description_path
+
+    def parts(path):
+        root = ET.parse(str(path)).getroot()
+        for el in root:
+            el.tail = None  # the whitespace after an element is not part of it
+        return {(el.tag, el.get('name')): ET.tostring(el) for el in root if el.tag != 'material'}
+
+    model, described = parts(urdf_path()), parts(robot_description_path())
+    assert all(described.get(key) == xml for key, xml in model.items())  # nothing changed
+    extra = {key: xml for key, xml in described.items() if key not in model}
+    assert set(extra) == {('link', 'imu_link'), ('joint', 'joint_imu')}
+    imu = ET.fromstring(extra[('link', 'imu_link')])
+    assert imu.find('inertial') is None and imu.find('collision') is None
+    assert ET.fromstring(extra[('joint', 'joint_imu')]).find('parent').get('link') == 'base_link'
 
 
 def test_parse_errors_name_what_is_missing(tmp_path):

@@ -20,7 +20,7 @@ from pathlib import Path
 import sys
 
 from geometry_msgs.msg import TransformStamped
-from hexapod_description import urdf_path
+from hexapod_description import robot_description_path
 from hexapod_description.tf_tree import joint_frames, moving_transforms, static_transforms
 from hexapod_util.diagnostics import StatusHealth
 from hexapod_util.ros_glue import declare, LATCHED, ParamSpec, run_node, SENSOR, TF_QOS
@@ -51,7 +51,7 @@ class StatePublisher(Node):
 
     def __init__(self) -> None:
         super().__init__('state_publisher')
-        path = Path(declare(self, PARAMETERS)['urdf'] or urdf_path())
+        path = Path(declare(self, PARAMETERS)['urdf'] or robot_description_path())
         if not path.is_file():
             raise ValueError(f'parameter urdf: no such file {path}')
         self.frames = joint_frames(path)

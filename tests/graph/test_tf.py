@@ -4,8 +4,8 @@
 The robot can be seen moving.
 
 sim_node puts odom -> base_link on /tf, the state publisher puts every leg link on /tf and the foot
-frames on /tf_static, and the URDF is on a latched robot_description -- what RViz and Foxglove
-need.
+and IMU frames on /tf_static, and the URDF is on a latched robot_description -- what RViz and
+Foxglove need.
 """
 
 from __future__ import annotations
@@ -38,7 +38,12 @@ def test_tf_tree_and_robot_description_reach_a_subscriber(ros, launch):
         30,
         'odom->base_link and every leg link on /tf',
     )
-    wait_for(lambda: FEET <= set(children(static)), 30, 'the foot frames on /tf_static')
+    wait_for(
+        lambda: FEET | {'imu_link'} <= set(children(static)),
+        30,
+        'the foot and IMU frames on /tf_static',
+    )
+    assert children(static)['imu_link'].header.frame_id == 'base_link'
     wait_for(lambda: description, 30, 'a latched robot_description')
     assert '<robot name="hexapod">' in description[0].data
     seen = children(tf)
