@@ -332,7 +332,8 @@ class RobotLink:
             timeout = self.ack_timeout if item.ack_timeout is None else item.ack_timeout
             if now - item.sent_at < timeout:
                 continue
-            del self._in_flight[seq]
+            if self._in_flight.pop(seq, None) is None:
+                continue  # its upload failed earlier in this loop, which dropped it
             if item.attempts > self.max_retries:
                 if item.kind == ext.Cmd.START_TRIAL:
                     self._start_pending = False  # no trial started: reports are the old one's

@@ -212,3 +212,27 @@ def test_a_commit_waits_for_the_robot_to_compile_before_it_is_sent_again():
     t += 0.2
     assert any(f[1] == ext.Cmd.COMMIT for f in link.poll(t))  # now it is sent again
     assert not op.done
+
+
+@pytest.mark.parametrize('answered_for', [0.0, 0.01, 0.05])
+def test_an_upload_the_robot_stops_answering_fails_with_the_reason(answered_for):
+    """
+    The robot falls silent mid-upload; the radio thread polls in bursts, then stalls.
+
+    On a loaded machine the window's SET_PARAMs expire in one poll, and the first to fail its
+    upload drops the others, which that poll expired too (a KeyError aborted the poll).
+    """
+    link, fw = RobotLink(), RobotFirmware()
+    link.arm(True, 0.0)
+    op, t = link.upload(preset('tripod')), 0.0
+    while not op.done and t < 60.0:
+        for _ in range(40):  # polls 1 ms apart...
+            t += 0.001
+            frames = link.poll(t)
+            if t < answered_for:
+                for frame in frames:
+                    fw.receive(frame, t)
+                link.receive(fw.advance(t)[0], t)
+        t += 1.0  # ...then a stall longer than the acknowledgement timeout
+    assert op.done and not op.ok
+    assert op.message == f'no acknowledgement after {link.max_retries + 1} attempts'
