@@ -176,8 +176,8 @@ def _port_loss_latencies(cycles: int = 10) -> tuple[list[float], list[float]]:
     import subprocess
     import tempfile
 
-    from hexapod_bridge.ros_conversions import reports_down_since
     from hexapod_bridge.emulator.robot_emulator_cli import radio_gone_times
+    from hexapod_bridge.ros_conversions import reports_down_since
     from hexapod_msgs.msg import LinkStatus
     from hexapod_util.ros_glue import ros_args
     import rclpy

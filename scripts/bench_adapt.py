@@ -47,10 +47,10 @@ def bench_adapt() -> None:
     from hexapod_adapt.online.ceiling import (
         approximate_ceiling,
         approximate_key,
-        cache_path,
         cached_ceiling,
         ceiling,
         ceiling_key,
+        holds_ceiling,
     )
     from hexapod_adapt.online.mboa import Mboa, MboaConfig, PROFILES, TRIAL_BUDGET
     from hexapod_sim import ENGINES
@@ -126,8 +126,8 @@ def bench_adapt() -> None:
     if have_priors:
         setups.insert(1, ('_prior', 'default', True, True))
     for engine, cross in ((map_engine, ''), (other, '_cross')):
-        # cached ceilings only: a missing PyBullet ceiling costs many minutes of a core
-        have = all(cache_path(cached, key(legs, engine)).is_file() for legs in legs_all)
+        # cached ceilings only (loose or packed): a missing PyBullet ceiling costs many minutes
+        have = all(holds_ceiling(cached, key(legs, engine)) for legs in legs_all)
         for label, name, floor, informed in setups:
             suffix = label + cross
             config = PROFILES[name]

@@ -236,6 +236,11 @@ def _cached_in(directory: str | os.PathLike, key: dict) -> Ceiling | None:
     return None
 
 
+def holds_ceiling(directory: str | os.PathLike, key: dict) -> bool:
+    """Whether ``directory`` holds a readable ceiling for ``key``, loose or packed."""
+    return _cached_in(directory, key) is not None
+
+
 def _pack_group(path: Path) -> str | None:
     """Return the pack group of a cached ceiling file (engine and damage kind), None if damaged."""
     try:

@@ -12,6 +12,7 @@ from hexapod_adapt.online.ceiling import (
     ceiling,
     ceiling_key,
     compute_ceiling,
+    holds_ceiling,
     pack_ceilings,
 )
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig
@@ -81,6 +82,8 @@ def test_packed_ceilings_read_as_the_loose_files_did(small_map, tmp_path):
     ]
     assert [p.name for p in tmp_path.glob('*.npz')] == [damaged.name]  # left loose
     for case, before in loose.items():
+        key = ceiling_key(small_map, case, 'mujoco')
+        assert holds_ceiling(tmp_path, key) and not cache_path(tmp_path, key).is_file()
         after = cached_ceiling(small_map, case, 'mujoco', [tmp_path])
         assert after is not None and after.damage == case
         np.testing.assert_array_equal(after.speeds, before.speeds)
@@ -91,6 +94,7 @@ def test_packed_ceilings_read_as_the_loose_files_did(small_map, tmp_path):
     pack = tmp_path / 'ceilings_mujoco_locked_0.zip'
     pack.write_bytes(pack.read_bytes()[:200])
     assert cached_ceiling(small_map, cases[3], 'mujoco', [tmp_path]) is None
+    assert not holds_ceiling(tmp_path, ceiling_key(small_map, cases[3], 'mujoco'))
     again = ceiling(small_map, cases[3], 'mujoco', cache_dir=tmp_path)
     np.testing.assert_array_equal(again.speeds, loose[cases[3]].speeds)
     assert cache_path(tmp_path, ceiling_key(small_map, cases[3], 'mujoco')).is_file()
