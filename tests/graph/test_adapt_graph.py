@@ -572,7 +572,7 @@ def test_a_recorded_type_without_a_definition_is_refused_and_the_run_goes_on(
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
     response = ros.adapt(Adapt.Goal(max_trials=2, alpha=1.0, blind=True), timeout=300)
     assert response.trials == 2, response.message
-    why = 'not recording odom: no definition of nav_msgs/msg/Odometry'
+    why = 'not recording odom, trial_odom: no definition of nav_msgs/msg/Odometry'
     assert why in response.message
     wait_for(lambda: len(trials) == 2, 10, 'both AdaptationTrials')
     assert all(why in t.recording for t in trials)
