@@ -15,6 +15,18 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu
 
 
+def _planar_odometry(
+    x: float, y: float, yaw: float, stamp: Time, odom_frame: str, base_frame: str
+) -> Odometry:
+    """Return an Odometry at (x, y) turned ``yaw`` about z, twist and covariances zero."""
+    odom = Odometry()
+    odom.header.stamp, odom.header.frame_id, odom.child_frame_id = stamp, odom_frame, base_frame
+    odom.pose.pose.position.x, odom.pose.pose.position.y = x, y
+    odom.pose.pose.orientation.z = math.sin(yaw / 2.0)
+    odom.pose.pose.orientation.w = math.cos(yaw / 2.0)
+    return odom
+
+
 def trial_odometry(r: TrialResult, stamp: Time, odom_frame: str, base_frame: str) -> Odometry:
     """
     Return a trial's odometry (``trial_odom``): its displacement, in the frame it started in.
@@ -23,11 +35,7 @@ def trial_odometry(r: TrialResult, stamp: Time, odom_frame: str, base_frame: str
     whole walk, settling included, and the twist is the mean velocity over the timed part (a
     trial's speed); covariances are the estimate's stated accuracy.
     """
-    odom = Odometry()
-    odom.header.stamp, odom.header.frame_id, odom.child_frame_id = stamp, odom_frame, base_frame
-    odom.pose.pose.position.x, odom.pose.pose.position.y = r.x, r.y
-    odom.pose.pose.orientation.z = math.sin(r.yaw / 2.0)
-    odom.pose.pose.orientation.w = math.cos(r.yaw / 2.0)
+    odom = _planar_odometry(r.x, r.y, r.yaw, stamp, odom_frame, base_frame)
     odom.twist.twist.linear.x, odom.twist.twist.linear.y = r.vx, r.vy
     walked = max(r.walk, r.duration)
     odom.pose.covariance[0] = odom.pose.covariance[7] = (SPEED_ACCURACY * walked) ** 2
@@ -48,11 +56,7 @@ def continuous_odometry(
     The twist is zero: true while the robot stands; while a trial walks, its velocity is known at
     its end only (``trial_odom``), so the covariance says unknown (UNKNOWN_TWIST_VARIANCE).
     """
-    odom = Odometry()
-    odom.header.stamp, odom.header.frame_id, odom.child_frame_id = stamp, odom_frame, base_frame
-    odom.pose.pose.position.x, odom.pose.pose.position.y = pose.x, pose.y
-    odom.pose.pose.orientation.z = math.sin(pose.yaw / 2.0)
-    odom.pose.pose.orientation.w = math.cos(pose.yaw / 2.0)
+    odom = _planar_odometry(pose.x, pose.y, pose.yaw, stamp, odom_frame, base_frame)
     odom.pose.covariance[0] = odom.pose.covariance[7] = pose.variance
     twist_variance = UNKNOWN_TWIST_VARIANCE if walking else SPEED_ACCURACY**2
     odom.twist.covariance[0] = odom.twist.covariance[7] = twist_variance

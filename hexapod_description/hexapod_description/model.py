@@ -48,10 +48,13 @@ def urdf_path() -> Path:
 
     ``$HEXAPOD_URDF`` if set, else the package's ``urdf/hexapod.urdf`` (see :func:`share_path`).
     """
+    return _user_urdf() or share_path('urdf', 'hexapod.urdf')
+
+
+def _user_urdf() -> Path | None:
+    """``$HEXAPOD_URDF``, a user's whole description, if set."""
     override = os.environ.get('HEXAPOD_URDF')
-    if override:
-        return Path(override)
-    return share_path('urdf', 'hexapod.urdf')
+    return Path(override) if override else None
 
 
 def robot_description_path() -> Path:
@@ -62,10 +65,7 @@ def robot_description_path() -> Path:
     plus massless sensor frames (``imu_link``): ``urdf/hexapod_robot.urdf``, or ``$HEXAPOD_URDF``
     if set (a user's whole description).
     """
-    override = os.environ.get('HEXAPOD_URDF')
-    if override:
-        return Path(override)
-    return share_path('urdf', 'hexapod_robot.urdf')
+    return _user_urdf() or share_path('urdf', 'hexapod_robot.urdf')
 
 
 @dataclass(frozen=True)
