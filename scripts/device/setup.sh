@@ -11,7 +11,7 @@ if [ ! -d /tmp/site/mujoco ]; then
     --target /tmp/site .whl/*.whl
 fi
 src="${SRC:-$PWD}"  # the workspace's packages: this checkout, or SRC (e.g. an archived commit)
-export PYTHONPATH="/tmp/site:$src/hexapod_adapt:$src/hexapod_sim:$src/hexapod_description:$src/hexapod_gait:$src"
+export PYTHONPATH="/tmp/site:$src/hexapod_adapt:$src/hexapod_sim:$src/hexapod_description:$src/hexapod_gait:$src/hexapod_util:$src"
 # shellcheck disable=SC1091
 source scripts/same_floats.sh  # numpy's AVX2 kernels, as on the project's machines
 export PYTHONUNBUFFERED=1 OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1
