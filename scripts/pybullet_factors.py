@@ -9,8 +9,11 @@ docs/simulator.md, "The damaged tripod against the thesis's simulator", holds it
     python scripts/pybullet_factors.py
 
 Each row is a variant of the engine as it was before the study (friction 1.0 on ground and
-feet, velocity feed-forward), or the engine as it is now. Collisions not fatal, speeds along the
-walking direction, the mean (min, max) over each scenario's orientations.
+feet, velocity feed-forward), or the study's outcome (position targets only). Collisions not
+fatal, speeds along the walking direction, the mean (min, max) over each scenario's orientations.
+The rows' frictions are per surface, as the study set them; Bullet multiplies the two, and
+SimConfig.friction is the product (the coefficient where a foot meets the floor), so a row passes
+its square.
 """
 
 from __future__ import annotations
@@ -81,13 +84,14 @@ class Variant(PyBulletSimulator):
 
 
 def row(label: str, friction: float, current: bool = False, **switches) -> str:
+    """Return one table row: the variant's S0-S2 speeds at ``friction`` per surface."""
     saved = engine.FAILURE_POSE
     tibia = switches.pop('tibia_deg', -165.0)
     # the failure pose is read by the reset (simulator) and by the servos holding it (engine)
     engine.FAILURE_POSE = simulator.FAILURE_POSE = (saved[0], saved[1], math.radians(tibia))
     cls = PyBulletSimulator if current else type('V', (Variant,), switches)
     try:
-        with cls(SimConfig(engine='pybullet', friction=friction)) as sim:
+        with cls(SimConfig(engine='pybullet', friction=friction * friction)) as sim:
             cells = []
             for name in ('S0', 'S1', 'S2'):
                 v = [
@@ -116,7 +120,11 @@ def main() -> None:
         row('friction 0.6', 0.6),
         row('friction 0.8', 0.8),
         row('friction 0.9', 0.9),
-        row('after: the engine now (friction 0.7, position targets only)', 0.7, current=True),
+        row(
+            'after: friction 0.7 and position targets only (the engine 2026-11-22 to 11-27)',
+            0.7,
+            current=True,
+        ),
     ):
         print(line, flush=True)
 

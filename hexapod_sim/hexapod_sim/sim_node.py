@@ -31,7 +31,7 @@ from hexapod_sim import ros_conversions as conv
 from hexapod_sim.damage import applied_message, Damage, damage_from_lists
 from hexapod_sim.physics.engines import create_simulator
 from hexapod_sim.physics.physics_loop import LoopHooks, PhysicsLoop, publish_period_steps
-from hexapod_sim.simulator import DEFAULT_FRICTION, SimConfig
+from hexapod_sim.simulator import FRICTION, SimConfig
 from hexapod_sim.trajectory_input import CycleTable, TrajectoryError
 from hexapod_util.diagnostics import StatusHealth
 from hexapod_util.ros_glue import (
@@ -79,9 +79,7 @@ PARAMETERS = (
     ParamSpec(
         'friction',
         Parameter.Type.DOUBLE,
-        "Lateral friction coefficient of the ground and the feet (unset = the engine's default: "
-        + ', '.join(f'{engine} {value:g}' for engine, value in DEFAULT_FRICTION.items())
-        + ')',
+        f'Friction coefficient where a foot meets the floor, every engine (unset = {FRICTION:g})',
         read_only=True,
         range=(0.0, 10.0),
     ),

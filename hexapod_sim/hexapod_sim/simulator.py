@@ -68,14 +68,12 @@ def body_height_from_joints(q: np.ndarray) -> float:
     return float(np.max(-(feet[:, 2] + default_geometry().mount_z)))
 
 
-#: Friction coefficient given to the ground and the feet when SimConfig.friction is not set.
-#: PyBullet: 0.7, what the thesis's simulator sets on its ground plane and tibias (its text, 3.5.4,
-#: says 1); Bullet multiplies the two surfaces' coefficients, so foot and ground meet at 0.49.
-#: MuJoCo: 1.0 (it takes the larger of the two: 1.0 between foot and ground), which already
-#: reproduces the thesis simulator's damaged tripod (docs/simulator.md, "The damaged tripod").
-#: DART: 0.7, the thesis simulator's per-surface value; DART takes the smaller of the two
-#: surfaces' coefficients, so foot and ground meet at 0.7 (chosen before any DART result).
-DEFAULT_FRICTION = {'pybullet': 0.7, 'mujoco': 1.0, 'dart': 0.7}
+#: Friction coefficient where a foot meets the floor, on every engine (SimConfig.friction's
+#: default): 1, the thesis's (3.5.4, listing 3.5: "a lateralFriction coefficient of 1 ... for the
+#: ground plane and the tibia links"). Each engine combines two surfaces' coefficients its own way,
+#: so each sets its surfaces to give exactly this at the contact (docs/simulator.md, "Where the
+#: engines differ"). The robot's floor is unmeasured and slipperier (thesis 5.5.5): set your own.
+FRICTION = 1.0
 
 
 @dataclass(frozen=True)
@@ -83,8 +81,8 @@ class SimConfig:
     """
     Which engine, with which settings.
 
-    ``friction`` is the coefficient given to the ground and the feet (None: the engine's default,
-    :data:`DEFAULT_FRICTION`); each engine's own choices live in its settings object.
+    ``friction`` is the coefficient where a foot meets the floor, the same on every engine (None:
+    :data:`FRICTION`); each engine's own choices live in its settings object.
     """
 
     engine: str = 'pybullet'
@@ -98,7 +96,7 @@ class SimConfig:
     def __post_init__(self) -> None:
         validate_engine(self.engine)
         if self.friction is None:
-            object.__setattr__(self, 'friction', DEFAULT_FRICTION[self.engine])
+            object.__setattr__(self, 'friction', FRICTION)
         if not (math.isfinite(self.friction) and 0.0 <= self.friction <= 10.0):
             raise ValueError(f'friction must be in [0, 10], got {self.friction}')
 

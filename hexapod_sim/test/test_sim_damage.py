@@ -56,7 +56,9 @@ def test_a_locked_leg_holds_the_standing_pose_while_the_others_walk(sim):
     assert np.max(np.abs(leg2 - stand[3:6])) < (0.2 if sim.engine == 'dart' else 0.08)
     assert np.ptp(commanded[:, 3]) > 0.2  # the gait moves that coxa ...
     assert np.ptp(measured[:, 0]) > 0.2  # ... and leg 1's coxa moves
-    assert np.ptp(leg2[:, 0]) < 0.1  # leg 2's does not
+    # leg 2's does not (DART, friction 1 since 2026-11-27: its dragged foot grips and turns the
+    # coxa 0.14 rad, inside the 0.2 above; 0.1 on the others)
+    assert np.ptp(leg2[:, 0]) < (0.2 if sim.engine == 'dart' else 0.1)
 
 
 def test_a_weak_servo_follows_its_targets_more_slowly(sim):

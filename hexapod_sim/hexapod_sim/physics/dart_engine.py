@@ -104,6 +104,7 @@ class DartSimulator(Simulator):
                 for lim in self.model.limits
             ]
         )
+        # DART takes the smaller of two surfaces' coefficients: both at SimConfig.friction
         for body in self._bodies.values():
             for k in range(body.getNumShapeNodes()):
                 node = body.getShapeNode(k)

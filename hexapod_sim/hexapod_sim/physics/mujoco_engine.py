@@ -176,7 +176,7 @@ class MujocoSimulator(Simulator):
             type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
             diffuse=[0.8, 0.8, 0.8],
         )
-        for geom in spec.geoms:
+        for geom in spec.geoms:  # MuJoCo takes the larger of two geoms' coefficients: all equal
             geom.friction = friction
             # no friction at all is a 1-D (normal-only) contact: a zero-width pyramid is singular
             geom.condim = 3 if cfg.friction > 0 else 1

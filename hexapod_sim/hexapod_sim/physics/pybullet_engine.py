@@ -122,12 +122,11 @@ class PyBulletSimulator(Simulator):
         cid = self.client
         for index, lim in zip(self.joint_indices, self.model.limits):
             p.changeDynamics(self.body, index, maxJointVelocity=lim.velocity, physicsClientId=cid)
+        # Bullet multiplies two surfaces' coefficients: feet 1 and the floor the configured one
+        # meet at exactly SimConfig.friction.
         for leg in range(N_LEGS):
             p.changeDynamics(
-                self.body,
-                self._foot_links[leg],
-                lateralFriction=self.config.friction,
-                physicsClientId=cid,
+                self.body, self._foot_links[leg], lateralFriction=1.0, physicsClientId=cid
             )
             # Section 3.5.3: the femurs would hit the (convex) base before their joint limits.
             p.setCollisionFilterPair(
