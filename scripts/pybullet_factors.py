@@ -22,6 +22,7 @@ import math
 
 from hexapod_gait import preset
 from hexapod_sim import evaluate_gait, SimConfig
+from hexapod_sim.engine_settings import PyBulletSettings
 import hexapod_sim.physics.pybullet_engine as engine
 from hexapod_sim.physics.pybullet_engine import PyBulletSimulator
 from hexapod_sim.scenarios import scenario
@@ -91,7 +92,10 @@ def row(label: str, friction: float, current: bool = False, **switches) -> str:
     engine.FAILURE_POSE = simulator.FAILURE_POSE = (saved[0], saved[1], math.radians(tibia))
     cls = PyBulletSimulator if current else type('V', (Variant,), switches)
     try:
-        with cls(SimConfig(engine='pybullet', friction=friction * friction)) as sim:
+        # Bullet's position motor: the study ran before PyBullet took the RX servo model
+        thesis_servo = PyBulletSettings(servo='position')
+        config = SimConfig(engine='pybullet', friction=friction * friction, pybullet=thesis_servo)
+        with cls(config) as sim:
             cells = []
             for name in ('S0', 'S1', 'S2'):
                 v = [

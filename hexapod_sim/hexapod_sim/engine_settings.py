@@ -33,12 +33,42 @@ class PyBulletSettings:
     discrete_world: bool = False
     #: Solver stops iterating early once the squared residual is below this (PyBullet: 1e-7).
     residual_threshold: float = 1e-7
+    #: 'rx': the servo model MuJoCo and DART share (MujocoSettings' docstring), its torque
+    #: computed at ``substeps`` per step (since 2026-11-27). 'position': Bullet's position motor,
+    #: as the thesis's simulator drives the joints (a velocity-level constraint up to the stall
+    #: torque: about 30 times stiffer than the RX). docs/simulator.md, "Where the engines
+    #: differ", item 3.
+    servo: str = 'rx'
+    #: 'rx' only: physics steps per time step, the torque recomputed at each (960 Hz, as DART).
+    substeps: int = 4
+    #: 'rx' only: the RX factory compliance slope, as in MujocoSettings (kp 21.2 / 31.7 N m/rad).
+    compliance_slope: float = 32.0
 
     def __post_init__(self) -> None:
         if self.solver_iterations < 1:
             raise ValueError(f'solver_iterations must be >= 1, got {self.solver_iterations}')
         if not 0 < self.time_step <= 0.01:
             raise ValueError(f'time_step must be in (0, 0.01] s, got {self.time_step}')
+        if self.servo not in PYBULLET_SERVOS:
+            raise ValueError(
+                f'PyBullet setting servo must be one of {", ".join(PYBULLET_SERVOS)}, '
+                f'got {self.servo!r}'
+            )
+        if isinstance(self.substeps, bool) or not isinstance(self.substeps, int):
+            raise ValueError(
+                f'PyBullet setting substeps must be an integer, got {self.substeps!r}'
+            )
+        if not 1 <= self.substeps <= 64:
+            raise ValueError(f'PyBullet setting substeps must be in [1, 64], got {self.substeps}')
+        if not (math.isfinite(self.compliance_slope) and 1.0 <= self.compliance_slope <= 256.0):
+            raise ValueError(
+                'PyBullet setting compliance_slope must be in [1, 256], '
+                f'got {self.compliance_slope!r}'
+            )
+
+
+#: How PyBulletSettings.servo may drive the joints.
+PYBULLET_SERVOS = ('position', 'rx')
 
 
 ACCURATE = PyBulletSettings()

@@ -14,6 +14,7 @@ import subprocess
 import sys
 
 from hexapod_gait import preset
+from hexapod_gait.trajectory import build_joint_table
 from hexapod_sim import (
     create_simulator,
     ENGINES,
@@ -22,7 +23,7 @@ from hexapod_sim import (
     FAILURE_POSE,
     SimConfig,
 )
-from hexapod_sim.engine_settings import MujocoSettings
+from hexapod_sim.engine_settings import MujocoSettings, PyBulletSettings
 from hexapod_sim.sampling import random_reachable_genotypes
 import numpy as np
 import pytest
@@ -205,6 +206,34 @@ def test_a_foot_meets_the_floor_at_the_configured_friction_on_every_engine(engin
     # (product, larger, smaller), and sets its surfaces so that the contact gets SimConfig's
     with create_simulator(SimConfig(engine=engine, friction=mu)) as sim:
         assert _foot_floor_friction(sim) == pytest.approx(1.0 if mu is None else mu, abs=1e-9)
+
+
+def _standing_femur_error(config: SimConfig) -> float:
+    """Return the femurs' mean |target - angle| after 1 s standing in the tripod's first pose."""
+    with create_simulator(config) as sim:
+        table = build_joint_table(preset('control'), rate=1.0 / sim.dt)
+        rows = sim.prepare_rows(table.positions[:1], table.velocities[:1])
+        sim.reset(table.positions[0])
+        for _ in range(round(1.0 / sim.dt)):
+            sim.apply_row(rows, 0)
+            sim.step()
+        error = sim.joint_states()[0] - np.clip(table.positions[0], sim.lower, sim.upper)
+        return float(np.mean(np.abs(error[1::3])))
+
+
+def test_pybullets_servos_give_under_load_as_the_rx_model_does():
+    # The femurs carry the body. The RX servo's compliance (the data sheet's slope, the model
+    # MuJoCo and DART share) lets them give about 0.009 rad on MuJoCo; Bullet's position motor,
+    # the thesis simulator's, held them to 0.0004 (measured). PyBullet now runs the RX model.
+    mujoco = _standing_femur_error(SimConfig(engine='mujoco'))
+    rx = _standing_femur_error(SimConfig(engine='pybullet'))
+    thesis = _standing_femur_error(
+        SimConfig(engine='pybullet', pybullet=PyBulletSettings(servo='position'))
+    )
+    assert mujoco / 3 < rx < 3 * mujoco, (rx, mujoco)
+    assert thesis < mujoco / 10, (thesis, mujoco)
+    with pytest.raises(ValueError, match='servo'):
+        PyBulletSettings(servo='stepper')
 
 
 def test_a_numerical_blow_up_is_a_failed_evaluation_with_the_reason():

@@ -22,7 +22,7 @@ from typing import Any
 
 from hexapod_description import N_LEGS, urdf_path
 from hexapod_sim.damage import DEAD_SERVO_FRICTION, LOST_TIBIA_MASS
-from hexapod_sim.engine_settings import PyBulletSettings
+from hexapod_sim.engine_settings import PyBulletSettings, servo_kp
 from hexapod_sim.shortened import shortened_urdf
 from hexapod_sim.simulator import GRAVITY, SimConfig, Simulator, StepReport
 import numpy as np
@@ -84,6 +84,16 @@ class PyBulletSimulator(Simulator):
         self._foot_links = [self.joint_indices[3 * leg + 2] for leg in range(N_LEGS)]
         self._foot_leg = {link: leg for leg, link in enumerate(self._foot_links)}
         self.efforts = [lim.effort for lim in self.model.limits]
+        # servo 'rx': the shared servo model's gains (docs/simulator.md, item 3 of "Where the
+        # engines differ")
+        self._rx = self.settings.servo == 'rx'
+        limits = self.model.limits
+        self._kp_whole = np.array(
+            [servo_kp(e, self.settings.compliance_slope) for e in self.efforts]
+        )
+        self._damping_whole = np.array([lim.effort / lim.velocity for lim in limits])  # explicit
+        self._target = np.zeros(3 * N_LEGS)
+        self._torque = np.zeros(3 * N_LEGS)
         self._tibia_mass = [
             p.getDynamicsInfo(self.body, self._foot_links[leg], physicsClientId=cid)[0]
             for leg in range(N_LEGS)
@@ -100,7 +110,10 @@ class PyBulletSimulator(Simulator):
             p.RESET_USE_DISCRETE_DYNAMICS_WORLD if eng.discrete_world else 0, physicsClientId=cid
         )
         p.setGravity(0.0, 0.0, -GRAVITY, physicsClientId=cid)
-        p.setTimeStep(eng.time_step, physicsClientId=cid)
+        p.setTimeStep(
+            eng.time_step / eng.substeps if eng.servo == 'rx' else eng.time_step,
+            physicsClientId=cid,
+        )
         p.setPhysicsEngineParameter(
             numSolverIterations=eng.solver_iterations,
             enableConeFriction=int(eng.cone_friction),
@@ -166,6 +179,12 @@ class PyBulletSimulator(Simulator):
         # weak servos: a lower gain (PyBullet's default position gain is 0.1); None: defaults
         weak = any(k != 1.0 for k in strength)
         self._active_gains = [0.1 * k for k in strength] if weak else None
+        if self._rx:  # gain and stall torque scaled by strength; dead servos give none
+            scale = np.array([self.damage.strength_of(s // 3 + 1) for s in range(3 * N_LEGS)])
+            self._kp, self._effort = self._kp_whole * scale, np.array(self.efforts) * scale
+            self._damping = self._damping_whole.copy()
+            dead = self.damage.dead_slots()
+            self._kp[dead] = self._effort[dead] = self._damping[dead] = 0.0
 
     def _apply_failed_legs(self) -> None:
         urdf = self._damaged_urdf()
@@ -173,6 +192,8 @@ class PyBulletSimulator(Simulator):
             self._urdf = urdf
             self._rebuild_keeping_state()
         self._apply_failure_filters()
+        if self._rx:  # a lost or shortened tibia has another inertia
+            self._implicit_damping()
         self._set_active_slots()
         self._command_failure_pose()
 
@@ -212,6 +233,14 @@ class PyBulletSimulator(Simulator):
     def _command_failure_pose(self) -> None:
         """Drive the held legs (lifted, locked) to their pose; leave dead joints free."""
         dead = self.damage.dead_slots().tolist()
+        if self._rx:  # torques each substep: Bullet's motors off, but the dead joints' friction
+            p.setJointMotorControlArray(
+                self.body,
+                self.joint_indices,
+                p.VELOCITY_CONTROL,
+                forces=[0.0] * len(self.joint_indices),
+                physicsClientId=self.client,
+            )
         if dead:  # no torque: only the friction of the back-driven gearbox
             p.setJointMotorControlArray(
                 self.body,
@@ -221,7 +250,9 @@ class PyBulletSimulator(Simulator):
                 forces=[DEAD_SERVO_FRICTION] * len(dead),
                 physicsClientId=self.client,
             )
-        if not self._held_slots.size:
+        if self._rx and self._held_slots.size:
+            self._target[self._held_slots] = self._held_values
+        if self._rx or not self._held_slots.size:
             return
         slots = self._held_slots.tolist()
         p.setJointMotorControlArray(
@@ -244,10 +275,35 @@ class PyBulletSimulator(Simulator):
         p.resetBaseVelocity(self.body, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], physicsClientId=cid)
         for index, value in zip(self.joint_indices, q.tolist()):
             p.resetJointState(self.body, index, value, 0.0, physicsClientId=cid)
+        if self._rx:
+            self._target = np.array(q, dtype=float)
+            self._implicit_damping()
         self._command_failure_pose()
 
+    def _implicit_damping(self) -> None:
+        """
+        Scale the back-EMF damping as an implicit step would apply it (servo 'rx').
+
+        Bullet adds joint torques explicitly, and the back-EMF damping c of a light tibia
+        (c h / I about 2.4 at 960 Hz) makes an explicit step diverge: the control tripod flew
+        off at 4 substeps and walked only at 16 (measured). An implicit step applies
+        c / (1 + c h / I) to the velocity the step starts with (DART integrates its damping
+        implicitly). I is each joint's diagonal of the mass matrix in the pose of the last reset
+        or damage (it moves with the pose; that pose's is taken until the next).
+        """
+        cid = self.client
+        q = [s[0] for s in p.getJointStates(self.body, self.joint_indices, physicsClientId=cid)]
+        inertia = np.diag(np.array(p.calculateMassMatrix(self.body, q, physicsClientId=cid)))
+        h = self.settings.time_step / self.settings.substeps
+        c = np.array([lim.effort / lim.velocity for lim in self.model.limits])
+        joints = inertia[6:]  # after the floating base's 6 degrees of freedom
+        self._damping_whole = c / (1.0 + c * h / joints)
+        self._set_active_slots()
+
     # -- commands and steps --------------------------------------------------------------------
-    def prepare_rows(self, positions: np.ndarray, velocities: np.ndarray) -> _Rows:
+    def prepare_rows(self, positions: np.ndarray, velocities: np.ndarray) -> Any:
+        if self._rx:  # all 18 targets; apply_row takes the active ones
+            return np.clip(np.atleast_2d(positions), self.lower, self.upper)
         slots = self._active_slots
         q = np.clip(np.atleast_2d(positions), self.lower, self.upper)[:, slots]
         # ``velocities`` go unused: the servos get position targets only (see apply_row)
@@ -256,6 +312,9 @@ class PyBulletSimulator(Simulator):
     def apply_row(self, rows: Any, index: int) -> None:
         # position targets only, as the thesis's simulator commands them (its listing 3.6) and
         # the firmware drives the servos: no velocity feed-forward (the target velocity is 0)
+        if self._rx:
+            self._target[self._active_slots] = rows[index][self._active_slots]
+            return
         p.setJointMotorControlArray(
             self.body,
             self._active_joints,
@@ -273,6 +332,8 @@ class PyBulletSimulator(Simulator):
         self._motors_on = bool(on)
 
     def step(self) -> StepReport:
+        if self._rx:
+            return self._step_rx()
         if not self._motors_on:  # servo power off: no motor torque on any joint this step
             p.setJointMotorControlArray(
                 self.body,
@@ -282,6 +343,25 @@ class PyBulletSimulator(Simulator):
                 physicsClientId=self.client,
             )
         p.stepSimulation(physicsClientId=self.client)
+        self.time += self.dt
+        return self._read_contacts()
+
+    def _step_rx(self) -> StepReport:
+        """One time step of ``substeps`` physics steps, the servo torque from each one's state."""
+        cid, body, joints = self.client, self.body, self.joint_indices
+        for _ in range(self.settings.substeps):
+            if self._motors_on:
+                states = p.getJointStates(body, joints, physicsClientId=cid)
+                q = np.array([s[0] for s in states])
+                qd = np.array([s[1] for s in states])
+                torque = np.clip(self._kp * (self._target - q), -self._effort, self._effort)
+                self._torque = torque - self._damping * qd
+            else:  # servo power off: no torque, no back-EMF (the driver is off)
+                self._torque = np.zeros(3 * N_LEGS)
+            p.setJointMotorControlArray(
+                body, joints, p.TORQUE_CONTROL, forces=self._torque.tolist(), physicsClientId=cid
+            )
+            p.stepSimulation(physicsClientId=cid)
         self.time += self.dt
         return self._read_contacts()
 
@@ -342,7 +422,7 @@ class PyBulletSimulator(Simulator):
         return (
             np.array([s[0] for s in states]),
             np.array([s[1] for s in states]),
-            np.array([s[3] for s in states]),
+            self._torque.copy() if self._rx else np.array([s[3] for s in states]),
         )
 
     def render(
