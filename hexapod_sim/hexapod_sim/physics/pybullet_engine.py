@@ -230,17 +230,21 @@ class PyBulletSimulator(Simulator):
         for index, state in zip(self.joint_indices, joints):
             p.resetJointState(self.body, index, state[0], state[1], physicsClientId=cid)
 
+    def _motors_off(self) -> None:
+        """Switch Bullet's joint motors off: no torque on any joint until commanded again."""
+        p.setJointMotorControlArray(
+            self.body,
+            self.joint_indices,
+            p.VELOCITY_CONTROL,
+            forces=[0.0] * len(self.joint_indices),
+            physicsClientId=self.client,
+        )
+
     def _command_failure_pose(self) -> None:
         """Drive the held legs (lifted, locked) to their pose; leave dead joints free."""
         dead = self.damage.dead_slots().tolist()
         if self._rx:  # torques each substep: Bullet's motors off, but the dead joints' friction
-            p.setJointMotorControlArray(
-                self.body,
-                self.joint_indices,
-                p.VELOCITY_CONTROL,
-                forces=[0.0] * len(self.joint_indices),
-                physicsClientId=self.client,
-            )
+            self._motors_off()
         if dead:  # no torque: only the friction of the back-driven gearbox
             p.setJointMotorControlArray(
                 self.body,
@@ -335,13 +339,7 @@ class PyBulletSimulator(Simulator):
         if self._rx:
             return self._step_rx()
         if not self._motors_on:  # servo power off: no motor torque on any joint this step
-            p.setJointMotorControlArray(
-                self.body,
-                self.joint_indices,
-                p.VELOCITY_CONTROL,
-                forces=[0.0] * len(self.joint_indices),
-                physicsClientId=self.client,
-            )
+            self._motors_off()
         p.stepSimulation(physicsClientId=self.client)
         self.time += self.dt
         return self._read_contacts()
