@@ -92,7 +92,7 @@ def row(label: str, friction: float, current: bool = False, **switches) -> str:
     engine.FAILURE_POSE = simulator.FAILURE_POSE = (saved[0], saved[1], math.radians(tibia))
     cls = PyBulletSimulator if current else type('V', (Variant,), switches)
     try:
-        # Bullet's position motor: the study ran before PyBullet took the RX servo model
+        # Bullet's position motor, as in the study (whatever PyBullet's default servo becomes)
         thesis_servo = PyBulletSettings(servo='position')
         config = SimConfig(engine='pybullet', friction=friction * friction, pybullet=thesis_servo)
         with cls(config) as sim:

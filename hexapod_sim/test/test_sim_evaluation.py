@@ -221,15 +221,13 @@ def _standing_femur_error(config: SimConfig) -> float:
         return float(np.mean(np.abs(error[1::3])))
 
 
-def test_pybullets_servos_give_under_load_as_the_rx_model_does():
+def test_pybullets_rx_servos_give_under_load_as_the_rx_model_does():
     # The femurs carry the body. The RX servo's compliance (the data sheet's slope, the model
     # MuJoCo and DART share) lets them give about 0.009 rad on MuJoCo; Bullet's position motor,
-    # the thesis simulator's, held them to 0.0004 (measured). PyBullet now runs the RX model.
+    # the thesis simulator's and PyBullet's default, holds them to 0.0004 (measured).
     mujoco = _standing_femur_error(SimConfig(engine='mujoco'))
-    rx = _standing_femur_error(SimConfig(engine='pybullet'))
-    thesis = _standing_femur_error(
-        SimConfig(engine='pybullet', pybullet=PyBulletSettings(servo='position'))
-    )
+    rx = _standing_femur_error(SimConfig(engine='pybullet', pybullet=PyBulletSettings(servo='rx')))
+    thesis = _standing_femur_error(SimConfig(engine='pybullet'))
     assert mujoco / 3 < rx < 3 * mujoco, (rx, mujoco)
     assert thesis < mujoco / 10, (thesis, mujoco)
     with pytest.raises(ValueError, match='servo'):
