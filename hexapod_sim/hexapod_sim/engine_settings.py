@@ -36,8 +36,8 @@ class PyBulletSettings:
     #: 'position': Bullet's position motor, as the thesis's simulator drives the joints (a
     #: velocity-level constraint up to the stall torque: about 25 times stiffer than the RX).
     #: 'rx': the servo model MuJoCo and DART share (MujocoSettings' docstring), its torque
-    #: computed at ``substeps`` per step; not the default yet: docs/simulator.md, "Where the
-    #: engines differ", item 3, says what holds it back.
+    #: computed at ``substeps`` per step. Experimental: it blows up on some gaits
+    #: (docs/simulator.md, "Where the engines differ", item 3).
     servo: str = 'position'
     #: 'rx' only: physics steps per time step, the torque recomputed at each (960 Hz, as DART).
     substeps: int = 4
