@@ -16,7 +16,7 @@ from action_msgs.msg import GoalStatus
 from conftest import FAILED, status_log_qos, wait_for
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from hexapod_adapt.mapping.archive import Archive
-from hexapod_adapt.online.adaptation import simulated_trial
+from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD, simulated_trial
 from hexapod_msgs.action import Adapt
 from hexapod_msgs.msg import AdaptationTrial
 from hexapod_sim import create_simulator
@@ -33,10 +33,12 @@ SETTLE, TIMED = 1.0, 2.0  # a settled trial (adapt_node's trial_settle, trial_du
 
 @pytest.fixture(scope='module')
 def settled_speeds(small_archive):
-    """The library's damaged speed of each niche in a settled trial (SETTLE s, then TIMED s)."""
+    """The library's damaged speed of each niche in a settled, tip-guarded trial, as adapt_node's."""
     _, archive, _ = small_archive
     with create_simulator() as sim:
-        trial = simulated_trial(archive, FAILED, sim, TIMED, SETTLE)
+        # adapt_node guards its trials at DEFAULT_TIP_GUARD: a gait that tips is a 0 m/s trial
+        # (one of these 12 rolls over under the damage at friction 1)
+        trial = simulated_trial(archive, FAILED, sim, TIMED, SETTLE, DEFAULT_TIP_GUARD)
         return {int(n): trial(int(n)).speed for n in archive.elite_indices()}
 
 
