@@ -40,7 +40,7 @@ case "${1:-}" in
       --chunk 8 --checkpoint-every 60 --log-every 30 --no-bar --resume || true
     ;;
   unpack)
-    from="${2:?the call's files_at folder}"
+    from="${2:?usage: map.sh unpack FILES_AT, the folder the run call returned}"
     # shellcheck disable=SC1091
     source scripts/map_progress.sh
     n="$(checkpoint_evaluations "$from/default_map.npz.ckpt.npz")"
