@@ -87,11 +87,12 @@ class PyBulletSimulator(Simulator):
         # servo 'rx': the shared servo model's gains (docs/simulator.md, item 3 of "Where the
         # engines differ")
         self._rx = self.settings.servo == 'rx'
-        limits = self.model.limits
         self._kp_whole = np.array(
             [servo_kp(e, self.settings.compliance_slope) for e in self.efforts]
         )
-        self._damping_whole = np.array([lim.effort / lim.velocity for lim in limits])  # explicit
+        # back-EMF damping effort / velocity limit [N m s/rad], as an explicit step applies it
+        self._back_emf = np.array([lim.effort / lim.velocity for lim in self.model.limits])
+        self._damping_whole = self._back_emf
         self._target = np.zeros(3 * N_LEGS)
         self._torque = np.zeros(3 * N_LEGS)
         self._tibia_mass = [
@@ -299,7 +300,7 @@ class PyBulletSimulator(Simulator):
         q = [s[0] for s in p.getJointStates(self.body, self.joint_indices, physicsClientId=cid)]
         inertia = np.diag(np.array(p.calculateMassMatrix(self.body, q, physicsClientId=cid)))
         h = self.settings.time_step / self.settings.substeps
-        c = np.array([lim.effort / lim.velocity for lim in self.model.limits])
+        c = self._back_emf
         joints = inertia[6:]  # after the floating base's 6 degrees of freedom
         self._damping_whole = c / (1.0 + c * h / joints)
         self._set_active_slots()
