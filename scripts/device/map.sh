@@ -44,6 +44,11 @@ case "${1:-}" in
     # shellcheck disable=SC1091
     source scripts/map_progress.sh
     n="$(checkpoint_evaluations "$from/default_map.npz.ckpt.npz")"
+    kept="$(checkpoint_evaluations "$keep/default_map.npz.ckpt.npz")"
+    if [ "$n" -le "$kept" ]; then  # never replace a checkpoint further on
+      echo "not unpacked: $keep holds $kept evaluations, $from only $n" >&2
+      exit 1
+    fi
     python3 - "$from/default_map.npz.log.jsonl" "$n" "$keep/default_map.npz.log.jsonl" <<'PY'
 import json, os, sys
 rows = [r for r in open(sys.argv[1]).read().splitlines()
