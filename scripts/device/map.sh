@@ -41,6 +41,10 @@ case "${1:-}" in
     ;;
   unpack)
     from="${2:?usage: map.sh unpack FILES_AT, the folder the run call returned}"
+    set +u  # the setup scripts read unset variables
+    # shellcheck disable=SC1091
+    source scripts/env.sh >/dev/null  # checkpoint_evaluations reads the file with numpy
+    set -u
     # shellcheck disable=SC1091
     source scripts/map_progress.sh
     n="$(checkpoint_evaluations "$from/default_map.npz.ckpt.npz")"
