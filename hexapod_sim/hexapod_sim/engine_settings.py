@@ -33,12 +33,12 @@ class PyBulletSettings:
     discrete_world: bool = False
     #: Solver stops iterating early once the squared residual is below this (PyBullet: 1e-7).
     residual_threshold: float = 1e-7
-    #: 'position': Bullet's position motor, as the thesis's simulator drives the joints (a
-    #: velocity-level constraint up to the stall torque: about 25 times stiffer than the RX).
-    #: 'rx': the servo model MuJoCo and DART share (MujocoSettings' docstring), its torque
-    #: computed at ``substeps`` per step. Experimental: it blows up on some gaits
-    #: (docs/simulator.md, "Where the engines differ", item 3).
-    servo: str = 'position'
+    #: 'rx': the servo model MuJoCo and DART share (MujocoSettings' docstring: the RX data
+    #: sheet's compliance, stall torque and back-EMF), its torque computed at ``substeps`` per
+    #: step. 'position': Bullet's position motor, as the thesis's simulator drove the joints (a
+    #: velocity-level constraint up to the stall torque: about 25 times stiffer than the RX;
+    #: docs/simulator.md, "Where the engines differ", item 3).
+    servo: str = 'rx'
     #: 'rx' only: physics steps per time step, the torque recomputed at each (960 Hz, as DART).
     substeps: int = 4
     #: 'rx' only: the RX factory compliance slope, as in MujocoSettings (kp 21.2 / 31.7 N m/rad).

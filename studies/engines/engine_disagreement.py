@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import argparse
 import csv
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 import math
 import os
 import time
@@ -30,6 +30,7 @@ from hexapod_adapt.mapping.transfer import ranked_gaits
 from hexapod_description import N_LEGS
 from hexapod_gait import build_joint_table, from_genotype
 from hexapod_sim import create_simulator, ENGINES, SimConfig
+from hexapod_sim.engine_settings import ACCURATE, PYBULLET_SERVOS
 from hexapod_sim.simulator import peak_tilt, quat_to_matrix
 import numpy as np
 
@@ -52,6 +53,7 @@ class StepStats:
     height: float  # m: mean base height
     peak_tilt: float  # rad
     saturated: float  # fraction of servo-steps at the stall torque (within 1 %)
+    peak_body_speed: float  # m/s: the base's fastest over any 0.1 s (a blown-up model flings it)
 
 
 def walk(sim, genes: np.ndarray, niche: int, map_speed: float) -> StepStats:
@@ -68,6 +70,7 @@ def walk(sim, genes: np.ndarray, niche: int, map_speed: float) -> StepStats:
     feet = np.zeros((n, N_LEGS), dtype=bool)
     tips = np.zeros((n, N_LEGS, 3))
     heights, quats = np.zeros(n), np.zeros((n, 4))
+    positions = []
     saturated = 0
     for k in range(n):
         i = k % len(table.positions)
@@ -84,9 +87,13 @@ def walk(sim, genes: np.ndarray, niche: int, map_speed: float) -> StepStats:
             tips[k, leg] = pos + quat_to_matrix(quat)[:, 0] * tibia
         pos, quat = sim.base_pose()
         heights[k], quats[k] = pos[2], quat
+        positions.append(pos)
     down = feet[1:] & feet[:-1]
     moved = np.linalg.norm(np.diff(tips[:, :, :2], axis=0), axis=2) / sim.dt
     slip = float(moved[down].mean()) if down.any() else float('nan')
+    window = max(1, int(round(0.1 / sim.dt)))
+    base = np.array(positions)
+    peak_body_speed = float(np.linalg.norm(base[window:] - base[:-window], axis=1).max() / 0.1)
     pos, _ = sim.base_pose()
     speed = (pos[0] * math.cos(gait.crab_angle) + pos[1] * math.sin(gait.crab_angle)) / DURATION
     rms = np.sqrt((err**2).mean(axis=0)).reshape(N_LEGS, 3).mean(axis=0)
@@ -103,6 +110,7 @@ def walk(sim, genes: np.ndarray, niche: int, map_speed: float) -> StepStats:
         float(heights.mean()),
         peak_tilt(quats),
         saturated / (n * 18),
+        peak_body_speed,
     )
 
 
@@ -113,6 +121,12 @@ def main() -> None:
     parser.add_argument('--random', type=int, default=50)
     parser.add_argument('--engines', nargs='+', choices=ENGINES, default=list(ENGINES))
     parser.add_argument('--out', default=None, help='CSV of every gait on every engine')
+    parser.add_argument(
+        '--pybullet-servo',
+        choices=PYBULLET_SERVOS,
+        default=ACCURATE.servo,
+        help="PyBullet's servo model (docs/simulator.md, item 3 of 'Where the engines differ')",
+    )
     args = parser.parse_args()
     archive = load_archive(args.archive or str(shipped_map(DEFAULT_MAP)))
     niches = ranked_gaits(archive, args.fastest, args.random, seed=0)
@@ -120,7 +134,8 @@ def main() -> None:
     rows: list[StepStats] = []
     for engine in args.engines:
         t0 = time.monotonic()
-        with create_simulator(SimConfig(engine=engine)) as sim:
+        pybullet = replace(ACCURATE, servo=args.pybullet_servo)
+        with create_simulator(SimConfig(engine=engine, pybullet=pybullet)) as sim:
             for niche in niches:
                 rows.append(walk(sim, archive.genotypes[niche], int(niche), float(speeds[niche])))
         print(f'{engine}: {len(niches)} gaits in {time.monotonic() - t0:.0f} s', flush=True)

@@ -134,8 +134,15 @@ class PyBulletSimulator(Simulator):
     def _configure_world(self) -> None:
         """Joint velocity limits, friction, collision filters (after every rebuild)."""
         cid = self.client
-        for index, lim in zip(self.joint_indices, self.model.limits):
-            p.changeDynamics(self.body, index, maxJointVelocity=lim.velocity, physicsClientId=cid)
+        if not self._rx:
+            # the position motor's speed limit. Not with servo 'rx': its back-EMF limits the
+            # speed as the servo's does, and Bullet's clamp takes a joint's speed away without
+            # a force, so momentum is not kept (it flung a self-colliding gait 7 m:
+            # docs/simulator.md)
+            for index, lim in zip(self.joint_indices, self.model.limits):
+                p.changeDynamics(
+                    self.body, index, maxJointVelocity=lim.velocity, physicsClientId=cid
+                )
         # Bullet multiplies two surfaces' coefficients: feet 1 and the floor the configured one
         # meet at exactly SimConfig.friction.
         for leg in range(N_LEGS):
