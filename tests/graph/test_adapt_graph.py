@@ -381,6 +381,8 @@ def test_two_simulators_with_one_name_are_reported_not_waited_on(ros, launch, sm
         30,
         'sim_node reporting its twin',
     )
+    # timed from a ready node: under load its start alone took 8 s (CI, 2026-11-27)
+    wait_for(lambda: 'adapt_node ready' in node.log(), 60, 'adapt_node to start')
     t0 = time.monotonic()
     answer = ros.adapt(Adapt.Goal(max_trials=2), timeout=60)
     assert (

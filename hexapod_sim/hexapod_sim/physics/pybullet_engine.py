@@ -360,12 +360,14 @@ class PyBulletSimulator(Simulator):
                 states = p.getJointStates(body, joints, physicsClientId=cid)
                 q = np.array([s[0] for s in states])
                 qd = np.array([s[1] for s in states])
-                torque = np.clip(self._kp * (self._target - q), -self._effort, self._effort)
-                self._torque = torque - self._damping * qd
+                # the servo's torque (what joint_states reports, as MuJoCo and DART report
+                # theirs), and its back-EMF, which those two apply as joint damping
+                self._torque = np.clip(self._kp * (self._target - q), -self._effort, self._effort)
+                applied = self._torque - self._damping * qd
             else:  # servo power off: no torque, no back-EMF (the driver is off)
-                self._torque = np.zeros(3 * N_LEGS)
+                self._torque = applied = np.zeros(3 * N_LEGS)
             p.setJointMotorControlArray(
-                body, joints, p.TORQUE_CONTROL, forces=self._torque.tolist(), physicsClientId=cid
+                body, joints, p.TORQUE_CONTROL, forces=applied.tolist(), physicsClientId=cid
             )
             p.stepSimulation(physicsClientId=cid)
         self.time += self.dt
