@@ -69,8 +69,7 @@ def walk(sim, genes: np.ndarray, niche: int, map_speed: float) -> StepStats:
     err = np.zeros((n, 18))
     feet = np.zeros((n, N_LEGS), dtype=bool)
     tips = np.zeros((n, N_LEGS, 3))
-    heights, quats = np.zeros(n), np.zeros((n, 4))
-    positions = []
+    base, quats = np.zeros((n, 3)), np.zeros((n, 4))
     saturated = 0
     for k in range(n):
         i = k % len(table.positions)
@@ -86,13 +85,11 @@ def walk(sim, genes: np.ndarray, niche: int, map_speed: float) -> StepStats:
             pos, quat = poses[f'link_{leg + 1}_3']
             tips[k, leg] = pos + quat_to_matrix(quat)[:, 0] * tibia
         pos, quat = sim.base_pose()
-        heights[k], quats[k] = pos[2], quat
-        positions.append(pos)
+        base[k], quats[k] = pos, quat
     down = feet[1:] & feet[:-1]
     moved = np.linalg.norm(np.diff(tips[:, :, :2], axis=0), axis=2) / sim.dt
     slip = float(moved[down].mean()) if down.any() else float('nan')
     window = max(1, int(round(0.1 / sim.dt)))
-    base = np.array(positions)
     peak_body_speed = float(np.linalg.norm(base[window:] - base[:-window], axis=1).max() / 0.1)
     pos, _ = sim.base_pose()
     speed = (pos[0] * math.cos(gait.crab_angle) + pos[1] * math.sin(gait.crab_angle)) / DURATION
@@ -107,7 +104,7 @@ def walk(sim, genes: np.ndarray, niche: int, map_speed: float) -> StepStats:
         float(rms[1]),
         float(rms[2]),
         slip,
-        float(heights.mean()),
+        float(base[:, 2].mean()),
         peak_tilt(quats),
         saturated / (n * 18),
         peak_body_speed,
@@ -132,9 +129,9 @@ def main() -> None:
     niches = ranked_gaits(archive, args.fastest, args.random, seed=0)
     speeds = archive.speeds()
     rows: list[StepStats] = []
+    pybullet = replace(ACCURATE, servo=args.pybullet_servo)
     for engine in args.engines:
         t0 = time.monotonic()
-        pybullet = replace(ACCURATE, servo=args.pybullet_servo)
         with create_simulator(SimConfig(engine=engine, pybullet=pybullet)) as sim:
             for niche in niches:
                 rows.append(walk(sim, archive.genotypes[niche], int(niche), float(speeds[niche])))
