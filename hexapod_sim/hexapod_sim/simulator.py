@@ -115,6 +115,9 @@ class SimConfig:
         Engine, its settings (and their hash), friction. Recorded in archive metadata.
         """
         settings = asdict(self.engine_settings())
+        if self.engine == 'mujoco' and settings['substeps'] == 1:
+            # as before substeps existed: the maps, ceilings and banks made then stay valid
+            del settings['substeps']
         blob = json.dumps(
             {'engine': self.engine, 'settings': settings, 'friction': self.friction},
             sort_keys=True,

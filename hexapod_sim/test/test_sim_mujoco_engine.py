@@ -22,6 +22,8 @@ import pytest
         ('armature', float('nan'), r'armature must be in'),
         ('cone', 'round', r'cone must be one of pyramidal, elliptic'),
         ('integrator', 'rk9', r'integrator must be one of'),
+        ('substeps', 0, r'substeps must be in \[1, 64\]'),
+        ('substeps', 2.0, r'substeps must be an integer'),
     ],
 )
 def test_mujoco_settings_out_of_range_are_refused(field, value, match):
@@ -284,6 +286,74 @@ def test_a_rollout_that_stops_at_its_first_collision_is_the_whole_rollout_cut_sh
             np.testing.assert_array_equal(c.contact_steps, w.contact_steps)
     # the colliding gaits stopped within a chunk of their collision: far fewer steps played
     assert sum(played) < 3 * n + 2 * mujoco_engine.COLLISION_CHUNKS[1] + n // 2
+
+
+def test_with_substeps_the_native_batch_is_the_per_step_loop():
+    """
+    Four physics steps per 240 Hz row: the C rollout and the per-step loop play the same steps.
+
+    Bit for bit: the row's target held through its physics steps, a contact in any of them
+    counted, the first collision found at the physics step it happened.
+    """
+    from hexapod_gait import build_joint_table
+    from hexapod_sim.simulator import JointRows, Simulator
+
+    config = SimConfig(engine='mujoco', mujoco=MujocoSettings(substeps=4))
+    with create_simulator(config) as sim:
+        assert sim.m.opt.timestep == pytest.approx(sim.dt / 4)
+        tables = []
+        for gait in _gaits_that_collide_or_not():
+            t = build_joint_table(gait, rate=1.0 / sim.dt)
+            tables.append(JointRows(t.positions, t.velocities))
+        n = 480
+        native = sim.rollout(tables, n, stop_on_collision=False, record_contacts=True)
+        for table, fast in zip(tables, native):
+            slow = Simulator._play(sim, table, n, stop_on_collision=False, record_contacts=True)
+            assert fast.first_collision == slow.first_collision
+            assert fast.collision_steps == slow.collision_steps
+            np.testing.assert_array_equal(fast.contact_steps, slow.contact_steps)
+            np.testing.assert_array_equal(fast.final_position, slow.final_position)
+    assert [r.first_collision is not None for r in native] == [False, True, False, True, False]
+
+
+def test_one_step_per_row_keeps_the_fingerprint_it_had_before_substeps_existed():
+    """The maps, ceilings and banks made at one step per row stay valid; 4 is another model."""
+    plain = SimConfig(engine='mujoco').fingerprint()
+    assert 'substeps' not in plain['settings']
+    # the shipped maps' hash (made before substeps existed)
+    assert plain['settings_sha256'] == (
+        'e6009aaf0b5e44fc4116c6124b44deaa7de0719557b100c5bbed7c3e8256ccd4'
+    )
+    four = SimConfig(engine='mujoco', mujoco=MujocoSettings(substeps=4)).fingerprint()
+    assert four['settings']['substeps'] == 4
+    assert four['settings_sha256'] != plain['settings_sha256']
+
+
+def test_substeps_change_a_fast_gait_and_not_the_tripod():
+    """
+    The tripod walks alike at 1 and 4 physics steps per row; a gait that loads the servos hard.
+
+    Does not (docs/simulator.md, "Where the engines differ", item 6): one step per row has not
+    converged on it.
+    """
+    from hexapod_adapt.mapping.archive import load_archive
+    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+    from hexapod_gait import from_genotype
+
+    archive = load_archive(str(shipped_map(DEFAULT_MAP)))
+    fastest = int(archive.elite_indices()[np.argmax(archive.speeds()[archive.elite_indices()])])
+    gait = from_genotype(archive.genotypes[fastest])
+    speeds = {}
+    for n in (1, 4, 8):
+        with create_simulator(
+            SimConfig(engine='mujoco', mujoco=MujocoSettings(substeps=n))
+        ) as sim:
+            speeds[n] = [r.speed for r in evaluate_gaits([preset('tripod'), gait], sim)]
+    tripod = [speeds[n][0] for n in (1, 4, 8)]
+    assert max(tripod) - min(tripod) < 0.02, tripod
+    # measured: the tripod 0.303, 0.290, 0.288 m/s; the gait 0.617, 0.261, 0.233 (16: 0.232)
+    assert abs(speeds[4][1] - speeds[8][1]) < 0.05, speeds
+    assert speeds[1][1] - speeds[8][1] > 0.2, speeds
 
 
 def test_mujoco_model_takes_limits_from_the_urdf():

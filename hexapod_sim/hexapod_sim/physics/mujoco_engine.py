@@ -154,7 +154,7 @@ class MujocoSimulator(Simulator):
     def _build_model(self) -> mujoco.MjModel:
         s, cfg = self.settings, self.config
         spec = mujoco.MjSpec.from_string(_urdf_with_free_base(str(self.model.path)))
-        spec.option.timestep = s.time_step
+        spec.option.timestep = s.time_step / s.substeps
         spec.option.integrator = INTEGRATORS[s.integrator]
         spec.option.solver = SOLVERS[s.solver]
         spec.option.cone = CONES[s.cone]
@@ -319,9 +319,15 @@ class MujocoSimulator(Simulator):
 
     def step(self) -> StepReport:
         warnings = self.d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number
-        mujoco.mj_step(self.m, self.d)  # sensors and d.contact: the state this step started from
+        sensors = None
+        for _ in range(self.settings.substeps):
+            # sensors and d.contact: the state this physics step started from
+            mujoco.mj_step(self.m, self.d)
+            now = self.d.sensordata
+            sensors = now.copy() if sensors is None else np.maximum(sensors, now)
         self.time += self.dt
-        report = self._report(self.d.sensordata)
+        # a contact in any of the row's physics steps counts (as rollout counts it)
+        report = self._report(sensors)
         # MuJoCo resets the data after a blow-up and carries on: say so
         report.unstable = self.d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > warnings
         return report
@@ -356,33 +362,37 @@ class MujocoSimulator(Simulator):
             return []
         m, d = self.m, self.d
         n = len(tables)
+        sub = self.settings.substeps  # physics steps per row, the row's target held through them
         initial = np.empty((n, self._nstate))
-        control = np.empty((n, n_steps, m.nu))
+        control = np.empty((n, n_steps * sub, m.nu))
         steps = np.arange(n_steps)
         for i, table in enumerate(tables):
             rows = self.prepare_rows(table.positions, table.velocities)
             self.reset(table.positions[0])
             mujoco.mj_getState(m, d, initial[i], self._state_spec)
-            control[i][:, self._act] = rows[steps % len(rows)]
+            control[i][:, self._act] = np.repeat(rows[steps % len(rows)], sub, axis=0)
         if stop_on_collision:
             # each gait in chunks, up to the chunk of its first collision: a gait that collides
             # early (a map proposal, often) costs a few chunks, not all its steps
             runs = [self._rollout_until_collision(initial[i], control[i]) for i in range(n)]
-            state = [r[0] for r in runs]
-            sensordata = [r[1] for r in runs]
+            fine_state = [r[0] for r in runs]
+            fine_sd = [r[1] for r in runs]
         else:
             full_state, full_sd = mj_rollout.rollout(
                 m, d, initial, control, initial_warmstart=np.zeros((n, m.nv))
             )
-            state, sensordata = list(full_state), list(full_sd)
-        unstable = {}  # {rollout: its first bad step}
+            fine_state, fine_sd = list(full_state), list(full_sd)
+        # per row: the state at its end; a sensor's largest reading over its physics steps
+        state = [x[sub - 1 :: sub] for x in fine_state]
+        sensordata = [x.reshape(-1, sub, x.shape[-1]).max(axis=1) for x in fine_sd]
+        unstable = {}  # {rollout: the row of its first bad physics step}
         for i in range(n):
-            bad = self._unstable_steps(initial[i][None], state[i][None])
+            bad = self._unstable_steps(initial[i][None], fine_state[i][None])
             # collisions fatal: a collision before the blow-up ends the gait first
             if bad and not (
-                stop_on_collision and (sensordata[i][: bad[0], self._collision_adr] > 0).any()
+                stop_on_collision and (fine_sd[i][: bad[0], self._collision_adr] > 0).any()
             ):
-                unstable[i] = bad[0]
+                unstable[i] = bad[0] // sub
         results = []
         for i in range(n):
             if i in unstable:
@@ -409,12 +419,18 @@ class MujocoSimulator(Simulator):
             used = n_steps
             if hits.size:
                 k = int(hits[0])
-                # the contacts of step k are those of the state it started from: recompute them
+                # its first physics step that collided (row k's); the contacts of a physics step
+                # are those of the state it started from: recompute them
+                j = k * sub + int(
+                    np.argmax(
+                        (fine_sd[i][k * sub : (k + 1) * sub, self._collision_adr] > 0).any(axis=1)
+                    )
+                )
                 mujoco.mj_setState(
-                    m, d, initial[i] if k == 0 else state[i][k - 1], self._state_spec
+                    m, d, initial[i] if j == 0 else fine_state[i][j - 1], self._state_spec
                 )
                 mujoco.mj_forward(m, d)
-                first = f'{self._report(sd[k]).collision} at t = {(k + 1) * self.dt:.3f} s'
+                first = f'{self._report(fine_sd[i][j]).collision} at t = {(k + 1) * self.dt:.3f} s'
                 if stop_on_collision:
                     used = k + 1
             last = used - 1
@@ -455,7 +471,7 @@ class MujocoSimulator(Simulator):
         state = np.empty((1, n_steps, self._nstate))
         sensors = np.empty((1, n_steps, m.nsensordata))
         start, warm = initial[None], np.zeros((1, m.nv))
-        first, rest = COLLISION_CHUNKS
+        first, rest = (rows * self.settings.substeps for rows in COLLISION_CHUNKS)
         k0 = 0
         while k0 < n_steps:
             k1 = min(k0 + (first if k0 == 0 else rest), n_steps)
@@ -484,9 +500,10 @@ class MujocoSimulator(Simulator):
         (state[..., 0]) stops counting up from the start, or the state holds NaN; a per-rollout
         check of the trajectory itself.
         """
-        steps = np.arange(1, state.shape[1] + 1) * self.dt
+        h = self.m.opt.timestep  # a physics step: state holds one row per physics step
+        steps = np.arange(1, state.shape[1] + 1) * h
         expected = initial[:, :1] + steps[None, :]
-        bad = (np.abs(state[:, :, 0] - expected) > 0.5 * self.dt) | ~np.isfinite(state).all(axis=2)
+        bad = (np.abs(state[:, :, 0] - expected) > 0.5 * h) | ~np.isfinite(state).all(axis=2)
         return {int(i): int(np.argmax(bad[i])) for i in np.flatnonzero(bad.any(axis=1))}
 
     # -- readings --------------------------------------------------------------------------
