@@ -62,6 +62,7 @@ LIMITS = {
     'workers': (0, 4096),  # 0 = every core
     'lag': (0, 1_000_000),  # 0 = max(64, 4 x workers)
     'chunk': (0, 100_000),  # 0 = the engine's default
+    'substeps': (0, 64),  # 0 = the engine's default
     'random_init': (0.0, 1.0),
     'cvt_samples': (1, 10**9),
     'emitter_count': (1, 64),  # emitters per lane (pyribs sets)
@@ -85,6 +86,8 @@ class GenerateConfig:
     lag: int = 0  # candidates in flight (0: 4 x workers, at least 64)
     chunk: int = 0  # candidates per worker call (0: 8 for MuJoCo, 1 for PyBullet)
     engine: str = DEFAULT_MAP_ENGINE
+    #: gait maps: the engine's physics steps per 240 Hz row (0: its default; map_sim_config)
+    substeps: int = 0
     random_init: float = 0.01
     cvt_samples: int | None = None
     cvt_dir: Path | None = None  # cache centroids_<n>_6.dat here (default: next to out)
@@ -125,6 +128,8 @@ class GenerateConfig:
             raise ValueError(f'min_stance_legs must be 0..6, got {self.min_stance_legs!r}')
         if self.min_stance_legs and self.kind != 'navigation':
             raise ValueError('min_stance_legs applies to navigation repertoires only')
+        if self.substeps and self.kind != 'gait':
+            raise ValueError('substeps applies to gait maps only')
         if self.guards.active and self.kind != 'gait':
             raise ValueError('walk guards (min_feet, max_tilt) apply to gait maps only')
         self.engine_config()  # the MAP-Elites settings' own checks (emitters, ...)
@@ -261,8 +266,8 @@ def generate_map(
         fingerprint = repertoire_fingerprint(config.engine, config.min_stance_legs)
         evaluate = SimulateSteps(config.engine, config.min_stance_legs)
     else:
-        fingerprint = simulation_fingerprint(config.engine, config.guards)
-        evaluate = SimulateGenotypes(config.engine, config.guards)
+        fingerprint = simulation_fingerprint(config.engine, config.guards, config.substeps)
+        evaluate = SimulateGenotypes(config.engine, config.guards, config.substeps)
     engine = config.engine_config()
     pending, proposer = None, None
     source = None  # the file a resumed run continues

@@ -109,6 +109,13 @@ def build_parser() -> argparse.ArgumentParser:
         ),
     )
     ap.add_argument(
+        '--substeps',
+        type=_limited('substeps'),
+        default=0,
+        help="the engine's physics steps per 240 Hz row, recorded in the map (0: its default;"
+        " MuJoCo's 1 has not converged on fast gaits, docs/simulator.md)",
+    )
+    ap.add_argument(
         '--backend',
         choices=BACKENDS,
         default='local',
@@ -247,6 +254,7 @@ def _generate(args: argparse.Namespace) -> int:
             resume=args.resume,
             with_presets=args.with_presets,
             engine=args.engine,
+            substeps=args.substeps,
             kind=args.kind,
             min_stance_legs=args.min_stance_legs,
             guards=WalkGuards(args.min_feet, args.max_tilt),

@@ -9,7 +9,7 @@ depends on. (``map_elites.py`` stays generic.).
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 import hashlib
 import math
 from pathlib import Path
@@ -25,7 +25,19 @@ import numpy as np
 #: Engine used for maps unless told otherwise: MuJoCo, ~7x cheaper per evaluation than PyBullet.
 DEFAULT_MAP_ENGINE = 'mujoco'
 
-_WORKER_SIMS: dict[str, Simulator] = {}
+_WORKER_SIMS: dict[tuple[str, int], Simulator] = {}
+
+
+def map_sim_config(engine: str, substeps: int = 0) -> SimConfig:
+    """
+    The simulator a map is made on: ``engine`` with its default settings.
+
+    ``substeps`` > 0 sets its physics steps per 240 Hz row (``generate_map --substeps``).
+    """
+    config = SimConfig(engine=validate_engine(engine))
+    if not substeps:
+        return config
+    return replace(config, **{engine: replace(config.engine_settings(), substeps=substeps)})
 
 
 @dataclass(frozen=True)
@@ -64,15 +76,15 @@ class WalkGuards:
         return ''
 
 
-def worker_simulator(engine: str) -> Simulator:
+def worker_simulator(engine: str, substeps: int = 0) -> Simulator:
     """
-    Return this process's simulator for ``engine``, created on first use and reused.
+    Return this process's simulator for ``engine`` (:func:`map_sim_config`), made once, reused.
 
     A worker process evaluates many batches.
     """
-    sim = _WORKER_SIMS.get(engine)
+    sim = _WORKER_SIMS.get((engine, substeps))
     if sim is None:
-        sim = _WORKER_SIMS[engine] = create_simulator(SimConfig(engine=validate_engine(engine)))
+        sim = _WORKER_SIMS[engine, substeps] = create_simulator(map_sim_config(engine, substeps))
     return sim
 
 
@@ -84,9 +96,15 @@ class SimulateGenotypes:
     fatal (thesis 4.2.5).
     """
 
-    def __init__(self, engine: str = DEFAULT_MAP_ENGINE, guards: WalkGuards | None = None) -> None:
+    def __init__(
+        self,
+        engine: str = DEFAULT_MAP_ENGINE,
+        guards: WalkGuards | None = None,
+        substeps: int = 0,
+    ) -> None:
         self.engine = validate_engine(engine)
         self.guards = guards or WalkGuards()
+        self.substeps = substeps
 
     def __call__(self, genes: np.ndarray) -> list[EvaluationResult]:
         genes = np.atleast_2d(genes)
@@ -95,7 +113,7 @@ class SimulateGenotypes:
         # this process (or a parent it was forked from) may have left legs failed in it
         results = evaluate_gaits(
             list(genes),
-            worker_simulator(self.engine),
+            worker_simulator(self.engine, self.substeps),
             collisions_fatal=True,
             failed_legs=(),
             record_tilt=self.guards.max_tilt < math.pi,
@@ -123,7 +141,7 @@ class SimulateGenotypes:
 
 
 def simulation_fingerprint(
-    engine: str = DEFAULT_MAP_ENGINE, guards: WalkGuards | None = None
+    engine: str = DEFAULT_MAP_ENGINE, guards: WalkGuards | None = None, substeps: int = 0
 ) -> dict[str, Any]:
     """
     Return what a map's fitness depends on besides the genes.
@@ -132,7 +150,7 @@ def simulation_fingerprint(
     guards (only when any applies: maps made without them keep their fingerprint). Stored in the
     archive's metadata.
     """
-    sim = SimConfig(engine=validate_engine(engine)).fingerprint()
+    sim = map_sim_config(engine, substeps).fingerprint()
     out = {
         'genotype_mapping': GENOTYPE_MAPPING_VERSION,
         'urdf_sha256': hashlib.sha256(Path(urdf_path()).read_bytes()).hexdigest(),

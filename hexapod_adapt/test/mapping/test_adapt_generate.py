@@ -163,8 +163,12 @@ def _running(pid: int) -> bool:
     return stat.rsplit(')', 1)[1].split()[0] != 'Z'
 
 
-def _kill_midway(args: list, out: Path, evaluations: int) -> None:
-    """Run generate_map on one worker; SIGKILL it once a checkpoint holds ``evaluations``."""
+def _kill_midway(args: list, out: Path, evaluations: int, emitters: bool = True) -> None:
+    """
+    Run generate_map on one worker; SIGKILL it once a checkpoint holds ``evaluations``.
+
+    ``emitters``: the run's checkpoints hold a pyribs proposer (iso+line's hold none).
+    """
     import signal
     import time
 
@@ -184,14 +188,16 @@ def _kill_midway(args: list, out: Path, evaluations: int) -> None:
         except (OSError, ArchiveError, ValueError, KeyError):
             time.sleep(0.05)
             continue
-        if proposer is not None and archive.metadata['evaluations'] >= evaluations:
+        if (proposer is not None or not emitters) and archive.metadata[
+            'evaluations'
+        ] >= evaluations:
             break
         time.sleep(0.05)
     workers = _children(proc.pid)
     assert workers  # the pool's worker
     proc.send_signal(signal.SIGKILL)
     proc.wait()
-    assert not out.exists() and proposer is not None and pending  # killed mid-run
+    assert not out.exists() and (proposer is not None or not emitters) and pending  # mid-run
     # the workers die with it (CI once found one still evaluating after this test)
     deadline = time.monotonic() + 20
     while any(Path(f'/proc/{pid}').exists() for pid in workers) and time.monotonic() < deadline:
@@ -275,6 +281,39 @@ def test_a_walk_guarded_map_is_made_from_its_seed_and_resumes_exactly_after_sigk
     assert len(elites) > 0
     # every elite keeps three feet down on average (its descriptor is its duty factors)
     assert (a.descriptors[elites].sum(axis=1) >= 3.0).all()
+
+
+@pytest.mark.slow
+def test_a_map_at_4_substeps_is_made_from_its_seed_and_resumes_exactly_after_sigkill(tmp_path):
+    """The default map's option: MuJoCo at 4 physics steps per row, recorded, never mixed."""
+
+    def args(out, substeps='4'):
+        return [
+            '--out', str(out), '--niches', '30', '--evaluations', '300', '--seed', '4',
+            '--with-presets', '--substeps', substeps, '--checkpoint-every', '0.2', '--quiet',
+        ]  # fmt: skip
+
+    first, second = tmp_path / 'a' / 'map.npz', tmp_path / 'b' / 'map.npz'
+    assert _run_cli(*args(first), '--workers', '2').returncode == 0
+    assert _run_cli(*args(second), '--workers', '1').returncode == 0
+    killed = tmp_path / 'killed' / 'map.npz'
+    _kill_midway(args(killed), killed, 100, emitters=False)
+    # resumed on the engine's default (1 step per row): refused, the checkpoint kept
+    other = _run_cli(*args(killed, substeps='0'), '--resume')
+    assert other.returncode != 0 and 'another simulator' in other.stderr
+    assert _run_cli(*args(killed), '--workers', '2', '--resume').returncode == 0
+    a, b, k = load_archive(first), load_archive(second), load_archive(killed)
+    for o in (b, k):
+        np.testing.assert_array_equal(a.fitness, o.fitness)
+        np.testing.assert_array_equal(a.genotypes, o.genotypes)
+    assert a.metadata['simulator']['settings']['substeps'] == 4
+    assert a.n_filled > 0
+    # the map's stored speeds are MuJoCo's at 4 substeps: one re-walked there gives it again
+    from hexapod_adapt.mapping.simulation import SimulateGenotypes
+
+    best = a.elite_indices()[np.argmax(a.fitness[a.elite_indices()])]
+    again = SimulateGenotypes('mujoco', substeps=4)(a.genotypes[best][None])[0]
+    assert again.fitness == a.fitness[best]
 
 
 def test_walk_guards_refuse_nonsense_and_say_why_a_gait_fails():
