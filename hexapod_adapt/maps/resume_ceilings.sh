@@ -35,6 +35,24 @@ source "$repo/scripts/map_progress.sh"
 REPO="$repo" TREE="$tree" PIN_FILE="$keep/COMMIT"
 # shellcheck disable=SC1091
 source "$repo/scripts/fixed_worktree.sh"
+# a ceiling is the map's gaits walked on the engine as this library sets it up: a map made with
+# other settings (generate_map --substeps) waits for a commit whose engine default is the map's
+problems="$(python - "$map" <<'PY'
+import sys
+
+from hexapod_adapt.mapping.archive import compatibility_problems, load_archive
+from hexapod_adapt.mapping.simulation import archive_engine, simulation_fingerprint
+
+archive = load_archive(sys.argv[1])
+want = simulation_fingerprint(archive_engine(archive.metadata) or 'mujoco')['simulator']
+print('; '.join(compatibility_problems(archive, {'simulator': want})))
+PY
+)"
+if [ -n "$problems" ]; then
+  echo "ceilings not started: $map was made on other engine settings than $tree's default" \
+    "($problems)" >&2
+  exit 1
+fi
 mkdir -p out hexapod_adapt/maps/ceilings
 running="$(cat out/ceilings.pid 2>/dev/null || true)"
 if [ -n "$running" ] && alive "$running"; then

@@ -5,15 +5,14 @@
 # WORKTREE (default ../mapgen) is made if missing, at the commit that started the map
 # (CHECKPOINTS/COMMIT, committed; this checkout's HEAD at the first start), and built with this
 # checkout's .venv. It resumes from the worktree's checkpoint, or else from the copy in
-# CHECKPOINTS (default hexapod_adapt/maps/in_progress: default_map.npz.ckpt.npz, ignored by git as
-# it is megabytes, so copy it to a new machine; its log and COMMIT are committed). With neither, a
+# CHECKPOINTS (default hexapod_adapt/maps/in_progress: default_map.npz.ckpt.npz, its log and COMMIT,
+# all committed: a new machine has only what git has). With neither, a
 # new worktree starts the map from scratch (make_default_map.sh with
 # FRESH=1: the shipped map and its log are kept there as NAME.bak).
 # Output: WORKTREE/out/default_map.out (the run's pid in out/default_map.pid). When it says
 # "wrote", copy WORKTREE's hexapod_adapt/maps/default_map.npz and default_map.npz.log.jsonl back;
 # before a session ends, `bash scripts/save_progress.sh` stops the run at a checkpoint
-# and copies it with the log to in_progress/: commit the log (the checkpoint is ignored: keep a copy
-# outside the repository for a new machine, which has no ../mapgen).
+# and copies it with the log to in_progress/: commit both (a new machine has no ../mapgen).
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 tree="${1:-$repo/../mapgen}"
