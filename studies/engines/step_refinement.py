@@ -71,6 +71,22 @@ def ladder(engine: str) -> list[Level]:
     ]
 
 
+def agreement(rows: list[tuple[str, StepStats]], engines: list[str]) -> None:
+    """Print each pair of engines' Spearman at their finest levels and at their defaults."""
+    defaults = {'mujoco': DEFAULT_SETTINGS, 'pybullet': ACCURATE, 'dart': DART_DEFAULT_SETTINGS}
+
+    def speeds(engine: str, level: str) -> np.ndarray:
+        return np.array([r.speed for name, r in rows if r.engine == engine and name == level])
+
+    print('| engines | Spearman, each at its default | each at its finest |')
+    print('|---|---|---|')
+    for i, a in enumerate(engines):
+        for b in engines[i + 1 :]:
+            at = {e: (f'{defaults[e].substeps} substeps', ladder(e)[-1].name) for e in (a, b)}
+            cells = [spearmanr(speeds(a, at[a][k]), speeds(b, at[b][k])).statistic for k in (0, 1)]
+            print(f'| {a} vs {b} | {cells[0]:.2f} | {cells[1]:.2f} |')
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     parser.add_argument('--archive', default=None, help='a map (default: the shipped default map)')
@@ -119,6 +135,7 @@ def main() -> None:
                 flush=True,
             )
         print()
+    agreement(rows, args.engines)
     if args.out:
         tmp = f'{args.out}.tmp'
         with open(tmp, 'w', newline='') as f:

@@ -30,7 +30,7 @@ _WORKER_SIMS: dict[tuple[str, int], Simulator] = {}
 
 def map_sim_config(engine: str, substeps: int = 0) -> SimConfig:
     """
-    The simulator a map is made on: ``engine`` with its default settings.
+    Return the simulator a map is made on: ``engine`` with its default settings.
 
     ``substeps`` > 0 sets its physics steps per 240 Hz row (``generate_map --substeps``).
     """

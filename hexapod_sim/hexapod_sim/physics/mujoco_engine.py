@@ -383,7 +383,8 @@ class MujocoSimulator(Simulator):
             )
             fine_state, fine_sd = list(full_state), list(full_sd)
         # per row: the state at its end; a sensor's largest reading over its physics steps
-        state = [x[sub - 1 :: sub] for x in fine_state]
+        ends = slice(sub - 1, None, sub)
+        state = [x[ends] for x in fine_state]
         sensordata = [x.reshape(-1, sub, x.shape[-1]).max(axis=1) for x in fine_sd]
         unstable = {}  # {rollout: the row of its first bad physics step}
         for i in range(n):
@@ -421,11 +422,8 @@ class MujocoSimulator(Simulator):
                 k = int(hits[0])
                 # its first physics step that collided (row k's); the contacts of a physics step
                 # are those of the state it started from: recompute them
-                j = k * sub + int(
-                    np.argmax(
-                        (fine_sd[i][k * sub : (k + 1) * sub, self._collision_adr] > 0).any(axis=1)
-                    )
-                )
+                row = fine_sd[i][slice(k * sub, (k + 1) * sub), self._collision_adr]
+                j = k * sub + int(np.argmax((row > 0).any(axis=1)))
                 mujoco.mj_setState(
                     m, d, initial[i] if j == 0 else fine_state[i][j - 1], self._state_spec
                 )
