@@ -309,7 +309,8 @@ def _transfer_figures() -> None:
     made_on = archive_engine(archive.metadata)
     for engine in (e for e in ENGINES if e != made_on):
         name = 'judge' if engine == JUDGE_ENGINE else engine
-        with create_simulator(SimConfig(engine=engine)) as sim:
+        # at its converged step (docs/simulator.md, "Where the engines differ", item 6)
+        with create_simulator(SimConfig.converged(engine)) as sim:
             f = transfer_figures(archive, sim)
         print(f'BENCH map_{name}_top100_speed_median {f.top_speed_median:.3f} m/s')
         print(f'BENCH map_{name}_top100_tipped {f.top_tipped} gaits')

@@ -21,7 +21,7 @@ the engine modules; nothing else touches them. :func:`create_simulator` picks th
 from __future__ import annotations
 
 import abc
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 import hashlib
 import json
 import math
@@ -48,6 +48,11 @@ TIP_OVER_DEG = 60.0
 ENGINES = ('pybullet', 'mujoco', 'dart')
 #: The engine that judges maps: it takes no part in making or tuning them (docs/simulator.md).
 JUDGE_ENGINE = 'dart'
+#: Physics steps per 240 Hz row at which each engine's speeds of a map's fast gaits have
+#: converged (docs/simulator.md, "Where the engines differ", item 6: within a median 0.015 m/s of
+#: the finest step and Spearman >= 0.95). A map's figures on another engine are measured there
+#: (:meth:`SimConfig.converged`); the engines' defaults are cheaper.
+CONVERGED_SUBSTEPS = {'pybullet': 16, 'mujoco': 4, 'dart': 16}
 
 
 def validate_engine(name: str) -> str:
@@ -99,6 +104,16 @@ class SimConfig:
             object.__setattr__(self, 'friction', FRICTION)
         if not (math.isfinite(self.friction) and 0.0 <= self.friction <= 10.0):
             raise ValueError(f'friction must be in [0, 10], got {self.friction}')
+
+    def with_substeps(self, substeps: int) -> 'SimConfig':
+        """Return this configuration with its engine at ``substeps`` physics steps per row."""
+        settings = replace(self.engine_settings(), substeps=substeps)
+        return replace(self, **{self.engine: settings})
+
+    @classmethod
+    def converged(cls, engine: str) -> 'SimConfig':
+        """Return ``engine`` at :data:`CONVERGED_SUBSTEPS`: where a map's figures are measured."""
+        return cls(engine=validate_engine(engine)).with_substeps(CONVERGED_SUBSTEPS[engine])
 
     def engine_settings(self) -> Any:
         """Return the settings object of the selected engine (its default if none was given)."""

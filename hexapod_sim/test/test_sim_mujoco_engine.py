@@ -343,6 +343,21 @@ FAST_GENOTYPE = [
 ]  # fmt: skip
 
 
+def test_a_map_is_judged_on_each_engine_at_its_converged_step():
+    """SimConfig.converged: the engine's default settings but for its substeps."""
+    from dataclasses import replace
+
+    from hexapod_sim.simulator import CONVERGED_SUBSTEPS
+
+    for engine, substeps in CONVERGED_SUBSTEPS.items():
+        config = SimConfig.converged(engine)
+        assert config.engine == engine and config.engine_settings().substeps == substeps
+        default = SimConfig(engine=engine).engine_settings()
+        assert config.engine_settings() == replace(default, substeps=substeps)
+    with pytest.raises(ValueError, match='unknown physics engine'):
+        SimConfig.converged('ode')
+
+
 def test_substeps_change_a_fast_gait_and_not_the_tripod():
     """
     The tripod walks alike at 1 and 4 physics steps per row; a gait that loads the servos hard.

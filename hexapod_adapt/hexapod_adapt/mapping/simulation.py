@@ -9,7 +9,7 @@ depends on. (``map_elites.py`` stays generic.).
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass
 import hashlib
 import math
 from pathlib import Path
@@ -35,9 +35,7 @@ def map_sim_config(engine: str, substeps: int = 0) -> SimConfig:
     ``substeps`` > 0 sets its physics steps per 240 Hz row (``generate_map --substeps``).
     """
     config = SimConfig(engine=validate_engine(engine))
-    if not substeps:
-        return config
-    return replace(config, **{engine: replace(config.engine_settings(), substeps=substeps)})
+    return config.with_substeps(substeps) if substeps else config
 
 
 @dataclass(frozen=True)

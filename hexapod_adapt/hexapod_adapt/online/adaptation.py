@@ -308,6 +308,7 @@ def run_experiment(
     config: MboaConfig | None = None,
     on_row: Callable[[ExperimentRow], None] | None = None,
     trial_engine: str | None = None,
+    trial_config: SimConfig | None = None,
     ceilings: Callable[[Damage, str], 'Ceiling'] | None = None,
     floor: bool = False,
     priors: Callable[[Damage], np.ndarray] | None = None,
@@ -324,8 +325,9 @@ def run_experiment(
 
     Adapt in every orientation of each failure scenario (library trials in the simulator,
     collisions not fatal), next to the control tripod gait. Trials run on ``trial_engine``
-    (default: the engine that made the map). Without ``config``: the thesis's settings with
-    :data:`EXPERIMENT_MAX_TRIALS`. With ``ceilings(failed_legs, engine)`` (e.g.
+    (default: the engine that made the map) with its default settings, or as ``trial_config``
+    sets it up (its engine is then the trial engine). Without ``config``: the thesis's settings
+    with :data:`EXPERIMENT_MAX_TRIALS`. With ``ceilings(failed_legs, engine)`` (e.g.
     :func:`hexapod_adapt.online.ceiling.ceiling` over a cache), each row also gets the map's
     ceiling under its damage and the adapted/ceiling ratio. ``floor``: the damaged control tripod,
     measured first, is the run's success floor. ``priors(failed_legs)``: M-BOA starts from these
@@ -344,9 +346,15 @@ def run_experiment(
     config = config or MboaConfig(max_trials=EXPERIMENT_MAX_TRIALS)
     duration = archive.trial_duration
     map_engine = archive_engine(archive.metadata) or 'pybullet'
+    if trial_config is not None:
+        if trial_engine not in (None, trial_config.engine):
+            raise ValueError(
+                f'trial_engine {trial_engine!r} and trial_config ({trial_config.engine}) disagree'
+            )
+        trial_engine = trial_config.engine
     trial_engine = trial_engine or map_engine
     rows = []
-    with create_simulator(SimConfig(engine=trial_engine)) as sim:
+    with create_simulator(trial_config or SimConfig(engine=trial_engine)) as sim:
         intact = evaluate_gait(
             preset('control'), sim, collisions_fatal=False, failed_legs=()
         ).speed

@@ -199,3 +199,25 @@ def test_the_ceilings_command_caches_every_kind_of_damage_asked_for(tmp_path, ca
         main([*args, '--damage-kind', 'melted'])
     with pytest.raises(SystemExit):  # an approximation is never counted as a cached ceiling
         main([*args, '--missing', '--top', '10'])
+
+
+def test_trials_run_on_the_engine_settings_asked_for():
+    """trial_config: another engine's trials at another step; a contradiction is refused."""
+    from hexapod_adapt.mapping.archive import load_archive
+    from hexapod_adapt.online.adaptation import run_experiment
+    from hexapod_adapt.online.mboa import MboaConfig
+    from hexapod_gait import preset
+    from hexapod_sim import create_simulator, evaluate_gait, SimConfig
+    from hexapod_sim.damage import Damage
+
+    archive = load_archive(DEMO_MAP)  # made on PyBullet
+    four = SimConfig.converged('mujoco')
+    rows = run_experiment(archive, ('S2',), config=MboaConfig(max_trials=2), trial_config=four)
+    with create_simulator(four) as sim:
+        damaged = evaluate_gait(
+            preset('control'), sim, collisions_fatal=False, failed_legs=Damage.lifted([1, 4])
+        ).speed
+    assert rows[0].trial_engine == 'mujoco'
+    assert rows[0].control_speed == damaged  # the tripod walked on MuJoCo at 4 substeps
+    with pytest.raises(ValueError, match='disagree'):
+        run_experiment(archive, ('S2',), trial_engine='dart', trial_config=four)
