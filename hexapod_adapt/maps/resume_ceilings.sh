@@ -40,12 +40,10 @@ source "$repo/scripts/fixed_worktree.sh"
 problems="$(python - "$map" <<'PY'
 import sys
 
-from hexapod_adapt.mapping.archive import compatibility_problems, load_archive
-from hexapod_adapt.mapping.simulation import archive_engine, simulation_fingerprint
+from hexapod_adapt.mapping.archive import load_archive
+from hexapod_adapt.mapping.simulation import default_settings_problems
 
-archive = load_archive(sys.argv[1])
-want = simulation_fingerprint(archive_engine(archive.metadata) or 'mujoco')['simulator']
-print('; '.join(compatibility_problems(archive, {'simulator': want})))
+print('; '.join(default_settings_problems(load_archive(sys.argv[1]))))
 PY
 )"
 if [ -n "$problems" ]; then

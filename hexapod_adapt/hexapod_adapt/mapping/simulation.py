@@ -16,6 +16,7 @@ from pathlib import Path
 import time
 from typing import Any
 
+from hexapod_adapt.mapping.archive import Archive, compatibility_problems
 from hexapod_description import urdf_path
 from hexapod_gait import GENOTYPE_MAPPING_VERSION
 from hexapod_sim import create_simulator, evaluate_gaits, SimConfig, Simulator, validate_engine
@@ -158,6 +159,19 @@ def simulation_fingerprint(
     if guards is not None and guards.active:
         out['walk_guards'] = asdict(guards)
     return out
+
+
+def default_settings_problems(archive: Archive) -> list[str]:
+    """
+    Say how the simulator a map was made on differs from its engine's default here.
+
+    Empty if it does not. A ceiling or a bank walks the map's gaits on the engine's default, so a
+    map made on other settings (``generate_map --substeps``) waits for a library whose default
+    is the map's (resume_ceilings.sh asks).
+    """
+    engine = archive_engine(archive.metadata) or DEFAULT_MAP_ENGINE
+    want = simulation_fingerprint(engine)['simulator']
+    return compatibility_problems(archive, {'simulator': want})
 
 
 def archive_engine(metadata: dict[str, Any]) -> str | None:
