@@ -327,27 +327,67 @@ def test_the_robot_path_refuses_goals_when_the_bridge_walks_other_trials(ros, la
     assert nav.alive()
 
 
-def _storm(client, goals, spacing_s):
-    """Send ``goals`` (x, y) ``spacing_s`` apart; return [(sent, answered-time list, future)]."""
-    sent = []
-    for x, y in goals:
-        answered: list[float] = []
-        t = time.monotonic()
-        future = client.send_goal_async(goal_at(x, y))
-        future.add_done_callback(lambda _f, a=answered: a.append(time.monotonic()))
-        sent.append((t, answered, future))
-        time.sleep(spacing_s)
-    return sent
+class StormClient:
+    """
+    An action client sent from and spun by the test's thread alone.
+
+    rclpy's ActionClient races when one thread sends goals while another spins it: a goal
+    answered before send_goal_async returns raised ValueError (ros2/rclpy#1123; once in CI with
+    50 goals in a second).
+    """
+
+    def __init__(self, ros):
+        from rclpy.executors import SingleThreadedExecutor
+
+        self.node = ros.rclpy.create_node('goal_storm', context=ros.context)
+        self.executor = SingleThreadedExecutor(context=ros.context)
+        self.executor.add_node(self.node)
+        self.client = navigate_client(self.node)
+
+    def spin_until(self, predicate, timeout, what='condition'):
+        """Spin until predicate is truthy; AssertionError naming what did not happen."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            value = predicate()
+            if value:
+                return value
+            self.executor.spin_once(timeout_sec=0.005)
+        raise AssertionError(f'timed out after {timeout:g} s waiting for {what}')
+
+    def storm(self, goals, spacing_s):
+        """Send ``goals`` (x, y) ``spacing_s`` apart: [(sent, answered-time list, future)]."""
+        sent = []
+        for x, y in goals:
+            answered: list[float] = []
+            t = time.monotonic()
+            future = self.client.send_goal_async(goal_at(x, y))
+            future.add_done_callback(lambda _f, a=answered: a.append(time.monotonic()))
+            sent.append((t, answered, future))
+            self.spin_until(lambda t=t: time.monotonic() >= t + spacing_s, 1.0)
+        return sent
+
+    def close(self):
+        self.executor.shutdown()
+        self.node.destroy_node()
 
 
 def test_a_goal_storm_is_answered_at_once_and_only_the_newest_is_walked(ros, graph):
     nav, client = graph
     odom = ros.collect(Odometry, 'odom', ODOM)
     wait_for(lambda: odom, 30, 'odometry')
+    storm = StormClient(ros)
+    try:
+        _goal_storm(ros, nav, client, storm)
+    finally:
+        storm.close()
+
+
+def _goal_storm(ros, nav, client, storm):
+    assert storm.client.wait_for_server(timeout_sec=30)
     # 50 goals within a second, each preempting the last (the issue's storm)
     goals = [(0.3 + 0.01 * i, 0.1) for i in range(49)] + [(0.5, 0.3)]
-    sent = _storm(client, goals, 0.02)
-    wait_for(lambda: all(a for _, a, _ in sent), 10, 'answers to all 50 goal requests')
+    sent = storm.storm(goals, 0.02)
+    storm.spin_until(lambda: all(a for _, a, _ in sent), 10, 'answers to all 50 goal requests')
     delays = [a[0] - t for t, a, _ in sent]
     print(f'goal responses: slowest {max(delays):.3f} s, median {sorted(delays)[25]:.3f} s')
     assert max(delays) <= 1.0
@@ -355,7 +395,9 @@ def test_a_goal_storm_is_answered_at_once_and_only_the_newest_is_walked(ros, gra
     assert all(h.accepted for h in handles)
     results = [h.get_result_async() for h in handles]
     try:
-        wait_for(lambda: all(r.done() for r in results[:-1]), 30, 'the superseded goals to end')
+        storm.spin_until(
+            lambda: all(r.done() for r in results[:-1]), 30, 'the superseded goals to end'
+        )
     except AssertionError:
         print([i for i, r in enumerate(results) if not r.done()], nav.log()[-4000:])
         raise
@@ -367,13 +409,13 @@ def test_a_goal_storm_is_answered_at_once_and_only_the_newest_is_walked(ros, gra
         r for r, (t, _, _), (t_next, _, _) in zip(older, sent, sent[1:]) if t_next - t < 0.4
     ]
     assert len(stormed) >= 40 and all(r.steps == 0 for r in stormed)
-    wait_for(lambda: results[-1].done(), 120, 'the newest goal')
+    storm.spin_until(lambda: results[-1].done(), 120, 'the newest goal')
     assert results[-1].result().result.reached, results[-1].result().result.reason
     # a normal goal afterwards is accepted and reached
     after = Goal(ros, client, 0.0, 0.0)
     assert after.handle.accepted and after.result()[1].reached
     # Ctrl-C with goals pending ends without a traceback
-    _storm(client, [(1.0 + 0.01 * i, 0.0) for i in range(10)], 0.02)
+    storm.storm([(1.0 + 0.01 * i, 0.0) for i in range(10)], 0.02)
     time.sleep(1.0)
     assert nav.stop() == 0
     log = nav.log()
