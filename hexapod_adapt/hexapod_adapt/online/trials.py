@@ -79,12 +79,18 @@ class SampleLog(Generic[T]):
 class OdomLog(SampleLog[OdomSample]):
     """The odometry received so far."""
 
-    def peak_tilt_since(self, stamp_ns: int) -> float:
-        """Return the largest tilt [rad] of the samples stamped at or after ``stamp_ns`` (0)."""
+    def peak_tilt_after(self, stamp_ns: int) -> float:
+        """
+        Return the largest tilt [rad] of the samples stamped after ``stamp_ns`` (0 if none).
+
+        Strictly after: sim_node may publish two samples stamped with a reset's time, the
+        scheduled one from before the reset (a robot still on its back after a tipped trial)
+        and then the pose at the origin, which has no tilt to miss.
+        """
         peak = 0.0
         with self._lock:
             for s in reversed(self._samples):  # newest first: a trial's samples are the last
-                if s.stamp_ns < stamp_ns:
+                if s.stamp_ns <= stamp_ns:
                     break
                 peak = max(peak, s.tilt)
         return peak
@@ -267,12 +273,12 @@ class SimTrials:
             wait(
                 lambda: (
                     (s := self.odom.latest()) is not None
-                    and (s.stamp_ns >= end or self.odom.peak_tilt_since(t0) > self.tip_guard)
+                    and (s.stamp_ns >= end or self.odom.peak_tilt_after(t0) > self.tip_guard)
                 ),
                 timeout,
                 f'{self.timing.walking:g} s of simulated odometry',
             )
-            peak = self.odom.peak_tilt_since(t0)
+            peak = self.odom.peak_tilt_after(t0)
             if peak > self.tip_guard:
                 self.port.stand()
                 return TrialOutcome(0.0, True, peak)

@@ -91,9 +91,10 @@ def test_the_logs_give_the_peak_tilt_of_a_trial():
     odom = OdomLog()
     for k, tilt in enumerate([0.1, 0.7, 0.2]):
         odom.append(OdomSample(1000 + k, 0.0, 0.0, 0.0, 0.0, float(k), tilt=tilt))
-    assert odom.peak_tilt_since(1000) == pytest.approx(0.7)
-    assert odom.peak_tilt_since(1002) == pytest.approx(0.2)
-    assert odom.peak_tilt_since(5000) == 0.0
+    assert odom.peak_tilt_after(999) == pytest.approx(0.7)
+    assert odom.peak_tilt_after(1001) == pytest.approx(0.2)
+    assert odom.peak_tilt_after(1002) == 0.0
+    assert odom.peak_tilt_after(5000) == 0.0
     tilts = TiltLog()
     for k, tilt in enumerate([0.9, 0.1, 0.3]):
         tilts.append(TiltSample(tilt, float(k)))
