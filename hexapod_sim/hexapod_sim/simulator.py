@@ -145,6 +145,21 @@ class SimConfig:
         }
 
 
+def fingerprint_substeps(fingerprint: dict[str, Any]) -> int | None:
+    """
+    Return the physics steps per row a :meth:`SimConfig.fingerprint` records (None if unknown).
+
+    A MuJoCo fingerprint without them was made at 1 (the fingerprint leaves 1 out).
+    """
+    settings = fingerprint.get('settings')
+    if not isinstance(settings, dict):
+        return None
+    substeps = settings.get('substeps')
+    if substeps is None and fingerprint.get('engine') == 'mujoco':
+        return 1
+    return substeps if isinstance(substeps, int) and substeps > 0 else None
+
+
 @dataclass
 class StepReport:
     """What happened in the last step (reused object; copy what you keep)."""

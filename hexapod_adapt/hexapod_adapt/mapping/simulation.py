@@ -16,11 +16,12 @@ from pathlib import Path
 import time
 from typing import Any
 
-from hexapod_adapt.mapping.archive import Archive, compatibility_problems
+from hexapod_adapt.mapping.archive import Archive
 from hexapod_description import urdf_path
 from hexapod_gait import GENOTYPE_MAPPING_VERSION
 from hexapod_sim import create_simulator, evaluate_gaits, SimConfig, Simulator, validate_engine
 from hexapod_sim.evaluation import EvaluationResult, failure, TRIAL_DURATION
+from hexapod_sim.simulator import fingerprint_substeps
 import numpy as np
 
 #: Engine used for maps unless told otherwise: MuJoCo, ~7x cheaper per evaluation than PyBullet.
@@ -161,17 +162,19 @@ def simulation_fingerprint(
     return out
 
 
-def default_settings_problems(archive: Archive) -> list[str]:
+def map_substeps(archive: Archive, engine: str) -> int:
     """
-    Say how the simulator a map was made on differs from its engine's default here.
+    Return the physics steps per row ``archive`` was made at on ``engine`` (0: the default).
 
-    Empty if it does not. A ceiling or a bank walks the map's gaits on the engine's default, so a
-    map made on other settings (``generate_map --substeps``) waits for a library whose default
-    is the map's (resume_ceilings.sh asks).
+    What is derived from a map's gaits on the engine that made it (its ceilings, the damage
+    prior) walks them in the map's physics, whatever this library's default: a map made with
+    ``generate_map --substeps 4`` is re-scored at 4. 0 when the map was made on another engine
+    or does not say.
     """
-    engine = archive_engine(archive.metadata) or DEFAULT_MAP_ENGINE
-    want = simulation_fingerprint(engine)['simulator']
-    return compatibility_problems(archive, {'simulator': want})
+    simulator = archive.metadata.get('simulator')
+    if not isinstance(simulator, dict) or simulator.get('engine') != engine:
+        return 0
+    return fingerprint_substeps(simulator) or 0
 
 
 def archive_engine(metadata: dict[str, Any]) -> str | None:

@@ -32,7 +32,7 @@ import zipfile
 import zlib
 
 from hexapod_adapt.mapping.archive import Archive
-from hexapod_adapt.mapping.simulation import simulation_fingerprint, worker_simulator
+from hexapod_adapt.mapping.simulation import map_substeps, simulation_fingerprint, worker_simulator
 from hexapod_sim import evaluate_gaits
 from hexapod_sim.damage import as_damage, Damage, LegDamage
 from hexapod_sim.evaluation import EVALUATION_VERSION
@@ -105,7 +105,8 @@ def ceiling_key(archive: Archive, damage: Damage | Sequence[int], engine: str) -
     existed, so the shipped cache stays valid; any other damage adds its description.
     """
     damage = as_damage(damage)
-    fp = simulation_fingerprint(engine)
+    # on the map's own engine at the map's physics steps (map_substeps), as it is computed
+    fp = simulation_fingerprint(engine, substeps=map_substeps(archive, engine))
     key = {
         'format': FORMAT,
         'map_sha256': map_digest(archive),
@@ -147,15 +148,32 @@ def cache_path(directory: str | os.PathLike, key: dict) -> Path:
     return Path(directory) / f'ceiling_{key["engine"]}_legs{legs}{kinds}{subset}_{digest}.npz'
 
 
-def evaluate_part(args: tuple[str, Damage, float, np.ndarray]) -> np.ndarray:
-    """Return the speeds of some gaits ``(engine, damage, duration, genotypes)`` (a pool job)."""
-    engine, damage, duration, genes = args
+@dataclass(frozen=True)
+class Rescoring:
+    """How a map's gaits are walked under a damage (a pool job's settings)."""
+
+    engine: str
+    substeps: int  # physics steps per row: the map's on its own engine, else 0 (the default)
+    damage: Damage
+    duration: float  # [s] the map's trial
+
+    @classmethod
+    def of(cls, archive: Archive, damage: Damage | Sequence[int], engine: str) -> 'Rescoring':
+        """Return how ``archive``'s gaits are walked under ``damage`` on ``engine``."""
+        return cls(
+            engine, map_substeps(archive, engine), as_damage(damage), archive.trial_duration
+        )
+
+
+def evaluate_part(args: tuple[Rescoring, np.ndarray]) -> np.ndarray:
+    """Return the speeds of some gaits ``(how, genotypes)`` (a pool job)."""
+    how, genes = args
     results = evaluate_gaits(
         list(genes),
-        worker_simulator(engine),
-        duration=duration,
+        worker_simulator(how.engine, how.substeps),
+        duration=how.duration,
         collisions_fatal=False,
-        failed_legs=damage,
+        failed_legs=how.damage,
     )
     return np.array([r.speed for r in results])
 
@@ -177,11 +195,8 @@ def compute_ceiling(
     damage = as_damage(damage)
     niches = archive.elite_indices() if niches is None else np.asarray(niches, dtype=int)
     genes = archive.genotypes[niches]
-    jobs = [
-        (engine, damage, archive.trial_duration, part)
-        for part in np.split(genes, range(chunk, len(genes), chunk))
-        if len(part)
-    ]
+    how = Rescoring.of(archive, damage, engine)
+    jobs = [(how, part) for part in np.split(genes, range(chunk, len(genes), chunk)) if len(part)]
     parts: list[np.ndarray] = []
 
     def collect(results: Iterable[np.ndarray]) -> None:

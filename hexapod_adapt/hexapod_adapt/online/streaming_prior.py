@@ -22,7 +22,13 @@ import time
 from typing import Callable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive
-from hexapod_adapt.online.ceiling import cached_ceiling, Ceiling, evaluate_part, store_ceiling
+from hexapod_adapt.online.ceiling import (
+    cached_ceiling,
+    Ceiling,
+    evaluate_part,
+    Rescoring,
+    store_ceiling,
+)
 from hexapod_sim.damage import Damage
 from hexapod_util.processes import die_with_parent
 import numpy as np
@@ -98,10 +104,10 @@ class StreamingPrior:
     def _run(self, order: np.ndarray, workers: int) -> None:
         genes = self.archive.genotypes[self.archive.elite_indices()]
         parts = np.array_split(order, range(CHUNK, len(order), CHUNK))
-        job = (self.engine, self.damage, self.archive.trial_duration)
+        how = Rescoring.of(self.archive, self.damage, self.engine)
         try:
             with cf.ProcessPoolExecutor(max(1, workers), initializer=_lower_priority) as pool:
-                futures = [pool.submit(evaluate_part, (*job, genes[idx])) for idx in parts]
+                futures = [pool.submit(evaluate_part, (how, genes[idx])) for idx in parts]
                 for idx, future in zip(parts, futures):
                     speeds = future.result()
                     with self._cond:

@@ -331,14 +331,3 @@ def test_walk_guards_refuse_nonsense_and_say_why_a_gait_fails():
     assert 'tilted 40 deg' in guards.problem(walks)
     assert WalkGuards(min_feet=3.0).problem(walks) == ''
     assert 'walk_guards' not in simulation_fingerprint('mujoco', WalkGuards())
-
-
-def test_a_map_made_on_other_engine_settings_is_told_apart_from_the_default():
-    """resume_ceilings.sh computes no ceilings of a map the engine's default would not remake."""
-    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
-    from hexapod_adapt.mapping.simulation import default_settings_problems
-
-    archive = load_archive(shipped_map(DEFAULT_MAP))
-    assert default_settings_problems(archive) == []
-    archive.metadata['simulator']['settings']['substeps'] = 4  # generate_map --substeps 4
-    assert default_settings_problems(archive)

@@ -52,6 +52,38 @@ def test_the_ceiling_is_every_gait_evaluated_with_the_damage(small_map):
     assert result.beating(-1.0) == len(brute)
 
 
+def test_a_map_is_rescored_in_the_physics_that_made_it(small_map):
+    """A map made at 4 MuJoCo steps per row (generate_map --substeps 4) is re-scored at 4."""
+    from hexapod_adapt.mapping.simulation import map_sim_config, map_substeps
+
+    def made_at(substeps):
+        fingerprint = map_sim_config('mujoco', substeps).fingerprint()
+        a = small_map
+        return Archive(
+            a.centroids,
+            a.fitness,
+            a.descriptors,
+            a.genotypes,
+            {**a.metadata, 'simulator': fingerprint},
+        )
+
+    one, four = made_at(1), made_at(4)
+    assert map_substeps(four, 'mujoco') == 4 and map_substeps(four, 'pybullet') == 0
+    assert map_substeps(one, 'mujoco') == 1  # its fingerprint leaves 1 out, as before substeps
+    assert map_substeps(small_map, 'mujoco') == 0  # a PyBullet map: MuJoCo's default
+    niches = four.elite_indices()[:3]
+    with create_simulator(map_sim_config('mujoco', 4)) as sim:
+        at_four = [
+            evaluate_gait(four.genotypes[n], sim, collisions_fatal=False, failed_legs=[2]).speed
+            for n in niches
+        ]
+    result = compute_ceiling(four, [2], 'mujoco', niches=niches)
+    np.testing.assert_array_equal(result.speeds, at_four)
+    at_one = compute_ceiling(one, [2], 'mujoco', niches=niches).speeds
+    assert not np.array_equal(at_one, at_four)  # the steps made a difference to these gaits
+    assert ceiling_key(four, [2], 'mujoco') != ceiling_key(one, [2], 'mujoco')
+
+
 def test_a_cached_ceiling_is_reused_and_a_damaged_one_recomputed(small_map, tmp_path):
     first = ceiling(small_map, [2], 'mujoco', cache_dir=tmp_path)
     path = cache_path(tmp_path, ceiling_key(small_map, [2], 'mujoco'))
