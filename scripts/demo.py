@@ -49,10 +49,10 @@ def main(argv: list[str] | None = None) -> int:
     out = parser.parse_args(argv).out
     from hexapod_adapt.mapping.archive import load_archive
     from hexapod_adapt.mapping.maps import shipped_map
-    from hexapod_adapt.mapping.simulation import archive_engine
+    from hexapod_adapt.mapping.simulation import archive_engine, map_sim_config, map_substeps
     from hexapod_description import load_model, summary
     from hexapod_gait import preset
-    from hexapod_sim import create_simulator, evaluate_gait, SimConfig
+    from hexapod_sim import create_simulator, evaluate_gait
     from hexapod_util.processes import die_with_parent
     from hexapod_util.recording import read_messages
     from hexapod_util.ros_glue import ros_args
@@ -65,6 +65,7 @@ def main(argv: list[str] | None = None) -> int:
     path = shipped_map()  # what adapt_node loads by default
     archive = load_archive(path)
     engine = archive_engine(archive.metadata) or 'pybullet'
+    substeps = map_substeps(archive, engine)  # the physics steps per row the map was made at
     s = archive.stats()
     speeds = archive.speeds()[archive.filled]
     print(
@@ -77,7 +78,7 @@ def main(argv: list[str] | None = None) -> int:
 
     legs = ' and '.join(map(str, FAILED_LEGS))
     section(f'damage: legs {legs} fail')
-    with create_simulator(SimConfig(engine=engine)) as sim:
+    with create_simulator(map_sim_config(engine, substeps)) as sim:
         intact = evaluate_gait(preset('control'), sim, collisions_fatal=False).speed
         damaged = evaluate_gait(
             preset('control'), sim, collisions_fatal=False, failed_legs=FAILED_LEGS
@@ -117,7 +118,8 @@ def main(argv: list[str] | None = None) -> int:
             'sim_node',
             real_time_factor=0.0,
             failed_legs=FAILED_LEGS,
-            engine=engine,  # trials on the engine that made the map
+            engine=engine,  # trials on the engine that made the map, at its steps per row
+            substeps=substeps,
         ),
         # no archive parameter: the default map
         start('hexapod_adapt', 'adapt_node', record_dir=str(out / 'runs'), use_sim_time=True),

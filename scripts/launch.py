@@ -47,16 +47,24 @@ def pump(name: str, stream) -> None:
         sys.stdout.flush()
 
 
-def map_engine(archive: str | None) -> str | None:
-    """Return the engine that made ``archive`` (None/'' = the default map); None if unreadable."""
+def map_physics(archive: str | None, engine: str | None) -> tuple[str | None, int]:
+    """
+    Return sim_node's engine and physics steps per row for ``archive`` (None/'' = the default map).
+
+    The engine: ``engine`` if given, else the map's. The steps: the map's on that engine (0, the
+    engine's default, on another or if the map is unreadable: adapt_node refuses it with the
+    reason, and sim_node keeps its defaults).
+    """
     from hexapod_adapt.mapping.archive import ArchiveError, load_archive
     from hexapod_adapt.mapping.maps import shipped_map
-    from hexapod_adapt.mapping.simulation import archive_engine
+    from hexapod_adapt.mapping.simulation import archive_engine, map_substeps
 
     try:
-        return archive_engine(load_archive(archive or shipped_map()).metadata)
-    except ArchiveError:  # adapt_node refuses it with the reason; sim_node keeps its default
-        return None
+        loaded = load_archive(archive or shipped_map())
+    except ArchiveError:
+        return engine, 0
+    engine = engine or archive_engine(loaded.metadata)
+    return engine, map_substeps(loaded, engine) if engine else 0
 
 
 def simulated_profile(profile: str) -> bool:
@@ -160,9 +168,11 @@ def main(argv: list[str] | None = None) -> int:
     leg_map = {'leg_map': args.leg_map} if args.leg_map is not None else {}
 
     commands: list[tuple[str, list[str]]] = []
+    substeps = 0  # sim_node's physics steps per row (0: the engine's default)
     if args.profile == 'adapt-sim':
         args.rtf, args.preset = 0.0, ''
-        args.engine = args.engine or map_engine(args.archive)  # trials on the map's engine
+        # trials on the map's engine, at the physics steps per row it was made at
+        args.engine, substeps = map_physics(args.archive, args.engine)
     if args.profile == 'navigate-sim':
         # the repertoire's engine; real time by default (--rtf): steps follow each other unplanned
         # walking between them grows with the speed-up
@@ -178,6 +188,8 @@ def main(argv: list[str] | None = None) -> int:
         sim_params = {} if args.rtf is None else {'real_time_factor': args.rtf}
         if args.engine:
             sim_params['engine'] = args.engine
+        if substeps:
+            sim_params['substeps'] = substeps
         if args.failed_legs:
             sim_params['failed_legs'] = args.failed_legs
         # one time base: every node but the clock source (sim_node) runs on sim time

@@ -20,6 +20,7 @@ from launch import LaunchDescription
 
 SIM = {
     'engine': "sim_node's physics engine (the map's: mujoco made the shipped default map)",
+    'substeps': "sim_node's physics steps per 240 Hz row (the map's; 0: the engine's default)",
     'failed_legs': "legs (1-6) lifted in the simulator, e.g. '[1]'",
 }
 ADAPT = {

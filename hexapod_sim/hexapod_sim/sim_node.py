@@ -84,6 +84,16 @@ PARAMETERS = (
         range=(0.0, 10.0),
     ),
     ParamSpec(
+        'substeps',
+        0,
+        "Physics steps per 240 Hz row, the row's target held through them (0: the engine's"
+        ' default). A map made at N steps per row (its fingerprint says: the default map is'
+        ' MuJoCo at 4) walks here as it did in the map at N; docs/simulator.md, "Where the'
+        ' engines differ", item 6, gives each engine\'s converged step.',
+        read_only=True,
+        range=(0, 64),
+    ),
+    ParamSpec(
         'failed_legs',
         Parameter.Type.INTEGER_ARRAY,
         'Legs (1..6, at most two) failed at start-up',
@@ -126,7 +136,9 @@ class SimNode(Node):
             raise ValueError(f'parameter real_time_factor must be in [0, 100], got {rtf}')
         engine, friction = str(values['engine']), values['friction']  # friction None: unset
         friction = None if friction is None else float(friction)
-        self.sim = create_simulator(SimConfig(engine, friction, gui=bool(values['gui'])))
+        config = SimConfig(engine, friction, gui=bool(values['gui']))
+        substeps = int(values['substeps'])
+        self.sim = create_simulator(config.with_substeps(substeps) if substeps else config)
         self.odom_frame = str(values['odom_frame'])
         self.base_frame = str(values['base_frame'])
 
@@ -196,7 +208,7 @@ class SimNode(Node):
         watch_for_duplicates(self, lambda text: self._status(DiagnosticStatus.ERROR, text))
         self.get_logger().info(
             f'simulating with the {engine} engine at real_time_factor {rtf:g}, state every '
-            f'{self.loop.period_steps} steps'
+            f'{self.loop.period_steps} steps, {self.sim.settings.substeps} physics step(s) a step'
         )
 
     # -- parameters / callbacks (executor threads) ---------------------------------------------

@@ -49,7 +49,7 @@ def _ns(stamp) -> int:
     return stamp.sec * 1_000_000_000 + stamp.nanosec
 
 
-def _gaits_with_library_speeds(n_random: int, engine: str) -> list[tuple[object, float]]:
+def _gaits_with_library_speeds(n_random: int, config: SimConfig) -> list[tuple[object, float]]:
     """
     Presets plus random reachable gaits that move (|speed| >= 0.03 m/s).
 
@@ -57,7 +57,7 @@ def _gaits_with_library_speeds(n_random: int, engine: str) -> list[tuple[object,
     the node).
     """
     chosen = []
-    with create_simulator(SimConfig(engine=engine)) as sim:
+    with create_simulator(config) as sim:
         for name in ('tripod', 'wave', 'quadruped'):
             gait = preset(name)
             chosen.append((gait, evaluate_gait(gait, sim, collisions_fatal=False).speed))
@@ -71,15 +71,19 @@ def _gaits_with_library_speeds(n_random: int, engine: str) -> list[tuple[object,
     return chosen
 
 
-@pytest.mark.parametrize('engine,n_random', [('pybullet', 18), ('mujoco', 10), ('dart', 3)])
-def test_graph_trials_match_library_speeds(ros, launch, engine, n_random):
-    gaits = _gaits_with_library_speeds(n_random, engine)
-    assert len(gaits) == 3 + n_random
-    sim = launch(
-        'hexapod_sim',
-        'sim_node',
-        params={'real_time_factor': 0.0, 'publish_period_steps': 24, 'engine': engine},
+@pytest.mark.parametrize(
+    'engine,substeps,n_random',
+    [('pybullet', 0, 18), ('mujoco', 0, 10), ('mujoco', 4, 5), ('dart', 0, 3)],
+)
+def test_graph_trials_match_library_speeds(ros, launch, engine, substeps, n_random):
+    """sim_node's ``substeps`` (0: the engine's default) runs the library's engine at them."""
+    config = SimConfig(engine=engine)
+    gaits = _gaits_with_library_speeds(
+        n_random, config.with_substeps(substeps) if substeps else config
     )
+    assert len(gaits) == 3 + n_random
+    params = {'real_time_factor': 0.0, 'publish_period_steps': 24, 'engine': engine}
+    sim = launch('hexapod_sim', 'sim_node', params={**params, 'substeps': substeps})
     gait_node = launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
     odom = ros.collect(Odometry, 'odom', ODOM_QOS)
     active = ros.collect(Header, 'sim/active_trajectory', LATCHED)

@@ -34,6 +34,7 @@ JOINTS = [f'joint_{leg}_{k}' for leg in range(1, 7) for k in (1, 2, 3)]
         ('real_time_factor', float('nan'), 'real_time_factor out of range Min: 0.0, Max: 100.0'),
         ('real_time_factor', 500.0, 'real_time_factor out of range Min: 0.0, Max: 100.0'),
         ('publish_period_steps', -1, 'publish_period_steps out of range. Min: 0, Max: 240'),
+        ('substeps', 65, 'substeps out of range. Min: 0, Max: 64'),
         ('failed_legs', [7], 'leg 7 does not exist: legs are numbered 1..6'),
         ('failed_legs', [1, 2, 3], 'at most 2 legs can fail'),
         ('engine', 'ode', "unknown physics engine 'ode'; choose one of: pybullet, mujoco"),

@@ -224,6 +224,20 @@ def test_each_launch_file_takes_a_parameter_file_and_its_arguments_are_node_para
         assert node in config, f'{path.name}: its default file {files[0]} does not name {node}'
 
 
+def test_the_adapt_sim_file_runs_the_shipped_default_maps_physics():
+    """adapt.yaml's sim_node walks trials on the engine and steps per row that made the map."""
+    from hexapod_adapt.mapping.archive import load_archive
+    from hexapod_adapt.mapping.maps import shipped_map
+    from hexapod_adapt.mapping.simulation import archive_engine, map_substeps
+    import yaml
+
+    sim = yaml.safe_load((WS / 'hexapod_adapt/config/adapt.yaml').read_text())['sim_node']
+    archive = load_archive(shipped_map())
+    engine = archive_engine(archive.metadata)
+    assert sim['ros__parameters']['engine'] == engine
+    assert sim['ros__parameters']['substeps'] == map_substeps(archive, engine)
+
+
 #: Each launcher profile: its options, a parameter file of its package, the nodes it starts, and
 #: a parameter that file sets (changed in the test's copy), with the option that wins over it.
 PROFILE_FILES = {
