@@ -221,3 +221,32 @@ def test_trials_run_on_the_engine_settings_asked_for():
     assert rows[0].control_speed == damaged  # the tripod walked on MuJoCo at 4 substeps
     with pytest.raises(ValueError, match='disagree'):
         run_experiment(archive, ('S2',), trial_engine='dart', trial_config=four)
+
+
+@pytest.mark.slow
+def test_trials_on_the_maps_engine_run_at_the_maps_steps_per_row():
+    """A map made at 4 MuJoCo steps per row is adapted at 4 by default (map_substeps)."""
+    from hexapod_adapt.mapping.archive import Archive, load_archive
+    from hexapod_adapt.mapping.simulation import map_sim_config
+    from hexapod_adapt.online.adaptation import run_experiment
+    from hexapod_adapt.online.mboa import MboaConfig
+    from hexapod_gait import preset
+    from hexapod_sim import create_simulator, evaluate_gait
+    from hexapod_sim.damage import Damage
+
+    demo = load_archive(DEMO_MAP)
+    four = map_sim_config('mujoco', 4)
+    archive = Archive(
+        demo.centroids,
+        demo.fitness,
+        demo.descriptors,
+        demo.genotypes,
+        {**demo.metadata, 'simulator': four.fingerprint()},
+    )
+    rows = run_experiment(archive, ('S2',), config=MboaConfig(max_trials=2))
+    with create_simulator(four) as sim:
+        damaged = evaluate_gait(
+            preset('control'), sim, collisions_fatal=False, failed_legs=Damage.lifted([1, 4])
+        ).speed
+    assert rows[0].map_engine == rows[0].trial_engine == 'mujoco'
+    assert rows[0].control_speed == damaged
