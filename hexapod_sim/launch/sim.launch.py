@@ -18,6 +18,7 @@ from launch import LaunchDescription
 
 SIM = {
     'engine': 'physics engine: pybullet | mujoco | dart (the judge)',
+    'substeps': "physics steps per 1/240 s step; 0 = the engine's default",
     'real_time_factor': 'simulated s per wall s; 0.0 = as fast as possible',
     'failed_legs': "legs (1-6) lifted in the failure pose, e.g. '[1, 4]'",
     'publish_period_steps': 'state every N 1/240 s steps; 0 = automatic',
