@@ -10,6 +10,7 @@ python scripts/bench.py all|gait|sim|map|adapt|bridge|navigate|firmware
 from __future__ import annotations
 
 import importlib.util
+import os
 from pathlib import Path
 import sys
 import time
@@ -262,6 +263,13 @@ def _port_loss_latencies(cycles: int = 10) -> tuple[list[float], list[float]]:
     return down, up
 
 
+def _bench_map() -> Path:
+    """Return the map ``make bench-map`` measures: the shipped default map, or ``BENCH_MAP``."""
+    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+
+    return Path(os.environ.get('BENCH_MAP') or shipped_map(DEFAULT_MAP))
+
+
 def _default_map_figures() -> None:
     """
     The shipped default map's own figures, from its metadata and its generation log.
@@ -273,10 +281,9 @@ def _default_map_figures() -> None:
     machine was busy with other work too.
     """
     from hexapod_adapt.mapping.archive import load_archive
-    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
     from hexapod_adapt.mapping.plots import log_runs
 
-    path = shipped_map(DEFAULT_MAP)
+    path = _bench_map()
     archive = load_archive(path)
     speeds = archive.speeds()[archive.elite_indices()]
     runs = log_runs(path.with_name(path.name + '.log.jsonl'))
@@ -299,13 +306,12 @@ def _transfer_figures() -> None:
     as map_judge_...) and PyBullet (map_pybullet_...), or any other that did not make the map.
     """
     from hexapod_adapt.mapping.archive import load_archive
-    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
     from hexapod_adapt.mapping.simulation import archive_engine
     from hexapod_adapt.mapping.transfer import transfer_figures
     from hexapod_sim import create_simulator, ENGINES, SimConfig
     from hexapod_sim.simulator import JUDGE_ENGINE
 
-    archive = load_archive(shipped_map(DEFAULT_MAP))
+    archive = load_archive(_bench_map())
     made_on = archive_engine(archive.metadata)
     for engine in (e for e in ENGINES if e != made_on):
         name = 'judge' if engine == JUDGE_ENGINE else engine
@@ -321,6 +327,7 @@ def bench_map() -> None:
     """
     The default map's own figures and those on other engines, then the generator's speed.
 
+    ``BENCH_MAP=path`` measures another map's figures (e.g. one not shipped yet).
     map_evals_per_s_mujoco and map_worker_utilisation_mujoco.
 
     A generate_map run from scratch on 2 local worker processes with the MuJoCo engine (batches of
