@@ -17,7 +17,8 @@ import sys
 from hexapod_adapt.mapping.archive import load_archive
 
 meta = load_archive(sys.argv[1]).metadata
-made_by = meta.get('map_elites', {}).get('emitters')
+# iso_line's maps do not record it (MapElitesConfig.identity: their identity predates emitters)
+made_by = meta.get('map_elites', {}).get('emitters', 'iso_line')
 same = not sys.argv[2] or made_by == sys.argv[2]
 print(int(meta.get('evaluations', 0)) if same else 0)
 PY
