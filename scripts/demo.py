@@ -49,7 +49,7 @@ def main(argv: list[str] | None = None) -> int:
     out = parser.parse_args(argv).out
     from hexapod_adapt.mapping.archive import load_archive
     from hexapod_adapt.mapping.maps import shipped_map
-    from hexapod_adapt.mapping.simulation import archive_engine, map_sim_config, map_substeps
+    from hexapod_adapt.mapping.simulation import archive_engine, map_physics, map_substeps
     from hexapod_description import load_model, summary
     from hexapod_gait import preset
     from hexapod_sim import create_simulator, evaluate_gait
@@ -78,7 +78,7 @@ def main(argv: list[str] | None = None) -> int:
 
     legs = ' and '.join(map(str, FAILED_LEGS))
     section(f'damage: legs {legs} fail')
-    with create_simulator(map_sim_config(engine, substeps)) as sim:
+    with create_simulator(map_physics(archive, engine)) as sim:
         intact = evaluate_gait(preset('control'), sim, collisions_fatal=False).speed
         damaged = evaluate_gait(
             preset('control'), sim, collisions_fatal=False, failed_legs=FAILED_LEGS

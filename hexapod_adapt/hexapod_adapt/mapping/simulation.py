@@ -177,6 +177,11 @@ def map_substeps(archive: Archive, engine: str) -> int:
     return fingerprint_substeps(simulator) or 0
 
 
+def map_physics(archive: Archive, engine: str) -> SimConfig:
+    """Return ``engine`` as ``archive``'s gaits are walked on it: at the map's steps per row."""
+    return map_sim_config(engine, map_substeps(archive, engine))
+
+
 def archive_engine(metadata: dict[str, Any]) -> str | None:
     """Return the engine that made an archive, from its metadata (None if it does not say)."""
     simulator = metadata.get('simulator')

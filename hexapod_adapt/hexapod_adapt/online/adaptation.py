@@ -17,7 +17,7 @@ import time
 from typing import Callable, Sequence, TYPE_CHECKING
 
 from hexapod_adapt.mapping.archive import Archive
-from hexapod_adapt.mapping.simulation import archive_engine, map_sim_config, map_substeps
+from hexapod_adapt.mapping.simulation import archive_engine, map_physics
 from hexapod_adapt.online.mboa import Mboa, MboaConfig, MIN_SPEED_RANGE, StopReason, Trial
 from hexapod_gait import preset
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig, Simulator
@@ -326,7 +326,7 @@ def run_experiment(
     Adapt in every orientation of each failure scenario (library trials in the simulator,
     collisions not fatal), next to the control tripod gait. Trials run on ``trial_engine``
     (default: the engine that made the map) with its default settings, at the map's physics steps
-    per row on the map's own engine (:func:`map_substeps`), or as ``trial_config`` sets it up (its
+    per row on the map's own engine (:func:`map_physics`), or as ``trial_config`` sets it up (its
     engine is then the trial engine). Without ``config``: the thesis's settings
     with :data:`EXPERIMENT_MAX_TRIALS`. With ``ceilings(failed_legs, engine)`` (e.g.
     :func:`hexapod_adapt.online.ceiling.ceiling` over a cache), each row also gets the map's
@@ -355,9 +355,7 @@ def run_experiment(
         trial_engine = trial_config.engine
     trial_engine = trial_engine or map_engine
     rows = []
-    trial_config = trial_config or map_sim_config(
-        trial_engine, map_substeps(archive, trial_engine)
-    )
+    trial_config = trial_config or map_physics(archive, trial_engine)
     with create_simulator(trial_config) as sim:
         intact = evaluate_gait(
             preset('control'), sim, collisions_fatal=False, failed_legs=()
