@@ -10,9 +10,11 @@ adapt/trials and in the run's MCAP recording.
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 from conftest import wait_for
-from hexapod_adapt.mapping.archive import Archive, load_archive
-from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import simulation_fingerprint
 from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
 from hexapod_gait import preset, to_genotype
@@ -25,9 +27,9 @@ import pytest
 
 pytestmark = pytest.mark.ros
 FAILED = [1]
-#: A default-map gait that ends on its back on PyBullet, intact and with leg 1 lifted (the RX
-#: servo since 2026-11-27; gait 18287 did with the position motor and no longer tips).
-TIPPER = 9339
+#: A gait that ends on its back on PyBullet, intact and with leg 1 lifted (frozen: see the file).
+FALLING = Path(__file__).resolve().parents[2] / 'hexapod_adapt/test/data/falling_gaits.json'
+TIPPER = json.loads(FALLING.read_text())['tips_intact_and_leg_1_lifted']['genotype']
 
 
 def _tipper_first(genes, failed_legs, guard, path, margin=0.0):
@@ -61,7 +63,7 @@ def _tipper_first(genes, failed_legs, guard, path, margin=0.0):
 def tipping_archive(tmp_path_factory):
     """Three gaits: the tipper, with the highest map speed, then the control and wave gaits."""
     genes = [
-        load_archive(shipped_map(DEFAULT_MAP)).genotypes[TIPPER],
+        np.array(TIPPER),
         to_genotype(preset('control')),
         to_genotype(preset('wave')),
     ]
@@ -112,7 +114,7 @@ def test_a_trial_that_tips_is_stopped_counted_as_failed_and_never_tried_again(
 def intact_tipping_archive(tmp_path_factory):
     """The tipper (fastest by the map), then the tripod and the wave, measured intact."""
     genes = [
-        load_archive(shipped_map(DEFAULT_MAP)).genotypes[TIPPER],
+        np.array(TIPPER),
         to_genotype(preset('tripod')),
         to_genotype(preset('wave')),
     ]

@@ -242,17 +242,19 @@ def test_the_waiter_stops_for_a_check_and_on_shutdown():
 
 def test_a_gait_that_ends_upside_down_is_a_fall_not_a_walk():
     """
-    On PyBullet this default-map gait ends on its back with leg 1 lifted: a fall, scored 0.
+    On PyBullet this gait ends on its back with leg 1 lifted: a fall, scored 0.
 
-    (Gait 19326 of the 14,607-gait map at friction 1; at 0.49, until 2026-11-27, gait 18287
-    did, which now falls intact too; on the first default map gait 6312 did, sliding 5 m.)
+    (Frozen in test/data/falling_gaits.json: gait 19326 of the CMA-MAE default map of
+    2026-11-25, at friction 1; on the first default map gait 6312 did, sliding 5 m.)
     """
-    from hexapod_adapt.mapping.archive import load_archive
-    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+    import json
+    from pathlib import Path
+
     from hexapod_sim.evaluation import FELL_OVER
     from hexapod_sim.simulator import upside_down
 
-    genes = load_archive(shipped_map(DEFAULT_MAP)).genotypes[19326]
+    falling = Path(__file__).resolve().parents[1] / 'data' / 'falling_gaits.json'
+    genes = json.loads(falling.read_text())['upside_down_leg_1_lifted']['genotype']
     from hexapod_sim import create_simulator, evaluate_gait, SimConfig
 
     with create_simulator(SimConfig(engine='pybullet')) as s:
