@@ -23,10 +23,11 @@ demo-navigate: bootstrap
 	@$(ENV) && python scripts/demo_navigate.py
 
 # The firmware module's STM32F407 cross build first (its flash and RAM as BENCH lines; the host
-# build is part of the colcon build), then every test.
+# build is part of the colcon build), then every test; the 25 slowest are listed at the end (where
+# CI's time goes).
 test: bootstrap
 	@$(MAKE) -s -C firmware arm BUILD=$(CURDIR)/build/hexapod_firmware_arm
-	@$(ENV) && python -m pytest $(PYTEST_ARGS)
+	@$(ENV) && python -m pytest --durations=25 $(PYTEST_ARGS)
 
 test-unit: bootstrap
 	@$(ENV) && python -m pytest hexapod_util/test hexapod_description/test hexapod_gait/test hexapod_sim/test hexapod_bridge/test hexapod_adapt/test hexapod_navigation/test $(PYTEST_ARGS)
