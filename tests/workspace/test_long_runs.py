@@ -262,3 +262,26 @@ def test_make_ceilings_counts_the_cases_the_shipped_cache_lacks():
     assert r.returncode == 0, r.stderr
     # 8 kinds x 21 S1-S4 cases; the lifted ones ship with the map
     assert 0 <= int(r.stdout) <= 8 * 21 - 21
+
+
+def test_a_map_is_not_shipped_before_all_its_ceilings(tmp_path):
+    """ship_map.sh refuses, changing nothing, while a case of make_ceilings.sh is missing."""
+    keep = tmp_path / 'in_progress'
+    (keep / 'ceilings').mkdir(parents=True)
+    shutil.copy(DEMO_MAP, keep / 'default_map.npz')
+    (keep / 'default_map.npz.log.jsonl').write_text('{"evaluations": 1}\n')
+    shipped = WS / 'hexapod_adapt' / 'maps' / 'default_map.npz'
+    before = shipped.read_bytes(), (WS / 'hexapod_adapt' / 'config' / 'adapt.yaml').read_text()
+    r = subprocess.run(
+        ['bash', str(WS / 'hexapod_adapt' / 'maps' / 'ship_map.sh'), str(keep)],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert r.returncode == 1, r.stdout + r.stderr
+    assert f'168 ceiling cases of {keep / "default_map.npz"} are not in' in r.stderr, r.stderr
+    after = shipped.read_bytes(), (WS / 'hexapod_adapt' / 'config' / 'adapt.yaml').read_text()
+    assert after == before and (keep / 'default_map.npz').exists()
+    r = subprocess.run(
+        ['bash', str(WS / 'hexapod_adapt' / 'maps' / 'ship_map.sh'), str(tmp_path / 'none')],
+        capture_output=True, text=True, timeout=60,
+    )  # fmt: skip
+    assert r.returncode == 1 and 'no finished map with its log' in r.stderr
