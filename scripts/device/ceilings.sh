@@ -2,16 +2,18 @@
 # The default map's ceilings on the lent 16-core machine (the `device` tool), with the library
 # at the commit the ceilings are pinned to (hexapod_adapt/maps/in_progress/ceilings/COMMIT,
 # written by resume_ceilings.sh when a new map's ceilings start; the shipped ones were made at
-# 2031cb7: hexapod_adapt/maps/ceilings/README.md).
+# 2031cb7: hexapod_adapt/maps/ceilings/README.md). The map: in_progress/default_map.npz while
+# one is kept there (a map written, not shipped yet), else the shipped one.
 #   bash scripts/device/pack.sh && bash scripts/device/ceilings.sh pack     # here
-#   BUDGET=430 KINDS='shortened no_tibia' bash scripts/device/ceilings.sh run   # there, as the
-#     command of a `run` that carries .whl and .devrun (the working tree must be under 64 MiB:
-#     move studies/out/map_study out of the checkout for the call, then back)
+#   BUDGET=500 KINDS='locked weak' bash scripts/device/ceilings.sh run   # there, as the
+#     command of a `run` that carries .whl and .devrun (the working tree must be under 64 MiB)
 # 'pack' archives the pinned library into .devrun/ceilsrc and copies the cases kept so far into
-# .devrun/done, so the machine skips them. 'run' first recomputes one case kept here (leg 4
-# locked, CHECK) to compare, then the KINDS' missing cases until BUDGET seconds, and leaves
-# everything in one $OUT/res.tar (a call returns at most 8 files). Unpack it here and copy the
-# new ceil/*.npz into in_progress/ceilings and ../ceilgen's cache.
+# .devrun/done, so the machine skips them. 'run' first walks again 160 gaits of a case kept here
+# (S1 leg 1 lifted, CHECK) and compares (recheck.py: a few seconds), then computes the KINDS'
+# missing cases until BUDGET seconds, and leaves them in one $OUT/res.tar (a call returns at
+# most 8 files). Unpack it here (tar xf res.tar) and copy the new ceil/*.npz into
+# in_progress/ceilings and ../ceilgen's cache; name them in in_progress/ceilings/README.md.
+# Seen 2026-11-28: 74-84 s a case of the 6,758-gait map at 4 steps per row, 16 workers.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 keep=hexapod_adapt/maps/in_progress/ceilings
@@ -20,7 +22,7 @@ case "${1:-}" in
     rm -rf .devrun/ceilsrc .devrun/done
     mkdir -p .devrun/ceilsrc .devrun/done
     git archive "$(cat "$keep/COMMIT")" hexapod_adapt hexapod_sim hexapod_description \
-      hexapod_gait | tar x -C .devrun/ceilsrc --exclude='hexapod_adapt/maps/*'
+      hexapod_gait hexapod_util | tar x -C .devrun/ceilsrc --exclude='hexapod_adapt/maps/*'
     cp "$keep"/*.npz .devrun/done/
     du -sh .devrun .whl
     ;;
@@ -28,13 +30,14 @@ case "${1:-}" in
     # shellcheck disable=SC1091
     SRC="$PWD/.devrun/ceilsrc" source scripts/device/setup.sh
     python3 -c "import numpy, mujoco; print('numpy', numpy.__version__, 'mujoco', mujoco.__version__)"
-    map="$PWD/hexapod_adapt/maps/default_map.npz"
-    mkdir -p /tmp/check /tmp/ceil
+    map="$PWD/hexapod_adapt/maps/in_progress/default_map.npz"
+    [ -f "$map" ] || map="$PWD/hexapod_adapt/maps/default_map.npz"
+    mkdir -p /tmp/ceil
     cp .devrun/done/*.npz /tmp/ceil/
-    trap 'tar cf "$OUT/res.tar" -C /tmp check ceil' EXIT
+    trap 'tar cf "$OUT/res.tar" -C /tmp ceil' EXIT
+    python3 scripts/device/recheck.py "$map" "$PWD/$keep" "${CHECK:-1:lifted}" 16 \
+      | tee "$OUT/check.txt"
     cd /tmp
-    python3 -m hexapod_adapt.online.ceilings_cli --archive "$map" --engine mujoco \
-      --damage "${CHECK:-4:locked}" --cache-dir /tmp/check --workers 16
     # shellcheck disable=SC2086  # KINDS is a list
     timeout --signal=INT "${BUDGET:-400}" python3 -m hexapod_adapt.online.ceilings_cli \
       --archive "$map" --engine mujoco --scenarios S1 S2 S3 S4 --damage-kind ${KINDS:-shortened} \
