@@ -1,7 +1,7 @@
 # Copyright 2026 Hexapod adaptation team
 # SPDX-License-Identifier: MIT
 """
-Walk again some gaits of a ceiling case cached elsewhere, and say how far this machine's speeds are.
+Walk some gaits of a ceiling case cached elsewhere again, to compare this machine's speeds.
 
     python3 scripts/device/recheck.py MAP CACHE_DIR DAMAGE [WORKERS] [GAITS]
 
