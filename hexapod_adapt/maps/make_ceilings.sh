@@ -5,8 +5,8 @@
 # finishes; run it again after an interruption until every case prints (cached ones in ~0 s).
 #   nohup nice -n 10 bash hexapod_adapt/maps/make_ceilings.sh > out/ceilings.out 2>&1 &
 # Options are passed on: `bash hexapod_adapt/maps/make_ceilings.sh --missing` prints how many
-# cases the cache lacks and computes nothing. CEILINGS_DIR names another cache (ship_map.sh
-# counts a map's kept cases with it: `--archive MAP --missing`).
+# cases the cache lacks and computes nothing (ship_map.sh counts a kept map's cases in another
+# folder by passing its own cache option after this one's: the last one given is used).
 # (PyBullet approximations, --engine pybullet --top 1000 --guide-engine mujoco, are not shipped:
 # docs/adaptation.md, "Regret against the ceiling", says why.)
 set -eo pipefail   # (no -u: colcon's setup scripts read unset variables)
@@ -14,4 +14,4 @@ cd "$(dirname "$0")/../.."
 source scripts/env.sh
 exec python -m hexapod_adapt.online.ceilings_cli --engine mujoco --scenarios S1 S2 S3 S4 \
   --damage-kind lifted unpowered_coxa unpowered_femur unpowered_tibia locked weak no_tibia \
-  shortened --cache-dir "${CEILINGS_DIR:-hexapod_adapt/maps/ceilings}" --workers "${WORKERS:-2}" "$@"
+  shortened --cache-dir hexapod_adapt/maps/ceilings --workers "${WORKERS:-2}" "$@"

@@ -21,7 +21,8 @@ if [ ! -f "$map" ] || [ ! -f "$map.log.jsonl" ]; then
 fi
 source scripts/env.sh >/dev/null
 mkdir -p "$keep/ceilings"
-missing="$(CEILINGS_DIR="$keep/ceilings" bash "$maps/make_ceilings.sh" --archive "$map" --missing)"
+# make_ceilings.sh's cases, counted in the kept cache (the last --cache-dir given is used)
+missing="$(bash "$maps/make_ceilings.sh" --archive "$map" --missing --cache-dir "$keep/ceilings")"
 if [ "$missing" != 0 ]; then
   echo "$missing ceiling cases of $map are not in $keep/ceilings yet: nothing shipped" >&2
   exit 1
