@@ -12,7 +12,9 @@
 #   resume_default_map.sh resumes from. Once the map is written, it goes there instead
 #   (default_map.npz and its log), to ship with its ceilings.
 # - The ceilings' finished cases in CEILING_WORKTREE (default ../ceilgen, resume_ceilings.sh) go
-#   to CHECKPOINTS/ceilings; the run goes on (a case in progress is recomputed on resume).
+#   to CHECKPOINTS/ceilings, or, once their map has shipped (ship_map.sh), into the shipped cache
+#   (hexapod_adapt/maps/ceilings), packed; the run goes on (a case in progress is recomputed on
+#   resume).
 # - The transfer study's runs in TRANSFER_TREE (default ../transfer-study,
 #   studies/transfer/transfer_study.sh): each checkpoint and log to studies/checkpoints/
 #   transfer_study/ (a checkpoint only when it is further on than the one kept there); a
@@ -86,17 +88,41 @@ elif [ -f "$ckpt" ]; then
 fi
 
 if [ -d "$ceil_tree/hexapod_adapt/maps/ceilings" ]; then
-  mkdir -p "$keep/ceilings"
+  shipped_maps="${SHIPPED_MAPS:-$repo/hexapod_adapt/maps}"  # (another folder in the tests)
+  shipped_cache="$shipped_maps/ceilings"
+  if cmp -s "$ceil_tree/hexapod_adapt/maps/default_map.npz" "$shipped_maps/default_map.npz"; then
+    dest="$shipped_cache"  # the shipped map's: its cache takes them, packed, as they finish
+  else
+    dest="$keep/ceilings"  # a map not shipped yet: kept until it ships with them
+  fi
+  mkdir -p "$dest"
+  # the cases the shipped cache holds, loose or packed
+  shipped_names="$(python3 - "$shipped_cache" <<'EOF'
+import sys, zipfile
+from pathlib import Path
+d = Path(sys.argv[1])
+names = {p.name for p in d.glob('ceiling_*.npz')}
+for pack in d.glob('ceilings_*.zip'):
+    try:
+        names.update(zipfile.ZipFile(pack).namelist())
+    except (OSError, zipfile.BadZipFile):
+        pass
+print('\n'.join(sorted(names)))
+EOF
+)"
   n=0
   for f in "$ceil_tree"/hexapod_adapt/maps/ceilings/*.npz; do
     [ -f "$f" ] || continue
-    [ -f "$repo/hexapod_adapt/maps/ceilings/$(basename "$f")" ] && continue  # shipped already
+    grep -qxF "$(basename "$f")" <<< "$shipped_names" && continue  # shipped already
     # the worktree's own checkout (an older map's shipped cases), not computed there
     git -C "$ceil_tree" ls-files --error-unmatch "${f#"$ceil_tree"/}" >/dev/null 2>&1 && continue
-    copy_atomic "$f" "$keep/ceilings/$(basename "$f")"
+    copy_atomic "$f" "$dest/$(basename "$f")"
     n=$((n + 1))
   done
-  echo "saved $n ceiling cases to $keep/ceilings"
+  if [ "$dest" = "$shipped_cache" ] && [ "$n" != 0 ]; then
+    python -m hexapod_adapt.online.ceilings_cli --cache-dir "$dest" --pack
+  fi
+  echo "saved $n ceiling cases to $dest"
 fi
 
 # The transfer study. Its checkpoints are several MB: git ignores them (.gitignore); they survive

@@ -13,9 +13,9 @@
 # committed) or shipped in this checkout's maps/ceilings are copied in, so a new worktree only computes what is missing (a cache file names
 # its map, engine and damage: a file of another map is never used).
 # Output: WORKTREE/out/ceilings.out. Before a session ends `bash
-# scripts/save_progress.sh` copies the finished cases to in_progress/ceilings: commit
-# them. When every case is cached, copy them into this checkout's hexapod_adapt/maps/ceilings/,
-# pack them (make_ceilings.sh --pack) and commit the packs with the map.
+# scripts/save_progress.sh` copies the finished cases to in_progress/ceilings (a map not shipped
+# yet; ship_map.sh ships it once its lifted-leg cases are there) or packs them into the shipped
+# cache (the shipped map's): commit them.
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 tree="${1:-$repo/../ceilgen}"
@@ -50,8 +50,10 @@ fi
 # the cases kept so far, and those this checkout ships (a worktree pinned before the map shipped
 # holds the older map's)
 for d in "$keep" "$repo/hexapod_adapt/maps/ceilings"; do
-  if [ -d "$d" ]; then cp -n "$d"/*.npz "$d"/*.zip hexapod_adapt/maps/ceilings/ 2>/dev/null || true; fi
+  if [ -d "$d" ]; then cp -n "$d"/*.npz hexapod_adapt/maps/ceilings/ 2>/dev/null || true; fi
 done
+# the shipped packs over the pinned checkout's (an older map's packs have the same names)
+cp -f "$repo"/hexapod_adapt/maps/ceilings/*.zip hexapod_adapt/maps/ceilings/ 2>/dev/null || true
 nohup nice -n 10 bash hexapod_adapt/maps/make_ceilings.sh >> out/ceilings.out 2>&1 &
 echo $! > out/ceilings.pid
 echo "ceilings running in $tree (pid $!): tail -f $tree/out/ceilings.out"

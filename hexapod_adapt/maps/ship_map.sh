@@ -1,12 +1,17 @@
 #!/usr/bin/env bash
 # Ship the finished default map kept in KEEP (default hexapod_adapt/maps/in_progress, where
-# save_progress.sh puts it) with its ceilings. Refuses, changing nothing, while any case of
-# make_ceilings.sh is missing from KEEP/ceilings (they take sessions: resume_ceilings.sh). Then:
+# save_progress.sh puts it) with the ceilings made so far. Refuses, changing nothing, while any
+# lifted-leg case is missing from KEEP/ceilings: the damage bank, the S1-S4 prior, the navigation
+# specialists and the acceptance runs read those 21. The other kinds' cases take sessions more
+# (resume_ceilings.sh); until they land, a damage without a shipped case is re-scored when it is
+# asked for (the streaming prior), and save_progress.sh packs each finished case into the shipped
+# cache. Then:
 #   - maps/ceilings/: the old map's cases go, the new map's come in and are packed;
 #   - maps/default_map.npz and its log: the new map's;
 #   - config/adapt.yaml: sim_node's engine and substeps, the map's (map_substeps);
 #   - hexapod_navigation's specialists, which read the map's ceilings, made again;
-#   - KEEP is emptied.
+#   - KEEP is emptied, except KEEP/ceilings/COMMIT while cases are missing (the commit the
+#     ceilings run stays pinned at).
 # Everything is staged with git; what to run before committing is printed at the end.
 #   bash hexapod_adapt/maps/ship_map.sh [KEEP]
 set -eo pipefail   # (no -u: colcon's setup scripts read unset variables)
@@ -21,12 +26,17 @@ if [ ! -f "$map" ] || [ ! -f "$map.log.jsonl" ]; then
 fi
 source scripts/env.sh >/dev/null
 mkdir -p "$keep/ceilings"
-# make_ceilings.sh's cases, counted in the kept cache (the last --cache-dir given is used)
-missing="$(bash "$maps/make_ceilings.sh" --archive "$map" --missing --cache-dir "$keep/ceilings")"
-if [ "$missing" != 0 ]; then
-  echo "$missing ceiling cases of $map are not in $keep/ceilings yet: nothing shipped" >&2
+# make_ceilings.sh's cases, counted in the kept cache (the last --cache-dir and --damage-kind
+# given are used)
+count_missing() {
+  bash "$maps/make_ceilings.sh" --archive "$map" --missing --cache-dir "$keep/ceilings" "$@"
+}
+lifted="$(count_missing --damage-kind lifted)"
+if [ "$lifted" != 0 ]; then
+  echo "$lifted lifted-leg ceiling cases of $map are not in $keep/ceilings yet: nothing shipped" >&2
   exit 1
 fi
+missing="$(count_missing)"
 git rm -q --ignore-unmatch "$maps"/ceilings/ceiling_*.npz "$maps"/ceilings/ceilings_*.zip
 rm -f "$maps"/ceilings/ceiling_*.npz "$maps"/ceilings/ceilings_*.zip
 cp "$keep"/ceilings/ceiling_*.npz "$maps/ceilings/"
@@ -54,7 +64,19 @@ if [ -f "$keep/ceilings/README.md" ]; then
   echo "---"
 fi
 git rm -rq --ignore-unmatch -- "$keep" 2>/dev/null || true
-rm -rf "$keep"
+if [ "$missing" = 0 ]; then
+  rm -rf "$keep"
+else  # the pin stays: the run goes on at the commit it started with
+  pin="$(cat "$keep/ceilings/COMMIT" 2>/dev/null || true)"
+  rm -rf "$keep"
+  if [ -n "$pin" ]; then
+    mkdir -p "$keep/ceilings"
+    echo "$pin" > "$keep/ceilings/COMMIT"
+    case "$keep" in "$repo"/*) git add "$keep/ceilings/COMMIT" ;; esac
+  fi
+  echo "$missing ceiling cases are still to make: bash scripts/resume_long_runs.sh each session;"\
+    "save_progress.sh packs the finished ones into $maps/ceilings"
+fi
 git add "$maps" hexapod_adapt/config/adapt.yaml hexapod_navigation/maps/navigation_specialists.npz
 echo "shipped (staged): the map, $(ls "$maps"/ceilings/ceilings_*.zip | wc -l) ceiling packs,"\
   "adapt.yaml at $engine/$substeps, the navigation specialists"

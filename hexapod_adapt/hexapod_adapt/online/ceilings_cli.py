@@ -7,7 +7,7 @@ Cache the ceilings of a map: every gait under each damage (:mod:`hexapod_adapt.o
     python -m hexapod_adapt.online.ceilings_cli --damage-kind locked weak --cache-dir DIR ...
     python -m hexapod_adapt.online.ceilings_cli --damage 1:locked,4:weak:0.3 --cache-dir DIR
     python -m hexapod_adapt.online.ceilings_cli --damage-kind ... --cache-dir DIR --missing
-    python -m hexapod_adapt.online.ceilings_cli ... --cache-dir DIR --pack   # then pack DIR
+    python -m hexapod_adapt.online.ceilings_cli --cache-dir DIR --pack   # pack DIR's loose cases
 """
 
 from __future__ import annotations
@@ -93,8 +93,8 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument(
         '--pack',
         action='store_true',
-        help="once every case is cached, move the cache's loose files into a few zip packs"
-        ' (read as before; for a cache to ship)',
+        help="compute nothing: move the cache's loose files into zip packs (read as before;"
+        ' for a cache to ship, packed as its cases finish)',
     )
     return ap
 
@@ -109,6 +109,10 @@ def main(argv: list[str] | None = None) -> int:
         parser.error('--missing computes nothing and packs nothing: leave out --pack')
 
     def run() -> int:
+        if args.pack:  # the cases cached so far, whatever is still missing
+            packs = pack_ceilings(args.cache_dir)
+            print(f'packed the loose cases of {args.cache_dir} into {len(packs)} packs')
+            return 0
         archive = load_archive(args.archive or shipped_map(DEFAULT_MAP))
         scenarios = args.scenarios
         if scenarios is None:
@@ -142,9 +146,6 @@ def main(argv: list[str] | None = None) -> int:
                 f' (gait {c.best_niche}), {len(c.speeds)} gaits, {time.monotonic() - t0:.0f} s',
                 flush=True,
             )
-        if args.pack:
-            packs = pack_ceilings(args.cache_dir)
-            print(f'packed the loose cases of {args.cache_dir} into {len(packs)} packs')
         return 0
 
     return run_command('ceiling', run, 'finished damage cases are cached; run again to go on')

@@ -137,6 +137,22 @@ def test_packed_ceilings_read_as_the_loose_files_did(small_map, tmp_path):
         pack_ceilings(tmp_path, per_pack=0)
 
 
+def test_the_cli_packs_what_is_cached_and_computes_nothing(small_map, tmp_path, capsys):
+    from hexapod_adapt.online.ceilings_cli import main
+
+    archive = tmp_path / 'map.npz'
+    small_map.save(archive)
+    cache = tmp_path / 'cache'
+    ceiling(small_map, [2], 'mujoco', cache_dir=cache)
+    args = ['--archive', str(archive), '--engine', 'mujoco', '--cache-dir', str(cache)]
+    assert main([*args, '--scenarios', 'S1', '--damage-kind', 'lifted', '--pack']) == 0
+    assert 'into 1 packs' in capsys.readouterr().out
+    assert [p.name for p in cache.iterdir()] == ['ceilings_mujoco_lifted_0.zip']
+    # the five S1 cases not cached were not computed: they are still missing
+    assert main([*args, '--scenarios', 'S1', '--damage-kind', 'lifted', '--missing']) == 0
+    assert capsys.readouterr().out.strip() == '5'
+
+
 def test_the_cli_refuses_to_pack_while_only_counting(capsys):
     from hexapod_adapt.online.ceilings_cli import main
 
