@@ -63,11 +63,11 @@ if [ -f "$keep/ceilings/README.md" ]; then
   cat "$keep/ceilings/README.md"
   echo "---"
 fi
+pin="$(cat "$keep/ceilings/COMMIT" 2>/dev/null || true)"  # (git rm removes the file)
 git rm -rq --ignore-unmatch -- "$keep" 2>/dev/null || true
 if [ "$missing" = 0 ]; then
   rm -rf "$keep"
 else  # the pin stays: the run goes on at the commit it started with
-  pin="$(cat "$keep/ceilings/COMMIT" 2>/dev/null || true)"
   rm -rf "$keep"
   if [ -n "$pin" ]; then
     mkdir -p "$keep/ceilings"
