@@ -87,10 +87,11 @@ def test_fast_gaits_walked_one_after_another_are_measured_within_the_stated_accu
 
 def test_the_default_maps_fastest_gaits_are_measured_within_the_stated_accuracy():
     """
-    On MuJoCo, the engine that made them: on PyBullet most of them end on their backs.
+    On MuJoCo, the engine that made them, one after another as on the robot.
 
-    After these gaits the body still moves for a while: with a fixed 0.5 s rest before the window
-    closed the worst error was 0.264 m/s; the window now waits for rest (docs/bridge.md).
+    After the fastest gaits of an earlier default map (CMA-MAE, 0.5-0.6 m/s, running) the body
+    still moved for a while: with a fixed 0.5 s rest before the window closed the worst error was
+    0.264 m/s; the window now waits for rest (docs/bridge.md).
     """
     from hexapod_adapt.mapping.archive import load_archive
     from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
@@ -99,7 +100,6 @@ def test_the_default_maps_fastest_gaits_are_measured_within_the_stated_accuracy(
     archive = load_archive(shipped_map(DEFAULT_MAP))
     elites = archive.elite_indices()
     fastest = elites[np.argsort(-archive.speeds()[elites])[:20]]
-    assert archive.speeds()[fastest].min() >= 0.5
     errors = []
     with create_simulator(SimConfig(engine='mujoco')) as sim:
         robot = ConsecutiveTrials(sim, seed=5)

@@ -3,6 +3,8 @@
 """The shipped default map: its size, its provenance, and that this installation can use it."""
 
 import json
+from pathlib import Path
+import re
 
 from hexapod_adapt.mapping.archive import compatibility_problems, load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, DEMO_MAP, shipped_map
@@ -10,13 +12,20 @@ from hexapod_adapt.mapping.simulation import archive_engine
 from hexapod_adapt.online.run_config import expected_metadata
 import numpy as np
 
+WS = Path(__file__).resolve().parents[3]
+KEYS = ('niches', 'evaluations', 'seed', 'engine', 'substeps')
 
-def test_the_default_map_is_full_scale_and_fits_this_installation():
+def test_the_default_map_is_the_one_its_script_makes_and_fits_this_installation():
     path = shipped_map(DEFAULT_MAP)
     archive = load_archive(path)  # checks the file's integrity (ArchiveError otherwise)
-    assert archive.n_niches >= 10_000
-    assert archive.metadata['evaluations'] >= 1_000_000
-    assert archive_engine(archive.metadata) == 'mujoco'
+    # make_default_map.sh is the one home of its size, engine and step
+    script = (WS / 'hexapod_adapt' / 'maps' / 'make_default_map.sh').read_text()
+    asked = {k: re.search(rf'--{k} (\w+)', script).group(1) for k in KEYS}
+    assert archive.n_niches == int(asked['niches']) >= 10_000
+    assert archive.metadata['evaluations'] == int(asked['evaluations'])
+    assert archive.metadata['seed'] == int(asked['seed'])
+    assert archive_engine(archive.metadata) == asked['engine']
+    assert archive.metadata['simulator']['settings']['substeps'] == int(asked['substeps'])
     assert archive.n_filled > 0.5 * archive.n_niches
     assert np.all(np.isfinite(archive.fitness[archive.filled]))
     # adapt_node refuses a map whose URDF, gait mapping or trial duration differ from this
