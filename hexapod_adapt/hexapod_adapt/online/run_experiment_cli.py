@@ -4,7 +4,7 @@
 ``run_experiment``: the thesis's simulated adaptation experiment (5.2) on one map.
 
     ros2 run hexapod_adapt run_experiment [--archive map.npz] [--scenarios S1 S3] [--out runs.csv]
-    run_experiment --cross-engine --out-dir docs/experiment  # all of it, on the default map
+    run_experiment --ceilings hexapod_adapt/maps/ceilings --out-dir docs/experiment  # docs picture
 
 For every orientation of each failure scenario: one M-BOA run with simulated trials (leg
 failures as in table 5.1, collisions not fatal), next to the control tripod gait with the same
@@ -29,7 +29,12 @@ import sys
 from hexapod_adapt.mapping.archive import ArchiveError, load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
 from hexapod_adapt.mapping.simulation import archive_engine
-from hexapod_adapt.online.adaptation import EXPERIMENT_MAX_TRIALS, ExperimentRow, run_experiment
+from hexapod_adapt.online.adaptation import (
+    DEFAULT_TIP_GUARD,
+    EXPERIMENT_MAX_TRIALS,
+    ExperimentRow,
+    run_experiment,
+)
 from hexapod_adapt.online.bank import load_bank
 from hexapod_adapt.online.ceiling import ceiling
 from hexapod_adapt.online.experiment_plots import plot_experiment
@@ -146,7 +151,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         '--cross-engine',
         action='store_true',
-        help="run on the map's engine and again on each other engine (the judge included)",
+        help="run on the map's engine and again on each other engine (the judge included), each"
+        " at its default step (make bench-adapt's _cross and _judge runs use the converged one)",
     )
     ap.add_argument(
         '--max-trials',
@@ -335,6 +341,7 @@ def _experiment(args: argparse.Namespace) -> int:
                 bank=bank,
                 leave_out=args.bank == 'leave-out',
                 kind=args.damage_kind,
+                tip_guard=DEFAULT_TIP_GUARD,  # adapt_node's
             )
     except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the completed runs are kept
         if rows:

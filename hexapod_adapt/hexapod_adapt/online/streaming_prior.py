@@ -3,9 +3,10 @@
 """
 A damage-informed prior that streams: the map re-scored under the damage, its best gaits first.
 
-A full re-score takes one evaluation per gait (93-204 s on 2 cores for the default map), and an
-operator should not wait for it. :class:`StreamingPrior` scores the gaits in the order of their
-intact speed, in the background; the first trial starts once the top ``first`` are scored, and
+A full re-score takes one evaluation per gait (minutes on 2 cores for the default map:
+``adapt_prior_rescore_s`` in docs/benchmarks.md), and an operator should not wait for it.
+:class:`StreamingPrior` scores the gaits in the order of their intact speed, in the background;
+the first trial starts once the top ``first`` are scored, and
 the rest update M-BOA's prior between trials (:func:`hexapod_adapt.online.adaptation.adapt`'s
 ``prior_update``). A gait not yet scored is given its intact speed times the median ratio of
 damaged to intact speed over the gaits scored so far. When every gait is scored the ceiling is
@@ -33,7 +34,8 @@ from hexapod_sim.damage import Damage
 from hexapod_util.processes import die_with_parent
 import numpy as np
 
-#: Gaits scored before the first trial: the map's best by intact speed (about 4 s on 2 cores).
+#: Gaits scored before the first trial, the map's best by intact speed
+#: (``adapt_prior_first_trial_s`` in docs/benchmarks.md).
 TOP_FIRST = 256
 #: Gaits per pool job: small enough that the prior refreshes between trials.
 CHUNK = 64

@@ -15,6 +15,7 @@ import numpy as np
 WS = Path(__file__).resolve().parents[3]
 KEYS = ('niches', 'evaluations', 'seed', 'engine', 'substeps')
 
+
 def test_the_default_map_is_the_one_its_script_makes_and_fits_this_installation():
     path = shipped_map(DEFAULT_MAP)
     archive = load_archive(path)  # checks the file's integrity (ArchiveError otherwise)

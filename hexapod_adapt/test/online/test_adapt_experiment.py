@@ -83,6 +83,7 @@ def test_cross_engine_experiment_writes_csv_and_box_plots(tmp_path):
     assert {row['map_engine'] for row in rows} == {'pybullet'}  # the demo map is a PyBullet map
     for row in rows:
         assert 1 <= int(row['trials']) <= 4 and float(row['intact_control_speed']) > 0.25
+        assert 0 <= int(row['tipped_trials']) <= int(row['trials'])  # adapt_node's tip guard
     for name in ('adapted_speed.png', 'trials.png'):
         assert (tmp_path / name).read_bytes().startswith(PNG)
     assert 'trials on  scenario' in r.stdout
