@@ -12,7 +12,9 @@
 # (S1 leg 1 lifted, CHECK) and compares (recheck.py: a few seconds), then computes the KINDS'
 # missing cases until BUDGET seconds, and leaves them in one $OUT/res.tar (a call returns at
 # most 8 files). Unpack it here (tar xf res.tar) and copy the new ceil/*.npz into
-# in_progress/ceilings and ../ceilgen's cache; name them in in_progress/ceilings/README.md.
+# ../ceilgen's cache, and into in_progress/ceilings (a map not shipped yet) or the shipped
+# cache, packed (ceilings_cli --cache-dir hexapod_adapt/maps/ceilings --pack); name them in
+# that folder's README.md.
 # Seen 2026-11-28: 74-84 s a case of the 6,758-gait map at 4 steps per row, 16 workers.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
@@ -23,7 +25,11 @@ case "${1:-}" in
     mkdir -p .devrun/ceilsrc .devrun/done
     git archive "$(cat "$keep/COMMIT")" hexapod_adapt hexapod_sim hexapod_description \
       hexapod_gait hexapod_util | tar x -C .devrun/ceilsrc --exclude='hexapod_adapt/maps/*'
-    cp "$keep"/*.npz .devrun/done/
+    # the cases made so far: kept loose (a map not shipped yet) or packed in the shipped cache
+    cp "$keep"/*.npz .devrun/done/ 2>/dev/null || true
+    for pack in hexapod_adapt/maps/ceilings/ceilings_*.zip; do
+      [ -f "$pack" ] && unzip -qo "$pack" -d .devrun/done
+    done
     du -sh .devrun .whl
     ;;
   run)
@@ -35,7 +41,7 @@ case "${1:-}" in
     mkdir -p /tmp/ceil
     cp .devrun/done/*.npz /tmp/ceil/
     trap 'tar cf "$OUT/res.tar" -C /tmp ceil' EXIT
-    python3 scripts/device/recheck.py "$map" "$PWD/$keep" "${CHECK:-1:lifted}" 16 \
+    python3 scripts/device/recheck.py "$map" "$PWD/.devrun/done" "${CHECK:-1:lifted}" 16 \
       | tee "$OUT/check.txt"
     cd /tmp
     # shellcheck disable=SC2086  # KINDS is a list
