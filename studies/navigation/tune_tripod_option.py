@@ -2,8 +2,9 @@
 # Copyright 2026 Hexapod adaptation team
 # SPDX-License-Identifier: MIT
 """
-How the steered tripod became an option of navigate's planner (issue 31;
-studies/navigation/README.md).
+How the steered tripod became an option of navigate's planner.
+
+Issue 31; studies/navigation/README.md.
 
 On the tuning goals (seed 100, 5 per case), never the reported experiment's (seed 0): for each
 setting, the repertoire method and the steered tripod over every damage case of S1-S4, on the

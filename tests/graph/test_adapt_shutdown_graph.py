@@ -1,9 +1,10 @@
 # Copyright 2026 Hexapod adaptation team
 # SPDX-License-Identifier: MIT
 """
-A node that shuts down in the middle of an adaptation (issue 51): one line, no traceback, and
-the client says its server went away instead of waiting out its timeout. The client's own
-timeout and option checks.
+A node that shuts down in the middle of an adaptation (issue 51).
+
+One line, no traceback, and the client says its server went away instead of waiting out its
+timeout. The client's own timeout and option checks.
 """
 
 from __future__ import annotations

@@ -196,8 +196,10 @@ def test_each_launch_file_takes_a_parameter_file_and_its_arguments_are_node_para
     path: Path,
 ):
     """
-    ``params_file`` defaults to a file of the package's config/; every argument an operator may
-    give is a declared parameter of each node it goes to, and a parameter the file can set.
+    ``params_file`` defaults to a file of the package's config/.
+
+    Every argument an operator may give is a declared parameter of each node it goes to, and a
+    parameter the file can set.
     """
     import yaml
 
