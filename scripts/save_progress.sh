@@ -97,19 +97,7 @@ if [ -d "$ceil_tree/hexapod_adapt/maps/ceilings" ]; then
   fi
   mkdir -p "$dest"
   # the cases the shipped cache holds, loose or packed
-  shipped_names="$(python3 - "$shipped_cache" <<'EOF'
-import sys, zipfile
-from pathlib import Path
-d = Path(sys.argv[1])
-names = {p.name for p in d.glob('ceiling_*.npz')}
-for pack in d.glob('ceilings_*.zip'):
-    try:
-        names.update(zipfile.ZipFile(pack).namelist())
-    except (OSError, zipfile.BadZipFile):
-        pass
-print('\n'.join(sorted(names)))
-EOF
-)"
+  shipped_names="$(python -m hexapod_adapt.online.ceilings_cli --cache-dir "$shipped_cache" --list)"
   n=0
   for f in "$ceil_tree"/hexapod_adapt/maps/ceilings/*.npz; do
     [ -f "$f" ] || continue

@@ -251,6 +251,23 @@ def _cached_in(directory: str | os.PathLike, key: dict) -> Ceiling | None:
     return None
 
 
+def cached_names(directory: str | os.PathLike) -> set[str]:
+    """
+    Return the file names of the cases ``directory`` holds, loose or packed (no key is checked).
+
+    A pack that cannot be read holds nothing.
+    """
+    directory = Path(directory)
+    names = {p.name for p in directory.glob('ceiling_*.npz')}
+    for pack in sorted(directory.glob('ceilings_*.zip')):
+        try:
+            with zipfile.ZipFile(pack) as packed:
+                names.update(packed.namelist())
+        except _BAD_PACK:
+            continue
+    return names
+
+
 def holds_ceiling(directory: str | os.PathLike, key: dict) -> bool:
     """Whether ``directory`` holds a readable ceiling for ``key``, loose or packed."""
     return _cached_in(directory, key) is not None

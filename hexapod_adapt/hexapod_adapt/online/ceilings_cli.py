@@ -21,6 +21,7 @@ from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
 from hexapod_adapt.online.ceiling import (
     approximate_ceiling,
     cached_ceiling,
+    cached_names,
     ceiling,
     pack_ceilings,
 )
@@ -96,6 +97,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="compute nothing: move the cache's loose files into zip packs (read as before;"
         ' for a cache to ship, packed as its cases finish)',
     )
+    ap.add_argument(
+        '--list',
+        action='store_true',
+        help="compute nothing: print the file names of the cache's cases, loose or packed, one"
+        ' a line',
+    )
     return ap
 
 
@@ -105,10 +112,13 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.missing and args.top:
         parser.error('--missing counts exact ceilings: leave out --top')
-    if args.missing and args.pack:
-        parser.error('--missing computes nothing and packs nothing: leave out --pack')
+    if sum((args.missing, args.pack, args.list)) > 1:
+        parser.error('--missing, --pack and --list each compute nothing: give one of them')
 
     def run() -> int:
+        if args.list:
+            print('\n'.join(sorted(cached_names(args.cache_dir))))
+            return 0
         if args.pack:  # the cases cached so far, whatever is still missing
             packs = pack_ceilings(args.cache_dir)
             print(f'packed the loose cases of {args.cache_dir} into {len(packs)} packs')

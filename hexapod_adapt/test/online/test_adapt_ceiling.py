@@ -9,6 +9,7 @@ from hexapod_adapt.mapping.maps import DEMO_MAP, shipped_map
 from hexapod_adapt.online.ceiling import (
     cache_path,
     cached_ceiling,
+    cached_names,
     ceiling,
     ceiling_key,
     compute_ceiling,
@@ -153,13 +154,29 @@ def test_the_cli_packs_what_is_cached_and_computes_nothing(small_map, tmp_path, 
     assert capsys.readouterr().out.strip() == '5'
 
 
-def test_the_cli_refuses_to_pack_while_only_counting(capsys):
+def test_the_cli_lists_the_cases_a_cache_holds_loose_or_packed(small_map, tmp_path, capsys):
+    from hexapod_adapt.online.ceilings_cli import main
+
+    first = cache_path(tmp_path, ceiling_key(small_map, [2], 'mujoco'))
+    ceiling(small_map, [2], 'mujoco', cache_dir=tmp_path)
+    pack_ceilings(tmp_path)
+    second = cache_path(tmp_path, ceiling_key(small_map, [3], 'mujoco'))
+    ceiling(small_map, [3], 'mujoco', cache_dir=tmp_path)  # loose beside the pack
+    (tmp_path / 'ceilings_mujoco_lifted_7.zip').write_bytes(b'not a zip')  # holds nothing
+    assert cached_names(tmp_path) == {first.name, second.name}
+    assert main(['--cache-dir', str(tmp_path), '--list']) == 0
+    assert capsys.readouterr().out.split() == sorted([first.name, second.name])
+    assert cached_names(tmp_path / 'none') == set()
+
+
+@pytest.mark.parametrize('two', [('--missing', '--pack'), ('--list', '--pack')])
+def test_the_cli_refuses_two_things_that_compute_nothing(capsys, two):
     from hexapod_adapt.online.ceilings_cli import main
 
     with pytest.raises(SystemExit) as exit_:
-        main(['--cache-dir', '/tmp', '--missing', '--pack'])
+        main(['--cache-dir', '/tmp', *two])
     assert exit_.value.code == 2
-    assert 'leave out --pack' in capsys.readouterr().err
+    assert 'give one of them' in capsys.readouterr().err
 
 
 def test_a_ceiling_under_another_damage_type_is_keyed_and_cached_by_it(small_map, tmp_path):
