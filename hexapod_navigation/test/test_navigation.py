@@ -3,6 +3,7 @@
 """The navigator without ROS: poses, goals, the learned correction, the planner, episodes."""
 
 import math
+from pathlib import Path
 
 from hexapod_navigation.core.config import goal_problem, NavigationConfig
 from hexapod_navigation.core.correction import CorrectionGP
@@ -238,6 +239,8 @@ def test_the_intact_repertoire_may_get_a_prior_weight_among_the_bank_hypotheses(
 
 def test_runs_csv_keeps_how_each_episode_ended_and_reads_older_files(tmp_path):
     import csv
+    import hashlib
+    import json
 
     from hexapod_navigation.offline.experiment import (
         NavigationRow,
@@ -252,6 +255,9 @@ def test_runs_csv_keeps_how_each_episode_ended_and_reads_older_files(tmp_path):
     )  # fmt: skip
     write_results(tmp_path, NavigationSettings(repertoire=REPERTOIRE), [tipped], [[(0.0, 0.0)]])
     assert read_rows(tmp_path / 'runs.csv') == [tipped]
+    # the summary names the repertoire by its content too (no bank, no specialists given)
+    digests = json.loads((tmp_path / 'summary.json').read_text())['inputs_sha256']
+    assert digests == {'repertoire': hashlib.sha256(Path(REPERTOIRE).read_bytes()).hexdigest()}
     # a runs.csv written before the column: the reason reads as unknown
     with open(tmp_path / 'runs.csv', newline='') as src, open(tmp_path / 'old.csv', 'w') as dst:
         csv.writer(dst).writerows(row[:-1] for row in csv.reader(src))

@@ -19,6 +19,7 @@ from __future__ import annotations
 import concurrent.futures as cf
 import csv
 from dataclasses import asdict, dataclass, field
+import hashlib
 import io
 import json
 import math
@@ -355,11 +356,19 @@ def write_results(
         out / 'paths.json',
         json.dumps([[[round(x, 3), round(y, 3)] for x, y in p] for p in thinned]).encode(),
     )
+    files = {'repertoire': settings.repertoire, 'bank': settings.bank}
+    files['specialists'] = settings.specialists
     summary = {
         'settings': {
             **{k: v for k, v in asdict(settings).items() if k != 'config'},
             'repertoire': str(settings.repertoire),
             'config': asdict(settings.config),
+        },
+        # which files were walked, whatever their paths on the machine that ran it
+        'inputs_sha256': {
+            name: hashlib.sha256(Path(path).read_bytes()).hexdigest()
+            for name, path in files.items()
+            if path is not None
         },
         'summary': [asdict(s) for s in summarise(rows)],
     }
