@@ -356,8 +356,11 @@ def write_results(
         out / 'paths.json',
         json.dumps([[[round(x, 3), round(y, 3)] for x, y in p] for p in thinned]).encode(),
     )
-    files = {'repertoire': settings.repertoire, 'bank': settings.bank}
-    files['specialists'] = settings.specialists
+    files = {
+        'repertoire': settings.repertoire,
+        'bank': settings.bank,
+        'specialists': settings.specialists,
+    }
     summary = {
         'settings': {
             **{k: v for k, v in asdict(settings).items() if k != 'config'},
