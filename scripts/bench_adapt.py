@@ -35,8 +35,8 @@ def bench_adapt() -> None:
     product's and the thesis's trial), with adapt_node's tip guard (a trial that tilts the body
     past 30 deg scores 0; adapt_tipped_trials counts them). Then the default profile, blind
     (_judge) and from the damage-informed prior (_prior_judge), with trials on the judge engine
-    (DART). Trials on an engine that did not make the map (_cross, _judge) run at its converged
-    step (``SimConfig.converged``).
+    (DART). Trials on an engine that did not make the map (_cross, _judge), and its ceilings, run
+    at its converged step (``map_physics``, ``SimConfig.converged``).
     """
     import os
     from pathlib import Path
@@ -54,7 +54,7 @@ def bench_adapt() -> None:
         holds_ceiling,
     )
     from hexapod_adapt.online.mboa import Mboa, MboaConfig, PROFILES, TRIAL_BUDGET
-    from hexapod_sim import ENGINES, SimConfig
+    from hexapod_sim import ENGINES
     from hexapod_sim.scenarios import scenario
     from hexapod_sim.simulator import JUDGE_ENGINE
 
@@ -135,9 +135,8 @@ def bench_adapt() -> None:
             rows = run_experiment(
                 archive,
                 config=replace(config, max_trials=100 if name == 'thesis' else TRIAL_BUDGET),
+                # another engine's trials and ceilings at its converged step (map_physics)
                 trial_engine=engine,
-                # another engine's trials at its converged step (docs/simulator.md, item 6)
-                trial_config=SimConfig.converged(engine) if cross else None,
                 ceilings=ceilings if have else None,
                 floor=floor,
                 priors=priors if informed else None,
@@ -153,7 +152,7 @@ def bench_adapt() -> None:
             rows = run_experiment(
                 archive,
                 config=replace(PROFILES['default'], max_trials=TRIAL_BUDGET),
-                trial_config=SimConfig.converged(JUDGE_ENGINE),
+                trial_engine=JUDGE_ENGINE,  # at its converged step (map_physics)
                 floor=True,
                 priors=priors if informed else None,
                 setup='default' + ('+prior' if informed else ''),

@@ -177,9 +177,24 @@ def map_substeps(archive: Archive, engine: str) -> int:
     return fingerprint_substeps(simulator) or 0
 
 
+def trial_substeps(archive: Archive, engine: str) -> int:
+    """
+    Return the physics steps per row at which ``archive``'s gaits are measured on ``engine``.
+
+    On the engine that made the map, the map's own (:func:`map_substeps`); on any other, that
+    engine's converged step (:meth:`SimConfig.converged`; docs/simulator.md, "Where the engines
+    differ", item 6: the defaults have not converged on fast gaits), where the map's figures on
+    other physics are measured. 0 (the default) when the map does not say its engine.
+    """
+    made_on = archive_engine(archive.metadata)
+    if made_on is None or made_on == engine:
+        return map_substeps(archive, engine)
+    return SimConfig.converged(engine).engine_settings().substeps
+
+
 def map_physics(archive: Archive, engine: str) -> SimConfig:
-    """Return ``engine`` as ``archive``'s gaits are walked on it: at the map's steps per row."""
-    return map_sim_config(engine, map_substeps(archive, engine))
+    """Return ``engine`` as ``archive``'s gaits are walked on it (:func:`trial_substeps`)."""
+    return map_sim_config(engine, trial_substeps(archive, engine))
 
 
 def archive_engine(metadata: dict[str, Any]) -> str | None:

@@ -326,12 +326,13 @@ def run_experiment(
     Adapt in every orientation of each failure scenario (library trials in the simulator,
     collisions not fatal), next to the control tripod gait. Trials run on ``trial_engine``
     (default: the engine that made the map) with its default settings, at the map's physics steps
-    per row on the map's own engine (:func:`map_physics`), or as ``trial_config`` sets it up (its
-    engine is then the trial engine). Without ``config``: the thesis's settings
-    with :data:`EXPERIMENT_MAX_TRIALS`. With ``ceilings(failed_legs, engine)`` (e.g.
-    :func:`hexapod_adapt.online.ceiling.ceiling` over a cache), each row also gets the map's
-    ceiling under its damage and the adapted/ceiling ratio. ``floor``: the damaged control tripod,
-    measured first, is the run's success floor. ``priors(failed_legs)``: M-BOA starts from these
+    per row on the map's own engine and at the converged step on any other (:func:`map_physics`),
+    or as ``trial_config`` sets it up (its engine is then the trial engine). Without ``config``:
+    the thesis's settings with :data:`EXPERIMENT_MAX_TRIALS`. With ``ceilings(failed_legs,
+    engine)`` (e.g. :func:`hexapod_adapt.online.ceiling.ceiling` over a cache, which walks the
+    gaits on the same physics), each row also gets the map's ceiling under its damage and the
+    adapted/ceiling ratio. ``floor``: the damaged control tripod, measured first, is the run's
+    success floor. ``priors(failed_legs)``: M-BOA starts from these
     speeds (the map re-scored under the damage, :mod:`hexapod_adapt.online.prior`). ``setup`` names
     the configuration in the rows. ``trial_duration`` (default: the map's) and ``settle``: trials
     time that long after walking ``settle`` s untimed (:func:`simulated_trial`); the walking

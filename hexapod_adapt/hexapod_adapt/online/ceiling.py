@@ -32,7 +32,11 @@ import zipfile
 import zlib
 
 from hexapod_adapt.mapping.archive import Archive
-from hexapod_adapt.mapping.simulation import map_substeps, simulation_fingerprint, worker_simulator
+from hexapod_adapt.mapping.simulation import (
+    simulation_fingerprint,
+    trial_substeps,
+    worker_simulator,
+)
 from hexapod_sim import evaluate_gaits
 from hexapod_sim.damage import as_damage, Damage, LegDamage
 from hexapod_sim.evaluation import EVALUATION_VERSION
@@ -105,8 +109,8 @@ def ceiling_key(archive: Archive, damage: Damage | Sequence[int], engine: str) -
     existed, so the shipped cache stays valid; any other damage adds its description.
     """
     damage = as_damage(damage)
-    # on the map's own engine at the map's physics steps (map_substeps), as it is computed
-    fp = simulation_fingerprint(engine, substeps=map_substeps(archive, engine))
+    # at the physics steps it is computed at: the map's on its own engine, else converged
+    fp = simulation_fingerprint(engine, substeps=trial_substeps(archive, engine))
     key = {
         'format': FORMAT,
         'map_sha256': map_digest(archive),
@@ -153,7 +157,7 @@ class Rescoring:
     """How a map's gaits are walked under a damage (a pool job's settings)."""
 
     engine: str
-    substeps: int  # physics steps per row: the map's on its own engine, else 0 (the default)
+    substeps: int  # physics steps per row: the map's on its own engine, else converged
     damage: Damage
     duration: float  # [s] the map's trial
 
@@ -161,7 +165,7 @@ class Rescoring:
     def of(cls, archive: Archive, damage: Damage | Sequence[int], engine: str) -> 'Rescoring':
         """Return how ``archive``'s gaits are walked under ``damage`` on ``engine``."""
         return cls(
-            engine, map_substeps(archive, engine), as_damage(damage), archive.trial_duration
+            engine, trial_substeps(archive, engine), as_damage(damage), archive.trial_duration
         )
 
 

@@ -152,7 +152,7 @@ def main(argv: list[str] | None = None) -> int:
         '--cross-engine',
         action='store_true',
         help="run on the map's engine and again on each other engine (the judge included), each"
-        " at its default step (make bench-adapt's _cross and _judge runs use the converged one)",
+        " other engine at its converged step, as make bench-adapt's _cross and _judge runs",
     )
     ap.add_argument(
         '--max-trials',
@@ -236,9 +236,10 @@ def main(argv: list[str] | None = None) -> int:
         '--ceilings',
         type=output_dir,
         default=None,
-        help="cache of the map's ceilings (every gait under each damage; computed if missing, "
-        "about 3 min of one core per damage case on MuJoCo, 20 on PyBullet): adds each run's "
-        'ceiling and adapted/ceiling ratio',
+        help="cache of the map's ceilings (every gait under each damage, on the trials' engine"
+        ' and step; computed if missing: about 15 core-minutes a case for the default map on'
+        ' MuJoCo, its own engine, and several times that on an engine at its converged step):'
+        " adds each run's ceiling and adapted/ceiling ratio",
     )
     ap.add_argument(
         '--workers', type=number(int, 1, 256), default=1, help='processes for missing ceilings'

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from hexapod_adapt.mapping.archive import Archive, load_archive
 from hexapod_adapt.mapping.maps import DEMO_MAP, shipped_map
+from hexapod_adapt.mapping.simulation import map_physics
 from hexapod_adapt.online.ceiling import (
     cache_path,
     cached_ceiling,
@@ -37,8 +38,9 @@ def small_map() -> Archive:
 
 
 def test_the_ceiling_is_every_gait_evaluated_with_the_damage(small_map):
+    """On an engine that did not make the map (MuJoCo, for a PyBullet map): its converged step."""
     legs = (1, 4)
-    with create_simulator(SimConfig(engine='mujoco')) as sim:
+    with create_simulator(map_physics(small_map, 'mujoco')) as sim:
         brute = [
             evaluate_gait(
                 small_map.genotypes[n], sim, collisions_fatal=False, failed_legs=legs
@@ -55,7 +57,7 @@ def test_the_ceiling_is_every_gait_evaluated_with_the_damage(small_map):
 
 def test_a_map_is_rescored_in_the_physics_that_made_it(small_map):
     """A map made at 4 MuJoCo steps per row (generate_map --substeps 4) is re-scored at 4."""
-    from hexapod_adapt.mapping.simulation import map_sim_config, map_substeps
+    from hexapod_adapt.mapping.simulation import map_sim_config, map_substeps, trial_substeps
 
     def made_at(substeps):
         fingerprint = map_sim_config('mujoco', substeps).fingerprint()
@@ -72,6 +74,19 @@ def test_a_map_is_rescored_in_the_physics_that_made_it(small_map):
     assert map_substeps(four, 'mujoco') == 4 and map_substeps(four, 'pybullet') == 0
     assert map_substeps(one, 'mujoco') == 1  # its fingerprint leaves 1 out, as before substeps
     assert map_substeps(small_map, 'mujoco') == 0  # a PyBullet map: MuJoCo's default
+    # measured on another engine at its converged step; a map that does not say: the default
+    assert trial_substeps(four, 'mujoco') == 4
+    assert (
+        trial_substeps(four, 'pybullet')
+        == SimConfig.converged('pybullet').engine_settings().substeps
+    )
+    assert (
+        trial_substeps(small_map, 'mujoco')
+        == SimConfig.converged('mujoco').engine_settings().substeps
+    )
+    assert trial_substeps(small_map, 'pybullet') == 0  # its own engine, at its default
+    unsaid = Archive(four.centroids, four.fitness, four.descriptors, four.genotypes, {})
+    assert trial_substeps(unsaid, 'mujoco') == trial_substeps(unsaid, 'dart') == 0
     niches = four.elite_indices()[:3]
     with create_simulator(map_sim_config('mujoco', 4)) as sim:
         at_four = [
@@ -195,7 +210,7 @@ def test_a_ceiling_under_another_damage_type_is_keyed_and_cached_by_it(small_map
     again = ceiling(small_map, locked, 'mujoco', cache_dir=tmp_path)
     assert again.damage == locked  # read back from the file's key
     np.testing.assert_array_equal(first.speeds, again.speeds)
-    with create_simulator(SimConfig(engine='mujoco')) as sim:
+    with create_simulator(map_physics(small_map, 'mujoco')) as sim:
         n = int(small_map.elite_indices()[0])
         direct = evaluate_gait(
             small_map.genotypes[n], sim, collisions_fatal=False, failed_legs=locked
@@ -213,7 +228,7 @@ def test_a_replayed_run_is_the_simulated_run(small_map):
     damage = Damage.of('weak', [1, 4])
     c = compute_ceiling(small_map, damage, 'mujoco')
     config = MboaConfig(max_trials=12, alpha=1.0)
-    with create_simulator(SimConfig(engine='mujoco')) as sim:
+    with create_simulator(map_physics(small_map, 'mujoco')) as sim:
         simulated = adapt(small_map, simulated_trial(small_map, damage, sim), config)
     replayed = replay(small_map, c, config)
     assert replayed.niches == simulated.niches
@@ -234,7 +249,7 @@ def test_an_approximate_ceiling_evaluates_the_guides_best_gaits_only(small_map, 
     approx = approximate_ceiling(small_map, [3], 'pybullet', guide, top=4, cache_dir=tmp_path)
     order = np.argsort(-guide.speeds, kind='stable')[:4]
     assert sorted(approx.niches.tolist()) == sorted(guide.niches[order].tolist())
-    with create_simulator(SimConfig(engine='pybullet')) as sim:
+    with create_simulator(map_physics(small_map, 'pybullet')) as sim:  # its own engine
         for n, speed in zip(approx.niches, approx.speeds):
             assert (
                 speed
