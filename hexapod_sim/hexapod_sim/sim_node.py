@@ -51,7 +51,7 @@ from nav_msgs.msg import Odometry
 import numpy as np
 from rcl_interfaces.msg import SetParametersResult
 import rclpy
-from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rosgraph_msgs.msg import Clock
@@ -156,12 +156,15 @@ class SimNode(Node):
         self.reset_pub = self.create_publisher(Header, 'sim/last_reset', LATCHED)
         self.status_pub = self.create_publisher(DiagnosticStatus, 'sim/status', LATCHED)
         self.damage_pub = self.create_publisher(LegDamage, 'sim/damage', LATCHED)
+        # one at a time, in arrival order: in the reentrant group two trajectories close together
+        # (a tipped trial's stand, then the next trial's gait) could switch in the wrong order,
+        # leaving the older one playing (CI, 2026-11-28)
         self.create_subscription(
             JointTrajectory,
             'gait/joint_trajectory',
             self._on_trajectory,
             LATCHED,
-            callback_group=group,
+            callback_group=MutuallyExclusiveCallbackGroup(),
         )
         self.create_service(
             SetLegFailure, '~/set_leg_failure', self._on_set_leg_failure, callback_group=group
