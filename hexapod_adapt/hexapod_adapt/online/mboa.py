@@ -368,8 +368,14 @@ class Mboa:
         return {t.index for t in self.trials if t.tipped}
 
     def best(self) -> Trial | None:
-        """Return the trial with the highest measured speed (None before the first)."""
-        return max(self.trials, key=lambda t: t.measured) if self.trials else None
+        """
+        Return the trial with the highest measured speed (None before the first).
+
+        A tipped trial is never the best, whatever its score: the run leaves its best gait on
+        the robot. None when every trial tipped.
+        """
+        upright = [t for t in self.trials if not t.tipped]
+        return max(upright, key=lambda t: t.measured) if upright else None
 
     def stop_reason(self) -> StopReason:
         """Why the run should stop now (``StopReason.CONTINUE`` if it should not)."""

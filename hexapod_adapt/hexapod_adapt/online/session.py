@@ -215,10 +215,12 @@ def result_message(result: AdaptationResult, note: str, recording_problem: str) 
 
 def finish_message(result: AdaptationResult) -> str:
     """Return the line a run logs as it ends."""
-    return (
-        f'adaptation finished: {result.message}; {len(result.trials)} trials, best gait'
-        f' {result.best_niche} at {result.best_speed:.3f} m/s'
+    best = (
+        f'best gait {result.best_niche} at {result.best_speed:.3f} m/s'
+        if result.best_niche >= 0
+        else 'no gait walked without tipping: none is left on the robot'
     )
+    return f'adaptation finished: {result.message}; {len(result.trials)} trials, {best}'
 
 
 def shutdown_message(result: AdaptationResult) -> str:

@@ -266,7 +266,9 @@ class AdaptNode(AdaptAction, DamageReports, Node):
         self.get_logger().info(f'M-BOA starts from {response.prior}')
 
         def on_trial(trial, niche, opt) -> None:
-            msg = trial_msg(trial, niche, niches[opt.best().index], opt.best().measured, archive)
+            best = opt.best()  # None while every trial so far tipped
+            best_niche, best_speed = (niches[best.index], best.measured) if best else (-1, 0.0)
+            msg = trial_msg(trial, niche, best_niche, best_speed, archive)
             msg.header.stamp = self.get_clock().now().to_msg()
             msg.gait = gait_to_msg(self.port.gait_of(niche))
             msg.recording = self.recording.problem

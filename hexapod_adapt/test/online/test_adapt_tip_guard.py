@@ -71,6 +71,23 @@ def test_mboa_excludes_a_tipped_candidate_even_when_retesting_is_allowed():
     assert opt.excluded() == {0} and opt.next_index() in (1, 2)  # 1 may be tried again
 
 
+def test_a_tipped_gait_is_never_the_best_left_on_the_robot():
+    """CI: a run that aborted after its only trial tipped left that gait playing, as its best."""
+    a = _archive()
+    best = int(np.argmax(a.speeds()))
+
+    def trial(niche):  # the first tips, every other walks backwards
+        return TrialOutcome(0.0, True, 1.2) if niche == best else TrialOutcome(-0.05, False, 0.1)
+
+    only = adapt(a, trial, MboaConfig(max_trials=1))
+    assert only.tipped == [best] and only.best_niche == -1  # nothing to leave walking
+    more = adapt(a, trial, MboaConfig(max_trials=3))
+    assert more.best_niche not in (-1, best) and more.best_speed == -0.05
+    opt = Mboa(np.random.default_rng(0).random((2, 6)), np.array([0.3, 0.2]), MboaConfig())
+    opt.observe(0, 0.0, tipped=True)
+    assert opt.best() is None
+
+
 def test_a_simulated_trial_past_the_guard_tips_and_below_it_walks():
     from hexapod_gait import preset
     from hexapod_gait.parameters import to_genotype
