@@ -306,13 +306,13 @@ def _transfer_figures() -> None:
     as map_judge_...) and PyBullet (map_pybullet_...), or any other that did not make the map.
     """
     from hexapod_adapt.mapping.archive import load_archive
-    from hexapod_adapt.mapping.simulation import archive_engine
+    from hexapod_adapt.mapping.simulation import engine_of_map
     from hexapod_adapt.mapping.transfer import transfer_figures
     from hexapod_sim import create_simulator, ENGINES, SimConfig
     from hexapod_sim.simulator import JUDGE_ENGINE
 
     archive = load_archive(_bench_map())
-    made_on = archive_engine(archive.metadata)
+    made_on = engine_of_map(archive)
     for engine in (e for e in ENGINES if e != made_on):
         name = 'judge' if engine == JUDGE_ENGINE else engine
         # at its converged step (docs/simulator.md, "Where the engines differ", item 6)

@@ -43,7 +43,7 @@ def bench_adapt() -> None:
 
     from hexapod_adapt.mapping.archive import load_archive
     from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
-    from hexapod_adapt.mapping.simulation import archive_engine
+    from hexapod_adapt.mapping.simulation import engine_of_map
     from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD, run_experiment
     from hexapod_adapt.online.ceiling import (
         approximate_ceiling,
@@ -74,7 +74,7 @@ def bench_adapt() -> None:
     print(f'# experiment on {path}', file=sys.stderr)
     archive = load_archive(path)
     print(f'BENCH adapt_map_gaits {archive.n_filled} gaits')
-    map_engine = archive_engine(archive.metadata) or 'pybullet'
+    map_engine = engine_of_map(archive)
     other = next(e for e in ENGINES if e != map_engine)
     cached = shipped_ceilings()
     # the damage-informed prior: the whole map re-scored under a damage no cache holds, as

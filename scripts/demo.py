@@ -49,7 +49,7 @@ def main(argv: list[str] | None = None) -> int:
     out = parser.parse_args(argv).out
     from hexapod_adapt.mapping.archive import load_archive
     from hexapod_adapt.mapping.maps import shipped_map
-    from hexapod_adapt.mapping.simulation import archive_engine, map_physics, map_substeps
+    from hexapod_adapt.mapping.simulation import engine_of_map, map_physics, map_substeps
     from hexapod_description import load_model, summary
     from hexapod_gait import preset
     from hexapod_sim import create_simulator, evaluate_gait
@@ -64,7 +64,7 @@ def main(argv: list[str] | None = None) -> int:
     section('behaviour-performance map (hexapod_adapt)')
     path = shipped_map()  # what adapt_node loads by default
     archive = load_archive(path)
-    engine = archive_engine(archive.metadata) or 'pybullet'
+    engine = engine_of_map(archive)
     substeps = map_substeps(archive, engine)  # the physics steps per row the map was made at
     s = archive.stats()
     speeds = archive.speeds()[archive.filled]

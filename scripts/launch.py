@@ -51,20 +51,21 @@ def map_physics(archive: str | None, engine: str | None) -> tuple[str | None, in
     """
     Return sim_node's engine and physics steps per row for ``archive`` (None/'' = the default map).
 
-    The engine: ``engine`` if given, else the map's. The steps: the map's on that engine (0, the
-    engine's default, on another or if the map is unreadable: adapt_node refuses it with the
-    reason, and sim_node keeps its defaults).
+    The engine: ``engine`` if given, else the map's. The steps: those the library walks the map's
+    gaits at on that engine (``trial_substeps``: the map's own on its engine, the converged step
+    on another); 0, the engine's default, if the map is unreadable (adapt_node refuses it with
+    the reason, and sim_node keeps its defaults).
     """
     from hexapod_adapt.mapping.archive import ArchiveError, load_archive
     from hexapod_adapt.mapping.maps import shipped_map
-    from hexapod_adapt.mapping.simulation import archive_engine, map_substeps
+    from hexapod_adapt.mapping.simulation import engine_of_map, trial_substeps
 
     try:
         loaded = load_archive(archive or shipped_map())
     except ArchiveError:
         return engine, 0
-    engine = engine or archive_engine(loaded.metadata)
-    return engine, map_substeps(loaded, engine) if engine else 0
+    engine = engine or engine_of_map(loaded)
+    return engine, trial_substeps(loaded, engine)
 
 
 def simulated_profile(profile: str) -> bool:

@@ -11,7 +11,12 @@ generate_map and run_experiment.
 from hexapod_adapt.mapping.archive import Archive, ArchiveError, import_thesis_map, load_archive
 from hexapod_adapt.mapping.map_elites import Evaluation, MapElitesConfig, run_map_elites
 from hexapod_adapt.mapping.maps import shipped_ceilings, shipped_map
-from hexapod_adapt.mapping.simulation import archive_engine, DEFAULT_MAP_ENGINE, worker_simulator
+from hexapod_adapt.mapping.simulation import (
+    archive_engine,
+    DEFAULT_MAP_ENGINE,
+    engine_of_map,
+    worker_simulator,
+)
 from hexapod_adapt.mapping.steps import (
     from_descriptor,
     gait_min_stance,
@@ -53,6 +58,7 @@ __all__ = [
     'archive_engine',
     'cached_ceiling',
     'damage_of_request',
+    'engine_of_map',
     'from_descriptor',
     'gait_min_stance',
     'import_thesis_map',

@@ -27,7 +27,7 @@ import sys
 from typing import Sequence
 
 from hexapod_adapt.mapping.archive import load_archive
-from hexapod_adapt.mapping.simulation import archive_engine
+from hexapod_adapt.mapping.simulation import engine_of_map
 from hexapod_adapt.online.bank import load_bank
 from hexapod_adapt.online.ceiling import ceiling
 from hexapod_adapt.online.mboa import MboaConfig
@@ -103,7 +103,7 @@ def main(argv: list[str] | None = None) -> int:
 
     def run() -> int:
         archive = load_archive(args.archive)
-        engine = archive_engine(archive.metadata) or 'mujoco'
+        engine = engine_of_map(archive)
         ceilings = [
             ceiling(archive, d, engine, args.cache_dir, args.workers) for d in TUNING_DAMAGES
         ]

@@ -23,7 +23,7 @@ import sys
 from typing import Any, Callable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive, load_archive
-from hexapod_adapt.mapping.simulation import archive_engine
+from hexapod_adapt.mapping.simulation import engine_of_map
 from hexapod_adapt.online.adaptation import adapt, map_speed, simulated_trial
 from hexapod_adapt.online.ceiling import approximate_ceiling, Ceiling, ceiling
 from hexapod_adapt.online.mboa import MboaConfig, PROFILES, TRIAL_BUDGET
@@ -151,7 +151,7 @@ def main(argv: list[str] | None = None) -> int:
 
     def run() -> int:
         archive = load_archive(args.archive)
-        map_engine = archive_engine(archive.metadata) or 'mujoco'
+        map_engine = engine_of_map(archive)
         damages = TUNING_DAMAGES[:: max(1, args.every)]
         config = replace(PROFILES[args.profile], max_trials=TRIAL_BUDGET)
         runs = []

@@ -230,14 +230,14 @@ def test_the_adapt_sim_file_runs_the_shipped_default_maps_physics():
     """adapt.yaml's sim_node walks trials on the engine and steps per row that made the map."""
     from hexapod_adapt.mapping.archive import load_archive
     from hexapod_adapt.mapping.maps import shipped_map
-    from hexapod_adapt.mapping.simulation import archive_engine, map_substeps
+    from hexapod_adapt.mapping.simulation import engine_of_map, trial_substeps
     import yaml
 
     sim = yaml.safe_load((WS / 'hexapod_adapt/config/adapt.yaml').read_text())['sim_node']
     archive = load_archive(shipped_map())
-    engine = archive_engine(archive.metadata)
+    engine = engine_of_map(archive)
     assert sim['ros__parameters']['engine'] == engine
-    assert sim['ros__parameters']['substeps'] == map_substeps(archive, engine)
+    assert sim['ros__parameters']['substeps'] == trial_substeps(archive, engine)
 
 
 #: Each launcher profile: its options, a parameter file of its package, the nodes it starts, and

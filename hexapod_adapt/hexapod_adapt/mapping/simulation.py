@@ -26,6 +26,10 @@ import numpy as np
 
 #: Engine used for maps unless told otherwise: MuJoCo, ~7x cheaper per evaluation than PyBullet.
 DEFAULT_MAP_ENGINE = 'mujoco'
+#: Engine taken as the maker of a map that does not record one: maps made here before archives
+#: recorded their simulator (2026-11-21) were all made on PyBullet, the only engine then. A
+#: thesis map (import_thesis_map) records none either; its own simulator is none of ours.
+UNRECORDED_MAP_ENGINE = 'pybullet'
 
 _WORKER_SIMS: dict[tuple[str, int], Simulator] = {}
 
@@ -184,10 +188,10 @@ def trial_substeps(archive: Archive, engine: str) -> int:
     On the engine that made the map, the map's own (:func:`map_substeps`); on any other, that
     engine's converged step (:meth:`SimConfig.converged`; docs/simulator.md, "Where the engines
     differ", item 6: the defaults have not converged on fast gaits), where the map's figures on
-    other physics are measured. 0 (the default) when the map does not say its engine.
+    other physics are measured. A map that does not say its engine is taken as made on
+    :data:`UNRECORDED_MAP_ENGINE` (:func:`engine_of_map`).
     """
-    made_on = archive_engine(archive.metadata)
-    if made_on is None or made_on == engine:
+    if engine_of_map(archive) == engine:
         return map_substeps(archive, engine)
     return SimConfig.converged(engine).engine_settings().substeps
 
@@ -202,3 +206,8 @@ def archive_engine(metadata: dict[str, Any]) -> str | None:
     simulator = metadata.get('simulator')
     engine = simulator.get('engine') if isinstance(simulator, dict) else None
     return engine if isinstance(engine, str) else None
+
+
+def engine_of_map(archive: Archive) -> str:
+    """Return the engine that made ``archive`` (:data:`UNRECORDED_MAP_ENGINE` if unrecorded)."""
+    return archive_engine(archive.metadata) or UNRECORDED_MAP_ENGINE

@@ -17,7 +17,7 @@ import time
 from typing import Callable, Sequence, TYPE_CHECKING
 
 from hexapod_adapt.mapping.archive import Archive
-from hexapod_adapt.mapping.simulation import archive_engine, map_physics
+from hexapod_adapt.mapping.simulation import engine_of_map, map_physics
 from hexapod_adapt.online.mboa import Mboa, MboaConfig, MIN_SPEED_RANGE, StopReason, Trial
 from hexapod_gait import preset
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig, Simulator
@@ -347,7 +347,7 @@ def run_experiment(
     """
     config = config or MboaConfig(max_trials=EXPERIMENT_MAX_TRIALS)
     duration = archive.trial_duration
-    map_engine = archive_engine(archive.metadata) or 'pybullet'
+    map_engine = engine_of_map(archive)
     if trial_config is not None:
         if trial_engine not in (None, trial_config.engine):
             raise ValueError(

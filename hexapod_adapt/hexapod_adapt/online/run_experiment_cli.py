@@ -28,7 +28,7 @@ import sys
 
 from hexapod_adapt.mapping.archive import ArchiveError, load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
-from hexapod_adapt.mapping.simulation import archive_engine
+from hexapod_adapt.mapping.simulation import engine_of_map
 from hexapod_adapt.online.adaptation import (
     DEFAULT_TIP_GUARD,
     EXPERIMENT_MAX_TRIALS,
@@ -282,7 +282,7 @@ def _experiment(args: argparse.Namespace) -> int:
     except (ArchiveError, ValueError) as exc:
         print(f'run_experiment: {exc}', file=sys.stderr)
         return 2
-    map_engine = archive_engine(archive.metadata) or 'pybullet'
+    map_engine = engine_of_map(archive)
     first = args.trial_engine or map_engine
     engines = [first] + ([e for e in ENGINES if e != first] if args.cross_engine else [])
 

@@ -16,7 +16,7 @@ import time
 from typing import Callable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive
-from hexapod_adapt.mapping.simulation import archive_engine
+from hexapod_adapt.mapping.simulation import engine_of_map
 from hexapod_adapt.online.adaptation import AdaptationResult
 from hexapod_adapt.online.mboa import MboaConfig, Trial
 from hexapod_adapt.online.streaming_prior import StreamingPrior
@@ -120,7 +120,7 @@ def streaming_prior(
 
     Progress goes to ``log`` every ``progress_period`` s and at the end.
     """
-    engine = archive_engine(archive.metadata) or 'mujoco'
+    engine = engine_of_map(archive)
     shown = [time.monotonic()]
 
     def progress(done: int, total: int) -> None:

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from hexapod_adapt.mapping.archive import Archive, load_archive
 from hexapod_adapt.mapping.maps import DEMO_MAP, shipped_map
-from hexapod_adapt.mapping.simulation import map_physics
+from hexapod_adapt.mapping.simulation import engine_of_map, map_physics, UNRECORDED_MAP_ENGINE
 from hexapod_adapt.online.ceiling import (
     cache_path,
     cached_ceiling,
@@ -74,7 +74,7 @@ def test_a_map_is_rescored_in_the_physics_that_made_it(small_map):
     assert map_substeps(four, 'mujoco') == 4 and map_substeps(four, 'pybullet') == 0
     assert map_substeps(one, 'mujoco') == 1  # its fingerprint leaves 1 out, as before substeps
     assert map_substeps(small_map, 'mujoco') == 0  # a PyBullet map: MuJoCo's default
-    # measured on another engine at its converged step; a map that does not say: the default
+    # measured on another engine at its converged step; a map that does not say is PyBullet's
     assert trial_substeps(four, 'mujoco') == 4
     assert (
         trial_substeps(four, 'pybullet')
@@ -86,7 +86,12 @@ def test_a_map_is_rescored_in_the_physics_that_made_it(small_map):
     )
     assert trial_substeps(small_map, 'pybullet') == 0  # its own engine, at its default
     unsaid = Archive(four.centroids, four.fitness, four.descriptors, four.genotypes, {})
-    assert trial_substeps(unsaid, 'mujoco') == trial_substeps(unsaid, 'dart') == 0
+    assert engine_of_map(unsaid) == UNRECORDED_MAP_ENGINE == 'pybullet'
+    assert trial_substeps(unsaid, 'pybullet') == 0
+    assert (
+        trial_substeps(unsaid, 'mujoco')
+        == SimConfig.converged('mujoco').engine_settings().substeps
+    )
     niches = four.elite_indices()[:3]
     with create_simulator(map_sim_config('mujoco', 4)) as sim:
         at_four = [

@@ -15,9 +15,9 @@ from pathlib import Path
 
 from hexapod_adapt import (
     Archive,
-    archive_engine,
     ArchiveError,
     DEFAULT_MAP_ENGINE,
+    engine_of_map,
     from_descriptor,
     gait_min_stance,
     shipped_map,
@@ -71,7 +71,7 @@ class Repertoire:
             archive.genotypes[idx],
             archive.trial_duration,
             archive.metadata['centroid_hash'][:12],
-            archive_engine(archive.metadata) or DEFAULT_MAP_ENGINE,
+            engine_of_map(archive),
         )
 
     def __len__(self) -> int:
