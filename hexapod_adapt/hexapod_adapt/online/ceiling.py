@@ -27,7 +27,7 @@ import io
 import json
 import os
 from pathlib import Path
-from typing import Callable, Iterable, Sequence
+from typing import Callable, Iterable, Iterator, Sequence
 import zipfile
 import zlib
 
@@ -234,17 +234,28 @@ def _checked(data: dict[str, np.ndarray], where: str, key: dict) -> Ceiling | No
     return Ceiling(_damage_of(key), key['engine'], niches, speeds)
 
 
+def _packs(directory: Path) -> Iterator[tuple[Path, list[str]]]:
+    """Yield each readable pack of ``directory``, in name order, with its members' names."""
+    for pack in sorted(directory.glob('ceilings_*.zip')):
+        try:
+            with zipfile.ZipFile(pack) as packed:
+                members = packed.namelist()
+        except _BAD_PACK:  # a damaged pack holds nothing to trust
+            continue
+        yield pack, members
+
+
 def _cached_in(directory: str | os.PathLike, key: dict) -> Ceiling | None:
     """Return the ceiling for ``key`` that ``directory`` holds, loose or packed, or None."""
     path = cache_path(directory, key)
     cached = _read(path, key)
     if cached is not None:
         return cached
-    for pack in sorted(Path(directory).glob('ceilings_*.zip')):
+    for pack, members in _packs(Path(directory)):
+        if path.name not in members:
+            continue
         try:
             with zipfile.ZipFile(pack) as packed:
-                if path.name not in packed.namelist():
-                    continue
                 raw = packed.read(path.name)
             data = read_npz_bytes(raw, f'{pack}:{path.name}', ('key', 'niches', 'speeds'))
         except (*_BAD_PACK, UnreadableFile):  # a damaged pack holds nothing to trust
@@ -263,12 +274,8 @@ def cached_names(directory: str | os.PathLike) -> set[str]:
     """
     directory = Path(directory)
     names = {p.name for p in directory.glob('ceiling_*.npz')}
-    for pack in sorted(directory.glob('ceilings_*.zip')):
-        try:
-            with zipfile.ZipFile(pack) as packed:
-                names.update(packed.namelist())
-        except _BAD_PACK:
-            continue
+    for _, members in _packs(directory):
+        names.update(members)
     return names
 
 
