@@ -64,6 +64,22 @@ class PriorSnapshot:
         return self.scored == self.total
 
 
+def partial_prior(intact: np.ndarray, scored: np.ndarray) -> np.ndarray:
+    """
+    Return the prior from a partial re-score: ``scored`` speeds (NaN: not yet scored) as scored.
+
+    A gait not yet scored gets its ``intact`` speed times the median ratio of damaged to intact
+    speed over the gaits scored so far (1 before any).
+    """
+    speeds = np.array(scored, dtype=float)
+    missing = np.isnan(speeds)
+    if missing.any():
+        done = ~missing & (intact > 1e-6)
+        ratio = float(np.median(speeds[done] / intact[done])) if done.any() else 1.0
+        speeds[missing] = intact[missing] * ratio
+    return speeds
+
+
 class StreamingPrior:
     """The map re-scored under ``damage`` on ``engine`` in the background, best gaits first."""
 
@@ -156,11 +172,7 @@ class StreamingPrior:
             speeds, scored = self._speeds.copy(), self._scored
             if take:
                 self._seen = scored
-        missing = np.isnan(speeds)
-        if missing.any():
-            done = ~missing & (self._intact > 1e-6)
-            ratio = float(np.median(speeds[done] / self._intact[done])) if done.any() else 1.0
-            speeds[missing] = self._intact[missing] * ratio
+        speeds = partial_prior(self._intact, speeds)
         return PriorSnapshot(speeds, scored, self.total, time.monotonic() - self._t0)
 
     def update(self) -> np.ndarray | None:
