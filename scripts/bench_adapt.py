@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import replace
 import sys
 import time
+from typing import Sequence
 
 import numpy as np
 
@@ -36,7 +37,9 @@ def bench_adapt() -> None:
     past 30 deg scores 0; adapt_tipped_trials counts them). Then the default profile, blind
     (_judge) and from the damage-informed prior (_prior_judge), with trials on the judge engine
     (DART). Trials on an engine that did not make the map (_cross, _judge), and its ceilings, run
-    at its converged step (``map_physics``, ``SimConfig.converged``).
+    at its converged step (``map_physics``, ``SimConfig.converged``). Last, the experiment on
+    every damage kind (:func:`_bench_damage_kinds`); ``BENCH_ADAPT_KINDS`` (kinds separated by
+    spaces) runs that alone, for those kinds.
     """
     import os
     from pathlib import Path
@@ -58,6 +61,16 @@ def bench_adapt() -> None:
     from hexapod_sim.scenarios import scenario
     from hexapod_sim.simulator import JUDGE_ENGINE
 
+    path = Path(os.environ.get('BENCH_ADAPT_MAP', shipped_map(DEFAULT_MAP)))
+    print(f'# experiment on {path}', file=sys.stderr)
+    archive = load_archive(path)
+    map_engine = engine_of_map(archive)
+    cached = shipped_ceilings()
+    legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
+    only_kinds = os.environ.get('BENCH_ADAPT_KINDS', '').split()
+    if only_kinds:
+        _bench_damage_kinds(archive, map_engine, cached, legs_all, only_kinds)
+        return
     rng = np.random.default_rng(0)
     descriptors, prior = rng.random((40000, 6)), rng.uniform(0.1, 0.45, 40000)
     steps = []
@@ -70,13 +83,8 @@ def bench_adapt() -> None:
         steps.append(time.perf_counter() - t0)
     print(f'BENCH adapt_mboa_step_ms {np.median(steps) * 1e3:.2f} ms')
 
-    path = Path(os.environ.get('BENCH_ADAPT_MAP', shipped_map(DEFAULT_MAP)))
-    print(f'# experiment on {path}', file=sys.stderr)
-    archive = load_archive(path)
     print(f'BENCH adapt_map_gaits {archive.n_filled} gaits')
-    map_engine = engine_of_map(archive)
     other = next(e for e in ENGINES if e != map_engine)
-    cached = shipped_ceilings()
     # the damage-informed prior: the whole map re-scored under a damage no cache holds, as
     # adapt_node does before a run (2 processes, the project machine's cores)
     import tempfile
@@ -97,7 +105,6 @@ def bench_adapt() -> None:
         stream.wait_first(600)
         print(f'BENCH adapt_prior_first_trial_s {time.monotonic() - t0:.1f} s')
         stream.close()
-    legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
 
     def ceilings(legs, engine):
         if engine == map_engine:
@@ -162,21 +169,28 @@ def bench_adapt() -> None:
     _bench_damage_kinds(archive, map_engine, cached, legs_all)
 
 
-def _bench_damage_kinds(archive, map_engine: str, cached, legs_all) -> None:
+def _bench_damage_kinds(
+    archive, map_engine: str, cached, legs_all, kinds: Sequence[str] = ()
+) -> None:
     """
     Adaptation on every damage kind (issue 31): the default profile, blind and with the prior.
 
-    Per kind K: adapt_beats_control_<K> (of the 21 S1-S4 cases), adapt_speed_mean_<K> and, where
-    the shipped cache holds the kind's 21 ceilings, adapt_ceiling_ratio_median_<K> and _min_<K>;
-    the same with the damage-informed prior (suffix _prior), which needs those ceilings.
+    Per kind K: adapt_beats_control_<K> (of the 21 S1-S4 cases), adapt_speed_mean_<K>,
+    adapt_tipped_trials_<K> and, where the shipped cache holds the kind's 21 ceilings,
+    adapt_ceiling_ratio_median_<K> and _min_<K>; the same with the damage-informed prior (suffix
+    _prior), which needs those ceilings. Trials have adapt_node's tip guard, as the experiment's.
+    ``kinds``: these kinds only (default: every one).
     """
-    from hexapod_adapt.online.adaptation import run_experiment
+    from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD, run_experiment
     from hexapod_adapt.online.ceiling import cached_ceiling, ceiling
     from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
     from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
 
+    unknown = set(kinds) - set(EXPERIMENT_KINDS)
+    if unknown:
+        raise SystemExit(f'unknown damage kinds {sorted(unknown)}: one of {EXPERIMENT_KINDS}')
     config = replace(PROFILES['default'], max_trials=TRIAL_BUDGET)
-    for kind in EXPERIMENT_KINDS:
+    for kind in kinds or EXPERIMENT_KINDS:
         damages = [Damage.of(kind, legs) for legs in legs_all]
         have = all(cached_ceiling(archive, d, map_engine, [cached]) is not None for d in damages)
         if not have:
@@ -196,6 +210,7 @@ def _bench_damage_kinds(archive, map_engine: str, cached, legs_all) -> None:
                 priors=(lambda d: ceilings(d, map_engine).speeds) if informed else None,
                 setup='default' + ('+prior' if informed else ''),
                 kind=kind,
+                tip_guard=DEFAULT_TIP_GUARD,
             )
             best = np.array([r.best_speed for r in rows])
             control = np.array([r.control_speed for r in rows])
@@ -204,6 +219,7 @@ def _bench_damage_kinds(archive, map_engine: str, cached, legs_all) -> None:
             print(f'BENCH adapt_beats_control_{name} {beats} of {len(rows)} runs')
             print(f'BENCH adapt_speed_mean_{name} {best.mean():.3f} m/s')
             print(f'BENCH control_speed_mean_{name} {control.mean():.3f} m/s')
+            print(f'BENCH adapt_tipped_trials_{name} {sum(r.tipped_trials for r in rows)} trials')
             if have:
                 ratio = np.median([r.ratio for r in rows])
                 print(f'BENCH adapt_ceiling_ratio_median_{name} {ratio:.3f} 1')

@@ -8,6 +8,8 @@ from pathlib import Path
 import re
 import subprocess
 
+import pytest
+
 WS = Path(__file__).resolve().parents[2]
 
 
@@ -50,12 +52,13 @@ def test_every_shell_script_parses():
         assert r.returncode == 0, f'{script}: {r.stderr}'
 
 
-def test_every_name_the_benchmarks_import_exists():
-    """bench.py imports per area, when it runs: a name moved by a refactor broke bench-bridge."""
+@pytest.mark.parametrize('script', ['bench.py', 'bench_adapt.py'])
+def test_every_name_the_benchmarks_import_exists(script: str):
+    """The benchmarks import per area, when they run: a name moved by a refactor broke one."""
     import ast
     import importlib
 
-    tree = ast.parse((WS / 'scripts' / 'bench.py').read_text())
+    tree = ast.parse((WS / 'scripts' / script).read_text())
     missing = []
     for node in ast.walk(tree):
         if not (isinstance(node, ast.ImportFrom) and node.module):
@@ -70,4 +73,4 @@ def test_every_name_the_benchmarks_import_exists():
                 importlib.import_module(f'{node.module}.{alias.name}')
             except ImportError:
                 missing.append(f'{node.module}.{alias.name}')
-    assert not missing, f'scripts/bench.py imports names that do not exist: {missing}'
+    assert not missing, f'scripts/{script} imports names that do not exist: {missing}'
