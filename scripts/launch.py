@@ -74,6 +74,7 @@ def simulated_profile(profile: str) -> bool:
 
 
 def main(argv: list[str] | None = None) -> int:
+    from hexapod_sim.simulator import ENGINES
     from hexapod_util.processes import die_with_parent
     from hexapod_util.ros_glue import ros_args
 
@@ -106,7 +107,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument(
         '--engine',
-        choices=['pybullet', 'mujoco', 'dart'],
+        choices=ENGINES,
         help="sim_node's physics engine (default: pybullet; adapt-sim: the map's)",
     )
     parser.add_argument(
