@@ -3,9 +3,9 @@
 r"""
 How many gaits the streaming prior must score before the first trial (``TOP_FIRST``).
 
-The first trial of a run with the damage-informed prior walks the prior's best gait (M-BOA's
-UCB before any trial is the prior mean plus a constant). When the damage has no cached ceiling,
-the prior is a partial re-score (:func:`hexapod_adapt.online.streaming_prior.partial_prior`):
+The first trial of a run with the damage-informed prior walks M-BOA's first pick (its UCB before
+any trial is the prior mean plus a constant: the prior's best gait). When the damage has no
+cached ceiling, the prior is a partial re-score (:func:`hexapod_adapt.online.streaming_prior.partial_prior`):
 the ``n`` fastest intact gaits scored under the damage, the others estimated. For each case this
 replays that choice from the case's full ceiling and reports the first gait's speed under the
 damage as a ratio of the ceiling, for each ``n``.
@@ -27,6 +27,7 @@ from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.maps import shipped_ceilings, shipped_map
 from hexapod_adapt.mapping.simulation import engine_of_map
 from hexapod_adapt.online.ceiling import cached_ceiling
+from hexapod_adapt.online.mboa import Mboa, PROFILES
 from hexapod_adapt.online.streaming_prior import partial_prior
 from hexapod_sim.damage import Damage
 from hexapod_sim.scenarios import scenario
@@ -36,12 +37,14 @@ CANDIDATES = (64, 128, 192, 256)
 TOLERANCE = 0.02
 
 
-def first_pick_ratio(intact: np.ndarray, damaged: np.ndarray, n: int) -> float:
+def first_pick_ratio(
+    descriptors: np.ndarray, intact: np.ndarray, damaged: np.ndarray, n: int
+) -> float:
     """Return the damaged speed of the first trial's gait after ``n`` are scored / the ceiling."""
     order = np.argsort(-intact, kind='stable')
     scored = np.full(len(intact), np.nan)
     scored[order[:n]] = damaged[order[:n]]
-    pick = int(np.argmax(partial_prior(intact, scored)))
+    pick = Mboa(descriptors, partial_prior(intact, scored), PROFILES['default']).next_index()
     return float(damaged[pick] / damaged.max())
 
 
@@ -52,7 +55,8 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     archive = load_archive(shipped_map())
     engine = engine_of_map(archive)
-    intact = archive.speeds()[archive.elite_indices()]
+    niches = archive.elite_indices()
+    intact, descriptors = archive.speeds()[niches], archive.descriptors[niches]
     cases = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
     ratios: dict[int, list[float]] = {n: [] for n in CANDIDATES}
     for legs in cases:
@@ -61,7 +65,7 @@ def main(argv: list[str] | None = None) -> int:
             print(f'no cached ceiling for {args.kind} legs {legs}', file=sys.stderr)
             return 1
         for n in CANDIDATES:
-            ratios[n].append(first_pick_ratio(intact, found.speeds, n))
+            ratios[n].append(first_pick_ratio(descriptors, intact, found.speeds, n))
     print(f'{args.kind}: {len(cases)} cases, first pick / ceiling')
     print('n     median  p10    min')
     for n, r in ratios.items():
