@@ -4,11 +4,12 @@ r"""
 How many gaits the streaming prior must score before the first trial (``TOP_FIRST``).
 
 The first trial of a run with the damage-informed prior walks M-BOA's first pick (its UCB before
-any trial is the prior mean plus a constant: the prior's best gait). When the damage has no
-cached ceiling, the prior is a partial re-score (:func:`hexapod_adapt.online.streaming_prior.partial_prior`):
-the ``n`` fastest intact gaits scored under the damage, the others estimated. For each case this
-replays that choice from the case's full ceiling and reports the first gait's speed under the
-damage as a ratio of the ceiling, for each ``n``.
+any trial is the prior mean plus a constant: the prior's best gait). When the damage has no cached
+ceiling, the prior is a partial re-score
+(:func:`hexapod_adapt.online.streaming_prior.partial_prior`): the ``n`` fastest intact gaits scored
+under the damage, the others estimated. For each case this replays that choice from the case's full
+ceiling and reports the first gait's speed under the damage as a ratio of the ceiling, for each
+``n``.
 
 Tuning data: the default map's 21 ``unpowered_coxa`` cases (no reported figure depends on
 ``TOP_FIRST``: the reported prior runs read cached ceilings). Rule, fixed before the run: the
