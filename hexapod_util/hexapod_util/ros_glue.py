@@ -215,25 +215,35 @@ def publish_status(
 SAME_CTRL_C_S = 2.0
 
 
-def _ctrl_c_handler() -> Callable[[int, Any], None]:
-    """
-    Python's SIGINT handler for a node process.
+#: How often a spinning node looks at its stop flag [s] (see ``_stop_handler``).
+STOP_POLL_S = 0.1
 
-    rclpy's own handler runs first and shuts the context down, which stops the executor cleanly.
-    This one raises no KeyboardInterrupt for the Ctrl-Cs of the first ``SAME_CTRL_C_S`` s, so a
-    terminal's and a launcher's together cannot cut the node's clean-up (closing a recording)
-    short; a Ctrl-C after that still interrupts a node that does not stop.
+
+def _stop_handler(stop: threading.Event) -> Callable[[int, Any], None]:
+    """
+    Python's SIGINT and SIGTERM handler for a node process: every stop sets ``stop``.
+
+    rclpy's own handlers (installed by ``rclpy.init``, chained to this one) shut the context
+    down, which stops the executor cleanly. A stop that comes before rclpy has its handlers, while
+    the node is still starting, reaches only this one: the flag keeps it, and the node stops as
+    soon as it spins (before, such a Ctrl-C was lost and the node ran on). No KeyboardInterrupt
+    for the Ctrl-Cs of the first ``SAME_CTRL_C_S`` s, so a terminal's and a launcher's together
+    cannot cut the node's clean-up (closing a recording) short; a Ctrl-C after that still
+    interrupts a node that does not stop.
     """
     first: list[float] = []
 
-    def on_sigint(signum: int, frame: Any) -> None:
+    def on_signal(signum: int, frame: Any) -> None:
+        stop.set()
+        if signum != signal.SIGINT:
+            return
         now = time.monotonic()
         if not first:
             first.append(now)
         elif now - first[0] > SAME_CTRL_C_S:
             raise KeyboardInterrupt
 
-    return on_sigint
+    return on_signal
 
 
 def run_node(
@@ -260,8 +270,11 @@ def run_node(
     # the project's Fast DDS profile (services answer clients discovered late), unless one is set:
     # read when rclpy.init creates the DDS participant, however the node was started
     os.environ.update(profile_environment(os.environ))
+    stop = threading.Event()  # a SIGINT or SIGTERM, whenever it came
     if threading.current_thread() is threading.main_thread():
-        signal.signal(signal.SIGINT, _ctrl_c_handler())
+        on_signal = _stop_handler(stop)
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(signum, on_signal)
     rclpy.init(args=args)
     node = None
     executor = (
@@ -276,7 +289,8 @@ def run_node(
             print(f'[{executable}] refusing to start: {exc}', file=sys.stderr)
             return 2
         executor.add_node(node)
-        executor.spin()
+        while not stop.is_set() and executor.context.ok():  # executor.spin(), and the flag
+            executor.spin_once(timeout_sec=STOP_POLL_S)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     except RuntimeError:

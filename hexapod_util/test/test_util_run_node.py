@@ -145,3 +145,48 @@ def test_a_node_started_by_a_killed_script_does_not_run_on_as_an_orphan():
     while not _gone(child) and time.monotonic() < deadline:
         time.sleep(0.05)
     assert _gone(child)
+
+
+EARLY_STOP = textwrap.dedent(
+    """
+    import os
+    import signal
+    import sys
+
+    import rclpy
+    from rclpy.node import Node
+
+    from hexapod_util.ros_glue import run_node
+
+    real_init = rclpy.init
+
+
+    def init_after_a_stop(**kwargs):  # the stop comes before rclpy has its own handlers
+        os.kill(os.getpid(), getattr(signal, sys.argv[1]))
+        real_init(**kwargs)
+
+
+    rclpy.init = init_after_a_stop
+
+
+    class Starting(Node):
+        def __init__(self):
+            super().__init__('starting_node')
+
+        def shutdown(self):
+            print('clean-up', flush=True)
+
+
+    sys.exit(run_node(Starting, ['--ros-args', '-r', '__ns:=/run_node_test']))
+    """
+)
+
+
+@pytest.mark.parametrize('signame', ['SIGINT', 'SIGTERM'])
+def test_a_stop_that_comes_while_the_node_starts_stops_it_cleanly(signame: str):
+    """A launcher's Ctrl-C or SIGTERM that comes before rclpy.init is kept, not lost."""
+    done = subprocess.run(
+        [sys.executable, '-c', EARLY_STOP, signame], capture_output=True, text=True, timeout=30
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == 'clean-up\n'
