@@ -95,13 +95,6 @@ def test_only_what_the_bridge_confirms_is_believed_and_forget_drops_the_reports(
     assert known.for_run(None, False)[1] == 'the map as it is (no damage known)'
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason='the default map of 2026-11-28 shipped with its lifted-leg ceilings; its unpowered'
-    ' cases are still being made (scripts/resume_long_runs.sh) and a report of a dead servo is'
-    ' re-scored meanwhile. Remove this mark when they land: the test then passes and strict'
-    ' turns the pass into a failure',
-)
 def test_one_dead_servo_a_leg_in_any_s1_s4_case_has_a_shipped_ceiling():
     """The bridge's reports on S1-S4 legs need no re-score: the default map's cache has them."""
     from hexapod_adapt.mapping.maps import shipped_ceilings
