@@ -19,6 +19,7 @@ from typing import Callable, Sequence, TYPE_CHECKING
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import engine_of_map, map_physics
 from hexapod_adapt.online.mboa import Mboa, MboaConfig, MIN_SPEED_RANGE, StopReason, Trial
+from hexapod_adapt.online.prior import SCREENED_GAITS, simulated_tilts, TipScreen
 from hexapod_gait import preset
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig, Simulator
 from hexapod_sim.damage import Damage
@@ -106,6 +107,7 @@ def adapt(
     prior: np.ndarray | None = None,
     hypotheses: np.ndarray | None = None,
     prior_update: Callable[[], np.ndarray | None] | None = None,
+    screen: Callable[[np.ndarray], np.ndarray] | None = None,
 ) -> AdaptationResult:
     """
     Run M-BOA until it stops (never more than ``config.max_trials`` trials).
@@ -126,6 +128,9 @@ def adapt(
     e.g. a re-score still streaming in (:mod:`hexapod_adapt.online.streaming_prior`); M-BOA then
     starts from it again and re-learns the trials so far.
 
+    ``screen``, if given, takes every prior given (the first and each update) before M-BOA does,
+    e.g. a :class:`~hexapod_adapt.online.prior.TipScreen` (the gaits that tip in simulation: 0).
+
     With ``prior`` or ``prior_update`` the run stops on alpha alone (``config.stop_gain`` is for
     blind runs).
     """
@@ -134,6 +139,8 @@ def adapt(
         # the known damage's re-score is trusted: its best, tried first, ends the run on alpha
         config = replace(config, stop_gain=0.0)
     niches, descriptors, map_prior = candidates(archive)
+    if prior is not None and screen is not None:
+        prior = screen(prior)
     if prior is None:
         prior = map_prior
     elif np.shape(prior) != map_prior.shape:
@@ -159,7 +166,7 @@ def adapt(
             break
         newer = prior_update() if prior_update is not None else None
         if newer is not None:
-            opt = _with_prior(opt, newer)
+            opt = _with_prior(opt, newer if screen is None else screen(newer))
         index = opt.next_index()
         niche = int(niches[index])
         try:
@@ -331,9 +338,11 @@ def run_experiment(
     the thesis's settings with :data:`EXPERIMENT_MAX_TRIALS`. With ``ceilings(failed_legs,
     engine)`` (e.g. :func:`hexapod_adapt.online.ceiling.ceiling` over a cache, which walks the
     gaits on the same physics), each row also gets the map's ceiling under its damage and the
-    adapted/ceiling ratio. ``floor``: the damaged control tripod, measured first, is the run's
-    success floor. ``priors(failed_legs)``: M-BOA starts from these
-    speeds (the map re-scored under the damage, :mod:`hexapod_adapt.online.prior`). ``setup`` names
+    adapted/ceiling ratio; with a ``tip_guard``, the ceiling is the best gait that stays within
+    it (a guarded trial scores 0 for any other). ``floor``: the damaged control tripod, measured
+    first, is the run's success floor. ``priors(failed_legs)``: M-BOA starts from these
+    speeds (the map re-scored under the damage, :mod:`hexapod_adapt.online.prior`), with the gaits
+    that tip past ``tip_guard`` there at 0 (:class:`TipScreen`, as adapt_node). ``setup`` names
     the configuration in the rows. ``trial_duration`` (default: the map's) and ``settle``: trials
     time that long after walking ``settle`` s untimed (:func:`simulated_trial`); the walking
     time counts both, and the adapted gait is then judged as the map's gaits are (its speed over
@@ -348,6 +357,10 @@ def run_experiment(
     config = config or MboaConfig(max_trials=EXPERIMENT_MAX_TRIALS)
     duration = archive.trial_duration
     map_engine = engine_of_map(archive)
+
+    def guarded(tilts_of: Callable[[np.ndarray], np.ndarray], top: int = SCREENED_GAITS):
+        return TipScreen(tilts_of, tip_guard, top) if tip_guard < math.pi else lambda s: s
+
     if trial_config is not None:
         if trial_engine not in (None, trial_config.engine):
             raise ValueError(
@@ -374,6 +387,10 @@ def run_experiment(
                     floor=(lambda: control) if floor else None,
                     prior=priors(damage) if priors is not None else None,
                     hypotheses=_hypotheses(config, bank, damage, leave_out, priors is not None),
+                    # the prior's gaits that tip in its own simulation: 0, as adapt_node's
+                    screen=guarded(simulated_tilts(archive, damage, map_engine))
+                    if priors is not None
+                    else None,
                 )
                 adapted = result.best_speed
                 if settle > 0 or (trial_duration or duration) != duration:
@@ -399,11 +416,14 @@ def run_experiment(
                 )
                 if ceilings is not None:
                     c = ceilings(damage, trial_engine)
+                    # the best gait a guarded trial can keep: none that tips past the guard
+                    reachable = guarded(simulated_tilts(archive, damage, trial_engine), top=1)
+                    best = int(np.argmax(reachable(c.speeds)))
                     row = replace(
                         row,
-                        ceiling_speed=c.best_speed,
-                        ceiling_niche=c.best_niche,
-                        ratio=adapted / c.best_speed,
+                        ceiling_speed=float(c.speeds[best]),
+                        ceiling_niche=int(c.niches[best]),
+                        ratio=adapted / float(c.speeds[best]),
                         gaits_beating_intact_control=c.beating(intact),
                     )
                 rows.append(row)

@@ -182,6 +182,19 @@ def evaluate_part(args: tuple[Rescoring, np.ndarray]) -> np.ndarray:
     return np.array([r.speed for r in results])
 
 
+def evaluate_tilts(how: Rescoring, genes: np.ndarray) -> np.ndarray:
+    """Return how far each gait tilts the body as it walks, as a ceiling walks it [rad]."""
+    results = evaluate_gaits(
+        list(genes),
+        worker_simulator(how.engine, how.substeps),
+        duration=how.duration,
+        collisions_fatal=False,
+        failed_legs=how.damage,
+        record_tilt=True,
+    )
+    return np.array([r.peak_tilt for r in results])
+
+
 def compute_ceiling(
     archive: Archive,
     damage: Damage | Sequence[int],

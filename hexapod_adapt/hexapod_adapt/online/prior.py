@@ -8,7 +8,9 @@ robot's servo health check reports a servo that does not answer (``servo_failure
 operator names them in the ``adapt`` request. Then, before the first trial, every gait of the map
 is evaluated in simulation with that damage (a ceiling, :mod:`hexapod_adapt.online.ceiling`,
 cached) and M-BOA starts from those speeds instead of the intact map's. Robot trials still decide:
-the prior is only a prior.
+the prior is only a prior. A re-score keeps speeds, not tilts, so :class:`TipScreen` walks the
+gaits a run would try first again with the body's tilt recorded, and a gait that tilts past the
+trials' tip guard in simulation gets the speed a guarded trial would score: 0.
 
 :class:`KnownDamage` keeps what the node has been told and refuses what makes no sense, saying
 why; :func:`damage_prior` re-scores the map.
@@ -22,7 +24,7 @@ import time
 from typing import Any, Callable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive
-from hexapod_adapt.online.ceiling import ceiling
+from hexapod_adapt.online.ceiling import ceiling, evaluate_tilts, Rescoring
 from hexapod_description import N_LEGS
 from hexapod_sim.damage import Damage, damage_from_lists, JOINTS, MAX_FAILED_LEGS
 import numpy as np
@@ -59,6 +61,63 @@ def damage_prior(
     t0 = time.monotonic()
     c = ceiling(archive, damage, engine, cache_dir, workers, read_dirs, progress)
     return DamagePrior(damage, engine, c.speeds, time.monotonic() - t0)
+
+
+#: Gaits a :class:`TipScreen` keeps walked at the head of a prior: a run's whole default budget
+#: (MboaConfig.max_trials), the gaits it can try first.
+SCREENED_GAITS = 24
+
+
+class TipScreen:
+    """
+    A prior without the gaits that tip in simulation: those get 0, what a guarded trial scores.
+
+    ``tilts_of(positions)`` returns how far the gaits at those positions (the prior's order, that
+    of ``archive.elite_indices()``) tilt the body [rad]; ``guard`` is the trials' tip guard.
+    Calling the screen on a prior walks its ``top`` fastest gaits (each gait once per screen:
+    the tilts are kept for the next prior, e.g. a re-score still streaming in), zeroes those past
+    the guard, and walks on until the ``top`` fastest of what is left have all been walked.
+    """
+
+    def __init__(
+        self,
+        tilts_of: Callable[[np.ndarray], np.ndarray],
+        guard: float,
+        top: int = SCREENED_GAITS,
+    ) -> None:
+        if top < 1:
+            raise ValueError(f'top must be at least 1, got {top}')
+        self._tilts_of, self.guard, self.top = tilts_of, float(guard), int(top)
+        self.tilts: dict[int, float] = {}  # position -> peak tilt [rad], each walked once
+
+    @property
+    def tipping(self) -> list[int]:
+        """Return the positions walked so far that tilt past the guard, in order."""
+        return sorted(i for i, tilt in self.tilts.items() if tilt > self.guard)
+
+    def __call__(self, speeds: np.ndarray) -> np.ndarray:
+        """Return ``speeds`` with every gait known to tip at 0 (a copy)."""
+        screened = np.array(speeds, dtype=float)
+        while True:
+            screened[self.tipping] = 0.0
+            lead = np.argsort(-screened, kind='stable')[: self.top]
+            todo = np.array([i for i in lead if int(i) not in self.tilts], dtype=int)
+            if len(todo) == 0:
+                return screened
+            self.tilts.update(zip(map(int, todo), map(float, self._tilts_of(todo))))
+
+
+def simulated_tilts(
+    archive: Archive, damage: Damage, engine: str
+) -> Callable[[np.ndarray], np.ndarray]:
+    """Return ``tilts_of`` for a :class:`TipScreen`: gaits walked as their re-score walked them."""
+    how = Rescoring.of(archive, damage, engine)
+    niches = archive.elite_indices()
+
+    def tilts_of(positions: np.ndarray) -> np.ndarray:
+        return evaluate_tilts(how, archive.genotypes[niches[positions]])
+
+    return tilts_of
 
 
 def servo_report_verdict(

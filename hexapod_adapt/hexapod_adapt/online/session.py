@@ -19,6 +19,7 @@ from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import engine_of_map
 from hexapod_adapt.online.adaptation import AdaptationResult
 from hexapod_adapt.online.mboa import MboaConfig, Trial
+from hexapod_adapt.online.prior import TipScreen
 from hexapod_adapt.online.streaming_prior import StreamingPrior
 from hexapod_adapt.online.trials import (
     ManualTrials,
@@ -164,6 +165,16 @@ def first_prior(stream: StreamingPrior, source: str) -> tuple[np.ndarray | None,
             ' trials'
         )
     return speeds, f'{what} (best {float(np.max(snap.speeds)):.3f} m/s, {how}), from {source}'
+
+
+def screen_note(screen: TipScreen, niches: np.ndarray) -> str:
+    """Say what a prior's tip screen found, to follow what the prior is."""
+    guard = f'the {math.degrees(screen.guard):.0f} deg tip guard'
+    walked = f'{len(screen.tilts)} of its best gaits walked again with the tilt recorded'
+    if not screen.tipping:
+        return f'; {walked}: none tilts past {guard}'
+    gaits = ', '.join(str(int(niches[i])) for i in screen.tipping)
+    return f'; {walked}: gait(s) {gaits} tilt past {guard} there and count 0'
 
 
 def duplicate_problem(name: str, count: int) -> str:

@@ -24,7 +24,7 @@ from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.maps import shipped_ceilings
 from hexapod_adapt.online import session
 from hexapod_adapt.online.adaptation import adapt, TrialAborted
-from hexapod_adapt.online.prior import damage_of_request
+from hexapod_adapt.online.prior import damage_of_request, simulated_tilts, TipScreen
 from hexapod_adapt.online.run_config import (
     ArchiveSlot,
     engine_note,
@@ -258,11 +258,15 @@ class AdaptNode(AdaptAction, DamageReports, Node):
         )
         self.get_logger().info(session.start_message(archive, config, timing, note))
         niches = archive.elite_indices()  # M-BOA's candidate index -> niche
-        prior, prior_update, response.prior = None, None, source
+        prior, prior_update, screen, response.prior = None, None, None, source
         if damage is not None:  # re-scored best gaits first; the rest streams in between trials
             stream = self._stream_for(archive, damage)
             prior, response.prior = session.first_prior(stream, source)
             prior_update = stream.update if prior is not None else None
+        if prior is not None:  # walked again, tilt recorded: the gaits that tip there count 0
+            screen = TipScreen(simulated_tilts(archive, damage, stream.engine), tip_guard)
+            prior = screen(prior)
+            response.prior += session.screen_note(screen, niches)
         self.get_logger().info(f'M-BOA starts from {response.prior}')
 
         def on_trial(trial, niche, opt) -> None:
@@ -287,7 +291,7 @@ class AdaptNode(AdaptAction, DamageReports, Node):
 
         try:
             stop = lambda: handle.is_cancel_requested  # noqa: E731 - read at every trial
-            extra = {'prior': prior, 'prior_update': prior_update}
+            extra = {'prior': prior, 'prior_update': prior_update, 'screen': screen}
             result = adapt(archive, self.trials, config, on_trial, stop, **extra)
         finally:
             self.recording.stop()

@@ -150,3 +150,87 @@ def test_a_robot_trial_that_tilts_past_the_guard_is_stopped_through_the_bridge()
     outcome = trials(3)
     assert outcome.tipped and outcome.speed == 0.0 and outcome.peak_tilt == pytest.approx(0.9)
     assert Robot.stopped == 1
+
+
+def _screen(tilts: np.ndarray, guard: float = 0.5, top: int = 3):
+    from hexapod_adapt.online.prior import TipScreen
+
+    walked: list[list[int]] = []
+
+    def tilts_of(positions):
+        walked.append([int(i) for i in positions])
+        return tilts[positions]
+
+    return TipScreen(tilts_of, guard, top), walked
+
+
+def test_a_tip_screen_zeroes_the_leading_gaits_that_tip_and_walks_on_past_them():
+    speeds = np.array([0.1, 0.5, 0.4, 0.3, 0.2, 0.05])
+    tilts = np.array([0.1, 0.9, 0.2, 0.8, 0.1, 0.1])  # gaits 1 and 3 tip past 0.5
+    screen, walked = _screen(tilts)
+    screened = screen(speeds)
+    assert screened.tolist() == [0.1, 0.0, 0.4, 0.0, 0.2, 0.05]
+    assert speeds[1] == 0.5  # the prior given is not changed
+    assert walked == [[1, 2, 3], [4, 0]]  # on until the 3 fastest left were all walked
+    assert screen.tipping == [1, 3]
+    assert int(np.argmax(screened)) == 2
+    # a newer prior (a re-score streaming in): the gaits walked are not walked again
+    assert screen(speeds[::-1].copy()).tolist() == [0.05, 0.0, 0.3, 0.0, 0.5, 0.1]
+    assert walked == [[1, 2, 3], [4, 0], [5]]
+
+
+def test_a_tip_screen_of_gaits_that_all_stay_up_changes_nothing():
+    speeds = np.array([0.3, 0.1, 0.2])
+    screen, walked = _screen(np.zeros(3), top=2)
+    assert screen(speeds).tolist() == speeds.tolist() and walked == [[0, 2]]
+    with pytest.raises(ValueError, match='top must be at least 1'):
+        _screen(np.zeros(3), top=0)
+
+
+def test_adapt_never_tries_first_a_prior_gait_the_screen_says_tips():
+    a = _archive()
+    prior = a.speeds()[a.elite_indices()].copy()
+    first = int(np.argmax(prior))
+    tilts = np.zeros(len(prior))
+    tilts[first] = 1.0
+    screen, _ = _screen(tilts)
+    tried = []
+
+    def trial(niche):
+        tried.append(niche)
+        return TrialOutcome(0.5 * a.speeds()[niche], False, 0.1)
+
+    adapt(a, trial, MboaConfig(max_trials=3), prior=prior, screen=screen)
+    assert tried and int(a.elite_indices()[first]) not in tried
+    # the screen takes a newer prior too: the same gait, fastest again, is still skipped
+    tried.clear()
+    screen, _ = _screen(tilts)
+    adapt(a, trial, MboaConfig(max_trials=3), prior=prior, prior_update=lambda: prior,
+          screen=screen)  # fmt: skip
+    assert tried and int(a.elite_indices()[first]) not in tried
+
+
+def test_the_screen_walks_a_gait_as_a_guarded_trial_does():
+    """The tilt the screen reads is the trial's: the same gait, damage and physics."""
+    from hexapod_adapt.mapping.simulation import map_physics
+    from hexapod_adapt.online.prior import simulated_tilts, TipScreen
+    from hexapod_adapt.online.session import screen_note
+    from hexapod_gait import preset
+    from hexapod_gait.parameters import to_genotype
+    from hexapod_sim import create_simulator
+    from hexapod_sim.damage import Damage
+
+    a = Archive.empty(np.full((1, 6), 0.5))
+    a.fitness[0], a.descriptors[0], a.genotypes[0] = 1.0, 0.5, to_genotype(preset('control'))
+    damage = Damage.of('lifted', [1])
+    with create_simulator(map_physics(a, 'mujoco')) as sim:
+        walked = simulated_trial(a, damage, sim)(0)
+    tilt = simulated_tilts(a, damage, 'mujoco')(np.array([0]))
+    assert tilt[0] == pytest.approx(walked.peak_tilt)
+    # a guard below the tripod's rocking: the screen zeroes it, as the trial would stop it
+    low = TipScreen(simulated_tilts(a, damage, 'mujoco'), 0.5 * walked.peak_tilt)
+    assert low(np.array([0.3])).tolist() == [0.0]
+    assert 'gait(s) 0 tilt past' in screen_note(low, a.elite_indices())
+    high = TipScreen(simulated_tilts(a, damage, 'mujoco'), 2.0 * walked.peak_tilt)
+    assert high(np.array([0.3])).tolist() == [0.3]
+    assert 'none tilts past' in screen_note(high, a.elite_indices())
