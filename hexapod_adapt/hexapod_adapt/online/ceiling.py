@@ -37,7 +37,7 @@ from hexapod_adapt.mapping.simulation import (
     trial_substeps,
     worker_simulator,
 )
-from hexapod_sim import evaluate_gaits
+from hexapod_sim import evaluate_gaits, EvaluationResult
 from hexapod_sim.damage import as_damage, Damage, LegDamage
 from hexapod_sim.evaluation import EVALUATION_VERSION
 from hexapod_util.files import atomic_write_bytes
@@ -169,30 +169,27 @@ class Rescoring:
         )
 
 
-def evaluate_part(args: tuple[Rescoring, np.ndarray]) -> np.ndarray:
-    """Return the speeds of some gaits ``(how, genotypes)`` (a pool job)."""
-    how, genes = args
-    results = evaluate_gaits(
+def _walk(how: Rescoring, genes: np.ndarray, record_tilt: bool = False) -> list[EvaluationResult]:
+    """Walk some gaits as a ceiling walks them: one EvaluationResult each."""
+    return evaluate_gaits(
         list(genes),
         worker_simulator(how.engine, how.substeps),
         duration=how.duration,
         collisions_fatal=False,
         failed_legs=how.damage,
+        record_tilt=record_tilt,
     )
-    return np.array([r.speed for r in results])
+
+
+def evaluate_part(args: tuple[Rescoring, np.ndarray]) -> np.ndarray:
+    """Return the speeds of some gaits ``(how, genotypes)`` (a pool job)."""
+    how, genes = args
+    return np.array([r.speed for r in _walk(how, genes)])
 
 
 def evaluate_tilts(how: Rescoring, genes: np.ndarray) -> np.ndarray:
     """Return how far each gait tilts the body as it walks, as a ceiling walks it [rad]."""
-    results = evaluate_gaits(
-        list(genes),
-        worker_simulator(how.engine, how.substeps),
-        duration=how.duration,
-        collisions_fatal=False,
-        failed_legs=how.damage,
-        record_tilt=True,
-    )
-    return np.array([r.peak_tilt for r in results])
+    return np.array([r.peak_tilt for r in _walk(how, genes, record_tilt=True)])
 
 
 def compute_ceiling(
