@@ -25,6 +25,7 @@ from typing import Any, Callable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.online.ceiling import ceiling, evaluate_tilts, Rescoring
+from hexapod_adapt.online.mboa import TRIAL_BUDGET
 from hexapod_description import N_LEGS
 from hexapod_sim.damage import Damage, damage_from_lists, JOINTS, MAX_FAILED_LEGS
 import numpy as np
@@ -63,9 +64,9 @@ def damage_prior(
     return DamagePrior(damage, engine, c.speeds, time.monotonic() - t0)
 
 
-#: Gaits a :class:`TipScreen` keeps walked at the head of a prior: a run's whole default budget
-#: (MboaConfig.max_trials), the gaits it can try first.
-SCREENED_GAITS = 24
+#: Gaits a :class:`TipScreen` keeps walked at the head of a prior: adapt_node's default budget
+#: of trials (24), the gaits a run can try first.
+SCREENED_GAITS = TRIAL_BUDGET
 
 
 class TipScreen:
