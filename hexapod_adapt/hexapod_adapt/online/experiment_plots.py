@@ -13,11 +13,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Sequence
 
+from hexapod_adapt.online.mboa import TRIAL_BUDGET
 from hexapod_util.files import save_png
 import matplotlib.pyplot as plt
 import numpy as np
-
-TWO_MINUTES_OF_TRIALS = 24  # 24 trials of 5 s = 2 minutes of walking (thesis 5.3.2)
 
 
 def plot_experiment(
@@ -104,7 +103,7 @@ def plot_experiment(
                 )
         elif quantity == 'trials':
             ax.axhline(
-                TWO_MINUTES_OF_TRIALS, color='tab:red', ls='--', label='24 trials = 2 minutes'
+                TRIAL_BUDGET, color='tab:red', ls='--', label=f'{TRIAL_BUDGET} trials = 2 minutes'
             )
         else:
             ax.axhline(1.0, color='k', ls=':', lw=1.0, label='the ceiling')
