@@ -16,6 +16,7 @@ Services: ``~/report_distance``, ``~/forget``.
 from __future__ import annotations
 
 from dataclasses import replace
+import math
 import os
 import sys
 import traceback
@@ -263,7 +264,8 @@ class AdaptNode(AdaptAction, DamageReports, Node):
             stream = self._stream_for(archive, damage)
             prior, response.prior = session.first_prior(stream, source)
             prior_update = stream.update if prior is not None else None
-        if prior is not None:  # walked again, tilt recorded: the gaits that tip there count 0
+        if prior is not None and tip_guard < math.pi:  # walked again, tilt recorded: the gaits
+            # that tip there count 0 (a guard at pi is off: nothing to screen)
             screen = TipScreen(simulated_tilts(archive, damage, stream.engine), tip_guard)
             prior = screen(prior)
             response.prior += session.screen_note(screen, niches)
