@@ -19,7 +19,7 @@ from typing import Callable, Sequence, TYPE_CHECKING
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import engine_of_map, map_physics
 from hexapod_adapt.online.mboa import Mboa, MboaConfig, MIN_SPEED_RANGE, StopReason, Trial
-from hexapod_adapt.online.prior import SCREENED_GAITS, simulated_tilts, TipScreen
+from hexapod_adapt.online.prior import simulated_tilts, TipScreen
 from hexapod_gait import preset
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig, Simulator
 from hexapod_sim.damage import Damage
@@ -40,6 +40,7 @@ class AdaptationResult:
     trials: list[Trial] = field(default_factory=list)
     niches: list[int] = field(default_factory=list)  # archive niche of each trial
     tipped: list[int] = field(default_factory=list)  # niches whose trial the tip guard stopped
+    vetoed: list[int] = field(default_factory=list)  # niches never tried: they tip in simulation
     best_niche: int = -1
     best_speed: float = float('nan')
     elapsed: float = 0.0
@@ -92,8 +93,9 @@ def candidates(archive: Archive) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def _with_prior(opt: Mboa, prior: np.ndarray) -> Mboa:
     """Return M-BOA started again from ``prior``, with ``opt``'s trials learned again."""
     again = Mboa(opt.descriptors, prior, opt.config, hypotheses=opt.hypotheses)
+    again.vetoed = set(opt.vetoed)
     for t in opt.trials:
-        again.observe(t.index, t.measured)
+        again.observe(t.index, t.measured, tipped=t.tipped)
     return again
 
 
@@ -107,7 +109,7 @@ def adapt(
     prior: np.ndarray | None = None,
     hypotheses: np.ndarray | None = None,
     prior_update: Callable[[], np.ndarray | None] | None = None,
-    screen: Callable[[np.ndarray], np.ndarray] | None = None,
+    screen: TipScreen | None = None,
 ) -> AdaptationResult:
     """
     Run M-BOA until it stops (never more than ``config.max_trials`` trials).
@@ -128,8 +130,9 @@ def adapt(
     e.g. a re-score still streaming in (:mod:`hexapod_adapt.online.streaming_prior`); M-BOA then
     starts from it again and re-learns the trials so far.
 
-    ``screen``, if given, takes every prior given (the first and each update) before M-BOA does,
-    e.g. a :class:`~hexapod_adapt.online.prior.TipScreen` (the gaits that tip in simulation: 0).
+    ``screen``, if given (a :class:`~hexapod_adapt.online.prior.TipScreen`), is asked about each
+    gait before it is tried, and about the gait that sets alpha's bar before the run may stop: a
+    gait that tips in simulation is vetoed (never tried, and no bar), and M-BOA picks again.
 
     With ``prior`` or ``prior_update`` the run stops on alpha alone (``config.stop_gain`` is for
     blind runs).
@@ -139,8 +142,6 @@ def adapt(
         # the known damage's re-score is trusted: its best, tried first, ends the run on alpha
         config = replace(config, stop_gain=0.0)
     niches, descriptors, map_prior = candidates(archive)
-    if prior is not None and screen is not None:
-        prior = screen(prior)
     if prior is None:
         prior = map_prior
     elif np.shape(prior) != map_prior.shape:
@@ -154,7 +155,18 @@ def adapt(
     opt = Mboa(descriptors, prior, config, hypotheses=hypotheses)
     t0 = time.monotonic()
     result = AdaptationResult(False, '')
+
+    def vetoed(index: int | None) -> bool:
+        """Veto ``index`` if the screen says it tips (False: no screen, no gait, or upright)."""
+        if screen is None or index is None or not screen.tips(index):
+            return False
+        opt.veto(index)
+        result.vetoed.append(int(niches[index]))
+        return True
+
     while True:
+        while vetoed(opt.leading_index()):  # alpha's bar: only a gait the run could keep
+            pass
         reason = opt.stop_reason()
         if reason is not StopReason.CONTINUE:
             # success is the rule's, whether it ended the run or the budget did
@@ -166,8 +178,10 @@ def adapt(
             break
         newer = prior_update() if prior_update is not None else None
         if newer is not None:
-            opt = _with_prior(opt, newer if screen is None else screen(newer))
+            opt = _with_prior(opt, newer)  # its bar is vetted before the run may stop
         index = opt.next_index()
+        if vetoed(index):
+            continue
         niche = int(niches[index])
         try:
             outcome = trial(niche)
@@ -358,8 +372,11 @@ def run_experiment(
     duration = archive.trial_duration
     map_engine = engine_of_map(archive)
 
-    def guarded(tilts_of: Callable[[np.ndarray], np.ndarray], top: int = SCREENED_GAITS):
-        return TipScreen(tilts_of, tip_guard, top) if tip_guard < math.pi else lambda s: s
+    def screen(damage: Damage, engine: str) -> TipScreen | None:
+        """Return the tip screen of a run or ceiling on ``engine`` (None: no guard)."""
+        if tip_guard >= math.pi:
+            return None
+        return TipScreen(simulated_tilts(archive, damage, engine), tip_guard)
 
     if trial_config is not None:
         if trial_engine not in (None, trial_config.engine):
@@ -387,10 +404,8 @@ def run_experiment(
                     floor=(lambda: control) if floor else None,
                     prior=priors(damage) if priors is not None else None,
                     hypotheses=_hypotheses(config, bank, damage, leave_out, priors is not None),
-                    # the prior's gaits that tip in its own simulation: 0, as adapt_node's
-                    screen=guarded(simulated_tilts(archive, damage, map_engine))
-                    if priors is not None
-                    else None,
+                    # the prior's gaits that tip in its own simulation: vetoed, as adapt_node's
+                    screen=screen(damage, map_engine) if priors is not None else None,
                 )
                 adapted = result.best_speed
                 if settle > 0 or (trial_duration or duration) != duration:
@@ -417,15 +432,20 @@ def run_experiment(
                 if ceilings is not None:
                     c = ceilings(damage, trial_engine)
                     # the best gait a guarded trial can keep: none that tips past the guard
-                    reachable = guarded(simulated_tilts(archive, damage, trial_engine), top=1)
-                    best = int(np.argmax(reachable(c.speeds)))
-                    row = replace(
-                        row,
-                        ceiling_speed=float(c.speeds[best]),
-                        ceiling_niche=int(c.niches[best]),
-                        ratio=adapted / float(c.speeds[best]),
-                        gaits_beating_intact_control=c.beating(intact),
+                    upright = screen(damage, trial_engine)
+                    best = (
+                        int(np.argmax(c.speeds))
+                        if upright is None
+                        else upright.best_upright(c.speeds)
                     )
+                    row = replace(row, gaits_beating_intact_control=c.beating(intact))
+                    if best is not None:  # None: every gait tips, no ceiling to compare with
+                        row = replace(
+                            row,
+                            ceiling_speed=float(c.speeds[best]),
+                            ceiling_niche=int(c.niches[best]),
+                            ratio=adapted / float(c.speeds[best]),
+                        )
                 rows.append(row)
                 if on_row:
                     on_row(row)

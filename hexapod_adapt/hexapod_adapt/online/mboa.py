@@ -210,6 +210,8 @@ class Mboa:
     config: MboaConfig = field(default_factory=MboaConfig)
     trials: list[Trial] = field(default_factory=list)
     hypotheses: np.ndarray | None = None
+    #: candidates never to try, e.g. gaits that tip in a simulation of the damage (:meth:`veto`)
+    vetoed: set[int] = field(default_factory=set)
 
     def __post_init__(self) -> None:
         self.descriptors = np.atleast_2d(np.asarray(self.descriptors, dtype=float))
@@ -362,10 +364,44 @@ class Mboa:
         return {t.index for t in self.trials}
 
     def excluded(self) -> set[int]:
-        """Return the candidates not to try again: the tested (``exclude_tested``), the tipped."""
+        """
+        Return the candidates not to try (again).
+
+        The tested (``exclude_tested``), the tipped and the vetoed.
+        """
         if self.config.exclude_tested:
-            return self.tested()
-        return {t.index for t in self.trials if t.tipped}
+            return self.tested() | self.vetoed
+        return {t.index for t in self.trials if t.tipped} | self.vetoed
+
+    def veto(self, index: int) -> None:
+        """
+        Never try candidate ``index``, e.g. a gait that tips in a simulation of the damage.
+
+        It also leaves alpha's bar (:meth:`leading_index`): a gait the run may not try is not a
+        speed it could reach.
+        """
+        if not 0 <= index < len(self.prior):
+            raise ValueError(f'candidate {index} does not exist (0..{len(self.prior) - 1})')
+        self.vetoed.add(int(index))
+
+    def leading_index(self) -> int | None:
+        """
+        Return the candidate with the highest posterior mean that is not vetoed (None: none left).
+
+        Its mean sets alpha's bar (:meth:`alpha_met`).
+        """
+        if not self.vetoed:
+            return int(np.argmax(self._mu))
+        if len(self.vetoed) == len(self.prior):
+            return None
+        mu = self._mu.copy()
+        mu[list(self.vetoed)] = -np.inf
+        return int(np.argmax(mu))
+
+    def _bar(self) -> float:
+        """Return the highest mean alpha is measured against [m/s] (0: every gait vetoed)."""
+        lead = self.leading_index()
+        return 0.0 if lead is None else float(self._mu[lead])
 
     def best(self) -> Trial | None:
         """
@@ -393,13 +429,15 @@ class Mboa:
         """
         Whether the best gait meets M-BOA's success rule: alpha x the highest mean, and the floor.
 
+        The highest mean of a gait the run may try: vetoed gaits do not count.
+
         The run's success. It stops there unless the expected-gain stop keeps it going, or the
         budget ends it first.
         """
         best = self.best()
         return (
             best is not None
-            and best.measured >= self.config.alpha * float(np.max(self._mu))
+            and best.measured >= self.config.alpha * self._bar()
             and best.measured >= self.config.min_speed
         )
 
@@ -413,7 +451,8 @@ class Mboa:
         if reason is StopReason.ALPHA_REACHED:
             return True, self._alpha_clause()
         if reason is StopReason.MAP_EXHAUSTED:
-            return True, f'every gait in the map has been tried{floor}'
+            skipped = f' or vetoed ({len(self.vetoed)})' if self.vetoed else ''
+            return True, f'every gait in the map has been tried{skipped}{floor}'
         return False, ''
 
     def _alpha_clause(self) -> str:
@@ -422,7 +461,7 @@ class Mboa:
         assert best is not None
         return (
             f'best measured {best.measured:.3f} m/s >= alpha x max predicted '
-            f'({self.config.alpha:g} x {np.max(self._mu):.3f} m/s)'
+            f'({self.config.alpha:g} x {self._bar():.3f} m/s)'
         )
 
     def _below_floor(self) -> str:

@@ -8,9 +8,9 @@ robot's servo health check reports a servo that does not answer (``servo_failure
 operator names them in the ``adapt`` request. Then, before the first trial, every gait of the map
 is evaluated in simulation with that damage (a ceiling, :mod:`hexapod_adapt.online.ceiling`,
 cached) and M-BOA starts from those speeds instead of the intact map's. Robot trials still decide:
-the prior is only a prior. A re-score keeps speeds, not tilts, so :class:`TipScreen` walks the
-gaits a run would try first again with the body's tilt recorded, and a gait that tilts past the
-trials' tip guard in simulation gets the speed a guarded trial would score: 0.
+the prior is only a prior. A re-score keeps speeds, not tilts, so before a run tries a gait,
+:class:`TipScreen` walks it again with the body's tilt recorded, and a gait that tilts past the
+trials' tip guard in simulation is never tried (M-BOA vetoes it).
 
 :class:`KnownDamage` keeps what the node has been told and refuses what makes no sense, saying
 why; :func:`damage_prior` re-scores the map.
@@ -25,7 +25,6 @@ from typing import Any, Callable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.online.ceiling import ceiling, evaluate_tilts, Rescoring
-from hexapod_adapt.online.mboa import TRIAL_BUDGET
 from hexapod_description import N_LEGS
 from hexapod_sim.damage import Damage, damage_from_lists, JOINTS, MAX_FAILED_LEGS
 import numpy as np
@@ -64,31 +63,18 @@ def damage_prior(
     return DamagePrior(damage, engine, c.speeds, time.monotonic() - t0)
 
 
-#: Gaits a :class:`TipScreen` keeps walked at the head of a prior: adapt_node's default budget
-#: of trials (24), the gaits a run can try first.
-SCREENED_GAITS = TRIAL_BUDGET
-
-
 class TipScreen:
     """
-    A prior without the gaits that tip in simulation: those get 0, what a guarded trial scores.
+    Whether a gait tips in simulation under the damage: a run asks before it tries one.
 
     ``tilts_of(positions)`` returns how far the gaits at those positions (the prior's order, that
-    of ``archive.elite_indices()``) tilt the body [rad]; ``guard`` is the trials' tip guard.
-    Calling the screen on a prior walks its ``top`` fastest gaits (each gait once per screen:
-    the tilts are kept for the next prior, e.g. a re-score still streaming in), zeroes those past
-    the guard, and walks on until the ``top`` fastest of what is left have all been walked.
+    of ``archive.elite_indices()``) tilt the body [rad]; ``guard`` is the trials' tip guard. Each
+    gait is walked once, when first asked about (a walk of one gait, about 0.07 s on MuJoCo),
+    and its tilt is kept.
     """
 
-    def __init__(
-        self,
-        tilts_of: Callable[[np.ndarray], np.ndarray],
-        guard: float,
-        top: int = SCREENED_GAITS,
-    ) -> None:
-        if top < 1:
-            raise ValueError(f'top must be at least 1, got {top}')
-        self._tilts_of, self.guard, self.top = tilts_of, float(guard), int(top)
+    def __init__(self, tilts_of: Callable[[np.ndarray], np.ndarray], guard: float) -> None:
+        self._tilts_of, self.guard = tilts_of, float(guard)
         self.tilts: dict[int, float] = {}  # position -> peak tilt [rad], each walked once
 
     @property
@@ -96,16 +82,23 @@ class TipScreen:
         """Return the positions walked so far that tilt past the guard, in order."""
         return sorted(i for i, tilt in self.tilts.items() if tilt > self.guard)
 
-    def __call__(self, speeds: np.ndarray) -> np.ndarray:
-        """Return ``speeds`` with every gait known to tip at 0 (a copy)."""
-        screened = np.array(speeds, dtype=float)
-        while True:
-            screened[self.tipping] = 0.0
-            lead = np.argsort(-screened, kind='stable')[: self.top]
-            todo = np.array([i for i in lead if int(i) not in self.tilts], dtype=int)
-            if len(todo) == 0:
-                return screened
-            self.tilts.update(zip(map(int, todo), map(float, self._tilts_of(todo))))
+    def tips(self, position: int) -> bool:
+        """Whether the gait at ``position`` tilts the body past the guard (walked on first ask)."""
+        position = int(position)
+        if position not in self.tilts:
+            self.tilts[position] = float(self._tilts_of(np.array([position]))[0])
+        return self.tilts[position] > self.guard
+
+    def best_upright(self, speeds: np.ndarray) -> int | None:
+        """
+        Return the position of the fastest gait of ``speeds`` that does not tip (None: all tip).
+
+        Walks the gaits from the fastest down until one stays within the guard.
+        """
+        for position in np.argsort(-np.asarray(speeds, dtype=float), kind='stable'):
+            if not self.tips(int(position)):
+                return int(position)
+        return None
 
 
 def simulated_tilts(

@@ -167,14 +167,12 @@ def first_prior(stream: StreamingPrior, source: str) -> tuple[np.ndarray | None,
     return speeds, f'{what} (best {float(np.max(snap.speeds)):.3f} m/s, {how}), from {source}'
 
 
-def screen_note(screen: TipScreen, niches: np.ndarray) -> str:
-    """Say what a prior's tip screen found, to follow what the prior is."""
-    guard = f'the {math.degrees(screen.guard):.0f} deg tip guard'
-    walked = f'{len(screen.tilts)} of its best gaits walked again with the tilt recorded'
-    if not screen.tipping:
-        return f'; {walked}: none tilts past {guard}'
-    gaits = ', '.join(str(int(niches[i])) for i in screen.tipping)
-    return f'; {walked}: gait(s) {gaits} tilt past {guard} there and count 0'
+def screen_note(screen: TipScreen) -> str:
+    """Say what a prior's tip screen will do, to follow what the prior is."""
+    return (
+        '; each gait is walked there first with the tilt recorded, and one that tilts past the'
+        f' {math.degrees(screen.guard):.0f} deg tip guard is never tried'
+    )
 
 
 def duplicate_problem(name: str, count: int) -> str:
@@ -221,6 +219,9 @@ def report_distance(trials: TrialProcedure | None, distance: float) -> str:
 def result_message(result: AdaptationResult, note: str, recording_problem: str) -> str:
     """Return the adapt response's message: the run's, with the engine note and recording."""
     message = result.message + (f' ({note})' if note else '')
+    if result.vetoed:
+        gaits = ', '.join(map(str, result.vetoed))
+        message += f'; never tried, as they tip in simulation under the damage: gait(s) {gaits}'
     return message + (f'; recording: {recording_problem}' if recording_problem else '')
 
 

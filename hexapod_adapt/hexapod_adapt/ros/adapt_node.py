@@ -264,11 +264,10 @@ class AdaptNode(AdaptAction, DamageReports, Node):
             stream = self._stream_for(archive, damage)
             prior, response.prior = session.first_prior(stream, source)
             prior_update = stream.update if prior is not None else None
-        if prior is not None and tip_guard < math.pi:  # walked again, tilt recorded: the gaits
-            # that tip there count 0 (a guard at pi is off: nothing to screen)
+        if prior is not None and tip_guard < math.pi:  # each gait walked again before its trial,
+            # tilt recorded: one that tips there is never tried (a guard at pi is off)
             screen = TipScreen(simulated_tilts(archive, damage, stream.engine), tip_guard)
-            prior = screen(prior)
-            response.prior += session.screen_note(screen, niches)
+            response.prior += session.screen_note(screen)
         self.get_logger().info(f'M-BOA starts from {response.prior}')
 
         def on_trial(trial, niche, opt) -> None:

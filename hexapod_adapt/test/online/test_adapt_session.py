@@ -40,6 +40,11 @@ def test_the_response_says_the_engine_gap_and_a_recording_problem():
     assert session.result_message(result, '', '') == 'stopped: alpha reached'
     text = session.result_message(result, 'map made on mujoco', 'disk full')
     assert text == 'stopped: alpha reached (map made on mujoco); recording: disk full'
+    vetoed = AdaptationResult(success=True, message='stopped: alpha reached', vetoed=[7, 12])
+    assert session.result_message(vetoed, '', '') == (
+        'stopped: alpha reached; never tried, as they tip in simulation under the damage:'
+        ' gait(s) 7, 12'
+    )
 
 
 def test_a_bad_archive_keeps_the_last_good_one(tmp_path: Path):

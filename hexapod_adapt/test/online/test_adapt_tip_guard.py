@@ -71,6 +71,40 @@ def test_mboa_excludes_a_tipped_candidate_even_when_retesting_is_allowed():
     assert opt.excluded() == {0} and opt.next_index() in (1, 2)  # 1 may be tried again
 
 
+def test_mboa_never_picks_a_vetoed_candidate_and_stops_when_all_are_vetoed_or_tried():
+    from hexapod_adapt.online.mboa import StopReason
+
+    opt = Mboa(np.random.default_rng(0).random((3, 6)), np.array([0.3, 0.2, 0.1]))
+    opt.veto(0)
+    assert opt.next_index() != 0 and opt.leading_index() == 1 and opt.excluded() == {0}
+    with pytest.raises(ValueError, match='candidate 3 does not exist'):
+        opt.veto(3)
+    opt.veto(2)
+    assert opt.stop_reason() is StopReason.CONTINUE and opt.next_index() == 1
+    opt.veto(1)
+    assert opt.leading_index() is None and opt.stop_reason() is StopReason.MAP_EXHAUSTED
+    assert 'tried or vetoed (3)' in opt.should_stop()[1]
+
+
+def test_a_newer_prior_keeps_the_tipped_trials_tipped():
+    """A re-score streaming in restarts M-BOA: a tipped trial stays a tip, never tried again."""
+    a = _archive()
+    prior = a.speeds()[a.elite_indices()].copy()
+    best = int(a.elite_indices()[int(np.argmax(prior))])
+    tried = []
+
+    def trial(niche):
+        tried.append(niche)
+        if niche == best:
+            return TrialOutcome(0.0, True, 1.2)
+        return TrialOutcome(0.1 * a.speeds()[niche], False, 0.1)
+
+    config = replace(MboaConfig(max_trials=8), exclude_tested=False)
+    result = adapt(a, trial, config, prior=prior, prior_update=lambda: prior)
+    assert tried[0] == best and tried.count(best) == 1 and result.tipped == [best]
+    assert result.trials[0].tipped
+
+
 def test_a_tipped_gait_is_never_the_best_left_on_the_robot():
     """CI: a run that aborted after its only trial tipped left that gait playing, as its best."""
     a = _archive()
@@ -152,7 +186,7 @@ def test_a_robot_trial_that_tilts_past_the_guard_is_stopped_through_the_bridge()
     assert Robot.stopped == 1
 
 
-def _screen(tilts: np.ndarray, guard: float = 0.5, top: int = 3):
+def _screen(tilts: np.ndarray, guard: float = 0.5):
     from hexapod_adapt.online.prior import TipScreen
 
     walked: list[list[int]] = []
@@ -161,53 +195,73 @@ def _screen(tilts: np.ndarray, guard: float = 0.5, top: int = 3):
         walked.append([int(i) for i in positions])
         return tilts[positions]
 
-    return TipScreen(tilts_of, guard, top), walked
+    return TipScreen(tilts_of, guard), walked
 
 
-def test_a_tip_screen_zeroes_the_leading_gaits_that_tip_and_walks_on_past_them():
-    speeds = np.array([0.1, 0.5, 0.4, 0.3, 0.2, 0.05])
+def test_a_tip_screen_walks_each_gait_once_when_first_asked():
     tilts = np.array([0.1, 0.9, 0.2, 0.8, 0.1, 0.1])  # gaits 1 and 3 tip past 0.5
     screen, walked = _screen(tilts)
-    screened = screen(speeds)
-    assert screened.tolist() == [0.1, 0.0, 0.4, 0.0, 0.2, 0.05]
-    assert speeds[1] == 0.5  # the prior given is not changed
-    assert walked == [[1, 2, 3], [4, 0]]  # on until the 3 fastest left were all walked
-    assert screen.tipping == [1, 3]
-    assert int(np.argmax(screened)) == 2
-    # a newer prior (a re-score streaming in): the gaits walked are not walked again
-    assert screen(speeds[::-1].copy()).tolist() == [0.05, 0.0, 0.3, 0.0, 0.5, 0.1]
-    assert walked == [[1, 2, 3], [4, 0], [5]]
+    assert screen.tips(1) and not screen.tips(2) and screen.tips(1)
+    assert walked == [[1], [2]]  # gait 1 was not walked twice
+    assert screen.tipping == [1] and screen.tilts == {1: 0.9, 2: 0.2}
+    # the fastest upright gait: down from the fastest, walking only as far as needed
+    speeds = np.array([0.1, 0.5, 0.4, 0.3, 0.2, 0.05])
+    assert screen.best_upright(speeds) == 2 and walked == [[1], [2]]
+    every, _ = _screen(np.ones(3))
+    assert every.best_upright(np.array([0.3, 0.1, 0.2])) is None and every.tipping == [0, 1, 2]
 
 
-def test_a_tip_screen_of_gaits_that_all_stay_up_changes_nothing():
-    speeds = np.array([0.3, 0.1, 0.2])
-    screen, walked = _screen(np.zeros(3), top=2)
-    assert screen(speeds).tolist() == speeds.tolist() and walked == [[0, 2]]
-    with pytest.raises(ValueError, match='top must be at least 1'):
-        _screen(np.zeros(3), top=0)
-
-
-def test_adapt_never_tries_first_a_prior_gait_the_screen_says_tips():
+def test_adapt_never_tries_a_gait_the_screen_says_tips_however_late_it_is_picked():
+    """Every pick is vetted, not only the prior's head: half the gaits tip, none is tried."""
     a = _archive()
     prior = a.speeds()[a.elite_indices()].copy()
-    first = int(np.argmax(prior))
+    order = np.argsort(-prior)
     tilts = np.zeros(len(prior))
-    tilts[first] = 1.0
-    screen, _ = _screen(tilts)
+    tilts[order[::2]] = 1.0  # the fastest, the third fastest, ...: every other gait tips
+    tipping = {int(a.elite_indices()[i]) for i in order[::2]}
     tried = []
 
     def trial(niche):
         tried.append(niche)
-        return TrialOutcome(0.5 * a.speeds()[niche], False, 0.1)
+        return TrialOutcome(0.1 * a.speeds()[niche], False, 0.1)  # slow: alpha is never met
 
-    adapt(a, trial, MboaConfig(max_trials=3), prior=prior, screen=screen)
-    assert tried and int(a.elite_indices()[first]) not in tried
-    # the screen takes a newer prior too: the same gait, fastest again, is still skipped
-    tried.clear()
+    for update in (None, lambda: prior):  # a newer prior (a re-score streaming in) too
+        tried.clear()
+        screen, walked = _screen(tilts)
+        result = adapt(a, trial, MboaConfig(max_trials=12), prior=prior, prior_update=update,
+                       screen=screen)  # fmt: skip
+        assert len(tried) == 12 and not tipping & set(tried)
+        assert set(result.vetoed) <= tipping and len(set(result.vetoed)) == len(result.vetoed)
+        assert result.vetoed[0] == int(a.elite_indices()[order[0]])
+        assert result.tipped == [] and sum(map(len, walked)) == len(screen.tilts)
+
+
+def test_a_vetoed_gait_sets_no_bar_for_alpha():
+    """The fastest prior gait tips: a trial at alpha x the next one's speed ends the run."""
+    a = _archive()
+    prior = a.speeds()[a.elite_indices()].copy()
+    first, second = np.argsort(-prior)[:2]
+    prior *= 0.5  # every other gait: at most half the fastest
+    prior[first], prior[second] = 2 * prior[first], 1.8 * prior[first]
+    tilts = np.zeros(len(prior))
+    tilts[first] = 1.0
+    config = replace(MboaConfig(max_trials=10), alpha=0.95)
+    speed = 0.96 * prior[second]  # alpha x the second, below alpha x the first
+
+    def trial(niche):
+        return TrialOutcome(speed, False, 0.1)
+
     screen, _ = _screen(tilts)
-    adapt(a, trial, MboaConfig(max_trials=3), prior=prior, prior_update=lambda: prior,
-          screen=screen)  # fmt: skip
-    assert tried and int(a.elite_indices()[first]) not in tried
+    result = adapt(a, trial, config, prior=prior, screen=screen)
+    assert result.success and len(result.trials) == 1, result.message
+    assert result.vetoed == [int(a.elite_indices()[first])]
+    assert result.trials[0].index == second
+    # the same trial without the veto: the first gait's speed is the bar, and it is not met
+    opt = Mboa(a.descriptors[a.elite_indices()], prior, config)
+    opt.observe(int(second), speed)
+    assert not opt.alpha_met() and opt.leading_index() == first
+    opt.veto(int(first))
+    assert opt.alpha_met() and opt.leading_index() != first and first in opt.excluded()
 
 
 def test_the_screen_walks_a_gait_as_a_guarded_trial_does():
@@ -227,10 +281,9 @@ def test_the_screen_walks_a_gait_as_a_guarded_trial_does():
         walked = simulated_trial(a, damage, sim)(0)
     tilt = simulated_tilts(a, damage, 'mujoco')(np.array([0]))
     assert tilt[0] == pytest.approx(walked.peak_tilt)
-    # a guard below the tripod's rocking: the screen zeroes it, as the trial would stop it
+    # a guard below the tripod's rocking: the screen says it tips, as the trial would stop it
     low = TipScreen(simulated_tilts(a, damage, 'mujoco'), 0.5 * walked.peak_tilt)
-    assert low(np.array([0.3])).tolist() == [0.0]
-    assert 'gait(s) 0 tilt past' in screen_note(low, a.elite_indices())
-    high = TipScreen(simulated_tilts(a, damage, 'mujoco'), 2.0 * walked.peak_tilt)
-    assert high(np.array([0.3])).tolist() == [0.3]
-    assert 'none tilts past' in screen_note(high, a.elite_indices())
+    assert low.tips(0) and low.tilts[0] == pytest.approx(walked.peak_tilt)
+    assert not TipScreen(simulated_tilts(a, damage, 'mujoco'), 2.0 * walked.peak_tilt).tips(0)
+    guard = math.degrees(low.guard)
+    assert f'past the {guard:.0f} deg tip guard is never tried' in screen_note(low)
