@@ -151,3 +151,63 @@ def test_a_robot_trial_that_tips_is_stopped_through_the_bridge_by_the_imu(
     assert trials[1].archive_index != 0 and not trials[1].tipped
     assert 'tip guard' in node.log()
     assert node.alive() and bridge.alive() and emu.alive()
+
+
+@pytest.fixture(scope='module')
+def rocking_archive(tmp_path_factory):
+    """The quadruped, the wave and the tripod: with leg 1 lifted, the wave rocks the least."""
+    genes = [to_genotype(preset(name)) for name in ('quadruped', 'wave', 'tripod')]
+    desc = np.eye(3, 6) * 0.5 + 0.25
+    archive = Archive(
+        desc,
+        np.array([1.0, 0.9, 0.8]),
+        desc,
+        np.array(genes),
+        {'seed': 5, 'evaluations': 3, **simulation_fingerprint('pybullet')},
+    )
+    return archive.save(tmp_path_factory.mktemp('archive') / 'rocking.npz'), genes
+
+
+def test_a_gait_that_tips_in_the_prior_simulation_is_never_tried(
+    ros, launch, tmp_path, rocking_archive
+):
+    """
+    With the damage known, the gait the prior ranks first tilts past the guard there: skipped.
+
+    The guard is set between the wave's rocking and the quadruped's (measured on PyBullet with
+    leg 1 lifted), and the quadruped walks faster: the prior's first, and vetoed.
+    """
+    path, genes = rocking_archive
+    with create_simulator() as sim:
+        walks = [
+            evaluate_gait(g, sim, collisions_fatal=False, failed_legs=FAILED, record_tilt=True)
+            for g in genes
+        ]
+    guard = 0.5 * (walks[0].peak_tilt + walks[1].peak_tilt)
+    assert walks[1].peak_tilt < guard < walks[0].peak_tilt, [w.peak_tilt for w in walks]
+    assert walks[0].speed > walks[1].speed and walks[0].speed > walks[2].speed
+    sim = launch(
+        'hexapod_sim', 'sim_node', params={'real_time_factor': 0.0, 'failed_legs': FAILED}
+    )
+    gait = launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
+    node = launch(
+        'hexapod_adapt',
+        'adapt_node',
+        params={
+            'archive': str(path),
+            'record_dir': '',
+            'prior_cache_dir': str(tmp_path),
+            'tip_guard': guard,
+        },
+    )
+    trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
+    response = ros.adapt(Adapt.Goal(max_trials=1), timeout=300)
+    assert response.trials == 1, response.message
+    assert 'one that tilts past the' in response.prior
+    wait_for(lambda: len(trials) == 1, 10, 'the trial')
+    assert trials[0].archive_index == 1 and not trials[0].tipped  # the wave, not the quadruped
+    assert 'never tried, as they tip in simulation under the damage: gait(s) 0' in (
+        response.message
+    )
+    wait_for(lambda: 'gait 0 skipped' in node.log(), 10, 'the log line of the veto')
+    assert node.alive() and sim.alive() and gait.alive()

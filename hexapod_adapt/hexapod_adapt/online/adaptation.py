@@ -110,6 +110,7 @@ def adapt(
     hypotheses: np.ndarray | None = None,
     prior_update: Callable[[], np.ndarray | None] | None = None,
     screen: TipScreen | None = None,
+    on_veto: Callable[[int, float], None] | None = None,
 ) -> AdaptationResult:
     """
     Run M-BOA until it stops (never more than ``config.max_trials`` trials).
@@ -132,7 +133,8 @@ def adapt(
 
     ``screen``, if given (a :class:`~hexapod_adapt.online.prior.TipScreen`), is asked about each
     gait before it is tried, and about the gait that sets alpha's bar before the run may stop: a
-    gait that tips in simulation is vetoed (never tried, and no bar), and M-BOA picks again.
+    gait that tips in simulation is vetoed (never tried, and no bar), and M-BOA picks again;
+    ``on_veto(niche, tilt)``, if given, hears of each (tilt in rad).
 
     With ``prior`` or ``prior_update`` the run stops on alpha alone (``config.stop_gain`` is for
     blind runs).
@@ -162,6 +164,8 @@ def adapt(
             return False
         opt.veto(index)
         result.vetoed.append(int(niches[index]))
+        if on_veto:
+            on_veto(int(niches[index]), screen.tilts[index])
         return True
 
     while True:

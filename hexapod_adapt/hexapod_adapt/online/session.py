@@ -209,6 +209,14 @@ def trial_message(trial: Trial, niche: int) -> str:
     )
 
 
+def veto_message(niche: int, tilt: float, guard: float) -> str:
+    """Return the line a run logs when the tip screen keeps a gait from being tried."""
+    return (
+        f'gait {niche} skipped: it tilts the body {math.degrees(tilt):.0f} deg in simulation'
+        f' under the damage, past the {math.degrees(guard):.0f} deg tip guard; never tried'
+    )
+
+
 def report_distance(trials: TrialProcedure | None, distance: float) -> str:
     """Hand an operator's measured distance [m] to a waiting manual trial; '' or why not."""
     if isinstance(trials, ManualTrials):

@@ -293,6 +293,9 @@ class AdaptNode(AdaptAction, DamageReports, Node):
         try:
             stop = lambda: handle.is_cancel_requested  # noqa: E731 - read at every trial
             extra = {'prior': prior, 'prior_update': prior_update, 'screen': screen}
+            extra['on_veto'] = lambda niche, tilt: self.get_logger().info(
+                session.veto_message(niche, tilt, tip_guard)
+            )
             result = adapt(archive, self.trials, config, on_trial, stop, **extra)
         finally:
             self.recording.stop()

@@ -4,6 +4,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from hexapod_adapt.mapping.maps import DEMO_MAP, shipped_map
@@ -40,6 +41,10 @@ def test_the_response_says_the_engine_gap_and_a_recording_problem():
     assert session.result_message(result, '', '') == 'stopped: alpha reached'
     text = session.result_message(result, 'map made on mujoco', 'disk full')
     assert text == 'stopped: alpha reached (map made on mujoco); recording: disk full'
+    assert session.veto_message(7, math.radians(41.0), math.radians(30.0)) == (
+        'gait 7 skipped: it tilts the body 41 deg in simulation under the damage, past the'
+        ' 30 deg tip guard; never tried'
+    )
     vetoed = AdaptationResult(success=True, message='stopped: alpha reached', vetoed=[7, 12])
     assert session.result_message(vetoed, '', '') == (
         'stopped: alpha reached; never tried, as they tip in simulation under the damage:'

@@ -228,8 +228,10 @@ def test_adapt_never_tries_a_gait_the_screen_says_tips_however_late_it_is_picked
     for update in (None, lambda: prior):  # a newer prior (a re-score streaming in) too
         tried.clear()
         screen, walked = _screen(tilts)
+        heard = []
         result = adapt(a, trial, MboaConfig(max_trials=12), prior=prior, prior_update=update,
-                       screen=screen)  # fmt: skip
+                       screen=screen, on_veto=lambda *v: heard.append(v))  # fmt: skip
+        assert heard == [(niche, 1.0) for niche in result.vetoed]
         assert len(tried) == 12 and not tipping & set(tried)
         assert set(result.vetoed) <= tipping and len(set(result.vetoed)) == len(result.vetoed)
         assert result.vetoed[0] == int(a.elite_indices()[order[0]])
