@@ -246,6 +246,15 @@ class AdaptRun:
         return len(future.result().goals_canceling) > 0
 
 
+def fast_sim_graph(launch, failed_legs, **adapt_params) -> tuple[NodeProcess, ...]:
+    """(sim_node, gait_node, adapt_node): the sim as fast as it runs, with ``failed_legs``."""
+    sim = launch(
+        'hexapod_sim', 'sim_node', params={'real_time_factor': 0.0, 'failed_legs': failed_legs}
+    )
+    gait = launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
+    return sim, gait, launch('hexapod_adapt', 'adapt_node', params=adapt_params)
+
+
 def wait_for(
     predicate: Callable[[], Any], timeout: float, what: str = 'condition', period: float = 0.02
 ):

@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 
 from action_msgs.msg import GoalStatus
-from conftest import FAILED, status_log_qos, wait_for
+from conftest import FAILED, fast_sim_graph, status_log_qos, wait_for
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD, simulated_trial
@@ -189,14 +189,8 @@ def test_the_damage_informed_prior_through_the_graph(ros, launch, tmp_path, smal
     from hexapod_msgs.srv import SetLegFailure
 
     path, archive, _ = small_archive
-    sim = launch(
-        'hexapod_sim', 'sim_node', params={'real_time_factor': 0.0, 'failed_legs': FAILED}
-    )
-    gait = launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
-    node = launch(
-        'hexapod_adapt',
-        'adapt_node',
-        params={'archive': str(path), 'record_dir': '', 'prior_cache_dir': str(tmp_path)},
+    sim, gait, node = fast_sim_graph(
+        launch, FAILED, archive=str(path), record_dir='', prior_cache_dir=str(tmp_path)
     )
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
     changed = ros.call(

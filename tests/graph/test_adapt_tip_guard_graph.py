@@ -13,7 +13,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from conftest import wait_for
+from conftest import fast_sim_graph, wait_for
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import simulation_fingerprint
 from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
@@ -186,19 +186,13 @@ def test_a_gait_that_tips_in_the_prior_simulation_is_never_tried(
     guard = 0.5 * (walks[0].peak_tilt + walks[1].peak_tilt)
     assert walks[1].peak_tilt < guard < walks[0].peak_tilt, [w.peak_tilt for w in walks]
     assert walks[0].speed > walks[1].speed and walks[0].speed > walks[2].speed
-    sim = launch(
-        'hexapod_sim', 'sim_node', params={'real_time_factor': 0.0, 'failed_legs': FAILED}
-    )
-    gait = launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
-    node = launch(
-        'hexapod_adapt',
-        'adapt_node',
-        params={
-            'archive': str(path),
-            'record_dir': '',
-            'prior_cache_dir': str(tmp_path),
-            'tip_guard': guard,
-        },
+    sim, gait, node = fast_sim_graph(
+        launch,
+        FAILED,
+        archive=str(path),
+        record_dir='',
+        prior_cache_dir=str(tmp_path),
+        tip_guard=guard,
     )
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
     response = ros.adapt(Adapt.Goal(max_trials=1), timeout=300)
