@@ -246,6 +246,15 @@ class AdaptRun:
         return len(future.result().goals_canceling) > 0
 
 
+def set_adapt_parameter(ros, name: str, value):
+    """Set one of adapt_node's parameters (an rcl_interfaces ParameterValue); its result."""
+    from rcl_interfaces.msg import Parameter
+    from rcl_interfaces.srv import SetParameters
+
+    req = SetParameters.Request(parameters=[Parameter(name=name, value=value)])
+    return ros.call(SetParameters, 'adapt_node/set_parameters', req).results[0]
+
+
 def fast_sim_graph(launch, failed_legs, **adapt_params) -> tuple[NodeProcess, ...]:
     """(sim_node, gait_node, adapt_node): the sim as fast as it runs, with ``failed_legs``."""
     sim = launch(

@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 
 from action_msgs.msg import GoalStatus
-from conftest import FAILED, fast_sim_graph, status_log_qos, wait_for
+from conftest import FAILED, fast_sim_graph, set_adapt_parameter, status_log_qos, wait_for
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD, simulated_trial
@@ -24,8 +24,7 @@ from hexapod_sim.damage import Damage, parse_damage
 from hexapod_util.recording import read_messages
 import numpy as np
 import pytest
-from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
-from rcl_interfaces.srv import SetParameters
+from rcl_interfaces.msg import ParameterType, ParameterValue
 
 pytestmark = pytest.mark.ros
 SETTLE, TIMED = 1.0, 2.0  # a settled trial (adapt_node's trial_settle, trial_duration)
@@ -42,13 +41,8 @@ def settled_speeds(small_archive):
         return {int(n): trial(int(n)).speed for n in archive.elite_indices()}
 
 
-def _set_parameter(ros, name: str, value: ParameterValue):
-    req = SetParameters.Request(parameters=[Parameter(name=name, value=value)])
-    return ros.call(SetParameters, 'adapt_node/set_parameters', req).results[0]
-
-
 def _set_archive(ros, value: str):
-    return _set_parameter(
+    return set_adapt_parameter(
         ros, 'archive', ParameterValue(type=ParameterType.PARAMETER_STRING, string_value=value)
     )
 
@@ -313,7 +307,7 @@ def test_a_request_before_the_simulator_reports_its_damage_waits_for_the_report(
 
 
 def _set_min_speed(ros, value: float):
-    return _set_parameter(
+    return set_adapt_parameter(
         ros, 'min_speed', ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=value)
     )
 

@@ -11,9 +11,10 @@ adapt/trials and in the run's MCAP recording.
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
-from conftest import fast_sim_graph, wait_for
+from conftest import fast_sim_graph, set_adapt_parameter, wait_for
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import simulation_fingerprint
 from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
@@ -204,4 +205,14 @@ def test_a_gait_that_tips_in_the_prior_simulation_is_never_tried(
         response.message
     )
     wait_for(lambda: 'gait 0 skipped' in node.log(), 10, 'the log line of the veto')
+    # the guard off (pi): no screen, and the prior's first, the quadruped, is tried
+    from rcl_interfaces.msg import ParameterType, ParameterValue
+
+    off = ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=math.pi)
+    assert set_adapt_parameter(ros, 'tip_guard', off).successful
+    unguarded = ros.adapt(Adapt.Goal(max_trials=1), timeout=300)
+    assert unguarded.trials == 1 and 'never tried' not in unguarded.message
+    assert 'tilts past the' not in unguarded.prior, unguarded.prior
+    wait_for(lambda: len(trials) == 2, 10, 'the unguarded trial')
+    assert trials[1].archive_index == 0 and not trials[1].tipped
     assert node.alive() and sim.alive() and gait.alive()
