@@ -369,9 +369,12 @@ class Mboa:
 
         The tested (``exclude_tested``), the tipped and the vetoed.
         """
-        if self.config.exclude_tested:
-            return self.tested() | self.vetoed
-        return {t.index for t in self.trials if t.tipped} | self.vetoed
+        tried = (
+            self.tested()
+            if self.config.exclude_tested
+            else {t.index for t in self.trials if t.tipped}
+        )
+        return tried | self.vetoed
 
     def veto(self, index: int) -> None:
         """

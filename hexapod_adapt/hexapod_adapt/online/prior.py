@@ -69,7 +69,7 @@ class TipScreen:
 
     ``tilts_of(positions)`` returns how far the gaits at those positions (the prior's order, that
     of ``archive.elite_indices()``) tilt the body [rad]; ``guard`` is the trials' tip guard. Each
-    gait is walked once, when first asked about (a walk of one gait, about 0.07 s on MuJoCo),
+    gait is walked once, when first asked about (a walk of one gait, about 0.1 s on MuJoCo),
     and its tilt is kept.
     """
 
