@@ -390,7 +390,10 @@ def _goal_storm(ros, nav, client, storm):
     storm.spin_until(lambda: all(a for _, a, _ in sent), 10, 'answers to all 50 goal requests')
     delays = [a[0] - t for t, a, _ in sent]
     print(f'goal responses: slowest {max(delays):.3f} s, median {sorted(delays)[25]:.3f} s')
-    assert max(delays) <= 1.0
+    # "at once": no request waits for an earlier goal to settle or end (GOAL_SETTLE_S, 0.5 s,
+    # each: a queue of 50 would take 25 s and more); an answer is a DDS round trip. The bound is
+    # loose because a loaded CI machine once took 1.31 s on one of the 50 (median far lower).
+    assert max(delays) <= 5.0
     handles = [f.result() for _, _, f in sent]
     assert all(h.accepted for h in handles)
     results = [h.get_result_async() for h in handles]
