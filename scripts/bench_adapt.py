@@ -39,7 +39,9 @@ def bench_adapt() -> None:
     (DART). Trials on an engine that did not make the map (_cross, _judge), and its ceilings, run
     at its converged step (``map_physics``, ``SimConfig.converged``). Last, the experiment on
     every damage kind (:func:`_bench_damage_kinds`); ``BENCH_ADAPT_KINDS`` (kinds separated by
-    spaces) runs that alone, for those kinds.
+    spaces) runs that alone, for those kinds. ``BENCH_ADAPT_SETUPS`` (some of ``default prior
+    thesis``) runs only those setups of S1-S4, on every engine, without the timings or the kinds:
+    to measure again the figures one change can move.
     """
     import os
     from pathlib import Path
@@ -56,7 +58,7 @@ def bench_adapt() -> None:
         ceiling_key,
         holds_ceiling,
     )
-    from hexapod_adapt.online.mboa import Mboa, MboaConfig, PROFILES, TRIAL_BUDGET
+    from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
     from hexapod_sim import ENGINES
     from hexapod_sim.scenarios import scenario
     from hexapod_sim.simulator import JUDGE_ENGINE
@@ -71,40 +73,16 @@ def bench_adapt() -> None:
     if only_kinds:
         _bench_damage_kinds(archive, map_engine, cached, legs_all, only_kinds)
         return
-    rng = np.random.default_rng(0)
-    descriptors, prior = rng.random((40000, 6)), rng.uniform(0.1, 0.45, 40000)
-    steps = []
-    for _ in range(20):
-        opt = Mboa(descriptors, prior, MboaConfig(max_trials=20))
-        for _ in range(19):
-            opt.observe(opt.next_index(), float(rng.uniform(0, 0.3)))
-        t0 = time.perf_counter()
-        opt.observe(opt.next_index(), 0.2)
-        steps.append(time.perf_counter() - t0)
-    print(f'BENCH adapt_mboa_step_ms {np.median(steps) * 1e3:.2f} ms')
-
-    print(f'BENCH adapt_map_gaits {archive.n_filled} gaits')
+    only_setups = set(os.environ.get('BENCH_ADAPT_SETUPS', '').split())
+    if only_setups - set(SETUPS):
+        raise SystemExit(
+            f'unknown setups {sorted(only_setups - set(SETUPS))} in BENCH_ADAPT_SETUPS:'
+            f' each is one of {list(SETUPS)}'
+        )
+    chosen = only_setups or set(SETUPS)
+    if not only_setups:
+        _bench_timings(archive, map_engine)
     other = next(e for e in ENGINES if e != map_engine)
-    # the damage-informed prior: the whole map re-scored under a damage no cache holds, as
-    # adapt_node does before a run (2 processes, the project machine's cores)
-    import tempfile
-
-    from hexapod_adapt.online.prior import damage_prior
-    from hexapod_sim.damage import Damage
-
-    with tempfile.TemporaryDirectory() as scratch:
-        prior = damage_prior(archive, Damage.of('locked', [3]), map_engine, scratch, workers=2)
-    print(f'BENCH adapt_prior_rescore_s {prior.seconds:.1f} s')
-    # the streaming prior: the time until the top of the map is re-scored and the first trial
-    # may start (the rest streams in between trials), same damage, no cache
-    from hexapod_adapt.online.streaming_prior import StreamingPrior
-
-    with tempfile.TemporaryDirectory() as scratch:
-        t0 = time.monotonic()
-        stream = StreamingPrior(archive, Damage.of('locked', [3]), map_engine, scratch, workers=2)
-        stream.wait_first(600)
-        print(f'BENCH adapt_prior_first_trial_s {time.monotonic() - t0:.1f} s')
-        stream.close()
 
     def ceilings(legs, engine):
         if engine == map_engine:
@@ -130,9 +108,12 @@ def bench_adapt() -> None:
                 ceiling(archive, legs, map_engine, cached).best_speed for legs in scenario(name)
             ]
             print(f'BENCH map_ceiling_median_{name} {np.median(best):.3f} m/s')
-    setups = [('', 'default', True, False), ('_thesis', 'thesis', False, False)]
-    if have_priors:
-        setups.insert(1, ('_prior', 'default', True, True))
+    # (suffix, profile, floor, informed) for the setups chosen
+    setups = [
+        (label, name, floor, informed)
+        for setup, (label, name, floor, informed) in SETUPS.items()
+        if setup in chosen and (have_priors or not informed)
+    ]
     for engine, cross in ((map_engine, ''), (other, '_cross')):
         # cached ceilings only (loose or packed): a missing PyBullet ceiling costs many minutes
         have = all(holds_ceiling(cached, key(legs, engine)) for legs in legs_all)
@@ -153,8 +134,8 @@ def bench_adapt() -> None:
             _print_experiment(rows, suffix, have, engine, cached)
     # the judge: trials walked on the engine that takes no part in making or tuning anything
     if map_engine != JUDGE_ENGINE:
-        for label, informed in (('', False), ('_prior', True)):
-            if informed and not have_priors:
+        for label, name, _floor, informed in setups:
+            if name == 'thesis':  # the judge walks the product's profile only
                 continue
             rows = run_experiment(
                 archive,
@@ -166,7 +147,53 @@ def bench_adapt() -> None:
                 tip_guard=DEFAULT_TIP_GUARD,
             )
             _print_experiment(rows, f'{label}_judge', False, JUDGE_ENGINE, cached)
-    _bench_damage_kinds(archive, map_engine, cached, legs_all)
+    if not only_setups:
+        _bench_damage_kinds(archive, map_engine, cached, legs_all)
+
+
+#: The experiment's setups of S1-S4, by the name BENCH_ADAPT_SETUPS takes: (BENCH suffix, M-BOA
+#: profile, the damaged tripod as the success floor, from the damage-informed prior).
+SETUPS = {
+    'default': ('', 'default', True, False),
+    'prior': ('_prior', 'default', True, True),
+    'thesis': ('_thesis', 'thesis', False, False),
+}
+
+
+def _bench_timings(archive, map_engine: str) -> None:
+    """One M-BOA step, the map's size, and the damage-informed prior's re-score and first trial."""
+    import tempfile
+
+    from hexapod_adapt.online.mboa import Mboa, MboaConfig
+    from hexapod_adapt.online.prior import damage_prior
+    from hexapod_adapt.online.streaming_prior import StreamingPrior
+    from hexapod_sim.damage import Damage
+
+    rng = np.random.default_rng(0)
+    descriptors, prior = rng.random((40000, 6)), rng.uniform(0.1, 0.45, 40000)
+    steps = []
+    for _ in range(20):
+        opt = Mboa(descriptors, prior, MboaConfig(max_trials=20))
+        for _ in range(19):
+            opt.observe(opt.next_index(), float(rng.uniform(0, 0.3)))
+        t0 = time.perf_counter()
+        opt.observe(opt.next_index(), 0.2)
+        steps.append(time.perf_counter() - t0)
+    print(f'BENCH adapt_mboa_step_ms {np.median(steps) * 1e3:.2f} ms')
+    print(f'BENCH adapt_map_gaits {archive.n_filled} gaits')
+    # the damage-informed prior: the whole map re-scored under a damage no cache holds, as
+    # adapt_node does before a run (2 processes, the project machine's cores)
+    with tempfile.TemporaryDirectory() as scratch:
+        rescored = damage_prior(archive, Damage.of('locked', [3]), map_engine, scratch, workers=2)
+    print(f'BENCH adapt_prior_rescore_s {rescored.seconds:.1f} s')
+    # the streaming prior: the time until the top of the map is re-scored and the first trial
+    # may start (the rest streams in between trials), same damage, no cache
+    with tempfile.TemporaryDirectory() as scratch:
+        t0 = time.monotonic()
+        stream = StreamingPrior(archive, Damage.of('locked', [3]), map_engine, scratch, workers=2)
+        stream.wait_first(600)
+        print(f'BENCH adapt_prior_first_trial_s {time.monotonic() - t0:.1f} s')
+        stream.close()
 
 
 def _bench_damage_kinds(
