@@ -115,6 +115,26 @@ def test_one_dead_servo_a_leg_in_any_s1_s4_case_has_a_shipped_ceiling():
                 assert found.damage == damage
 
 
+def test_every_experiment_kind_has_its_21_s1_s4_ceilings_shipped():
+    """make_ceilings.sh's 168 cases (8 kinds x S1-S4) are all in the default map's cache."""
+    from hexapod_adapt.mapping.maps import shipped_ceilings
+    from hexapod_adapt.online.ceiling import cached_ceiling
+    from hexapod_sim.damage import EXPERIMENT_KINDS
+    from hexapod_sim.scenarios import scenario
+
+    archive = load_archive(shipped_map(DEFAULT_MAP))
+    cache = shipped_ceilings()
+    legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
+    assert len(EXPERIMENT_KINDS) * len(legs_all) == 168
+    missing = [
+        f'{kind} legs {legs}'
+        for kind in EXPERIMENT_KINDS
+        for legs in legs_all
+        if cached_ceiling(archive, Damage.of(kind, legs), 'mujoco', [cache]) is None
+    ]
+    assert not missing, f'no shipped ceiling for {missing}'
+
+
 def test_the_simulators_damage_is_taken_and_a_request_that_differs_is_said():
     known = KnownDamage()
     assert known.from_sim([2, 5], ['locked', 'weak'], [1.0, 0.5]).endswith(
