@@ -131,7 +131,11 @@ def test_a_robot_trial_that_tips_is_stopped_through_the_bridge_by_the_imu(
     from std_srvs.srv import SetBool
     from test_adapt_robot_graph import _emulated_robot
 
-    emu, radio, imu = _emulated_robot(launch, tmp_path, '--sim', '--seed', '5')
+    # the tipper may leave the robot lying past the guard (or it settles back on its feet): the
+    # next trial waits until it stands, and the emulated operator rights it after 2 s
+    emu, radio, imu = _emulated_robot(
+        launch, tmp_path, '--sim', '--seed', '5', '--right-after', '2'
+    )
     bridge = launch('hexapod_bridge', 'bridge_node', params={'port': radio, 'imu_port': imu})
     node = launch(
         'hexapod_adapt',

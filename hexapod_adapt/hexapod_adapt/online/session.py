@@ -99,7 +99,9 @@ def trial_procedure(
     if mode == 'sim':
         return SimTrials(port, odom, waiter, timing, warn, tip_guard)
     if mode == 'robot':
-        return RobotTrials(port, odom, waiter, timing, tilts=tilts, tip_guard=tip_guard)
+        return RobotTrials(
+            port, odom, waiter, timing, tilts=tilts, tip_guard=tip_guard, prompt=warn
+        )
     return ManualTrials(port, waiter, timing, warn)
 
 

@@ -117,6 +117,14 @@ class TiltLog(SampleLog[TiltSample]):
                 peak = max(peak, s.tilt)
         return peak
 
+    def tilt_at(self, t: float) -> float | None:
+        """Return the newest tilt [rad] received at or before monotonic time ``t`` (None: none)."""
+        with self._lock:
+            for s in reversed(self._samples):
+                if s.received <= t:
+                    return s.tilt
+        return None
+
 
 class Waiter:
     """
@@ -308,6 +316,10 @@ def _uploaded(port: TrialPort, niche: int, timeout: float) -> float:
     return crab
 
 
+#: How long a robot trial waits for a fallen robot to be put back on its feet [s].
+RIGHTING_TIMEOUT = 300.0
+
+
 @dataclass
 class RobotTrials:
     """Mode ``robot``: trials through bridge_node, measured by its IMU odometry."""
@@ -322,10 +334,15 @@ class RobotTrials:
     #: body past it is stopped through bridge_node's stop_trial (pi: no guard)
     tilts: TiltLog | None = None
     tip_guard: float = math.pi
+    #: a robot lying past the guard (a trial tipped it) is not started: the operator is asked to
+    #: put it back on its feet, and the trial waits for that this long [s]
+    prompt: Callable[[str], None] | None = None
+    righting_timeout: float = RIGHTING_TIMEOUT
 
     def __call__(self, niche: int) -> TrialOutcome:
         """Measure the speed of the gait of ``niche`` [m/s], or stop it when it tips."""
         crab = _uploaded(self.port, niche, self.timing.timeout)
+        self._wait_upright()
         self.sleep(max(0.0, self.timing.stand_still))
         ok, message = self.port.start_trial()
         if not ok:
@@ -345,6 +362,26 @@ class RobotTrials:
             self.port.stop_trial()
             return TrialOutcome(0.0, True, peak())
         return TrialOutcome(along(sample.vx, sample.vy, crab), False, peak())
+
+    def _wait_upright(self) -> None:
+        """Wait until the IMU says the body is within the guard (no reading yet: go on)."""
+        tilts = self.tilts
+        if tilts is None or self.tip_guard >= math.pi:
+            return
+
+        def upright() -> bool:
+            tilt = tilts.tilt_at(self.clock())
+            return tilt is None or tilt <= self.tip_guard
+
+        if upright():
+            return
+        if self.prompt is not None:
+            self.prompt(
+                f'the robot lies tilted {math.degrees(tilts.tilt_at(self.clock()) or 0.0):.0f}'
+                f' deg, past the {math.degrees(self.tip_guard):.0f} deg tip guard: put it back on'
+                f' its feet; the next trial waits for it (up to {self.righting_timeout:.0f} s)'
+            )
+        self.waiter.until(upright, self.righting_timeout, 'the robot back on its feet')
 
 
 def reported_distance_problem(distance: float) -> str:

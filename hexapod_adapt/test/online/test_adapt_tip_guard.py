@@ -186,6 +186,61 @@ def test_a_robot_trial_that_tilts_past_the_guard_is_stopped_through_the_bridge()
     assert Robot.stopped == 1
 
 
+def test_a_robot_lying_past_the_guard_is_righted_before_its_next_trial_starts():
+    """A trial that tipped leaves the robot on its side: the next one asks, and waits."""
+    import time
+
+    from hexapod_adapt.online.trials import (
+        RobotTrials,
+        TrialAborted,
+        TrialTiming,
+        Upload,
+        Waiter,
+    )
+
+    odom, tilts, started, asked = OdomLog(), TiltLog(), [], []
+
+    class Robot:
+        """The bridge: each trial it starts ends with odometry at once."""
+
+        def upload(self, niche, timeout):
+            return Upload(True, '', niche), 0.0
+
+        def start_trial(self):
+            started.append(time.monotonic())
+            odom.append(OdomSample(0, 1.0, 0.0, 0.2, 0.0, time.monotonic() + 0.01))
+            return True, ''
+
+    def operator(message: str) -> None:  # puts the robot back on its feet when asked
+        asked.append(message)
+        tilts.append(TiltSample(0.05, time.monotonic()))
+
+    def trials(prompt, righting_timeout=5.0):
+        return RobotTrials(
+            Robot(),
+            odom,
+            Waiter(lambda: True, poll=0.001),
+            TrialTiming(duration=5.0, timeout=5.0, stand_still=0.0),
+            tilts=tilts,
+            tip_guard=0.5,
+            prompt=prompt,
+            righting_timeout=righting_timeout,
+        )
+
+    tilts.append(TiltSample(2.8, time.monotonic()))  # on its back after the last trial
+    outcome = trials(operator)(4)
+    assert not outcome.tipped and outcome.speed == pytest.approx(0.2)
+    assert len(asked) == 1 and 'lies tilted 160 deg, past the 29 deg tip guard' in asked[0]
+    assert started and started[0] >= tilts.snapshot()[-1].received  # not before it stood
+    # upright: no question; lying with nobody to right it: the run is told why, nothing started
+    trials(operator)(4)
+    assert len(asked) == 1 and len(started) == 2
+    tilts.append(TiltSample(1.0, time.monotonic()))
+    with pytest.raises(TrialAborted, match='back on its feet'):
+        trials(asked.append, righting_timeout=0.05)(4)
+    assert len(started) == 2
+
+
 def _screen(tilts: np.ndarray, guard: float = 0.5):
     from hexapod_adapt.online.prior import TipScreen
 

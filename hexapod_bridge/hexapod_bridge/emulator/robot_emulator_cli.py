@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import select
 import signal
@@ -42,11 +43,15 @@ from hexapod_bridge.reports import servo_report
 from hexapod_bridge.servos import SERVO_IDS, servo_place
 from hexapod_sim import create_simulator, ENGINES, SimConfig
 from hexapod_sim.damage import Damage
+from hexapod_sim.simulator import peak_tilt
 from hexapod_util.cli import number, run_command
 
 # The line the emulator prints when its radio port vanishes, followed by the time on
 # CLOCK_MONOTONIC (comparable with time.monotonic() in any process on the machine).
 RADIO_GONE = 'RADIO gone at '
+#: A body tilted past this [rad] for --right-after s has fallen: the emulated operator rights it.
+FALLEN_TILT = math.radians(30.0)
+RIGHTED = 'RIGHTED at '
 
 
 def radio_gone_times(output: str) -> list[float]:
@@ -153,6 +158,14 @@ def main(argv: list[str] | None = None) -> int:
         '--seed', type=number(int, 0, 2**32 - 1), default=0, help='seed of the IMU noise'
     )
     parser.add_argument(
+        '--right-after',
+        type=number(float, 0, 3600),
+        default=0.0,
+        help='with --sim, put the robot back on its feet when its body has lain tilted past'
+        f' {math.degrees(FALLEN_TILT):.0f} deg this many seconds, as an operator would'
+        ' (0 = never)',
+    )
+    parser.add_argument(
         '--walk-duration',
         type=number(float, 0, 600, low_open=True),
         default=5.0,
@@ -240,6 +253,7 @@ def _serve(args: argparse.Namespace) -> int:
     for signum in (signal.SIGINT, signal.SIGTERM):  # a second Ctrl-C cannot cut the clean-up short
         signal.signal(signum, lambda number, _: stopped_by.append(number))
     reported = 0
+    lying_since: float | None = None  # when the body last tilted past FALLEN_TILT
     try:
         while not stopped_by:
             while requests:
@@ -258,6 +272,8 @@ def _serve(args: argparse.Namespace) -> int:
             if imu is not None:
                 imu.read()  # commands to the IMU are accepted and ignored
             out_radio, out_imu = firmware.advance(now)
+            if sim is not None and args.right_after > 0:
+                lying_since = _right_if_fallen(sim, now, lying_since, args.right_after)
             radio.write(out_radio)
             if imu is not None:
                 imu.write(out_imu)
@@ -275,6 +291,19 @@ def _serve(args: argparse.Namespace) -> int:
     name = signal.Signals(stopped_by[0]).name
     print(f'robot_emulator: stopped by {name}', file=sys.stderr, flush=True)
     return 128 + stopped_by[0]
+
+
+def _right_if_fallen(sim, now: float, lying_since: float | None, after: float) -> float | None:
+    """Put a body that has lain past FALLEN_TILT ``after`` s back on its feet; its new since."""
+    if peak_tilt(sim.base_pose()[1]) <= FALLEN_TILT:
+        return None
+    if lying_since is None:
+        return now
+    if now - lying_since < after:
+        return lying_since
+    sim.reset(sim.joint_states()[0])  # on its feet at the origin, the joints as they are
+    print(f'{RIGHTED}{now:.3f}', flush=True)
+    return None
 
 
 FIRMWARES = ('python', 'native')
