@@ -31,6 +31,7 @@ from __future__ import annotations
 
 from dataclasses import asdict, fields
 import sys
+import threading
 import time
 
 from diagnostic_msgs.msg import DiagnosticStatus
@@ -41,10 +42,10 @@ from hexapod_bridge.health import imu_health, link_health, servo_health
 from hexapod_bridge.lifecycle import ACTIVE, BridgeLifecycle, INACTIVE
 from hexapod_bridge.odometry import ChainedPose
 from hexapod_bridge.reports import Report, servo_report, Severity, trial_report
-from hexapod_bridge.station import StationConfig, TrialResult
+from hexapod_bridge.station import ServoCheck, StationConfig, TrialResult
 from hexapod_description.model import load_model
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
-from hexapod_msgs.msg import LinkStatus, ServoFailure
+from hexapod_msgs.msg import LinkStatus, RobotTrial, ServoFailure
 from hexapod_msgs.srv import GetServoFailures, UploadGait
 from hexapod_util.diagnostics import DiagnosticsPublisher
 from hexapod_util.health import Health
@@ -59,6 +60,8 @@ from hexapod_util.ros_glue import (
     run_node,
     SENSOR,
     TF_QOS,
+    TRIALS,
+    unless_closing,
 )
 from nav_msgs.msg import Odometry
 import rclpy
@@ -70,6 +73,8 @@ from tf2_msgs.msg import TFMessage
 
 #: joint_states rate [Hz] (commanded angles).
 JOINT_STATES_HZ = 30.0
+#: HELLOs a start-up servo check sends, a second apart, before it gives up (the robot silent).
+SERVO_CHECK_TRIES = 30
 #: bridge/status's level of each report's severity.
 LEVELS = {
     Severity.OK: DiagnosticStatus.OK,
@@ -116,12 +121,14 @@ class BridgeNode(BridgeLifecycle, GaitUploads, LifecycleNode):
         self.dead: dict[int, float] = {}  # servo -> when reported dead (monotonic s)
         self.failures: dict[int, ServoFailure] = {}  # servo -> its report (~/get_servo_failures)
         self.imu_last: float | None = None  # when the last IMU message came (monotonic s)
+        self._checking = threading.Lock()  # held while a start-up servo check runs
         imu = f'Xsens MTi on {v["imu_port"]}' if v['imu_port'] else "robot's attitude telemetry"
         group = ReentrantCallbackGroup()
         self.imu_pub = self.create_publisher(Imu, 'imu/data', SENSOR)
         self.pose = ChainedPose()  # odom -> base_link: the trials so far, chained
         self.odom_pub = self.create_publisher(Odometry, 'odom', ODOM)
         self.trial_odom_pub = self.create_publisher(Odometry, 'trial_odom', ODOM)
+        self.trial_result_pub = self.create_publisher(RobotTrial, 'trial_result', TRIALS)
         self.tf_pub = self.create_publisher(TFMessage, '/tf', TF_QOS)
         self.link_pub = self.create_publisher(LinkStatus, '~/link_status', 10)
         self.status_pub = self.create_publisher(DiagnosticStatus, 'bridge/status', LATCHED)
@@ -219,7 +226,37 @@ class BridgeNode(BridgeLifecycle, GaitUploads, LifecycleNode):
 
     def _on_get_servo_failures(self, request, response: GetServoFailures.Response):
         response.failures = list(self.failures.values())
+        if self.station is None:
+            response.check = int(ServoCheck.PENDING)
+            response.check_status = f'bridge_node is {self.state_label()}: no link to the robot'
+        else:
+            check, response.check_status = self.station.servo_check(time.monotonic())
+            response.check = int(check)
         return response
+
+    def check_servos_soon(self) -> None:
+        """HELLO in the background until the robot answers (it then checks every servo)."""
+        station = self.station
+        if station is None or self._checking.locked():
+            return
+
+        def check() -> None:
+            with self._checking:
+                for _ in range(SERVO_CHECK_TRIES):  # the port may still be opening
+                    if self.station is not station or not station.armed:
+                        return
+                    ok, _message = station.hello()
+                    if ok:
+                        self.get_logger().info(
+                            'the robot answered HELLO: it checks every servo (a dead one is'
+                            ' reported on servo_failures)'
+                        )
+                        return
+                    if station.link.firmware == 'legacy':
+                        return
+                    time.sleep(1.0)
+
+        threading.Thread(target=check, name='servo_check', daemon=True).start()
 
     def _on_motor_power(self, request: SetBool.Request, response: SetBool.Response):
         """After an e-stop: ~/arm true, then ~/motor_power true, then upload and start trials."""
@@ -239,15 +276,22 @@ class BridgeNode(BridgeLifecycle, GaitUploads, LifecycleNode):
         return msg
 
     def _on_connection(self, connected: bool, why: str) -> None:
-        self.link_pub.publish(self._link_status())  # at once, not at the next tick
+        if not self._alive():  # shutting down: nobody left to tell
+            return
+        unless_closing(self, self.link_pub.publish, self._link_status())  # at once
         self.diagnostics.publish_now()
         if connected:
             self.get_logger().info(f'radio port {self.station.config.port} open')
+            if self.station.armed:  # a robot that restarted checks its servos again
+                self.check_servos_soon()
         else:
             self.get_logger().warning(f'radio link down: {why}')
 
     def _tick(self) -> None:
-        if self.station is None:
+        unless_closing(self, self._tick_now)  # a tick at shutdown has nobody to tell
+
+    def _tick_now(self) -> None:
+        if self.station is None or not self._alive():
             return
         self.link_pub.publish(self._link_status())
         for kind, value in self.station.take_events():
@@ -280,14 +324,20 @@ class BridgeNode(BridgeLifecycle, GaitUploads, LifecycleNode):
         self._report(r.report)
 
     def _report_trial(self, r: TrialResult) -> None:
-        if r.estimate is not None:
-            now = self.get_clock().now().to_msg()
+        now = self.get_clock().now().to_msg()
+        if r.valid:
             self.pose.add(r.x, r.y, r.yaw, max(r.walk, r.duration))
             odom = conv.trial_odometry(r, now, self.frames['odom'], self.frames['base'])
             self.trial_odom_pub.publish(odom)
+        self.trial_result_pub.publish(conv.robot_trial(r, now, self.frames['odom']))
         self._report(trial_report(r, self.station.imu_port is not None))
 
     def _publish_state(self) -> None:
+        unless_closing(self, self._publish_state_now)
+
+    def _publish_state_now(self) -> None:
+        if not self._alive():
+            return
         trial = self.station.trial if self.station is not None else None
         walked = time.monotonic() - trial.start if trial is not None else None
         now = self.get_clock().now().to_msg()
@@ -301,15 +351,19 @@ class BridgeNode(BridgeLifecycle, GaitUploads, LifecycleNode):
             msg.header.stamp = now
             self.joints_pub.publish(msg)
 
+    # the station's threads call these: at shutdown the context goes before they stop
     def _publish_imu(self, m) -> None:
         self.imu_last = time.monotonic()
-        now = self.get_clock().now().to_msg()
-        self.imu_pub.publish(conv.xsens_imu(m, now, self.frames['imu']))
+        if self._alive():
+            now = self.get_clock().now().to_msg()
+            unless_closing(self, self.imu_pub.publish, conv.xsens_imu(m, now, self.frames['imu']))
 
     def _publish_attitude(self, t) -> None:
         self.imu_last = time.monotonic()
-        now = self.get_clock().now().to_msg()
-        self.imu_pub.publish(conv.attitude_imu(t, now, self.frames['base']))
+        if self._alive():
+            now = self.get_clock().now().to_msg()
+            msg = conv.attitude_imu(t, now, self.frames['base'])
+            unless_closing(self, self.imu_pub.publish, msg)
 
     def shutdown(self) -> None:
         """Ctrl-C / SIGTERM: stop the robot and close the ports (called by run_node)."""

@@ -6,9 +6,11 @@ from __future__ import annotations
 
 import math
 import threading
+import time
 
 from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_bridge.link import Operation
+from hexapod_bridge.station import LINK_LOST_S
 from hexapod_gait.parameters import GaitParameterError
 from hexapod_gait.ros_conversions import gait_from_msg
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
@@ -74,13 +76,24 @@ class GaitUploads:
         if not self.station.armed:
             response.success, response.message = False, 'not armed: call ~/arm first'
             return response
-        op = self.station.upload(gait)
-        if not self.station.wait(op, timeout, self._alive):
+        station, began = self.station, time.monotonic()
+        op = station.upload(gait)
+
+        def link_works() -> bool:  # a lost link ends the wait once it was given LINK_LOST_S
+            now = time.monotonic()
+            return now - began < LINK_LOST_S or not station.link_problem(now)
+
+        if not station.wait(op, timeout, lambda: self._alive() and link_works()):
+            problem = station.link_problem(time.monotonic())
+            waited = time.monotonic() - began
             response.success, response.message = (
                 False,
-                f'gait not uploaded: no answer in {timeout:g} s',
+                f'gait not uploaded: no answer in {waited:.1f} s'
+                + (f' ({problem})' if problem else ''),
             )
+            station.abandon(op, response.message)  # not sent later, behind a newer upload
             return response
+        response.answered = True
         if not op.ok:
             response.success, response.message = False, f'gait not uploaded: {op.message}'
             self._status(DiagnosticStatus.ERROR, response.message)

@@ -14,13 +14,8 @@ from __future__ import annotations
 from typing import Mapping, Sequence
 
 from hexapod_bridge.servos import JOINTS, SERVO_IDS, servo_place
-from hexapod_bridge.station import LinkSnapshot
+from hexapod_bridge.station import BAD_FRAME_RATE, IMU_SILENT_S, LINK_SILENT_S, LinkSnapshot
 from hexapod_util.health import ERROR, Health, OK, WARN
-
-#: The radio is heard at least this often when it works (the robot's 2 Hz telemetry) [s].
-LINK_SILENT_S = 2.0
-#: The IMU streams at 100 Hz (Xsens) or 2 Hz (the robot's attitude): older than this is a fault.
-IMU_SILENT_S = 1.5
 
 
 def urdf_joint(servo: int, leg_map: Sequence[int]) -> str:
@@ -66,12 +61,16 @@ def link_health(snap: LinkSnapshot | None, port: str, why_none: str = '') -> Hea
         'bytes_dropped': str(snap.bytes_dropped),
         'retries': str(snap.retries),
         'last_frame_age_s': f'{snap.seconds_since_heard:.2f}',
+        'bad_frames_per_s': f'{snap.bad_frame_rate:.2f}',
+        'resyncs': str(snap.resyncs),
         'armed': str(snap.armed),
     }
     if not snap.connected:
         level, message = ERROR, f'not connected: {snap.last_error or "port not open"}'
     elif snap.seconds_since_heard > LINK_SILENT_S:
         level, message = WARN, f'connected, robot silent for {snap.seconds_since_heard:.1f} s'
+    elif snap.bad_frame_rate > BAD_FRAME_RATE:
+        level, message = WARN, f'connected, {snap.last_error}'
     else:
         level, message = OK, 'connected'
     return Health('radio link', level, message, f'433 MHz radio on {port}', values)

@@ -22,6 +22,7 @@ from __future__ import annotations
 from dataclasses import fields, replace
 import time
 
+from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_bridge.station import BaseStation, StationConfig
 from rclpy.lifecycle import State, TransitionCallbackReturn
 
@@ -100,11 +101,14 @@ class BridgeLifecycle:
         )
         self.upload_pending()
         self.diagnostics.publish_now()
+        # bridge/status holds a line from the start (a recording opens with the latest one)
+        self._status(DiagnosticStatus.OK, f'configured: radio on {v["port"]}, disarmed')
         return TransitionCallbackReturn.SUCCESS
 
     def on_activate(self, state: State) -> TransitionCallbackReturn:
         self.station.arm(True)
-        self.get_logger().info('active: armed, transmitting')
+        self.get_logger().info('active: armed, transmitting; the robot checks its servos')
+        self.check_servos_soon()  # before the first trial: a dead servo is known at once
         self.diagnostics.publish_now()
         return super().on_activate(state)
 

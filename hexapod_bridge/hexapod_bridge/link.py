@@ -343,6 +343,10 @@ class RobotLink:
             else:
                 self._queue.append(item)
 
+    def abandon(self, op: Operation, reason: str) -> None:
+        """Give up an upload nobody waits for any more: its frames not yet sent are dropped."""
+        self._fail(op, reason)
+
     def _fail(self, op: Operation | None, message: str) -> None:
         if op is None or op.done:
             return

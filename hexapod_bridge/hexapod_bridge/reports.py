@@ -35,16 +35,20 @@ class Report:
 
 
 def trial_report(r: TrialResult, imu_configured: bool) -> Report:
-    """Say how a trial ended: its IMU estimate, or why there is none."""
-    if r.estimate is None:
-        if not imu_configured:
-            return Report(
-                Severity.WARN,
-                'trial finished; no IMU configured: enter the measured distance by hand'
-                " (adapt node's distance entry)",
-                {'state': r.state},
-            )
-        return Report(Severity.ERROR, f'trial finished but {r.problem}', {'state': r.state})
+    """Say how a trial ended: its IMU estimate, or why it cannot be scored."""
+    if r.estimate is None and not imu_configured:
+        return Report(
+            Severity.WARN,
+            'trial finished; no IMU configured: enter the measured distance by hand'
+            ' (adapt_node in manual mode: report_distance)',
+            {'state': r.state},
+        )
+    if not r.valid:
+        return Report(
+            Severity.ERROR,
+            f'trial not scorable ({r.fault.name}): {r.problem}',
+            {'state': r.state, 'fault': r.fault.name},
+        )
     est = r.estimate
     return Report(
         Severity.OK,

@@ -8,9 +8,9 @@ import math
 
 from builtin_interfaces.msg import Time
 from hexapod_bridge.odometry import ChainedPose, SPEED_ACCURACY
-from hexapod_bridge.station import TrialResult
+from hexapod_bridge.station import RETRYABLE_FAULTS, TrialResult
 from hexapod_description.tf_tree import quat_from_rpy
-from hexapod_msgs.msg import LinkStatus
+from hexapod_msgs.msg import LinkStatus, RobotTrial
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu
 
@@ -41,6 +41,19 @@ def trial_odometry(r: TrialResult, stamp: Time, odom_frame: str, base_frame: str
     odom.pose.covariance[0] = odom.pose.covariance[7] = (SPEED_ACCURACY * walked) ** 2
     odom.twist.covariance[0] = odom.twist.covariance[7] = SPEED_ACCURACY**2
     return odom
+
+
+def robot_trial(r: TrialResult, stamp: Time, odom_frame: str) -> RobotTrial:
+    """Return a trial's ``trial_result``: its validity, the reason, and the estimate if any."""
+    msg = RobotTrial(fault=int(r.fault), valid=r.valid, retryable=r.fault in RETRYABLE_FAULTS)
+    msg.header.stamp, msg.header.frame_id = stamp, odom_frame
+    msg.reason, msg.robot_state = r.problem, r.state
+    msg.duration, msg.walk = float(r.duration), float(max(r.walk, r.duration))
+    if r.estimate is not None:
+        msg.has_estimate = True
+        msg.distance, msg.speed = float(r.estimate.distance), float(r.estimate.speed)
+        msg.x, msg.y, msg.yaw, msg.vx, msg.vy = (float(v) for v in (r.x, r.y, r.yaw, r.vx, r.vy))
+    return msg
 
 
 #: The twist variance of ``odom`` while a trial walks [m^2/s^2]: unknown until the trial ends.

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from collections import deque
 from dataclasses import dataclass, field
+import enum
 import math
 import threading
 import time
@@ -26,11 +27,69 @@ from hexapod_bridge.odometry import TrialEstimate, TrialOdometry
 from hexapod_bridge.protocol import legacy, xbus
 from hexapod_bridge.protocol.extension import TrialState
 from hexapod_bridge.serial_port import ReconnectingPort
+from hexapod_description.model import load_model
 
 #: The robot's reports that end a trial.
 FINAL_STATES = (TrialState.DONE, TrialState.STOPPED, TrialState.FAILSAFE, TrialState.ESTOPPED)
 #: A trial with no report this long after its walk should have ended is closed anyway [s].
 OVERDUE_S = 3.0
+#: The radio is heard at least this often when it works (the robot's 2 Hz telemetry, its ping
+#: replies every second) [s]: a quieter link is reported (diagnostics WARN).
+LINK_SILENT_S = 2.0
+#: A trial during which the robot is silent this long has lost its link [s]: it ends at once.
+LINK_LOST_S = 3.0
+#: The IMU streams at 100 Hz (Xsens) or 2 Hz (the robot's attitude): older than this is a fault
+#: (diagnostics ERROR; a trial window with such a hole ends at once) [s].
+IMU_SILENT_S = 1.5
+#: A trial window missing more than this many consecutive IMU samples (by the IMU's own sample
+#: counter) has a gap its integration cannot bridge.
+IMU_GAP_SAMPLES = 10
+#: Bad frames (checksum errors and resyncs) at more than this rate [1/s] over the last
+#: BAD_FRAME_WINDOW_S make the link's status WARN (a clean radio has none; 2,000 random bytes
+#: make ~100 resyncs).
+BAD_FRAME_RATE = 0.5
+BAD_FRAME_WINDOW_S = 10.0
+#: The robot pings its servos after it answers a HELLO (docs/radio-protocol.md) and reports each
+#: dead one at once: this long after its VERSION every report has come [s].
+SERVO_CHECK_GRACE_S = 1.0
+
+
+class TrialFault(enum.IntEnum):
+    """
+    Why a trial's estimate cannot be scored (NONE: walked and measured whole).
+
+    The values are hexapod_msgs/RobotTrial's constants. Those of the link and the robot's state
+    (LINK_LOST, IMU_GAP, NO_END_REPORT, IMPLAUSIBLE) say nothing of the gait: the same gait may be
+    walked again once the link is back. STOPPED (a stop or an emergency stop) and NO_ESTIMATE (no
+    IMU, too few samples) are not the link's.
+    """
+
+    NONE = 0
+    LINK_LOST = 1  # the radio port closed, the robot fell silent, or its failsafe stopped it
+    IMU_GAP = 2  # IMU samples missing, or the IMU port lost, during the window
+    NO_END_REPORT = 3  # the robot never reported the walk's end (it restarted, or no radio)
+    STOPPED = 4  # the walk was stopped before its end (stop_trial, emergency stop)
+    IMPLAUSIBLE = 5  # the estimate is not finite, or faster than the robot can walk
+    NO_ESTIMATE = 6  # no IMU configured, or too few samples for an estimate
+
+
+class ServoCheck(enum.IntEnum):
+    """How the robot's check of every servo stands (GetServoFailures' CHECK_* constants)."""
+
+    PENDING = 0
+    DONE = 1
+    UNAVAILABLE = 2
+
+
+#: Faults of the link or the robot's state, not of the gait: the gait may be walked again.
+RETRYABLE_FAULTS = frozenset(
+    {TrialFault.LINK_LOST, TrialFault.IMU_GAP, TrialFault.NO_END_REPORT, TrialFault.IMPLAUSIBLE}
+)
+
+
+def max_walking_speed() -> float:
+    """Return the fastest the robot can walk [m/s] (the URDF's servos and legs)."""
+    return load_model().max_walking_speed
 
 
 def _setting(default, description: str, range=None, read_only: bool = True):  # noqa: A002
@@ -109,6 +168,14 @@ class ActiveTrial:
     done_at: float | None = None
     settle: float = 0.0  # s walked before the timed part
     imu_start: float | None = None  # IMU clock of the newest sample when the start was sent
+    fault: TrialFault = TrialFault.NONE  # the first fault seen while it was measured
+    fault_reason: str = ''
+    imu_arrived: float = 0.0  # monotonic s of the newest IMU sample in the window (or the start)
+
+    def spoil(self, fault: TrialFault, reason: str) -> None:
+        """Mark the trial unscorable for ``reason`` (the first fault seen is kept)."""
+        if self.fault is TrialFault.NONE:
+            self.fault, self.fault_reason = fault, reason
 
     @property
     def walk(self) -> float:
@@ -118,18 +185,33 @@ class ActiveTrial:
 
 @dataclass(frozen=True)
 class TrialResult:
-    """A finished trial: the robot's last word on it and the IMU estimate (if any)."""
+    """
+    A finished trial: the robot's last word on it, the IMU estimate (if any), its validity.
+
+    Only a trial with ``fault`` NONE was walked and measured whole: its estimate may be scored.
+    An unscorable trial may still carry the estimate made of what was received (for the record).
+    """
 
     state: str  # the robot's final trial state, or NO_REPORT
     duration: float  # s timed
     estimate: TrialEstimate | None = None
     x: float = 0.0  # displacement over the whole walk, in the frame the robot started in [m]
     y: float = 0.0
-    problem: str = ''  # why there is no estimate ('' if there is)
+    problem: str = ''  # why it cannot be scored ('' if it can)
     yaw: float = 0.0  # heading change over the trial (the IMU's yaw) [rad]
     vx: float = 0.0  # mean velocity over the timed part, in the frame the robot started in [m/s]
     vy: float = 0.0
     walk: float = 0.0  # s walked: the settling and the timed part (0: not recorded)
+    fault: TrialFault = TrialFault.NONE
+
+    def __post_init__(self) -> None:
+        if (self.fault is TrialFault.NONE) == bool(self.problem):
+            raise ValueError(f'a trial result has a reason exactly when it has a fault: {self}')
+
+    @property
+    def valid(self) -> bool:
+        """Whether the trial was walked and measured whole (its estimate may be scored)."""
+        return self.fault is TrialFault.NONE
 
 
 @dataclass(frozen=True)
@@ -146,6 +228,8 @@ class LinkSnapshot:
     frames_sent: int
     retries: int
     last_error: str
+    bad_frame_rate: float = 0.0  # checksum errors and resyncs per second, lately [1/s]
+    up: bool = False  # connected, and the robot heard within LINK_LOST_S: trials can be walked
 
 
 class BaseStation:
@@ -188,6 +272,9 @@ class BaseStation:
         self._told_error = ''  # the last reason told for a port that is not open
         self._counter_base = 0
         self._last_counter: int | None = None
+        self._bad_frames: deque[tuple[float, int]] = deque()  # (monotonic s, bad frames so far)
+        self.checked_at: float | None = None  # when the robot last answered a HELLO (monotonic)
+        self.max_speed = max_walking_speed()
         if config.arm_on_start:
             self.link.arm(True, time.monotonic())
         self._running = True
@@ -235,6 +322,11 @@ class BaseStation:
         with self.lock:
             return self.link.upload(gait)
 
+    def abandon(self, op: Operation, reason: str) -> None:
+        """Give up an upload (its frames not yet sent are dropped; it fails with ``reason``)."""
+        with self.lock:
+            self.link.abandon(op, reason)
+
     def uploaded(self, op: Operation, gait) -> None:
         """Record a confirmed upload: trials now walk ``gait``."""
         with self.lock:
@@ -262,6 +354,7 @@ class BaseStation:
                 generation=self.link.trial_generation + 1,
                 settle=settle,
                 imu_start=odometry.newest_time(),
+                imu_arrived=time.monotonic(),
             )
         if not self.wait(op, 3.0, alive) or not op.ok:
             with self.lock:
@@ -290,7 +383,20 @@ class BaseStation:
         with self.lock:
             op = self.link.hello()
         ok = self.wait(op, timeout) and op.ok
+        if ok:
+            with self.lock:
+                self.checked_at = time.monotonic()
         return ok, op.message or f'no VERSION from the robot within {timeout:g} s'
+
+    def servo_check(self, now: float) -> tuple[ServoCheck, str]:
+        """How the check of every servo stands: done (once since start), pending, unavailable."""
+        if self.link.firmware == 'legacy':
+            return ServoCheck.UNAVAILABLE, 'the legacy firmware has no servo check (no HELLO)'
+        if self.checked_at is None:
+            return ServoCheck.PENDING, 'the robot has not answered a HELLO yet'
+        if now - self.checked_at < SERVO_CHECK_GRACE_S:
+            return ServoCheck.PENDING, 'the robot is checking its servos'
+        return ServoCheck.DONE, 'every servo checked'
 
     def motor_power(self, on: bool) -> Operation:
         """Servo power on or off; on also clears a latched e-stop."""
@@ -303,18 +409,52 @@ class BaseStation:
         with self.lock:
             s, p = self.link.stats, self.link.parser.stats
             heard = self.link.last_heard
+            bad = p.checksum_errors + p.implausible
+            rate = self._bad_frame_rate(now, bad + p.resyncs)
+            error = self.radio.last_error
+            if rate > BAD_FRAME_RATE and self.radio.connected:
+                error = (
+                    f'{rate:.1f} bad frames/s over the last {BAD_FRAME_WINDOW_S:g} s (noise on the'
+                    f' radio): {bad} checksum errors, {p.resyncs} resyncs,'
+                    f' {p.bytes_dropped} bytes dropped so far'
+                )
             return LinkSnapshot(
                 connected=self.radio.connected,
                 armed=self.link.armed,
                 seconds_since_heard=(now - heard) if math.isfinite(heard) else math.inf,
                 frames_ok=p.frames_ok,
-                checksum_errors=p.checksum_errors + p.implausible,
+                checksum_errors=bad,
                 resyncs=p.resyncs,
                 bytes_dropped=p.bytes_dropped,
                 frames_sent=s.frames_sent,
                 retries=s.retries,
-                last_error=self.radio.last_error,
+                last_error=error,
+                bad_frame_rate=rate,
+                up=not self._link_problem(now),
             )
+
+    def link_problem(self, now: float) -> str:
+        """Say why the link cannot carry a trial now ('' when it can: open, the robot heard)."""
+        with self.lock:
+            return self._link_problem(now)
+
+    def _link_problem(self, now: float) -> str:
+        if not self.radio.connected:
+            return f'the radio port is not open: {self.radio.last_error or "not yet"}'
+        silent = now - self.link.last_heard
+        if silent > LINK_LOST_S:
+            heard = f'for {silent:.1f} s' if math.isfinite(silent) else 'since the port opened'
+            return f'the robot has been silent {heard}'
+        return ''
+
+    def _bad_frame_rate(self, now: float, bad: int) -> float:
+        """Bad frames per second over the last BAD_FRAME_WINDOW_S (``bad``: the count so far)."""
+        history = self._bad_frames
+        history.append((now, bad))
+        while len(history) > 2 and now - history[1][0] >= BAD_FRAME_WINDOW_S:
+            history.popleft()
+        t0, b0 = history[0]
+        return (bad - b0) / max(now - t0, 1.0)
 
     def take_events(self) -> list[tuple[str, object]]:
         """Return (and forget) what the robot reported since the last call."""
@@ -328,21 +468,26 @@ class BaseStation:
         Return the trial that has just finished, once its settle time is over (else None).
 
         Only the robot's reports about THIS trial (its acknowledged start) can end it; a trial
-        the robot never reports on ends ``OVERDUE_S`` after its walk should have.
+        the robot never reports on ends ``OVERDUE_S`` after its walk should have. A trial whose
+        link or IMU is lost ends at once, unscorable (:class:`TrialFault`).
         """
         with self.lock:
             trial = self.trial
             if trial is None:
                 return None
+            self._watch(trial, now)
+            lost = trial.fault in (TrialFault.LINK_LOST, TrialFault.IMU_GAP)
             ours = self.link.trial_generation == trial.generation
             finished = ours and self.link.trial_state in FINAL_STATES
             overdue = now - trial.start > trial.walk + OVERDUE_S
-            if trial.done_at is None and (finished or overdue):
+            if trial.done_at is None and (finished or overdue or lost):
                 trial.done_at = now
             if trial.done_at is None:
                 return None
             since, rest = now - trial.done_at, self.config.settle_time
-            if self.imu_port is None:  # nothing to wait for
+            if lost:  # nothing to settle: the window cannot be used
+                closes = True
+            elif self.imu_port is None:  # nothing to wait for
                 closes = since >= rest
             else:
                 closes = trial.odometry.window_closes(since, rest, self.config.settle_time_max)
@@ -350,23 +495,75 @@ class BaseStation:
                 return None
             self.trial = None
             state = self.link.trial_state.name if ours else 'NO_REPORT'
+            self._judge_end(trial, state)
+        return self._result(trial, state)
+
+    def _watch(self, trial: ActiveTrial, now: float) -> None:
+        """Spoil a trial in flight whose robot or IMU has fallen silent (call with the lock)."""
+        if trial.done_at is not None:
+            return
+        silent = now - self.link.last_heard
+        if silent > LINK_LOST_S and now - trial.start > LINK_LOST_S:
+            trial.spoil(TrialFault.LINK_LOST, f'the robot was silent for {silent:.1f} s')
+        if self.imu_port is not None and now - trial.imu_arrived > IMU_SILENT_S:
+            trial.spoil(TrialFault.IMU_GAP, f'no IMU sample for {now - trial.imu_arrived:.1f} s')
+
+    def _judge_end(self, trial: ActiveTrial, state: str) -> None:
+        """Spoil a trial the robot did not walk to its end, by its last report."""
+        if self.link.firmware == 'legacy':  # it reports nothing on trials: its walk is its own
+            return
+        if state == 'NO_REPORT':
+            trial.spoil(
+                TrialFault.NO_END_REPORT,
+                "the robot never reported the walk's end (it restarted, or the radio lost it)",
+            )
+        elif state == TrialState.FAILSAFE.name:
+            trial.spoil(
+                TrialFault.LINK_LOST, "the robot's failsafe stopped the walk: it lost the pings"
+            )
+        elif state != TrialState.DONE.name:
+            trial.spoil(TrialFault.STOPPED, f'the walk was stopped before its end ({state})')
+
+    def _result(self, trial: ActiveTrial, state: str) -> TrialResult:
+        """Return a closed trial's result: its estimate and whether it may be scored."""
+
+        def unscorable(fault: TrialFault, problem: str, **kw) -> TrialResult:
+            trial.spoil(fault, problem)
+            return TrialResult(
+                state, trial.duration, problem=trial.fault_reason, fault=trial.fault, **kw
+            )
+
         if self.imu_port is None:
-            return TrialResult(state, trial.duration, problem='no IMU configured')
+            return unscorable(TrialFault.NO_ESTIMATE, 'no IMU configured')
         timed = trial.odometry.timed_part(trial.imu_start, trial.settle, trial.duration)
         try:
             est = trial.odometry.estimate(trial.crab, trial.duration, timed)
         except ValueError as exc:
-            return TrialResult(state, trial.duration, problem=f'no odometry: {exc}')
+            return unscorable(TrialFault.NO_ESTIMATE, f'no odometry: {exc}')
         if not (math.isfinite(est.speed) and math.isfinite(est.distance)):
-            return TrialResult(
-                state,
-                trial.duration,
-                problem=f'the IMU estimate is not finite (speed {est.speed!r} m/s)',
+            return unscorable(
+                TrialFault.IMPLAUSIBLE, f'the IMU estimate is not finite (speed {est.speed!r} m/s)'
             )
         x, y = trial.odometry.in_start_frame(est.displacement)
         vx, vy = (v / trial.duration for v in trial.odometry.in_start_frame(est.timed))
+        if math.hypot(vx, vy) > self.max_speed:
+            trial.spoil(
+                TrialFault.IMPLAUSIBLE,
+                f'the IMU estimate, {math.hypot(vx, vy):.2f} m/s, is faster than the robot can'
+                f' walk ({self.max_speed:.2f} m/s)',
+            )
         return TrialResult(
-            state, trial.duration, est, x, y, yaw=est.yaw_change, vx=vx, vy=vy, walk=trial.walk
+            state,
+            trial.duration,
+            est,
+            x,
+            y,
+            problem=trial.fault_reason,
+            yaw=est.yaw_change,
+            vx=vx,
+            vy=vy,
+            walk=trial.walk,
+            fault=trial.fault,
         )
 
     # -- I/O threads -----------------------------------------------------------------------
@@ -399,6 +596,7 @@ class BaseStation:
         now = time.monotonic()
         self._report_connection_change()
         if not self.radio.ensure_open(now):
+            self._spoil(TrialFault.LINK_LOST, f'the radio port was lost: {self.radio.last_error}')
             time.sleep(0.02)
             return
         self._report_connection_change()
@@ -406,6 +604,8 @@ class BaseStation:
         now = time.monotonic()
         with self.lock:
             if self.radio.connects != self._configured_connects:
+                if self._configured_connects:
+                    self._spoil_locked(TrialFault.LINK_LOST, 'the radio port was reopened')
                 self._configured_connects = self.radio.connects
                 self.link.set_telemetry_period(float(self.config.telemetry_period))
             frames = self.link.receive(data, now) if data else []
@@ -431,9 +631,20 @@ class BaseStation:
             self._told_error = '' if connected else why
             self.on_connection(connected, why)
 
+    def _spoil(self, fault: TrialFault, reason: str) -> None:
+        """Spoil the trial in flight, if any, for ``reason``."""
+        with self.lock:
+            self._spoil_locked(fault, reason)
+
+    def _spoil_locked(self, fault: TrialFault, reason: str) -> None:
+        trial = self.trial
+        if trial is not None and trial.done_at is None:
+            trial.spoil(fault, reason)
+
     def _imu_once(self) -> None:
         now = time.monotonic()
         if not self.imu_port.ensure_open(now):
+            self._spoil(TrialFault.IMU_GAP, f'the IMU port was lost: {self.imu_port.last_error}')
             time.sleep(0.02)
             return
         if self.imu_port.connects and self._last_counter is None:
@@ -451,7 +662,19 @@ class BaseStation:
         self._last_counter = m.counter
         sample = ((self._counter_base + m.counter) / self.config.imu_rate, m.acc, m.euler)
         with self.lock:
-            self.imu_history.append(sample)
-            if self.trial is not None:
-                self.trial.odometry.add(*sample)
+            history, gap = self.imu_history, IMU_GAP_SAMPLES / self.config.imu_rate
+            if history and sample[0] - history[-1][0] > gap:
+                history.clear()  # a window never starts with samples from before a gap
+            history.append(sample)
+            trial = self.trial
+            if trial is not None:
+                newest = trial.odometry.newest_time()
+                if newest is not None and sample[0] - newest > gap:
+                    trial.spoil(
+                        TrialFault.IMU_GAP,
+                        f'{round((sample[0] - newest) * self.config.imu_rate) - 1} IMU samples'
+                        ' missing (by its sample counter)',
+                    )
+                trial.imu_arrived = time.monotonic()
+                trial.odometry.add(*sample)
         self.on_imu(m)

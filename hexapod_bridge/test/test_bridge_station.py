@@ -9,16 +9,27 @@ The base station without ROS: bridge_node's logic against the robot emulator ove
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
+import random
 import signal
 import subprocess
 import sys
 import time
 
 from hexapod_bridge.odometry import STEADY_GAIT_ACCURACY
-from hexapod_bridge.station import BaseStation, StationConfig
+from hexapod_bridge.station import (
+    BAD_FRAME_RATE,
+    BaseStation,
+    IMU_SILENT_S,
+    LINK_LOST_S,
+    OVERDUE_S,
+    RETRYABLE_FAULTS,
+    StationConfig,
+    TrialFault,
+)
 from hexapod_gait import preset
 import pytest
 
@@ -35,6 +46,12 @@ def _until(predicate, timeout: float, what: str):
 
 @pytest.fixture
 def emulator(tmp_path):
+    with _emulator_process(tmp_path) as (radio, imu, log, _proc):
+        yield radio, imu, log
+
+
+@contextlib.contextmanager
+def _emulator_process(tmp_path):
     radio, imu = tmp_path / 'radio', tmp_path / 'imu'
     log = open(tmp_path / 'emulator.log', 'w')
     proc = subprocess.Popen(
@@ -54,8 +71,9 @@ def emulator(tmp_path):
     )
     try:
         _until(lambda: radio.exists() and imu.exists(), 60, 'the emulator ports')
-        yield radio, imu, tmp_path / 'emulator.log'
+        yield radio, imu, tmp_path / 'emulator.log', proc
     finally:
+        proc.send_signal(signal.SIGCONT)
         proc.send_signal(signal.SIGINT)
         proc.wait(30)
         log.close()
@@ -176,3 +194,115 @@ def test_a_port_that_does_not_exist_is_told_once_with_its_reason(tmp_path):
     assert len(told) == 1, told
     up, why = told[0]
     assert not up and 'no_such_port' in why and 'cannot open' in why
+
+
+def _walking_station(radio, imu, **config) -> BaseStation:
+    """A station armed, with the tripod uploaded, standing still and ready for a trial."""
+    station = BaseStation(StationConfig(port=str(radio), imu_port=str(imu), **config))
+    station.start()
+    station.arm(True)
+    gait = preset('tripod')
+    op = station.upload(gait)
+    assert station.wait(op, 20) and op.ok, op.message
+    station.uploaded(op, gait)
+    time.sleep(1.0)
+    return station
+
+
+@pytest.mark.parametrize(
+    'fault, signals, within',
+    [
+        # the radio port vanishes (the emulator's SIGUSR1), and comes back (SIGUSR2)
+        ('port', (signal.SIGUSR1, signal.SIGUSR2), 1.0),
+        # the whole robot falls silent (its process stopped: no radio, no IMU), then goes on
+        ('silence', (signal.SIGSTOP, signal.SIGCONT), LINK_LOST_S + 0.5),
+        # the robot's microcontroller restarts mid-walk (SIGHUP): it forgets the walk
+        ('restart', (signal.SIGHUP, None), IMU_SILENT_S + 0.5),
+    ],
+)
+def test_a_trial_cut_by_a_fault_is_never_scorable_and_ends_within_seconds(
+    tmp_path, fault, signals, within
+):
+    cut, restore = signals
+    with _emulator_process(tmp_path) as (radio, imu, _log, proc):
+        station = _walking_station(radio, imu)
+        try:
+            ok, message = station.start_trial()
+            assert ok, message
+            time.sleep(1.5)
+            proc.send_signal(cut)
+            cut_at = time.monotonic()
+            result = _until(lambda: station.finished_trial(time.monotonic()), 30, 'the trial')
+            ended = time.monotonic() - cut_at
+            if restore is not None:
+                proc.send_signal(restore)
+            assert not result.valid and result.fault in RETRYABLE_FAULTS, result
+            assert result.problem
+            assert ended <= within, (ended, result)
+            # the link back, the next trial is walked and measured whole
+            if fault == 'restart':  # a restarted robot holds no gait: the host uploads again
+                op = station.upload(preset('tripod'))
+                assert station.wait(op, 20) and op.ok, op.message
+                station.uploaded(op, preset('tripod'))
+            _until(
+                lambda: station.snapshot(time.monotonic()).seconds_since_heard < 1.0,
+                20,
+                'the link',
+            )
+            time.sleep(1.0)
+            ok, message = _until(lambda: (r := station.start_trial())[0] and r, 20, 'a new start')
+            again = _until(lambda: station.finished_trial(time.monotonic()), 30, 'the next trial')
+            assert again.valid and again.problem == '', again
+            assert abs(again.estimate.speed) < station.max_speed
+        finally:
+            station.stop()
+
+
+def test_a_robot_that_never_reports_the_end_spoils_the_trial(emulator):
+    radio, imu, _log = emulator
+    station = _walking_station(radio, imu, trial_duration=1.0)
+    try:
+        assert station.start_trial()[0]
+        with station.lock:  # as if the robot's report of the end were lost on the radio
+            station.trial.generation += 1
+        started = time.monotonic()
+        result = _until(lambda: station.finished_trial(time.monotonic()), 30, 'the trial')
+        assert result.fault is TrialFault.NO_END_REPORT and result.state == 'NO_REPORT'
+        assert time.monotonic() - started >= 1.0 + OVERDUE_S
+    finally:
+        station.stop()
+
+
+def test_noise_on_the_radio_above_the_bad_frame_rate_is_said_in_last_error(tmp_path):
+    import pty
+    import tty
+
+    master, slave = pty.openpty()
+    tty.setraw(master)
+    tty.setraw(slave)
+    link = tmp_path / 'radio'
+    os.symlink(os.ttyname(slave), link)
+    station = BaseStation(StationConfig(port=str(link)))
+    station.start()
+    try:
+        _until(lambda: station.snapshot(time.monotonic()).connected, 10, 'the port')
+        quiet = station.snapshot(time.monotonic())
+        assert quiet.last_error == '' and quiet.bad_frame_rate == 0.0
+        rng = random.Random(7)
+        for _ in range(20):  # 2,000 random bytes with frame headers among them
+            os.write(
+                master, bytes(rng.choice((0xFF, 0xE7, rng.randrange(256))) for _ in range(100))
+            )
+            time.sleep(0.05)
+        noisy = _until(
+            lambda: (
+                (n := station.snapshot(time.monotonic())).bad_frame_rate > BAD_FRAME_RATE and n
+            ),
+            10,
+            'the bad frames counted',
+        )
+        assert 'bad frames/s' in noisy.last_error and 'resyncs' in noisy.last_error, noisy
+    finally:
+        station.stop()
+        os.close(master)
+        os.close(slave)

@@ -113,6 +113,26 @@ class HexapodModel:
         """Sum of every link's mass [kg]."""
         return sum(self.link_masses.values())
 
+    @property
+    def max_walking_speed(self) -> float:
+        """
+        The fastest the body can walk on its feet [m/s]: a bound no measured trial can exceed.
+
+        A foot in stance stands on the floor, so the body moves at most as fast as a foot moves
+        relative to it: each joint at its velocity limit (the servo's no-load speed, URDF table
+        3.9) times its longest lever to the foot (coxa a1+a2+a3, femur a2+a3, tibia a3), summed,
+        for the fastest leg.
+        """
+        a1, a2, a3 = self.link_lengths
+        levers = (a1 + a2 + a3, a2 + a3, a3)
+        return max(
+            sum(
+                self.limit(j).velocity * lever
+                for j, lever in zip(self.leg_joint_names(leg), levers)
+            )
+            for leg in range(1, N_LEGS + 1)
+        )
+
     def limit(self, joint_name: str) -> JointLimit:
         """Return the limits of joint ``joint_name``."""
         return self.limits[self.joint_names.index(joint_name)]

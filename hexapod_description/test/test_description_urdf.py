@@ -169,3 +169,15 @@ def test_parse_errors_name_what_is_missing(tmp_path):
     bad.write_text(text)
     with pytest.raises(ValueError, match='joint_4_foot'):
         parse_model(bad)
+
+
+def test_the_walking_speed_bound_is_the_servos_no_load_speeds_on_the_leg_levers():
+    # table 3.9's velocity limits (coxa and tibia RX-28 7.686 rad/s, femur RX-64 5.289 rad/s) on
+    # the longest lever of each joint to the foot (a1+a2+a3, a2+a3, a3; eq. 3.41's lengths)
+    m = load_model()
+    a1, a2, a3 = m.link_lengths
+    expected = 7.686 * (a1 + a2 + a3) + 5.289 * (a2 + a3) + 7.686 * a3
+    assert m.max_walking_speed == pytest.approx(expected)
+    # far above what any gait walks (the default map's best: 0.378 m/s), far below a lost link's
+    # made-up 19 m/s
+    assert 3.0 < m.max_walking_speed < 6.0

@@ -20,8 +20,10 @@ URDF's; give both the same map.
 Prints ``RADIO <path>`` and ``IMU <path>`` once the ports exist, and ``TRIAL {json}`` with the
 simulator's own measurement when a walk ends. SIGUSR1 makes the radio port vanish (the pty is
 closed and its link removed; it prints ``RADIO gone at <seconds on CLOCK_MONOTONIC>``), SIGUSR2
-brings a new one back at the same link path - the fault-injection handle the reliability tests
-use. SIGINT/SIGTERM end it.
+brings a new one back at the same link path - the fault-injection handles the reliability tests
+use. SIGHUP restarts the robot's microcontroller: the firmware starts afresh (no gait uploaded,
+not walking, its IMU counter from zero) while the ports stay open, and it prints ``REBOOTED at
+<seconds on CLOCK_MONOTONIC>``. SIGINT/SIGTERM end it.
 """
 
 from __future__ import annotations
@@ -52,6 +54,7 @@ RADIO_GONE = 'RADIO gone at '
 #: A body tilted past this [rad] for --right-after s has fallen: the emulated operator rights it.
 FALLEN_TILT = math.radians(30.0)
 RIGHTED = 'RIGHTED at '
+REBOOTED = 'REBOOTED at '
 
 
 def radio_gone_times(output: str) -> list[float]:
@@ -227,15 +230,20 @@ def _serve(args: argparse.Namespace) -> int:
             joints.setdefault(place.leg, set()).add(place.joint)
         sim.set_damage(Damage.unpowered(joints))
     start = time.monotonic()
-    firmware = make_firmware(
-        args.firmware,
-        sim=sim,
-        timing=FirmwareTiming(args.walk_duration, args.failsafe_windows),
-        imu_noise=ImuNoise() if args.imu_noise else None,
-        seed=args.seed,
-        servo_ping=lambda servo: servo not in dead,
-        leg_map=args.leg_map,
-    )
+
+    def boot(now: float) -> RobotFirmware | NativeRobotFirmware:
+        return make_firmware(
+            args.firmware,
+            sim=sim,
+            timing=FirmwareTiming(args.walk_duration, args.failsafe_windows),
+            imu_noise=ImuNoise() if args.imu_noise else None,
+            seed=args.seed,
+            servo_ping=lambda servo: servo not in dead,
+            leg_map=args.leg_map,
+            now=now,
+        )
+
+    firmware = boot(0.0)
     radio = PtyPort(args.radio_link)
     imu = PtyPort(args.imu_link) if args.imu_link else None
     print(f'RADIO {radio.open()}', flush=True)
@@ -249,6 +257,7 @@ def _serve(args: argparse.Namespace) -> int:
     requests: list[str] = []
     signal.signal(signal.SIGUSR1, lambda *_: requests.append('vanish'))
     signal.signal(signal.SIGUSR2, lambda *_: requests.append('return'))
+    signal.signal(signal.SIGHUP, lambda *_: requests.append('reboot'))
     stopped_by: list[int] = []
     for signum in (signal.SIGINT, signal.SIGTERM):  # a second Ctrl-C cannot cut the clean-up short
         signal.signal(signum, lambda number, _: stopped_by.append(number))
@@ -264,6 +273,10 @@ def _serve(args: argparse.Namespace) -> int:
                     print_stats(firmware)
                 elif what == 'return' and radio.master is None:
                     print(f'RADIO {radio.open()}', flush=True)
+                elif what == 'reboot':
+                    print_stats(firmware)
+                    firmware, reported = boot(time.monotonic() - start), 0
+                    print(f'{REBOOTED}{time.monotonic():.6f}', flush=True)
             fds = [radio.master] if radio.master is not None else []
             ready = select.select(fds, [], [], 0.002)[0] if fds else (time.sleep(0.002) or [])
             now = time.monotonic() - start
@@ -317,15 +330,16 @@ def make_firmware(
     seed: int,
     servo_ping,
     leg_map: tuple[int, ...] = ext.IDENTITY_LEG_MAP,
+    now: float = 0.0,
 ) -> RobotFirmware | NativeRobotFirmware:
-    """Return the emulated robot's firmware: the Python model or the C++ module."""
+    """Return the emulated robot's firmware booted at ``now``: the Python model or the C++ one."""
     if kind == 'native':
         return NativeRobotFirmware(
             sim,
             timing,
             imu_noise=imu_noise,
             seed=seed,
-            now=0.0,
+            now=now,
             servo_ping=servo_ping,
             leg_map=leg_map,
         )
@@ -337,7 +351,7 @@ def make_firmware(
         ping_check_ticks=timing.ping_check_ticks,
         imu_noise=imu_noise,
         seed=seed,
-        now=0.0,
+        now=now,
         servo_ping=servo_ping,
         leg_map=leg_map,
     )
