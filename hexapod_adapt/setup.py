@@ -41,6 +41,7 @@ setup(
             'adapt_node = hexapod_adapt.ros.adapt_node:main',
             'adapt_client = hexapod_adapt.ros.adapt_client_cli:main',
             'recover_recording = hexapod_adapt.ros.recover_recording_cli:main',
+            'report_distance = hexapod_adapt.ros.report_distance_cli:main',
         ]
     },
 )

@@ -60,3 +60,14 @@ def save_png(fig: Any, out: str | os.PathLike) -> Path:
         fig.savefig(fh, format='png', dpi=110, bbox_inches='tight')
     plt.close(fig)
     return out
+
+
+def ros_home() -> Path:
+    """Return ROS_HOME, where ROS 2 keeps a user's logs (default ``~/.ros``)."""
+    return Path(os.environ.get('ROS_HOME') or Path.home() / '.ros').expanduser()
+
+
+def under_ros_home(directory: str | os.PathLike) -> Path:
+    """Return ``directory`` as a node writes to it: a relative one lies under ROS_HOME."""
+    path = Path(directory).expanduser()
+    return path if path.is_absolute() else ros_home() / path

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import os
 
-from conftest import forgers_are_ignored_and_named, status_log_qos, wait_for
+from conftest import forgers_are_ignored_and_named, status_log_qos, wait_for, WS
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import simulation_fingerprint
 from hexapod_adapt.ros.adapt_action import BUSY
@@ -163,13 +163,23 @@ def test_two_failed_legs_adapted_on_the_robot_running_the_cpp_firmware(ros, laun
 
 
 def test_manual_mode_takes_the_operators_distance(ros, launch, tmp_path, small_archive):
+    """
+    The tape-measure workflow: the walk is started through the bridge, then the operator reports.
+
+    A distance is refused with no trial waiting; the prompt comes in the feedback; the console
+    command ``report_distance`` answers it; 0.0 m (a damaged robot that did not move) ends the
+    trial at once.
+    """
+    import subprocess
+    import time
+
     from hexapod_msgs.srv import ReportDistance
     from std_srvs.srv import SetBool
 
     path, archive, _ = small_archive
     _emu, radio, _imu = _emulated_robot(launch, tmp_path)
     launch('hexapod_bridge', 'bridge_node', params={'port': radio})
-    node = launch(
+    launch(
         'hexapod_adapt',
         'adapt_node',
         params={'archive': str(path), 'mode': 'manual', 'record_dir': ''},
@@ -180,19 +190,41 @@ def test_manual_mode_takes_the_operators_distance(ros, launch, tmp_path, small_a
     )
     assert not early.accepted and 'no manual trial' in early.message
     assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
-    future = ros.send_adapt(Adapt.Goal(max_trials=1))
-    wait_for(lambda: 'report the distance' in node.log(), 30, 'adapt_node asking for the distance')
+    run = ros.send_adapt(Adapt.Goal(max_trials=2))
+
+    def prompts() -> int:
+        return sum('report_distance' in f.note for f in run.feedback)
+
+    wait_for(lambda: prompts() == 1, 60, 'the prompt in the feedback, once the walk ended')
     silly = ros.call(
         ReportDistance, 'adapt_node/report_distance', ReportDistance.Request(distance=float('nan'))
     )
     assert not silly.accepted and 'not a plausible' in silly.message
-    assert ros.call(
-        ReportDistance, 'adapt_node/report_distance', ReportDistance.Request(distance=0.62)
-    ).accepted
-    wait_for(future.done, 30, 'the adaptation to finish')
-    assert future.result().trials == 1
-    wait_for(lambda: trials, 10, 'the trial message')
+    command = WS / 'install' / 'hexapod_adapt' / 'lib' / 'hexapod_adapt' / 'report_distance'
+    said = subprocess.run(
+        [str(command), '0.62'], capture_output=True, text=True, timeout=60,
+        stdin=subprocess.DEVNULL,
+    )  # fmt: skip
+    assert said.returncode == 0 and '0.620 m recorded' in said.stdout, said.stdout + said.stderr
+    # the second trial, reported as 0.0 m: it ends at once
+    wait_for(lambda: prompts() == 2, 60, 'the second prompt')
+    zero = ros.call(
+        ReportDistance, 'adapt_node/report_distance', ReportDistance.Request(distance=0.0)
+    )
+    assert zero.accepted, zero.message
+    answered = time.monotonic()
+    wait_for(lambda: len(trials) == 2, 10, 'the second trial message')
+    assert time.monotonic() - answered < 1.0
+    wait_for(run.done, 30, 'the adaptation to finish')
+    assert run.result().trials == 2
     assert trials[0].measured_speed == pytest.approx(0.62 / 5.0)
+    assert trials[1].measured_speed == 0.0
+    # nothing waits for a distance any more: refused, with the reason, exit status 1
+    late = subprocess.run(
+        [str(command), '0.3'], capture_output=True, text=True, timeout=60,
+        stdin=subprocess.DEVNULL,
+    )  # fmt: skip
+    assert late.returncode == 1 and 'no manual trial is waiting' in late.stderr, late.stderr
 
 
 def test_a_second_goal_is_rejected_and_ctrl_c_mid_run_finishes_the_recording(
@@ -211,7 +243,9 @@ def test_a_second_goal_is_rejected_and_ctrl_c_mid_run_finishes_the_recording(
     )
     assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
     assert ros.send_adapt(Adapt.Goal(max_trials=3)).handle().accepted
-    wait_for(lambda: 'report the distance' in node.log(), 30, 'a trial waiting for the operator')
+    wait_for(
+        lambda: 'report it: report_distance' in node.log(), 30, 'a trial waiting for the operator'
+    )
     busy = ros.send_adapt(Adapt.Goal(max_trials=1))
     assert not busy.handle().accepted  # rejected, and the node says why
     wait_for(lambda: BUSY in node.log(), 10, 'the reason for the rejection in the log')

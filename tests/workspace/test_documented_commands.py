@@ -136,7 +136,7 @@ def test_adaptation_guide_adapting_succeeds(env):
     client = one(commands, 'ros2 run hexapod_adapt adapt_client')
     done, log = run_against(launch, client, env, timeout=300)
     assert done.returncode == 0, done.stdout + done.stderr + log[-4000:]
-    assert re.search(r'^success: ', done.stdout, re.M), done.stdout
+    assert re.search(r'^done: gait found: ', done.stdout, re.M), done.stdout
 
 
 def test_the_readme_adaptation_lines_succeed(env):
@@ -145,7 +145,7 @@ def test_the_readme_adaptation_lines_succeed(env):
     client = one(commands, 'adapt_client')
     done, log = run_against(launch, client, env, timeout=300)
     assert done.returncode == 0, done.stdout + done.stderr + log[-4000:]
-    assert re.search(r'^success: ', done.stdout, re.M), done.stdout
+    assert re.search(r'^done: gait found: ', done.stdout, re.M), done.stdout
 
 
 DEAD_SERVO_CLIENT = """

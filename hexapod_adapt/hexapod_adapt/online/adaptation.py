@@ -82,6 +82,14 @@ class TrialAborted(RuntimeError):
     """
 
 
+class WaitTimedOut(TrialAborted):
+    """What a trial waited for did not come in time."""
+
+
+class TrialCancelled(TrialAborted):
+    """The run was cancelled while a trial waited (its goal's cancel)."""
+
+
 def candidates(archive: Archive) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(niches, descriptors, prior speeds) of the archive's elites."""
     niches = archive.elite_indices()
@@ -189,6 +197,9 @@ def adapt(
         niche = int(niches[index])
         try:
             outcome = trial(niche)
+        except TrialCancelled:
+            result.message = 'cancelled'
+            break
         except TrialAborted as exc:
             result.message = f'trial {len(opt.trials) + 1} aborted: {exc}'
             break

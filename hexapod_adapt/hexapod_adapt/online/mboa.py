@@ -449,10 +449,13 @@ class Mboa:
         reason = self.stop_reason()
         floor = self._below_floor()
         if reason is StopReason.MAX_TRIALS:
-            met = f'; {self._alpha_clause()}' if self.alpha_met() else ''
-            return True, f'reached the maximum of {self.config.max_trials} trials{met}{floor}'
+            best = self.best()
+            said = f'; best measured {best.measured:.3f} m/s' if best is not None else ''
+            met = f" (M-BOA's rule met: {self._alpha_clause()})" if self.alpha_met() else ''
+            return True, f'budget used: {self.config.max_trials} trials{said}{met}{floor}'
         if reason is StopReason.ALPHA_REACHED:
-            return True, self._alpha_clause()
+            return True, f'gait found: {self._alpha_clause()}{floor}'
+
         if reason is StopReason.MAP_EXHAUSTED:
             skipped = f' or vetoed ({len(self.vetoed)})' if self.vetoed else ''
             return True, f'every gait in the map has been tried{skipped}{floor}'

@@ -154,7 +154,12 @@ SETTINGS = (
         'Damage-informed prior: processes that re-score the map (one per core)',
         (1, 256),
     ),
-    Setting('record_dir', 'adaptation_runs', "MCAP files go here ('' = no recording)"),
+    Setting(
+        'record_dir',
+        'adaptation_runs',
+        "MCAP files go here; a relative path lies under ROS_HOME (~/.ros), as ROS 2's logs do"
+        " ('' = no recording)",
+    ),
     Setting('sim_node', 'sim_node', 'Name of the simulator node (mode sim)', read_only=True),
     Setting(
         'bridge_node',

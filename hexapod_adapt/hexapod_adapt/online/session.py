@@ -23,15 +23,15 @@ from hexapod_adapt.online.prior import TipScreen
 from hexapod_adapt.online.streaming_prior import StreamingPrior
 from hexapod_adapt.online.trials import (
     ManualTrials,
-    OdomLog,
     reported_distance_problem,
     RobotTrials,
     SimTrials,
-    TiltLog,
+    TrialLogs,
     TrialPort,
     TrialTiming,
     Waiter,
 )
+from hexapod_description.model import load_model
 from hexapod_sim.damage import Damage
 import numpy as np
 
@@ -82,27 +82,27 @@ def trial_walk(
 def trial_procedure(
     mode: str,
     port: TrialPort,
-    odom: OdomLog,
+    logs: TrialLogs,
     waiter: Waiter,
     timing: TrialTiming,
     warn: Log,
     tip_guard: float = math.pi,
-    tilts: TiltLog | None = None,
 ) -> TrialProcedure:
     """
     Return the trial function of ``mode`` (sim, robot or manual).
 
     ``tip_guard`` [rad]: sim and robot trials that tilt the body past it are stopped (the
-    odometry's attitude in sim, ``tilts``, the robot's IMU, on the robot); a manual trial has no
-    attitude to watch.
+    odometry's attitude in sim, the robot's IMU on the robot); a manual trial has no attitude to
+    watch. ``warn`` hears what a run must tell its operator: a fault, a prompt.
     """
     if mode == 'sim':
-        return SimTrials(port, odom, waiter, timing, warn, tip_guard)
+        return SimTrials(port, logs.odom, waiter, timing, warn, tip_guard)
     if mode == 'robot':
         return RobotTrials(
-            port, odom, waiter, timing, tilts=tilts, tip_guard=tip_guard, prompt=warn
-        )
-    return ManualTrials(port, waiter, timing, warn)
+            port, logs.results, waiter, timing, port.link_problem, warn,
+            load_model().max_walking_speed, tilts=logs.tilts, tip_guard=tip_guard,
+        )  # fmt: skip
+    return ManualTrials(port, logs.results, waiter, timing, warn)
 
 
 #: How long a run waits for the top of the map to be re-scored before its first trial [s].
@@ -224,6 +224,11 @@ def report_distance(trials: TrialProcedure | None, distance: float) -> str:
     if isinstance(trials, ManualTrials):
         return trials.report(distance)
     return reported_distance_problem(distance) or 'no manual trial is waiting for a distance'
+
+
+def start_note(prior: str, servo_check: str = '') -> str:
+    """Return what a run tells its operator as it starts: M-BOA's prior, and why."""
+    return f'M-BOA starts from {prior}' + (f' ({servo_check})' if servo_check else '')
 
 
 def result_message(result: AdaptationResult, note: str, recording_problem: str) -> str:

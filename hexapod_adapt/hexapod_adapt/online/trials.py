@@ -25,7 +25,12 @@ import threading
 import time
 from typing import Callable, ClassVar, Generic, Protocol, TypeVar
 
-from hexapod_adapt.online.adaptation import TrialAborted, TrialOutcome
+from hexapod_adapt.online.adaptation import (
+    TrialAborted,
+    TrialCancelled,
+    TrialOutcome,
+    WaitTimedOut,
+)
 
 MODES = ('sim', 'robot', 'manual')
 T = TypeVar('T')
@@ -126,12 +131,22 @@ class TiltLog(SampleLog[TiltSample]):
         return None
 
 
+@dataclass(frozen=True)
+class TrialLogs:
+    """What a run's trials read from the graph, as it arrives."""
+
+    odom: OdomLog  # sim_node's odometry (sim trials)
+    results: 'SampleLog[RobotTrialResult]'  # bridge_node's trial results (robot, manual trials)
+    tilts: TiltLog  # the robot's IMU attitude (robot trials' tip guard)
+
+
 class Waiter:
     """
     Polls a condition until it holds, or raises :class:`TrialAborted` saying what did not come.
 
-    ``alive()`` false (the node shuts down) stops the wait; ``check()`` (every ``check_period``
-    s) returns a reason to stop ('' to go on), e.g. a node name taken twice in the graph.
+    ``alive()`` false (the node shuts down) stops the wait; ``cancelled()`` true (the goal's
+    cancel) stops it with :class:`TrialCancelled` within a poll; ``check()`` (every
+    ``check_period`` s) returns a reason to stop ('' to go on), e.g. a node name taken twice.
     """
 
     def __init__(
@@ -142,17 +157,21 @@ class Waiter:
         poll: float = 0.005,
         clock: Callable[[], float] = time.monotonic,
         sleep: Callable[[float], None] = time.sleep,
+        cancelled: Callable[[], bool] | None = None,
     ) -> None:
         self.alive, self.check, self.check_period = alive, check, check_period
         self.poll, self.clock, self.sleep = poll, clock, sleep
+        self.cancelled = cancelled
 
     def until(self, predicate: Callable[[], object], timeout: float, what: str):
         """Return ``predicate()``'s first truthy value within ``timeout`` s."""
-        now = self.clock()
+        began = now = self.clock()
         deadline, next_check = now + timeout, now + self.check_period
         while (now := self.clock()) < deadline:
             if not self.alive():
                 raise TrialAborted('shutting down')
+            if self.cancelled is not None and self.cancelled():
+                raise TrialCancelled(f'cancelled while waiting for {what}')
             value = predicate()
             if value:
                 return value
@@ -162,7 +181,7 @@ class Waiter:
                 if reason:
                     raise TrialAborted(reason)
             self.sleep(self.poll)
-        raise TrialAborted(f'timed out after {timeout:g} s waiting for {what}')
+        raise WaitTimedOut(f'timed out after {self.clock() - began:.3g} s waiting for {what}')
 
 
 def along(dx: float, dy: float, crab: float) -> float:
@@ -198,6 +217,7 @@ class Upload:
     ok: bool
     message: str
     archive_index: int
+    answered: bool = True  # the robot answered (False: no answer came, the link's fault)
 
 
 class TrialPort(Protocol):
@@ -226,6 +246,9 @@ class TrialPort(Protocol):
 
     def stand(self) -> None:
         """Publish the standing gait on gait/parameters (the simulated robot stops walking)."""
+
+    def link_problem(self) -> str:
+        """Say why bridge_node's radio link cannot carry a trial now ('' when it can)."""
 
 
 @dataclass(frozen=True)
@@ -303,9 +326,19 @@ class SimTrials:
         )
 
 
+class LinkFault(Exception):
+    """
+    A trial not walked or not measured whole, for a reason of the link or the robot's state.
+
+    Never scored: the same gait is walked again once the link is back (:class:`RobotTrials`).
+    """
+
+
 def _uploaded(port: TrialPort, niche: int, timeout: float) -> float:
     """Upload the gait of ``niche``; return its crab angle, or raise with the robot's reason."""
     answer, crab = port.upload(niche, timeout)
+    if not answer.ok and not answer.answered:
+        raise LinkFault(f'the robot did not answer the upload: {answer.message}')
     if not answer.ok:
         raise TrialAborted(answer.message or 'the robot did not confirm the upload')
     if answer.archive_index != niche:
@@ -318,16 +351,44 @@ def _uploaded(port: TrialPort, niche: int, timeout: float) -> float:
 
 #: How long a robot trial waits for a fallen robot to be put back on its feet [s].
 RIGHTING_TIMEOUT = 300.0
+#: How long a robot run waits for a lost radio link to come back before it ends [s].
+LINK_RETURN_TIMEOUT = 60.0
+#: Walks of one gait a robot run makes while faults spoil them, before it ends.
+ROBOT_ATTEMPTS = 3
+
+
+@dataclass(frozen=True)
+class RobotTrialResult:
+    """One of bridge_node's trial results (``trial_result``) as a robot trial reads it."""
+
+    valid: bool  # walked and measured whole: may be scored
+    retryable: bool  # spoilt by the link or the robot's state, not the gait
+    reason: str  # why it cannot be scored ('' when valid)
+    vx: float  # mean velocity over the timed part, in the frame the robot started in [m/s]
+    vy: float
+    received: float  # time.monotonic() when it arrived
 
 
 @dataclass
 class RobotTrials:
-    """Mode ``robot``: trials through bridge_node, measured by its IMU odometry."""
+    """
+    Mode ``robot``: trials through bridge_node, measured by its IMU odometry.
+
+    Only a trial the bridge says was walked and measured whole is scored, and only at a speed the
+    robot can walk (``max_speed``). One spoilt by the link or the robot's state (the link lost,
+    the robot restarted, an IMU gap, no answer to the upload or the start) is said through
+    ``warn`` and walked again once ``link()`` says the link is back (up to ``link_timeout`` s),
+    ``attempts`` walks at most; else the run ends with the reason.
+    """
 
     port: TrialPort
-    odom: OdomLog
+    results: SampleLog[RobotTrialResult]
     waiter: Waiter
     timing: TrialTiming
+    #: why the radio link cannot carry a trial now ('' when it can): bridge_node's link status
+    link: Callable[[], str]
+    warn: Callable[[str], None]
+    max_speed: float
     sleep: Callable[[float], None] = time.sleep
     clock: Callable[[], float] = time.monotonic
     #: the IMU's attitude (bridge_node's imu/data) and the guard [rad]: a trial that tilts the
@@ -336,16 +397,37 @@ class RobotTrials:
     tip_guard: float = math.pi
     #: a robot lying past the guard (a trial tipped it) is not started: the operator is asked to
     #: put it back on its feet, and the trial waits for that this long [s]
-    prompt: Callable[[str], None] | None = None
     righting_timeout: float = RIGHTING_TIMEOUT
+    link_timeout: float = LINK_RETURN_TIMEOUT
+    attempts: int = ROBOT_ATTEMPTS
 
     def __call__(self, niche: int) -> TrialOutcome:
         """Measure the speed of the gait of ``niche`` [m/s], or stop it when it tips."""
+        for attempt in range(1, self.attempts + 1):
+            try:
+                return self._walk(niche)
+            except LinkFault as fault:
+                if attempt == self.attempts:
+                    raise TrialAborted(
+                        f'gait {niche} was not walked and measured whole in {attempt} attempts;'
+                        f' the last: {fault}'
+                    ) from None
+                self.warn(
+                    f'trial of gait {niche} not scored: {fault}; it is walked again once the'
+                    f' radio link works (attempt {attempt + 1} of {self.attempts})'
+                )
+                self._wait_link()
+        raise AssertionError('unreachable')  # pragma: no cover
+
+    def _walk(self, niche: int) -> TrialOutcome:
         crab = _uploaded(self.port, niche, self.timing.timeout)
         self._wait_upright()
         self.sleep(max(0.0, self.timing.stand_still))
         ok, message = self.port.start_trial()
         if not ok:
+            problem = self.link()
+            if problem:
+                raise LinkFault(f'the robot did not start the trial: {message} ({problem})')
             raise TrialAborted(f'bridge_node did not start the trial: {message}')
         started = self.clock()
         tilts = self.tilts
@@ -353,15 +435,39 @@ class RobotTrials:
         def peak() -> float:
             return tilts.peak_since(started) if tilts is not None else float('nan')
 
-        sample = self.waiter.until(
-            lambda: self.odom.received_after(started) or (peak() > self.tip_guard and 'tipped'),
-            self.timing.duration + self.timing.timeout,
-            "the trial's odometry from bridge_node",
+        result = self.waiter.until(
+            lambda: self.results.received_after(started) or (peak() > self.tip_guard and 'tipped'),
+            self.timing.walking + self.timing.timeout,
+            "the trial's result from bridge_node (trial_result)",
         )
-        if sample == 'tipped':
+        if result == 'tipped':
             self.port.stop_trial()
             return TrialOutcome(0.0, True, peak())
-        return TrialOutcome(along(sample.vx, sample.vy, crab), False, peak())
+        if not result.valid:
+            if result.retryable:
+                raise LinkFault(result.reason)
+            raise TrialAborted(f'the trial cannot be scored: {result.reason}')
+        speed = along(result.vx, result.vy, crab)
+        if not math.isfinite(speed) or math.hypot(result.vx, result.vy) > self.max_speed:
+            raise LinkFault(
+                f'the measured {math.hypot(result.vx, result.vy):.2f} m/s is faster than the robot'
+                f' can walk ({self.max_speed:.2f} m/s)'
+            )
+        return TrialOutcome(speed, False, peak())
+
+    def _wait_link(self) -> None:
+        """Wait until the link can carry a trial (at once if it can), or end the run."""
+        if not self.link():
+            return
+        self.warn(f'radio link down ({self.link()}): waiting up to {self.link_timeout:g} s for it')
+        began = self.clock()
+        try:
+            self.waiter.until(lambda: not self.link(), self.link_timeout, 'the radio link')
+        except WaitTimedOut as exc:
+            raise TrialAborted(
+                f'the radio link did not come back in {self.clock() - began:.0f} s: {self.link()}'
+            ) from exc
+        self.warn(f'radio link back after {self.clock() - began:.1f} s')
 
     def _wait_upright(self) -> None:
         """Wait until the IMU says the body is within the guard (no reading yet: go on)."""
@@ -375,12 +481,11 @@ class RobotTrials:
 
         if upright():
             return
-        if self.prompt is not None:
-            self.prompt(
-                f'the robot lies tilted {math.degrees(tilts.tilt_at(self.clock()) or 0.0):.0f}'
-                f' deg, past the {math.degrees(self.tip_guard):.0f} deg tip guard: put it back on'
-                f' its feet; the next trial waits for it (up to {self.righting_timeout:.0f} s)'
-            )
+        self.warn(
+            f'the robot lies tilted {math.degrees(tilts.tilt_at(self.clock()) or 0.0):.0f}'
+            f' deg, past the {math.degrees(self.tip_guard):.0f} deg tip guard: put it back on'
+            f' its feet; the next trial waits for it (up to {self.righting_timeout:.0f} s)'
+        )
         self.waiter.until(upright, self.righting_timeout, 'the robot back on its feet')
 
 
@@ -391,14 +496,29 @@ def reported_distance_problem(distance: float) -> str:
     return ''
 
 
+#: How long a manual trial waits for the operator's distance [s].
+MANUAL_REPORT_TIMEOUT = 600.0
+
+
 @dataclass
 class ManualTrials:
-    """Mode ``manual``: the robot walks the uploaded gait; the operator reports the distance."""
+    """
+    Mode ``manual``: the robot walks the uploaded gait; the operator reports the distance.
+
+    The gait is uploaded and the walk started through bridge_node (its ``~/start_trial``: the
+    trial's settling and timed part, as a robot trial); once bridge_node says the walk ended
+    (``trial_result``, whatever its IMU measured) the operator is asked for the distance walked
+    along the walking direction (``report_distance``); only then is a distance taken.
+    """
 
     port: TrialPort
+    results: SampleLog[RobotTrialResult]
     waiter: Waiter
     timing: TrialTiming
     prompt: Callable[[str], None]
+    sleep: Callable[[float], None] = time.sleep
+    clock: Callable[[], float] = time.monotonic
+    report_timeout: float = MANUAL_REPORT_TIMEOUT
     waiting: bool = False
     _reported: list[float] = field(default_factory=list)
 
@@ -408,25 +528,38 @@ class ManualTrials:
         if problem:
             return problem
         if not self.waiting:
-            return 'no manual trial is waiting for a distance'
+            return 'no manual trial is waiting for a distance (the walk has not ended yet)'
         self._reported.append(float(distance))
         return ''
 
     def __call__(self, niche: int) -> float:
         """Measure the speed of the gait of ``niche`` [m/s] from the operator's distance."""
-        _uploaded(self.port, niche, self.timing.timeout)
+        try:
+            _uploaded(self.port, niche, self.timing.timeout)
+        except LinkFault as fault:
+            raise TrialAborted(str(fault)) from None
+        self.sleep(max(0.0, self.timing.stand_still))
+        ok, message = self.port.start_trial()
+        if not ok:
+            raise TrialAborted(f'bridge_node did not start the walk: {message}')
+        started = self.clock()
+        self.waiter.until(
+            lambda: self.results.received_after(started),
+            self.timing.walking + self.timing.timeout,
+            "the walk's end from bridge_node (trial_result)",
+        )
         self._reported.clear()
         self.waiting = True
         self.prompt(
-            f'trial with archive gait {niche}: start the robot, then report the distance '
-            'walked with ~/report_distance'
+            f'trial with archive gait {niche} walked {self.timing.walking:g} s: measure the'
+            ' distance along its walking direction and report it: report_distance METRES'
         )
         try:
-            distance = self.waiter.until(
-                lambda: self._reported[-1] if self._reported else None,
-                max(self.timing.timeout, 600.0),
-                "the operator's distance (~/report_distance)",
+            reported = self.waiter.until(
+                lambda: list(self._reported),  # a list: a report of 0.0 m is an answer too
+                self.report_timeout,
+                "the operator's distance (report_distance)",
             )
         finally:
             self.waiting = False
-        return float(distance) / self.timing.walking  # the tape measures the whole walk
+        return reported[-1] / self.timing.walking  # the tape measures the whole walk

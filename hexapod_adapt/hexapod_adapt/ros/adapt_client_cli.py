@@ -179,6 +179,13 @@ def trial_line(m: AdaptationTrial, trials_left: int) -> str:
     )
 
 
+def feedback_line(f: Adapt.Feedback) -> str:
+    """Return the line printed for one feedback: a trial's, or what the run tells its operator."""
+    if f.note:
+        return f'note: {f.note}'
+    return trial_line(f.trial, f.trials_left)
+
+
 def _goal(args: argparse.Namespace) -> Adapt.Goal:
     legs, kinds, strengths, joints = (
         args.damage.as_lists() if args.damage else (args.failed_legs, [], [], [])
@@ -221,10 +228,7 @@ def _call(args: argparse.Namespace, ros_args: list[str]) -> int:
             )
             return 1
         sent = client.send_goal_async(
-            _goal(args),
-            feedback_callback=lambda f: print(
-                trial_line(f.feedback.trial, f.feedback.trials_left), flush=True
-            ),
+            _goal(args), feedback_callback=lambda f: print(feedback_line(f.feedback), flush=True)
         )
         outcome = _wait(node, client, sent, deadline, args)
         if outcome is not None:
@@ -278,7 +282,8 @@ def _cancel(node, handle, deadline: float) -> None:
 
 def _report(status: int, r: Adapt.Result) -> int:
     """Print the result; return the exit status (0: M-BOA's rule met)."""
-    word = {GoalStatus.STATUS_SUCCEEDED: 'success', GoalStatus.STATUS_CANCELED: 'cancelled'}
+    # the message says what happened (a gait found, the budget used, why it stopped)
+    word = {GoalStatus.STATUS_SUCCEEDED: 'done', GoalStatus.STATUS_CANCELED: 'cancelled'}
     print(f'{word.get(status, "stopped")}: {r.message}')
     if r.best_archive_index >= 0:
         print(

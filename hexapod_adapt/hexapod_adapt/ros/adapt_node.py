@@ -51,7 +51,7 @@ from hexapod_gait import from_genotype
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_msgs.action import Adapt
 from hexapod_msgs.msg import AdaptationTrial
-from hexapod_msgs.srv import ReportDistance
+from hexapod_msgs.srv import GetServoFailures, ReportDistance
 from hexapod_util.diagnostics import DiagnosticsPublisher
 from hexapod_util.health import ERROR, Health, OK, WARN
 from hexapod_util.ros_glue import (
@@ -68,6 +68,8 @@ from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.node import Node
 
 PARAMETERS = param_specs(SETTINGS)
+#: How long a robot run waits for bridge_node's start-up check of every servo [s].
+SERVO_CHECK_WAIT_S = 10.0
 
 
 class AdaptNode(AdaptAction, DamageReports, Node):
@@ -93,7 +95,12 @@ class AdaptNode(AdaptAction, DamageReports, Node):
         sim_name = self._param('sim_node')
         bridge_name = self._param('bridge_node')
         self.peer = qualified(self, sim_name if self.mode == 'sim' else bridge_name)
-        self.waiter = Waiter(lambda: rclpy.ok(context=self.context), self._duplicates)
+        self.goal = None  # the goal being run (its cancel ends any wait within a poll)
+        self.waiter = Waiter(
+            lambda: rclpy.ok(context=self.context),
+            self._duplicates,
+            cancelled=lambda: self.goal is not None and self.goal.is_cancel_requested,
+        )
         self.port = GraphPort(self, sim_name, bridge_name, self.odom, self.recording)
         self.port.wait = self.waiter.until
         self.recorded = RecordedTopics(self, self.recording)
@@ -189,6 +196,7 @@ class AdaptNode(AdaptAction, DamageReports, Node):
         auto = named is None and not request.blind  # the damage as reported
         run = session.RunRequest(config, duration, damage, source, auto)
         self._run_status(OK, f'adapting ({source or "blind"})')
+        self.goal = handle
         try:
             self._run(self.slot.archive, run, response, handle)
         except Exception as exc:  # noqa: BLE001 - the goal must end and the node stay up
@@ -199,7 +207,42 @@ class AdaptNode(AdaptAction, DamageReports, Node):
             response.success = False
             response.message = f'internal error, run stopped: {type(exc).__name__}: {exc}'
         finally:
+            self.goal = None
             self._run_status(OK if response.success else WARN, f'last run: {response.message}')
+
+    def _tell(self, handle, text: str) -> None:
+        """Tell the operator: the log (a warning) and the goal's feedback (its ``note``)."""
+        self.get_logger().warning(text)
+        unless_closing(self, handle.publish_feedback, Adapt.Feedback(note=text))
+
+    def _servo_check(self, tell) -> str:
+        """
+        Wait (bounded) for bridge_node's check of every servo; take its reports; say how it went.
+
+        Before a run chooses blind or the prior on the robot, so that a servo dead at start-up is
+        known before the first trial.
+        """
+        reports = self.servo_reports
+        goal = self.goal
+
+        def alive() -> bool:
+            return rclpy.ok(context=self.context) and not goal.is_cancel_requested
+
+        check, status, failures = reports.await_check(1.0, alive)
+        if check == GetServoFailures.Response.CHECK_PENDING:
+            tell(
+                f"waiting for bridge_node's check of every servo ({status}; up to"
+                f' {SERVO_CHECK_WAIT_S:g} s)'
+            )
+            check, status, failures = reports.await_check(SERVO_CHECK_WAIT_S, alive)
+        for msg in failures:  # the bridge's own answer: confirmed
+            self._on_servo_failure(msg)
+        dead = ', '.join(f'servo {f.servo_id} (leg {f.leg} {f.joint})' for f in failures)
+        if check == GetServoFailures.Response.CHECK_DONE:
+            return f'servo check: {status}; ' + (f'dead: {dead}' if dead else 'none dead')
+        return f'no servo check ({status}): a dead servo may be unknown' + (
+            f'; reported dead: {dead}' if dead else ''
+        )
 
     # -- a run ------------------------------------------------------------------------------
     def _run(
@@ -223,7 +266,12 @@ class AdaptNode(AdaptAction, DamageReports, Node):
         self.port.gait_of = lambda niche: from_genotype(archive.genotypes[niche]).replace(
             archive_index=int(niche)
         )
+        tell = lambda text: self._tell(handle, text)  # noqa: E731
+        check = ''
         try:
+            if run.auto and self.mode != 'sim':  # the robot's servo reports decide blind or prior
+                check = self._servo_check(tell)
+                damage, source = self.known.for_run(None, False)
             if self._param('use_sim_time'):
                 # one time base: nothing is stamped or recorded before the first /clock arrives
                 self.waiter.until(
@@ -251,9 +299,8 @@ class AdaptNode(AdaptAction, DamageReports, Node):
             response.mcap_path = str(path.resolve()) if path else ''
         tip_guard = float(self._param('tip_guard'))
         self.trials = session.trial_procedure(
-            self.mode, self.port, self.port.odometry(self.mode), self.waiter, timing, warn,
-            tip_guard, self.port.tilts,
-        )  # fmt: skip
+            self.mode, self.port, self.port.logs, self.waiter, timing, tell, tip_guard
+        )
         note = engine_note(
             archive, self.port.sim_engine() if self.mode == 'sim' else 'the real robot'
         )
@@ -268,7 +315,11 @@ class AdaptNode(AdaptAction, DamageReports, Node):
             # tilt recorded: one that tips there is never tried (a guard at pi is off)
             screen = TipScreen(simulated_tilts(archive, damage, stream.engine), tip_guard)
             response.prior += session.screen_note(screen)
-        self.get_logger().info(f'M-BOA starts from {response.prior}')
+        unless_closing(
+            self, handle.publish_feedback,
+            Adapt.Feedback(note=session.start_note(response.prior, check)),
+        )  # fmt: skip
+        self.get_logger().info(session.start_note(response.prior, check))
 
         def on_trial(trial, niche, opt) -> None:
             best = opt.best()  # None while every trial so far tipped

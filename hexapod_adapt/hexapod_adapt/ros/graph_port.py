@@ -17,16 +17,36 @@ from pathlib import Path
 import time
 from typing import Callable, Mapping
 
+from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_adapt.online.adaptation import TrialAborted
 from hexapod_adapt.online.session import duplicate_problem
-from hexapod_adapt.online.trials import OdomLog, OdomSample, TiltLog, TiltSample, Upload
+from hexapod_adapt.online.trials import (
+    OdomLog,
+    OdomSample,
+    RobotTrialResult,
+    SampleLog,
+    TiltLog,
+    TiltSample,
+    TrialLogs,
+    Upload,
+    WaitTimedOut,
+)
 from hexapod_adapt.ros.run_recording import RunRecording
 from hexapod_gait import GaitParameters, standing_gait
 from hexapod_gait.ros_conversions import gait_to_msg
-from hexapod_msgs.msg import AdaptationTrial, FootContacts, LegDamage, TrajectoryActivation
+from hexapod_msgs.msg import (
+    AdaptationTrial,
+    FootContacts,
+    LegDamage,
+    LinkStatus,
+    RobotTrial,
+    ServoFailure,
+    TrajectoryActivation,
+)
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.srv import GetLegDamage, UploadGait
 from hexapod_sim.simulator import peak_tilt, upside_down
+from hexapod_util.files import under_ros_home
 from hexapod_util.recording import type_name
 from hexapod_util.ros_glue import EVENTS, LATCHED, nodes_named, ODOM, SENSOR, TF_QOS, TRIALS
 from nav_msgs.msg import Odometry
@@ -42,15 +62,24 @@ from std_msgs.msg import Header, String
 from std_srvs.srv import Trigger
 from tf2_msgs.msg import TFMessage
 
-#: Topics recorded while a run records, besides the node's own: a trial replays in 3D from them.
+#: Topics recorded while a run records, besides the node's own: a trial replays in 3D from them
+#: (the simulator's foot contacts too), and the robot's servo reports are kept with it.
 SENSOR_TOPICS = (
     (TFMessage, '/tf', TF_QOS),
     (JointState, 'joint_states', SENSOR),
     (Imu, 'imu/data', SENSOR),
     (FootContacts, 'foot_contacts', SENSOR),
+    (ServoFailure, 'servo_failures', EVENTS),
 )
-#: Latched topics: the latest message of each opens every recording.
-LATCHED_TOPICS = ((TFMessage, '/tf_static'), (String, 'robot_description'))
+#: Latched topics: the latest message of each opens every recording (bridge_node's status: what
+#: the bridge last said, e.g. a gait it refused).
+LATCHED_TOPICS = (
+    (TFMessage, '/tf_static'),
+    (String, 'robot_description'),
+    (DiagnosticStatus, 'bridge/status'),
+)
+#: bridge_node's link status older than this says nothing of the link [s] (it comes at 5 Hz).
+LINK_STATUS_STALE_S = 2.0
 #: The QoS each recorded topic is offered with in the graph (the recording's channel metadata, so
 #: that ``ros2 bag play`` offers them again alike: the latched ones transient local).
 RECORDED_QOS = {
@@ -58,6 +87,7 @@ RECORDED_QOS = {
     **{topic: LATCHED for _, topic in LATCHED_TOPICS},
     'odom': ODOM,
     'trial_odom': ODOM,
+    'trial_result': TRIALS,
     'gait/parameters': LATCHED,
     'adapt/trials': TRIALS,
 }
@@ -71,6 +101,7 @@ RECORDED_TYPES = {
         *LATCHED_TOPICS,
         (Odometry, 'odom'),
         (Odometry, 'trial_odom'),
+        (RobotTrial, 'trial_result'),
         (GaitParametersMsg, 'gait/parameters'),
         (AdaptationTrial, 'adapt/trials'),
     )
@@ -139,7 +170,12 @@ class GraphPort:
     ) -> None:
         self.node, self.odom, self.recording = node, odom, recording
         self.tilts = TiltLog(maxlen=2000)  # the robot's IMU attitude (robot trials' tip guard)
-        self.trial_odom = OdomLog(maxlen=100)  # bridge_node's: one per robot trial
+        self.trial_odom = OdomLog(maxlen=100)  # bridge_node's: one per valid robot trial
+        # bridge_node's: one per robot trial, valid or not
+        self.trial_results: SampleLog[RobotTrialResult] = SampleLog(maxlen=100)
+        self.logs = TrialLogs(odom, self.trial_results, self.tilts)
+        self._link: tuple[LinkStatus, float] | None = None  # the newest, when it came
+        self.bridge_name = bridge_name
         self.gait_of: Callable[[int], GaitParameters] | None = None
         self.wait: Callable | None = None
         self._active: int | None = None
@@ -151,6 +187,12 @@ class GraphPort:
         node.create_subscription(Odometry, 'odom', self._on_odom, ODOM, callback_group=sensors)
         node.create_subscription(
             Odometry, 'trial_odom', self._on_trial_odom, ODOM, callback_group=sensors
+        )
+        node.create_subscription(
+            RobotTrial, 'trial_result', self._on_trial_result, TRIALS, callback_group=sensors
+        )
+        node.create_subscription(
+            LinkStatus, f'{bridge_name}/link_status', self._on_link, 10, callback_group=sensors
         )
         node.create_subscription(Imu, 'imu/data', self._on_imu, SENSOR, callback_group=sensors)
         node.create_subscription(
@@ -195,9 +237,30 @@ class GraphPort:
         self.trial_odom.append(odom_sample(msg))
         self.recording.record('trial_odom', msg)
 
-    def odometry(self, mode: str) -> OdomLog:
-        """Return the odometry a trial of ``mode`` is measured by: sim_node's, or trial_odom."""
-        return self.trial_odom if mode == 'robot' else self.odom
+    def _on_trial_result(self, msg: RobotTrial) -> None:
+        self.trial_results.append(
+            RobotTrialResult(
+                msg.valid, msg.retryable, msg.reason, msg.vx, msg.vy, time.monotonic()
+            )
+        )
+        self.recording.record('trial_result', msg)
+
+    def _on_link(self, msg: LinkStatus) -> None:
+        self._link = (msg, time.monotonic())
+
+    def link_problem(self) -> str:
+        """Say why bridge_node's radio link cannot carry a trial now ('' when it can)."""
+        if self._link is None:
+            return f'no link status from {self.bridge_name}/link_status yet (is bridge_node up?)'
+        msg, received = self._link
+        age = time.monotonic() - received
+        if age > LINK_STATUS_STALE_S:
+            return f'no link status from {self.bridge_name} for {age:.1f} s'
+        if msg.up:
+            return ''
+        if not msg.connected:
+            return f'the radio port is not open ({msg.last_error or msg.port})'
+        return f'the robot has been silent for {msg.seconds_since_heard:.1f} s'
 
     def _on_imu(self, msg: Imu) -> None:
         q = msg.orientation
@@ -261,10 +324,16 @@ class GraphPort:
         self.publish(msg)
         return stamp_ns(msg.header.stamp), msg.crab_angle
 
+    def _service(self, client, timeout: float, what: str) -> None:
+        """Wait for ``client``'s service (a cancel ends the wait); TrialAborted if it is absent."""
+        try:
+            self.wait(client.service_is_ready, timeout, f'service {client.srv_name}')
+        except WaitTimedOut:
+            raise TrialAborted(f'service {client.srv_name} is not available ({what})') from None
+
     def call(self, client, what: str, timeout: float = 10.0) -> Trigger.Response:
         """Call a Trigger service; TrialAborted if it is not there or does not answer."""
-        if not client.wait_for_service(timeout_sec=timeout):
-            raise TrialAborted(f'service {client.srv_name} is not available ({what})')
+        self._service(client, timeout, what)
         future = client.call_async(Trigger.Request())
         self.wait(future.done, timeout, f'{client.srv_name} to answer')
         return future.result()
@@ -296,10 +365,7 @@ class GraphPort:
 
         Only its typed answer confirms an upload (a status text, or any other publisher, cannot).
         """
-        if not self.upload_client.wait_for_service(timeout_sec=min(timeout, 10.0)):
-            raise TrialAborted(
-                f'service {self.upload_client.srv_name} is not available (is bridge_node running?)'
-            )
+        self._service(self.upload_client, min(timeout, 10.0), 'is bridge_node running?')
         future = self.upload_client.call_async(UploadGait.Request(gait=msg, timeout=timeout))
         self.wait(future.done, timeout + 5.0, 'bridge_node to upload the gait')
         return future.result()
@@ -309,7 +375,8 @@ class GraphPort:
         msg = self.gait_msg(niche)
         self.recording.record('gait/parameters', msg)
         answer = self.upload_msg(msg, timeout)
-        return Upload(answer.success, answer.message, answer.archive_index), msg.crab_angle
+        upload = Upload(answer.success, answer.message, answer.archive_index, answer.answered)
+        return upload, msg.crab_angle
 
     def leave_on(self, msg: GaitParametersMsg, timeout: float, upload: bool) -> str:
         """Leave the simulator (publish) or the robot (``upload``) on a gait; '' or why not."""
@@ -472,6 +539,7 @@ class RecordedTopics:
 
         Returns the file's path, or None when nothing can be recorded (the recording says why).
         """
+        directory = str(under_ros_home(directory))  # as ROS 2 puts its logs
         left = self.await_latched(grace)
         if left:
             warn(

@@ -101,6 +101,29 @@ class ServoReports:
             return None
         return any(f.servo_id == servo for f in future.result().failures)
 
+    def await_check(self, timeout: float, alive) -> tuple[int, str, list[ServoFailure]]:
+        """
+        Ask the bridge until its check of every servo is done or cannot be, ``timeout`` s at most.
+
+        Returns (GetServoFailures' CHECK_*, its status in words, the servos it holds dead).
+        ``alive()`` false (shutting down, the goal cancelled) ends the wait at once.
+        """
+        deadline = time.monotonic() + timeout
+        answer = (GetServoFailures.Response.CHECK_PENDING, 'bridge_node did not answer', [])
+        while alive() and time.monotonic() < deadline:
+            if self.client.service_is_ready():
+                future = self.client.call_async(GetServoFailures.Request())
+                asked = time.monotonic()
+                while not future.done() and alive() and time.monotonic() - asked < ASK_TIMEOUT_S:
+                    time.sleep(0.02)
+                if future.done() and future.result() is not None:
+                    r = future.result()
+                    answer = (int(r.check), r.check_status, list(r.failures))
+                    if r.check != GetServoFailures.Response.CHECK_PENDING:
+                        return answer
+            time.sleep(0.1)
+        return answer
+
     def _on_report(self, msg: ServoFailure) -> None:
         servo = int(msg.servo_id)
         confirmed, others = self.confirmed(servo), set(self.others())

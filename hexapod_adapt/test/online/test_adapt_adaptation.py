@@ -33,7 +33,11 @@ def test_finds_a_gait_that_works_despite_the_damage():
 def test_never_more_than_max_trials_and_aborts_keep_what_was_measured():
     a = _archive(seed=1)
     result = adapt(a, lambda niche: 0.0, MboaConfig(max_trials=3))
-    assert not result.success and len(result.trials) == 3 and 'maximum of 3' in result.message
+    assert (
+        not result.success
+        and len(result.trials) == 3
+        and result.message.startswith('budget used: 3 trials')
+    )
     calls = []
 
     def dies_on_third(niche):
@@ -59,10 +63,12 @@ def test_a_run_the_gain_stop_keeps_to_its_budget_succeeds_when_its_best_met_alph
     # alpha all along
     eager = adapt(a, lambda n: a.speeds()[n], MboaConfig(**{**vars(config), 'stop_gain': 0.001}))
     assert len(eager.trials) == 4 and eager.success
-    assert 'maximum of 4 trials; best measured' in eager.message and 'alpha' in eager.message
+    assert eager.message.startswith('budget used: 4 trials; best measured')
+    assert "M-BOA's rule met" in eager.message and 'alpha' in eager.message
     # a budget that ends a run short of alpha is still no success
     short = adapt(a, lambda n: 0.01, config)
-    assert not short.success and 'maximum of 4 trials' in short.message
+    assert not short.success and short.message.startswith('budget used: 4 trials')
+    assert 'rule met' not in short.message
     assert 'alpha' not in short.message
 
 
@@ -124,7 +130,10 @@ def test_a_standstill_is_a_thesis_success_but_not_above_a_floor():
     assert 'below the success floor 0.050 m/s' in floored.message
     capped = adapt(_archive(seed=2), standstill, MboaConfig(max_trials=4, min_speed=0.05))
     assert not capped.success and len(capped.trials) == 4
-    assert 'maximum of 4 trials; the best gait walked 0.004 m/s' in capped.message
+    assert (
+        'budget used: 4 trials; best measured 0.004 m/s; the best gait walked 0.004 m/s'
+        in capped.message
+    )
 
 
 def test_the_floor_can_be_the_damaged_tripod_measured_first():

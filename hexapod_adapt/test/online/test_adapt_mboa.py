@@ -61,7 +61,7 @@ def test_stops_at_alpha_of_best_prediction_and_never_exceeds_max_trials():
     while not opt.should_stop()[0]:
         i = opt.next_index()
         opt.observe(i, 0.3 * prior[i])  # the robot is much worse than the map
-    assert len(opt.trials) == 5 and 'maximum of 5' in opt.should_stop()[1]
+    assert len(opt.trials) == 5 and opt.should_stop()[1].startswith('budget used: 5 trials')
     with pytest.raises(RuntimeError):
         opt.observe(0, 0.1)
     good = Mboa(x, prior, MboaConfig(max_trials=20, alpha=0.9))
@@ -82,7 +82,7 @@ def test_tested_gaits_are_not_offered_again_by_default():
         seen.append(i)
         opt.observe(i, 0.0)
     assert len(seen) == len(set(seen)) == 30
-    assert opt.should_stop() == (True, 'reached the maximum of 30 trials')
+    assert opt.should_stop() == (True, 'budget used: 30 trials; best measured 0.000 m/s')
 
 
 def test_bad_configuration_and_observations_are_refused():

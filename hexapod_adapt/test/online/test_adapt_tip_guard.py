@@ -155,7 +155,7 @@ def test_the_logs_give_the_peak_tilt_of_a_trial():
 def test_a_robot_trial_that_tilts_past_the_guard_is_stopped_through_the_bridge():
     import time
 
-    from hexapod_adapt.online.trials import RobotTrials, TrialTiming, Upload, Waiter
+    from hexapod_adapt.online.trials import RobotTrials, SampleLog, TrialTiming, Upload, Waiter
 
     class Robot:
         stopped = 0
@@ -175,9 +175,12 @@ def test_a_robot_trial_that_tilts_past_the_guard_is_stopped_through_the_bridge()
     tilts.append(TiltSample(0.9, time.monotonic() + 60.0))
     trials = RobotTrials(
         Robot(),
-        OdomLog(),
+        SampleLog(),
         Waiter(lambda: True, poll=0.001),
         TrialTiming(duration=5.0, timeout=5.0, stand_still=0.0),
+        lambda: '',
+        print,
+        max_speed=4.8,
         tilts=tilts,
         tip_guard=0.5,
     )
@@ -191,14 +194,16 @@ def test_a_robot_lying_past_the_guard_is_righted_before_its_next_trial_starts():
     import time
 
     from hexapod_adapt.online.trials import (
+        RobotTrialResult,
         RobotTrials,
+        SampleLog,
         TrialAborted,
         TrialTiming,
         Upload,
         Waiter,
     )
 
-    odom, tilts, started, asked = OdomLog(), TiltLog(), [], []
+    results, tilts, started, asked = SampleLog(), TiltLog(), [], []
 
     class Robot:
         """The bridge: each trial it starts ends with odometry at once."""
@@ -208,7 +213,7 @@ def test_a_robot_lying_past_the_guard_is_righted_before_its_next_trial_starts():
 
         def start_trial(self):
             started.append(time.monotonic())
-            odom.append(OdomSample(0, 1.0, 0.0, 0.2, 0.0, time.monotonic() + 0.01))
+            results.append(RobotTrialResult(True, False, '', 0.2, 0.0, time.monotonic() + 0.01))
             return True, ''
 
     def operator(message: str) -> None:  # puts the robot back on its feet when asked
@@ -218,12 +223,14 @@ def test_a_robot_lying_past_the_guard_is_righted_before_its_next_trial_starts():
     def trials(prompt, righting_timeout=5.0):
         return RobotTrials(
             Robot(),
-            odom,
+            results,
             Waiter(lambda: True, poll=0.001),
             TrialTiming(duration=5.0, timeout=5.0, stand_still=0.0),
+            lambda: '',
+            prompt,
+            max_speed=4.8,
             tilts=tilts,
             tip_guard=0.5,
-            prompt=prompt,
             righting_timeout=righting_timeout,
         )
 

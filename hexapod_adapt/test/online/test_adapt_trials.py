@@ -13,13 +13,15 @@ from __future__ import annotations
 import itertools
 import math
 
-from hexapod_adapt.online.adaptation import TrialAborted
+from hexapod_adapt.online.adaptation import TrialAborted, TrialCancelled
 from hexapod_adapt.online.trials import (
     along,
     ManualTrials,
     OdomLog,
     OdomSample,
+    RobotTrialResult,
     RobotTrials,
+    SampleLog,
     sim_trial_speed,
     SimTrials,
     TrialTiming,
@@ -168,37 +170,86 @@ def test_a_refused_reset_and_a_silent_simulator_abort_with_what_happened():
         trial(1)
 
 
-class Bridge:
-    """bridge_node as a trial sees it: uploads, starts, then publishes the trial's odometry."""
+class Arriving(SampleLog):
+    """Trial results that arrive when the clock reaches their ``received`` time."""
 
-    def __init__(self, odom: OdomLog, clock: FakeClock, velocity=(0.3, 0.0), crab=0.0):
-        self.odom, self.clock, self.velocity, self.crab = odom, clock, velocity, crab
+    def __init__(self, clock: FakeClock) -> None:
+        super().__init__()
+        self.clock = clock
+
+    def received_after(self, t):
+        found = super().received_after(t)
+        return found if found is not None and found.received <= self.clock() else None
+
+
+class Bridge:
+    """
+    bridge_node as a trial sees it: uploads, starts, then publishes the trial's result.
+
+    ``script`` lists what each walk's result says, in turn: a velocity (walked whole) or a
+    ``(retryable, reason)`` fault; the last repeats. ``link`` says why the link is down ('').
+    """
+
+    def __init__(self, results, clock: FakeClock, velocity=(0.3, 0.0), crab=0.0, script=None):
+        self.results, self.clock, self.crab = results, clock, crab
+        self.script = list(script or [velocity])
         self.answer = None
+        self.link = ''
+        self.starts = self.uploads = 0
 
     def upload(self, niche, timeout):
+        self.uploads += 1
         return self.answer or Upload(True, 'uploaded', niche), self.crab
 
     def start_trial(self):
+        self.starts += 1
+        said = self.script[min(self.starts, len(self.script)) - 1]
         t = self.clock() + 6.0
-        self.odom.append(OdomSample(0, 0, 0, *self.velocity, received=t))
+        if isinstance(said[0], bool):
+            retryable, reason = said
+            self.results.append(RobotTrialResult(False, retryable, reason, 19.0, 0.0, t))
+        else:
+            self.results.append(RobotTrialResult(True, False, '', *said, received=t))
         return True, 'started'
 
+    def link_problem(self):
+        return self.link
 
-def test_a_robot_trial_reads_the_bridge_odometry_that_follows_its_start():
-    clock, odom = FakeClock(), OdomLog()
-    odom.append(OdomSample(0, 0, 0, 9.0, 9.0, received=-1.0))  # an earlier trial's message
-    bridge = Bridge(odom, clock, velocity=(0.0, 0.2), crab=math.pi / 2)
+
+def _robot(bridge, clock, timing=None, waiter=None, **kw):
+    told: list[str] = []
     trial = RobotTrials(
-        bridge, odom, _waiter(clock), TrialTiming(5.0, 10.0, 1.0), clock.sleep, clock
+        bridge,
+        bridge.results,
+        waiter or _waiter(clock),
+        timing or TrialTiming(5.0, 10.0),
+        bridge.link_problem,
+        told.append,
+        MAX_SPEED,
+        clock.sleep,
+        clock,
+        **kw,
     )
+    return trial, told
+
+
+MAX_SPEED = 4.8
+
+
+def test_a_robot_trial_reads_the_bridge_result_that_follows_its_start():
+    clock = FakeClock()
+    results = Arriving(clock)
+    results.append(RobotTrialResult(True, False, '', 9.0, 9.0, received=-1.0))  # an earlier one
+    bridge = Bridge(results, clock, velocity=(0.0, 0.2), crab=math.pi / 2)
+    trial, _ = _robot(bridge, clock, TrialTiming(5.0, 10.0, 1.0))
     assert trial(4).speed == pytest.approx(0.2)
     assert clock.t >= 1.0  # stood still first
 
 
 def test_a_gait_the_robot_refuses_or_confirms_for_another_index_aborts():
-    clock, odom = FakeClock(), OdomLog()
-    bridge = Bridge(odom, clock)
-    trial = RobotTrials(bridge, odom, _waiter(clock), TrialTiming(5.0, 10.0), clock.sleep, clock)
+    clock = FakeClock()
+    bridge = Bridge(Arriving(clock), clock)
+    trial, _ = _robot(bridge, clock)
     bridge.answer = Upload(False, 'gait not uploaded: step height out of range', 4)
     with pytest.raises(TrialAborted, match='step height out of range'):
         trial(4)
@@ -207,24 +258,159 @@ def test_a_gait_the_robot_refuses_or_confirms_for_another_index_aborts():
         trial(4)
 
 
-def test_manual_trials_take_a_plausible_distance_only_while_waiting():
+def test_a_trial_the_link_spoilt_is_never_scored_and_is_walked_again_once_the_link_is_back():
     clock = FakeClock()
-    prompts = []
-    manual = ManualTrials(Bridge(OdomLog(), clock), None, TrialTiming(5.0, 10.0), prompts.append)
-    assert manual.report(1.0) == 'no manual trial is waiting for a distance'
+    bridge = Bridge(
+        Arriving(clock), clock, script=[(True, 'the radio port was lost'), (0.25, 0.0)]
+    )
+    bridge.link = 'the radio port is not open'
+    trial, told = _robot(bridge, clock)
+    back_at = [None]
+
+    def link():  # the link comes back 20 s after the fault
+        if back_at[0] is None:
+            back_at[0] = clock() + 20.0
+        return bridge.link if clock() < back_at[0] else ''
+
+    trial.link = link
+    outcome = trial(7)
+    assert outcome.speed == pytest.approx(0.25) and not outcome.tipped  # the second walk's
+    assert bridge.uploads == bridge.starts == 2  # uploaded again: a restarted robot forgot it
+    assert 'not scored: the radio port was lost' in told[0] and 'attempt 2 of 3' in told[0]
+    assert 'waiting up to 60 s' in told[1] and 'radio link back after' in told[2]
+
+
+def test_a_gait_spoilt_on_every_walk_ends_the_run_with_the_last_reason():
+    clock = FakeClock()
+    bridge = Bridge(Arriving(clock), clock, script=[(True, 'the robot was silent for 3.2 s')])
+    trial, told = _robot(bridge, clock)
+    with pytest.raises(
+        TrialAborted,
+        match='not walked and measured whole in 3 attempts; the last:'
+        ' the robot was silent for 3.2 s',
+    ):
+        trial(2)
+    assert bridge.starts == 3 and len(told) == 2
+
+
+def test_a_link_that_does_not_come_back_ends_the_run_naming_the_wait():
+    clock = FakeClock()
+    bridge = Bridge(Arriving(clock), clock, script=[(True, 'the radio port was lost')])
+    bridge.link = 'the radio port is not open (/dev/ttyUSB0 lost)'
+    trial, _ = _robot(bridge, clock, link_timeout=30.0)
+    with pytest.raises(
+        TrialAborted,
+        match=r'the radio link did not come back in 30 s: the radio'
+        r' port is not open \(/dev/ttyUSB0 lost\)',
+    ):
+        trial(2)
+    assert bridge.starts == 1
+
+
+def test_an_unanswered_upload_or_start_is_the_links_fault_a_refusal_is_not():
+    clock = FakeClock()
+    bridge = Bridge(Arriving(clock), clock, velocity=(0.2, 0.0))
+    trial, told = _robot(bridge, clock)
+    answers = iter([Upload(False, 'gait not uploaded: no answer in 3.0 s', 2, answered=False)])
+    bridge.upload = lambda niche, timeout: (next(answers, Upload(True, '', niche)), 0.0)
+    assert trial(2).speed == pytest.approx(0.2)
+    assert 'did not answer the upload' in told[0]
+    # a start refused while the link is down is walked again; while it works, it ends the run
+    starts = iter([(False, 'robot did not start the trial: no acknowledgement')])
+    walk = bridge.start_trial
+    bridge.start_trial = lambda: next(starts, None) or walk()
+    bridge.link = 'the robot has been silent for 4.0 s'
+    back = iter([True, True, False])
+    trial.link = lambda: bridge.link if next(back, False) else ''
+    assert trial(2).speed == pytest.approx(0.2)
+    bridge.start_trial = lambda: (False, 'robot did not start the trial: ESTOPPED')
+    trial.link = lambda: ''
+    with pytest.raises(TrialAborted, match='bridge_node did not start the trial: .*ESTOPPED'):
+        trial(2)
+
+
+def test_a_speed_faster_than_the_robot_can_walk_is_never_scored():
+    clock = FakeClock()
+    # what a lost link made up (19.3 m/s), then the walk measured whole
+    bridge = Bridge(Arriving(clock), clock, script=[(19.26, 0.0), (0.21, 0.0)])
+    trial, told = _robot(bridge, clock)
+    assert trial(5).speed == pytest.approx(0.21)
+    assert 'faster than the robot can walk (4.80 m/s)' in told[0]
+
+
+def test_a_trial_stopped_by_someone_else_is_not_walked_again():
+    clock = FakeClock()
+    bridge = Bridge(
+        Arriving(clock), clock, script=[(False, 'the walk was stopped before its end')]
+    )
+    trial, _ = _robot(bridge, clock)
+    with pytest.raises(TrialAborted, match='cannot be scored: the walk was stopped'):
+        trial(1)
+    assert bridge.starts == 1
+
+
+def test_a_cancel_ends_any_wait_at_once():
+    clock = FakeClock()
+    cancel = []
+    waiter = Waiter(lambda: True, clock=clock, sleep=clock.sleep, cancelled=lambda: bool(cancel))
+    bridge = Bridge(Arriving(clock), clock, script=[(True, 'the radio port was lost')])
+    bridge.link = 'the radio port is not open'
+    trial, _ = _robot(bridge, clock, waiter=waiter)
+    waiter.sleep = lambda dt: (clock.sleep(dt), clock.t > 30.0 and cancel.append(1))
+    with pytest.raises(TrialCancelled, match='cancelled while waiting for the radio link'):
+        trial(1)
+    assert clock.t < 30.1
+
+
+def _manual(clock, results=None):
+    prompts: list[str] = []
+    results = results if results is not None else Arriving(clock)
+    bridge = Bridge(results, clock, script=[(False, 'no IMU configured')])
+    manual = ManualTrials(
+        bridge, results, _waiter(clock), TrialTiming(5.0, 10.0), prompts.append, clock.sleep, clock
+    )
+    return manual, bridge, prompts
+
+
+def test_manual_trials_take_a_plausible_distance_only_once_the_walk_ended():
+    clock = FakeClock()
+    manual, bridge, prompts = _manual(clock)
+    assert manual.report(1.0).startswith('no manual trial is waiting for a distance')
 
     class Operator(Waiter):
-        """The operator measures while the trial waits."""
+        """The operator measures once the walk ended; not before."""
 
         def until(self, predicate, timeout, what):
-            assert manual.report(float('nan')).startswith('distance nan m')
-            assert manual.report(51.0).startswith('distance 51.0 m')
-            assert manual.report(1.5) == ''
+            if 'distance' in what:
+                assert manual.report(float('nan')).startswith('distance nan m')
+                assert manual.report(51.0).startswith('distance 51.0 m')
+                assert manual.report(1.5) == ''
+            else:
+                assert manual.report(1.0).startswith('no manual trial is waiting')
             return super().until(predicate, timeout, what)
 
     manual.waiter = Operator(lambda: True, clock=clock, sleep=clock.sleep)
     assert manual(2) == pytest.approx(0.3)
-    assert 'archive gait 2' in prompts[0] and not manual.waiting
+    assert bridge.starts == 1  # the walk was started through bridge_node
+    assert 'archive gait 2' in prompts[0] and 'report_distance' in prompts[0]
+    assert not manual.waiting
+
+
+def test_a_manual_trial_reported_as_zero_or_backwards_ends_at_once():
+    for distance in (0.0, -0.4):
+        clock = FakeClock()
+        manual, _bridge, _ = _manual(clock)
+
+        class Operator(Waiter):
+            def until(self, predicate, timeout, what):
+                if 'distance' in what:
+                    assert manual.report(distance) == ''
+                    self.began = clock.t
+                return super().until(predicate, timeout, what)
+
+        manual.waiter = Operator(lambda: True, clock=clock, sleep=clock.sleep)
+        assert manual(3) == pytest.approx(distance / 5.0)
+        assert clock.t - manual.waiter.began < 0.01  # no poll waited for a "truthy" distance
 
 
 def test_the_waiter_stops_for_a_check_and_on_shutdown():

@@ -42,6 +42,16 @@ class PoseSample:
     pitch: float = 0.0
 
 
+@dataclass(frozen=True)
+class StepResult:
+    """One of bridge_node's trial results (``trial_result``) as a robot step reads it."""
+
+    valid: bool  # walked and measured whole: its displacement may be used
+    reason: str  # why not ('' when valid)
+    pose: Pose2D  # displacement over the walk, in the frame the robot started it in
+    received: float  # time.monotonic() when it arrived
+
+
 class PoseLog(SampleLog[PoseSample]):
     """The poses received so far from the pose source."""
 
@@ -183,9 +193,11 @@ class RobotGraphBody:
     A navigator's body through bridge_node: one trial per step.
 
     A step starts from the newest pose (bridge_node's ``odom``, or the external source). Without an
-    external source (``external`` False) it ends where the trial's odometry (``trial_odom``: its
+    external source (``external`` False) it ends where the trial's result (``trial_result``: its
     displacement in the frame the robot started the trial in, and the IMU's heading change) moves
-    the start: the same composition bridge_node's continuous ``odom`` makes.
+    the start: the same composition bridge_node's continuous ``odom`` makes. A step the bridge
+    says was not walked and measured whole (the link lost, the robot restarted) is never used: the
+    goal ends with the reason.
     """
 
     #: the firmware moves the legs to a gait's first pose before the trial's time starts, and
@@ -197,7 +209,7 @@ class RobotGraphBody:
         self,
         port: NavigationPort,
         poses: PoseLog,
-        trials: PoseLog,
+        trials: SampleLog[StepResult],
         waiter: Waiter,
         trial_duration: float,
         external: bool,
@@ -234,10 +246,12 @@ class RobotGraphBody:
             trial = self.waiter.until(
                 lambda: self.trials.received_after(started),
                 self.trial_duration + self.timeout,
-                "the trial's odometry from bridge_node",
+                "the trial's result from bridge_node (trial_result)",
             )
         except TrialAborted as exc:
             raise BodyFailure(str(exc)) from None
+        if not trial.valid:
+            raise BodyFailure(f'the step was not walked and measured whole: {trial.reason}')
         if self.external:
             end = self.pose()
         else:

@@ -13,9 +13,10 @@ from hexapod_adapt.ros import GraphPort, stamp_ns
 from hexapod_gait import GaitParameters
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_msgs.action import Navigate
+from hexapod_msgs.msg import RobotTrial
 from hexapod_navigation.core.episode import Feedback, NavigationResult, Outcome
 from hexapod_navigation.core.geometry import Pose2D
-from hexapod_navigation.ros.bodies import PoseSample
+from hexapod_navigation.ros.bodies import PoseSample, StepResult
 from hexapod_sim.simulator import quat_to_euler
 from hexapod_util.ros_glue import ACTION_QOS
 from nav_msgs.msg import Odometry
@@ -93,6 +94,11 @@ def pose_sample(msg: Odometry | PoseStamped) -> PoseSample:
     return PoseSample(
         stamp_ns(msg.header.stamp), Pose2D(p.x, p.y, yaw), time.monotonic(), roll, pitch
     )
+
+
+def step_result(msg: RobotTrial) -> StepResult:
+    """Return bridge_node's trial result as a robot step reads it."""
+    return StepResult(msg.valid, msg.reason, Pose2D(msg.x, msg.y, msg.yaw), time.monotonic())
 
 
 def goal_marker(x: float, y: float, tolerance: float, stamp: Time) -> Marker:

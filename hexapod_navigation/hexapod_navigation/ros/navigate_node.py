@@ -21,7 +21,7 @@ import sys
 
 from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import PoseStamped
-from hexapod_adapt import OdomLog, TrialAborted, Waiter
+from hexapod_adapt import OdomLog, SampleLog, TrialAborted, Waiter
 from hexapod_adapt.ros import (
     GraphPort,
     RECORDED_TYPES,
@@ -102,7 +102,7 @@ class NavigateNode(DamageServices, Node):
         self.status_pub = self.create_publisher(DiagnosticStatus, 'navigate/status', LATCHED)
         self.health = StatusHealth(self, 'navigation', f'navigate, {self.mode} mode')
         self.marker_pub = self.create_publisher(Marker, 'navigate/goal', LATCHED)
-        self.poses, self.trial_poses = PoseLog(), PoseLog()
+        self.poses, self.trial_poses = PoseLog(), SampleLog()
         self.waiter = Waiter(lambda: rclpy.ok(context=self.context))
         self.recording = RunRecording(
             self.resolve_topic_name,

@@ -76,7 +76,8 @@ SETTINGS = (
     Setting(
         'record_dir',
         '',
-        'record each goal to an MCAP file here; empty = no recording',
+        'record each goal to an MCAP file here (a relative path lies under ROS_HOME, ~/.ros);'
+        ' empty = no recording',
         read_only=True,
     ),
     *(
