@@ -5,7 +5,8 @@ r"""
 Start a node graph from the install space.
 
 The equivalent of the launch files for this environment, which has no `ros2 launch`. Each node's
-output is prefixed with its name; Ctrl-C stops them all.
+output is prefixed with its name; Ctrl-C stops them all. A node that exits on its own is named,
+with its exit status and its last lines; the others keep running (``--stop-on-exit``: all stop).
 
     python scripts/launch.py sim [--rtf 0] [--failed-legs 1 4] [--preset wave]
     python scripts/launch.py adapt-sim [--archive MAP] [--failed-legs 1]  # + adapt_node, fast
@@ -23,6 +24,7 @@ navigate_node (mode robot): the navigate action on the real radio and IMU odomet
 from __future__ import annotations
 
 import argparse
+from collections import deque
 import os
 from pathlib import Path
 import signal
@@ -41,10 +43,24 @@ def exe(pkg: str, name: str) -> str:
     return str(path)
 
 
-def pump(name: str, stream) -> None:
+#: Lines of each process's output kept to show when it exits on its own.
+LAST_LINES = 12
+
+
+def pump(name: str, stream, last: deque) -> None:
     for line in iter(stream.readline, ''):
+        last.append(line)
         sys.stdout.write(f'[{name}] {line}')
         sys.stdout.flush()
+
+
+def exit_status(code: int) -> str:
+    """Say how a process ended from its return code (negative: the signal that killed it)."""
+    if code < 0:
+        return f'killed by {signal.Signals(-code).name} (status {128 - code})'
+    if code > 128 and code - 128 in {int(s) for s in signal.Signals}:
+        return f'exit status {code} ({signal.Signals(code - 128).name})'
+    return f'exit status {code}'
 
 
 def map_physics(archive: str | None, engine: str | None) -> tuple[str | None, int]:
@@ -156,6 +172,11 @@ def main(argv: list[str] | None = None) -> int:
         '--imu-port',
         default=None,
         help="robot: the Xsens IMU's port (default: the file's, else '')",
+    )
+    parser.add_argument(
+        '--stop-on-exit',
+        action='store_true',
+        help='stop every node when one exits on its own (default: it is named, the rest run on)',
     )
     args = parser.parse_args(argv)
     if args.profile == 'emulated-robot' and args.failed_legs:
@@ -313,7 +334,7 @@ def main(argv: list[str] | None = None) -> int:
         signal.signal(signal.SIGTERM, signal.SIG_DFL)
         die_with_parent()  # and stop if this launcher is killed outright
 
-    procs = []
+    procs, pumps, lasts = [], [], []
     for name, cmd in commands:
         proc = subprocess.Popen(
             cmd,
@@ -323,11 +344,22 @@ def main(argv: list[str] | None = None) -> int:
             env=env,
             preexec_fn=default_signals,
         )
-        threading.Thread(target=pump, args=(name, proc.stdout), daemon=True).start()
+        last: deque = deque(maxlen=LAST_LINES)
+        pumps.append(threading.Thread(target=pump, args=(name, proc.stdout, last), daemon=True))
+        pumps[-1].start()
         procs.append(proc)
+        lasts.append(last)
         time.sleep(1.0 if name == 'robot_emulator' else 0.0)  # let the emulator create its ports
+    told: set[int] = set()
     try:
-        while not stop.is_set() and all(p.poll() is None for p in procs):
+        while not stop.is_set() and any(p.poll() is None for p in procs):
+            for i, p in enumerate(procs):
+                if p.poll() is not None and i not in told:
+                    told.add(i)
+                    pumps[i].join(1.0)  # its last words first
+                    _tell_exit(commands[i][0], p.returncode, lasts[i], args.stop_on_exit)
+            if told and args.stop_on_exit:
+                break
             stop.wait(0.2)
     finally:
         # SIGINT (the nodes finish cleanly), then SIGTERM, then SIGKILL: never leave one running
@@ -350,6 +382,17 @@ def main(argv: list[str] | None = None) -> int:
         if p.returncode and not (stop.is_set() and p.returncode == 128 + signal.SIGINT)
     ]
     return (codes[0] if codes[0] > 0 else 128 - codes[0]) if codes else 0
+
+
+def _tell_exit(name: str, code: int, last: deque, stopping: bool) -> None:
+    """Say which node exited on its own, how, and its last lines."""
+    after = 'stopping the others (--stop-on-exit)' if stopping else 'the others keep running'
+    lines = ''.join(f'[launch]   | {line}' for line in last) or '[launch]   | (no output)\n'
+    sys.stdout.write(
+        f'[launch] {name} exited on its own, {exit_status(code)}; {after}. Its last lines:\n'
+        + lines
+    )
+    sys.stdout.flush()
 
 
 if __name__ == '__main__':

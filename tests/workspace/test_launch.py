@@ -15,6 +15,7 @@ import py_compile
 import signal
 import subprocess
 import sys
+import time
 
 from conftest import wait_for, WS
 from nav_msgs.msg import Odometry
@@ -323,3 +324,112 @@ def test_every_profile_starts_with_its_defaults_and_with_a_parameter_file(
     text = (tmp_path / 'launch.log').read_text()
     assert code == 0, text[-3000:]
     assert 'Traceback' not in text, text[text.index('Traceback') - 200 :][:3000]
+
+
+def _launcher(tmp_path, domain_id: int, *args: str, home: Path | None = None):
+    """Start scripts/launch.py with ``args`` in its own session; (process, log path)."""
+    path = tmp_path / f'launch_{len(list(tmp_path.glob("launch_*.log")))}.log'
+    log = open(path, 'w')
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain_id))
+    if home is not None:
+        env.update(ROS_HOME=str(home))
+    proc = subprocess.Popen(
+        [sys.executable, str(WS / 'scripts' / 'launch.py'), *args],
+        env=env,
+        stdout=log,
+        stderr=subprocess.STDOUT,
+        start_new_session=True,
+    )
+    return proc, log, path
+
+
+def _child(proc: subprocess.Popen, executable: str) -> int:
+    """The pid of the launcher's child running ``executable``."""
+    for child in Path(f'/proc/{proc.pid}/task/{proc.pid}/children').read_text().split():
+        cmdline = Path(f'/proc/{child}/cmdline').read_bytes().split(b'\0')
+        if any(part.endswith(executable.encode()) for part in cmdline):
+            return int(child)
+    raise AssertionError(f'no child process runs {executable}')
+
+
+@pytest.mark.ros
+@pytest.mark.parametrize('stop_all', [False, True], ids=['others-run-on', 'stop-on-exit'])
+def test_a_node_that_dies_is_named_with_its_status_and_last_lines(
+    ros, domain_id, tmp_path, stop_all
+):
+    odom = ros.collect(
+        Odometry, 'odom', QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
+    )
+    extra = ['--stop-on-exit'] if stop_all else []
+    proc, log, path = _launcher(tmp_path, domain_id, 'sim', '--rtf', '0', *extra)
+    try:
+        wait_for(lambda: odom and math_dist(odom[-1]) > 0.2, 60, 'the simulated robot walking')
+        os.kill(_child(proc, 'gait_node'), signal.SIGKILL)
+        said = '[launch] gait_node exited on its own, killed by SIGKILL (status 137)'
+        wait_for(lambda: said in path.read_text(), 20, 'the launcher naming the dead node')
+        if stop_all:
+            assert proc.wait(40) == 137
+        else:
+            heard = len(odom)
+            wait_for(lambda: len(odom) > heard + 20, 30, 'sim_node running on')
+            assert proc.poll() is None
+    finally:
+        code = _stop(proc, log) if proc.poll() is None else proc.returncode
+    text = path.read_text()
+    after = text[text.index(said) :]
+    assert ('stopping the others' if stop_all else 'the others keep running') in after
+    assert 'Its last lines:' in after and '[launch]   | ' in after, after[:2000]
+    assert code == 137, text[-3000:]
+
+
+#: Every profile of scripts/launch.py, as a user starts it (the robot one against the emulator).
+PROFILES = {
+    'sim': ['sim', '--rtf', '0'],
+    'adapt-sim': ['adapt-sim', '--failed-legs', '1'],
+    'navigate-sim': ['navigate-sim', '--failed-legs', '1', '2'],
+    'emulated-robot': ['emulated-robot', '--archive', '--navigate'],
+    'robot': ['robot', '--archive', '--navigate'],
+}
+
+
+@pytest.mark.slow
+@pytest.mark.ros
+@pytest.mark.parametrize('profile', sorted(PROFILES))
+def test_a_clean_ctrl_c_of_every_profile_logs_no_error_and_no_traceback(
+    ros, domain_id, tmp_path, profile
+):
+    args = list(PROFILES[profile])
+    emulator = None
+    if profile == 'robot':  # the real radio's stand-in: the emulator on ports of this test's own
+        radio, imu = tmp_path / 'radio', tmp_path / 'imu'
+        emulator = subprocess.Popen(
+            [sys.executable, '-m', 'hexapod_bridge.emulator.robot_emulator_cli', '--sim',
+             '--radio-link', str(radio), '--imu-link', str(imu)],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+        )  # fmt: skip
+        wait_for(lambda: radio.exists() and imu.exists(), 60, 'the emulator ports')
+        args += ['--port', str(radio), '--imu-port', str(imu)]
+    from diagnostic_msgs.msg import DiagnosticArray
+
+    diagnostics = ros.collect(DiagnosticArray, '/diagnostics', 10)
+    proc, log, path = _launcher(tmp_path, domain_id, *args, home=tmp_path / 'ros_home')
+    try:
+        # every node up: each publishes its health, or (gait_node, state_publisher) its output
+        wait_for(
+            lambda: (
+                path.read_text().count('ready') + path.read_text().count('configured') >= 1
+                and len(diagnostics) >= 3
+            ),
+            90,
+            f'the {profile} graph up',
+        )
+        time.sleep(3.0)
+    finally:
+        code = _stop(proc, log)
+        if emulator is not None:
+            emulator.send_signal(signal.SIGINT)
+            emulator.wait(30)
+    text = path.read_text()
+    errors = [line for line in text.splitlines() if 'ERROR' in line or 'Traceback' in line]
+    assert not errors, '\n'.join(errors[:20]) + '\n' + text[-3000:]
+    assert code == 0, text[-3000:]
