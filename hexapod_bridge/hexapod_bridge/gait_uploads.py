@@ -93,7 +93,7 @@ class GaitUploads:
             )
             station.abandon(op, response.message)  # not sent later, behind a newer upload
             return response
-        response.answered = True
+        response.answered = not op.unanswered  # a refusal, or retries that ran out unheard
         if not op.ok:
             response.success, response.message = False, f'gait not uploaded: {op.message}'
             self._status(DiagnosticStatus.ERROR, response.message)

@@ -59,6 +59,7 @@ class Operation:
     ok: bool = False
     message: str = ''
     result: dict = field(default_factory=dict)
+    unanswered: bool = False  # it failed as the robot stopped answering (the link's fault)
 
     def finish(self, ok: bool, message: str) -> None:
         """Mark the operation done with its outcome (only the first call counts)."""
@@ -337,6 +338,8 @@ class RobotLink:
             if item.attempts > self.max_retries:
                 if item.kind == ext.Cmd.START_TRIAL:
                     self._start_pending = False  # no trial started: reports are the old one's
+                if item.operation is not None and not item.operation.done:
+                    item.operation.unanswered = True
                 self._fail(item.operation, f'no acknowledgement after {item.attempts} attempts')
             elif item.priority == PRIORITY_UPLOAD:
                 self._upload_backlog.appendleft(item)

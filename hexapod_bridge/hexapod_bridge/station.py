@@ -672,8 +672,9 @@ class BaseStation:
                 if newest is not None and sample[0] - newest > gap:
                     trial.spoil(
                         TrialFault.IMU_GAP,
-                        f'{round((sample[0] - newest) * self.config.imu_rate) - 1} IMU samples'
-                        ' missing (by its sample counter)',
+                        f"the IMU's sample counter jumped by"
+                        f' {round((sample[0] - newest) * self.config.imu_rate)} (samples lost, or'
+                        ' the IMU restarted)',
                     )
                 trial.imu_arrived = time.monotonic()
                 trial.odometry.add(*sample)
