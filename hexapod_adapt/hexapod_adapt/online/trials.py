@@ -331,14 +331,19 @@ class LinkFault(Exception):
     A trial not walked or not measured whole, for a reason of the link or the robot's state.
 
     Never scored: the same gait is walked again once the link is back (:class:`RobotTrials`).
+    ``walked``: the robot started the walk (False: the upload or the start went unanswered).
     """
+
+    def __init__(self, reason: str, walked: bool = True) -> None:
+        super().__init__(reason)
+        self.walked = walked
 
 
 def _uploaded(port: TrialPort, niche: int, timeout: float) -> float:
     """Upload the gait of ``niche``; return its crab angle, or raise with the robot's reason."""
     answer, crab = port.upload(niche, timeout)
     if not answer.ok and not answer.answered:
-        raise LinkFault(f'the robot did not answer the upload: {answer.message}')
+        raise LinkFault(f'the robot did not answer the upload: {answer.message}', walked=False)
     if not answer.ok:
         raise TrialAborted(answer.message or 'the robot did not confirm the upload')
     if answer.archive_index != niche:
@@ -403,21 +408,25 @@ class RobotTrials:
 
     def __call__(self, niche: int) -> TrialOutcome:
         """Measure the speed of the gait of ``niche`` [m/s], or stop it when it tips."""
-        for attempt in range(1, self.attempts + 1):
+        spoilt = unanswered = 0  # walks spoilt; uploads or starts the robot did not answer
+        while True:
             try:
                 return self._walk(niche)
             except LinkFault as fault:
-                if attempt == self.attempts:
+                spoilt += fault.walked
+                unanswered += not fault.walked
+                if max(spoilt, unanswered) >= self.attempts:
                     raise TrialAborted(
-                        f'gait {niche} was not walked and measured whole in {attempt} attempts;'
-                        f' the last: {fault}'
+                        f'gait {niche} was not walked and measured whole ({spoilt} walks spoilt,'
+                        f' {unanswered} unanswered); the last: {fault}'
                     ) from None
                 self.warn(
                     f'trial of gait {niche} not scored: {fault}; it is walked again once the'
-                    f' radio link works (attempt {attempt + 1} of {self.attempts})'
+                    f' radio link works (try {spoilt + unanswered + 1}; the run ends after'
+                    f' {self.attempts} spoilt walks of one gait)'
                 )
                 self._wait_link()
-        raise AssertionError('unreachable')  # pragma: no cover
+                self._stand()
 
     def _walk(self, niche: int) -> TrialOutcome:
         crab = _uploaded(self.port, niche, self.timing.timeout)
@@ -427,7 +436,9 @@ class RobotTrials:
         if not ok:
             problem = self.link()
             if problem:
-                raise LinkFault(f'the robot did not start the trial: {message} ({problem})')
+                raise LinkFault(
+                    f'the robot did not start the trial: {message} ({problem})', walked=False
+                )
             raise TrialAborted(f'bridge_node did not start the trial: {message}')
         started = self.clock()
         tilts = self.tilts
@@ -454,6 +465,13 @@ class RobotTrials:
                 f' can walk ({self.max_speed:.2f} m/s)'
             )
         return TrialOutcome(speed, False, peak())
+
+    def _stand(self) -> None:
+        """Stop a walk the robot may still make (it heard no stop while the link was down)."""
+        try:
+            self.port.stop_trial()
+        except TrialAborted:
+            pass  # a robot that does not answer is walked again all the same: the upload says
 
     def _wait_link(self) -> None:
         """Wait until the link can carry a trial (at once if it can), or end the run."""

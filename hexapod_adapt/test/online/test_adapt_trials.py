@@ -195,7 +195,7 @@ class Bridge:
         self.script = list(script or [velocity])
         self.answer = None
         self.link = ''
-        self.starts = self.uploads = 0
+        self.starts = self.uploads = self.stops = 0
 
     def upload(self, niche, timeout):
         self.uploads += 1
@@ -214,6 +214,10 @@ class Bridge:
 
     def link_problem(self):
         return self.link
+
+    def stop_trial(self):
+        self.stops += 1
+        return True, 'stopped'
 
 
 def _robot(bridge, clock, timing=None, waiter=None, **kw):
@@ -276,7 +280,8 @@ def test_a_trial_the_link_spoilt_is_never_scored_and_is_walked_again_once_the_li
     outcome = trial(7)
     assert outcome.speed == pytest.approx(0.25) and not outcome.tipped  # the second walk's
     assert bridge.uploads == bridge.starts == 2  # uploaded again: a restarted robot forgot it
-    assert 'not scored: the radio port was lost' in told[0] and 'attempt 2 of 3' in told[0]
+    assert bridge.stops == 1  # the robot stood before: it may still have walked the cut trial
+    assert 'not scored: the radio port was lost' in told[0] and '(try 2;' in told[0]
     assert 'waiting up to 60 s' in told[1] and 'radio link back after' in told[2]
 
 
@@ -286,8 +291,8 @@ def test_a_gait_spoilt_on_every_walk_ends_the_run_with_the_last_reason():
     trial, told = _robot(bridge, clock)
     with pytest.raises(
         TrialAborted,
-        match='not walked and measured whole in 3 attempts; the last:'
-        ' the robot was silent for 3.2 s',
+        match=r'not walked and measured whole \(3 walks spoilt, 0 unanswered\); the last: the'
+        ' robot was silent for 3.2 s',
     ):
         trial(2)
     assert bridge.starts == 3 and len(told) == 2
@@ -461,3 +466,15 @@ def test_a_graph_trial_that_ends_upside_down_measures_0():
     fell = OdomSample(5_000_000_000, 1.5, 0.0, 0.0, 0.0, 0.0, upside_down=True)
     assert sim_trial_speed([start, walked], 0, 5.0, 0.0) == pytest.approx(0.3)
     assert sim_trial_speed([start, fell], 0, 5.0, 0.0) == 0.0
+
+
+def test_an_unanswered_upload_between_spoilt_walks_is_not_a_spoilt_walk():
+    # 10 s of radio silence: the walk is spoilt by the IMU gap first, then the next upload goes
+    # unanswered while the robot is still silent, then the link is back: the gait is walked whole
+    clock = FakeClock()
+    bridge = Bridge(Arriving(clock), clock, script=[(True, 'no IMU sample for 1.6 s'), (0.2, 0.0)])
+    trial, told = _robot(bridge, clock)
+    answers = iter([Upload(True, '', 3), Upload(False, 'no answer in 3.0 s', 3, answered=False)])
+    bridge.upload = lambda niche, timeout: (next(answers, Upload(True, '', niche)), 0.0)
+    assert trial(3).speed == pytest.approx(0.2)
+    assert len(told) == 2 and '(try 3;' in told[1] and 'did not answer the upload' in told[1]
