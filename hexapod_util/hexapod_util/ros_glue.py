@@ -246,6 +246,10 @@ def _stop_handler(stop: threading.Event) -> Callable[[int, Any], None]:
     return on_signal
 
 
+#: s a stopping node waits for the callbacks in flight to end before it is destroyed.
+SHUTDOWN_WAIT_S = 5.0
+
+
 def run_node(
     make_node: Callable[[], Node],
     args: list[str] | None = None,
@@ -303,9 +307,25 @@ def run_node(
             shutdown = getattr(node, 'shutdown', None)
             if callable(shutdown):
                 shutdown()
+            _let_callbacks_end(executor, SHUTDOWN_WAIT_S)
             node.destroy_node()
         rclpy.try_shutdown()
     return 0
+
+
+def _let_callbacks_end(executor, timeout: float) -> None:
+    """
+    Wait (``timeout`` s at most) for the callbacks a multi-threaded executor still runs.
+
+    They end before the node's entities are destroyed: a worker thread still taking an action
+    goal would otherwise find the server's publishers gone (rclpy logs the task's exception,
+    "Failed to take goal: feedback publisher is invalid"). rclpy's ``Executor.shutdown`` does not
+    wait for them (Jazzy), so the executor's own list of tasks is read.
+    """
+    tasks = list(getattr(executor, '_futures', ()))
+    deadline = time.monotonic() + timeout
+    while any(not t.done() for t in tasks) and time.monotonic() < deadline:
+        time.sleep(0.01)
 
 
 def unless_closing(node: Node, call: Callable[..., Any], *args: Any) -> None:
