@@ -206,12 +206,18 @@ class AdaptRun:
     """One goal sent to the ``adapt`` action: its answer, feedback and result as they arrive."""
 
     def __init__(self, client, goal) -> None:
-        self.feedback: list = []  # Adapt.Feedback, one per trial
+        self.feedback: list = []  # Adapt.Feedback, one per trial and one per note
+        self.arrived: list[float] = []  # time.monotonic() each feedback arrived
         self.sent = client.send_goal_async(goal, feedback_callback=self._on_feedback)
         self._answer = None
 
     def _on_feedback(self, message) -> None:
+        self.arrived.append(time.monotonic())
         self.feedback.append(message.feedback)
+
+    def notes_after(self, t: float) -> list[tuple[float, str]]:
+        """The notes (arrival time, text) that arrived after monotonic time ``t``."""
+        return [(a, f.note) for a, f in zip(self.arrived, self.feedback) if a > t and f.note]
 
     def handle(self, timeout: float = 30.0):
         """Return the goal's handle once adapt_node answered (accepted or rejected)."""

@@ -17,8 +17,9 @@ bridge_node's ``leg_map`` does (the robot's leg number of each URDF leg; identit
 per-leg parameters and servos are in the robot's numbering, the geometry and the simulator the
 URDF's; give both the same map.
 
-Prints ``RADIO <path>`` and ``IMU <path>`` once the ports exist, and ``TRIAL {json}`` with the
-simulator's own measurement when a walk ends. SIGUSR1 makes the radio port vanish (the pty is
+Prints ``RADIO <path>`` and ``IMU <path>`` once the ports exist, ``WALK <gait id> at <seconds on
+CLOCK_MONOTONIC>`` when a walk starts, and ``TRIAL {json}`` with the simulator's own measurement
+when a walk ends. SIGUSR1 makes the radio port vanish (the pty is
 closed and its link removed; it prints ``RADIO gone at <seconds on CLOCK_MONOTONIC>``), SIGUSR2
 brings a new one back at the same link path - the fault-injection handles the reliability tests
 use. SIGHUP restarts the robot's microcontroller: the firmware starts afresh (no gait uploaded,
@@ -55,6 +56,7 @@ RADIO_GONE = 'RADIO gone at '
 FALLEN_TILT = math.radians(30.0)
 RIGHTED = 'RIGHTED at '
 REBOOTED = 'REBOOTED at '
+WALK = 'WALK '
 
 
 def radio_gone_times(output: str) -> list[float]:
@@ -261,7 +263,7 @@ def _serve(args: argparse.Namespace) -> int:
     stopped_by: list[int] = []
     for signum in (signal.SIGINT, signal.SIGTERM):  # a second Ctrl-C cannot cut the clean-up short
         signal.signal(signum, lambda number, _: stopped_by.append(number))
-    reported = 0
+    reported = walks = 0
     lying_since: float | None = None  # when the body last tilted past FALLEN_TILT
     try:
         while not stopped_by:
@@ -275,7 +277,7 @@ def _serve(args: argparse.Namespace) -> int:
                     print(f'RADIO {radio.open()}', flush=True)
                 elif what == 'reboot':
                     print_stats(firmware)
-                    firmware, reported = boot(time.monotonic() - start), 0
+                    firmware, reported, walks = boot(time.monotonic() - start), 0, 0
                     print(f'{REBOOTED}{time.monotonic():.6f}', flush=True)
             fds = [radio.master] if radio.master is not None else []
             ready = select.select(fds, [], [], 0.002)[0] if fds else (time.sleep(0.002) or [])
@@ -290,6 +292,11 @@ def _serve(args: argparse.Namespace) -> int:
             radio.write(out_radio)
             if imu is not None:
                 imu.write(out_imu)
+            while walks < len(firmware.trials):
+                print(
+                    f'{WALK}{firmware.trials[walks].gait_id} at {time.monotonic():.6f}', flush=True
+                )
+                walks += 1
             while (
                 reported < len(firmware.trials)
                 and firmware.trials[reported].end_position is not None
