@@ -81,14 +81,38 @@ class Graph:
         return self.proc.stdout.read()
 
 
+#: What building and testing write in the tree (ignored, and no guide's command writes there).
+BUILD_OUTPUTS = ('build/', 'install/', 'log/', '.venv/', '.pytest_cache/', '.hypothesis/')
+
+
+def tree_state() -> set[str]:
+    """Every file git sees as changed, untracked or ignored, but the build's outputs."""
+    status = subprocess.run(
+        ['git', 'status', '--porcelain', '--ignored', '--untracked-files=all'],
+        cwd=WS, capture_output=True, text=True, check=True,
+    ).stdout  # fmt: skip
+    return {
+        line
+        for line in status.splitlines()
+        if not line[3:].startswith(BUILD_OUTPUTS)
+        and '__pycache__/' not in line
+        and not line.endswith('.pyc')
+    }
+
+
 @pytest.fixture
-def env():
-    return dict(
+def env(tmp_path):
+    """A user's second shell; ROS_HOME (where recordings go) in the test's directory."""
+    before = tree_state()
+    yield dict(
         os.environ,
         ROS_DOMAIN_ID=str(next(_domains)),
         ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST',
         PYTHONUNBUFFERED='1',
+        ROS_HOME=str(tmp_path / 'ros_home'),
     )
+    # the commands, run as written from the repository root, leave the source tree as it was
+    assert tree_state() == before, sorted(tree_state() ^ before)
 
 
 def run_against(graph_command: str, client: str, env: dict, timeout: float):
@@ -137,6 +161,8 @@ def test_adaptation_guide_adapting_succeeds(env):
     done, log = run_against(launch, client, env, timeout=300)
     assert done.returncode == 0, done.stdout + done.stderr + log[-4000:]
     assert re.search(r'^done: gait found: ', done.stdout, re.M), done.stdout
+    # the run's recording: under ROS_HOME, as ROS 2 keeps its logs
+    assert list((Path(env['ROS_HOME']) / 'adaptation_runs').glob('adapt_*.mcap')), log[-3000:]
 
 
 def test_the_readme_adaptation_lines_succeed(env):
