@@ -39,6 +39,18 @@ def test_the_link_is_ok_when_heard_warn_when_silent_and_error_when_down():
     assert down.level == ERROR and 'gone' in down.message
 
 
+def test_noise_on_the_radio_turns_the_link_warn_with_its_counts():
+    from dataclasses import replace
+
+    noisy = replace(
+        _snap(), bad_frame_rate=4.4, last_error='4.4 bad frames/s over the last 10 s (...)'
+    )
+    health = link_health(noisy, '/dev/ttyUSB0')
+    assert health.level == WARN and 'bad frames/s' in health.message
+    assert health.values['bad_frames_per_s'] == '4.40'
+    assert link_health(replace(_snap(), bad_frame_rate=0.4), '/dev/ttyUSB0').level == OK
+
+
 def test_the_imu_is_ok_while_it_streams():
     assert imu_health(None, 10.0, 'imu').level == WARN
     assert imu_health(9.5, 10.0, 'imu').level == OK

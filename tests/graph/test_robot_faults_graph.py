@@ -276,3 +276,38 @@ def test_a_servo_dead_at_start_up_is_known_before_the_first_trial(
     print(*chosen, sep='\n')
     prior = [n for n in chosen if 'leg 2' in n and 'servo 6' in n and 'the map as it is' not in n]
     assert len(prior) == STARTS, chosen
+
+
+def test_a_cancel_while_the_link_is_down_ends_the_run_at_once(ros, launch, domain_id, tmp_path):
+    from action_msgs.msg import GoalStatus
+    from std_srvs.srv import SetBool
+
+    robot = Robot(tmp_path, domain_id, seed=9)
+    try:
+        launch(
+            'hexapod_bridge', 'bridge_node', params={'port': robot.radio, 'imu_port': robot.imu}
+        )
+        launch(
+            'hexapod_adapt',
+            'adapt_node',
+            params={'archive': str(_preset_archive(tmp_path)), 'mode': 'robot', 'record_dir': ''},
+        )
+        assert ros.call(SetBool, 'bridge_node/arm', SetBool.Request(data=True)).success
+        goal = ros.send_adapt(Adapt.Goal(max_trials=3))
+        wait_for(lambda: robot.walks() > 0, 60, 'the walk to start')
+        os.kill(robot.now.proc.pid, signal.SIGUSR1)  # the radio port vanishes, and stays away
+        wait_for(
+            lambda: any('radio link down' in n for _, n in goal.notes_after(0.0)),
+            10,
+            'the run waiting for the link',
+        )
+        asked = time.monotonic()
+        assert goal.cancel()
+        wait_for(goal.done, 5, 'the cancelled run to end')
+        ended = time.monotonic() - asked
+        assert goal.status == GoalStatus.STATUS_CANCELED
+        assert goal.result().message.startswith('cancelled'), goal.result().message
+        assert ended < 1.0, ended
+    finally:
+        os.kill(robot.now.proc.pid, signal.SIGUSR2)
+        robot.stop()
