@@ -215,6 +215,11 @@ class AdaptRun:
         self.arrived.append(time.monotonic())
         self.feedback.append(message.feedback)
 
+    @property
+    def trials(self) -> list:
+        """The feedback of each trial walked (the notes left out)."""
+        return [f for f in self.feedback if f.trial.trial > 0]
+
     def notes_after(self, t: float) -> list[tuple[float, str]]:
         """The notes (arrival time, text) that arrived after monotonic time ``t``."""
         return [(a, f.note) for a, f in zip(self.arrived, self.feedback) if a > t and f.note]

@@ -80,8 +80,8 @@ def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive, sett
     assert 1 <= response.trials <= 4, response.message
     wait_for(lambda: len(trials) == response.trials, 10, 'one AdaptationTrial per trial')
     # the action's feedback: one per trial, the trial as on adapt/trials, the trials left
-    assert [f.trial.measured_speed for f in run.feedback] == [t.measured_speed for t in trials]
-    assert [f.trials_left for f in run.feedback] == [4 - t.trial for t in trials]
+    assert [f.trial.measured_speed for f in run.trials] == [t.measured_speed for t in trials]
+    assert [f.trials_left for f in run.trials] == [4 - t.trial for t in trials]
     ends = {True: GoalStatus.STATUS_SUCCEEDED, False: GoalStatus.STATUS_ABORTED}
     assert run.status == ends[response.success]
     niches = archive.elite_indices()
@@ -146,11 +146,11 @@ def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive, sett
     assert not floored.success and floored.trials == 2
     assert 'below the success floor 1.500 m/s' in floored.message
 
-    # a cancel ends the run after the trial being walked (the floor keeps it going)
+    # a cancel ends the run at once, the trial being walked not scored (the floor keeps it going)
     long_run = ros.send_adapt(Adapt.Goal(max_trials=20, alpha=0.05))
-    wait_for(lambda: long_run.feedback, 120, 'the first trial of a long run')
+    wait_for(lambda: long_run.trials, 120, 'the first trial of a long run')
     assert long_run.cancel()
-    walked = len(long_run.feedback)
+    walked = len(long_run.trials)
     wait_for(long_run.done, 120, 'the cancelled run to end')
     assert long_run.status == GoalStatus.STATUS_CANCELED
     cancelled = long_run.result()

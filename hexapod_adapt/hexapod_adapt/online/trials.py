@@ -446,11 +446,17 @@ class RobotTrials:
         def peak() -> float:
             return tilts.peak_since(started) if tilts is not None else float('nan')
 
-        result = self.waiter.until(
-            lambda: self.results.received_after(started) or (peak() > self.tip_guard and 'tipped'),
-            self.timing.walking + self.timing.timeout,
-            "the trial's result from bridge_node (trial_result)",
-        )
+        try:
+            result = self.waiter.until(
+                lambda: (
+                    self.results.received_after(started) or (peak() > self.tip_guard and 'tipped')
+                ),
+                self.timing.walking + self.timing.timeout,
+                "the trial's result from bridge_node (trial_result)",
+            )
+        except TrialCancelled:
+            self._stand()  # a cancelled run leaves the robot standing, not walking
+            raise
         if result == 'tipped':
             self.port.stop_trial()
             return TrialOutcome(0.0, True, peak())

@@ -1,7 +1,7 @@
 # Copyright 2026 Hexapod adaptation team
 # SPDX-License-Identifier: MIT
 """
-adapt_node's ``adapt`` action server: one goal at a time, a cancel after the trial being walked.
+adapt_node's ``adapt`` action server: one goal at a time, a cancel at once.
 
 A goal sent while one runs is rejected (the only reason a goal is rejected; the node logs it); a
 goal that cannot run is accepted and aborted at once with the reason in its result. The goal ends

@@ -240,7 +240,7 @@ def _call(args: argparse.Namespace, ros_args: list[str]) -> int:
         answer = handle.get_result_async()
         try:
             outcome = _wait(node, client, answer, deadline, args)
-        except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the run stops too, after its trial
+        except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the run stops too
             _cancel(node, handle, deadline)
             raise
         if outcome is not None:
@@ -274,7 +274,7 @@ def _cancel(node, handle, deadline: float) -> None:
         rclpy.spin_once(node, timeout_sec=0.1)
     accepted = future.done() and len(future.result().goals_canceling) > 0
     _say(
-        'cancel sent: adapt_node stops the run after the trial being walked'
+        'cancel sent: adapt_node stops the run (a trial being walked is not scored)'
         if accepted
         else 'the cancel was not confirmed: the run may go on in adapt_node'
     )
