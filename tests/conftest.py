@@ -275,6 +275,25 @@ def fast_sim_graph(launch, failed_legs, **adapt_params) -> tuple[NodeProcess, ..
     return sim, gait, launch('hexapod_adapt', 'adapt_node', params=adapt_params)
 
 
+#: What building and testing write in the tree (ignored, and no guide's command writes there).
+BUILD_OUTPUTS = ('build/', 'install/', 'log/', '.venv/', '.pytest_cache/', '.hypothesis/')
+
+
+def tree_state() -> set[str]:
+    """Every file git sees changed, untracked or ignored in the tree, but the build's outputs."""
+    status = subprocess.run(
+        ['git', 'status', '--porcelain', '--ignored', '--untracked-files=all'],
+        cwd=WS, capture_output=True, text=True, check=True,
+    ).stdout  # fmt: skip
+    return {
+        line
+        for line in status.splitlines()
+        if not line[3:].startswith(BUILD_OUTPUTS)
+        and '__pycache__/' not in line
+        and not line.endswith('.pyc')
+    }
+
+
 def wait_for(
     predicate: Callable[[], Any], timeout: float, what: str = 'condition', period: float = 0.02
 ):

@@ -19,6 +19,7 @@ import shlex
 import signal
 import subprocess
 
+from conftest import tree_state
 import pytest
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
@@ -79,25 +80,6 @@ class Graph:
             except subprocess.TimeoutExpired:
                 os.killpg(self.proc.pid, signal.SIGKILL)
         return self.proc.stdout.read()
-
-
-#: What building and testing write in the tree (ignored, and no guide's command writes there).
-BUILD_OUTPUTS = ('build/', 'install/', 'log/', '.venv/', '.pytest_cache/', '.hypothesis/')
-
-
-def tree_state() -> set[str]:
-    """Every file git sees as changed, untracked or ignored, but the build's outputs."""
-    status = subprocess.run(
-        ['git', 'status', '--porcelain', '--ignored', '--untracked-files=all'],
-        cwd=WS, capture_output=True, text=True, check=True,
-    ).stdout  # fmt: skip
-    return {
-        line
-        for line in status.splitlines()
-        if not line[3:].startswith(BUILD_OUTPUTS)
-        and '__pycache__/' not in line
-        and not line.endswith('.pyc')
-    }
 
 
 @pytest.fixture

@@ -17,7 +17,7 @@ import subprocess
 import sys
 import time
 
-from conftest import wait_for, WS
+from conftest import tree_state, wait_for, WS
 from nav_msgs.msg import Odometry
 import pytest
 from rclpy.qos import QoSProfile, ReliabilityPolicy
@@ -335,6 +335,7 @@ def _launcher(tmp_path, domain_id: int, *args: str, home: Path | None = None):
         env.update(ROS_HOME=str(home))
     proc = subprocess.Popen(
         [sys.executable, str(WS / 'scripts' / 'launch.py'), *args],
+        cwd=WS,  # as a user runs it, from the repository root
         env=env,
         stdout=log,
         stderr=subprocess.STDOUT,
@@ -422,6 +423,7 @@ def test_a_clean_ctrl_c_of_every_profile_logs_no_error_and_no_traceback(
         )  # fmt: skip
         wait_for(lambda: radio.exists() and imu.exists(), 60, 'the emulator ports')
         args += ['--port', str(radio), '--imu-port', str(imu)]
+    before = tree_state()
     proc, log, path = _launcher(tmp_path, domain_id, *args, home=tmp_path / 'ros_home')
     try:
         # every node of the profile in the graph: up (a Ctrl-C while Python still imports a node's
@@ -437,3 +439,4 @@ def test_a_clean_ctrl_c_of_every_profile_logs_no_error_and_no_traceback(
     errors = [line for line in text.splitlines() if 'ERROR' in line or 'Traceback' in line]
     assert not errors, '\n'.join(errors[:20]) + '\n' + text[-3000:]
     assert code == 0, text[-3000:]
+    assert tree_state() == before, sorted(tree_state() ^ before)  # the source tree untouched
