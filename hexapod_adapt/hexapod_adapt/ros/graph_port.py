@@ -71,20 +71,18 @@ SENSOR_TOPICS = (
     (FootContacts, 'foot_contacts', SENSOR),
     (ServoFailure, 'servo_failures', EVENTS),
 )
-#: Latched topics: the latest message of each opens every recording (bridge_node's status: what
-#: the bridge last said, e.g. a gait it refused).
-LATCHED_TOPICS = (
-    (TFMessage, '/tf_static'),
-    (String, 'robot_description'),
-    (DiagnosticStatus, 'bridge/status'),
-)
+#: Latched topics: the latest message of each opens every recording (waited for a while).
+LATCHED_TOPICS = ((TFMessage, '/tf_static'), (String, 'robot_description'))
+#: Latched topics a recording opens with when the graph has them, not waited for: bridge_node's
+#: status on the robot (what the bridge last said, e.g. a gait it refused).
+OPTIONAL_LATCHED_TOPICS = ((DiagnosticStatus, 'bridge/status'),)
 #: bridge_node's link status older than this says nothing of the link [s] (it comes at 5 Hz).
 LINK_STATUS_STALE_S = 2.0
 #: The QoS each recorded topic is offered with in the graph (the recording's channel metadata, so
 #: that ``ros2 bag play`` offers them again alike: the latched ones transient local).
 RECORDED_QOS = {
     **{topic: qos for _, topic, qos in SENSOR_TOPICS},
-    **{topic: LATCHED for _, topic in LATCHED_TOPICS},
+    **{topic: LATCHED for _, topic in LATCHED_TOPICS + OPTIONAL_LATCHED_TOPICS},
     'odom': ODOM,
     'trial_odom': ODOM,
     'trial_result': TRIALS,
@@ -99,6 +97,7 @@ RECORDED_TYPES = {
     for cls, topic in (
         *((cls, topic) for cls, topic, _ in SENSOR_TOPICS),
         *LATCHED_TOPICS,
+        *OPTIONAL_LATCHED_TOPICS,
         (Odometry, 'odom'),
         (Odometry, 'trial_odom'),
         (RobotTrial, 'trial_result'),
@@ -494,6 +493,14 @@ class RecordedTopics:
             )
             for msg_type, topic in LATCHED_TOPICS
         }
+        for msg_type, topic in OPTIONAL_LATCHED_TOPICS:
+            node.create_subscription(
+                msg_type,
+                topic,
+                lambda msg, topic=topic: recording.on_latched(topic, msg),
+                LATCHED,
+                callback_group=group,
+            )
 
     def await_latched(self, grace: float) -> list[str]:
         """
