@@ -171,8 +171,11 @@ def test_a_port_that_is_not_there_is_reported_not_raised(tmp_path):
     station = BaseStation(StationConfig(port=str(tmp_path / 'nothing'), arm_on_start=True))
     station.start()
     try:
-        time.sleep(0.3)
-        snap = station.snapshot(time.monotonic())
+        snap = _until(
+            lambda: (s := station.snapshot(time.monotonic())).last_error and s,
+            10,
+            'the first attempt to open the port',
+        )
         assert not snap.connected and 'nothing' in snap.last_error
         assert math.isinf(snap.seconds_since_heard)
     finally:
