@@ -281,15 +281,14 @@ class AdaptNode(AdaptAction, DamageReports, Node):
                 )
             if run.auto and self.mode == 'sim':
                 # what the simulator holds now: a SetLegFailure just before this request may not
-                # have reached us on sim/damage yet (an older sim_node: wait for the topic)
+                # have reached us on sim/damage yet
                 now = self.port.sim_damage(timeout)
-                if now is not None:
-                    self._on_sim_damage(now)
-                self.waiter.until(
-                    lambda: self.known.sim is not None,
-                    timeout,
-                    "the simulator's damage report, sim/damage (is sim_node running?)",
-                )
+                if now is None:
+                    raise TrialAborted(
+                        f'sim_node did not say its damage (get_damage) in {timeout:g} s'
+                        ' (is sim_node running?)'
+                    )
+                self._on_sim_damage(now)
                 damage, source = self.known.for_run(None, False)
         except TrialAborted as exc:
             response.success, response.message = False, f'run not started: {exc}'

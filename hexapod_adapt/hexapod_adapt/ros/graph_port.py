@@ -394,13 +394,16 @@ class GraphPort:
         return '' if answer.success else answer.message
 
     def _ask(self, client, request, what: str, discover: float = 2.0, answer: float = 5.0):
-        """Call ``client`` with ``request``; its response, or None if it is not there or silent."""
-        if not client.wait_for_service(timeout_sec=discover):
-            return None
-        future = client.call_async(request)
+        """
+        Call ``client`` with ``request``; its response, or None if it is not there or silent.
+
+        A cancel or a shutdown ends the wait (TrialAborted).
+        """
         try:
+            self.wait(client.service_is_ready, discover, f'service {client.srv_name}')
+            future = client.call_async(request)
             self.wait(future.done, answer, what)
-        except TrialAborted:
+        except WaitTimedOut:
             return None
         return future.result()
 
@@ -418,7 +421,7 @@ class GraphPort:
 
     def sim_damage(self, timeout: float) -> LegDamage | None:
         """
-        Ask sim_node for its damage now (GetLegDamage); None if it does not answer.
+        Ask sim_node for its damage now (GetLegDamage); None if it is not there or silent.
 
         The latched sim/damage topic may arrive after an ``adapt`` request that follows a
         SetLegFailure call at once; the service answers with what the simulator holds.
@@ -427,7 +430,7 @@ class GraphPort:
             self.damage_client,
             GetLegDamage.Request(),
             "sim_node's damage",
-            discover=min(timeout, 2.0),
+            discover=timeout,
             answer=timeout,
         )
         return response.damage if response is not None else None
@@ -438,8 +441,7 @@ class GraphPort:
         """
         Return bridge_node's (trial_duration, trial_settle) [s]: how it walks a robot trial.
 
-        None if it is not found within ``discover`` s or does not answer within ``answer`` s; a
-        bridge without ``trial_settle`` settles 0 s.
+        None if it is not found within ``discover`` s or does not answer within ``answer`` s.
         """
         response = self._ask(
             self.bridge_params_client,
@@ -449,12 +451,9 @@ class GraphPort:
             answer,
         )
         values = response.values if response is not None else []
-        if not values or values[0].type != ParameterType.PARAMETER_DOUBLE:
+        if len(values) != 2 or any(v.type != ParameterType.PARAMETER_DOUBLE for v in values):
             return None
-        settle = 0.0
-        if len(values) > 1 and values[1].type == ParameterType.PARAMETER_DOUBLE:
-            settle = values[1].double_value
-        return values[0].double_value, settle
+        return values[0].double_value, values[1].double_value
 
 
 def trial_msg(trial, niche: int, best_niche: int, best_speed: float, archive) -> AdaptationTrial:
