@@ -200,7 +200,7 @@ def test_a_port_that_does_not_exist_is_told_once_with_its_reason(tmp_path):
 
 
 def _walking_station(radio, imu, **config) -> BaseStation:
-    """A station armed, with the tripod uploaded, standing still and ready for a trial."""
+    """Return a station armed, with the tripod uploaded, standing still, ready for a trial."""
     station = BaseStation(StationConfig(port=str(radio), imu_port=str(imu), **config))
     station.start()
     station.arm(True)

@@ -116,7 +116,7 @@ class HexapodModel:
     @property
     def max_walking_speed(self) -> float:
         """
-        The fastest the body can walk on its feet [m/s]: a bound no measured trial can exceed.
+        Return the fastest the body can walk on its feet [m/s]: no measured trial is faster.
 
         A foot in stance stands on the floor, so the body moves at most as fast as a foot moves
         relative to it: each joint at its velocity limit (the servo's no-load speed, URDF table

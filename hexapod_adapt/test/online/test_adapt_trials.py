@@ -407,6 +407,8 @@ def test_a_manual_trial_reported_as_zero_or_backwards_ends_at_once():
         manual, _bridge, _ = _manual(clock)
 
         class Operator(Waiter):
+            """The operator reports the distance as soon as it is asked for."""
+
             def until(self, predicate, timeout, what):
                 if 'distance' in what:
                     assert manual.report(distance) == ''
