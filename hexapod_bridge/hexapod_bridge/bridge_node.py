@@ -5,8 +5,9 @@
 
 Uploads each ``gait/parameters`` (latched) to the robot (gait-upload extension, acknowledged and
 retried). Publishes ``imu/data`` (the Xsens on ``imu_port``, or the robot's 2 Hz attitude),
-``trial_odom`` (one message per trial: the IMU estimate of its displacement, in the frame it
-started in; twist = mean velocity; covariances = the estimate's accuracy), ``odom`` and
+``trial_result`` (one per trial: whether it was walked and measured whole, why not, and the IMU
+estimate), ``trial_odom`` (one per valid trial: the IMU estimate of its displacement, in the
+frame it started in; twist = mean velocity; covariances = the estimate's accuracy), ``odom`` and
 odom -> base_link on ``/tf`` (30 Hz, continuous: the trials chained,
 :class:`hexapod_bridge.odometry.ChainedPose`), ``joint_states`` (the commanded angles of the
 uploaded gait, 30 Hz: the radio carries no measured ones; :mod:`hexapod_bridge.commanded`),
@@ -21,7 +22,8 @@ robot acknowledged), ``~/start_trial`` (walk ``trial_settle`` s, then ``trial_du
 timed), ``~/stop_trial``, ``~/emergency_stop`` (always transmitted, then disarms),
 ``~/motor_power`` (on also clears a latched e-stop), ``~/check_servos`` (HELLO),
 ``~/get_servo_failures`` (the servos reported dead so far: how a subscriber of ``servo_failures``
-tells the bridge's reports from forged ones).
+tells the bridge's reports from forged ones; and whether the robot has checked every servo: it
+does when the node is activated and when its port comes back).
 
 After an emergency stop the robot refuses trials (ESTOPPED) until, in this order:
 ``~/arm true``, ``~/motor_power true`` and a gait upload; then ``~/start_trial`` works again.
