@@ -17,6 +17,7 @@ from hexapod_msgs.msg import (
     GaitParameters,
     LegDamage,
     LinkStatus,
+    RobotTrial,
     ServoFailure,
     TrajectoryActivation,
 )
@@ -38,6 +39,7 @@ MESSAGES = [
     ServoFailure,
     TrajectoryActivation,
     LegDamage,
+    RobotTrial,
 ]
 SERVICES = [GetServoFailures, SetLegFailure, ReportDistance, UploadGait, GetLegDamage]
 # the actions go through their servers in tests/graph (test_adapt_graph, test_navigate_graph)
