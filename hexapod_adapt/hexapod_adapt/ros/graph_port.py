@@ -482,7 +482,7 @@ class RecordedTopics:
                 qos,
                 callback_group=group,
             )
-        self.latched_subs = {
+        latched = {
             topic: node.create_subscription(
                 msg_type,
                 topic,
@@ -490,16 +490,10 @@ class RecordedTopics:
                 LATCHED,
                 callback_group=group,
             )
-            for msg_type, topic in LATCHED_TOPICS
+            for msg_type, topic in LATCHED_TOPICS + OPTIONAL_LATCHED_TOPICS
         }
-        for msg_type, topic in OPTIONAL_LATCHED_TOPICS:
-            node.create_subscription(
-                msg_type,
-                topic,
-                lambda msg, topic=topic: recording.on_latched(topic, msg),
-                LATCHED,
-                callback_group=group,
-            )
+        # a run's recording waits for these (the optional ones open it only if they came)
+        self.latched_subs = {topic: latched[topic] for _, topic in LATCHED_TOPICS}
 
     def await_latched(self, grace: float) -> list[str]:
         """
