@@ -241,6 +241,8 @@ class BridgeNode(BridgeLifecycle, GaitUploads, LifecycleNode):
         station = self.station
         if station is None or self._checking.locked():
             return
+        if station.servo_check(time.monotonic())[0] is ServoCheck.UNAVAILABLE:
+            return  # the legacy firmware has no HELLO
 
         def check() -> None:
             with self._checking:
@@ -253,8 +255,6 @@ class BridgeNode(BridgeLifecycle, GaitUploads, LifecycleNode):
                             'the robot answered HELLO: it checks every servo (a dead one is'
                             ' reported on servo_failures)'
                         )
-                        return
-                    if station.link.firmware == 'legacy':
                         return
                     time.sleep(1.0)
 

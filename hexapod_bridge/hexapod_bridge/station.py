@@ -87,11 +87,6 @@ RETRYABLE_FAULTS = frozenset(
 )
 
 
-def max_walking_speed() -> float:
-    """Return the fastest the robot can walk [m/s] (the URDF's servos and legs)."""
-    return load_model().max_walking_speed
-
-
 def _setting(default, description: str, range=None, read_only: bool = True):  # noqa: A002
     """Declare a StationConfig field with what bridge_node's parameter says of it."""
     return field(
@@ -274,7 +269,7 @@ class BaseStation:
         self._last_counter: int | None = None
         self._bad_frames: deque[tuple[float, int]] = deque()  # (monotonic s, bad frames so far)
         self.checked_at: float | None = None  # when the robot last answered a HELLO (monotonic)
-        self.max_speed = max_walking_speed()
+        self.max_speed = load_model().max_walking_speed  # [m/s]: no trial is faster
         if config.arm_on_start:
             self.link.arm(True, time.monotonic())
         self._running = True
