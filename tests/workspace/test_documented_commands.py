@@ -19,13 +19,13 @@ import shlex
 import signal
 import subprocess
 
-from conftest import tree_state
+from conftest import tree_state, worker_slice
 import pytest
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 WS = Path(__file__).resolve().parents[2]
 #: Within 0-101 (ROS 2's advice on Linux), apart from the other tests' 1-80 (tests/conftest.py).
-GUIDE_DOMAINS = range(81, 102)
+GUIDE_DOMAINS = worker_slice(range(81, 102))
 _domains = (GUIDE_DOMAINS[(os.getpid() + k) % len(GUIDE_DOMAINS)] for k in itertools.count())
 
 

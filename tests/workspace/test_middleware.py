@@ -17,7 +17,7 @@ import subprocess
 import sys
 import time
 
-from conftest import wait_for, WS
+from conftest import next_domain, RosHarness, wait_for, WS
 from hexapod_util.middleware import fastdds_profile_path, profile_environment, PROFILES_ENV
 import pytest
 
@@ -113,18 +113,18 @@ def test_a_service_waits_for_a_client_discovered_late_only_with_the_profile(ros,
     without = _answer_spacing(ros, tmp_path, with_profile=False)
     print(f'answer spacing: {with_profile:.3f} s with the profile, {without:.3f} s without')
     assert with_profile >= 1.5, f'the profile did not take effect ({with_profile:.2f} s)'
-    assert without < 1.0, f'Fast DDS waited {without:.2f} s without the profile'
+    # relative, so that a loaded machine's delays, which both runs share, cannot fail it
+    assert without < with_profile - 1.0, f'Fast DDS waited {without:.2f} s without the profile'
 
 
-@pytest.mark.parametrize('own_profile', [False, True])
-def test_a_node_started_without_the_variable_uses_the_profile_unless_one_is_set(
-    ros, tmp_path, own_profile
-):
-    """run_node sets the profile itself, so `ros2 run` on a full install gets it too."""
+def _wait_behind_deaf_clients(tmp_path, own_profile: bool) -> float:
+    """How long gait_node's answer waits behind two requests of a client it cannot answer."""
     from rcl_interfaces.srv import GetParameters
     from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
+    ros = RosHarness(next_domain())  # a graph of its own: no killed node's endpoints linger
     env = {k: v for k, v in os.environ.items() if k != PROFILES_ENV}
+    env['ROS_DOMAIN_ID'] = str(ros.domain_id)
     if own_profile:  # a user's profile without the 'service' entry: Fast DDS's 100 ms
         (tmp_path / 'own.xml').write_text(
             '<?xml version="1.0" encoding="UTF-8"?>\n'
@@ -132,7 +132,7 @@ def test_a_node_started_without_the_variable_uses_the_profile_unless_one_is_set(
         )
         env[PROFILES_ENV] = str(tmp_path / 'own.xml')
     exe = WS / 'install' / 'hexapod_gait' / 'lib' / 'hexapod_gait' / 'gait_node'
-    with (tmp_path / 'gait_node.log').open('w') as log:
+    with (tmp_path / f'gait_node_{own_profile}.log').open('w') as log:
         node = subprocess.Popen([str(exe)], stdout=log, stderr=subprocess.STDOUT, env=env)
     try:
         good = ros.node.create_client(GetParameters, 'gait_node/get_parameters')
@@ -155,10 +155,18 @@ def test_a_node_started_without_the_variable_uses_the_profile_unless_one_is_set(
         answer = good.call_async(GetParameters.Request(names=['x']))
         wait_for(answer.done, 30, "gait_node's answer")
         waited = time.monotonic() - t0
+        return waited
     finally:
         node.kill()
         node.wait()
-    if own_profile:
-        assert waited < 1.0, waited
-    else:
-        assert waited >= 3.0, waited  # 2 x 2 s
+        ros.close()
+
+
+def test_a_node_started_without_the_variable_uses_the_profile_unless_one_is_set(tmp_path):
+    """run_node sets the profile itself, so `ros2 run` on a full install gets it too."""
+    own = _wait_behind_deaf_clients(tmp_path, own_profile=True)
+    ours = _wait_behind_deaf_clients(tmp_path, own_profile=False)
+    print(f'answer waited {ours:.2f} s with our profile, {own:.2f} s with a user\'s own')
+    assert ours >= 3.0, ours  # 2 x 2 s
+    # relative, so that a loaded machine's delays, which both runs share, cannot fail it
+    assert own < ours - 2.0, (own, ours)
