@@ -315,7 +315,7 @@ def _transfer_figures() -> None:
     made_on = engine_of_map(archive)
     for engine in (e for e in ENGINES if e != made_on):
         name = 'judge' if engine == JUDGE_ENGINE else engine
-        # at its converged step (docs/simulator.md, "Where the engines differ", item 6)
+        # at its converged step (studies/engines/README.md, "Where the engines differ", item 6)
         with create_simulator(SimConfig.converged(engine)) as sim:
             f = transfer_figures(archive, sim)
         print(f'BENCH map_{name}_top100_speed_median {f.top_speed_median:.3f} m/s')

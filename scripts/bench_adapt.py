@@ -49,7 +49,7 @@ def bench_adapt() -> None:
     from hexapod_adapt.mapping.archive import load_archive
     from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
     from hexapod_adapt.mapping.simulation import engine_of_map
-    from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD, run_experiment
+    from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
     from hexapod_adapt.online.ceiling import (
         approximate_ceiling,
         approximate_key,
@@ -58,6 +58,7 @@ def bench_adapt() -> None:
         ceiling_key,
         holds_ceiling,
     )
+    from hexapod_adapt.online.experiment import ExperimentSetup, run_experiment
     from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
     from hexapod_sim import ENGINES
     from hexapod_sim.scenarios import scenario
@@ -122,14 +123,16 @@ def bench_adapt() -> None:
             config = PROFILES[name]
             rows = run_experiment(
                 archive,
-                config=replace(config, max_trials=100 if name == 'thesis' else TRIAL_BUDGET),
-                # another engine's trials and ceilings at its converged step (map_physics)
-                trial_engine=engine,
-                ceilings=ceilings if have else None,
-                floor=floor,
-                priors=priors if informed else None,
-                setup=name + ('+prior' if informed else ''),
-                tip_guard=DEFAULT_TIP_GUARD,
+                ExperimentSetup(
+                    config=replace(config, max_trials=100 if name == 'thesis' else TRIAL_BUDGET),
+                    # another engine's trials and ceilings at its converged step (map_physics)
+                    trial_engine=engine,
+                    ceilings=ceilings if have else None,
+                    floor=floor,
+                    priors=priors if informed else None,
+                    setup=name + ('+prior' if informed else ''),
+                    tip_guard=DEFAULT_TIP_GUARD,
+                ),
             )
             _print_experiment(rows, suffix, have, engine, cached)
     # the judge: trials walked on the engine that takes no part in making or tuning anything
@@ -139,12 +142,14 @@ def bench_adapt() -> None:
                 continue
             rows = run_experiment(
                 archive,
-                config=replace(PROFILES['default'], max_trials=TRIAL_BUDGET),
-                trial_engine=JUDGE_ENGINE,  # at its converged step (map_physics)
-                floor=True,
-                priors=priors if informed else None,
-                setup='default' + ('+prior' if informed else ''),
-                tip_guard=DEFAULT_TIP_GUARD,
+                ExperimentSetup(
+                    config=replace(PROFILES['default'], max_trials=TRIAL_BUDGET),
+                    trial_engine=JUDGE_ENGINE,  # at its converged step (map_physics)
+                    floor=True,
+                    priors=priors if informed else None,
+                    setup='default' + ('+prior' if informed else ''),
+                    tip_guard=DEFAULT_TIP_GUARD,
+                ),
             )
             _print_experiment(rows, f'{label}_judge', False, JUDGE_ENGINE, cached)
     if not only_setups:
@@ -208,8 +213,9 @@ def _bench_damage_kinds(
     _prior), which needs those ceilings. Trials have adapt_node's tip guard, as the experiment's.
     ``kinds``: these kinds only (default: every one).
     """
-    from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD, run_experiment
+    from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
     from hexapod_adapt.online.ceiling import cached_ceiling, ceiling
+    from hexapod_adapt.online.experiment import ExperimentSetup, run_experiment
     from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
     from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
 
@@ -231,13 +237,15 @@ def _bench_damage_kinds(
                 continue
             rows = run_experiment(
                 archive,
-                config=config,
-                ceilings=ceilings if have else None,
-                floor=True,
-                priors=(lambda d: ceilings(d, map_engine).speeds) if informed else None,
-                setup='default' + ('+prior' if informed else ''),
-                kind=kind,
-                tip_guard=DEFAULT_TIP_GUARD,
+                ExperimentSetup(
+                    config=config,
+                    ceilings=ceilings if have else None,
+                    floor=True,
+                    priors=(lambda d: ceilings(d, map_engine).speeds) if informed else None,
+                    setup='default' + ('+prior' if informed else ''),
+                    kind=kind,
+                    tip_guard=DEFAULT_TIP_GUARD,
+                ),
             )
             best = np.array([r.best_speed for r in rows])
             control = np.array([r.control_speed for r in rows])

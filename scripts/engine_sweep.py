@@ -9,7 +9,7 @@ Sweep MuJoCo settings against the PyBullet reference and print a markdown table.
 For each setting: the servo gains it implies, the intact control tripod's speed (and its ratio
 to PyBullet's), the Spearman correlation of fitness with PyBullet over the map's gaits
 (collisions not fatal), the mean absolute duty-factor difference, and the time per evaluation
-(batches of 8, this process). The first row is the default (docs/simulator.md).
+(batches of 8, this process). The first row is the default (studies/engines/README.md).
 """
 
 from __future__ import annotations

@@ -4,7 +4,7 @@
 """
 The damaged tripod's factor study: the control tripod in S0-S2 on PyBullet, one change at a time.
 
-docs/simulator.md, "The damaged tripod against the thesis's simulator", holds its output.
+studies/engines/README.md, "The damaged tripod against the thesis's simulator", holds its output.
 
     python scripts/pybullet_factors.py
 

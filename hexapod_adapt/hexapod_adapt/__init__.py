@@ -23,22 +23,19 @@ from hexapod_adapt.mapping.steps import (
     REACH,
     repertoire_fingerprint,
 )
-from hexapod_adapt.online.adaptation import (
-    adapt,
-    AdaptationResult,
-    run_experiment,
-    simulated_trial,
-    TrialAborted,
-)
+from hexapod_adapt.online.adaptation import AdaptationResult, simulated_trial, TrialAborted
 from hexapod_adapt.online.bank import BANK_DAMAGES
 from hexapod_adapt.online.ceiling import cached_ceiling, map_digest
+from hexapod_adapt.online.experiment import run_experiment
 from hexapod_adapt.online.mboa import Mboa, MboaConfig, mixture
 from hexapod_adapt.online.prior import damage_of_request, KnownDamage
 from hexapod_adapt.online.run_config import Setting
+from hexapod_adapt.online.session import adapt, AdaptationSession, SessionStart
 from hexapod_adapt.online.trials import OdomLog, SampleLog, Waiter
 
 __all__ = [
     'AdaptationResult',
+    'AdaptationSession',
     'Archive',
     'ArchiveError',
     'BANK_DAMAGES',
@@ -51,6 +48,7 @@ __all__ = [
     'OdomLog',
     'REACH',
     'SampleLog',
+    'SessionStart',
     'Setting',
     'TrialAborted',
     'Waiter',

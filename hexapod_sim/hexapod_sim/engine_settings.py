@@ -22,7 +22,7 @@ class PyBulletSettings:
 
     ``ACCURATE`` is PyBullet's default and the default everywhere. ``FAST`` trades solver
     iterations for speed; ``make bench-sim`` measured its ranking fidelity against ACCURATE below
-    Spearman 0.95 (docs/simulator.md), so nothing uses it unless asked to.
+    Spearman 0.95 (studies/engines/README.md), so nothing uses it unless asked to.
     """
 
     solver_iterations: int = 50
@@ -37,7 +37,7 @@ class PyBulletSettings:
     #: sheet's compliance, stall torque and back-EMF), its torque computed at ``substeps`` per
     #: step. 'position': Bullet's position motor, as the thesis's simulator drove the joints (a
     #: velocity-level constraint up to the stall torque: about 25 times stiffer than the RX;
-    #: docs/simulator.md, "Where the engines differ", item 3).
+    #: studies/engines/README.md, "Where the engines differ", item 3).
     servo: str = 'rx'
     #: 'rx' only: physics steps per time step, the torque recomputed at each (960 Hz, as DART).
     substeps: int = 4
@@ -100,7 +100,7 @@ class MujocoSettings:
     """
     Every engine-specific choice of the MuJoCo model, each with its reason.
 
-    Docs/simulator.md shows how the results move when they change.
+    studies/engines/README.md shows how the results move when they change.
     """
 
     #: 240 Hz: the thesis's step, PyBullet's, and the rate of the gait tables (one row per step).
@@ -110,7 +110,7 @@ class MujocoSettings:
     #: implicitly) and a tibia's servo loop runs at about 240 rad/s, so one step per 240 Hz row
     #: has not converged on fast gaits: on the CMA-MAE map's 8 fastest and 8 random gaits their
     #: speeds moved by a median 0.129 m/s from 1 to 8 substeps (Spearman 0.29), by 0.009 from 4
-    #: to 8 (0.96) (docs/simulator.md, "Where the engines differ", item 6). 1 is kept as the
+    #: to 8 (0.96) (studies/engines/README.md, "Where the engines differ", item 6). 1 is kept as the
     #: default until the maps, ceilings and banks made at it are remade at 4.
     substeps: int = 1
     #: implicit in the servo damping and back-EMF terms: stiff servos stay stable at 240 Hz.
@@ -120,7 +120,7 @@ class MujocoSettings:
     iterations: int = 20
     tolerance: float = 1e-8
     #: MuJoCo's default friction cone; elliptic gave the same ranking (Spearman within 0.03) at
-    #: 1.6x the cost (docs/simulator.md).
+    #: 1.6x the cost (studies/engines/README.md).
     cone: str = 'pyramidal'
     #: Dynamixel compliance slope in position units: the error over which the servo's torque
     #: ramps from 0 to its maximum. 32 is the RX-28/RX-64 factory default (the robot's firmware

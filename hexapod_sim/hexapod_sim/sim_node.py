@@ -88,7 +88,7 @@ PARAMETERS = (
         0,
         "Physics steps per 240 Hz row, the row's target held through them (0: the engine's"
         ' default). A map made at N steps per row (its fingerprint says: the default map is'
-        ' MuJoCo at 4) walks here as it did in the map at N; docs/simulator.md, "Where the'
+        ' MuJoCo at 4) walks here as it did in the map at N; studies/engines/README.md, "Where the'
         ' engines differ", item 6, gives each engine\'s converged step.',
         read_only=True,
         range=(0, 64),
@@ -114,7 +114,7 @@ PARAMETERS = (
         6,
         'Publish /clock every N physics steps (6: 40 Hz of sim time) and with every state'
         ' message. Each /clock message wakes every node on use_sim_time: at every step (240 Hz)'
-        " a Python node's multi-threaded executor took a whole core (docs/simulator.md).",
+        " a Python node's multi-threaded executor took a whole core (studies/engines/README.md).",
         read_only=True,
         range=(1, 240),
     ),

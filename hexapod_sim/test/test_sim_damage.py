@@ -53,7 +53,7 @@ def test_a_locked_leg_holds_the_standing_pose_while_the_others_walk(sim):
     leg2 = measured[:, 3:6]
     # held (servo compliance under load: at most 0.06 rad on MuJoCo, 0.09 on PyBullet's RX
     # servo, measured); DART's hard contacts load the dragged leg past the tibia servo's stall
-    # torque for moments (0.17 rad: docs/simulator.md)
+    # torque for moments (0.17 rad: studies/engines/README.md)
     assert np.max(np.abs(leg2 - stand[3:6])) < (0.2 if sim.engine == 'dart' else 0.12)
     assert np.ptp(commanded[:, 3]) > 0.2  # the gait moves that coxa ...
     assert np.ptp(measured[:, 0]) > 0.2  # ... and leg 1's coxa moves

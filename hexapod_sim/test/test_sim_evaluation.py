@@ -116,7 +116,7 @@ def test_failed_leg_holds_its_pose_and_never_touches_the_ground(sim, gait, legs)
     q, _, _ = sim.joint_states()
     # On DART, with legs 2 and 4 lifted, the quadruped's stance legs reach their servos' stall
     # torque and the body sinks (0.14 to 0.08 m) until the folded leg 2 grazes the floor: it
-    # still holds its pose (checked below). docs/simulator.md, "Where the engines differ".
+    # still holds its pose (checked below). studies/engines/README.md, "Where the engines differ".
     sinks = sim.engine == 'dart' and (gait, legs) == ('quadruped', (2, 4))
     for leg in legs:
         if not sinks:

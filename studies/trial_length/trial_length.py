@@ -24,9 +24,10 @@ from typing import Any, Callable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive, load_archive
 from hexapod_adapt.mapping.simulation import engine_of_map
-from hexapod_adapt.online.adaptation import adapt, map_speed, simulated_trial
+from hexapod_adapt.online.adaptation import map_speed, simulated_trial
 from hexapod_adapt.online.ceiling import approximate_ceiling, Ceiling, ceiling
 from hexapod_adapt.online.mboa import MboaConfig, PROFILES, TRIAL_BUDGET
+from hexapod_adapt.online.session import adapt
 from hexapod_sim import create_simulator, ENGINES, SimConfig
 from hexapod_util.cli import input_file, output_dir, output_file, run_command
 from hexapod_util.files import atomic_write_bytes, save_png

@@ -18,9 +18,10 @@ from dataclasses import replace
 import sys
 
 from hexapod_adapt.mapping.archive import load_archive
-from hexapod_adapt.online.adaptation import adapt, map_speed, simulated_trial
+from hexapod_adapt.online.adaptation import map_speed, simulated_trial
 from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
 from hexapod_adapt.online.replay import control_speeds
+from hexapod_adapt.online.session import adapt, SessionStart
 from hexapod_sim import create_simulator, SimConfig
 import numpy as np
 from studies.tuning_set import TUNING_DAMAGES
@@ -50,7 +51,7 @@ def main() -> int:
                     archive,
                     simulated_trial(archive, d, sim, timed, settle),
                     config,
-                    floor=lambda: controls[d],
+                    SessionStart(floor=controls[d]),
                 )
                 judged = map_speed(archive, result.best_niche, d, sim)
                 speeds.append(judged)

@@ -166,7 +166,7 @@ def test_a_node_started_without_the_variable_uses_the_profile_unless_one_is_set(
     """run_node sets the profile itself, so `ros2 run` on a full install gets it too."""
     own = _wait_behind_deaf_clients(tmp_path, own_profile=True)
     ours = _wait_behind_deaf_clients(tmp_path, own_profile=False)
-    print(f'answer waited {ours:.2f} s with our profile, {own:.2f} s with a user\'s own')
+    print(f"answer waited {ours:.2f} s with our profile, {own:.2f} s with a user's own")
     assert ours >= 3.0, ours  # 2 x 2 s
     # relative, so that a loaded machine's delays, which both runs share, cannot fail it
     assert own < ours - 2.0, (own, ours)

@@ -15,10 +15,11 @@ from dataclasses import dataclass
 from typing import Callable, Iterable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive
-from hexapod_adapt.online.adaptation import adapt, AdaptationResult
+from hexapod_adapt.online.adaptation import AdaptationResult
 from hexapod_adapt.online.bank import DamageBank
 from hexapod_adapt.online.ceiling import Ceiling
 from hexapod_adapt.online.mboa import MboaConfig
+from hexapod_adapt.online.session import adapt, SessionStart
 from hexapod_gait import preset
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig
 from hexapod_sim.damage import Damage
@@ -60,9 +61,8 @@ def replay(
     With ``bank`` and ``config.use_bank``, the bank's hypotheses too.
     """
     hypotheses = bank.hypotheses(config.use_bank) if bank is not None else None
-    return adapt(
-        archive, lookup_trial(c), config, floor=lambda: control_speed, hypotheses=hypotheses
-    )
+    start = SessionStart(hypotheses=hypotheses, floor=control_speed)
+    return adapt(archive, lookup_trial(c), config, start)
 
 
 def control_speeds(damages: Iterable[Damage], engine: str, duration: float) -> dict[Damage, float]:

@@ -29,14 +29,15 @@ import sys
 from hexapod_adapt.mapping.archive import ArchiveError, load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
 from hexapod_adapt.mapping.simulation import engine_of_map
-from hexapod_adapt.online.adaptation import (
-    DEFAULT_TIP_GUARD,
-    EXPERIMENT_MAX_TRIALS,
-    ExperimentRow,
-    run_experiment,
-)
+from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
 from hexapod_adapt.online.bank import load_bank
 from hexapod_adapt.online.ceiling import ceiling
+from hexapod_adapt.online.experiment import (
+    EXPERIMENT_MAX_TRIALS,
+    ExperimentRow,
+    ExperimentSetup,
+    run_experiment,
+)
 from hexapod_adapt.online.experiment_plots import plot_experiment
 from hexapod_adapt.online.mboa import (
     ALPHA_RANGE,
@@ -327,11 +328,9 @@ def _experiment(args: argparse.Namespace) -> int:
     rows: list[ExperimentRow] = []
     try:
         for engine in engines:
-            rows += run_experiment(
-                archive,
+            setup = ExperimentSetup(
                 args.scenarios,
                 config,
-                on_row=show,
                 trial_engine=engine,
                 ceilings=ceilings if args.ceilings is not None else None,
                 floor=floor,
@@ -344,6 +343,7 @@ def _experiment(args: argparse.Namespace) -> int:
                 kind=args.damage_kind,
                 tip_guard=DEFAULT_TIP_GUARD,  # adapt_node's
             )
+            rows += run_experiment(archive, setup, on_row=show)
     except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the completed runs are kept
         if rows:
             _write_csv(args, rows)

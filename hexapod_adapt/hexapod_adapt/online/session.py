@@ -1,172 +1,115 @@
 # Copyright 2026 Hexapod adaptation team
 # SPDX-License-Identifier: MIT
 """
-What one ``adapt`` request does around M-BOA, without ROS (adapt_node calls it).
+One adaptation run as an ask/tell session (ROS-free): which gait next, and when to stop.
 
-The trials' timing in each mode, the trial procedure of each mode, the damage-informed prior
-with its progress, and the lines a run logs. The node converts messages and parameters; the
-decisions are here, tested without a graph.
+    session = AdaptationSession(archive, config, start)
+    while (niche := session.ask()) is not None:
+        session.tell(niche, walk(niche))  # a speed [m/s] or a TrialOutcome
+    result = session.result()
+
+The session owns everything a run decides: M-BOA over the map's elites, the prior it starts
+from (the map, or the map re-scored under a known damage, and the newer priors a streaming
+re-score sends), the tip screen that vetoes gaits that tip in simulation, the success floor and
+the stop. Whoever walks the trials drives it: adapt_node through the ROS graph,
+``run_experiment`` in a simulator, the tests with a lookup table (:func:`adapt`). What the prior
+or the floor changes in M-BOA's settings is resolved once, at construction
+(:func:`run_rules`), and shows in the result's ``config``.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 import math
 import time
-from typing import Callable, Sequence
+from typing import Callable, Protocol
 
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import engine_of_map
-from hexapod_adapt.online.adaptation import AdaptationResult
-from hexapod_adapt.online.mboa import MboaConfig, Trial
-from hexapod_adapt.online.prior import TipScreen
-from hexapod_adapt.online.streaming_prior import StreamingPrior
-from hexapod_adapt.online.trials import (
-    ManualTrials,
-    reported_distance_problem,
-    RobotTrials,
-    SimTrials,
-    TrialLogs,
-    TrialPort,
-    TrialTiming,
-    Waiter,
+from hexapod_adapt.online.adaptation import (
+    AdaptationResult,
+    candidates,
+    TrialAborted,
+    TrialCancelled,
+    TrialOutcome,
 )
-from hexapod_description.model import load_model
+from hexapod_adapt.online.mboa import Mboa, MboaConfig, MIN_SPEED_RANGE, StopReason, Trial
+from hexapod_adapt.online.prior import simulated_tilts, TipScreen
 from hexapod_sim.damage import Damage
 import numpy as np
 
-Log = Callable[[str], None]
+#: Asked before each trial for a newer prior, one speed per elite (None: nothing new), e.g. a
+#: streaming re-score's ``update``.
+PriorUpdates = Callable[[], 'np.ndarray | None']
 
 
 @dataclass(frozen=True)
-class RunRequest:
-    """One adapt request, checked: M-BOA's settings, the trial length, the prior's damage."""
+class PriorStart:
+    """What a source of damage-informed priors gives a run: speeds, what they are, updates."""
 
-    config: MboaConfig
-    duration: float  # s timed per trial, as asked for
-    damage: Damage | None  # the prior's damage (None: the map as it is)
-    source: str  # where the damage comes from, or why there is none
-    auto: bool  # the damage is whatever is reported (not named by the request, not blind)
+    speeds: np.ndarray | None  # None: no prior could be had (``note`` says why)
+    note: str  # what the prior is, for the operator
+    updates: PriorUpdates | None = None
 
 
-#: A run's trial procedure, one per mode.
-TrialProcedure = SimTrials | RobotTrials | ManualTrials
+class PriorSource(Protocol):
+    """Where a run gets the map re-scored under a damage, on the map's engine."""
+
+    def start(self, archive: Archive, damage: Damage, source: str) -> PriorStart:
+        """Return the prior of ``damage`` (``source``: where the damage is known from)."""
 
 
-def trial_walk(
-    mode: str, duration: float, settle: float, bridge: tuple[float, float] | None, warn: Log
-) -> tuple[float, float]:
+@dataclass(frozen=True)
+class SessionStart:
     """
-    Return (timed, settling) seconds of a run's trials.
+    What a session knows before its first trial, besides the map and M-BOA's settings.
 
-    Sim mode: ``duration`` and the node's ``settle``. On the robot, what bridge_node walks
-    (``bridge``: its trial_duration and trial_settle, one home for them); ``duration`` from
-    standing if it did not say.
+    ``prior``: one speed per elite (``archive.elite_indices()``'s order) to start from instead
+    of the map's, e.g. the map re-scored under a known damage; ``updates`` sends newer ones
+    between trials. ``screen``: asked about each gait before it is tried (a gait that tips in
+    simulation is vetoed). ``hypotheses`` (h, elites): other prior means the trials weigh
+    (a damage bank). ``floor`` [m/s]: a reference measured before the run (the damaged control
+    tripod): success also needs the best gait to walk that fast. ``note``: what the prior is.
     """
-    if mode == 'sim':
-        return duration, settle
-    if bridge is None:
-        warn(
-            'bridge_node did not say how it walks a trial (its trial_duration and'
-            f' trial_settle): assuming {duration:g} s from standing'
-        )
-        return duration, 0.0
-    if abs(bridge[0] - duration) > 1e-6:
-        warn(
-            f'trials of {duration:g} s were asked for, but bridge_node walks {bridge[0]:g} s'
-            ' timed: its trial_duration is used (set it on bridge_node to change a robot trial)'
-        )
-    return bridge
+
+    prior: np.ndarray | None = None
+    updates: PriorUpdates | None = None
+    screen: TipScreen | None = None
+    hypotheses: np.ndarray | None = None
+    floor: float | None = None
+    note: str = ''
+
+    @property
+    def informed(self) -> bool:
+        """Whether M-BOA starts from a prior of a known damage (not the map's own speeds)."""
+        return self.prior is not None or self.updates is not None
 
 
-def trial_procedure(
-    mode: str,
-    port: TrialPort,
-    logs: TrialLogs,
-    waiter: Waiter,
-    timing: TrialTiming,
-    warn: Log,
-    tip_guard: float = math.pi,
-) -> TrialProcedure:
-    """
-    Return the trial function of ``mode`` (sim, robot or manual).
-
-    ``tip_guard`` [rad]: sim and robot trials that tilt the body past it are stopped (the
-    odometry's attitude in sim, the robot's IMU on the robot); a manual trial has no attitude to
-    watch. ``warn`` hears what a run must tell its operator: a fault, a prompt.
-    """
-    if mode == 'sim':
-        return SimTrials(port, logs.odom, waiter, timing, warn, tip_guard)
-    if mode == 'robot':
-        return RobotTrials(
-            port, logs.results, waiter, timing, port.link_problem, warn,
-            load_model().max_walking_speed, tilts=logs.tilts, tip_guard=tip_guard,
-        )  # fmt: skip
-    return ManualTrials(port, logs.results, waiter, timing, warn)
-
-
-#: How long a run waits for the top of the map to be re-scored before its first trial [s].
-PRIOR_FIRST_TIMEOUT = 600.0
-
-
-def streaming_prior(
+def informed_start(
     archive: Archive,
-    damage: Damage,
-    cache_dir: str | None,
-    read_dirs: Sequence,
-    workers: int,
-    log: Log,
-    progress_period: float = 5.0,
-) -> StreamingPrior:
+    damage: Damage | None,
+    source: str,
+    priors: PriorSource,
+    tip_guard: float = math.pi,
+    floor: float | None = None,
+) -> SessionStart:
     """
-    Start re-scoring the map under ``damage``, best gaits first (cached: at once).
+    Return the start of a run that knows ``damage`` (None: the map as it is, blind).
 
-    Progress goes to ``log`` every ``progress_period`` s and at the end.
+    M-BOA starts from ``priors``' re-score under it. With a ``tip_guard`` below pi, each gait is
+    walked under the damage before its trial, tilt recorded, and one that tilts past the guard
+    there is never tried (:class:`TipScreen`).
     """
-    engine = engine_of_map(archive)
-    shown = [time.monotonic()]
-
-    def progress(done: int, total: int) -> None:
-        if time.monotonic() - shown[0] >= progress_period or done == total:
-            shown[0] = time.monotonic()
-            log(
-                f're-scoring the map under {damage.label}: {done}/{total} gaits'
-                f' ({100 * done / total:.0f} %)'
-                + (', complete and cached' if done == total else '')
-            )
-
-    stream = StreamingPrior(
-        archive, damage, engine, cache_dir, list(read_dirs), workers, progress=progress
-    )
-    if not stream.cached:
-        log(
-            f'damage-informed prior: re-scoring {archive.n_filled} gaits on {engine} under'
-            f' {damage.label}, the best {stream.first} first'
-        )
-    return stream
-
-
-def first_prior(stream: StreamingPrior, source: str) -> tuple[np.ndarray | None, str]:
-    """Wait for the top of the re-score; return (M-BOA's first prior, what it is)."""
-    if not stream.wait_first(PRIOR_FIRST_TIMEOUT):
-        why = (
-            stream.error or f'the top of the map was not re-scored in {PRIOR_FIRST_TIMEOUT:.0f} s'
-        )
-        return None, f'the map as it is ({why}; damage from {source})'
-    snap = stream.take()  # one snapshot: the speeds and what is said of them agree
-    speeds = snap.speeds
-    what = f'the map re-scored on {stream.engine} under {stream.damage.label}'
-    if stream.cached:
-        how = 'cached'
-    elif snap.complete:
-        how = f'{snap.seconds:.0f} s'
-    else:
-        how = (
-            f'streaming: the best {snap.scored} of {snap.total} gaits scored in'
-            f' {snap.seconds:.0f} s before the first trial, the rest update the prior between'
-            ' trials'
-        )
-    return speeds, f'{what} (best {float(np.max(snap.speeds)):.3f} m/s, {how}), from {source}'
+    if damage is None:
+        return SessionStart(floor=floor, note=source)
+    got = priors.start(archive, damage, source)
+    if got.speeds is None:
+        return SessionStart(floor=floor, note=got.note)
+    screen, note = None, got.note
+    if tip_guard < math.pi:
+        screen = TipScreen(simulated_tilts(archive, damage, engine_of_map(archive)), tip_guard)
+        note += screen_note(screen)
+    return SessionStart(got.speeds, got.updates, screen, floor=floor, note=note)
 
 
 def screen_note(screen: TipScreen) -> str:
@@ -177,88 +120,208 @@ def screen_note(screen: TipScreen) -> str:
     )
 
 
-def duplicate_problem(name: str, count: int) -> str:
-    """Say why a run cannot go on with ``count`` nodes named ``name`` ('' when one or none)."""
-    if count <= 1:
-        return ''
-    return (
-        f'{count} nodes named {name} are in the graph: trials would be ambiguous; stop the extra'
-        ' one (or rename it with --ros-args -r __node:=NAME) and call adapt again'
-    )
+def run_rules(config: MboaConfig, start: SessionStart) -> MboaConfig:
+    """
+    Return the M-BOA settings a run keeps to: ``config`` with what its start changes.
+
+    A run from a known damage's prior stops on alpha alone (its first trial is the re-score's
+    best; ``stop_gain`` is for blind runs). A floor above ``config.min_speed`` raises the
+    success floor to it.
+    """
+    if start.informed and config.stop_gain > 0:
+        config = replace(config, stop_gain=0.0)
+    floor = start.floor
+    if floor is not None and math.isfinite(floor) and floor > config.min_speed:
+        config = replace(config, min_speed=min(float(floor), MIN_SPEED_RANGE[1]))
+    return config
 
 
-def start_message(archive: Archive, config: MboaConfig, timing: TrialTiming, note: str) -> str:
-    """Return the line a run logs as it starts."""
-    return (
-        f'adaptation started: {archive.n_filled} gaits, at most {config.max_trials} trials '
-        f'of {timing.duration:g} s'
-        + (f' after {timing.settle:g} s of settling' if timing.settle else '')
-        + f', alpha {config.alpha:g}, kappa {config.kappa:g}'
-        + (f'; {note}' if note else '')
-    )
+def _with_prior(opt: Mboa, prior: np.ndarray) -> Mboa:
+    """Return M-BOA started again from ``prior``, with ``opt``'s trials learned again."""
+    again = Mboa(opt.descriptors, prior, opt.config, hypotheses=opt.hypotheses)
+    again.vetoed = set(opt.vetoed)
+    for t in opt.trials:
+        again.observe(t.index, t.measured, tipped=t.tipped)
+    return again
 
 
-def trial_message(trial: Trial, niche: int) -> str:
-    """Return the line a run logs after each trial."""
-    if trial.tipped:
-        return (
-            f'trial {trial.number}: gait {niche} tilted the body past the tip guard: stopped,'
-            f' counted as 0 m/s and never tried again (map {trial.predicted:.3f} m/s)'
-        )
-    return (
-        f'trial {trial.number}: gait {niche} walked {trial.measured:.3f} m/s '
-        f'(map {trial.predicted:.3f}, GP {trial.gp_mean:.3f} +/- {trial.gp_std:.3f})'
-    )
+@dataclass
+class Veto:
+    """A gait the tip screen kept from being tried."""
+
+    niche: int
+    tilt: float  # its peak tilt in simulation under the damage [rad]
 
 
-def veto_message(niche: int, tilt: float, guard: float) -> str:
-    """Return the line a run logs when the tip screen keeps a gait from being tried."""
-    return (
-        f'gait {niche} skipped: it tilts the body {math.degrees(tilt):.0f} deg in simulation'
-        f' under the damage, past the {math.degrees(guard):.0f} deg tip guard; never tried'
-    )
+@dataclass
+class AdaptationSession:
+    """
+    M-BOA over ``archive``'s elites, asked for the next gait and told each trial's outcome.
+
+    ``ask()`` returns the niche to walk next, or None once the run has stopped (M-BOA's rule,
+    the budget, the map used up, or :meth:`end`); ``tell(niche, outcome)`` gives its outcome.
+    """
+
+    archive: Archive
+    config: MboaConfig = field(default_factory=MboaConfig)
+    start: SessionStart = field(default_factory=SessionStart)
+    vetoes: list[Veto] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self.niches, descriptors, map_prior = candidates(self.archive)
+        prior = map_prior if self.start.prior is None else np.asarray(self.start.prior)
+        if prior.shape != map_prior.shape:
+            raise ValueError(
+                f'a prior needs one speed per gait ({len(map_prior)}), got {np.shape(prior)}'
+            )
+        self.rules = run_rules(self.config, self.start)
+        self.opt = Mboa(descriptors, prior, self.rules, hypotheses=self.start.hypotheses)
+        self._result = AdaptationResult(False, '', config=self.rules)
+        self._asked: int | None = None  # the candidate index of the niche ask() returned
+        self._ended = False
+        self._said = 0  # vetoes said through new_vetoes()
+        self._t0 = time.monotonic()
+
+    # -- ask / tell -------------------------------------------------------------------------
+    def ask(self) -> int | None:
+        """Return the niche of the next gait to try (None: the run has stopped)."""
+        if self._ended:
+            return None
+        if self._asked is not None:
+            return int(self.niches[self._asked])  # asked again before a tell: the same gait
+        while True:
+            while self._vetoed(self.opt.leading_index()):  # alpha's bar: a gait it could keep
+                pass
+            if self.opt.stop_reason() is not StopReason.CONTINUE:
+                # success is the rule's, whether it ended the run or the budget did
+                self._result.success = self.opt.alpha_met()
+                self._end(self.opt.should_stop()[1])
+                return None
+            newer = self.start.updates() if self.start.updates is not None else None
+            if newer is not None:
+                self.opt = _with_prior(self.opt, newer)  # its bar is vetted before a stop
+            index = self.opt.next_index()
+            if not self._vetoed(index):
+                self._asked = index
+                return int(self.niches[index])
+
+    def tell(self, niche: int, outcome: float | TrialOutcome) -> Trial | None:
+        """
+        Take the outcome of the trial of ``niche`` (the one :meth:`ask` gave).
+
+        A tipped trial counts as failed (0 m/s) and its gait is never tried again. A non-finite
+        speed (broken odometry) is never learned: it ends the run (returns None).
+        """
+        index = self._asked
+        if index is None or int(self.niches[index]) != int(niche):
+            raise ValueError(f'gait {niche} was not asked for (ask() gives the next gait)')
+        self._asked = None
+        if not isinstance(outcome, TrialOutcome):
+            outcome = TrialOutcome(float(outcome))
+        measured = 0.0 if outcome.tipped else float(outcome.speed)
+        if not math.isfinite(measured):
+            self._end(
+                f'trial {len(self.opt.trials) + 1} (gait {niche}) measured a non-finite speed '
+                f'({measured!r} m/s): the odometry is broken; run stopped'
+            )
+            return None
+        trial = self.opt.observe(index, measured, tipped=outcome.tipped)
+        self._result.niches.append(int(niche))
+        if outcome.tipped:
+            self._result.tipped.append(int(niche))
+        return trial
+
+    def end(self, why: str) -> None:
+        """Stop the run before its rule does (a trial aborted, a cancel): ``why`` says so."""
+        if not self._ended:
+            self._end(why)
+
+    def abort(self, exc: TrialAborted) -> None:
+        """Stop the run on a trial that could not be completed (a cancel says 'cancelled')."""
+        if isinstance(exc, TrialCancelled):
+            self.end('cancelled')
+        else:
+            self.end(f'trial {len(self.opt.trials) + 1} aborted: {exc}')
+
+    # -- what the run holds -----------------------------------------------------------------
+    @property
+    def finished(self) -> bool:
+        """Whether the run has stopped."""
+        return self._ended
+
+    def best(self) -> tuple[int, float] | None:
+        """Return (niche, measured speed) of the best upright trial so far (None: none yet)."""
+        best = self.opt.best()
+        return None if best is None else (int(self.niches[best.index]), best.measured)
+
+    def new_vetoes(self) -> list[Veto]:
+        """Return the vetoes since the last call (to say each once)."""
+        said, self._said = self._said, len(self.vetoes)
+        return self.vetoes[said:]
+
+    def result(self) -> AdaptationResult:
+        """Return the run's outcome so far: its trials, best gait and why it stopped."""
+        r = self._result
+        r.trials = list(self.opt.trials)
+        best = self.best()
+        if best is not None:
+            r.best_niche, r.best_speed = best
+        if not self._ended:
+            r.elapsed = time.monotonic() - self._t0
+        return r
+
+    # -- inside -----------------------------------------------------------------------------
+    def _end(self, message: str) -> None:
+        self._result.message = message
+        self._ended = True
+        self._asked = None
+        self._result.elapsed = time.monotonic() - self._t0
+
+    def _vetoed(self, index: int | None) -> bool:
+        """Veto ``index`` if the screen says it tips (False: no screen, no gait, or upright)."""
+        screen = self.start.screen
+        if screen is None or index is None or not screen.tips(index):
+            return False
+        self.opt.veto(index)
+        niche = int(self.niches[index])
+        self._result.vetoed.append(niche)
+        self.vetoes.append(Veto(niche, screen.tilts[index]))
+        return True
 
 
-def report_distance(trials: TrialProcedure | None, distance: float) -> str:
-    """Hand an operator's measured distance [m] to a waiting manual trial; '' or why not."""
-    if isinstance(trials, ManualTrials):
-        return trials.report(distance)
-    return reported_distance_problem(distance) or 'no manual trial is waiting for a distance'
+def run_session(
+    session: AdaptationSession,
+    trial: Callable[[int], float | TrialOutcome],
+    on_trial: Callable[[Trial, int, AdaptationSession], None] | None = None,
+    cancelled: Callable[[], bool] | None = None,
+) -> AdaptationResult:
+    """
+    Drive ``session`` with ``trial(niche)`` until it stops; return its result.
+
+    ``on_trial(trial, niche, session)`` hears each trial; ``cancelled()``, asked before each,
+    ends the run as 'cancelled'. A trial that raises :class:`TrialAborted` ends it with why.
+    """
+    while (niche := session.ask()) is not None:
+        if cancelled is not None and cancelled():
+            session.end('cancelled')
+            break
+        try:
+            outcome = trial(niche)
+        except TrialAborted as exc:
+            session.abort(exc)
+            break
+        told = session.tell(niche, outcome)
+        if told is not None and on_trial is not None:
+            on_trial(told, niche, session)
+    return session.result()
 
 
-def start_note(prior: str, servo_check: str = '') -> str:
-    """Return what a run tells its operator as it starts: M-BOA's prior, and why."""
-    return f'M-BOA starts from {prior}' + (f' ({servo_check})' if servo_check else '')
-
-
-def result_message(result: AdaptationResult, note: str, recording_problem: str) -> str:
-    """Return the adapt response's message: the run's, with the engine note and recording."""
-    message = result.message + (f' ({note})' if note else '')
-    if result.vetoed:
-        gaits = ', '.join(map(str, result.vetoed))
-        message += f'; never tried, as they tip in simulation under the damage: gait(s) {gaits}'
-    return message + (f'; recording: {recording_problem}' if recording_problem else '')
-
-
-def finish_message(result: AdaptationResult) -> str:
-    """Return the line a run logs as it ends."""
-    best = (
-        f'best gait {result.best_niche} at {result.best_speed:.3f} m/s'
-        if result.best_niche >= 0
-        else 'no gait walked without tipping: none is left on the robot'
-    )
-    return f'adaptation finished: {result.message}; {len(result.trials)} trials, {best}'
-
-
-def shutdown_message(result: AdaptationResult) -> str:
-    """Return the one line a run logs when its node shuts down in the middle of it."""
-    best = (
-        f'; best gait {result.best_niche} at {result.best_speed:.3f} m/s'
-        if result.best_niche >= 0
-        else ''
-    )
-    return (
-        f'shutting down: the adaptation ended after {len(result.trials)} trials{best}; the best'
-        ' gait was not left on the robot or the simulator (the recording holds every completed'
-        ' trial)'
-    )
+def adapt(
+    archive: Archive,
+    trial: Callable[[int], float | TrialOutcome],
+    config: MboaConfig | None = None,
+    start: SessionStart | None = None,
+) -> AdaptationResult:
+    """Run a whole session on ``trial(niche)`` (a speed or a TrialOutcome); return its result."""
+    session = AdaptationSession(archive, config or MboaConfig(), start or SessionStart())
+    return run_session(session, trial)

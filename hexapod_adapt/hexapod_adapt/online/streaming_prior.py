@@ -23,6 +23,7 @@ import time
 from typing import Callable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive
+from hexapod_adapt.mapping.simulation import engine_of_map
 from hexapod_adapt.online.ceiling import (
     cached_ceiling,
     Ceiling,
@@ -192,3 +193,95 @@ class StreamingPrior:
         with self._cond:
             self._stop = True
             self._cond.notify_all()
+
+
+#: How long a run waits for the top of the map to be re-scored before its first trial [s].
+PRIOR_FIRST_TIMEOUT = 600.0
+
+
+class StreamingPriors:
+    """
+    adapt_node's source of damage-informed priors (a session's ``PriorSource``).
+
+    Each run's damage is re-scored on the map's engine, best gaits first, read from
+    ``read_dirs`` and ``cache_dir`` when cached; a re-score still streaming for the same map and
+    damage is the next run's too. Progress goes to ``log`` every ``progress_period`` s.
+    """
+
+    def __init__(
+        self,
+        cache_dir: str | None,
+        read_dirs: Sequence[str | os.PathLike],
+        workers: int,
+        log: Callable[[str], None],
+        progress_period: float = 5.0,
+    ) -> None:
+        self.cache_dir, self.read_dirs, self.workers = cache_dir, list(read_dirs), workers
+        self.log, self.progress_period = log, progress_period
+        self.stream: StreamingPrior | None = None  # the last run's (may still stream)
+
+    def start(self, archive: Archive, damage: Damage, source: str):
+        """Wait for the top of the re-score under ``damage``; return the run's PriorStart."""
+        from hexapod_adapt.online.session import PriorStart  # the session imports this module
+
+        stream = self._stream_for(archive, damage)
+        if not stream.wait_first(PRIOR_FIRST_TIMEOUT):
+            why = stream.error or (
+                f'the top of the map was not re-scored in {PRIOR_FIRST_TIMEOUT:.0f} s'
+            )
+            return PriorStart(None, f'the map as it is ({why}; damage from {source})')
+        snap = stream.take()  # one snapshot: the speeds and what is said of them agree
+        what = f'the map re-scored on {stream.engine} under {damage.label}'
+        if stream.cached:
+            how = 'cached'
+        elif snap.complete:
+            how = f'{snap.seconds:.0f} s'
+        else:
+            how = (
+                f'streaming: the best {snap.scored} of {snap.total} gaits scored in'
+                f' {snap.seconds:.0f} s before the first trial, the rest update the prior'
+                ' between trials'
+            )
+        best = float(np.max(snap.speeds))
+        note = f'{what} (best {best:.3f} m/s, {how}), from {source}'
+        return PriorStart(snap.speeds, note, stream.update)
+
+    def close(self) -> None:
+        """Stop a re-score still streaming."""
+        if self.stream is not None:
+            self.stream.close()
+
+    def _stream_for(self, archive: Archive, damage: Damage) -> StreamingPrior:
+        """Return the re-score under ``damage``: the one still streaming, or a new one."""
+        s = self.stream
+        if s is not None and s.archive is archive and s.damage == damage:
+            if not (s.error or s.stopped):
+                return s
+        self.close()
+        engine = engine_of_map(archive)
+        shown = [time.monotonic()]
+
+        def progress(done: int, total: int) -> None:
+            if time.monotonic() - shown[0] >= self.progress_period or done == total:
+                shown[0] = time.monotonic()
+                self.log(
+                    f're-scoring the map under {damage.label}: {done}/{total} gaits'
+                    f' ({100 * done / total:.0f} %)'
+                    + (', complete and cached' if done == total else '')
+                )
+
+        self.stream = StreamingPrior(
+            archive,
+            damage,
+            engine,
+            self.cache_dir,
+            self.read_dirs,
+            self.workers,
+            progress=progress,
+        )
+        if not self.stream.cached:
+            self.log(
+                f'damage-informed prior: re-scoring {archive.n_filled} gaits on {engine} under'
+                f' {damage.label}, the best {self.stream.first} first'
+            )
+        return self.stream

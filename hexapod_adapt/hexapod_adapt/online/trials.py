@@ -31,6 +31,7 @@ from hexapod_adapt.online.adaptation import (
     TrialOutcome,
     WaitTimedOut,
 )
+from hexapod_gait import GaitParameters
 
 MODES = ('sim', 'robot', 'manual')
 T = TypeVar('T')
@@ -223,8 +224,8 @@ class Upload:
 class TrialPort(Protocol):
     """What a trial does to the graph (rclpy: :class:`hexapod_adapt.ros.graph_port.GraphPort`)."""
 
-    def publish_gait(self, niche: int) -> tuple[int, float]:
-        """Publish the gait of ``niche`` on gait/parameters: (unique stamp [ns], crab [rad])."""
+    def publish_gait(self, gait: GaitParameters) -> tuple[int, float]:
+        """Publish ``gait`` on gait/parameters: (its unique stamp [ns], its crab angle [rad])."""
 
     def active_stamp(self) -> int | None:
         """Stamp of the gait sim_node plays (sim/active_trajectory)."""
@@ -235,8 +236,8 @@ class TrialPort(Protocol):
     def reset(self) -> tuple[bool, str]:
         """Call sim_node's reset; TrialAborted if it does not answer."""
 
-    def upload(self, niche: int, timeout: float) -> tuple[Upload, float]:
-        """Upload the gait of ``niche`` through bridge_node: (its answer, crab [rad])."""
+    def upload(self, gait: GaitParameters, timeout: float) -> tuple[Upload, float]:
+        """Upload ``gait`` through bridge_node: (its answer, its crab angle [rad])."""
 
     def start_trial(self) -> tuple[bool, str]:
         """Call bridge_node's start_trial; TrialAborted if it does not answer."""
@@ -272,6 +273,7 @@ class SimTrials:
 
     ATTEMPTS: ClassVar[int] = 3
 
+    gaits: GaitOf
     port: TrialPort
     odom: OdomLog
     waiter: Waiter
@@ -285,7 +287,7 @@ class SimTrials:
         """Measure the speed of the gait of ``niche`` [m/s], or stop it when it tips."""
         duration, timeout, wait = self.timing.duration, self.timing.timeout, self.waiter.until
         for attempt in range(self.ATTEMPTS):
-            stamp, crab = self.port.publish_gait(niche)
+            stamp, crab = self.port.publish_gait(self.gaits(niche))
             wait(
                 lambda: self.port.active_stamp() == stamp,
                 timeout,
@@ -339,9 +341,14 @@ class LinkFault(Exception):
         self.walked = walked
 
 
-def _uploaded(port: TrialPort, niche: int, timeout: float) -> float:
-    """Upload the gait of ``niche``; return its crab angle, or raise with the robot's reason."""
-    answer, crab = port.upload(niche, timeout)
+#: The gait of an archive niche, its ``archive_index`` set (what a trial procedure sends).
+GaitOf = Callable[[int], GaitParameters]
+
+
+def _uploaded(port: TrialPort, gait: GaitParameters, timeout: float) -> float:
+    """Upload ``gait``; return its crab angle, or raise with the robot's reason."""
+    niche = gait.archive_index
+    answer, crab = port.upload(gait, timeout)
     if not answer.ok and not answer.answered:
         raise LinkFault(f'the robot did not answer the upload: {answer.message}', walked=False)
     if not answer.ok:
@@ -386,6 +393,7 @@ class RobotTrials:
     ``attempts`` walks at most; else the run ends with the reason.
     """
 
+    gaits: GaitOf
     port: TrialPort
     results: SampleLog[RobotTrialResult]
     waiter: Waiter
@@ -429,7 +437,7 @@ class RobotTrials:
                 self._stand()
 
     def _walk(self, niche: int) -> TrialOutcome:
-        crab = _uploaded(self.port, niche, self.timing.timeout)
+        crab = _uploaded(self.port, self.gaits(niche), self.timing.timeout)
         self._wait_upright()
         self.sleep(max(0.0, self.timing.stand_still))
         ok, message = self.port.start_trial()
@@ -535,6 +543,7 @@ class ManualTrials:
     along the walking direction (``report_distance``); only then is a distance taken.
     """
 
+    gaits: GaitOf
     port: TrialPort
     results: SampleLog[RobotTrialResult]
     waiter: Waiter
@@ -559,7 +568,7 @@ class ManualTrials:
     def __call__(self, niche: int) -> float:
         """Measure the speed of the gait of ``niche`` [m/s] from the operator's distance."""
         try:
-            _uploaded(self.port, niche, self.timing.timeout)
+            _uploaded(self.port, self.gaits(niche), self.timing.timeout)
         except LinkFault as fault:
             raise TrialAborted(str(fault)) from None
         self.sleep(max(0.0, self.timing.stand_still))

@@ -12,12 +12,15 @@ holds the best gait found).
 from __future__ import annotations
 
 import threading
+from typing import Callable
 
 from hexapod_msgs.action import Adapt
 from hexapod_util.ros_glue import ACTION_QOS, unless_closing
 import rclpy
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
+from rclpy.action.server import ServerGoalHandle
 from rclpy.callback_groups import CallbackGroup
+from rclpy.node import Node
 
 #: s a goal ending at shutdown waits for the executor to stop, and the shutdown for the goal.
 SHUTDOWN_WAIT_S = 5.0
@@ -29,15 +32,25 @@ def goal_end(cancelled: bool, success: bool) -> str:
     return 'canceled' if cancelled else 'succeed' if success else 'abort'
 
 
-class AdaptAction:
-    """Mixed into adapt_node: it has ``_adapt(handle, result)``, which runs one goal."""
+class AdaptServer:
+    """
+    ``node``'s ``adapt`` action: ``run_goal(handle, result)`` runs one accepted goal.
 
-    def serve_adapt(self, work: CallbackGroup) -> None:
-        """Serve the ``adapt`` action; ``busy`` is held from a goal's acceptance to its end."""
+    ``busy`` is held from a goal's acceptance to its end; the node's shutdown calls
+    :meth:`end_goals` after its executor has stopped.
+    """
+
+    def __init__(
+        self,
+        node: Node,
+        run_goal: Callable[[ServerGoalHandle, Adapt.Result], None],
+        work: CallbackGroup,
+    ) -> None:
+        self.node, self.run_goal = node, run_goal
         self.busy = threading.Lock()
         self.spin_ended = threading.Event()  # set by the node's shutdown, after its executor
         self.server = ActionServer(
-            self,
+            node,
             Adapt,
             'adapt',
             execute_callback=self._execute,
@@ -50,23 +63,23 @@ class AdaptAction:
     def _on_goal(self, goal) -> GoalResponse:
         if self.busy.acquire(blocking=False):  # never waits: every goal is answered at once
             return GoalResponse.ACCEPT
-        self.get_logger().warning(BUSY)
+        self.node.get_logger().warning(BUSY)
         return GoalResponse.REJECT
 
-    def _execute(self, handle) -> Adapt.Result:
+    def _execute(self, handle: ServerGoalHandle) -> Adapt.Result:
         result = Adapt.Result(best_archive_index=-1)
         try:
-            self._adapt(handle, result)
+            self.run_goal(handle, result)
         finally:
             self.busy.release()
-        if rclpy.ok(context=self.context):
+        if rclpy.ok(context=self.node.context):
             end = goal_end(handle.is_cancel_requested, result.success)
         else:  # shutting down: nobody can be told, the goal's state is set quietly
             end = 'abort'
             # returned while the executor still spins, the result would be sent on a context
             # that is gone (a warning, and rcl's "publisher's context is invalid" line)
             self.spin_ended.wait(SHUTDOWN_WAIT_S)
-        unless_closing(self, getattr(handle, end))
+        unless_closing(self.node, getattr(handle, end))
         return result
 
     def end_goals(self) -> None:

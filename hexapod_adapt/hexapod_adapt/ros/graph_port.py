@@ -19,7 +19,7 @@ from typing import Callable, Mapping
 
 from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_adapt.online.adaptation import TrialAborted
-from hexapod_adapt.online.session import duplicate_problem
+from hexapod_adapt.online.run_messages import duplicate_problem
 from hexapod_adapt.online.trials import (
     OdomLog,
     OdomSample,
@@ -154,20 +154,22 @@ def duplicate_peers(node: Node, peer: str) -> str:
 
 class GraphPort:
     """
-    Trials through gait_node + sim_node, or bridge_node, over rclpy.
+    Trials through gait_node + sim_node, or bridge_node, over rclpy: a :class:`TrialPort`.
 
-    ``gait_of(niche)`` gives the gait to try; ``wait`` is the node's :class:`Waiter`.until.
+    ``wait`` is the node's :meth:`Waiter.until` (a cancel or a shutdown ends every wait);
+    ``odom`` and ``recording`` take what the port receives.
     """
 
     def __init__(
         self,
         node: Node,
-        sim_name: str,
-        bridge_name: str,
+        peers: tuple[str, str],
+        wait: Callable[..., object],
         odom: OdomLog,
         recording: RunRecording,
     ) -> None:
-        self.node, self.odom, self.recording = node, odom, recording
+        sim_name, bridge_name = peers
+        self.node, self.wait, self.odom, self.recording = node, wait, odom, recording
         self.tilts = TiltLog(maxlen=2000)  # the robot's IMU attitude (robot trials' tip guard)
         self.trial_odom = OdomLog(maxlen=100)  # bridge_node's: one per valid robot trial
         # bridge_node's: one per robot trial, valid or not
@@ -175,8 +177,6 @@ class GraphPort:
         self.logs = TrialLogs(odom, self.trial_results, self.tilts)
         self._link: tuple[LinkStatus, float] | None = None  # the newest, when it came
         self.bridge_name = bridge_name
-        self.gait_of: Callable[[int], GaitParameters] | None = None
-        self.wait: Callable | None = None
         self._active: int | None = None
         self._activations: dict[int, int] = {}  # trajectory stamp -> sim time it took effect
         self._reset: int | None = None
@@ -289,14 +289,14 @@ class GraphPort:
         """Stamp of sim_node's latest reset."""
         return self._reset
 
-    def gait_msg(self, niche: int) -> GaitParametersMsg:
+    def gait_msg(self, gait: GaitParameters) -> GaitParametersMsg:
         """
-        Return the message of the gait of ``niche``, stamped by the node's clock, made unique.
+        Return the message of ``gait``, stamped by the node's clock, made unique.
 
         sim_node echoes the stamp of the gait it plays: that echo is how a trial knows its gait is
         on.
         """
-        msg = gait_to_msg(self.gait_of(niche))
+        msg = gait_to_msg(gait)
         self.stamp(msg)
         return msg
 
@@ -317,9 +317,9 @@ class GraphPort:
             raise TrialAborted('shutting down') from None
         self.recording.record('gait/parameters', msg)
 
-    def publish_gait(self, niche: int) -> tuple[int, float]:
-        """Publish the gait of ``niche``: (its stamp [ns], its crab angle [rad])."""
-        msg = self.gait_msg(niche)
+    def publish_gait(self, gait: GaitParameters) -> tuple[int, float]:
+        """Publish ``gait``: (its stamp [ns], its crab angle [rad])."""
+        msg = self.gait_msg(gait)
         self.publish(msg)
         return stamp_ns(msg.header.stamp), msg.crab_angle
 
@@ -369,9 +369,9 @@ class GraphPort:
         self.wait(future.done, timeout + 5.0, 'bridge_node to upload the gait')
         return future.result()
 
-    def upload(self, niche: int, timeout: float) -> tuple[Upload, float]:
-        """Upload the gait of ``niche``: (bridge_node's answer, its crab angle [rad])."""
-        msg = self.gait_msg(niche)
+    def upload(self, gait: GaitParameters, timeout: float) -> tuple[Upload, float]:
+        """Upload ``gait``: (bridge_node's answer, its crab angle [rad])."""
+        msg = self.gait_msg(gait)
         self.recording.record('gait/parameters', msg)
         answer = self.upload_msg(msg, timeout)
         upload = Upload(answer.success, answer.message, answer.archive_index, answer.answered)

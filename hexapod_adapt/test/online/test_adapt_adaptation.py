@@ -3,8 +3,9 @@
 """An adaptation run over an archive: stopping, aborted trials, cancellation, simulated trials."""
 
 from hexapod_adapt.mapping.archive import Archive
-from hexapod_adapt.online.adaptation import adapt, simulated_trial, TrialAborted
+from hexapod_adapt.online.adaptation import simulated_trial, TrialAborted
 from hexapod_adapt.online.mboa import MboaConfig
+from hexapod_adapt.online.session import adapt, AdaptationSession, run_session, SessionStart
 import numpy as np
 import pytest
 
@@ -49,7 +50,8 @@ def test_never_more_than_max_trials_and_aborts_keep_what_was_measured():
     result = adapt(a, dies_on_third, MboaConfig(max_trials=10))
     assert len(result.trials) == 2 and 'trial 3 aborted: robot link lost' in result.message
     assert result.best_niche == result.niches[0]
-    stop_after = adapt(a, lambda n: 0.0, MboaConfig(max_trials=10), should_cancel=lambda: True)
+    session = AdaptationSession(a, MboaConfig(max_trials=10))
+    stop_after = run_session(session, lambda n: 0.0, cancelled=lambda: True)
     assert stop_after.message == 'cancelled' and not stop_after.trials
 
 
@@ -138,18 +140,67 @@ def test_a_standstill_is_a_thesis_success_but_not_above_a_floor():
 
 def test_the_floor_can_be_the_damaged_tripod_measured_first():
     a = _three_alike()
-    measured_first = []
-
-    def tripod() -> float:
-        measured_first.append(True)
-        return 0.12  # the damaged control tripod
-
-    slow = adapt(a, lambda niche: 0.1, MboaConfig(max_trials=10), floor=tripod)
-    assert measured_first and not slow.success and 'floor 0.120 m/s' in slow.message
-    fast = adapt(a, lambda niche: 0.2, MboaConfig(max_trials=10), floor=tripod)
+    tripod = SessionStart(floor=0.12)  # the damaged control tripod, measured before the run
+    slow = adapt(a, lambda niche: 0.1, MboaConfig(max_trials=10), tripod)
+    assert not slow.success and 'floor 0.120 m/s' in slow.message
+    assert slow.config.min_speed == 0.12  # what the floor changed shows in the result
+    fast = adapt(a, lambda niche: 0.2, MboaConfig(max_trials=10), tripod)
     assert fast.success and len(fast.trials) == 1
+
+
+def test_asking_twice_gives_the_same_gait_and_only_the_asked_gait_is_told():
+    a = _archive()
+    session = AdaptationSession(a, MboaConfig(max_trials=3))
+    first = session.ask()
+    assert session.ask() == first
+    other = next(n for n in a.elite_indices() if n != first)
+    with pytest.raises(ValueError, match='was not asked for'):
+        session.tell(int(other), 0.1)
+    session.tell(first, 0.1)
+    assert session.result().niches == [first] and not session.finished
+    session.end('operator stopped it')
+    assert session.ask() is None and session.result().message == 'operator stopped it'
 
 
 def test_the_floor_is_range_checked():
     with pytest.raises(ValueError, match=r'min_speed \(success floor\) must be in \[0, 2\] m/s'):
         MboaConfig(min_speed=-0.1)
+
+
+class _Priors:
+    """A prior source that answers from a table (the node's streams one, the shapes alike)."""
+
+    def __init__(self, speeds):
+        self.speeds, self.asked = speeds, []
+
+    def start(self, archive, damage, source):
+        from hexapod_adapt.online.session import PriorStart
+
+        self.asked.append((damage, source))
+        if self.speeds is None:
+            return PriorStart(None, f'the map as it is (no re-score; damage from {source})')
+        return PriorStart(self.speeds, f'the re-score, from {source}')
+
+
+def test_a_known_damage_starts_from_its_prior_with_a_screen_and_stops_on_alpha_alone():
+    import math
+
+    from hexapod_adapt.online.mboa import PROFILES
+    from hexapod_adapt.online.session import informed_start
+    from hexapod_sim.damage import Damage
+
+    a = _archive()
+    prior = a.speeds()[a.elite_indices()] * 0.5
+    blind = informed_start(a, None, 'blind: asked for', _Priors(prior), math.radians(30))
+    assert blind.prior is None and blind.screen is None and blind.note == 'blind: asked for'
+    damage = Damage.of('lifted', [1])
+    start = informed_start(a, damage, 'the request', _Priors(prior), math.radians(30))
+    assert start.prior is prior and start.screen is not None and 'tip guard' in start.note
+    assert informed_start(a, damage, 'x', _Priors(prior), math.pi).screen is None
+    failed = informed_start(a, damage, 'the request', _Priors(None), math.radians(30))
+    assert failed.prior is None and failed.note.startswith('the map as it is')
+    # the gain stop is for blind runs: the resolved settings say so, the request's stay
+    config = PROFILES['default']
+    informed = AdaptationSession(a, config, SessionStart(prior))
+    assert informed.rules.stop_gain == 0 and config.stop_gain > 0
+    assert AdaptationSession(a, config).rules == config

@@ -225,9 +225,10 @@ def test_a_ceiling_under_another_damage_type_is_keyed_and_cached_by_it(small_map
 
 def test_a_replayed_run_is_the_simulated_run(small_map):
     """A lookup in the ceiling answers each trial exactly as the simulator does."""
-    from hexapod_adapt.online.adaptation import adapt, simulated_trial
+    from hexapod_adapt.online.adaptation import simulated_trial
     from hexapod_adapt.online.mboa import MboaConfig
     from hexapod_adapt.online.replay import lookup_trial, replay, score, summarise
+    from hexapod_adapt.online.session import adapt
     from hexapod_sim.damage import Damage
 
     damage = Damage.of('weak', [1, 4])
@@ -271,10 +272,10 @@ def test_an_approximate_ceiling_evaluates_the_guides_best_gaits_only(small_map, 
 
 
 def test_a_damage_bank_is_the_cached_ceilings_and_says_what_is_missing(small_map, tmp_path):
-    from hexapod_adapt.online.adaptation import adapt
     from hexapod_adapt.online.bank import load_bank
     from hexapod_adapt.online.mboa import MboaConfig
     from hexapod_adapt.online.replay import lookup_trial
+    from hexapod_adapt.online.session import AdaptationSession, run_session, SessionStart
     from hexapod_sim.damage import Damage
 
     cases = [Damage.lifted([1]), Damage.lifted([2, 5]), Damage.lifted([3])]
@@ -294,12 +295,12 @@ def test_a_damage_bank_is_the_cached_ceilings_and_says_what_is_missing(small_map
     # a run weighing the bank: the trials (legs 2+5) favour that hypothesis over the map's
     truth = made[cases[1]]
     weights: list = []
-    result = adapt(
-        small_map,
+    config = MboaConfig(max_trials=4, alpha=1.0, signal_variance=0.01, length_scale=0.2)
+    session = AdaptationSession(small_map, config, SessionStart(hypotheses=bank.speeds))
+    result = run_session(
+        session,
         lookup_trial(truth),
-        MboaConfig(max_trials=4, alpha=1.0, signal_variance=0.01, length_scale=0.2),
-        hypotheses=bank.speeds,
-        on_trial=lambda t, n, opt: weights.append(opt.weights.copy()),
+        on_trial=lambda t, n, s: weights.append(s.opt.weights.copy()),
     )
     assert len(result.trials) == len(weights) == 4
     assert int(np.argmax(weights[-1])) == 2  # map, leg 1, legs 2+5

@@ -205,7 +205,7 @@ def test_the_ceilings_command_caches_every_kind_of_damage_asked_for(tmp_path, ca
 def test_trials_run_on_the_engine_settings_asked_for():
     """trial_config: another engine's trials at another step; a contradiction is refused."""
     from hexapod_adapt.mapping.archive import load_archive
-    from hexapod_adapt.online.adaptation import run_experiment
+    from hexapod_adapt.online.experiment import ExperimentSetup, run_experiment
     from hexapod_adapt.online.mboa import MboaConfig
     from hexapod_gait import preset
     from hexapod_sim import create_simulator, evaluate_gait, SimConfig
@@ -213,7 +213,9 @@ def test_trials_run_on_the_engine_settings_asked_for():
 
     archive = load_archive(DEMO_MAP)  # made on PyBullet
     four = SimConfig.converged('mujoco')
-    rows = run_experiment(archive, ('S2',), config=MboaConfig(max_trials=2), trial_config=four)
+    rows = run_experiment(
+        archive, ExperimentSetup(('S2',), MboaConfig(max_trials=2), trial_config=four)
+    )
     with create_simulator(four) as sim:
         damaged = evaluate_gait(
             preset('control'), sim, collisions_fatal=False, failed_legs=Damage.lifted([1, 4])
@@ -221,7 +223,7 @@ def test_trials_run_on_the_engine_settings_asked_for():
     assert rows[0].trial_engine == 'mujoco'
     assert rows[0].control_speed == damaged  # the tripod walked on MuJoCo at 4 substeps
     with pytest.raises(ValueError, match='disagree'):
-        run_experiment(archive, ('S2',), trial_engine='dart', trial_config=four)
+        run_experiment(archive, ExperimentSetup(('S2',), trial_engine='dart', trial_config=four))
 
 
 @pytest.mark.slow
@@ -229,7 +231,7 @@ def test_trials_on_the_maps_engine_run_at_the_maps_steps_per_row():
     """A map made at 4 MuJoCo steps per row is adapted at 4 by default (map_substeps)."""
     from hexapod_adapt.mapping.archive import Archive, load_archive
     from hexapod_adapt.mapping.simulation import map_sim_config
-    from hexapod_adapt.online.adaptation import run_experiment
+    from hexapod_adapt.online.experiment import ExperimentSetup, run_experiment
     from hexapod_adapt.online.mboa import MboaConfig
     from hexapod_gait import preset
     from hexapod_sim import create_simulator, evaluate_gait
@@ -244,7 +246,7 @@ def test_trials_on_the_maps_engine_run_at_the_maps_steps_per_row():
         demo.genotypes,
         {**demo.metadata, 'simulator': four.fingerprint()},
     )
-    rows = run_experiment(archive, ('S2',), config=MboaConfig(max_trials=2))
+    rows = run_experiment(archive, ExperimentSetup(('S2',), MboaConfig(max_trials=2)))
     with create_simulator(four) as sim:
         damaged = evaluate_gait(
             preset('control'), sim, collisions_fatal=False, failed_legs=Damage.lifted([1, 4])

@@ -9,7 +9,6 @@ import re
 
 from hexapod_adapt.mapping.archive import Archive, load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
-from hexapod_adapt.online.adaptation import adapt
 from hexapod_adapt.online.ceiling import compute_ceiling
 from hexapod_adapt.online.mboa import MboaConfig, PROFILES
 from hexapod_adapt.online.prior import (
@@ -19,6 +18,7 @@ from hexapod_adapt.online.prior import (
     servo_report_verdict,
 )
 from hexapod_adapt.online.replay import lookup_trial
+from hexapod_adapt.online.session import adapt, SessionStart
 from hexapod_sim.damage import Damage, damage_from_lists, DAMAGE_KINDS, parse_damage
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -183,7 +183,7 @@ def test_m_boa_starts_from_the_re_scored_map(tiny_map, tmp_path):
     again = damage_prior(tiny_map, damage, 'mujoco', tmp_path)
     assert 'cached' in again.describe()
     config = MboaConfig(max_trials=5, alpha=1.0)
-    informed = adapt(tiny_map, lookup_trial(truth), config, prior=prior.speeds)
+    informed = adapt(tiny_map, lookup_trial(truth), config, SessionStart(prior.speeds))
     blind = adapt(tiny_map, lookup_trial(truth), config)
     assert informed.niches[0] == truth.best_niche  # same engine: the first trial is the best
     assert informed.best_speed == truth.best_speed
@@ -191,7 +191,7 @@ def test_m_boa_starts_from_the_re_scored_map(tiny_map, tmp_path):
         tiny_map.elite_indices()[np.argmax(tiny_map.speeds()[tiny_map.elite_indices()])]
     )
     with pytest.raises(ValueError, match='one speed per gait'):
-        adapt(tiny_map, lookup_trial(truth), config, prior=prior.speeds[:3])
+        adapt(tiny_map, lookup_trial(truth), config, SessionStart(prior.speeds[:3]))
 
 
 def test_a_streaming_prior_scores_the_best_gaits_first_and_caches_the_whole(tiny_map, tmp_path):
@@ -233,13 +233,13 @@ def test_the_expected_gain_stop_is_for_blind_runs_only(tiny_map):
     truth = compute_ceiling(tiny_map, Damage.lifted([1]), 'mujoco')
     config = replace(PROFILES['default'], max_trials=10)
     assert config.stop_gain > 0  # the default profile has one
-    informed = adapt(tiny_map, lookup_trial(truth), config, prior=truth.speeds)
+    informed = adapt(tiny_map, lookup_trial(truth), config, SessionStart(truth.speeds))
     # the known damage's best, tried first, meets alpha: the run ends there
     assert len(informed.trials) == 1 and informed.success
     assert informed.niches[0] == truth.best_niche
     # the same start without the gain stop stops the same way: the stop is alpha's
     plain = replace(config, stop_gain=0.0)
-    again = adapt(tiny_map, lookup_trial(truth), plain, prior=truth.speeds)
+    again = adapt(tiny_map, lookup_trial(truth), plain, SessionStart(truth.speeds))
     assert again.niches == informed.niches
     # blind, the gain stop keeps the run going while an untried gait may gain 2 mm/s or more
     blind = adapt(tiny_map, lookup_trial(truth), config)
@@ -256,8 +256,7 @@ def test_adapt_takes_a_newer_prior_between_trials(tiny_map):
         tiny_map,
         lookup_trial(truth),
         config,
-        prior=wrong,
-        prior_update=lambda: next(updates, None),
+        SessionStart(wrong, lambda: next(updates, None)),
     )
     assert run.niches[1] == truth.best_niche  # the second trial follows the newer prior
     assert [t.number for t in run.trials] == list(range(1, len(run.trials) + 1))

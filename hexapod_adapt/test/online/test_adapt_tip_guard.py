@@ -7,16 +7,20 @@ import math
 
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.online.adaptation import (
-    adapt,
     DEFAULT_TIP_GUARD,
     simulated_trial,
     tipped_outcome,
     TrialOutcome,
 )
 from hexapod_adapt.online.mboa import Mboa, MboaConfig
+from hexapod_adapt.online.session import adapt, AdaptationSession, run_session, SessionStart
 from hexapod_adapt.online.trials import OdomLog, OdomSample, TiltLog, TiltSample
+from hexapod_gait import preset
 import numpy as np
 import pytest
+
+#: The gait of each niche, as adapt_node's archive gives it (its archive_index set).
+GAITS = lambda niche: preset('tripod').replace(archive_index=niche)  # noqa: E731
 
 
 def _archive(n=50, seed=3):
@@ -100,7 +104,7 @@ def test_a_newer_prior_keeps_the_tipped_trials_tipped():
         return TrialOutcome(0.1 * a.speeds()[niche], False, 0.1)
 
     config = replace(MboaConfig(max_trials=8), exclude_tested=False)
-    result = adapt(a, trial, config, prior=prior, prior_update=lambda: prior)
+    result = adapt(a, trial, config, SessionStart(prior, lambda: prior))
     assert tried[0] == best and tried.count(best) == 1 and result.tipped == [best]
     assert result.trials[0].tipped
 
@@ -160,8 +164,8 @@ def test_a_robot_trial_that_tilts_past_the_guard_is_stopped_through_the_bridge()
     class Robot:
         stopped = 0
 
-        def upload(self, niche, timeout):
-            return Upload(True, '', niche), 0.0
+        def upload(self, gait, timeout):
+            return Upload(True, '', gait.archive_index), 0.0
 
         def start_trial(self):
             return True, ''
@@ -174,6 +178,7 @@ def test_a_robot_trial_that_tilts_past_the_guard_is_stopped_through_the_bridge()
     # the IMU reports the body rolling over after the trial started (no odometry comes)
     tilts.append(TiltSample(0.9, time.monotonic() + 60.0))
     trials = RobotTrials(
+        GAITS,
         Robot(),
         SampleLog(),
         Waiter(lambda: True, poll=0.001),
@@ -208,8 +213,8 @@ def test_a_robot_lying_past_the_guard_is_righted_before_its_next_trial_starts():
     class Robot:
         """The bridge: each trial it starts ends with odometry at once."""
 
-        def upload(self, niche, timeout):
-            return Upload(True, '', niche), 0.0
+        def upload(self, gait, timeout):
+            return Upload(True, '', gait.archive_index), 0.0
 
         def start_trial(self):
             started.append(time.monotonic())
@@ -222,6 +227,7 @@ def test_a_robot_lying_past_the_guard_is_righted_before_its_next_trial_starts():
 
     def trials(prompt, righting_timeout=5.0):
         return RobotTrials(
+            GAITS,
             Robot(),
             results,
             Waiter(lambda: True, poll=0.001),
@@ -290,9 +296,10 @@ def test_adapt_never_tries_a_gait_the_screen_says_tips_however_late_it_is_picked
     for update in (None, lambda: prior):  # a newer prior (a re-score streaming in) too
         tried.clear()
         screen, walked = _screen(tilts)
-        heard = []
-        result = adapt(a, trial, MboaConfig(max_trials=12), prior=prior, prior_update=update,
-                       screen=screen, on_veto=lambda *v: heard.append(v))  # fmt: skip
+        start = SessionStart(prior, update, screen)
+        session = AdaptationSession(a, MboaConfig(max_trials=12), start)
+        result = run_session(session, trial)
+        heard = [(v.niche, v.tilt) for v in session.new_vetoes()]
         assert heard == [(niche, 1.0) for niche in result.vetoed]
         assert len(tried) == 12 and not tipping & set(tried)
         assert set(result.vetoed) <= tipping and len(set(result.vetoed)) == len(result.vetoed)
@@ -316,7 +323,7 @@ def test_a_vetoed_gait_sets_no_bar_for_alpha():
         return TrialOutcome(speed, False, 0.1)
 
     screen, _ = _screen(tilts)
-    result = adapt(a, trial, config, prior=prior, screen=screen)
+    result = adapt(a, trial, config, SessionStart(prior, screen=screen))
     assert result.success and len(result.trials) == 1, result.message
     assert result.vetoed == [int(a.elite_indices()[first])]
     assert result.trials[0].index == second

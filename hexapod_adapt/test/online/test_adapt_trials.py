@@ -28,7 +28,11 @@ from hexapod_adapt.online.trials import (
     Upload,
     Waiter,
 )
+from hexapod_gait import preset
 import pytest
+
+#: The gait of each niche, as adapt_node's archive gives it (its archive_index set).
+GAITS = lambda niche: preset('tripod').replace(archive_index=niche)  # noqa: E731
 
 SECOND = 1_000_000_000
 
@@ -63,7 +67,7 @@ class SimGraph:
         self._active = self._reset = None
         self.refuse_reset = ''
 
-    def publish_gait(self, niche):
+    def publish_gait(self, gait):
         stamp = next(self.stamps)
         self._active = stamp  # played at once
         return stamp, self.crab
@@ -110,17 +114,19 @@ def test_sim_trial_speed_needs_both_samples():
 def test_a_sim_trial_measures_along_the_gait_direction(crab):
     clock, odom = FakeClock(), OdomLog()
     graph = SimGraph(odom, speed=0.25, crab=crab)
-    trial = SimTrials(graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), warn=print)
+    trial = SimTrials(GAITS, graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), warn=print)
     assert trial(7).speed == pytest.approx(0.25)
 
 
 def test_a_settled_sim_trial_times_only_the_walk_after_the_settling():
     clock, odom = FakeClock(), OdomLog()
     graph = SimGraph(odom, speed=0.3, lag=0.8)  # standing for 0.8 s, then 0.3 m/s
-    settled = SimTrials(graph, odom, _waiter(clock), TrialTiming(2.0, 10.0, settle=1.0), print)
+    settled = SimTrials(
+        GAITS, graph, odom, _waiter(clock), TrialTiming(2.0, 10.0, settle=1.0), print
+    )
     assert settled.timing.walking == 3.0
     assert settled(4).speed == pytest.approx(0.3)
-    from_standing = SimTrials(graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), print)
+    from_standing = SimTrials(GAITS, graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), print)
     assert from_standing(4).speed == pytest.approx(0.3 * (5.0 - 0.8) / 5.0)
     samples = [OdomSample(k * SECOND, 0.1 * k * k, 0.0, 0, 0, 0) for k in range(4)]
     assert sim_trial_speed(samples, 0, 2.0, 0.0, settle=1.0) == pytest.approx((0.9 - 0.1) / 2)
@@ -130,11 +136,11 @@ def test_a_settled_sim_trial_times_only_the_walk_after_the_settling():
 def test_a_lost_sample_repeats_the_trial_then_gives_up_with_the_reason():
     clock, odom, warnings = FakeClock(), OdomLog(), []
     graph = SimGraph(odom, speed=0.2, lose={1})
-    trial = SimTrials(graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), warnings.append)
+    trial = SimTrials(GAITS, graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), warnings.append)
     assert trial(3).speed == pytest.approx(0.2) and graph.attempt == 2
     assert 'repeating the trial (attempt 2)' in warnings[0]
     graph = SimGraph(odom := OdomLog(), speed=0.2, lose={1, 2, 3})
-    trial = SimTrials(graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), warnings.append)
+    trial = SimTrials(GAITS, graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), warnings.append)
     with pytest.raises(TrialAborted, match='kept getting lost'):
         trial(3)
 
@@ -152,7 +158,9 @@ def test_a_sim_trial_ignores_the_tipped_sample_stamped_at_its_reset():
         return reset()
 
     graph.reset = reset_after_a_tip
-    trial = SimTrials(graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), print, tip_guard=1.0)
+    trial = SimTrials(
+        GAITS, graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), print, tip_guard=1.0
+    )
     walked = trial(2)
     assert not walked.tipped and walked.speed == pytest.approx(0.2) and walked.peak_tilt == 0.0
 
@@ -161,11 +169,11 @@ def test_a_refused_reset_and_a_silent_simulator_abort_with_what_happened():
     clock, odom = FakeClock(), OdomLog()
     graph = SimGraph(odom, speed=0.2)
     graph.refuse_reset = 'engine busy'
-    trial = SimTrials(graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), print)
+    trial = SimTrials(GAITS, graph, odom, _waiter(clock), TrialTiming(5.0, 10.0), print)
     with pytest.raises(TrialAborted, match='refused the reset: engine busy'):
         trial(1)
     graph.refuse_reset = ''
-    graph.publish_gait = lambda niche: (999, 0.0)  # published, but sim_node never plays it
+    graph.publish_gait = lambda gait: (999, 0.0)  # published, but sim_node never plays it
     with pytest.raises(TrialAborted, match='timed out after 10 s waiting for sim_node to play'):
         trial(1)
 
@@ -197,9 +205,9 @@ class Bridge:
         self.link = ''
         self.starts = self.uploads = self.stops = 0
 
-    def upload(self, niche, timeout):
+    def upload(self, gait, timeout):
         self.uploads += 1
-        return self.answer or Upload(True, 'uploaded', niche), self.crab
+        return self.answer or Upload(True, 'uploaded', gait.archive_index), self.crab
 
     def start_trial(self):
         self.starts += 1
@@ -223,6 +231,7 @@ class Bridge:
 def _robot(bridge, clock, timing=None, waiter=None, **kw):
     told: list[str] = []
     trial = RobotTrials(
+        GAITS,
         bridge,
         bridge.results,
         waiter or _waiter(clock),
@@ -317,7 +326,10 @@ def test_an_unanswered_upload_or_start_is_the_links_fault_a_refusal_is_not():
     bridge = Bridge(Arriving(clock), clock, velocity=(0.2, 0.0))
     trial, told = _robot(bridge, clock)
     answers = iter([Upload(False, 'gait not uploaded: no answer in 3.0 s', 2, answered=False)])
-    bridge.upload = lambda niche, timeout: (next(answers, Upload(True, '', niche)), 0.0)
+    bridge.upload = lambda gait, timeout: (
+        next(answers, Upload(True, '', gait.archive_index)),
+        0.0,
+    )
     assert trial(2).speed == pytest.approx(0.2)
     assert 'did not answer the upload' in told[0]
     # a start refused while the link is down is walked again; while it works, it ends the run
@@ -372,7 +384,14 @@ def _manual(clock, results=None):
     results = results if results is not None else Arriving(clock)
     bridge = Bridge(results, clock, script=[(False, 'no IMU configured')])
     manual = ManualTrials(
-        bridge, results, _waiter(clock), TrialTiming(5.0, 10.0), prompts.append, clock.sleep, clock
+        GAITS,
+        bridge,
+        results,
+        _waiter(clock),
+        TrialTiming(5.0, 10.0),
+        prompts.append,
+        clock.sleep,
+        clock,
     )
     return manual, bridge, prompts
 
@@ -477,6 +496,9 @@ def test_an_unanswered_upload_between_spoilt_walks_is_not_a_spoilt_walk():
     bridge = Bridge(Arriving(clock), clock, script=[(True, 'no IMU sample for 1.6 s'), (0.2, 0.0)])
     trial, told = _robot(bridge, clock)
     answers = iter([Upload(True, '', 3), Upload(False, 'no answer in 3.0 s', 3, answered=False)])
-    bridge.upload = lambda niche, timeout: (next(answers, Upload(True, '', niche)), 0.0)
+    bridge.upload = lambda gait, timeout: (
+        next(answers, Upload(True, '', gait.archive_index)),
+        0.0,
+    )
     assert trial(3).speed == pytest.approx(0.2)
     assert len(told) == 2 and '(try 3;' in told[1] and 'did not answer the upload' in told[1]

@@ -109,14 +109,12 @@ class NavigateNode(DamageServices, Node):
             lambda: self.get_clock().now().nanoseconds,
             self.get_logger().error,
         )
-        self.port = GraphPort(
-            self, values['sim_node'], values['bridge_node'], OdomLog(), self.recording
-        )
+        peers = (values['sim_node'], values['bridge_node'])
+        self.port = GraphPort(self, peers, self.waiter.until, OdomLog(), self.recording)
         self.record_dir = values['record_dir']
         # the sensor subscriptions only when recording: at sim_node's faster-than-real-time rates
         # their callbacks delayed the odometry the steps are timed by
         self.recorded = RecordedTopics(self, self.recording) if self.record_dir else None
-        self.port.wait = self.waiter.until
         stop_client = self.create_client(Trigger, f'{values["bridge_node"]}/stop_trial')
         graph = conv.GraphNavigationPort(self.port, stop_client)
         self.trial_duration = values['trial_duration']

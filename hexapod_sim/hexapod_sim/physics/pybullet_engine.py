@@ -84,7 +84,7 @@ class PyBulletSimulator(Simulator):
         self._foot_links = [self.joint_indices[3 * leg + 2] for leg in range(N_LEGS)]
         self._foot_leg = {link: leg for leg, link in enumerate(self._foot_links)}
         self.efforts = [lim.effort for lim in self.model.limits]
-        # servo 'rx': the shared servo model's gains (docs/simulator.md, item 3 of "Where the
+        # servo 'rx': the shared servo model's gains (studies/engines/README.md, item 3 of "Where the
         # engines differ")
         self._rx = self.settings.servo == 'rx'
         self._kp_whole = np.array(
@@ -138,7 +138,7 @@ class PyBulletSimulator(Simulator):
             # the position motor's speed limit. Not with servo 'rx': its back-EMF limits the
             # speed as the servo's does, and Bullet's clamp takes a joint's speed away without
             # a force, so momentum is not kept (it flung a self-colliding gait 7 m:
-            # docs/simulator.md)
+            # studies/engines/README.md)
             for index, lim in zip(self.joint_indices, self.model.limits):
                 p.changeDynamics(
                     self.body, index, maxJointVelocity=lim.velocity, physicsClientId=cid

@@ -1,6 +1,6 @@
 # Copyright 2026 Hexapod adaptation team
 # SPDX-License-Identifier: MIT
-"""What adapt_node decides around M-BOA, checked without ROS (online.session, run_config)."""
+"""What adapt_node decides around M-BOA, checked without ROS (online.run_messages, run_config)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import math
 from pathlib import Path
 
 from hexapod_adapt.mapping.maps import DEMO_MAP, shipped_map
-from hexapod_adapt.online import session
+from hexapod_adapt.online import run_messages
 from hexapod_adapt.online.adaptation import AdaptationResult
 from hexapod_adapt.online.run_config import ArchiveSlot, settings_problem
 from hexapod_adapt.online.trials import MODES
@@ -16,37 +16,37 @@ from hexapod_adapt.online.trials import MODES
 
 def test_sim_trials_walk_what_was_asked_and_robot_trials_what_the_bridge_walks():
     said: list[str] = []
-    assert session.trial_walk('sim', 5.0, 1.0, None, said.append) == (5.0, 1.0)
-    assert session.trial_walk('robot', 5.0, 0.0, (5.0, 0.5), said.append) == (5.0, 0.5)
+    assert run_messages.trial_walk('sim', 5.0, 1.0, None, said.append) == (5.0, 1.0)
+    assert run_messages.trial_walk('robot', 5.0, 0.0, (5.0, 0.5), said.append) == (5.0, 0.5)
     assert not said
-    assert session.trial_walk('robot', 3.0, 0.0, (5.0, 0.0), said.append) == (5.0, 0.0)
+    assert run_messages.trial_walk('robot', 3.0, 0.0, (5.0, 0.0), said.append) == (5.0, 0.0)
     assert 'bridge_node walks 5 s timed: its trial_duration is used' in said[-1]
-    assert session.trial_walk('manual', 4.0, 0.0, None, said.append) == (4.0, 0.0)
+    assert run_messages.trial_walk('manual', 4.0, 0.0, None, said.append) == (4.0, 0.0)
     assert 'assuming 4 s from standing' in said[-1]
 
 
 def test_a_name_taken_twice_stops_a_run_and_one_does_not():
-    assert session.duplicate_problem('/sim_node', 1) == ''
-    assert session.duplicate_problem('/sim_node', 0) == ''
-    assert session.duplicate_problem('/sim_node', 2).startswith('2 nodes named /sim_node')
+    assert run_messages.duplicate_problem('/sim_node', 1) == ''
+    assert run_messages.duplicate_problem('/sim_node', 0) == ''
+    assert run_messages.duplicate_problem('/sim_node', 2).startswith('2 nodes named /sim_node')
 
 
 def test_a_distance_without_a_manual_trial_is_refused_with_the_reason():
-    assert session.report_distance(None, 1.0) == 'no manual trial is waiting for a distance'
-    assert 'not a plausible trial distance' in session.report_distance(None, float('nan'))
+    assert run_messages.report_distance(None, 1.0) == 'no manual trial is waiting for a distance'
+    assert 'not a plausible trial distance' in run_messages.report_distance(None, float('nan'))
 
 
 def test_the_response_says_the_engine_gap_and_a_recording_problem():
     result = AdaptationResult(success=True, message='stopped: alpha reached')
-    assert session.result_message(result, '', '') == 'stopped: alpha reached'
-    text = session.result_message(result, 'map made on mujoco', 'disk full')
+    assert run_messages.result_message(result, '', '') == 'stopped: alpha reached'
+    text = run_messages.result_message(result, 'map made on mujoco', 'disk full')
     assert text == 'stopped: alpha reached (map made on mujoco); recording: disk full'
-    assert session.veto_message(7, math.radians(41.0), math.radians(30.0)) == (
+    assert run_messages.veto_message(7, math.radians(41.0), math.radians(30.0)) == (
         'gait 7 skipped: it tilts the body 41 deg in simulation under the damage, past the'
         ' 30 deg tip guard; never tried'
     )
     vetoed = AdaptationResult(success=True, message='stopped: alpha reached', vetoed=[7, 12])
-    assert session.result_message(vetoed, '', '') == (
+    assert run_messages.result_message(vetoed, '', '') == (
         'stopped: alpha reached; never tried, as they tip in simulation under the damage:'
         ' gait(s) 7, 12'
     )

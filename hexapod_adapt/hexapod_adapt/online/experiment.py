@@ -1,0 +1,223 @@
+# Copyright 2026 Hexapod adaptation team
+# SPDX-License-Identifier: MIT
+"""
+Thesis experiment 5.2 on one map (ROS-free): adapt in every orientation of each failure scenario.
+
+Each run is an :class:`~hexapod_adapt.online.session.AdaptationSession` driven by trials in a
+simulator with the damage (:func:`~hexapod_adapt.online.adaptation.simulated_trial`), next to
+the control tripod with the same damage; ``run_experiment`` returns one :class:`ExperimentRow`
+per run. ``run_experiment`` (the console command) and ``make bench-adapt`` drive it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+import math
+from typing import Callable, Sequence, TYPE_CHECKING
+
+from hexapod_adapt.mapping.archive import Archive
+from hexapod_adapt.mapping.simulation import engine_of_map, map_physics
+from hexapod_adapt.online.adaptation import AdaptationResult, map_speed, simulated_trial
+from hexapod_adapt.online.mboa import MboaConfig
+from hexapod_adapt.online.prior import simulated_tilts, TipScreen
+from hexapod_adapt.online.session import adapt, SessionStart
+from hexapod_gait import preset
+from hexapod_sim import create_simulator, evaluate_gait, SimConfig, Simulator
+from hexapod_sim.damage import Damage
+from hexapod_sim.scenarios import scenario as orientations_of
+import numpy as np
+
+if TYPE_CHECKING:  # the ceiling module imports this one's siblings only
+    from hexapod_adapt.online.bank import DamageBank
+    from hexapod_adapt.online.ceiling import Ceiling
+
+#: Trial budget of the experiment's runs. Thesis 5.2 stops a run only by M-BOA's rule (alpha);
+#: this cap (100 trials = 8 min 20 s of walking) only bounds a run that never meets it, so the
+#: trial counts measured are the rule's, not a budget's.
+EXPERIMENT_MAX_TRIALS = 100
+
+
+@dataclass(frozen=True)
+class ExperimentSetup:
+    """
+    How the experiment's runs are made; every field has the thesis's choice as default.
+
+    ``scenarios``: the failure scenarios, each run in every orientation. ``config``: M-BOA's
+    settings (default: the thesis's, :data:`EXPERIMENT_MAX_TRIALS` trials). Trials run on
+    ``trial_engine`` (default: the map's) at the map's physics step on the map's own engine and
+    at the converged step on any other (``map_physics``), or as ``trial_config`` sets up.
+    ``ceilings(damage, engine)``: the map's ceiling under each run's damage (a row then gets the
+    ratio to it; with a ``tip_guard``, the best gait that stays within it). ``floor``: the damaged
+    control tripod is each run's success floor. ``priors(damage)``: M-BOA starts from these speeds
+    (the map re-scored under the damage), and gaits that tip past ``tip_guard`` there are vetoed,
+    as adapt_node's. ``setup`` names the configuration in the rows. ``trial_duration`` (default:
+    the map's) and ``settle``: trials time that long after walking ``settle`` s untimed; the
+    adapted gait is then judged as the map's gaits are (5 s from standing). ``bank``: damage
+    hypotheses for runs without a prior when ``config.use_bank`` asks; ``leave_out`` drops each
+    run's own damage from them. ``kind``: what the failed legs suffer
+    (:data:`hexapod_sim.damage.EXPERIMENT_KINDS`). ``tip_guard`` [rad]: trials that tilt the body
+    past it are stopped and scored 0 (pi: no guard).
+    """
+
+    scenarios: Sequence[str] = ('S1', 'S2', 'S3', 'S4')
+    config: MboaConfig | None = None
+    trial_engine: str | None = None
+    trial_config: SimConfig | None = None
+    ceilings: Callable[[Damage, str], 'Ceiling'] | None = None
+    floor: bool = False
+    priors: Callable[[Damage], np.ndarray] | None = None
+    setup: str = 'thesis'
+    trial_duration: float | None = None
+    settle: float = 0.0
+    bank: DamageBank | None = None
+    leave_out: bool = False
+    kind: str = 'lifted'
+    tip_guard: float = math.pi
+
+
+@dataclass
+class ExperimentRow:
+    """One run of the thesis 5.2 experiment: one failure orientation, one trial engine."""
+
+    scenario: str
+    failed_legs: tuple[int, ...]
+    trials: int
+    success: bool
+    best_niche: int
+    #: the adapted gait [m/s], timed as the map and the control tripod are (the map's trial
+    #: duration from standing), whatever the trials' timing
+    best_speed: float
+    control_speed: float  # the control tripod with the same damage [m/s]
+    intact_control_speed: float  # the control tripod without damage, same engine [m/s]
+    elapsed: float  # wall-clock seconds of the run (simulated trials)
+    map_engine: str  # engine that made the map
+    trial_engine: str  # engine the trials ran on (another one: a stand-in for the reality gap)
+    walking_time: float = 0.0  # s walked in trials (trials x trial duration)
+    ceiling_speed: float = float('nan')  # the map's best gait with this damage [m/s] (if asked)
+    ceiling_niche: int = -1
+    ratio: float = float('nan')  # best_speed / ceiling_speed (regret = 1 - ratio)
+    gaits_beating_intact_control: int = -1  # map gaits faster than the intact tripod, damaged
+    setup: str = 'thesis'  # M-BOA profile, '+prior' when it started from a damage-informed prior
+    trial_speed: float = float('nan')  # the best trial as the run's trials measured it [m/s]
+    damage_kind: str = 'lifted'  # what failed_legs suffer (hexapod_sim.damage.EXPERIMENT_KINDS)
+    tipped_trials: int = 0  # trials the tip guard stopped
+
+
+def _screen(archive: Archive, damage: Damage, engine: str, guard: float) -> TipScreen | None:
+    """Return the tip screen of a run or ceiling on ``engine`` (None: no guard)."""
+    if guard >= math.pi:
+        return None
+    return TipScreen(simulated_tilts(archive, damage, engine), guard)
+
+
+def _start(archive: Archive, s: ExperimentSetup, config: MboaConfig, damage: Damage, control):
+    """Return a run's session start: its prior and screen, or its bank's hypotheses; its floor."""
+    floor = control if s.floor else None
+    if s.priors is not None:  # the prior's gaits that tip in its own simulation: vetoed
+        screen = _screen(archive, damage, engine_of_map(archive), s.tip_guard)
+        return SessionStart(s.priors(damage), screen=screen, floor=floor)
+    hypotheses = None
+    if s.bank is not None:
+        hypotheses = s.bank.hypotheses(config.use_bank, damage if s.leave_out else None)
+    return SessionStart(hypotheses=hypotheses, floor=floor)
+
+
+def _with_ceiling(row: ExperimentRow, archive: Archive, s: ExperimentSetup, damage: Damage):
+    """Return ``row`` with the map's ceiling under its damage, when ``s.ceilings`` is given."""
+    c = s.ceilings(damage, row.trial_engine)
+    # the best gait a guarded trial can keep: none that tips past the guard
+    upright = _screen(archive, damage, row.trial_engine, s.tip_guard)
+    best = int(np.argmax(c.speeds)) if upright is None else upright.best_upright(c.speeds)
+    row = replace(row, gaits_beating_intact_control=c.beating(row.intact_control_speed))
+    if best is None:  # every gait tips: no ceiling to compare with
+        return row
+    return replace(
+        row,
+        ceiling_speed=float(c.speeds[best]),
+        ceiling_niche=int(c.niches[best]),
+        ratio=row.best_speed / float(c.speeds[best]),
+    )
+
+
+def _row(
+    archive: Archive,
+    s: ExperimentSetup,
+    result: AdaptationResult,
+    where: tuple[str, tuple[int, ...], str],
+    speeds: tuple[float, float, float],
+) -> ExperimentRow:
+    """
+    Return the row of one run.
+
+    ``where``: scenario, legs, trial engine; ``speeds``: the adapted gait, the control tripod
+    damaged and intact [m/s].
+    """
+    name, legs, trial_engine = where
+    duration = s.trial_duration or archive.trial_duration
+    return ExperimentRow(
+        name,
+        tuple(legs),
+        len(result.trials),
+        result.success,
+        result.best_niche,
+        speeds[0],
+        speeds[1],
+        speeds[2],
+        result.elapsed,
+        engine_of_map(archive),
+        trial_engine,
+        walking_time=len(result.trials) * (duration + s.settle),
+        setup=s.setup,
+        trial_speed=result.best_speed,
+        damage_kind=s.kind,
+        tipped_trials=len(result.tipped),
+    )
+
+
+def _one_run(
+    archive: Archive, s: ExperimentSetup, config: MboaConfig, sim: Simulator, where, intact
+) -> ExperimentRow:
+    """Adapt once under ``where``'s damage (scenario, legs, trial engine); return its row."""
+    damage = Damage.of(s.kind, where[1])
+    control = evaluate_gait(
+        preset('control'), sim, collisions_fatal=False, failed_legs=damage
+    ).speed
+    trial = simulated_trial(archive, damage, sim, s.trial_duration, s.settle, s.tip_guard)
+    result = adapt(archive, trial, config, _start(archive, s, config, damage, control))
+    adapted = result.best_speed
+    if s.settle > 0 or (s.trial_duration or archive.trial_duration) != archive.trial_duration:
+        # settled or shorter trials measure another thing: judge the gait as the map
+        adapted = map_speed(archive, result.best_niche, damage, sim)
+    row = _row(archive, s, result, where, (adapted, control, intact))
+    return row if s.ceilings is None else _with_ceiling(row, archive, s, damage)
+
+
+def run_experiment(
+    archive: Archive,
+    setup: ExperimentSetup | None = None,
+    on_row: Callable[[ExperimentRow], None] | None = None,
+) -> list[ExperimentRow]:
+    """Run thesis experiment 5.2 on ``archive`` as ``setup`` says; ``on_row`` hears each row."""
+    s = setup or ExperimentSetup()
+    config = s.config or MboaConfig(max_trials=EXPERIMENT_MAX_TRIALS)
+    trial_engine = s.trial_engine
+    if s.trial_config is not None:
+        if trial_engine not in (None, s.trial_config.engine):
+            raise ValueError(
+                f'trial_engine {trial_engine!r} and trial_config ({s.trial_config.engine})'
+                ' disagree'
+            )
+        trial_engine = s.trial_config.engine
+    trial_engine = trial_engine or engine_of_map(archive)
+    rows = []
+    with create_simulator(s.trial_config or map_physics(archive, trial_engine)) as sim:
+        intact = evaluate_gait(
+            preset('control'), sim, collisions_fatal=False, failed_legs=()
+        ).speed
+        for name in s.scenarios:
+            for legs in orientations_of(name):
+                row = _one_run(archive, s, config, sim, (name, tuple(legs), trial_engine), intact)
+                rows.append(row)
+                if on_row:
+                    on_row(row)
+    return rows
