@@ -110,7 +110,7 @@ class MujocoSettings:
     #: implicitly) and a tibia's servo loop runs at about 240 rad/s, so one step per 240 Hz row
     #: has not converged on fast gaits: on the CMA-MAE map's 8 fastest and 8 random gaits their
     #: speeds moved by a median 0.129 m/s from 1 to 8 substeps (Spearman 0.29), by 0.009 from 4
-    #: to 8 (0.96) (studies/engines/README.md, "Where the engines differ", item 6). 1 is kept as the
+    #: to 8 (0.96) (studies/engines, "Where the engines differ", item 6). 1 is kept as the
     #: default until the maps, ceilings and banks made at it are remade at 4.
     substeps: int = 1
     #: implicit in the servo damping and back-EMF terms: stiff servos stay stable at 240 Hz.

@@ -49,7 +49,7 @@ ENGINES = ('pybullet', 'mujoco', 'dart')
 #: The engine that judges maps: it takes no part in making or tuning them (docs/simulator.md).
 JUDGE_ENGINE = 'dart'
 #: Physics steps per 240 Hz row at which each engine's speeds of a map's fast gaits have
-#: converged (studies/engines/README.md, "Where the engines differ", item 6: within a median 0.015 m/s of
+#: converged (studies/engines, "Where the engines differ", item 6: within a median 0.015 m/s of
 #: the finest step and Spearman >= 0.95). A map's figures on another engine are measured there
 #: (:meth:`SimConfig.converged`); the engines' defaults are cheaper.
 CONVERGED_SUBSTEPS = {'pybullet': 16, 'mujoco': 4, 'dart': 16}
@@ -76,7 +76,7 @@ def body_height_from_joints(q: np.ndarray) -> float:
 #: Friction coefficient where a foot meets the floor, on every engine (SimConfig.friction's
 #: default): 1, the thesis's (3.5.4, listing 3.5: "a lateralFriction coefficient of 1 ... for the
 #: ground plane and the tibia links"). Each engine combines two surfaces' coefficients its own way,
-#: so each sets its surfaces to give exactly this at the contact (studies/engines/README.md, "Where the
+#: so each sets its surfaces to give exactly this at the contact (studies/engines, "Where the
 #: engines differ"). The robot's floor is unmeasured and slipperier (thesis 5.5.5): set your own.
 FRICTION = 1.0
 

@@ -362,7 +362,7 @@ def test_substeps_change_a_fast_gait_and_not_the_tripod():
     """
     The tripod walks alike at 1 and 4 physics steps per row; a gait that loads the servos hard.
 
-    Does not (studies/engines/README.md, "Where the engines differ", item 6): one step per row has not
+    Does not (studies/engines, "Where the engines differ", item 6): one step per row has not
     converged on it.
     """
     from hexapod_gait import from_genotype

@@ -186,7 +186,7 @@ def trial_substeps(archive: Archive, engine: str) -> int:
     Return the physics steps per row at which ``archive``'s gaits are measured on ``engine``.
 
     On the engine that made the map, the map's own (:func:`map_substeps`); on any other, that
-    engine's converged step (:meth:`SimConfig.converged`; studies/engines/README.md, "Where the engines
+    engine's converged step (:meth:`SimConfig.converged`; studies/engines, "Where the engines
     differ", item 6: the defaults have not converged on fast gaits), where the map's figures on
     other physics are measured. A map that does not say its engine is taken as made on
     :data:`UNRECORDED_MAP_ENGINE` (:func:`engine_of_map`).

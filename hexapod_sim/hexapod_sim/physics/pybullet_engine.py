@@ -84,7 +84,7 @@ class PyBulletSimulator(Simulator):
         self._foot_links = [self.joint_indices[3 * leg + 2] for leg in range(N_LEGS)]
         self._foot_leg = {link: leg for leg, link in enumerate(self._foot_links)}
         self.efforts = [lim.effort for lim in self.model.limits]
-        # servo 'rx': the shared servo model's gains (studies/engines/README.md, item 3 of "Where the
+        # servo 'rx': the shared servo model's gains (studies/engines, item 3 of "Where the
         # engines differ")
         self._rx = self.settings.servo == 'rx'
         self._kp_whole = np.array(
