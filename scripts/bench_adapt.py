@@ -30,7 +30,7 @@ def bench_adapt() -> None:
     _thesis; the thesis rule, no floor). Per run: the best speed found, the trials, the control
     tripod with the same damage, and the ratio to the map's ceiling under the damage (cached
     ceilings only; across engines, approximate PyBullet ceilings if cached -- none are shipped:
-    studies/adaptation/README.md, "Regret against the ceiling", says why). Runs end by M-BOA's
+    studies/adaptation/README.md says why). Runs end by M-BOA's
     stopping rule, capped at the budget users get (24 trials), and for the thesis profile at
     EXPERIMENT_MAX_TRIALS (100) so that its rule ends them. Trials are 5 s from standing (the
     product's and the thesis's trial), with adapt_node's tip guard (a trial that tilts the body

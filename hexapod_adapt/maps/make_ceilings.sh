@@ -8,7 +8,7 @@
 # cases the cache lacks and computes nothing (ship_map.sh counts a kept map's cases in another
 # folder by passing its own cache option after this one's: the last one given is used).
 # (PyBullet approximations, --engine pybullet --top 1000 --guide-engine mujoco, are not shipped:
-# docs/adaptation.md, "Regret against the ceiling", says why.)
+# studies/adaptation/README.md says why.)
 set -eo pipefail   # (no -u: colcon's setup scripts read unset variables)
 cd "$(dirname "$0")/../.."
 source scripts/env.sh

@@ -3,7 +3,7 @@
 # (studies/transfer/README.md, issue 49: iso+line, whose gaits walk on the engines that did not
 # make the map) at that study's size (10,000 niches, 200,000 evaluations), on MuJoCo at 4 physics
 # steps per 240 Hz row: at 1, MuJoCo has not converged on fast gaits and a map climbs into its
-# step's error (docs/simulator.md, "Where the engines differ", item 6). About 9 CPU core-hours
+# step's error (studies/engines/README.md, "Where the engines differ", item 6). About 9 CPU core-hours
 # (3.8x the study's 2.3 at 1 step per row), within the issue's 16. Run it from the repository
 # root; run it again after any interruption (it resumes from default_map.npz.ckpt.npz) until it
 # prints "wrote". FRESH=1 starts from scratch: the map, its checkpoint and log already there are

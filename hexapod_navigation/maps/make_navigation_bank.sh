@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The shipped repertoire's damage bank (hexapod_navigation.core.step_bank; docs/navigation.md, "Damage
-# bank"): every repertoire gait played for one 2 s step from rest under each one- and two-leg
+# The shipped repertoire's damage bank (hexapod_navigation.core.step_bank; docs/navigation.md, "The
+# navigator"): every repertoire gait played for one 2 s step from rest under each one- and two-leg
 # failure of S1-S4, lifted, locked and with a dead femur servo (step_bank.NAVIGATION_BANK_KINDS),
 # MuJoCo. The exact command; it writes the file only when every case is done.
 #   nohup nice -n 10 bash hexapod_navigation/maps/make_navigation_bank.sh > out/navigation_bank.out 2>&1 &

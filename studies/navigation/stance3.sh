@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # A navigation repertoire of 3-feet gaits only, and its damage bank: compared with the shipped
-# repertoire on the tuning goals (docs/navigation.md, "Planner and repertoire"), not adopted.
+# repertoire on the tuning goals (docs/navigation.md, "The navigator"), not adopted.
 # The exact commands, resumable; run from anywhere.
 #   nohup nice -n 10 bash studies/navigation/stance3.sh > out/stance3.out 2>&1 &
 # Made 2026-11-23: 128 000 evaluations in 30 min (beside other work), stopped by SIGTERM, then

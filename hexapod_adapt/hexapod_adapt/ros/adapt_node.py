@@ -260,7 +260,10 @@ class AdaptNode(Node):
                 '/clock (is sim_node running?)',
             )
         goal = self.goal
-        alive = lambda: rclpy.ok(context=self.context) and not goal.is_cancel_requested  # noqa: E731
+
+        def alive() -> bool:
+            return rclpy.ok(context=self.context) and not goal.is_cancel_requested
+
         return self.damage.at_start(run, alive, tell, self.port.sim_damage, timeout)
 
     def _on_trial(self, handle, session: AdaptationSession, gaits: GaitOf, trial, niche) -> None:
