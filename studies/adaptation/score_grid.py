@@ -49,7 +49,7 @@ GRID = {
     'signal_variance': (1.0, 0.01),
     'alpha': (0.8, 0.9, 0.95, 1.0),
     'kappa': (0.05, 0.5),
-    'stop_gain': (0.0, 0.002, 0.005),
+    'stop_gain': (None, 0.002, 0.005),  # None: no expected-gain stop
     'use_bank': (False, True),
 }
 
@@ -66,7 +66,7 @@ def grid_configs(grid: dict[str, Sequence[float]] = GRID) -> list[MboaConfig]:
     configs = []
     for values in itertools.product(*(grid[n] for n in names)):
         config = MboaConfig(max_trials=TUNING_MAX_TRIALS, **dict(zip(names, values)))
-        if config.stop_gain > 0 and config.signal_variance >= 1.0:
+        if config.stop_gain is not None and config.signal_variance >= 1.0:
             continue
         configs.append(config)
     return configs

@@ -93,6 +93,7 @@ def main() -> int:
     base = evaluate(cases, default)
     names = ('length_scale', 'signal_variance', 'alpha', 'kappa', 'stop_gain')
     rows = [{**{n: asdict(c)[n] for n in names}, **f} for c, f in zip(configs, figures)]
+    rows = [{k: 0.0 if v is None else v for k, v in r.items()} for r in rows]  # CSV: 0 = none
     lines = [','.join(rows[0])] + [','.join(f'{v:.6g}' for v in r.values()) for r in rows]
     atomic_write_bytes(OUT, ('\n'.join(lines) + '\n').encode())
 

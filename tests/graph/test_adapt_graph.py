@@ -13,7 +13,6 @@ from __future__ import annotations
 import os
 
 from action_msgs.msg import GoalStatus
-from conftest import FAILED, fast_sim_graph, set_adapt_parameter, status_log_qos, wait_for
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD, simulated_trial
@@ -25,6 +24,8 @@ from hexapod_util.recording import read_messages
 import numpy as np
 import pytest
 from rcl_interfaces.msg import ParameterType, ParameterValue
+
+from conftest import FAILED, fast_sim_graph, set_adapt_parameter, status_log_qos, wait_for
 
 pytestmark = pytest.mark.ros
 SETTLE, TIMED = 1.0, 2.0  # a settled trial (adapt_node's trial_settle, trial_duration)
@@ -436,7 +437,7 @@ def test_every_nonsensical_adapt_request_is_refused_with_a_reason(ros, launch, s
     cases += [('kappa', v, 'kappa') for v in (float('nan'), float('inf'), -1.0, 1e300)]
     cases += [('length_scale', v, 'length_scale') for v in floats]
     cases += [('noise', v, 'noise') for v in (float('nan'), float('inf'), -1.0, 1e-300, 1e300)]
-    gains = (float('nan'), float('inf'), float('-inf'), 2.0)  # a finite negative one: off
+    gains = (float('nan'), float('inf'), float('-inf'), -1.0, 2.0)
     cases += [('stop_gain', v, 'stop_gain') for v in gains]
     cases += [('profile', 'fastest', "unknown M-BOA profile 'fastest'")]
     cases += [

@@ -36,6 +36,7 @@ from dataclasses import dataclass, field
 import enum
 import math
 
+from hexapod_sim.evaluation import TRIAL_DURATION as SIM_TRIAL_DURATION
 import numpy as np
 from scipy.linalg import solve_triangular
 from scipy.special import ndtr
@@ -61,7 +62,7 @@ NOISE_RANGE = (1e-9, 1.0)  # (m/s)^2: a trial speed's variance, 1 = +/-1 m/s
 KAPPA_RANGE = (0.0, 100.0)
 ALPHA_RANGE = (0.05, 1.0)  # stop ratio: below 5 % any forward step would "succeed"
 SIGNAL_VARIANCE_RANGE = (1e-6, 10.0)  # (m/s)^2: the kernel's variance
-STOP_GAIN_RANGE = (0.0, 1.0)  # m/s: expected gain of one more trial worth walking it (0 = off)
+STOP_GAIN_RANGE = (1e-6, 1.0)  # m/s: expected gain of one more trial worth walking it
 KNOWN_STD_RANGE = (0.0, 1.0)  # m/s: spread of the truth about a known model (0 = off)
 PRIOR_UNKNOWN_RANGE = (1e-3, 0.999)  # prior weight of 'unknown damage' among the hypotheses
 
@@ -70,7 +71,7 @@ PRIOR_UNKNOWN_RANGE = (1e-3, 0.999)  # prior weight of 'unknown damage' among th
 class MboaConfig:
     """M-BOA settings (thesis 5.2.2 defaults); ValueError names every value out of range."""
 
-    max_trials: int = 20
+    max_trials: int = 24  # TRIAL_BUDGET: 2 minutes of 5 s trials
     alpha: float = 0.90  # stop ratio
     kappa: float = 0.05  # UCB exploration weight (times the standard deviation)
     length_scale: float = 0.4  # rho, in descriptor units (duty factor, 0..1)
@@ -78,10 +79,10 @@ class MboaConfig:
     exclude_tested: bool = True
     min_speed: float = 0.0  # success floor [m/s]: no success while the best is slower
     signal_variance: float = 1.0  # kernel variance [(m/s)^2]: how far damage moves speeds
-    #: [m/s] also go on while an untried gait's expected gain exceeds it. Blind runs only: a run
-    #: from a prior of the known damage (``adaptation.adapt(prior=...)``) stops on alpha alone,
-    #: its first trial being the re-scored map's best
-    stop_gain: float = 0.0
+    #: [m/s] also go on while an untried gait's expected gain exceeds it (None: no such stop,
+    #: alpha and max_trials alone). A session from a known damage's prior stops on alpha alone
+    #: (``session.run_rules``), its first trial being the re-scored map's best
+    stop_gain: float | None = None
     use_bank: bool = False  # weigh a damage bank's hypotheses when the damage is not known
     #: [m/s] with hypotheses: how far the truth may lie from a known model (the map, a bank's
     #: failure), the std of a GP of their own; one 'unknown damage' hypothesis (the map under
@@ -113,7 +114,8 @@ class MboaConfig:
         within('noise variance', self.noise, *NOISE_RANGE, ' (m/s)^2')
         within('min_speed (success floor)', self.min_speed, *MIN_SPEED_RANGE, ' m/s')
         within('signal_variance', self.signal_variance, *SIGNAL_VARIANCE_RANGE, ' (m/s)^2')
-        within('stop_gain', self.stop_gain, *STOP_GAIN_RANGE, ' m/s')
+        if self.stop_gain is not None:
+            within('stop_gain', self.stop_gain, *STOP_GAIN_RANGE, ' m/s')
         within('known_std', self.known_std, *KNOWN_STD_RANGE, ' m/s')
         within('prior_unknown', self.prior_unknown, *PRIOR_UNKNOWN_RANGE)
         if problems:
@@ -136,11 +138,12 @@ PROFILES: dict[str, MboaConfig] = {
     ),
 }
 DEFAULT_PROFILE = 'default'
-#: The trial budget users get: 2 minutes of 5 s trials.
-TRIAL_BUDGET = 24
-#: The trial users get: 5 s timed from standing, the thesis's. Shorter settled trials pick gaits
-#: that fall or turn back on another engine (studies/trial_length/README.md).
-TRIAL_DURATION = 5.0  # s timed
+#: The trial budget users get: 2 minutes of 5 s trials (MboaConfig's default).
+TRIAL_BUDGET = MboaConfig().max_trials
+#: The trial users get: 5 s timed from standing, the thesis's and the maps' (one home:
+#: hexapod_sim's). Shorter settled trials pick gaits that fall or turn back on another engine
+#: (studies/trial_length/README.md).
+TRIAL_DURATION = SIM_TRIAL_DURATION  # s timed
 TRIAL_SETTLE = 0.0  # s walked before the timing starts
 
 
@@ -420,9 +423,8 @@ class Mboa:
         """Why the run should stop now (``StopReason.CONTINUE`` if it should not)."""
         if len(self.trials) >= self.config.max_trials:
             return StopReason.MAX_TRIALS
-        if self.alpha_met() and (
-            self.config.stop_gain <= 0.0 or self.max_expected_gain() < self.config.stop_gain
-        ):
+        gain = self.config.stop_gain
+        if self.alpha_met() and (gain is None or self.max_expected_gain() < gain):
             return StopReason.ALPHA_REACHED
         if len(self.excluded()) == len(self.prior):
             return StopReason.MAP_EXHAUSTED

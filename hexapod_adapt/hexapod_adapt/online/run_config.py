@@ -47,9 +47,11 @@ RUN_SETTINGS = (
     'length_scale',
     'noise',
     'stop_gain',
+    'no_gain_stop',
     'profile',
 )
-#: Settings whose 0 means "the profile's value" (request fields and node parameters alike).
+#: Settings that override the profile's value when given. A request field or a node parameter
+#: of 0 is "not given": :func:`given` turns it into None, the one place that reads 0 so.
 PROFILE_SETTINGS = ('alpha', 'kappa', 'length_scale', 'noise', 'stop_gain')
 
 #: A trial must cover at least one gait cycle of the controller's default 1 s period.
@@ -104,7 +106,7 @@ SETTINGS = (
         'profile',
         DEFAULT_PROFILE,
         "M-BOA settings: 'default' (chosen on a tuning set) or 'thesis' (thesis 5.2.2); alpha, "
-        'kappa, length_scale, noise and stop_gain override it when not 0',
+        'kappa, length_scale, noise and stop_gain override it when given (not 0)',
     ),
     Setting(
         'alpha',
@@ -132,8 +134,14 @@ SETTINGS = (
         'stop_gain',
         0.0,
         "Blind runs: success also needs the next trial's expected gain below this [m/s] (0 = the"
-        " profile's: 0.002 in 'default', off in 'thesis'; negative = no such stop)",
-        (-1.0, STOP_GAIN_RANGE[1]),
+        " profile's: 0.002 in 'default', none in 'thesis')",
+        (0.0, STOP_GAIN_RANGE[1]),
+    ),
+    Setting(
+        'no_gain_stop',
+        False,
+        'true: no expected-gain stop, whatever the profile or stop_gain say (alpha and max_trials'
+        ' alone, as in the thesis)',
     ),
     Setting(
         'min_speed',
@@ -191,20 +199,29 @@ def run_settings(values: dict) -> tuple[MboaConfig, float]:
     (M-BOA configuration, trial duration [s]) from the run settings.
 
     The named ``profile`` gives every M-BOA setting; alpha, kappa, length_scale, noise and
-    stop_gain replace its values when not 0 (a negative stop_gain: no expected-gain stop).
-    ValueError says which is out of range and what the range is.
+    stop_gain replace its values when given (:func:`given`); ``no_gain_stop`` turns the
+    expected-gain stop off. ValueError says which is out of range and what the range is.
     """
     duration = float(values['trial_duration'])
     low, high = TRIAL_DURATION_RANGE
     if not (math.isfinite(duration) and low <= duration <= high):
         raise ValueError(f'trial_duration must be in [{low:g}, {high:g}] s, got {duration!r}')
     base = profile(str(values.get('profile') or DEFAULT_PROFILE))
-    chosen = {name: float(values[name]) for name in PROFILE_SETTINGS if values.get(name)}
-    gain = chosen.get('stop_gain', 0.0)
-    if -math.inf < gain < 0.0:  # negative: the stop is off (MboaConfig's 0); -inf is refused
-        chosen['stop_gain'] = 0.0
+    chosen = {name: float(values[name]) for name in PROFILE_SETTINGS if given(values.get(name))}
+    if values.get('no_gain_stop'):
+        chosen['stop_gain'] = None
     config = replace(base, max_trials=int(values['max_trials']), **chosen)
     return config, duration
+
+
+def with_defaults(request: dict, defaults: dict) -> dict:
+    """Return the request's settings; each not given (:func:`given`) comes from ``defaults``."""
+    return {name: value if given(value) else defaults[name] for name, value in request.items()}
+
+
+def given(value: object) -> bool:
+    """Whether a request field or node parameter was given: 0, '' and None mean "not given"."""
+    return value not in (None, 0, 0.0, '')
 
 
 def expected_metadata(mode: str) -> dict:

@@ -195,7 +195,12 @@ def main(argv: list[str] | None = None) -> int:
         type=number(float, *STOP_GAIN_RANGE),
         default=None,
         help="blind runs: success also needs the next trial's expected gain below this [m/s]"
-        " (profile's; 0: no such stop)",
+        " (profile's)",
+    )
+    ap.add_argument(
+        '--no-gain-stop',
+        action='store_true',
+        help='no expected-gain stop: runs end on alpha or the budget alone',
     )
     ap.add_argument(
         '--floor',
@@ -275,6 +280,8 @@ def _experiment(args: argparse.Namespace) -> int:
         budget = args.max_trials or (
             EXPERIMENT_MAX_TRIALS if args.profile == 'thesis' else TRIAL_BUDGET
         )
+        if args.no_gain_stop:
+            chosen['stop_gain'] = None
         config = replace(PROFILES[args.profile], max_trials=budget, **chosen)
         if args.bank != 'profile':
             config = replace(config, use_bank=args.bank in ('on', 'leave-out'))

@@ -128,8 +128,8 @@ def run_rules(config: MboaConfig, start: SessionStart) -> MboaConfig:
     best; ``stop_gain`` is for blind runs). A floor above ``config.min_speed`` raises the
     success floor to it.
     """
-    if start.informed and config.stop_gain > 0:
-        config = replace(config, stop_gain=0.0)
+    if start.informed and config.stop_gain is not None:
+        config = replace(config, stop_gain=None)
     floor = start.floor
     if floor is not None and math.isfinite(floor) and floor > config.min_speed:
         config = replace(config, min_speed=min(float(floor), MIN_SPEED_RANGE[1]))

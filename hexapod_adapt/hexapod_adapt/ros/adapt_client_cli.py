@@ -121,9 +121,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     gain.add_argument(
         '--no-gain-stop',
-        action='store_const',
-        const=-1.0,
-        dest='stop_gain',
+        action='store_true',
         help='no expected-gain stop: a blind run ends on alpha or max_trials alone',
     )
     ap.add_argument(
@@ -198,6 +196,7 @@ def _goal(args: argparse.Namespace) -> Adapt.Goal:
         length_scale=args.length_scale,
         noise=args.noise,
         stop_gain=args.stop_gain,
+        no_gain_stop=args.no_gain_stop,
         profile=args.profile,
         failed_legs=legs,
         kinds=kinds,

@@ -32,6 +32,7 @@ from hexapod_adapt.online.run_config import (
     run_settings,
     SETTINGS,
     settings_problem,
+    with_defaults,
 )
 from hexapod_adapt.online.session import AdaptationSession, informed_start, run_session
 from hexapod_adapt.online.streaming_prior import StreamingPriors
@@ -166,9 +167,10 @@ class AdaptNode(Node):
         """Check the goal, run it, and fill ``response``."""
         request = handle.request
         problem = self.slot.problem if self.slot.archive is None else ''
-        try:  # a zero field means "the node's parameter"
+        try:
+            fields = {n: getattr(request, n) for n in RUN_SETTINGS}
             config, duration = run_settings(
-                {n: getattr(request, n) or self._param(n) for n in RUN_SETTINGS}
+                with_defaults(fields, {n: self._param(n) for n in RUN_SETTINGS})
             )
             config = replace(config, min_speed=float(self._param('min_speed')))
             named = damage_of_request(request)

@@ -202,5 +202,5 @@ def test_a_known_damage_starts_from_its_prior_with_a_screen_and_stops_on_alpha_a
     # the gain stop is for blind runs: the resolved settings say so, the request's stay
     config = PROFILES['default']
     informed = AdaptationSession(a, config, SessionStart(prior))
-    assert informed.rules.stop_gain == 0 and config.stop_gain > 0
+    assert informed.rules.stop_gain is None and config.stop_gain > 0
     assert AdaptationSession(a, config).rules == config

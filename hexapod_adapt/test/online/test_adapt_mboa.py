@@ -179,7 +179,7 @@ def test_the_thesis_profile_is_thesis_5_2_2_and_settings_override_a_profile():
         0.4,
         0.001,
     )
-    assert thesis.signal_variance == 1.0 and thesis.stop_gain == 0.0
+    assert thesis.signal_variance == 1.0 and thesis.stop_gain is None
     base = {'max_trials': 24, 'trial_duration': 5.0, 'alpha': 0.0, 'kappa': 0.0}
     base.update({'length_scale': 0.0, 'noise': 0.0})
     config, duration = run_settings({**base, 'profile': 'thesis'})
@@ -190,12 +190,14 @@ def test_the_thesis_profile_is_thesis_5_2_2_and_settings_override_a_profile():
         profile('fast')
     with pytest.raises(ValueError, match='alpha'):
         run_settings({**base, 'profile': 'thesis', 'alpha': 1.5})
-    # the expected-gain stop: 0 the profile's, a value replaces it, a negative one turns it off
+    # the expected-gain stop: 0 is not given (the profile's), a value replaces it, and only
+    # no_gain_stop turns it off
     default = PROFILES['default'].stop_gain
     assert default > 0 and run_settings(base)[0].stop_gain == default
     assert run_settings({**base, 'stop_gain': 0.01})[0].stop_gain == 0.01
-    assert run_settings({**base, 'stop_gain': -1.0})[0].stop_gain == 0.0
-    for bad in (2.0, float('nan'), float('-inf')):
+    assert run_settings({**base, 'no_gain_stop': True})[0].stop_gain is None
+    assert run_settings({**base, 'stop_gain': 0.01, 'no_gain_stop': True})[0].stop_gain is None
+    for bad in (2.0, -1.0, float('nan'), float('-inf')):
         with pytest.raises(ValueError, match='stop_gain'):
             run_settings({**base, 'stop_gain': bad})
 

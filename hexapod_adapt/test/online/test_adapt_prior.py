@@ -238,7 +238,7 @@ def test_the_expected_gain_stop_is_for_blind_runs_only(tiny_map):
     assert len(informed.trials) == 1 and informed.success
     assert informed.niches[0] == truth.best_niche
     # the same start without the gain stop stops the same way: the stop is alpha's
-    plain = replace(config, stop_gain=0.0)
+    plain = replace(config, stop_gain=None)
     again = adapt(tiny_map, lookup_trial(truth), plain, SessionStart(truth.speeds))
     assert again.niches == informed.niches
     # blind, the gain stop keeps the run going while an untried gait may gain 2 mm/s or more
