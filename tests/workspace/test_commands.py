@@ -19,8 +19,9 @@ import signal
 import subprocess
 from typing import Callable
 
-from conftest import executable, wait_for
 import pytest
+
+from conftest import executable, wait_for
 
 PACKAGE = {
     'generate_map': 'hexapod_adapt',
