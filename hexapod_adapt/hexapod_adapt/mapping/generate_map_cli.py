@@ -49,32 +49,16 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     ap.add_argument('--out', type=output_file, required=True, help='archive file to write (.npz)')
-    ap.add_argument(
-        '--emitters',
-        choices=EMITTER_SETS,
-        default='iso_line',
-        help="who proposes gaits after the random start: iso_line (the thesis's operator);"
-        ' cma_me or cma_mae (pyribs improvement emitters: CMA-ES inside the archive); bandit (a'
-        ' UCB1 bandit over CMA-ES, random-direction and iso+line emitters)',
-    )
-    ap.add_argument(
-        '--emitter-count', type=_limited('emitter_count'), default=5, help='emitters per lane'
-    )
-    ap.add_argument(
-        '--emitter-batch',
-        type=_limited('emitter_batch'),
-        default=36,
-        help='solutions per emitter per ask',
-    )
-    ap.add_argument(
-        '--sigma0', type=_limited('sigma0'), default=0.15, help="CMA-ES's initial step size"
-    )
-    ap.add_argument(
-        '--lanes',
-        type=_limited('lanes'),
-        default=2,
-        help='emitter sets asked in turn, so that no worker waits for a batch to end',
-    )
+    _map_options(ap)
+    _emitter_options(ap)
+    _parallel_options(ap)
+    _run_options(ap)
+    _gait_guards(ap)
+    return ap
+
+
+def _map_options(ap: argparse.ArgumentParser) -> None:
+    """Add what map to make: its kind, size, budget, seed and physics."""
     ap.add_argument(
         '--kind',
         choices=tuple(MAP_KINDS),
@@ -115,6 +99,40 @@ def build_parser() -> argparse.ArgumentParser:
         help="the engine's physics steps per 240 Hz row, recorded in the map (0: its default;"
         " MuJoCo's 1 has not converged on fast gaits, docs/simulator.md)",
     )
+
+
+def _emitter_options(ap: argparse.ArgumentParser) -> None:
+    """Add the emitter set and pyribs' settings."""
+    ap.add_argument(
+        '--emitters',
+        choices=EMITTER_SETS,
+        default='iso_line',
+        help="who proposes gaits after the random start: iso_line (the thesis's operator);"
+        ' cma_me or cma_mae (pyribs improvement emitters: CMA-ES inside the archive); bandit (a'
+        ' UCB1 bandit over CMA-ES, random-direction and iso+line emitters)',
+    )
+    ap.add_argument(
+        '--emitter-count', type=_limited('emitter_count'), default=5, help='emitters per lane'
+    )
+    ap.add_argument(
+        '--emitter-batch',
+        type=_limited('emitter_batch'),
+        default=36,
+        help='solutions per emitter per ask',
+    )
+    ap.add_argument(
+        '--sigma0', type=_limited('sigma0'), default=0.15, help="CMA-ES's initial step size"
+    )
+    ap.add_argument(
+        '--lanes',
+        type=_limited('lanes'),
+        default=2,
+        help='emitter sets asked in turn, so that no worker waits for a batch to end',
+    )
+
+
+def _parallel_options(ap: argparse.ArgumentParser) -> None:
+    """Add where the evaluations run."""
     ap.add_argument(
         '--backend',
         choices=BACKENDS,
@@ -143,6 +161,10 @@ def build_parser() -> argparse.ArgumentParser:
             ' pybullet)'
         ),
     )
+
+
+def _run_options(ap: argparse.ArgumentParser) -> None:
+    """Add the CVT, checkpoints, logs, and what to do with existing files."""
     ap.add_argument(
         '--random-init',
         type=_limited('random_init'),
@@ -190,6 +212,10 @@ def build_parser() -> argparse.ArgumentParser:
         action='store_true',
         help='start afresh over an existing <out>, its checkpoint and log (kept as NAME.bak)',
     )
+
+
+def _gait_guards(ap: argparse.ArgumentParser) -> None:
+    """Add the presets and the filters of the gaits a map may hold."""
     ap.add_argument(
         '--with-presets',
         action='store_true',
@@ -220,7 +246,6 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument(
         '--no-bar', action='store_true', help='progress lines instead of a progress bar (logs, CI)'
     )
-    return ap
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -45,6 +45,7 @@ from hexapod_adapt.online.mboa import (
     KAPPA_RANGE,
     LENGTH_SCALE_RANGE,
     MAX_TRIALS_LIMIT,
+    MboaConfig,
     NOISE_RANGE,
     PROFILES,
     STOP_GAIN_RANGE,
@@ -115,13 +116,23 @@ def summary(rows: list[ExperimentRow]) -> str:
     return '\n'.join(lines)
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Entry point of ``run_experiment``; exit status 2 for bad inputs."""
+def build_parser() -> argparse.ArgumentParser:
+    """Return the command-line options of ``run_experiment``."""
     ap = argparse.ArgumentParser(
         prog='run_experiment',
         description=__doc__.split('\n\n')[0],
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
+    _run_options(ap)
+    _mboa_options(ap)
+    _trial_options(ap)
+    _prior_and_outputs(ap)
+    add_force(ap)
+    return ap
+
+
+def _run_options(ap: argparse.ArgumentParser) -> None:
+    """Add the map, the scenarios, the damage and the engines."""
     ap.add_argument(
         '--archive',
         type=input_file,
@@ -155,6 +166,10 @@ def main(argv: list[str] | None = None) -> int:
         help="run on the map's engine and again on each other engine (the judge included), each"
         " other engine at its converged step, as make bench-adapt's _cross and _judge runs",
     )
+
+
+def _mboa_options(ap: argparse.ArgumentParser) -> None:
+    """Add M-BOA's settings (each the profile's unless given)."""
     ap.add_argument(
         '--max-trials',
         type=number(int, 1, MAX_TRIALS_LIMIT),
@@ -202,6 +217,10 @@ def main(argv: list[str] | None = None) -> int:
         action='store_true',
         help='no expected-gain stop: runs end on alpha or the budget alone',
     )
+
+
+def _trial_options(ap: argparse.ArgumentParser) -> None:
+    """Add the success floor and the trials' timing."""
     ap.add_argument(
         '--floor',
         action=argparse.BooleanOptionalAction,
@@ -222,6 +241,10 @@ def main(argv: list[str] | None = None) -> int:
         help='untimed walking before each trial is timed [s] (default 0: timed from standing,'
         " the thesis's trial and the product's)",
     )
+
+
+def _prior_and_outputs(ap: argparse.ArgumentParser) -> None:
+    """Add the prior, the bank, the ceilings and the outputs."""
     ap.add_argument(
         '--prior',
         choices=('map', 'damage'),
@@ -256,13 +279,65 @@ def main(argv: list[str] | None = None) -> int:
         type=output_dir,
         help='directory for runs.csv, adapted_speed.png and trials.png',
     )
-    add_force(ap)
-    args = ap.parse_args(argv)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of ``run_experiment``; exit status 2 for bad inputs."""
+    args = build_parser().parse_args(argv)
     return run_command('run_experiment', lambda: _experiment(args))
 
 
 #: What --out-dir receives.
 OUT_DIR_FILES = ('runs.csv', 'adapted_speed.png', 'trials.png', 'ceiling_ratio.png')
+
+
+def _config(args: argparse.Namespace) -> MboaConfig:
+    """Return M-BOA's settings: the profile's, with what the options give; ValueError if bad."""
+    chosen = {
+        name: getattr(args, name) for name in PROFILE_SETTINGS if getattr(args, name) is not None
+    }
+    if args.no_gain_stop:
+        chosen['stop_gain'] = None
+    budget = args.max_trials or (
+        EXPERIMENT_MAX_TRIALS if args.profile == 'thesis' else TRIAL_BUDGET
+    )
+    config = replace(PROFILES[args.profile], max_trials=budget, **chosen)
+    if args.bank != 'profile':
+        config = replace(config, use_bank=args.bank in ('on', 'leave-out'))
+    if args.prior == 'damage' and args.ceilings is None:
+        raise ValueError('--prior damage needs --ceilings (where the re-scored maps are)')
+    return config
+
+
+def _setup_name(args: argparse.Namespace) -> str:
+    """Return the rows' name of the setup: the profile, and what the options add to it."""
+    uses_bank = PROFILES[args.profile].use_bank
+    if args.prior == 'damage':
+        suffix = '+prior'
+    elif args.bank == 'leave-out':
+        suffix = '+bank-leave-out'
+    elif args.bank == 'on' and not uses_bank:
+        suffix = '+bank'
+    elif args.bank == 'off' and uses_bank:
+        suffix = '-bank'
+    else:
+        suffix = ''
+    return args.profile + suffix
+
+
+def _show(r: ExperimentRow) -> None:
+    print(
+        f'{r.trial_engine:8s} {r.scenario} legs {",".join(map(str, r.failed_legs)):4s}'
+        f' {r.damage_kind}'
+        f' {r.trials:3d} trials  adapted {r.best_speed:+.3f} m/s  control'
+        f' {r.control_speed:+.3f} m/s'
+        + (
+            f'  ceiling {r.ceiling_speed:.3f} m/s, ratio {r.ratio:.2f}'
+            if r.ceiling_niche >= 0
+            else ''
+        ),
+        flush=True,
+    )
 
 
 def _experiment(args: argparse.Namespace) -> int:
@@ -272,21 +347,7 @@ def _experiment(args: argparse.Namespace) -> int:
     claim_outputs(outputs, args.force, FORCE_HINT)
     try:
         archive = load_archive(args.archive or shipped_map(DEFAULT_MAP))
-        chosen = {
-            name: getattr(args, name)
-            for name in PROFILE_SETTINGS
-            if getattr(args, name) is not None
-        }
-        budget = args.max_trials or (
-            EXPERIMENT_MAX_TRIALS if args.profile == 'thesis' else TRIAL_BUDGET
-        )
-        if args.no_gain_stop:
-            chosen['stop_gain'] = None
-        config = replace(PROFILES[args.profile], max_trials=budget, **chosen)
-        if args.bank != 'profile':
-            config = replace(config, use_bank=args.bank in ('on', 'leave-out'))
-        if args.prior == 'damage' and args.ceilings is None:
-            raise ValueError('--prior damage needs --ceilings (where the re-scored maps are)')
+        config = _config(args)
     except (ArchiveError, ValueError) as exc:
         print(f'run_experiment: {exc}', file=sys.stderr)
         return 2
@@ -294,63 +355,35 @@ def _experiment(args: argparse.Namespace) -> int:
     first = args.trial_engine or map_engine
     engines = [first] + ([e for e in ENGINES if e != first] if args.cross_engine else [])
 
-    def show(r: ExperimentRow) -> None:
-        print(
-            f'{r.trial_engine:8s} {r.scenario} legs {",".join(map(str, r.failed_legs)):4s}'
-            f' {r.damage_kind}'
-            f' {r.trials:3d} trials  adapted {r.best_speed:+.3f} m/s  control'
-            f' {r.control_speed:+.3f} m/s'
-            + (
-                f'  ceiling {r.ceiling_speed:.3f} m/s, ratio {r.ratio:.2f}'
-                if r.ceiling_niche >= 0
-                else ''
-            ),
-            flush=True,
-        )
-
     def ceilings(damage, engine):
         return ceiling(archive, damage, engine, args.ceilings, args.workers)
 
     def priors(damage):  # the map re-scored under the damage on the map's own engine
         return ceilings(damage, map_engine).speeds
 
-    floor = args.floor if args.floor is not None else args.profile != 'thesis'
     bank = None
     if config.use_bank and args.prior != 'damage':
         dirs = [shipped_ceilings()] + ([args.ceilings] if args.ceilings else [])
         bank = load_bank(archive, map_engine, dirs)
         print(f'damage bank: {bank.describe()}', flush=True)
-    if args.prior == 'damage':
-        suffix = '+prior'
-    elif args.bank == 'leave-out':
-        suffix = '+bank-leave-out'
-    elif args.bank == 'on' and not PROFILES[args.profile].use_bank:
-        suffix = '+bank'
-    elif args.bank == 'off' and PROFILES[args.profile].use_bank:
-        suffix = '-bank'
-    else:
-        suffix = ''
-    setup = args.profile + suffix
-
+    setup = ExperimentSetup(
+        args.scenarios,
+        config,
+        ceilings=ceilings if args.ceilings is not None else None,
+        floor=args.floor if args.floor is not None else args.profile != 'thesis',
+        priors=priors if args.prior == 'damage' else None,
+        setup=_setup_name(args),
+        trial_duration=args.trial_duration,
+        settle=args.settle,
+        bank=bank,
+        leave_out=args.bank == 'leave-out',
+        kind=args.damage_kind,
+        tip_guard=DEFAULT_TIP_GUARD,  # adapt_node's
+    )
     rows: list[ExperimentRow] = []
     try:
         for engine in engines:
-            setup = ExperimentSetup(
-                args.scenarios,
-                config,
-                trial_engine=engine,
-                ceilings=ceilings if args.ceilings is not None else None,
-                floor=floor,
-                priors=priors if args.prior == 'damage' else None,
-                setup=setup,
-                trial_duration=args.trial_duration,
-                settle=args.settle,
-                bank=bank,
-                leave_out=args.bank == 'leave-out',
-                kind=args.damage_kind,
-                tip_guard=DEFAULT_TIP_GUARD,  # adapt_node's
-            )
-            rows += run_experiment(archive, setup, on_row=show)
+            rows += run_experiment(archive, replace(setup, trial_engine=engine), on_row=_show)
     except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the completed runs are kept
         if rows:
             _write_csv(args, rows)
@@ -359,12 +392,8 @@ def _experiment(args: argparse.Namespace) -> int:
     print(summary(rows))
     _write_csv(args, rows)
     if args.out_dir:
-        for path in plot_experiment(
-            rows,
-            args.out_dir / 'adapted_speed.png',
-            args.out_dir / 'trials.png',
-            args.out_dir / 'ceiling_ratio.png',
-        ):
+        names = ('adapted_speed.png', 'trials.png', 'ceiling_ratio.png')
+        for path in plot_experiment(rows, *(args.out_dir / name for name in names)):
             print(f'wrote {path}')
     return 0
 
