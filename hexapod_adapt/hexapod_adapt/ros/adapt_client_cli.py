@@ -75,6 +75,20 @@ def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(
         prog='adapt_client', description='Run one adaptation and print its trials.'
     )
+    _mboa_options(ap)
+    _damage_options(ap)
+    ap.add_argument('--action', default='adapt', help='name of the adapt action')
+    ap.add_argument(
+        '--timeout',
+        type=number(float, 0, 10**6, low_open=True),
+        default=3600.0,
+        help='give up after this many seconds, waiting for the action server included',
+    )
+    return ap
+
+
+def _mboa_options(ap: argparse.ArgumentParser) -> None:
+    """Add the run's M-BOA settings (0: the node's parameter)."""
     ap.add_argument(
         '--max-trials',
         type=_default_or(1, MAX_TRIALS_LIMIT, int),
@@ -130,6 +144,10 @@ def build_parser() -> argparse.ArgumentParser:
         default='',
         help="M-BOA settings (default: the node's profile parameter)",
     )
+
+
+def _damage_options(ap: argparse.ArgumentParser) -> None:
+    """Add what the run knows of the damage."""
     named = ap.add_mutually_exclusive_group()
     named.add_argument(
         '--failed-legs',
@@ -150,14 +168,6 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument(
         '--blind', action='store_true', help='ignore known damage: start from the map as it is'
     )
-    ap.add_argument('--action', default='adapt', help='name of the adapt action')
-    ap.add_argument(
-        '--timeout',
-        type=number(float, 0, 10**6, low_open=True),
-        default=3600.0,
-        help='give up after this many seconds, waiting for the action server included',
-    )
-    return ap
 
 
 def main(argv: list[str] | None = None) -> int:
