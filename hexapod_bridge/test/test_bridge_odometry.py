@@ -30,6 +30,7 @@ def run_trial(sim: Simulator, gait, seed: int, noise: ImuNoise | None) -> tuple[
     return ConsecutiveTrials(sim, seed, noise).trial(gait)
 
 
+@pytest.mark.slow
 def test_imu_speed_estimate_accuracy():
     gaits = [preset('tripod'), preset('wave'), preset('quadruped')]
     gaits += [from_genotype(g) for g in random_reachable_genotypes(5, seed=8)]
@@ -56,6 +57,7 @@ def test_imu_speed_estimate_accuracy():
 FAST_GAITS = Path(__file__).resolve().parent / 'data' / 'fast_gaits_first_map.json'
 
 
+@pytest.mark.slow
 def test_fast_gaits_walked_one_after_another_are_measured_within_the_stated_accuracy():
     from hexapod_sim import evaluate_gait
 
@@ -85,6 +87,7 @@ def test_fast_gaits_walked_one_after_another_are_measured_within_the_stated_accu
     assert np.median(gap) <= STEADY_GAIT_ACCURACY
 
 
+@pytest.mark.slow
 def test_the_default_maps_fastest_gaits_are_measured_within_the_stated_accuracy():
     """
     On MuJoCo, the engine that made them, one after another as on the robot.
@@ -113,6 +116,7 @@ def test_the_default_maps_fastest_gaits_are_measured_within_the_stated_accuracy(
     assert max(errors) <= SPEED_ACCURACY
 
 
+@pytest.mark.slow
 def test_a_settled_trial_is_timed_over_its_last_seconds_within_the_stated_accuracy():
     # the bridge's trial_settle: walk 1 s untimed, then 2 s timed; the rests still bound the
     # IMU window, and the speed is the displacement over the timed part

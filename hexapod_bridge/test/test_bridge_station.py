@@ -212,6 +212,7 @@ def _walking_station(radio, imu, **config) -> BaseStation:
     return station
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     'fault, signals, within',
     [

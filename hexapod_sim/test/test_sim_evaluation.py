@@ -56,6 +56,7 @@ print(json.dumps({"fitness": r.fitness.hex(), "descriptor": [float(v).hex() for 
 """
 
 
+@pytest.mark.slow
 def test_deterministic_fresh_process_vs_reused_simulator(sim):
     genotypes = random_reachable_genotypes(3, seed=4)
     # warm the reused simulator with other gaits (and a failure) first
@@ -153,6 +154,7 @@ def test_unreachable_gait_returns_the_failure_value(sim):
     )
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize('engine', ENGINES)
 def test_friction_is_configurable(engine):
     # Without friction no horizontal force reaches the robot, so its base cannot travel; a little
@@ -256,6 +258,7 @@ def test_a_numerical_blow_up_is_a_failed_evaluation_with_the_reason():
     )
 
 
+@pytest.mark.slow
 def test_a_batch_equals_one_gait_at_a_time(sim):
     genotypes = list(random_reachable_genotypes(4, seed=11)) + [preset('tripod'), preset('wave')]
     batch = evaluate_gaits(genotypes, sim, collisions_fatal=False)

@@ -48,6 +48,7 @@ def _set_archive(ros, value: str):
     )
 
 
+@pytest.mark.slow
 def test_adaptation_through_the_graph(ros, launch, tmp_path, small_archive, settled_speeds):
     path, archive, damaged_speeds = small_archive
     sim = launch(
@@ -172,6 +173,7 @@ def first_gait(archive, damage) -> tuple[int, float]:
     return int(truth.niches[best]), float(truth.speeds[best])
 
 
+@pytest.mark.slow
 def test_the_damage_informed_prior_through_the_graph(ros, launch, tmp_path, small_archive):
     """
     SetLegFailure, then adapt at once: the map re-scored under that damage, first its best gait.
@@ -234,6 +236,7 @@ def archive_gaits() -> int:
     return load_archive(shipped_map(DEFAULT_MAP)).n_filled
 
 
+@pytest.mark.slow
 def test_a_streaming_prior_starts_the_first_trial_before_the_re_score_ends(ros, launch, tmp_path):
     """
     An uncached damage on the default map: the first trial after the top of the re-score.
@@ -287,6 +290,7 @@ def test_a_streaming_prior_starts_the_first_trial_before_the_re_score_ends(ros, 
     assert node.alive()
 
 
+@pytest.mark.slow
 def test_a_request_before_the_simulator_reports_its_damage_waits_for_the_report(
     ros, launch, tmp_path, small_archive
 ):
@@ -313,6 +317,7 @@ def _set_min_speed(ros, value: float):
     )
 
 
+@pytest.mark.slow
 def test_without_an_archive_parameter_the_node_adapts_on_the_default_map(ros, launch):
     from hexapod_adapt.mapping.archive import load_archive
     from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
@@ -368,6 +373,7 @@ def test_an_unknown_mode_is_reported_not_replaced(ros, launch, small_archive):
     assert node.alive()
 
 
+@pytest.mark.slow
 def test_two_simulators_with_one_name_are_reported_not_waited_on(ros, launch, small_archive):
     import time
 
@@ -398,6 +404,7 @@ def test_two_simulators_with_one_name_are_reported_not_waited_on(ros, launch, sm
     assert node.alive() and first.alive() and second.alive()
 
 
+@pytest.mark.slow
 def test_a_twin_that_joins_during_a_run_stops_it_with_the_reason(ros, launch, small_archive):
     path, _archive, _ = small_archive
     launch('hexapod_sim', 'sim_node', params={'real_time_factor': 0.0})
@@ -468,6 +475,7 @@ def test_every_nonsensical_adapt_request_is_refused_with_a_reason(ros, launch, s
     assert node.alive()
 
 
+@pytest.mark.slow
 def test_a_simulated_graph_has_one_time_base(ros, launch, tmp_path, small_archive):
     """
     gait_node, the state publisher and adapt_node run on sim_node's /clock.
@@ -563,6 +571,7 @@ def _prefix_without(package: str, tmp_path) -> str:
     return os.pathsep.join(str(fake) if Path(p) == underlay else p for p in prefixes)
 
 
+@pytest.mark.slow
 def test_a_recorded_type_without_a_definition_is_refused_and_the_run_goes_on(
     ros, launch, tmp_path, small_archive
 ):

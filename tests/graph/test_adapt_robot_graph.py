@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import os
 
-from conftest import forgers_are_ignored_and_named, status_log_qos, wait_for, WS
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import simulation_fingerprint
 from hexapod_adapt.ros.adapt_action import BUSY
@@ -22,6 +21,8 @@ from hexapod_sim import create_simulator, evaluate_gait
 from hexapod_util.recording import read_messages
 import numpy as np
 import pytest
+
+from conftest import forgers_are_ignored_and_named, status_log_qos, wait_for, WS
 
 pytestmark = pytest.mark.ros
 
@@ -162,6 +163,7 @@ def test_two_failed_legs_adapted_on_the_robot_running_the_cpp_firmware(ros, laun
     assert node.alive() and bridge.alive() and emu.alive()
 
 
+@pytest.mark.slow
 def test_manual_mode_takes_the_operators_distance(ros, launch, tmp_path, small_archive):
     """
     The tape-measure workflow: the walk is started through the bridge, then the operator reports.
@@ -227,6 +229,7 @@ def test_manual_mode_takes_the_operators_distance(ros, launch, tmp_path, small_a
     assert late.returncode == 1 and 'no manual trial is waiting' in late.stderr, late.stderr
 
 
+@pytest.mark.slow
 def test_a_second_goal_is_rejected_and_ctrl_c_mid_run_finishes_the_recording(
     ros, launch, tmp_path, small_archive
 ):
@@ -261,6 +264,7 @@ def test_a_second_goal_is_rejected_and_ctrl_c_mid_run_finishes_the_recording(
     assert run_topics == ['/gait/parameters']
 
 
+@pytest.mark.slow
 def test_a_gait_the_robot_refuses_stops_the_run_with_the_robots_reason(ros, launch, tmp_path):
     from hexapod_gait.trajectory import reachable_key_points
     from std_srvs.srv import SetBool
@@ -288,6 +292,7 @@ def test_a_gait_the_robot_refuses_stops_the_run_with_the_robots_reason(ros, laun
     assert node.alive()
 
 
+@pytest.mark.slow
 def test_bad_servo_reports_are_refused_and_the_node_lives(ros, launch, domain_id):
     from hexapod_msgs.msg import ServoFailure
     from std_srvs.srv import Trigger
@@ -312,6 +317,7 @@ def test_bad_servo_reports_are_refused_and_the_node_lives(ros, launch, domain_id
     assert node.alive()
 
 
+@pytest.mark.slow
 def test_a_rogue_status_publisher_cannot_confirm_an_upload(ros, launch, small_archive):
     """
     Only bridge_node's ~/upload_gait answer confirms an upload.

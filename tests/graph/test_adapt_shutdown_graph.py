@@ -13,8 +13,9 @@ import os
 import subprocess
 import time
 
-from conftest import executable, wait_for, WS
 import pytest
+
+from conftest import executable, wait_for, WS
 
 pytestmark = pytest.mark.ros
 DEMO_MAP = WS / 'hexapod_adapt' / 'maps' / 'demo_map.npz'
@@ -57,6 +58,7 @@ def _adaptation(launch, domain_id, **adapt_params):
     return node, _client([exe, '--max-trials', '20', '--blind'], domain_id)
 
 
+@pytest.mark.slow
 def test_sigint_mid_adaptation_ends_the_run_in_one_line_and_the_client_says_so(
     launch, domain_id, tmp_path
 ):
@@ -74,6 +76,7 @@ def test_sigint_mid_adaptation_ends_the_run_in_one_line_and_the_client_says_so(
     assert seconds < 30  # not its 300 s timeout
 
 
+@pytest.mark.slow
 def test_a_client_whose_server_dies_says_so_instead_of_waiting_out_its_timeout(
     launch, domain_id, tmp_path
 ):
@@ -88,6 +91,7 @@ def test_a_client_whose_server_dies_says_so_instead_of_waiting_out_its_timeout(
     assert seconds < 30
 
 
+@pytest.mark.slow
 def test_navigate_client_says_when_its_server_dies_mid_goal(ros, launch, domain_id, tmp_path):
     import signal
 
@@ -111,6 +115,7 @@ def test_navigate_client_says_when_its_server_dies_mid_goal(ros, launch, domain_
     assert time.monotonic() - t0 < 30  # not its 300 s timeout
 
 
+@pytest.mark.slow
 def test_adapt_client_honours_its_timeout(domain_id):
     t0 = time.monotonic()
     result = subprocess.run(

@@ -14,7 +14,6 @@ import json
 import math
 from pathlib import Path
 
-from conftest import fast_sim_graph, set_adapt_parameter, wait_for
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import simulation_fingerprint
 from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
@@ -25,6 +24,8 @@ from hexapod_sim import create_simulator, evaluate_gait
 from hexapod_util.recording import read_messages
 import numpy as np
 import pytest
+
+from conftest import fast_sim_graph, set_adapt_parameter, wait_for
 
 pytestmark = pytest.mark.ros
 FAILED = [1]
@@ -72,6 +73,7 @@ def tipping_archive(tmp_path_factory):
     return _tipper_first(genes, FAILED, DEFAULT_TIP_GUARD, path)
 
 
+@pytest.mark.slow
 def test_a_trial_that_tips_is_stopped_counted_as_failed_and_never_tried_again(
     ros, launch, tmp_path, tipping_archive
 ):
@@ -173,6 +175,7 @@ def rocking_archive(tmp_path_factory):
     return archive.save(tmp_path_factory.mktemp('archive') / 'rocking.npz'), genes
 
 
+@pytest.mark.slow
 def test_a_gait_that_tips_in_the_prior_simulation_is_never_tried(
     ros, launch, tmp_path, rocking_archive
 ):

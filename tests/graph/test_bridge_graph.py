@@ -10,7 +10,6 @@ import os
 import signal
 import time
 
-from conftest import status_log_qos, wait_for
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from hexapod_bridge.emulator.robot_emulator_cli import radio_gone_times
 from hexapod_bridge.odometry import SPEED_ACCURACY
@@ -29,6 +28,8 @@ from rclpy.qos import DurabilityPolicy, qos_profile_sensor_data, QoSProfile, Rel
 from sensor_msgs.msg import Imu, JointState
 from std_srvs.srv import SetBool, Trigger
 
+from conftest import status_log_qos, wait_for
+
 pytestmark = pytest.mark.ros
 LATCHED = QoSProfile(
     depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE
@@ -44,6 +45,7 @@ def _emulator(launch, tmp_path, *extra):
     return emu, radio, imu
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize('firmware', ['python', 'native'])
 def test_upload_and_trial_end_to_end_over_pseudo_terminals(ros, launch, tmp_path, firmware):
     emu, radio, imu = _emulator(

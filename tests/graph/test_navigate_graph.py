@@ -12,7 +12,6 @@ import sys
 import textwrap
 import time
 
-from conftest import executable, forgers_are_ignored_and_named, status_log_qos, wait_for
 from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_msgs.action import Navigate
 from hexapod_navigation.ros.navigate_msgs import goal_at, navigate_client
@@ -23,6 +22,8 @@ from rcl_interfaces.srv import SetParameters
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from std_srvs.srv import SetBool
 from visualization_msgs.msg import Marker
+
+from conftest import executable, forgers_are_ignored_and_named, status_log_qos, wait_for
 
 pytestmark = pytest.mark.ros
 #: as launch.py navigate-sim, the launch file and make demo-navigate start it
@@ -65,6 +66,7 @@ class Goal:
         return r.status, r.result
 
 
+@pytest.mark.slow
 def test_a_goal_is_reached_through_the_graph(ros, graph):
     nav, client = graph
     assert 'damage bank: 63 damage hypotheses' in nav.log()  # the shipped bank fits
@@ -87,6 +89,7 @@ def test_a_goal_is_reached_through_the_graph(ros, graph):
     assert markers[-1].pose.position.x == 1.0 and markers[-1].header.frame_id == 'odom'
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize('period', [1, 4, 12, 24])
 def test_goals_are_reached_whatever_the_odometry_rate(ros, launch, period):
     # sim_node's publish_period_steps sets the odometry rate: 240 Hz (1) to 10 Hz (24) at real
@@ -101,6 +104,7 @@ def test_goals_are_reached_whatever_the_odometry_rate(ros, launch, period):
         assert result.reached, f'period {period}: {result.reason}\n{nav.log()[-3000:]}'
 
 
+@pytest.mark.slow
 def test_invalid_goals_are_rejected_with_a_reason_and_the_node_goes_on(ros, graph):
     nav, client = graph
     status = ros.collect(DiagnosticStatus, 'navigate/status', status_log_qos())
@@ -150,6 +154,7 @@ def test_invalid_goals_are_rejected_with_a_reason_and_the_node_goes_on(ros, grap
     wait_for(lambda: any(s.message.startswith('goal (0.80, 0.00):') for s in status), 120, 'end')
 
 
+@pytest.mark.slow
 def test_before_the_first_pose_a_bad_goal_is_rejected_and_a_good_one_waits_for_it(ros, launch):
     """CI once saw a NaN goal accepted because no pose had arrived yet (no range to check)."""
     nav = launch('hexapod_navigation', 'navigate_node', params={'max_range': 5.0})  # no sim_node
@@ -164,6 +169,7 @@ def test_before_the_first_pose_a_bad_goal_is_rejected_and_a_good_one_waits_for_i
     assert nav.alive()
 
 
+@pytest.mark.slow
 def test_cancel_stops_the_robot_and_a_new_goal_preempts(ros, graph):
     _nav, client = graph
     odom = ros.collect(Odometry, 'odom', ODOM)
@@ -197,6 +203,7 @@ def test_cancel_stops_the_robot_and_a_new_goal_preempts(ros, graph):
     assert second.result()[1].reached
 
 
+@pytest.mark.slow
 def test_the_node_survives_a_client_that_vanishes(ros, graph, domain_id):
     nav, client = graph
     script = textwrap.dedent(
@@ -226,6 +233,7 @@ def test_the_node_survives_a_client_that_vanishes(ros, graph, domain_id):
     assert nav.alive()
 
 
+@pytest.mark.slow
 def test_the_robot_path_walks_its_first_gait_through_the_bridge(ros, launch, tmp_path):
     radio, imu = str(tmp_path / 'radio'), str(tmp_path / 'imu')
     launch(
@@ -267,6 +275,7 @@ def test_the_robot_path_walks_its_first_gait_through_the_bridge(ros, launch, tmp
     assert nav.alive()
 
 
+@pytest.mark.slow
 def test_navigate_client_reaches_a_goal_and_ctrl_c_cancels_it(ros, graph, domain_id):
     nav, _ = graph
     exe = str(executable('hexapod_navigation', 'navigate_client'))
@@ -298,6 +307,7 @@ def test_navigate_client_reaches_a_goal_and_ctrl_c_cancels_it(ros, graph, domain
     assert nav.alive()
 
 
+@pytest.mark.slow
 def test_the_robot_path_refuses_goals_when_the_bridge_walks_other_trials(ros, launch, tmp_path):
     radio, imu = str(tmp_path / 'radio'), str(tmp_path / 'imu')
     launch(
@@ -371,6 +381,7 @@ class StormClient:
         self.node.destroy_node()
 
 
+@pytest.mark.slow
 def test_a_goal_storm_is_answered_at_once_and_only_the_newest_is_walked(ros, graph):
     nav, client = graph
     odom = ros.collect(Odometry, 'odom', ODOM)
@@ -425,6 +436,7 @@ def _goal_storm(ros, nav, client, storm):
     assert 'Traceback' not in log and 'never retrieved' not in log, log[-3000:]
 
 
+@pytest.mark.slow
 def test_robot_mode_takes_dead_servos_only_from_its_bridge_and_forgets_them(
     ros, launch, domain_id
 ):
@@ -482,6 +494,7 @@ def test_robot_mode_takes_dead_servos_only_from_its_bridge_and_forgets_them(
     assert nav.alive()
 
 
+@pytest.mark.slow
 def test_the_tip_guard_stops_a_step_that_tilts_the_robot_and_says_so(ros, launch):
     # a guard of 0.2 deg: every walking step tilts the body past it
     nav, client = start_graph(ros, launch, tip_guard=0.004)

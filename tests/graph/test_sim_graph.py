@@ -12,7 +12,6 @@ from __future__ import annotations
 import math
 import time
 
-from conftest import status_log_qos, wait_for
 from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_gait import from_genotype, preset
 from hexapod_gait.ros_conversions import gait_to_msg
@@ -36,6 +35,8 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Header
 from std_srvs.srv import Trigger
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+
+from conftest import status_log_qos, wait_for
 
 pytestmark = pytest.mark.ros
 LATCHED = QoSProfile(
@@ -71,6 +72,7 @@ def _gaits_with_library_speeds(n_random: int, config: SimConfig) -> list[tuple[o
     return chosen
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     'engine,substeps,n_random',
     [('pybullet', 0, 18), ('mujoco', 0, 10), ('mujoco', 4, 5), ('dart', 0, 3)],

@@ -12,13 +12,14 @@ from __future__ import annotations
 
 import math
 
-from conftest import status_log_qos, wait_for
 from diagnostic_msgs.msg import DiagnosticStatus
 import numpy as np
 import pytest
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import Header
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+
+from conftest import status_log_qos, wait_for
 
 pytestmark = pytest.mark.ros
 LATCHED = QoSProfile(
@@ -89,6 +90,7 @@ def _hostile(rng: np.random.Generator, k: int) -> JointTrajectory:
     return msg
 
 
+@pytest.mark.slow
 def test_fuzzed_trajectories_never_kill_sim_node_or_replace_its_gait(ros, launch):
     sim = launch(
         'hexapod_sim', 'sim_node', params={'real_time_factor': 0.0, 'publish_period_steps': 24}

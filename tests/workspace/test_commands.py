@@ -246,6 +246,7 @@ PATHS = [
 ]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     'command, args, says', PATHS, ids=[f'{c}-{" ".join(a)}' for c, a, _ in PATHS]
 )
@@ -302,6 +303,7 @@ RUNNING = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize('signum', [signal.SIGINT, signal.SIGTERM], ids=['SIGINT', 'SIGTERM'])
 @pytest.mark.parametrize('command', sorted(RUNNING))
 def test_a_signal_while_running_ends_with_one_line_and_its_status(
@@ -437,6 +439,7 @@ def test_an_existing_output_is_refused_and_left_byte_identical(
     assert {p.name: _digest(p) for p in out.iterdir()} == before  # nothing changed or added
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     'command, args, output',
     [
@@ -489,6 +492,7 @@ INPUTS = [
 ]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize('command, args, inputs', INPUTS, ids=[c for c, _, _ in INPUTS])
 def test_a_command_never_modifies_its_inputs(command, args, inputs, tmp_path):
     import shutil

@@ -10,6 +10,7 @@ import subprocess
 import sys
 
 from hexapod_util.recording import read_messages
+import pytest
 
 WS = Path(__file__).resolve().parents[2]
 
@@ -23,6 +24,7 @@ def _run_demo(script: str, out: Path, timeout: float) -> subprocess.CompletedPro
     )  # fmt: skip
 
 
+@pytest.mark.slow
 def test_the_demo_adapts_through_the_graph_and_records_a_replayable_run(tmp_path):
     done = _run_demo('demo.py', tmp_path, timeout=300)
     assert done.returncode == 0, done.stdout + done.stderr
@@ -34,6 +36,7 @@ def test_the_demo_adapts_through_the_graph_and_records_a_replayable_run(tmp_path
     assert topics.count('/adapt/trials') >= 1
 
 
+@pytest.mark.slow
 def test_the_navigation_demo_reaches_its_three_goals_and_records_each(tmp_path):
     """`make demo-navigate` (scripts/demo_navigate.py): the README's navigation demo works."""
     done = _run_demo('demo_navigate.py', tmp_path, timeout=600)

@@ -17,10 +17,11 @@ import subprocess
 import sys
 import time
 
-from conftest import tree_state, wait_for, WS
 from nav_msgs.msg import Odometry
 import pytest
 from rclpy.qos import QoSProfile, ReliabilityPolicy
+
+from conftest import tree_state, wait_for, WS
 
 
 @pytest.mark.parametrize(
@@ -277,6 +278,7 @@ def _parameter(ros, node: str, name: str):
     return parameter_value_to_python(answer.values[0])
 
 
+@pytest.mark.slow
 @pytest.mark.ros
 @pytest.mark.parametrize('with_file', [False, True], ids=['defaults', 'params-file'])
 @pytest.mark.parametrize('profile', sorted(PROFILE_FILES))

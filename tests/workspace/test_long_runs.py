@@ -14,6 +14,7 @@ import sys
 import time
 
 from hexapod_adapt.mapping.archive import load_archive
+import pytest
 
 WS = Path(__file__).resolve().parents[2]
 SAVE = WS / 'scripts' / 'save_progress.sh'
@@ -64,6 +65,7 @@ def _save(tree: Path, keep: Path) -> subprocess.CompletedProcess:
     )  # fmt: skip
 
 
+@pytest.mark.slow
 def test_a_running_map_is_stopped_at_a_checkpoint_and_its_progress_kept(tmp_path):
     tree, keep = tmp_path / 'mapgen', tmp_path / 'kept'
     proc = _start_map(tree)
@@ -86,6 +88,7 @@ def test_a_running_map_is_stopped_at_a_checkpoint_and_its_progress_kept(tmp_path
     assert rows and rows[-1]['evaluations'] > 0
 
 
+@pytest.mark.slow
 def test_a_checkpoint_further_on_is_never_replaced(tmp_path):
     tree, keep = tmp_path / 'mapgen', tmp_path / 'kept'
     keep.mkdir()
@@ -102,6 +105,7 @@ def test_a_checkpoint_further_on_is_never_replaced(tmp_path):
     assert further.read_bytes() == before
 
 
+@pytest.mark.slow
 def test_a_shipped_map_is_told_from_one_in_the_making(tmp_path):
     """
     resume_long_runs.sh restarts no map once the shipped one is make_default_map.sh's.
@@ -143,6 +147,7 @@ def test_no_ceilings_start_after_a_map_run_that_wrote_nothing(tmp_path):
     assert 'starting its ceilings' not in r.stdout
 
 
+@pytest.mark.slow
 def test_a_written_map_is_kept_to_ship_with_its_ceilings(tmp_path):
     """The finished map is in the repository before its ceilings, which take sessions, are."""
     tree, keep = tmp_path / 'mapgen', tmp_path / 'kept'
@@ -161,6 +166,7 @@ def test_a_written_map_is_kept_to_ship_with_its_ceilings(tmp_path):
     assert (keep / 'default_map.npz.log.jsonl').read_text() == '{"evaluations": 1}\n'
 
 
+@pytest.mark.slow
 def test_the_shipped_map_is_not_copied_back(tmp_path):
     """Once shipped, the map run's written map is the repository's own: nothing to keep."""
     shipped = WS / 'hexapod_adapt' / 'maps' / 'default_map.npz'
@@ -205,6 +211,7 @@ def test_only_the_ceilings_computed_in_the_worktree_are_kept(tmp_path):
     assert 'saved 1 ceiling cases' in r.stdout
 
 
+@pytest.mark.slow
 def test_the_shipped_maps_new_ceilings_are_packed_into_its_cache(tmp_path):
     """After a map ships, its cases still being made join the shipped cache as they finish."""
     from hexapod_adapt.online.ceiling import cached_ceiling, ceiling, pack_ceilings
@@ -266,6 +273,7 @@ def _with_evaluations(path: Path, evaluations: int) -> None:
     archive.save(path)
 
 
+@pytest.mark.slow
 def test_the_transfer_study_keeps_checkpoints_further_on_and_finished_maps(tmp_path):
     """Run a: a checkpoint behind the kept one; run b: one further on; run c: finished."""
     runs = tmp_path / 'transfer' / 'tuning' / 'transfer_study'
@@ -293,6 +301,7 @@ def test_the_transfer_study_keeps_checkpoints_further_on_and_finished_maps(tmp_p
     assert not (keep / 'walk_c.npz.ckpt.npz').exists()  # the run ended: its checkpoint goes
 
 
+@pytest.mark.slow
 def test_make_ceilings_counts_the_cases_the_shipped_cache_lacks():
     """resume_long_runs.sh starts no ceilings once this count is 0 (every case shipped)."""
     r = subprocess.run(

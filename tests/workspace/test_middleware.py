@@ -17,9 +17,10 @@ import subprocess
 import sys
 import time
 
-from conftest import next_domain, RosHarness, wait_for, WS
 from hexapod_util.middleware import fastdds_profile_path, profile_environment, PROFILES_ENV
 import pytest
+
+from conftest import next_domain, RosHarness, wait_for, WS
 
 SERVER = """
 import sys, time, rclpy
@@ -162,6 +163,7 @@ def _wait_behind_deaf_clients(tmp_path, own_profile: bool) -> float:
         ros.close()
 
 
+@pytest.mark.slow
 def test_a_node_started_without_the_variable_uses_the_profile_unless_one_is_set(tmp_path):
     """run_node sets the profile itself, so `ros2 run` on a full install gets it too."""
     own = _wait_behind_deaf_clients(tmp_path, own_profile=True)

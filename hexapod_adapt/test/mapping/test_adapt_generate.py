@@ -60,6 +60,7 @@ def test_command_writes_archive_log_and_cvt_and_refuses_a_changed_resume(tmp_pat
     assert load_archive(out).metadata['seed'] == 4  # the good map is untouched
 
 
+@pytest.mark.slow
 def test_bad_arguments_are_refused_with_reasons(tmp_path):
     r = _run_cli('--out', str(tmp_path / 'm.npz'), '--niches', '1')
     assert r.returncode == 2 and 'argument --niches: must be in [2, ' in r.stderr
@@ -80,6 +81,7 @@ def test_local_pool_and_dask_cluster_make_the_same_map(tmp_path):
     np.testing.assert_array_equal(local.genotypes, dask.genotypes)
 
 
+@pytest.mark.slow
 def test_a_map_without_a_single_gait_is_not_a_success(tmp_path):
     # 3 evaluations of random genotypes: reachable ones are almost never feasible gaits
     r = _run_cli(
@@ -99,6 +101,7 @@ def test_a_map_without_a_single_gait_is_not_a_success(tmp_path):
     assert not (tmp_path / 'm.npz').exists()
 
 
+@pytest.mark.slow
 def test_orphaned_temporaries_are_removed_on_start_and_resume(tmp_path):
     from hexapod_adapt.mapping.generate import remove_orphaned_temporaries
 
@@ -127,6 +130,7 @@ def test_orphaned_temporaries_are_removed_on_start_and_resume(tmp_path):
     assert r.returncode in (0, 1)
 
 
+@pytest.mark.slow
 def test_a_finished_map_without_its_checkpoint_continues_with_more_evaluations(tmp_path):
     out = tmp_path / 'map.npz'
     first = generate_map(GenerateConfig(out=out, workers=1, **SMALL))
@@ -205,6 +209,7 @@ def _kill_midway(args: list, out: Path, evaluations: int, emitters: bool = True)
     assert not [pid for pid in workers if _running(pid)], 'a worker outlived generate_map'
 
 
+@pytest.mark.slow
 def test_an_emitter_map_killed_and_resumed_equals_one_run_and_loads_in_adapt_node(tmp_path):
     from hexapod_adapt.online.run_config import ArchiveSlot
     from hexapod_adapt.online.trials import MODES

@@ -200,6 +200,7 @@ EMITTER_CONFIGS = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize('name', sorted(EMITTER_CONFIGS))
 def test_each_emitter_set_makes_the_same_map_from_a_seed_whatever_the_workers(name):
     cfg = EMITTER_CONFIGS[name]

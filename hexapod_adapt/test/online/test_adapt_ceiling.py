@@ -120,6 +120,7 @@ def test_a_cached_ceiling_is_reused_and_a_damaged_one_recomputed(small_map, tmp_
     assert cache_path(tmp_path, other) != path  # another damage, another file
 
 
+@pytest.mark.slow
 def test_packed_ceilings_read_as_the_loose_files_did(small_map, tmp_path):
     from hexapod_sim.damage import Damage
 
@@ -174,6 +175,7 @@ def test_the_cli_packs_what_is_cached_and_computes_nothing(small_map, tmp_path, 
     assert capsys.readouterr().out.strip() == '5'
 
 
+@pytest.mark.slow
 def test_the_cli_lists_the_cases_a_cache_holds_loose_or_packed(small_map, tmp_path, capsys):
     from hexapod_adapt.online.ceilings_cli import main
 
@@ -248,6 +250,7 @@ def test_a_replayed_run_is_the_simulated_run(small_map):
     assert not runs[0].success and summarise(runs).below_control == 1
 
 
+@pytest.mark.slow
 def test_an_approximate_ceiling_evaluates_the_guides_best_gaits_only(small_map, tmp_path):
     from hexapod_adapt.online.ceiling import approximate_ceiling, approximate_key
 

@@ -36,6 +36,7 @@ def test_scenario_s2_runs_in_every_orientation_and_writes_csv(tmp_path):
         assert float(row['best_speed']) > float(row['control_speed'])
 
 
+@pytest.mark.slow
 def test_the_experiment_runs_on_another_damage_kind(tmp_path):
     out = tmp_path / 'runs.csv'
     common = ('--archive', str(DEMO_MAP), '--scenarios', 'S1', '--max-trials', '3')
@@ -52,6 +53,7 @@ def test_the_experiment_runs_on_another_damage_kind(tmp_path):
     assert r.returncode == 2 and "invalid choice: 'broken'" in r.stderr
 
 
+@pytest.mark.slow
 def test_bad_inputs_are_refused(tmp_path):
     r = _run('--archive', str(tmp_path / 'missing.npz'))
     assert r.returncode == 2 and 'missing.npz: no such file' in r.stderr
@@ -89,6 +91,7 @@ def test_cross_engine_experiment_writes_csv_and_box_plots(tmp_path):
     assert 'trials on  scenario' in r.stdout
 
 
+@pytest.mark.slow
 def test_plot_map_draws_a_map_and_a_log_in_progress(tmp_path):
     import json
 
@@ -141,6 +144,7 @@ def test_plot_map_draws_a_map_and_a_log_in_progress(tmp_path):
     assert bad.returncode == 2 and ': no such file' in bad.stderr
 
 
+@pytest.mark.slow
 def test_each_run_is_measured_against_the_maps_ceiling_under_its_damage(tmp_path):
     # the command line: ceilings computed into a cache, ratios in the CSV, a ratio plot
     r = _run(

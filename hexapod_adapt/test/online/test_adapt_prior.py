@@ -170,6 +170,7 @@ def tiny_map() -> Archive:
     return tiny
 
 
+@pytest.mark.slow
 def test_m_boa_starts_from_the_re_scored_map(tiny_map, tmp_path):
     damage = Damage.lifted([4, 5])
     seen = []
@@ -194,6 +195,7 @@ def test_m_boa_starts_from_the_re_scored_map(tiny_map, tmp_path):
         adapt(tiny_map, lookup_trial(truth), config, SessionStart(prior.speeds[:3]))
 
 
+@pytest.mark.slow
 def test_a_streaming_prior_scores_the_best_gaits_first_and_caches_the_whole(tiny_map, tmp_path):
     from hexapod_adapt.online.streaming_prior import StreamingPrior
 
@@ -229,6 +231,7 @@ def test_a_partial_prior_estimates_the_gaits_not_yet_scored_from_those_scored():
     np.testing.assert_array_equal(partial_prior(intact, np.full(5, np.nan)), intact)
 
 
+@pytest.mark.slow
 def test_the_expected_gain_stop_is_for_blind_runs_only(tiny_map):
     truth = compute_ceiling(tiny_map, Damage.lifted([1]), 'mujoco')
     config = replace(PROFILES['default'], max_trials=10)
@@ -247,6 +250,7 @@ def test_the_expected_gain_stop_is_for_blind_runs_only(tiny_map):
     assert len(blind.trials) > len(blind_plain.trials)
 
 
+@pytest.mark.slow
 def test_adapt_takes_a_newer_prior_between_trials(tiny_map):
     truth = compute_ceiling(tiny_map, Damage.lifted([1]), 'mujoco')
     config = MboaConfig(max_trials=3, alpha=1.0)
@@ -262,6 +266,7 @@ def test_adapt_takes_a_newer_prior_between_trials(tiny_map):
     assert [t.number for t in run.trials] == list(range(1, len(run.trials) + 1))
 
 
+@pytest.mark.slow
 @settings(max_examples=500, deadline=None)
 @given(
     legs=st.lists(st.integers(0, 255), max_size=8),

@@ -81,6 +81,7 @@ def _killed_recording(path, trials: int, extra: int) -> None:
     proc.wait()
 
 
+@pytest.mark.slow
 def test_a_hard_killed_writer_keeps_every_completed_trial_and_recover_makes_it_indexed(tmp_path):
     from hexapod_util.recording import recover
 
@@ -166,6 +167,7 @@ def _one_line(proc: subprocess.CompletedProcess) -> str:
     return lines[0]
 
 
+@pytest.mark.slow
 def test_a_file_that_is_not_a_recording_is_refused_and_left_as_it_is(tmp_path):
     notes = tmp_path / 'notes.mcap'
     notes.write_text('my field notes: leg 3 sounded odd\n')
@@ -179,6 +181,7 @@ def test_a_file_that_is_not_a_recording_is_refused_and_left_as_it_is(tmp_path):
     assert proc.returncode != 0 and notes.read_bytes() == before
 
 
+@pytest.mark.slow
 def test_by_default_a_copy_is_written_beside_the_input_which_is_untouched(tmp_path):
     path = tmp_path / 'killed.mcap'
     _killed_recording(path, trials=3, extra=5)
@@ -200,6 +203,7 @@ def test_by_default_a_copy_is_written_beside_the_input_which_is_untouched(tmp_pa
     assert (tmp_path / 'killed.recovered.mcap.bak').read_bytes() == copied
 
 
+@pytest.mark.slow
 def test_in_place_keeps_the_original_and_replaces_only_when_nothing_is_lost(tmp_path):
     path = tmp_path / 'killed.mcap'
     _killed_recording(path, trials=2, extra=4)
@@ -241,6 +245,7 @@ def test_in_place_refuses_when_the_copy_would_hold_fewer_messages(tmp_path):
     assert path.read_bytes() == before and not (tmp_path / 'damaged.mcap.orig').exists()
 
 
+@pytest.mark.slow
 def test_a_recording_still_being_written_is_refused(tmp_path):
     path = tmp_path / 'live.mcap'
     script = textwrap.dedent(f"""

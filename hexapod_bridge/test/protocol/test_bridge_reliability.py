@@ -333,6 +333,7 @@ def test_fuzz_host_parser_never_raises(chunks):
     assert len(parser.buffer) <= CHUNK + 3 + MAX_TEXT
 
 
+@pytest.mark.slow
 @FUZZ
 @given(st.lists(st.binary(max_size=600), max_size=8))
 def test_fuzz_robot_receiver_and_firmware_never_raise(chunks):
