@@ -31,7 +31,8 @@ from hexapod_sim import ros_conversions as conv
 from hexapod_sim.damage import applied_message, Damage, damage_from_lists
 from hexapod_sim.physics.engines import create_simulator
 from hexapod_sim.physics.physics_loop import LoopHooks, PhysicsLoop, publish_period_steps
-from hexapod_sim.simulator import FRICTION, SimConfig
+from hexapod_sim.sim_node_settings import PARAMETERS
+from hexapod_sim.simulator import SimConfig
 from hexapod_sim.trajectory_input import CycleTable, TrajectoryError
 from hexapod_util.diagnostics import StatusHealth
 from hexapod_util.ros_glue import (
@@ -40,7 +41,6 @@ from hexapod_util.ros_glue import (
     LATCHED,
     ODOM,
     odom_transform,
-    ParamSpec,
     publish_status,
     run_node,
     SENSOR,
@@ -60,67 +60,6 @@ from std_msgs.msg import Header
 from std_srvs.srv import Trigger
 from tf2_msgs.msg import TFMessage
 from trajectory_msgs.msg import JointTrajectory
-
-PARAMETERS = (
-    ParamSpec(
-        'real_time_factor',
-        1.0,
-        'Simulated seconds per wall-clock second; 0 = as fast as possible',
-        range=(0.0, 100.0),
-    ),
-    ParamSpec(
-        'engine',
-        'pybullet',
-        "Physics engine: 'pybullet' (the thesis's, the reference), 'mujoco' (fast) or 'dart'"
-        ' (the judge of maps)',
-        read_only=True,
-    ),
-    ParamSpec('gui', False, 'Open the PyBullet GUI window (engine pybullet only)', read_only=True),
-    ParamSpec(
-        'friction',
-        Parameter.Type.DOUBLE,
-        f'Friction coefficient where a foot meets the floor, every engine (unset = {FRICTION:g})',
-        read_only=True,
-        range=(0.0, 10.0),
-    ),
-    ParamSpec(
-        'substeps',
-        0,
-        "Physics steps per 240 Hz row, the row's target held through them (0: the engine's"
-        ' default). A map made at N steps per row (its fingerprint says: the default map is'
-        ' MuJoCo at 4) walks here as it did in the map at N; studies/engines/README.md, "Where the'
-        ' engines differ", item 6, gives each engine\'s converged step.',
-        read_only=True,
-        range=(0, 64),
-    ),
-    ParamSpec(
-        'failed_legs',
-        Parameter.Type.INTEGER_ARRAY,
-        'Legs (1..6, at most two) failed at start-up',
-        read_only=True,
-    ),
-    ParamSpec(
-        'publish_period_steps',
-        0,
-        'Publish joint_states/odom/imu/foot_contacts every N physics steps (1/240 s each). 0:'
-        ' automatic, 24 (10 Hz of sim time) if real_time_factor starts at 0, where the node runs'
-        ' ~18x real time and Python readers of 60 Hz fell behind, else 4 (60 Hz). Trials read'
-        ' odometry at reset + N steps exactly.',
-        read_only=True,
-        range=(0, 240),
-    ),
-    ParamSpec(
-        'clock_period_steps',
-        6,
-        'Publish /clock every N physics steps (6: 40 Hz of sim time) and with every state'
-        ' message. Each /clock message wakes every node on use_sim_time: at every step (240 Hz)'
-        " a Python node's multi-threaded executor took a whole core (studies/engines/README.md).",
-        read_only=True,
-        range=(1, 240),
-    ),
-    ParamSpec('odom_frame', 'odom', 'REP 105 odometry frame', read_only=True),
-    ParamSpec('base_frame', 'base_link', 'Robot base frame', read_only=True),
-)
 
 
 class SimNode(Node):
@@ -143,19 +82,7 @@ class SimNode(Node):
         self.base_frame = str(values['base_frame'])
 
         group = ReentrantCallbackGroup()
-        self.clock_pub = self.create_publisher(Clock, '/clock', 10)
-        self.joint_pub = self.create_publisher(JointState, 'joint_states', SENSOR)
-        self.odom_pub = self.create_publisher(Odometry, 'odom', ODOM)
-        self.tf_pub = self.create_publisher(TFMessage, '/tf', TF_QOS)
-        self.imu_pub = self.create_publisher(Imu, 'imu/data', SENSOR)
-        self.contacts_pub = self.create_publisher(FootContacts, 'foot_contacts', SENSOR)
-        self.active_pub = self.create_publisher(Header, 'sim/active_trajectory', LATCHED)
-        self.activation_pub = self.create_publisher(
-            TrajectoryActivation, 'sim/activations', EVENTS
-        )
-        self.reset_pub = self.create_publisher(Header, 'sim/last_reset', LATCHED)
-        self.status_pub = self.create_publisher(DiagnosticStatus, 'sim/status', LATCHED)
-        self.damage_pub = self.create_publisher(LegDamage, 'sim/damage', LATCHED)
+        self._make_publishers()
         # one at a time, in arrival order: in the reentrant group two trajectories close together
         # (a tipped trial's stand, then the next trial's gait) could switch in the wrong order,
         # leaving the older one playing (CI, 2026-11-28)
@@ -213,6 +140,21 @@ class SimNode(Node):
             f'simulating with the {engine} engine at real_time_factor {rtf:g}, state every '
             f'{self.loop.period_steps} steps, {self.sim.settings.substeps} physics step(s) a step'
         )
+
+    def _make_publishers(self) -> None:
+        self.clock_pub = self.create_publisher(Clock, '/clock', 10)
+        self.joint_pub = self.create_publisher(JointState, 'joint_states', SENSOR)
+        self.odom_pub = self.create_publisher(Odometry, 'odom', ODOM)
+        self.tf_pub = self.create_publisher(TFMessage, '/tf', TF_QOS)
+        self.imu_pub = self.create_publisher(Imu, 'imu/data', SENSOR)
+        self.contacts_pub = self.create_publisher(FootContacts, 'foot_contacts', SENSOR)
+        self.active_pub = self.create_publisher(Header, 'sim/active_trajectory', LATCHED)
+        self.activation_pub = self.create_publisher(
+            TrajectoryActivation, 'sim/activations', EVENTS
+        )
+        self.reset_pub = self.create_publisher(Header, 'sim/last_reset', LATCHED)
+        self.status_pub = self.create_publisher(DiagnosticStatus, 'sim/status', LATCHED)
+        self.damage_pub = self.create_publisher(LegDamage, 'sim/damage', LATCHED)
 
     # -- parameters / callbacks (executor threads) ---------------------------------------------
     def _on_set_parameters(self, params: list[Parameter]) -> SetParametersResult:
