@@ -3,48 +3,32 @@
 """
 ``ros2 run hexapod_bridge bridge_node``: the base station's link to the real hexapod.
 
-Uploads each ``gait/parameters`` (latched) to the robot (gait-upload extension, acknowledged and
-retried). Publishes ``imu/data`` (the Xsens on ``imu_port``, or the robot's 2 Hz attitude),
-``trial_result`` (one per trial: whether it was walked and measured whole, why not, and the IMU
-estimate), ``trial_odom`` (one per valid trial: the IMU estimate of its displacement, in the
-frame it started in; twist = mean velocity; covariances = the estimate's accuracy), ``odom`` and
-odom -> base_link on ``/tf`` (30 Hz, continuous: the trials chained,
-:class:`hexapod_bridge.odometry.ChainedPose`), ``joint_states`` (the commanded angles of the
-uploaded gait, 30 Hz: the radio carries no measured ones; :mod:`hexapod_bridge.commanded`),
-``~/link_status``, ``bridge/status`` (latched), ``servo_failures`` (the last 64 kept: a servo
-that did not answer the robot's ping) and ``/diagnostics`` (each servo, the link, the IMU:
-:mod:`hexapod_bridge.health`).
-
-A lifecycle node (:mod:`hexapod_bridge.lifecycle`: configure opens the ports, activate arms,
-deactivate stops the robot). Services: ``~/arm`` (activate / deactivate: nothing is transmitted
-unless armed), ``~/upload_gait`` (answers once the
-robot acknowledged), ``~/start_trial`` (walk ``trial_settle`` s, then ``trial_duration`` s
-timed), ``~/stop_trial``, ``~/emergency_stop`` (always transmitted, then disarms),
-``~/motor_power`` (on also clears a latched e-stop), ``~/check_servos`` (HELLO),
-``~/get_servo_failures`` (the servos reported dead so far: how a subscriber of ``servo_failures``
-tells the bridge's reports from forged ones; and whether the robot has checked every servo: it
-does when the node is activated and when its port comes back).
-
-After an emergency stop the robot refuses trials (ESTOPPED) until, in this order:
-``~/arm true``, ``~/motor_power true`` and a gait upload; then ``~/start_trial`` works again.
+Uploads each ``gait/parameters`` to the robot and walks its trials; publishes ``imu/data``,
+``trial_result`` (one per trial: walked and measured whole or not, why, the IMU estimate),
+``trial_odom`` (valid trials), ``odom`` with odom -> base_link on ``/tf``, the commanded
+``joint_states``, ``~/link_status``, ``bridge/status``, ``servo_failures`` and ``/diagnostics``.
+A lifecycle node (configure opens the ports, activate arms). Services: ``~/arm``,
+``~/upload_gait``, ``~/start_trial``, ``~/stop_trial``, ``~/emergency_stop``, ``~/motor_power``,
+``~/check_servos``, ``~/get_servo_failures``. docs/bridge.md says what each does.
 """
 
 from __future__ import annotations
 
-from dataclasses import asdict, fields
+from dataclasses import asdict
 import sys
 import threading
 import time
 
 from diagnostic_msgs.msg import DiagnosticStatus
 from hexapod_bridge import ros_conversions as conv
+from hexapod_bridge.bridge_settings import JOINT_STATES_HZ, LEVELS, PARAMETERS, SERVO_CHECK_TRIES
 from hexapod_bridge.commanded import CommandedJoints
 from hexapod_bridge.gait_uploads import GaitUploads
 from hexapod_bridge.health import imu_health, link_health, servo_health
 from hexapod_bridge.lifecycle import ACTIVE, BridgeLifecycle, INACTIVE
 from hexapod_bridge.odometry import ChainedPose
-from hexapod_bridge.reports import Report, servo_report, Severity, trial_report
-from hexapod_bridge.station import ServoCheck, StationConfig, TrialResult
+from hexapod_bridge.reports import Report, servo_report, trial_report
+from hexapod_bridge.station import ServoCheck, TrialResult
 from hexapod_description.model import load_model
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.msg import LinkStatus, RobotTrial, ServoFailure
@@ -57,7 +41,6 @@ from hexapod_util.ros_glue import (
     LATCHED,
     ODOM,
     odom_transform,
-    ParamSpec,
     publish_status,
     run_node,
     SENSOR,
@@ -72,42 +55,6 @@ from rclpy.lifecycle import LifecycleNode
 from sensor_msgs.msg import Imu, JointState
 from std_srvs.srv import SetBool, Trigger
 from tf2_msgs.msg import TFMessage
-
-#: joint_states rate [Hz] (commanded angles).
-JOINT_STATES_HZ = 30.0
-#: HELLOs a start-up servo check sends, a second apart, before it gives up (the robot silent).
-SERVO_CHECK_TRIES = 30
-#: bridge/status's level of each report's severity.
-LEVELS = {
-    Severity.OK: DiagnosticStatus.OK,
-    Severity.WARN: DiagnosticStatus.WARN,
-    Severity.ERROR: DiagnosticStatus.ERROR,
-}
-#: The station's settings (StationConfig's fields), then the node's own.
-PARAMETERS = tuple(
-    ParamSpec(
-        f.name,
-        list(f.default) if isinstance(f.default, tuple) else f.default,
-        f.metadata['description'],
-        read_only=f.metadata['read_only'],
-        range=f.metadata['range'],
-    )
-    for f in fields(StationConfig)
-) + (
-    ParamSpec('odom_frame', 'odom', 'REP 105 odometry frame', read_only=True),
-    ParamSpec('base_frame', 'base_link', 'Robot base frame', read_only=True),
-    ParamSpec('imu_frame', 'imu_link', 'IMU frame', read_only=True),
-    ParamSpec(
-        'status_rate', 5.0, 'LinkStatus publish rate [Hz]', read_only=True, range=(0.1, 100.0)
-    ),
-    ParamSpec(
-        'autostart',
-        True,
-        'Configure at start-up, retrying while the port cannot be opened (false: a lifecycle'
-        ' manager drives the node); arm_on_start then activates it',
-        read_only=True,
-    ),
-)
 
 
 class BridgeNode(BridgeLifecycle, GaitUploads, LifecycleNode):
