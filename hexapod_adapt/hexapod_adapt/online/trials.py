@@ -3,9 +3,9 @@
 """
 Trials through a ROS graph, without ROS: the sim, robot and manual trial procedures.
 
-A trial function (``trial(niche) -> speed``, what :func:`hexapod_adapt.online.adaptation.adapt`
-calls) is built from a :class:`TrialPort` -- the few things a trial does to the graph, implemented
-over rclpy by :mod:`hexapod_adapt.ros.graph_port` -- the odometry received so far
+A trial function (``trial(niche) -> outcome``, what an adaptation session's driver calls) is
+built from a :class:`SimPort` or a :class:`RobotPort` (the few things a trial does to the graph,
+implemented over rclpy by :mod:`hexapod_adapt.ros.graph_port`), the odometry received so far
 (:class:`OdomLog`) and a :class:`Waiter`. Speeds are measured along the gait's walking direction
 (its crab angle):
 
@@ -221,8 +221,8 @@ class Upload:
     answered: bool = True  # the robot answered (False: no answer came, the link's fault)
 
 
-class TrialPort(Protocol):
-    """What a trial does to the graph (rclpy: :class:`hexapod_adapt.ros.graph_port.GraphPort`)."""
+class SimPort(Protocol):
+    """What a sim trial does to the graph: gait_node and sim_node."""
 
     def publish_gait(self, gait: GaitParameters) -> tuple[int, float]:
         """Publish ``gait`` on gait/parameters: (its unique stamp [ns], its crab angle [rad])."""
@@ -236,6 +236,13 @@ class TrialPort(Protocol):
     def reset(self) -> tuple[bool, str]:
         """Call sim_node's reset; TrialAborted if it does not answer."""
 
+    def stand(self) -> None:
+        """Publish the standing gait on gait/parameters (the simulated robot stops walking)."""
+
+
+class RobotPort(Protocol):
+    """What a robot or manual trial does to the graph: bridge_node."""
+
     def upload(self, gait: GaitParameters, timeout: float) -> tuple[Upload, float]:
         """Upload ``gait`` through bridge_node: (its answer, its crab angle [rad])."""
 
@@ -246,10 +253,14 @@ class TrialPort(Protocol):
         """Stop the robot's trial through bridge_node (it stands); TrialAborted if no answer."""
 
     def stand(self) -> None:
-        """Publish the standing gait on gait/parameters (the simulated robot stops walking)."""
+        """Tell the robot to stand (its trial stopped)."""
 
     def link_problem(self) -> str:
         """Say why bridge_node's radio link cannot carry a trial now ('' when it can)."""
+
+
+class TrialPort(SimPort, RobotPort, Protocol):
+    """A port for every mode (:class:`hexapod_adapt.ros.graph_port.GraphPort` is one)."""
 
 
 @dataclass(frozen=True)
@@ -274,7 +285,7 @@ class SimTrials:
     ATTEMPTS: ClassVar[int] = 3
 
     gaits: GaitOf
-    port: TrialPort
+    port: SimPort
     odom: OdomLog
     waiter: Waiter
     timing: TrialTiming
@@ -345,7 +356,7 @@ class LinkFault(Exception):
 GaitOf = Callable[[int], GaitParameters]
 
 
-def _uploaded(port: TrialPort, gait: GaitParameters, timeout: float) -> float:
+def _uploaded(port: RobotPort, gait: GaitParameters, timeout: float) -> float:
     """Upload ``gait``; return its crab angle, or raise with the robot's reason."""
     niche = gait.archive_index
     answer, crab = port.upload(gait, timeout)
@@ -394,7 +405,7 @@ class RobotTrials:
     """
 
     gaits: GaitOf
-    port: TrialPort
+    port: RobotPort
     results: SampleLog[RobotTrialResult]
     waiter: Waiter
     timing: TrialTiming
@@ -544,7 +555,7 @@ class ManualTrials:
     """
 
     gaits: GaitOf
-    port: TrialPort
+    port: RobotPort
     results: SampleLog[RobotTrialResult]
     waiter: Waiter
     timing: TrialTiming
