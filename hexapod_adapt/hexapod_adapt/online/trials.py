@@ -253,7 +253,7 @@ class RobotPort(Protocol):
         """Stop the robot's trial through bridge_node (it stands); TrialAborted if no answer."""
 
     def stand(self) -> None:
-        """Tell the robot to stand (its trial stopped)."""
+        """Make the robot stand: its trial is over."""
 
     def link_problem(self) -> str:
         """Say why bridge_node's radio link cannot carry a trial now ('' when it can)."""
