@@ -3,8 +3,6 @@
 SHELL := /bin/bash
 ENV := source scripts/env.sh
 PYTEST_ARGS ?=
-# pytest-xdist workers for `make test` (most graph tests wait on DDS and simulated time, not on a core).
-TEST_WORKERS ?= 2
 
 .PHONY: all bootstrap build demo demo-navigate test test-unit test-integration lint format bench bench-gait bench-sim \
         bench-map bench-adapt bench-bridge bench-navigate bench-firmware pictures clean
@@ -29,7 +27,7 @@ demo-navigate: bootstrap
 # CI's time goes).
 test: bootstrap
 	@$(MAKE) -s -C firmware arm BUILD=$(CURDIR)/build/hexapod_firmware_arm
-	@$(ENV) && python -m pytest -n $(TEST_WORKERS) --dist worksteal --durations=25 $(PYTEST_ARGS)
+	@$(ENV) && python scripts/run_tests.py --durations=25 $(PYTEST_ARGS)
 
 test-unit: bootstrap
 	@$(ENV) && python -m pytest hexapod_util/test hexapod_description/test hexapod_gait/test hexapod_sim/test hexapod_bridge/test hexapod_adapt/test hexapod_navigation/test $(PYTEST_ARGS)

@@ -60,14 +60,22 @@ def status_log_qos():
 #: DDS domains of the tests' graphs: within 0-101, the ids ROS 2 advises on Linux (higher ones
 #: can take ephemeral ports). 1-80 here, in turn from a place of this process's own; the
 #: guides' commands (tests/workspace/test_documented_commands.py) take 81-101.
-#: Under pytest-xdist each worker takes its own slice, so two workers never share a domain.
+#: Two pytest processes at once (make test's) each take their own slice: they never share one.
 def worker_slice(domains: range) -> range:
-    """The part of ``domains`` this pytest-xdist worker owns (all of it outside xdist)."""
+    """
+    Return the part of ``domains`` this pytest process owns (all of it when it runs alone).
+
+    A shard of scripts/run_tests.py (``HEXAPOD_TEST_SHARD=k/n``) or a pytest-xdist worker.
+    """
+    shard = os.environ.get('HEXAPOD_TEST_SHARD', '')
     worker = os.environ.get('PYTEST_XDIST_WORKER', '')
-    count = int(os.environ.get('PYTEST_XDIST_WORKER_COUNT', '1'))
-    if not worker.startswith('gw') or count < 2:
+    if shard:
+        k, n = (int(x) for x in shard.split('/'))
+    elif worker.startswith('gw'):
+        k, n = int(worker[2:]), int(os.environ.get('PYTEST_XDIST_WORKER_COUNT', '1'))
+    else:
         return domains
-    return domains[int(worker[2:]) :: count]
+    return domains[k::n] if n > 1 else domains
 
 
 TEST_DOMAINS = worker_slice(range(1, 81))

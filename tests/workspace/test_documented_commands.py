@@ -19,8 +19,9 @@ import shlex
 import signal
 import subprocess
 
-from conftest import tree_state, worker_slice
 import pytest
+
+from conftest import tree_state, worker_slice
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 WS = Path(__file__).resolve().parents[2]

@@ -164,6 +164,7 @@ def _wait_behind_deaf_clients(tmp_path, own_profile: bool) -> float:
 
 
 @pytest.mark.slow
+@pytest.mark.ros
 def test_a_node_started_without_the_variable_uses_the_profile_unless_one_is_set(tmp_path):
     """run_node sets the profile itself, so `ros2 run` on a full install gets it too."""
     own = _wait_behind_deaf_clients(tmp_path, own_profile=True)

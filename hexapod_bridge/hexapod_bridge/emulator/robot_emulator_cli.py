@@ -265,6 +265,7 @@ def _serve(args: argparse.Namespace) -> int:
         signal.signal(signum, lambda number, _: stopped_by.append(number))
     reported = walks = 0
     lying_since: float | None = None  # when the body last tilted past FALLEN_TILT
+    now = 0.0  # the robot's clock: the wall clock's, catching up at most CATCH_UP_S a turn
     try:
         while not stopped_by:
             while requests:
@@ -277,11 +278,13 @@ def _serve(args: argparse.Namespace) -> int:
                     print(f'RADIO {radio.open()}', flush=True)
                 elif what == 'reboot':
                     print_stats(firmware)
-                    firmware, reported, walks = boot(time.monotonic() - start), 0, 0
+                    firmware, reported, walks = boot(now), 0, 0
                     print(f'{REBOOTED}{time.monotonic():.6f}', flush=True)
             fds = [radio.master] if radio.master is not None else []
             ready = select.select(fds, [], [], 0.002)[0] if fds else (time.sleep(0.002) or [])
-            now = time.monotonic() - start
+            # after a stall (a stopped process, a loaded machine) the robot catches up in pieces,
+            # serving the radio between them, as a robot that never stopped would
+            now = min(time.monotonic() - start, now + CATCH_UP_S)
             if ready:
                 firmware.receive(radio.read(), now)
             if imu is not None:
@@ -325,6 +328,9 @@ def _right_if_fallen(sim, now: float, lying_since: float | None, after: float) -
     print(f'{RIGHTED}{now:.3f}', flush=True)
     return None
 
+
+#: The most time the emulated robot's clock moves in one turn of its loop [s].
+CATCH_UP_S = 0.25
 
 FIRMWARES = ('python', 'native')
 
