@@ -65,17 +65,13 @@ def worker_slice(domains: range) -> range:
     """
     Return the part of ``domains`` this pytest process owns (all of it when it runs alone).
 
-    A shard of scripts/run_tests.py (``HEXAPOD_TEST_SHARD=k/n``) or a pytest-xdist worker.
+    scripts/run_tests.py runs two processes at once, each with ``HEXAPOD_TEST_SHARD=k/n``.
     """
     shard = os.environ.get('HEXAPOD_TEST_SHARD', '')
-    worker = os.environ.get('PYTEST_XDIST_WORKER', '')
-    if shard:
-        k, n = (int(x) for x in shard.split('/'))
-    elif worker.startswith('gw'):
-        k, n = int(worker[2:]), int(os.environ.get('PYTEST_XDIST_WORKER_COUNT', '1'))
-    else:
+    if not shard:
         return domains
-    return domains[k::n] if n > 1 else domains
+    k, n = (int(x) for x in shard.split('/'))
+    return domains[k::n]
 
 
 TEST_DOMAINS = worker_slice(range(1, 81))

@@ -6,11 +6,11 @@ A damage-informed prior that streams: the map re-scored under the damage, its be
 A full re-score takes one evaluation per gait (minutes on 2 cores for the default map:
 ``adapt_prior_rescore_s`` in docs/benchmarks.md), and an operator should not wait for it.
 :class:`StreamingPrior` scores the gaits in the order of their intact speed, in the background;
-the first trial starts once the top ``first`` are scored, and
-the rest update M-BOA's prior between trials (:func:`hexapod_adapt.online.adaptation.adapt`'s
-``prior_update``). A gait not yet scored is given its intact speed times the median ratio of
-damaged to intact speed over the gaits scored so far. When every gait is scored the ceiling is
-cached, as :func:`hexapod_adapt.online.ceiling.ceiling` caches it, so the next run is instant.
+the first trial starts once the top ``first`` are scored, and the rest update M-BOA's prior
+between trials (a session's ``SessionStart.updates``). A gait not yet scored is given its intact
+speed times the median ratio of damaged to intact speed over the gaits scored so far. When every
+gait is scored the ceiling is cached, as :func:`hexapod_adapt.online.ceiling.ceiling` caches it,
+so the next run is instant.
 """
 
 from __future__ import annotations
@@ -31,6 +31,7 @@ from hexapod_adapt.online.ceiling import (
     Rescoring,
     store_ceiling,
 )
+from hexapod_adapt.online.session import PriorStart
 from hexapod_sim.damage import Damage
 from hexapod_util.processes import die_with_parent
 import numpy as np
@@ -220,10 +221,8 @@ class StreamingPriors:
         self.log, self.progress_period = log, progress_period
         self.stream: StreamingPrior | None = None  # the last run's (may still stream)
 
-    def start(self, archive: Archive, damage: Damage, source: str):
+    def start(self, archive: Archive, damage: Damage, source: str) -> PriorStart:
         """Wait for the top of the re-score under ``damage``; return the run's PriorStart."""
-        from hexapod_adapt.online.session import PriorStart  # the session imports this module
-
         stream = self._stream_for(archive, damage)
         if not stream.wait_first(PRIOR_FIRST_TIMEOUT):
             why = stream.error or (

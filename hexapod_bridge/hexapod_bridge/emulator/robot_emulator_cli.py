@@ -57,6 +57,8 @@ FALLEN_TILT = math.radians(30.0)
 RIGHTED = 'RIGHTED at '
 REBOOTED = 'REBOOTED at '
 WALK = 'WALK '
+#: The most time the emulated robot's clock moves in one turn of its loop [s].
+CATCH_UP_S = 0.25
 
 
 def radio_gone_times(output: str) -> list[float]:
@@ -328,9 +330,6 @@ def _right_if_fallen(sim, now: float, lying_since: float | None, after: float) -
     print(f'{RIGHTED}{now:.3f}', flush=True)
     return None
 
-
-#: The most time the emulated robot's clock moves in one turn of its loop [s].
-CATCH_UP_S = 0.25
 
 FIRMWARES = ('python', 'native')
 
