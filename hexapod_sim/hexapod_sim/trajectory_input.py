@@ -33,6 +33,67 @@ class CycleTable:
     period: float  # s
 
 
+def _check_names(names: list[str], expected: list[str]) -> None:
+    """Refuse joint names that are not the robot's joints, each once."""
+    if len(set(names)) != len(names):
+        raise TrajectoryError('duplicate joint names in the trajectory')
+    if set(names) != set(expected):
+        missing = sorted(set(expected) - set(names))
+        unknown = sorted(set(names) - set(expected))
+        raise TrajectoryError(
+            f"joint names must be the robot's {len(expected)} joints; "
+            f'missing {missing}, unknown {unknown}'
+        )
+
+
+def _point_arrays(
+    n_joints: int, times: Sequence[float], positions, velocities
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """Return (times, positions, velocities or None) as arrays, refusing wrong shapes."""
+    n = len(times)
+    if n < 2:
+        raise TrajectoryError(f'a gait cycle needs at least 2 points, got {n}')
+    if n > MAX_POINTS:
+        raise TrajectoryError(f'a gait cycle may have at most {MAX_POINTS} points, got {n}')
+    if len(positions) != n or (len(velocities) and len(velocities) != n):
+        raise TrajectoryError('positions (and velocities, if given) need one entry per point')
+    try:
+        q = np.asarray(positions, dtype=float)
+    except ValueError:
+        raise TrajectoryError('every point needs one position per joint') from None
+    if q.shape != (n, n_joints):
+        raise TrajectoryError(f'every point needs {n_joints} positions')
+    if not np.isfinite(q).all():
+        raise TrajectoryError('positions must be finite')
+    v = None
+    if len(velocities) and any(len(v) for v in velocities):
+        try:
+            v = np.asarray(velocities, dtype=float)
+        except ValueError:
+            raise TrajectoryError('every point needs 0 or one velocity per joint') from None
+        if v.shape != q.shape or not np.isfinite(v).all():
+            raise TrajectoryError(
+                'velocities must be finite, one per joint for every point (or none)'
+            )
+    return np.asarray(times, dtype=float), q, v
+
+
+def _sample_step(t: np.ndarray) -> float:
+    """Return the points' uniform spacing [s], refusing times that are not one sampled cycle."""
+    spacing = np.diff(t)
+    if not np.isfinite(t).all() or t[0] != 0.0 or np.any(spacing <= 0):
+        raise TrajectoryError('time_from_start must start at 0 and increase strictly')
+    if t[-1] + spacing.mean() > MAX_CYCLE_SECONDS:
+        raise TrajectoryError(
+            f'a gait cycle may last at most {MAX_CYCLE_SECONDS:g} s, got '
+            f'{t[-1] + spacing.mean():.6g} s'
+        )
+    step = float(spacing.mean())
+    if np.abs(spacing - step).max() > 1e-6:
+        raise TrajectoryError('points must be uniformly spaced in time (one sampled gait cycle)')
+    return step
+
+
 def cycle_from_points(
     joint_names: Sequence[str],
     times: Sequence[float],
@@ -48,55 +109,10 @@ def cycle_from_points(
     gait_node publishes them). Samples already at ``dt`` are used exactly as given; other rates
     are interpolated linearly (cyclically). Missing velocities are taken as finite differences.
     """
-    names = list(joint_names)
-    expected = list(urdf_joint_names)
-    if len(set(names)) != len(names):
-        raise TrajectoryError('duplicate joint names in the trajectory')
-    if set(names) != set(expected):
-        missing = sorted(set(expected) - set(names))
-        unknown = sorted(set(names) - set(expected))
-        raise TrajectoryError(
-            f"joint names must be the robot's {len(expected)} joints; "
-            f'missing {missing}, unknown {unknown}'
-        )
-    n = len(times)
-    if n < 2:
-        raise TrajectoryError(f'a gait cycle needs at least 2 points, got {n}')
-    if n > MAX_POINTS:
-        raise TrajectoryError(f'a gait cycle may have at most {MAX_POINTS} points, got {n}')
-    if len(positions) != n or (len(velocities) and len(velocities) != n):
-        raise TrajectoryError('positions (and velocities, if given) need one entry per point')
-    t = np.asarray(times, dtype=float)
-    try:
-        q = np.asarray(positions, dtype=float)
-    except ValueError:
-        raise TrajectoryError('every point needs one position per joint') from None
-    if q.shape != (n, len(names)):
-        raise TrajectoryError(f'every point needs {len(names)} positions')
-    if not np.isfinite(q).all():
-        raise TrajectoryError('positions must be finite')
-    if len(velocities) and any(len(v) for v in velocities):
-        try:
-            v = np.asarray(velocities, dtype=float)
-        except ValueError:
-            raise TrajectoryError('every point needs 0 or one velocity per joint') from None
-        if v.shape != q.shape or not np.isfinite(v).all():
-            raise TrajectoryError(
-                'velocities must be finite, one per joint for every point (or none)'
-            )
-    else:
-        v = None
-    spacing = np.diff(t)
-    if not np.isfinite(t).all() or t[0] != 0.0 or np.any(spacing <= 0):
-        raise TrajectoryError('time_from_start must start at 0 and increase strictly')
-    if t[-1] + spacing.mean() > MAX_CYCLE_SECONDS:
-        raise TrajectoryError(
-            f'a gait cycle may last at most {MAX_CYCLE_SECONDS:g} s, got '
-            f'{t[-1] + spacing.mean():.6g} s'
-        )
-    step = float(spacing.mean())
-    if np.abs(spacing - step).max() > 1e-6:
-        raise TrajectoryError('points must be uniformly spaced in time (one sampled gait cycle)')
+    names, expected = list(joint_names), list(urdf_joint_names)
+    _check_names(names, expected)
+    t, q, v = _point_arrays(len(names), times, positions, velocities)
+    step = _sample_step(t)
     period = t[-1] + step
     order = [names.index(name) for name in expected]
     q = q[:, order]

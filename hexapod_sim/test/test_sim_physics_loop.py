@@ -84,6 +84,19 @@ def test_an_error_in_the_work_comes_back_to_the_caller(loop):
     assert loop.call(lambda: 42) == 42  # the thread goes on
 
 
+def test_work_that_timed_out_is_withdrawn_never_run_later(loop):
+    """A caller told "the physics thread did not respond" can rely on the work not running."""
+    loop.start()
+    stall, ran = threading.Event(), []
+    loop.call(lambda: None)  # the thread is stepping
+    loop._work.put(stall.wait)  # the physics thread stalls (a hook blocked, a starved process)
+    with pytest.raises(TimeoutError, match='did not respond in 0.2 s'):
+        loop.call(lambda: ran.append('late'), timeout=0.2)
+    stall.set()
+    assert loop.call(lambda: 'after') == 'after'  # the queue behind it has run: it was not
+    assert ran == []
+
+
 def test_at_a_real_time_factor_the_loop_never_runs_ahead_of_the_wall_clock(loop):
     """The pacing bound only: how closely a loaded machine keeps up is bench-sim's figure."""
     loop.rtf = 1.0

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import math
 
-from conftest import status_log_qos, wait_for
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from hexapod_gait import build_joint_table, preset
 from hexapod_gait.ros_conversions import gait_to_msg
@@ -14,6 +13,8 @@ from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 import pytest
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from trajectory_msgs.msg import JointTrajectory
+
+from conftest import status_log_qos, wait_for
 
 LATCHED = QoSProfile(
     depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE

@@ -69,8 +69,9 @@ def test_every_interface_is_covered():
 
 @pytest.mark.ros
 def test_round_trip_between_processes(ros, domain_id, tmp_path):
-    from conftest import wait_for
     from interface_fill import fill, request_seed
+
+    from conftest import wait_for
 
     echo = subprocess.Popen(
         [sys.executable, str(Path(__file__).with_name('ros_echo.py'))],

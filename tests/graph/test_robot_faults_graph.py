@@ -20,12 +20,13 @@ import random
 import signal
 import time
 
-from conftest import NodeProcess, wait_for
 from hexapod_bridge.odometry import SPEED_ACCURACY
 from hexapod_description.model import load_model
 from hexapod_msgs.action import Adapt
 from hexapod_msgs.msg import AdaptationTrial
 import pytest
+
+from conftest import NodeProcess, wait_for
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 

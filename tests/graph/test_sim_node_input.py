@@ -105,22 +105,31 @@ def test_fuzzed_trajectories_never_kill_sim_node_or_replace_its_gait(ros, launch
     )
     good.header.stamp.sec = 4242
     pub.publish(good)
-    wait_for(lambda: active and active[-1].stamp.sec == 4242, 30, 'the good gait playing')
+
+    def errors() -> list[str]:
+        return [s.message for s in status if s.level == DiagnosticStatus.ERROR]
+
+    def playing() -> bool:
+        return bool(active) and active[-1].stamp.sec == 4242
+
+    # a loaded machine (the other test process beside it) has taken over 30 s to start it
+    wait_for(lambda: playing() or errors(), 90, 'the good gait, or why not')
+    assert playing() and not errors(), (errors(), sim.log())
     rng = np.random.default_rng(7)
     refused = 0
     for k in range(40):
-        before = len([s for s in status if s.level == DiagnosticStatus.ERROR])
+        before = len(errors())
         pub.publish(_hostile(rng, k))
         wait_for(
-            lambda: len([s for s in status if s.level == DiagnosticStatus.ERROR]) > before,
+            lambda: len(errors()) > before,
             30,
             f'hostile trajectory {k} refused',
         )
         refused += 1
         assert sim.alive(), f'sim_node died on hostile trajectory {k}'
-    errors = [s.message for s in status if s.level == DiagnosticStatus.ERROR]
-    assert all('rejected' in m and 'previous gait kept' in m for m in errors), errors
-    assert any('at most 60 s' in m for m in errors) and any(
-        'at most 60000 points' in m for m in errors
+    said = errors()
+    assert all('rejected' in m and 'previous gait kept' in m for m in said), said
+    assert any('at most 60 s' in m for m in said) and any(
+        'at most 60000 points' in m for m in said
     )
     assert active[-1].stamp.sec == 4242 and refused == 40  # the good gait is still the one playing

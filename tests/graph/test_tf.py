@@ -10,13 +10,14 @@ Foxglove need.
 
 from __future__ import annotations
 
-from conftest import wait_for
 from hexapod_description import load_model
 from hexapod_util.ros_glue import LATCHED, TF_QOS
 import numpy as np
 import pytest
 from std_msgs.msg import String
 from tf2_msgs.msg import TFMessage
+
+from conftest import wait_for
 
 pytestmark = pytest.mark.ros
 LEG_LINKS = {f'link_{leg}_{k}' for leg in range(1, 7) for k in (1, 2, 3)}

@@ -250,6 +250,57 @@ class EmptyMapError(RuntimeError):
     """The run finished without a single valid gait: no map was written."""
 
 
+def _check_resumable(source: Path, archive: Archive, engine, fingerprint: dict) -> None:
+    """Refuse (ArchiveError) to resume ``source`` with other settings, physics or fewer evals."""
+    saved = archive.metadata.get('map_elites', {})
+    # Candidate k depends on (seed, k, lag, settings) and the results before it, never on the
+    # total: a run may be resumed with MORE evaluations and equals a run made that long at once.
+    wanted = json.loads(json.dumps(engine.identity()))  # as stored: tuples became lists
+    differ = sorted(
+        k for k in set(saved) | set(wanted) if k != 'evaluations' and saved.get(k) != wanted.get(k)
+    )
+    if saved and differ:
+
+        def show(settings: dict, key: str) -> str:
+            value = settings.get(key)
+            return f'{len(value)} genotypes' if key == 'initial' else repr(value)
+
+        raise ArchiveError(
+            f'{source}: written with other MAP-Elites settings ('
+            + '; '.join(f'{k} {show(saved, k)}, not {show(wanted, k)}' for k in differ)
+            + '): resume with the same --seed/--lag/--chunk/--random-init/--with-presets'
+            '/--engine/--kind/--emitters and emitter settings'
+        )
+    if saved and engine.evaluations < archive.metadata.get('evaluations', 0):
+        raise ArchiveError(
+            f'{source}: already has {archive.metadata["evaluations"]}'
+            f' evaluations, more than the {engine.evaluations} asked for'
+        )
+    problems = compatibility_problems(archive, fingerprint)
+    if problems:
+        raise ArchiveError(
+            f'{source}: cannot resume a map made with another simulator,'
+            ' engine or URDF: ' + '; '.join(problems)
+        )
+
+
+def _empty_archive(config: GenerateConfig, dim: int, fingerprint: dict) -> Archive:
+    """Return a new run's empty archive on its CVT (one per study, as in the thesis)."""
+    # reused from centroids_<n>_<dim>.dat when present
+    cvt_dir = Path(config.cvt_dir or Path(config.out).parent)
+    cvt_file = cvt_cache_path(cvt_dir, config.niches, dim)
+    reused = cvt_file.is_file()
+    centroids = cached_cvt(
+        cvt_dir, config.niches, dim, samples=config.cvt_samples, seed=config.seed
+    )
+    cvt_info = {'file': cvt_file.name, 'reused': reused}
+    if not reused:
+        cvt_info.update(samples=config.cvt_samples or 25 * config.niches, seed=config.seed)
+    return Archive.empty(
+        centroids, {'seed': config.seed, 'evaluations': 0, **fingerprint, 'cvt': cvt_info}
+    )
+
+
 def generate_map(
     config: GenerateConfig, on_progress: Callable[[Progress], None] | None = None
 ) -> Archive:
@@ -281,54 +332,9 @@ def generate_map(
         source = out
         archive, pending, proposer = load_archive(out), {}, None
     if source is not None:
-        saved = archive.metadata.get('map_elites', {})
-        # Candidate k depends on (seed, k, lag, settings) and the results before it, never on the
-        # total: a run may be resumed with MORE evaluations and equals a run made that long at
-        # once.
-        wanted = json.loads(json.dumps(engine.identity()))  # as stored: tuples became lists
-        differ = sorted(
-            k
-            for k in set(saved) | set(wanted)
-            if k != 'evaluations' and saved.get(k) != wanted.get(k)
-        )
-        if saved and differ:
-
-            def show(settings: dict, key: str) -> str:
-                value = settings.get(key)
-                return f'{len(value)} genotypes' if key == 'initial' else repr(value)
-
-            raise ArchiveError(
-                f'{source}: written with other MAP-Elites settings ('
-                + '; '.join(f'{k} {show(saved, k)}, not {show(wanted, k)}' for k in differ)
-                + '): resume with the same --seed/--lag/--chunk/--random-init/--with-presets'
-                '/--engine/--kind/--emitters and emitter settings'
-            )
-        if saved and engine.evaluations < archive.metadata.get('evaluations', 0):
-            raise ArchiveError(
-                f'{source}: already has {archive.metadata["evaluations"]}'
-                f' evaluations, more than the {engine.evaluations} asked for'
-            )
-        problems = compatibility_problems(archive, fingerprint)
-        if problems:
-            raise ArchiveError(
-                f'{source}: cannot resume a map made with another simulator,'
-                ' engine or URDF: ' + '; '.join(problems)
-            )
+        _check_resumable(source, archive, engine, fingerprint)
     else:
-        # one CVT per study, as in the thesis: reused from centroids_<n>_6.dat when present
-        cvt_dir = Path(config.cvt_dir or out.parent)
-        dim = kind.descriptor_dim
-        cvt_file = cvt_cache_path(cvt_dir, config.niches, dim)
-        reused = cvt_file.is_file()
-        centroids = cached_cvt(
-            cvt_dir, config.niches, dim, samples=config.cvt_samples, seed=config.seed
-        )
-        cvt_info = {'file': cvt_file.name, 'reused': reused}
-        if not reused:
-            cvt_info.update(samples=config.cvt_samples or 25 * config.niches, seed=config.seed)
-        archive = Archive.empty(
-            centroids, {'seed': config.seed, 'evaluations': 0, **fingerprint, 'cvt': cvt_info}
-        )
+        archive = _empty_archive(config, kind.descriptor_dim, fingerprint)
     log_path = config.log_path
     log_path.parent.mkdir(parents=True, exist_ok=True)
     with open_executor(config) as (executor, workers):

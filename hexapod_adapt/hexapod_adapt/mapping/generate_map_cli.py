@@ -258,42 +258,90 @@ def main(argv: list[str] | None = None) -> int:
     )
 
 
+def _config(args: argparse.Namespace) -> GenerateConfig:
+    """Return the run's settings from the command line (ValueError: a setting is wrong)."""
+    config = GenerateConfig(
+        out=args.out,
+        niches=args.niches,
+        evaluations=args.evaluations,
+        seed=args.seed,
+        backend=args.backend,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        lag=args.lag,
+        chunk=args.chunk,
+        random_init=args.random_init,
+        cvt_samples=args.cvt_samples,
+        cvt_dir=args.cvt_dir,
+        checkpoint_every=args.checkpoint_every,
+        log_every=args.log_every,
+        log=args.log,
+        resume=args.resume,
+        with_presets=args.with_presets,
+        engine=args.engine,
+        substeps=args.substeps,
+        kind=args.kind,
+        min_stance_legs=args.min_stance_legs,
+        guards=WalkGuards(args.min_feet, args.max_tilt),
+        emitters=args.emitters,
+        emitter_count=args.emitter_count,
+        emitter_batch=args.emitter_batch,
+        sigma0=args.sigma0,
+        lanes=args.lanes,
+    )
+    config.engine_config()
+    return config
+
+
+class _Progress:
+    """
+    Print a run's progress: a bar, one line a report (``--no-bar``) or nothing (``--quiet``).
+
+    The bar is made at the first report, so a resumed run's rate and ETA count this run only.
+    """
+
+    def __init__(self, args: argparse.Namespace) -> None:
+        self.args, self.bar = args, None
+
+    def __call__(self, p) -> None:
+        if self.args.quiet:
+            return
+        if self.args.no_bar:
+            print(
+                f'{p.evaluations:>10d} evals  {p.filled:>6d} niches ({100 * p.coverage:5.1f} %)  '
+                f'max {p.max:7.3f}  mean {p.mean:7.3f} m  {p.evals_per_s:7.1f} evals/s  '
+                f'utilisation {100 * p.utilisation:5.1f} %',
+                flush=True,
+            )
+            return
+        if self.bar is None:
+            self.bar = tqdm(
+                total=self.args.evaluations,
+                initial=p.evaluations,
+                unit='eval',
+                dynamic_ncols=True,
+                smoothing=0.1,
+            )
+        self.bar.update(p.evaluations - self.bar.n)
+        self.bar.set_postfix(
+            niches=p.filled,
+            max=f'{p.max:.3f}',
+            util=f'{100 * p.utilisation:.0f}%',
+            refresh=False,
+        )
+
+    def close(self) -> None:
+        """Close the bar, if one was made."""
+        if self.bar is not None:
+            self.bar.close()
+
+
 def _generate(args: argparse.Namespace) -> int:
     try:
-        config = GenerateConfig(
-            out=args.out,
-            niches=args.niches,
-            evaluations=args.evaluations,
-            seed=args.seed,
-            backend=args.backend,
-            workers=args.workers,
-            scheduler=args.scheduler,
-            lag=args.lag,
-            chunk=args.chunk,
-            random_init=args.random_init,
-            cvt_samples=args.cvt_samples,
-            cvt_dir=args.cvt_dir,
-            checkpoint_every=args.checkpoint_every,
-            log_every=args.log_every,
-            log=args.log,
-            resume=args.resume,
-            with_presets=args.with_presets,
-            engine=args.engine,
-            substeps=args.substeps,
-            kind=args.kind,
-            min_stance_legs=args.min_stance_legs,
-            guards=WalkGuards(args.min_feet, args.max_tilt),
-            emitters=args.emitters,
-            emitter_count=args.emitter_count,
-            emitter_batch=args.emitter_batch,
-            sigma0=args.sigma0,
-            lanes=args.lanes,
-        )
-        config.engine_config()
+        config = _config(args)
     except ValueError as exc:
         print(f'generate_map: {exc}', file=sys.stderr)
         return 2
-
     if (
         not args.resume
     ):  # an existing map, checkpoint or log is the user's: never silently replaced
@@ -303,45 +351,14 @@ def _generate(args: argparse.Namespace) -> int:
             '--resume to continue it, or --force to start afresh (the old files are kept as'
             ' NAME.bak)',
         )
-    bar = None
-    use_bar = not args.quiet and not args.no_bar
-
-    def show(p) -> None:
-        nonlocal bar
-        if use_bar:
-            if (
-                bar is None
-            ):  # made at the first report, so a resumed run's rate and ETA count this run only
-                bar = tqdm(
-                    total=args.evaluations,
-                    initial=p.evaluations,
-                    unit='eval',
-                    dynamic_ncols=True,
-                    smoothing=0.1,
-                )
-            bar.update(p.evaluations - bar.n)
-            bar.set_postfix(
-                niches=p.filled,
-                max=f'{p.max:.3f}',
-                util=f'{100 * p.utilisation:.0f}%',
-                refresh=False,
-            )
-        elif not args.quiet:
-            print(
-                f'{p.evaluations:>10d} evals  {p.filled:>6d} niches ({100 * p.coverage:5.1f} %)  '
-                f'max {p.max:7.3f}  mean {p.mean:7.3f} m  {p.evals_per_s:7.1f} evals/s  '
-                f'utilisation {100 * p.utilisation:5.1f} %',
-                flush=True,
-            )
-
+    show = _Progress(args)
     try:
         archive = generate_map(config, on_progress=show)
     except (EmptyMapError, RuntimeError) as exc:
         print(f'generate_map: {exc}', file=sys.stderr)
         return 1
     finally:
-        if bar is not None:
-            bar.close()
+        show.close()
     s = archive.stats()
     if archive.kind.name == 'navigation':
         best = f'median heading change {-s.median:.3f} rad'

@@ -305,21 +305,59 @@ def run_map_elites(
     """
     engine = MapElites(archive, config, random_genes)
     engine.proposer = proposer  # a checkpoint's emitter set, in the state it was saved in
-    pending = dict(pending or {})
-    asked = engine.told + len(pending)
-    done: dict[int, Evaluation] = {}
-    futures: dict[cf.Future, list[int]] = {}
-    t0 = time.monotonic()
-    cpu0 = time.thread_time()
-    busy = 0.0
-    told_at_start = engine.told
-    last_ckpt = last_progress = t0
+    run = _Run(engine, config, evaluate, executor, workers, dict(pending or {}))
+    run.resubmit()
+    run.ask_allowed()
+    last_ckpt = last_progress = run.t0
+    while engine.told < config.evaluations:
+        run.submit_new()
+        run.collect()
+        run.tell_ready()
+        now = time.monotonic()
+        if on_progress and now - last_progress >= progress_every:
+            on_progress(run.progress())
+            last_progress = now
+        if checkpoint and now - last_ckpt >= checkpoint_every:
+            save_checkpoint(checkpoint, engine, run.pending)
+            last_ckpt = now
+    engine.sync_metadata()
+    if checkpoint:
+        save_checkpoint(checkpoint, engine, {})
+    if on_progress:
+        on_progress(run.progress())
+    return engine.archive
 
-    def progress() -> Progress:
-        s = engine.archive.stats()
-        wall = max(time.monotonic() - t0, 1e-9)
+
+class _Run:
+    """One run's candidates in flight: asked, submitted in chunks, told in candidate order."""
+
+    def __init__(
+        self,
+        engine: MapElites,
+        config: MapElitesConfig,
+        evaluate: EvaluateFn,
+        executor: cf.Executor | None,
+        workers: int,
+        pending: dict[int, np.ndarray],
+    ) -> None:
+        self.engine, self.config, self.evaluate = engine, config, evaluate
+        self.executor, self.workers = executor, max(workers, 1)
+        self.pending = pending  # candidate index -> genes, asked and not yet told
+        self.asked = engine.told + len(pending)
+        self.done: dict[int, Evaluation] = {}
+        self.futures: dict[cf.Future, list[int]] = {}
+        self.inline: list[list[int]] = []  # without an executor: chunks evaluated one per turn
+        self.new: list[int] = []  # asked, not yet submitted
+        self.t0, self.cpu0 = time.monotonic(), time.thread_time()
+        self.busy = 0.0  # the evaluations' own seconds, summed
+        self.told_at_start = engine.told
+
+    def progress(self) -> Progress:
+        """Return the run's progress so far."""
+        s = self.engine.archive.stats()
+        wall = max(time.monotonic() - self.t0, 1e-9)
         return Progress(
-            engine.told,
+            self.engine.told,
             s.filled,
             s.coverage,
             s.max,
@@ -327,72 +365,62 @@ def run_map_elites(
             s.median,
             s.p5,
             s.qd_score,
-            (engine.told - told_at_start) / wall,
-            busy / (max(workers, 1) * wall),
+            (self.engine.told - self.told_at_start) / wall,
+            self.busy / (self.workers * wall),
             wall,
-            max(workers, 1),
+            self.workers,
             # inline, the evaluations ran in this thread: its CPU time holds them already
-            (busy if executor is not None else 0.0) + time.thread_time() - cpu0,
+            (self.busy if self.executor is not None else 0.0) + time.thread_time() - self.cpu0,
         )
 
-    inline: list[list[int]] = []  # without an executor: chunks evaluated one per loop turn
-
-    def submit(ks: list[int]) -> None:
-        if executor is None:
-            inline.append(ks)
+    def submit(self, ks: list[int]) -> None:
+        """Send candidates ``ks`` to be evaluated (as one chunk)."""
+        if self.executor is None:
+            self.inline.append(ks)
         else:
-            futures[executor.submit(evaluate, np.array([pending[k] for k in ks]))] = ks
+            genes = np.array([self.pending[k] for k in ks])
+            self.futures[self.executor.submit(self.evaluate, genes)] = ks
 
-    # resubmit what a checkpoint had in flight
-    resumed = sorted(pending)
-    for i in range(0, len(resumed), config.chunk):
-        submit(resumed[slice(i, i + config.chunk)])
+    def resubmit(self) -> None:
+        """Submit again what a checkpoint had in flight."""
+        resumed = sorted(self.pending)
+        for i in range(0, len(resumed), self.config.chunk):
+            self.submit(resumed[slice(i, i + self.config.chunk)])
 
-    new: list[int] = []
+    def submit_new(self) -> None:
+        """Submit the candidates asked and not yet sent (a chunk that is not full)."""
+        if self.new:
+            self.submit(self.new[:])
+            self.new.clear()
 
-    def ask_allowed() -> None:
+    def ask_allowed(self) -> None:
+        """Ask every candidate the results so far allow; submit each full chunk."""
         # candidate k sees exactly the results 0 .. k - lag - 1: ask it right after that tell
-        nonlocal asked
-        while asked < config.evaluations and engine.may_ask(asked):
-            pending[asked] = engine.candidate(asked)
-            new.append(asked)
-            asked += 1
-            if len(new) == config.chunk:
-                submit(new[:])
-                new.clear()
+        while self.asked < self.config.evaluations and self.engine.may_ask(self.asked):
+            self.pending[self.asked] = self.engine.candidate(self.asked)
+            self.new.append(self.asked)
+            self.asked += 1
+            if len(self.new) == self.config.chunk:
+                self.submit_new()
 
-    ask_allowed()
-    while engine.told < config.evaluations:
-        if new:
-            submit(new[:])
-            new.clear()
-        if inline:
-            ks = inline.pop(0)
-            for k, r in zip(ks, evaluate(np.array([pending[k] for k in ks]))):
-                done[k] = r
-        elif futures:
-            finished, _ = cf.wait(list(futures), timeout=1.0, return_when=cf.FIRST_COMPLETED)
+    def collect(self) -> None:
+        """Evaluate one inline chunk, or take the chunks that finished within 1 s."""
+        if self.inline:
+            ks = self.inline.pop(0)
+            for k, r in zip(ks, self.evaluate(np.array([self.pending[k] for k in ks]))):
+                self.done[k] = r
+        elif self.futures:
+            finished, _ = cf.wait(list(self.futures), timeout=1.0, return_when=cf.FIRST_COMPLETED)
             for fut in finished:
-                ks = futures.pop(fut)
+                ks = self.futures.pop(fut)
                 for k, r in zip(ks, fut.result()):
-                    done[k] = r
-        # tell in candidate order, asking what each tell allows
-        while engine.told in done:
-            k = engine.told
-            r = done.pop(k)
-            busy += r.seconds
-            engine.tell(pending.pop(k), r)
-            ask_allowed()
-        now = time.monotonic()
-        if on_progress and now - last_progress >= progress_every:
-            on_progress(progress())
-            last_progress = now
-        if checkpoint and now - last_ckpt >= checkpoint_every:
-            save_checkpoint(checkpoint, engine, pending)
-            last_ckpt = now
-    engine.sync_metadata()
-    if checkpoint:
-        save_checkpoint(checkpoint, engine, {})
-    if on_progress:
-        on_progress(progress())
-    return engine.archive
+                    self.done[k] = r
+
+    def tell_ready(self) -> None:
+        """Tell the results in candidate order, asking what each tell allows."""
+        while self.engine.told in self.done:
+            k = self.engine.told
+            r = self.done.pop(k)
+            self.busy += r.seconds
+            self.engine.tell(self.pending.pop(k), r)
+            self.ask_allowed()

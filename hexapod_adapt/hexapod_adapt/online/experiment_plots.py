@@ -19,6 +19,55 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 
+def _engine_boxes(ax, rows, quantity, scenarios, engine, k, n_engines, width, colours) -> None:
+    """Draw one engine's box per scenario of ``quantity``, the ``k``-th of ``n_engines``."""
+    data = [
+        [getattr(r, quantity) for r in rows if r.scenario == s and r.trial_engine == engine]
+        for s in scenarios
+    ]
+    positions = np.arange(len(scenarios)) + (k - (n_engines - 1) / 2) * width
+    box = ax.boxplot(
+        data,
+        positions=positions,
+        widths=width * 0.85,
+        patch_artist=True,
+        manage_ticks=False,
+        showmeans=True,  # the thesis's figures mark the mean too
+        meanprops={'marker': '^', 'markerfacecolor': 'tab:green', 'markeredgecolor': 'k'},
+    )
+    for patch in box['boxes']:
+        patch.set_facecolor(colours[k % len(colours)])
+        patch.set_alpha(0.55)
+    label = f'trials on {engine} (map: {rows[0].map_engine})'
+    ax.plot([], [], color=colours[k % len(colours)], lw=8, alpha=0.55, label=label)
+
+
+def _tripod_lines(ax, rows, scenarios, engines, width, colours) -> None:
+    """Draw the control tripod's speed, damaged (per scenario) and intact, on each engine."""
+    for k, engine in enumerate(engines):
+        offset = (k - (len(engines) - 1) / 2) * width
+        for i, s in enumerate(scenarios):
+            damaged = np.mean(
+                [r.control_speed for r in rows if r.scenario == s and r.trial_engine == engine]
+            )
+            ax.hlines(
+                damaged,
+                i + offset - width / 2,
+                i + offset + width / 2,
+                colors='tab:red',
+                linestyles='--',
+                label='control tripod, damaged (same engine)' if i == k == 0 else None,
+            )
+        intact = next(r.intact_control_speed for r in rows if r.trial_engine == engine)
+        ax.axhline(
+            intact,
+            color=colours[k % len(colours)],
+            ls=':',
+            lw=1.2,
+            label=f'control tripod, intact ({engine})',
+        )
+
+
 def plot_experiment(
     rows: Sequence[Any],
     out_speed: str | Path,
@@ -45,62 +94,9 @@ def plot_experiment(
     for quantity, ylabel in quantities:
         fig, ax = plt.subplots(figsize=(2.2 + 1.6 * len(scenarios), 5.2))
         for k, engine in enumerate(engines):
-            data = [
-                [
-                    getattr(r, quantity)
-                    for r in rows
-                    if r.scenario == s and r.trial_engine == engine
-                ]
-                for s in scenarios
-            ]
-            positions = np.arange(len(scenarios)) + (k - (len(engines) - 1) / 2) * width
-            box = ax.boxplot(
-                data,
-                positions=positions,
-                widths=width * 0.85,
-                patch_artist=True,
-                manage_ticks=False,
-                showmeans=True,  # the thesis's figures mark the mean too
-                meanprops={'marker': '^', 'markerfacecolor': 'tab:green', 'markeredgecolor': 'k'},
-            )
-            for patch in box['boxes']:
-                patch.set_facecolor(colours[k % len(colours)])
-                patch.set_alpha(0.55)
-            ax.plot(
-                [],
-                [],
-                color=colours[k % len(colours)],
-                lw=8,
-                alpha=0.55,
-                label=f'trials on {engine} (map: {rows[0].map_engine})',
-            )
+            _engine_boxes(ax, rows, quantity, scenarios, engine, k, len(engines), width, colours)
         if quantity == 'best_speed':
-            for k, engine in enumerate(engines):
-                offset = (k - (len(engines) - 1) / 2) * width
-                for i, s in enumerate(scenarios):
-                    damaged = np.mean(
-                        [
-                            r.control_speed
-                            for r in rows
-                            if r.scenario == s and r.trial_engine == engine
-                        ]
-                    )
-                    ax.hlines(
-                        damaged,
-                        i + offset - width / 2,
-                        i + offset + width / 2,
-                        colors='tab:red',
-                        linestyles='--',
-                        label='control tripod, damaged (same engine)' if i == k == 0 else None,
-                    )
-                intact = next(r.intact_control_speed for r in rows if r.trial_engine == engine)
-                ax.axhline(
-                    intact,
-                    color=colours[k % len(colours)],
-                    ls=':',
-                    lw=1.2,
-                    label=f'control tripod, intact ({engine})',
-                )
+            _tripod_lines(ax, rows, scenarios, engines, width, colours)
         elif quantity == 'trials':
             ax.axhline(
                 TRIAL_BUDGET, color='tab:red', ls='--', label=f'{TRIAL_BUDGET} trials = 2 minutes'

@@ -222,17 +222,8 @@ def main(argv: list[str] | None = None) -> int:
 
 def _serve(args: argparse.Namespace) -> int:
 
-    sim = None
     dead = frozenset(args.dead_servo)
-    if args.sim:
-        sim = create_simulator(SimConfig(engine=args.engine))
-        # a dead servo's joint is free, its leg folded by the live ones (hexapod_sim.damage);
-        # the simulator's legs are the URDF's: the robot's leg of a servo goes through leg_map
-        joints: dict[int, set[str]] = {}
-        for servo in dead:
-            place = servo_report(servo, args.leg_map)
-            joints.setdefault(place.leg, set()).add(place.joint)
-        sim.set_damage(Damage.unpowered(joints))
+    sim = _damaged_sim(args, dead) if args.sim else None
     start = time.monotonic()
 
     def boot(now: float) -> RobotFirmware | NativeRobotFirmware:
@@ -297,17 +288,7 @@ def _serve(args: argparse.Namespace) -> int:
             radio.write(out_radio)
             if imu is not None:
                 imu.write(out_imu)
-            while walks < len(firmware.trials):
-                print(
-                    f'{WALK}{firmware.trials[walks].gait_id} at {time.monotonic():.6f}', flush=True
-                )
-                walks += 1
-            while (
-                reported < len(firmware.trials)
-                and firmware.trials[reported].end_position is not None
-            ):
-                print('TRIAL ' + json.dumps(firmware.trials[reported].summary()), flush=True)
-                reported += 1
+            walks, reported = _print_trials(firmware, walks, reported)
     finally:
         radio.close()
         if imu is not None:
@@ -316,6 +297,31 @@ def _serve(args: argparse.Namespace) -> int:
     name = signal.Signals(stopped_by[0]).name
     print(f'robot_emulator: stopped by {name}', file=sys.stderr, flush=True)
     return 128 + stopped_by[0]
+
+
+def _damaged_sim(args: argparse.Namespace, dead: frozenset[int]):
+    """Return the simulator of the robot with the ``dead`` servos' joints unpowered."""
+    sim = create_simulator(SimConfig(engine=args.engine))
+    # a dead servo's joint is free, its leg folded by the live ones (hexapod_sim.damage); the
+    # simulator's legs are the URDF's: the robot's leg of a servo goes through leg_map
+    joints: dict[int, set[str]] = {}
+    for servo in dead:
+        place = servo_report(servo, args.leg_map)
+        joints.setdefault(place.leg, set()).add(place.joint)
+    sim.set_damage(Damage.unpowered(joints))
+    return sim
+
+
+def _print_trials(firmware, walks: int, reported: int) -> tuple[int, int]:
+    """Print the walks begun and the trials ended since; return the new counts of each."""
+    trials = firmware.trials
+    while walks < len(trials):
+        print(f'{WALK}{trials[walks].gait_id} at {time.monotonic():.6f}', flush=True)
+        walks += 1
+    while reported < len(trials) and trials[reported].end_position is not None:
+        print('TRIAL ' + json.dumps(trials[reported].summary()), flush=True)
+        reported += 1
+    return walks, reported
 
 
 def _right_if_fallen(sim, now: float, lying_since: float | None, after: float) -> float | None:

@@ -228,34 +228,53 @@ class RepertoirePolicy:
         i = int(np.argmin(np.where(allowed, cost, np.inf)))
         self._goal = goal
         if self.config.tripod_option:
-            # the steered tripod's next cycle (the crab direction nearest the goal's bearing, as
-            # the baseline walks it), where the robot has been making such cycles go, and the
-            # rest of the way at the tripod's own pace: the time if the robot commits to it. It
-            # is a candidate once the repertoire's last steps made less progress than that pace
-            # (the repertoire has had its chance to learn the damage)
-            k = steered_direction(pose, goal)
-            if k in self._avoided_tripods:
-                return self._repertoire_step(i, pose, mean, switch)
-            # 'evidence': a walked step or cycle (tripod_reported: or a report of a damage the
-            # bank models, before anything is walked)
-            told = self.config.tripod_reported and self.gp.reported is not None
-            bank = self.config.tripod_bank == 'always' or self.gp.evidence > 0 or told
-            cycle = self.tripod.displacement(self.gp.tripod_prior() if bank else None)[k]
-            dx, dy = cycle[0], cycle[1]
-            end = np.array([[pose.x + c * dx - s * dy, pose.y + s * dx + c * dy]])
-            gait = self.tripod.gaits[k]
-            tripod_switch = 0.0 if gait is playing else float(switch_time)
-            pace = max(float((end[0] - (pose.x, pose.y)) @ unit), 1e-3) / self.tripod.period
-            tripod_cost = time_to_goal(
-                (pose.x, pose.y), end, goal, radius, self.tripod.period, [tripod_switch], pace
-            )[0]
-            n = self.config.tripod_after
-            made = self._made[-n:] if n else []
-            lagging = len(made) == n and sum(p for p, _ in made) <= pace * sum(t for _, t in made)
-            if lagging and tripod_cost < cost[i]:
-                predicted = pose.moved(*cycle)
-                return Step(gait, self.tripod.period + tripod_switch, predicted, tripod=k)
+            tripod = self._tripod_step(pose, goal, playing, switch_time, unit, radius, cost[i])
+            if tripod is not None:
+                return tripod
         return self._repertoire_step(i, pose, mean, switch)
+
+    def _tripod_step(
+        self,
+        pose: Pose2D,
+        goal: tuple[float, float],
+        playing: GaitParameters | None,
+        switch_time: float,
+        unit: np.ndarray,
+        radius: float,
+        best_cost: float,
+    ) -> Step | None:
+        """
+        Return the steered tripod's next cycle when it beats the repertoire's best step.
+
+        The cycle is in the crab direction nearest the goal's bearing, as the baseline walks it,
+        where the robot has been making such cycles go; its time is the rest of the way at the
+        tripod's own pace, if the robot commits to it. It is a candidate once the repertoire's
+        last steps made less progress than that pace (the repertoire has had its chance to
+        learn the damage). None: the repertoire's step stands.
+        """
+        k = steered_direction(pose, goal)
+        if k in self._avoided_tripods:
+            return None
+        # 'evidence': a walked step or cycle (tripod_reported: or a report of a damage the
+        # bank models, before anything is walked)
+        told = self.config.tripod_reported and self.gp.reported is not None
+        bank = self.config.tripod_bank == 'always' or self.gp.evidence > 0 or told
+        cycle = self.tripod.displacement(self.gp.tripod_prior() if bank else None)[k]
+        c, s = math.cos(pose.yaw), math.sin(pose.yaw)
+        dx, dy = cycle[0], cycle[1]
+        end = np.array([[pose.x + c * dx - s * dy, pose.y + s * dx + c * dy]])
+        gait = self.tripod.gaits[k]
+        tripod_switch = 0.0 if gait is playing else float(switch_time)
+        pace = max(float((end[0] - (pose.x, pose.y)) @ unit), 1e-3) / self.tripod.period
+        tripod_cost = time_to_goal(
+            (pose.x, pose.y), end, goal, radius, self.tripod.period, [tripod_switch], pace
+        )[0]
+        n = self.config.tripod_after
+        made = self._made[-n:] if n else []
+        lagging = len(made) == n and sum(p for p, _ in made) <= pace * sum(t for _, t in made)
+        if lagging and tripod_cost < best_cost:
+            return Step(gait, self.tripod.period + tripod_switch, pose.moved(*cycle), tripod=k)
+        return None
 
     def _repertoire_step(self, i: int, pose: Pose2D, mean: np.ndarray, switch: np.ndarray) -> Step:
         if i not in self._gaits:

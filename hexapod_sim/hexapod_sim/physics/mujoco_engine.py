@@ -394,65 +394,92 @@ class MujocoSimulator(Simulator):
                 stop_on_collision and (fine_sd[i][: bad[0], self._collision_adr] > 0).any()
             ):
                 unstable[i] = bad[0] // sub
-        results = []
-        for i in range(n):
-            if i in unstable:
-                k = unstable[i]
-                results.append(
-                    PlayResult(
-                        k + 1,
-                        np.zeros(N_LEGS, dtype=np.int64),
-                        0,
-                        None,
-                        np.full(3, np.nan),
-                        unstable=(
-                            'the MuJoCo physics became unstable at t = '
-                            f'{(k + 1) * self.dt:.3f} s (settings too stiff for the step)'
-                        ),
-                    )
-                )
-                continue
-            sd = sensordata[i]
-            feet = sd[:, self._foot_adr] > 0
-            collided = (sd[:, self._collision_adr] > 0).any(axis=1)
-            hits = np.flatnonzero(collided)
-            first = None
-            used = n_steps
-            if hits.size:
-                k = int(hits[0])
-                # its first physics step that collided (row k's); the contacts of a physics step
-                # are those of the state it started from: recompute them
-                row = fine_sd[i][slice(k * sub, (k + 1) * sub), self._collision_adr]
-                j = k * sub + int(np.argmax((row > 0).any(axis=1)))
-                mujoco.mj_setState(
-                    m, d, initial[i] if j == 0 else fine_state[i][j - 1], self._state_spec
-                )
-                mujoco.mj_forward(m, d)
-                first = f'{self._report(fine_sd[i][j]).collision} at t = {(k + 1) * self.dt:.3f} s'
-                if stop_on_collision:
-                    used = k + 1
-            last = used - 1
-            # a stop on a collision counts the feet of the steps before it (as the per-step loop)
-            counts = feet[: last if stop_on_collision and hits.size else used].sum(axis=0)
-            results.append(
-                PlayResult(
-                    used,
-                    counts.astype(np.int64),
-                    int(collided[:used].sum()),
-                    first,
-                    state[i][last, 1:4].copy(),
-                    feet[:used].copy() if record_contacts else None,
-                    # qpos[3:7] is (w, x, y, z)
-                    final_orientation=state[i][last, [5, 6, 7, 4]].copy(),
-                    # qpos[3:7] as (x, y, z, w)
-                    peak_tilt=peak_tilt(state[i][:used][:, [5, 6, 7, 4]]) if record_tilt else 0.0,
-                )
+        results = [
+            self._unstable_result(unstable[i])
+            if i in unstable
+            else self._result(
+                initial[i],
+                fine_state[i],
+                fine_sd[i],
+                state[i],
+                sensordata[i],
+                n_steps,
+                stop_on_collision,
+                record_contacts,
+                record_tilt,
             )
+            for i in range(n)
+        ]
         # leave the simulator in the final state of the last table
         mujoco.mj_setState(m, d, state[n - 1][results[-1].steps - 1], self._state_spec)
         mujoco.mj_forward(m, d)
         self.time = results[-1].steps * self.dt
         return results
+
+    def _unstable_result(self, k: int) -> PlayResult:
+        """Return the result of a rollout whose physics blew up in row ``k``."""
+        return PlayResult(
+            k + 1,
+            np.zeros(N_LEGS, dtype=np.int64),
+            0,
+            None,
+            np.full(3, np.nan),
+            unstable=(
+                f'the MuJoCo physics became unstable at t = {(k + 1) * self.dt:.3f} s '
+                '(settings too stiff for the step)'
+            ),
+        )
+
+    def _result(
+        self,
+        initial: np.ndarray,
+        fine_state: np.ndarray,
+        fine_sd: np.ndarray,
+        state: np.ndarray,
+        sd: np.ndarray,
+        n_steps: int,
+        stop_on_collision: bool,
+        record_contacts: bool,
+        record_tilt: bool,
+    ) -> PlayResult:
+        """
+        Return one rollout's result from its states and sensors.
+
+        ``fine_*`` per physics step, ``state`` and ``sd`` per row (a row's end state, its
+        sensors' largest readings).
+        """
+        m, d, sub = self.m, self.d, self.settings.substeps
+        feet = sd[:, self._foot_adr] > 0
+        collided = (sd[:, self._collision_adr] > 0).any(axis=1)
+        hits = np.flatnonzero(collided)
+        first = None
+        used = n_steps
+        if hits.size:
+            k = int(hits[0])
+            # its first physics step that collided (row k's); the contacts of a physics step
+            # are those of the state it started from: recompute them
+            row = fine_sd[slice(k * sub, (k + 1) * sub), self._collision_adr]
+            j = k * sub + int(np.argmax((row > 0).any(axis=1)))
+            mujoco.mj_setState(m, d, initial if j == 0 else fine_state[j - 1], self._state_spec)
+            mujoco.mj_forward(m, d)
+            first = f'{self._report(fine_sd[j]).collision} at t = {(k + 1) * self.dt:.3f} s'
+            if stop_on_collision:
+                used = k + 1
+        last = used - 1
+        # a stop on a collision counts the feet of the steps before it (as the per-step loop)
+        counts = feet[: last if stop_on_collision and hits.size else used].sum(axis=0)
+        return PlayResult(
+            used,
+            counts.astype(np.int64),
+            int(collided[:used].sum()),
+            first,
+            state[last, 1:4].copy(),
+            feet[:used].copy() if record_contacts else None,
+            # qpos[3:7] is (w, x, y, z)
+            final_orientation=state[last, [5, 6, 7, 4]].copy(),
+            # qpos[3:7] as (x, y, z, w)
+            peak_tilt=peak_tilt(state[:used][:, [5, 6, 7, 4]]) if record_tilt else 0.0,
+        )
 
     def _rollout_until_collision(
         self, initial: np.ndarray, control: np.ndarray

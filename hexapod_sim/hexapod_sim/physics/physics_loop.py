@@ -92,13 +92,21 @@ class PhysicsLoop:
             self._thread.join(timeout=timeout)
 
     def call(self, work: Callable[[], T], timeout: float = 10.0) -> T:
-        """Run ``work`` between two physics steps; return its result (or raise its exception)."""
+        """
+        Run ``work`` between two physics steps; return its result (or raise its exception).
+
+        TimeoutError: the physics thread did not take the work within ``timeout`` s; the work
+        is then withdrawn, never run later (a caller told "not applied" can rely on it).
+        """
         if not self._running:
             return work()  # not stepping (yet, or any more): nothing to step between
         done = threading.Event()
         box: dict[str, object] = {}
+        claim = threading.Lock()  # held by whoever comes first: the physics thread or the timeout
 
         def wrapped() -> None:
+            if not claim.acquire(blocking=False):
+                return  # withdrawn: its caller gave up
             try:
                 box['result'] = work()
             except Exception as exc:  # handed back to the caller
@@ -107,8 +115,9 @@ class PhysicsLoop:
                 done.set()
 
         self._work.put(wrapped)
-        if not done.wait(timeout):
-            raise TimeoutError('the physics thread did not respond')
+        if not done.wait(timeout) and claim.acquire(blocking=False):
+            raise TimeoutError(f'the physics thread did not respond in {timeout:g} s')
+        done.wait()  # taken just as the time ran out: it finishes
         if 'error' in box:
             raise box['error']  # type: ignore[misc]
         return box.get('result')  # type: ignore[return-value]
