@@ -16,9 +16,12 @@ import math
 from typing import Callable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive
+from hexapod_adapt.online.diagnosis import TrialRecord
 from hexapod_adapt.online.mboa import MboaConfig, Trial
 from hexapod_sim import evaluate_gait, Simulator
-from hexapod_sim.damage import Damage
+from hexapod_sim.damage import as_damage, Damage
+from hexapod_sim.simulator import peak_tilt, upside_down
+from hexapod_sim.traces import trace_gait
 import numpy as np
 
 
@@ -37,6 +40,9 @@ class AdaptationResult:
     elapsed: float = 0.0
     #: the M-BOA settings the run kept to: its request's, with what a prior or a floor changed
     config: MboaConfig | None = None
+    #: what a blind run's diagnosis said: the damage named after each trial ('' none), in order
+    named: list[str] = field(default_factory=list)
+    posterior: str = ''  # the diagnosis's last posterior, its top hypotheses ('' no diagnosis)
 
 
 @dataclass(frozen=True)
@@ -46,12 +52,14 @@ class TrialOutcome:
 
     ``tipped``: the body tilted past the tip guard and the trial was stopped; it counts as a
     failed trial (``speed`` 0) and that gait is never tried again. ``peak_tilt``: the largest
-    roll or pitch the trial saw [rad] (nan if not measured).
+    roll or pitch the trial saw [rad] (nan if not measured). ``record``: the trial's path and
+    attitude, for a diagnosis (None: not recorded).
     """
 
     speed: float  # m/s
     tipped: bool = False
     peak_tilt: float = float('nan')
+    record: TrialRecord | None = None
 
 
 #: The tip guard of adaptation trials [rad] (30 deg): half the tip-over line (60 deg,
@@ -133,6 +141,45 @@ def simulated_trial(
         if settle <= 0:
             return TrialOutcome(whole / duration, False, peak)
         return TrialOutcome((whole - walk(genes, settle)[0]) / duration, False, peak)
+
+    return trial
+
+
+def recorded_trial(
+    archive: Archive,
+    damage: Sequence[int] | Damage,
+    sim: Simulator,
+    duration: float | None = None,
+    settle: float = 0.0,
+    tip_guard: float = math.pi,
+    contacts: bool = False,
+) -> Callable[[int], TrialOutcome]:
+    """
+    Trial function as :func:`simulated_trial`, whose outcomes carry the trial's record.
+
+    One walk, sampled every physics step (as an evaluation's loop steps it): the speed, the
+    peak tilt and a fall are taken from it as an evaluation takes them; its record is timed
+    from the gait's start (``contacts``: with the foot contacts, which a robot does not give).
+    """
+    duration = duration or archive.trial_duration
+    damage = as_damage(damage)
+
+    def trial(niche: int) -> TrialOutcome:
+        trace = trace_gait(archive.genotypes[niche], sim, damage, settle + duration, every=1)
+        if trace is None:
+            return TrialOutcome(0.0)
+        peak = peak_tilt(trace.quaternion)
+        tipped = tipped_outcome(peak, tip_guard)
+        if tipped is not None:
+            return tipped
+        record = TrialRecord.from_trace(trace, contacts)
+        if upside_down(trace.quaternion[-1]):
+            return TrialOutcome(0.0, False, peak, record)
+        start = int(round(settle / sim.dt)) - 1  # the sample at settle s (-1: the start)
+        crab = trace.gait.crab_angle
+        moved = trace.position[-1, :2] - (trace.position[start, :2] if start >= 0 else 0.0)
+        speed = float(moved[0] * math.cos(crab) + moved[1] * math.sin(crab)) / duration
+        return TrialOutcome(speed, False, peak, record)
 
     return trial
 

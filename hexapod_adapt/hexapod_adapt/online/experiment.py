@@ -17,10 +17,16 @@ from typing import Callable, Sequence, TYPE_CHECKING
 
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import engine_of_map, map_physics
-from hexapod_adapt.online.adaptation import AdaptationResult, map_speed, simulated_trial
+from hexapod_adapt.online.adaptation import (
+    AdaptationResult,
+    map_speed,
+    recorded_trial,
+    simulated_trial,
+)
+from hexapod_adapt.online.diagnosis import HypothesisWalks
 from hexapod_adapt.online.mboa import MboaConfig
 from hexapod_adapt.online.prior import simulated_tilts, TipScreen
-from hexapod_adapt.online.session import adapt, SessionStart
+from hexapod_adapt.online.session import adapt, diagnosis_plan, SessionStart
 from hexapod_gait import preset
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig, Simulator
 from hexapod_sim.damage import Damage
@@ -56,7 +62,9 @@ class ExperimentSetup:
     hypotheses for runs without a prior when ``config.use_bank`` asks; ``leave_out`` drops each
     run's own damage from them. ``kind``: what the failed legs suffer
     (:data:`hexapod_sim.damage.EXPERIMENT_KINDS`). ``tip_guard`` [rad]: trials that tilt the body
-    past it are stopped and scored 0 (pi: no guard).
+    past it are stopped and scored 0 (pi: no guard). ``diagnose``: runs without a prior name
+    their damage from the trials among ``bank``'s (:class:`~hexapod_adapt.online.session.
+    DiagnosisPlan`).
     """
 
     scenarios: Sequence[str] = ('S1', 'S2', 'S3', 'S4')
@@ -73,6 +81,7 @@ class ExperimentSetup:
     leave_out: bool = False
     kind: str = 'lifted'
     tip_guard: float = math.pi
+    diagnose: bool = False
 
 
 @dataclass
@@ -101,6 +110,9 @@ class ExperimentRow:
     trial_speed: float = float('nan')  # the best trial as the run's trials measured it [m/s]
     damage_kind: str = 'lifted'  # what failed_legs suffer (hexapod_sim.damage.EXPERIMENT_KINDS)
     tipped_trials: int = 0  # trials the tip guard stopped
+    #: a diagnosing run's damage named after each trial ('' none), '|'-joined
+    named: str = ''
+    posterior: str = ''  # its last posterior's top hypotheses
 
 
 def _screen(archive: Archive, damage: Damage, engine: str, guard: float) -> TipScreen | None:
@@ -110,16 +122,30 @@ def _screen(archive: Archive, damage: Damage, engine: str, guard: float) -> TipS
     return TipScreen(simulated_tilts(archive, damage, engine), guard)
 
 
-def _start(archive: Archive, s: ExperimentSetup, config: MboaConfig, damage: Damage, control):
-    """Return a run's session start: its prior and screen, or its bank's hypotheses; its floor."""
+def _start(
+    archive: Archive,
+    s: ExperimentSetup,
+    config: MboaConfig,
+    damage: Damage,
+    control: float,
+    walks: HypothesisWalks | None,
+) -> SessionStart:
+    """
+    Return a run's session start: its prior and screen, or its bank's hypotheses; its floor.
+
+    A diagnosing run's hypotheses are walked by ``walks`` (shared by the experiment's runs).
+    """
     floor = control if s.floor else None
     if s.priors is not None:  # the prior's gaits that tip in its own simulation: vetoed
         screen = _screen(archive, damage, engine_of_map(archive), s.tip_guard)
         return SessionStart(s.priors(damage), screen=screen, floor=floor)
-    hypotheses = None
+    hypotheses, plan = None, None
     if s.bank is not None:
         hypotheses = s.bank.hypotheses(config.use_bank, damage if s.leave_out else None)
-    return SessionStart(hypotheses=hypotheses, floor=floor)
+        if s.diagnose:
+            bank = s.bank.without(damage) if s.leave_out else s.bank
+            plan = diagnosis_plan(archive, bank, s.tip_guard, walks=walks)
+    return SessionStart(hypotheses=hypotheses, floor=floor, diagnosis=plan)
 
 
 def _with_ceiling(row: ExperimentRow, archive: Archive, s: ExperimentSetup, damage: Damage):
@@ -171,19 +197,28 @@ def _row(
         trial_speed=result.best_speed,
         damage_kind=s.kind,
         tipped_trials=len(result.tipped),
+        named='|'.join(result.named),
+        posterior=result.posterior,
     )
 
 
 def _one_run(
-    archive: Archive, s: ExperimentSetup, config: MboaConfig, sim: Simulator, where, intact
+    archive: Archive,
+    s: ExperimentSetup,
+    config: MboaConfig,
+    sim: Simulator,
+    where,
+    intact: float,
+    walks: HypothesisWalks | None = None,
 ) -> ExperimentRow:
     """Adapt once under ``where``'s damage (scenario, legs, trial engine); return its row."""
     damage = Damage.of(s.kind, where[1])
     control = evaluate_gait(
         preset('control'), sim, collisions_fatal=False, failed_legs=damage
     ).speed
-    trial = simulated_trial(archive, damage, sim, s.trial_duration, s.settle, s.tip_guard)
-    result = adapt(archive, trial, config, _start(archive, s, config, damage, control))
+    walk = recorded_trial if s.diagnose else simulated_trial
+    trial = walk(archive, damage, sim, s.trial_duration, s.settle, s.tip_guard)
+    result = adapt(archive, trial, config, _start(archive, s, config, damage, control, walks))
     adapted = result.best_speed
     if s.settle > 0 or (s.trial_duration or archive.trial_duration) != archive.trial_duration:
         # settled or shorter trials measure another thing: judge the gait as the map
@@ -210,13 +245,15 @@ def run_experiment(
         trial_engine = s.trial_config.engine
     trial_engine = trial_engine or engine_of_map(archive)
     rows = []
+    walks = HypothesisWalks(archive, s.bank.engine) if s.diagnose and s.bank else None
     with create_simulator(s.trial_config or map_physics(archive, trial_engine)) as sim:
         intact = evaluate_gait(
             preset('control'), sim, collisions_fatal=False, failed_legs=()
         ).speed
         for name in s.scenarios:
             for legs in orientations_of(name):
-                row = _one_run(archive, s, config, sim, (name, tuple(legs), trial_engine), intact)
+                where = (name, tuple(legs), trial_engine)
+                row = _one_run(archive, s, config, sim, where, intact, walks)
                 rows.append(row)
                 if on_row:
                     on_row(row)

@@ -185,6 +185,12 @@ SETTINGS = (
         (0.05, math.pi),
     ),
     Setting(
+        'diagnose',
+        True,
+        'Blind runs (no damage known or a blind request) name the damage from the trials among'
+        " the map's cached damage bank, and go on as the prior of the damage named",
+    ),
+    Setting(
         'stand_still',
         1.0,
         'Robot modes: seconds the robot stands still after an upload, before the trial: the '

@@ -16,6 +16,7 @@ from typing import Callable
 
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.online.adaptation import AdaptationResult
+from hexapod_adapt.online.diagnosis import Posterior
 from hexapod_adapt.online.mboa import MboaConfig, Trial
 from hexapod_adapt.online.trials import (
     GaitOf,
@@ -149,6 +150,12 @@ def veto_message(niche: int, tilt: float, guard: float) -> str:
         f'gait {niche} skipped: it tilts the body {math.degrees(tilt):.0f} deg in simulation'
         f' under the damage, past the {math.degrees(guard):.0f} deg tip guard; never tried'
     )
+
+
+def diagnosis_message(trial: int, named: str, posterior: Posterior) -> str:
+    """Say what the trials so far point to, e.g. after trial 2: legs 1+4 lifted 0.97 (named)."""
+    going = f'; the run goes on as {named}' if named else '; no damage named yet'
+    return f'diagnosis after trial {trial}: {posterior.describe()}{going}'
 
 
 def report_distance(trials: TrialProcedure | None, distance: float) -> str:

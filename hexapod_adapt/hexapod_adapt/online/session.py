@@ -33,6 +33,8 @@ from hexapod_adapt.online.adaptation import (
     TrialCancelled,
     TrialOutcome,
 )
+from hexapod_adapt.online.bank import DamageBank
+from hexapod_adapt.online.diagnosis import Diagnosis, HypothesisWalks, Posterior, TrialRecord
 from hexapod_adapt.online.mboa import Mboa, MboaConfig, MIN_SPEED_RANGE, StopReason, Trial
 from hexapod_adapt.online.prior import simulated_tilts, TipScreen
 from hexapod_sim.damage import Damage
@@ -58,6 +60,74 @@ class PriorSource(Protocol):
     def start(self, archive: Archive, damage: Damage, source: str) -> PriorStart:
         """Return the prior of ``damage`` (``source``: where the damage is known from)."""
 
+    def diagnosis(self, archive: Archive, tip_guard: float) -> DiagnosisPlan | None:
+        """Return a blind run's diagnosis of its damage (None: none can be made)."""
+
+
+#: A named hypothesis must hold this much of the posterior before the run takes it as the damage.
+NAME_THRESHOLD = 0.9
+#: A named damage is given up when its probability falls below this.
+RELEASE_THRESHOLD = 0.5
+
+
+@dataclass(frozen=True)
+class DiagnosisPlan:
+    """
+    A blind run's diagnosis, and what the run becomes when it names a damage.
+
+    ``diagnosis`` weighs hypothesis h, whose damage is ``damages[h]`` and whose re-score of the
+    map is ``priors[h]`` (one speed per elite, a damage bank's row). Once hypothesis h holds
+    ``threshold`` of the posterior, the run goes on as the damage-informed prior of that damage
+    (its re-score, its stop rule, its tip screen: ``screen_of(damage)``); once it falls below
+    ``release``, the run goes back to the map as it is.
+    """
+
+    diagnosis: Diagnosis
+    damages: tuple[Damage, ...]
+    priors: np.ndarray
+    screen_of: Callable[[Damage], 'TipScreen | None']
+    threshold: float = NAME_THRESHOLD
+    release: float = RELEASE_THRESHOLD
+
+    def __post_init__(self) -> None:
+        if len(self.damages) != len(self.diagnosis.labels) or len(self.priors) != len(
+            self.damages
+        ):
+            raise ValueError('a diagnosis plan needs one damage and one prior per hypothesis')
+        if not 0.0 < self.release <= self.threshold < 1.0:
+            raise ValueError(
+                f'need 0 < release <= threshold < 1, got {self.release} and {self.threshold}'
+            )
+
+
+def diagnosis_plan(
+    archive: Archive,
+    bank: DamageBank,
+    tip_guard: float = math.pi,
+    contacts: bool = False,
+    threshold: float = NAME_THRESHOLD,
+    walks: HypothesisWalks | None = None,
+) -> DiagnosisPlan | None:
+    """
+    Return the diagnosis of a blind run over ``bank``'s damages (None: the bank is empty).
+
+    The hypotheses are walked on the bank's engine (the map's) by ``walks`` (runs that share
+    one walk each gait once); with a ``tip_guard`` below pi, a named damage screens gaits as a
+    known one does (:func:`informed_start`).
+    """
+    if len(bank) == 0:
+        return None
+    walks = walks or HypothesisWalks(archive, bank.engine)
+    labels = tuple(d.label for d in bank.damages)
+    diagnosis = Diagnosis(labels, walks.under(bank.damages), contacts)
+
+    def screen_of(damage: Damage) -> TipScreen | None:
+        if tip_guard >= math.pi:
+            return None
+        return TipScreen(simulated_tilts(archive, damage, bank.engine), tip_guard)
+
+    return DiagnosisPlan(diagnosis, bank.damages, bank.speeds, screen_of, threshold)
+
 
 @dataclass(frozen=True)
 class SessionStart:
@@ -70,6 +140,7 @@ class SessionStart:
     simulation is vetoed). ``hypotheses`` (h, elites): other prior means the trials weigh
     (a damage bank). ``floor`` [m/s]: a reference measured before the run (the damaged control
     tripod): success also needs the best gait to walk that fast. ``note``: what the prior is.
+    ``diagnosis``: a blind run's diagnosis (trials that carry a record name the damage).
     """
 
     prior: np.ndarray | None = None
@@ -78,6 +149,7 @@ class SessionStart:
     hypotheses: np.ndarray | None = None
     floor: float | None = None
     note: str = ''
+    diagnosis: DiagnosisPlan | None = None
 
     @property
     def informed(self) -> bool:
@@ -92,16 +164,25 @@ def informed_start(
     priors: PriorSource,
     tip_guard: float = math.pi,
     floor: float | None = None,
+    diagnose: bool = False,
 ) -> SessionStart:
     """
     Return the start of a run that knows ``damage`` (None: the map as it is, blind).
 
     M-BOA starts from ``priors``' re-score under it. With a ``tip_guard`` below pi, each gait is
     walked under the damage before its trial, tilt recorded, and one that tilts past the guard
-    there is never tried (:class:`TipScreen`).
+    there is never tried (:class:`TipScreen`). A blind run with ``diagnose`` names its damage
+    from the trials, when ``priors`` can make a diagnosis (:class:`DiagnosisPlan`).
     """
     if damage is None:
-        return SessionStart(floor=floor, note=source)
+        plan = priors.diagnosis(archive, tip_guard) if diagnose else None
+        if plan is None:
+            return SessionStart(floor=floor, note=source)
+        note = (
+            f'{source}; the damage is named from the trials among {len(plan.damages)}'
+            ' hypotheses, and the run goes on as the prior of the one named'
+        )
+        return SessionStart(floor=floor, note=note, diagnosis=plan)
     got = priors.start(archive, damage, source)
     if got.speeds is None:
         return SessionStart(floor=floor, note=got.note)
@@ -136,9 +217,9 @@ def run_rules(config: MboaConfig, start: SessionStart) -> MboaConfig:
     return config
 
 
-def _with_prior(opt: Mboa, prior: np.ndarray) -> Mboa:
-    """Return M-BOA started again from ``prior``, with ``opt``'s trials learned again."""
-    again = Mboa(opt.descriptors, prior, opt.config, hypotheses=opt.hypotheses)
+def _with_prior(opt: Mboa, prior: np.ndarray, config: MboaConfig | None = None) -> Mboa:
+    """Return M-BOA started again from ``prior`` (and ``config``), ``opt``'s trials learned."""
+    again = Mboa(opt.descriptors, prior, config or opt.config, hypotheses=opt.hypotheses)
     again.vetoed = set(opt.vetoed)
     for t in opt.trials:
         again.observe(t.index, t.measured, tipped=t.tipped)
@@ -176,6 +257,10 @@ class AdaptationSession:
             )
         self.rules = run_rules(self.config, self.start)
         self.opt = Mboa(descriptors, prior, self.rules, hypotheses=self.start.hypotheses)
+        self._blind = (prior, self.rules)  # what a released diagnosis goes back to
+        self.screen = self.start.screen
+        self.named: int | None = None  # the diagnosis's hypothesis the run goes on as
+        self.posterior: Posterior | None = None  # the diagnosis's, after the last trial
         self._result = AdaptationResult(False, '', config=self.rules)
         self._asked: int | None = None  # the candidate index of the niche ask() returned
         self._ended = False
@@ -229,6 +314,8 @@ class AdaptationSession:
         self._result.niches.append(int(niche))
         if outcome.tipped:
             self._result.tipped.append(int(niche))
+        if self.start.diagnosis is not None and outcome.record is not None:
+            self._diagnose(int(niche), outcome.record)
         return trial
 
     def end(self, why: str) -> None:
@@ -277,9 +364,36 @@ class AdaptationSession:
         self._asked = None
         self._result.elapsed = time.monotonic() - self._t0
 
+    def _diagnose(self, niche: int, record: TrialRecord) -> None:
+        """Weigh the hypotheses by a trial; name a damage, keep it, or give it up."""
+        plan = self.start.diagnosis
+        post = self.posterior = plan.diagnosis.observe(niche, record)
+        self._result.posterior = post.describe()
+        leader, p = post.leader, post.probabilities
+        holds = leader < len(plan.damages) and p[leader] >= plan.threshold
+        if holds and leader != self.named:
+            self._go_on_as(leader)
+        elif self.named is not None and p[self.named] < plan.release:
+            self._go_on_as(None)
+        self._result.named.append('' if self.named is None else plan.damages[self.named].label)
+
+    def _go_on_as(self, h: int | None) -> None:
+        """Go on as hypothesis ``h``'s damage-informed prior (None: the map, blind)."""
+        plan = self.start.diagnosis
+        if h is None:
+            prior, self.rules = self._blind
+            self.screen = self.start.screen
+        else:
+            prior = plan.priors[h]
+            self.rules = run_rules(self.config, replace(self.start, prior=prior))
+            self.screen = plan.screen_of(plan.damages[h])
+        self.named = h
+        self.opt = _with_prior(self.opt, prior, self.rules)
+        self._result.config = self.rules
+
     def _vetoed(self, index: int | None) -> bool:
         """Veto ``index`` if the screen says it tips (False: no screen, no gait, or upright)."""
-        screen = self.start.screen
+        screen = self.screen
         if screen is None or index is None or not screen.tips(index):
             return False
         self.opt.veto(index)

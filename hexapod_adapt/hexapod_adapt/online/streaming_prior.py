@@ -24,6 +24,7 @@ from typing import Callable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import engine_of_map
+from hexapod_adapt.online.bank import DamageBank, load_bank
 from hexapod_adapt.online.ceiling import (
     cached_ceiling,
     Ceiling,
@@ -31,7 +32,8 @@ from hexapod_adapt.online.ceiling import (
     Rescoring,
     store_ceiling,
 )
-from hexapod_adapt.online.session import PriorStart
+from hexapod_adapt.online.diagnosis import HypothesisWalks
+from hexapod_adapt.online.session import diagnosis_plan, DiagnosisPlan, PriorStart
 from hexapod_sim.damage import Damage
 from hexapod_util.processes import die_with_parent
 import numpy as np
@@ -220,6 +222,8 @@ class StreamingPriors:
         self.cache_dir, self.read_dirs, self.workers = cache_dir, list(read_dirs), workers
         self.log, self.progress_period = log, progress_period
         self.stream: StreamingPrior | None = None  # the last run's (may still stream)
+        self._walks: HypothesisWalks | None = None  # the hypotheses' walks, kept across runs
+        self._bank: DamageBank | None = None
 
     def start(self, archive: Archive, damage: Damage, source: str) -> PriorStart:
         """Wait for the top of the re-score under ``damage``; return the run's PriorStart."""
@@ -244,6 +248,20 @@ class StreamingPriors:
         best = float(np.max(snap.speeds))
         note = f'{what} (best {best:.3f} m/s, {how}), from {source}'
         return PriorStart(snap.speeds, note, stream.update)
+
+    def diagnosis(self, archive: Archive, tip_guard: float) -> DiagnosisPlan | None:
+        """
+        Return a blind run's diagnosis over the cached bank (None: no bank is cached).
+
+        The bank is the map under every one- and two-leg lifted failure (:data:`BANK_DAMAGES`),
+        read from ``read_dirs`` and ``cache_dir``; the hypotheses' walks are kept across runs.
+        """
+        if self._walks is None or self._walks.archive is not archive:
+            engine = engine_of_map(archive)
+            dirs = [*self.read_dirs] + ([self.cache_dir] if self.cache_dir else [])
+            self._bank = load_bank(archive, engine, dirs)
+            self._walks = HypothesisWalks(archive, engine)
+        return diagnosis_plan(archive, self._bank, tip_guard, walks=self._walks)
 
     def close(self) -> None:
         """Stop a re-score still streaming."""

@@ -31,7 +31,9 @@ from hexapod_adapt.online.adaptation import (
     TrialOutcome,
     WaitTimedOut,
 )
+from hexapod_adapt.online.diagnosis import TrialRecord
 from hexapod_gait import GaitParameters
+import numpy as np
 
 MODES = ('sim', 'robot', 'manual')
 T = TypeVar('T')
@@ -52,6 +54,29 @@ class OdomSample:
     received: float  # time.monotonic() when it arrived
     upside_down: bool = False  # the body's up axis below the horizontal (a fall)
     tilt: float = 0.0  # the body's larger of |roll| and |pitch| [rad]
+    attitude: tuple[float, float, float] = (0.0, 0.0, 0.0)  # roll, pitch, yaw [rad]
+
+
+def odometry_record(
+    samples: list[OdomSample], t0_ns: int, end_ns: int, crab: float, period: float
+) -> TrialRecord | None:
+    """
+    Return a trial's record from its odometry: the samples stamped in (``t0_ns``, ``end_ns``].
+
+    Timed from ``t0_ns``, the gait's start (phase 0). None when fewer than two samples are
+    there (a trial the tip guard stopped at once) or they cannot make a record.
+    """
+    window = sorted((s for s in samples if t0_ns < s.stamp_ns <= end_ns), key=lambda s: s.stamp_ns)
+    unique = [s for i, s in enumerate(window) if i == 0 or s.stamp_ns != window[i - 1].stamp_ns]
+    if len(unique) < 2:
+        return None
+    t = np.array([(s.stamp_ns - t0_ns) * 1e-9 for s in unique])
+    position = np.array([(s.x, s.y) for s in unique])
+    attitude = np.array([s.attitude for s in unique])
+    try:
+        return TrialRecord(t, position, attitude, crab, period)
+    except ValueError:
+        return None  # not a trial's samples (a stamp twice, a value not finite): no record
 
 
 class SampleLog(Generic[T]):
@@ -326,9 +351,12 @@ class SimTrials:
             if peak > self.tip_guard:
                 self.port.stand()
                 return TrialOutcome(0.0, True, peak)
-            speed = sim_trial_speed(self.odom.snapshot(), t0, duration, crab, self.timing.settle)
+            samples = self.odom.snapshot()
+            speed = sim_trial_speed(samples, t0, duration, crab, self.timing.settle)
             if speed is not None:
-                return TrialOutcome(speed, False, peak)
+                period = self.gaits(niche).period
+                record = odometry_record(samples, t0, end, crab, period)
+                return TrialOutcome(speed, False, peak, record)
             self.warn(
                 f'odometry sample lost in transport; repeating the trial (attempt {attempt + 2})'
             )

@@ -45,12 +45,11 @@ from hexapod_adapt.ros.graph_port import (
     qualified,
     RECORDED_TYPES,
     RecordedTopics,
-    trial_msg,
 )
 from hexapod_adapt.ros.run_recording import RunRecording
+from hexapod_adapt.ros.trial_feed import TrialFeed
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_msgs.action import Adapt
-from hexapod_msgs.msg import AdaptationTrial
 from hexapod_msgs.srv import ReportDistance
 from hexapod_util.diagnostics import DiagnosticsPublisher
 from hexapod_util.health import ERROR, Health, OK, WARN
@@ -58,7 +57,6 @@ from hexapod_util.ros_glue import (
     declare,
     param_specs,
     run_node,
-    TRIALS,
     unless_closing,
     watch_for_duplicates,
 )
@@ -102,7 +100,7 @@ class AdaptNode(Node):
         peers = (sim_name, bridge_name)
         self.port = GraphPort(self, peers, self.waiter.until, self.odom, self.recording)
         self.recorded = RecordedTopics(self, self.recording)
-        self.trial_pub = self.create_publisher(AdaptationTrial, 'adapt/trials', TRIALS)
+        self.feed = TrialFeed(self, self.recording, lambda s: self._say_vetoes(s, self._guard()))
         cache = os.path.expanduser(str(self._param('prior_cache_dir'))) or None
         self.priors = StreamingPriors(
             cache, [shipped_ceilings()], int(self._param('prior_workers')), self.get_logger().info
@@ -219,14 +217,16 @@ class AdaptNode(Node):
         if self._param('record_dir'):
             path = self.recorded.start(self._param('record_dir'), RECORDED_TYPES, self._warn)
             response.mcap_path = str(path.resolve()) if path else ''
-        gaits, guard = say.archive_gaits(archive), float(self._param('tip_guard'))
+        gaits, guard = say.archive_gaits(archive), self._guard()
         self.trials = say.trial_procedure(
             self.mode, gaits, self.port, self.port.logs, self.waiter, timing, tell, guard
         )
         engine = self.port.sim_engine() if self.mode == 'sim' else 'the real robot'
         note = engine_note(archive, engine)
         self.get_logger().info(say.start_message(archive, run.config, timing, note))
-        start = informed_start(archive, damage, source, self.priors, guard)
+        start = informed_start(
+            archive, damage, source, self.priors, guard, diagnose=self._param('diagnose')
+        )
         response.prior = start.note
         self._tell(handle, say.start_note(start.note, check), warn=False)
         session = AdaptationSession(archive, run.config, start)
@@ -234,7 +234,7 @@ class AdaptNode(Node):
             result = run_session(
                 session,
                 self.trials,
-                lambda trial, niche, _: self._on_trial(handle, session, gaits, trial, niche),
+                lambda trial, niche, _: self.feed(handle, session, gaits, trial, niche),
                 lambda: handle.is_cancel_requested,
             )
         finally:
@@ -268,24 +268,8 @@ class AdaptNode(Node):
 
         return self.damage.at_start(run, alive, tell, self.port.sim_damage, timeout)
 
-    def _on_trial(self, handle, session: AdaptationSession, gaits: GaitOf, trial, niche) -> None:
-        """Publish, feed back, record and log one trial."""
-        self._say_vetoes(session, float(self._param('tip_guard')))
-        best_niche, best_speed = session.best() or (-1, 0.0)  # none while every trial tipped
-        msg = trial_msg(trial, niche, best_niche, best_speed, session.archive)
-        msg.header.stamp = self.get_clock().now().to_msg()
-        msg.gait = gait_to_msg(gaits(niche))
-        msg.recording = self.recording.problem
-        # a node shutting down publishes nothing more: the recording still takes the trial
-        unless_closing(self, self.trial_pub.publish, msg)
-        left = max(0, session.rules.max_trials - trial.number)
-        unless_closing(self, handle.publish_feedback, Adapt.Feedback(trial=msg, trials_left=left))
-        self.recording.record('adapt/trials', msg)
-        self.recording.checkpoint()  # a completed trial survives a kill or power loss
-        if trial.tipped:  # rclpy fixes a call site's severity: one call per severity
-            self.get_logger().warning(say.trial_message(trial, niche))
-        else:
-            self.get_logger().info(say.trial_message(trial, niche))
+    def _guard(self) -> float:
+        return float(self._param('tip_guard'))
 
     def _warn(self, text: str) -> None:
         self.get_logger().warning(text)

@@ -36,6 +36,7 @@ from hexapod_gait import GaitParameters, standing_gait
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_msgs.msg import (
     AdaptationTrial,
+    DamageDiagnosis,
     FootContacts,
     LegDamage,
     LinkStatus,
@@ -45,7 +46,7 @@ from hexapod_msgs.msg import (
 )
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.srv import GetLegDamage, UploadGait
-from hexapod_sim.simulator import peak_tilt, upside_down
+from hexapod_sim.simulator import peak_tilt, quat_to_euler, upside_down
 from hexapod_util.files import under_ros_home
 from hexapod_util.recording import type_name
 from hexapod_util.ros_glue import EVENTS, LATCHED, nodes_named, ODOM, SENSOR, TF_QOS, TRIALS
@@ -103,6 +104,7 @@ RECORDED_TYPES = {
         (RobotTrial, 'trial_result'),
         (GaitParametersMsg, 'gait/parameters'),
         (AdaptationTrial, 'adapt/trials'),
+        (DamageDiagnosis, 'adapt/diagnosis'),
     )
 }
 
@@ -118,7 +120,7 @@ def odom_sample(msg: Odometry) -> OdomSample:
     quat = (q.x, q.y, q.z, q.w)
     return OdomSample(
         stamp_ns(msg.header.stamp), p.x, p.y, t.x, t.y, time.monotonic(),
-        upside_down(quat), peak_tilt(np.array(quat)),
+        upside_down(quat), peak_tilt(np.array(quat)), quat_to_euler(quat),
     )  # fmt: skip
 
 

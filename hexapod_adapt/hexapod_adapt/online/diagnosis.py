@@ -1,0 +1,300 @@
+# Copyright 2026 Hexapod adaptation team
+# SPDX-License-Identifier: MIT
+"""
+Name the damage from the trials: a posterior over damage hypotheses, trial by trial.
+
+Each trial is a :class:`TrialRecord`, plain data any trial source can fill (a simulator's walk,
+the bridge's IMU and odometry, a recording replayed): time stamps, the body's position and
+attitude, and the foot contacts where they are known. Its :func:`signature` is what a damage
+changes in a walk: the speed along the walking direction, the drift across it, the yaw rate,
+the mean roll and pitch, how roll and pitch move through the gait cycle (a lifted leg tilts the
+body toward its corner in the phase that leg would have carried it), and each foot's duty
+factor.
+
+:class:`Diagnosis` compares each trial's signature with the same gait simulated under each
+hypothesis (on the map's engine; each walk simulated when first needed, then kept) and keeps a
+posterior over the hypotheses plus "none of these". A feature's mismatch is scaled by its noise
+(:data:`FEATURE_NOISE`) and weighed with a Student-t (a few features far off, as another physics
+gives them, do not veto a hypothesis the others support); "none of these" explains every trial
+equally, as a hypothesis :data:`NONE_DEVIATION` noise scales off in every feature would.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+import math
+from typing import Callable, Sequence
+
+from hexapod_adapt.mapping.archive import Archive
+from hexapod_adapt.mapping.simulation import engine_of_map, trial_substeps, worker_simulator
+from hexapod_description import N_LEGS
+from hexapod_sim.damage import Damage
+from hexapod_sim.simulator import quat_to_euler
+from hexapod_sim.traces import GaitTrace, trace_gait
+import numpy as np
+
+#: Gait-cycle phase bins of the roll and pitch profile.
+PHASE_BINS = 4
+#: [s] the start of a walk left out of the signature (the body settles from standing).
+SETTLE_S = 1.0
+#: The noise scale of each feature group: how far a trial's feature may lie from the same gait
+#: simulated under the true damage (another physics, the robot's sensors). Units: m/s, rad/s,
+#: rad, duty fraction.
+FEATURE_NOISE = {
+    'speed': 0.04,
+    'drift': 0.04,
+    'yaw_rate': 0.06,
+    'roll': 0.03,
+    'pitch': 0.03,
+    'roll_phase': 0.015,
+    'pitch_phase': 0.015,
+    'duty': 0.15,
+}
+#: Student-t degrees of freedom of a feature's mismatch.
+STUDENT_NU = 4.0
+#: "None of these" explains a trial as a hypothesis this many noise scales off in every feature.
+NONE_DEVIATION = 2.5
+#: Prior probability of "none of these".
+NONE_PRIOR = 0.2
+NONE_LABEL = 'none of these'
+
+
+@dataclass(frozen=True)
+class TrialRecord:
+    """
+    What one trial recorded, as plain data.
+
+    ``t`` (n,) s since the gait began (its phase 0); ``position`` (n, 2 or 3) m and ``attitude``
+    (n, 3) roll, pitch, yaw [rad] of the body in a fixed frame (odom); ``crab`` [rad] the
+    walking direction in the body frame; ``period`` [s] the gait's cycle; ``contacts`` (n, 6)
+    whether each foot touched since the previous sample (None: not measured, as on the robot).
+    """
+
+    t: np.ndarray
+    position: np.ndarray
+    attitude: np.ndarray
+    crab: float
+    period: float
+    contacts: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        t = np.asarray(self.t, dtype=float)
+        n = len(t)
+        if n < 2 or not np.isfinite(t).all() or np.any(np.diff(t) <= 0):
+            raise ValueError('a trial record needs 2 or more finite, increasing time stamps')
+        position = np.asarray(self.position, dtype=float)
+        if position.ndim != 2 or position.shape[0] != n or position.shape[1] not in (2, 3):
+            raise ValueError(f'position must be ({n}, 2) or ({n}, 3), got {position.shape}')
+        attitude = np.asarray(self.attitude, dtype=float)
+        if attitude.shape != (n, 3):
+            raise ValueError(f'attitude must be ({n}, 3) roll, pitch, yaw, got {attitude.shape}')
+        if not (np.isfinite(position).all() and np.isfinite(attitude).all()):
+            raise ValueError('position and attitude must be finite')
+        if not (math.isfinite(self.crab) and math.isfinite(self.period) and self.period > 0):
+            raise ValueError(
+                f'crab and period must be finite, period > 0: {self.crab}, {self.period}'
+            )
+        contacts = self.contacts
+        if contacts is not None:
+            contacts = np.asarray(contacts, dtype=bool)
+            if contacts.shape != (n, N_LEGS):
+                raise ValueError(f'contacts must be ({n}, {N_LEGS}), got {contacts.shape}')
+        for name, value in (('t', t), ('position', position), ('attitude', attitude)):
+            object.__setattr__(self, name, value)
+        object.__setattr__(self, 'contacts', contacts)
+
+    @classmethod
+    def from_trace(cls, trace: GaitTrace, contacts: bool = True) -> TrialRecord:
+        """Return the record of a simulated walk (``contacts``: keep its foot contacts)."""
+        attitude = np.array([quat_to_euler(q) for q in trace.quaternion])
+        return cls(
+            trace.t,
+            trace.position,
+            attitude,
+            float(trace.gait.crab_angle),
+            float(trace.gait.period),
+            trace.contacts if contacts else None,
+        )
+
+    def without_contacts(self) -> TrialRecord:
+        """Return the record as a robot gives it: no foot contacts."""
+        return TrialRecord(self.t, self.position, self.attitude, self.crab, self.period)
+
+
+def feature_names(contacts: bool) -> tuple[str, ...]:
+    """Return the names of a signature's features, in order."""
+    names = ['speed', 'drift', 'yaw_rate', 'roll', 'pitch']
+    names += [f'roll_phase_{b}' for b in range(PHASE_BINS)]
+    names += [f'pitch_phase_{b}' for b in range(PHASE_BINS)]
+    if contacts:
+        names += [f'duty_{leg}' for leg in range(1, N_LEGS + 1)]
+    return tuple(names)
+
+
+def feature_noise(names: Sequence[str]) -> np.ndarray:
+    """Return the noise scale of each named feature (:data:`FEATURE_NOISE`'s groups)."""
+    return np.array([FEATURE_NOISE[n.rsplit('_', 1)[0] if n[-1].isdigit() else n] for n in names])
+
+
+def signature(record: TrialRecord, contacts: bool, settle: float = SETTLE_S) -> np.ndarray:
+    """
+    Return the features of ``record`` (:func:`feature_names` order) after ``settle`` s.
+
+    ``contacts``: with the duty factors (the record must hold contacts).
+    """
+    keep = record.t >= record.t[0] + settle if record.t[-1] - record.t[0] > 2 * settle else None
+    t = record.t if keep is None else record.t[keep]
+    xy = (record.position if keep is None else record.position[keep])[:, :2]
+    rpy = record.attitude if keep is None else record.attitude[keep]
+    span = t[-1] - t[0]
+    heading = rpy[0, 2] + record.crab
+    step = xy[-1] - xy[0]
+    along = (step[0] * math.cos(heading) + step[1] * math.sin(heading)) / span
+    across = (-step[0] * math.sin(heading) + step[1] * math.cos(heading)) / span
+    yaw = np.unwrap(rpy[:, 2])
+    roll, pitch = rpy[:, 0], rpy[:, 1]
+    phase = np.floor((t % record.period) / record.period * PHASE_BINS).astype(int)
+    phase = np.clip(phase, 0, PHASE_BINS - 1)
+    profile = []
+    for series in (roll, pitch):
+        centred = series - series.mean()
+        profile += [
+            float(centred[phase == b].mean()) if np.any(phase == b) else 0.0
+            for b in range(PHASE_BINS)
+        ]
+    values = [along, across, (yaw[-1] - yaw[0]) / span, roll.mean(), pitch.mean(), *profile]
+    if contacts:
+        if record.contacts is None:
+            raise ValueError('this record holds no foot contacts')
+        held = record.contacts if keep is None else record.contacts[keep]
+        values += list(held.mean(axis=0))
+    return np.asarray(values, dtype=float)
+
+
+def student_log_likelihood(residual: np.ndarray, nu: float = STUDENT_NU) -> float:
+    """Return the log density (up to a constant) of scaled residuals under a Student-t."""
+    return float(-0.5 * (nu + 1.0) * np.sum(np.log1p(np.square(residual) / nu)))
+
+
+@dataclass(frozen=True)
+class Posterior:
+    """Each hypothesis's probability (``labels`` in order, ``NONE_LABEL`` last)."""
+
+    labels: tuple[str, ...]
+    probabilities: np.ndarray
+
+    @property
+    def leader(self) -> int:
+        """Return the index of the most probable hypothesis (the last: none of these)."""
+        return int(np.argmax(self.probabilities))
+
+    def top(self, k: int = 3) -> list[tuple[str, float]]:
+        """Return the ``k`` most probable hypotheses with their probabilities."""
+        order = np.argsort(-self.probabilities, kind='stable')[:k]
+        return [(self.labels[i], float(self.probabilities[i])) for i in order]
+
+    def describe(self, k: int = 3) -> str:
+        """Say the top hypotheses, e.g. ``legs 1, 4 lifted 0.91; none of these 0.05``."""
+        return '; '.join(f'{label} {p:.2f}' for label, p in self.top(k))
+
+
+#: Simulate gait ``niche`` under hypothesis ``h`` (an index into the hypotheses); None: it
+#: cannot be walked.
+Simulate = Callable[[int, int], 'TrialRecord | None']
+
+
+@dataclass
+class Diagnosis:
+    """
+    The posterior over ``labels`` (the hypotheses) and "none of these", trial by trial.
+
+    ``simulate(niche, h)`` walks a gait under hypothesis h on the map's engine; each walk is
+    simulated when first needed and kept. ``contacts``: compare foot duty factors too (only
+    when every trial records contacts, as a simulator's do).
+    """
+
+    labels: tuple[str, ...]
+    simulate: Simulate
+    contacts: bool = False
+    none_prior: float = NONE_PRIOR
+    none_deviation: float = NONE_DEVIATION
+    _log: np.ndarray = field(init=False)
+    _cache: dict[tuple[int, int], np.ndarray | None] = field(init=False, default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if not self.labels:
+            raise ValueError('a diagnosis needs at least one hypothesis')
+        if not 0.0 < self.none_prior < 1.0:
+            raise ValueError(f'none_prior must lie in (0, 1), got {self.none_prior}')
+        h = len(self.labels)
+        prior = np.full(h + 1, (1.0 - self.none_prior) / h)
+        prior[-1] = self.none_prior
+        self._log = np.log(prior)
+        self.names = feature_names(self.contacts)
+        self.noise = feature_noise(self.names)
+        self.trials = 0
+
+    def expected(self, niche: int, h: int) -> np.ndarray | None:
+        """Return gait ``niche``'s signature simulated under hypothesis ``h`` (cached)."""
+        key = (int(niche), int(h))
+        if key not in self._cache:
+            record = self.simulate(*key)
+            self._cache[key] = None if record is None else signature(record, self.contacts)
+        return self._cache[key]
+
+    def observe(self, niche: int, record: TrialRecord) -> Posterior:
+        """Weigh the hypotheses by the trial of gait ``niche``; return the new posterior."""
+        seen = signature(record, self.contacts)
+        none = student_log_likelihood(np.full(len(seen), self.none_deviation))
+        update = np.full(len(self.labels) + 1, none)
+        for h in range(len(self.labels)):
+            expected = self.expected(niche, h)
+            # a gait the hypothesis cannot walk says nothing of it: the none-of-these weight
+            if expected is not None:
+                update[h] = student_log_likelihood((seen - expected) / self.noise)
+        self._log = self._log + update
+        self._log -= self._log.max()
+        self.trials += 1
+        return self.posterior()
+
+    def posterior(self) -> Posterior:
+        """Return the current posterior."""
+        p = np.exp(self._log - self._log.max())
+        return Posterior((*self.labels, NONE_LABEL), p / p.sum())
+
+    def residuals(self, niche: int, record: TrialRecord, h: int) -> dict[str, float]:
+        """Return each feature's scaled mismatch of a trial under hypothesis ``h`` (to study)."""
+        expected = self.expected(niche, h)
+        if expected is None:
+            return {}
+        scaled = (signature(record, self.contacts) - expected) / self.noise
+        return dict(zip(self.names, (float(v) for v in scaled)))
+
+
+class HypothesisWalks:
+    """
+    The map's gaits walked under damages, as trials (kept: runs that share it walk each once).
+
+    On ``engine`` (default: the map's own, at the map's physics step), for the map's trial
+    duration, with the foot contacts.
+    """
+
+    def __init__(self, archive: Archive, engine: str | None = None) -> None:
+        self.archive = archive
+        self.engine = engine or engine_of_map(archive)
+        self.substeps = trial_substeps(archive, self.engine)
+        self._walks: dict[tuple[int, Damage], TrialRecord | None] = {}
+
+    def __call__(self, niche: int, damage: Damage) -> TrialRecord | None:
+        """Return gait ``niche`` walked under ``damage`` (None: it cannot be walked)."""
+        key = (int(niche), damage)
+        if key not in self._walks:
+            sim = worker_simulator(self.engine, self.substeps)
+            genes = self.archive.genotypes[key[0]]
+            trace = trace_gait(genes, sim, damage, self.archive.trial_duration)
+            self._walks[key] = None if trace is None else TrialRecord.from_trace(trace)
+        return self._walks[key]
+
+    def under(self, damages: Sequence[Damage]) -> Simulate:
+        """Return ``simulate(niche, h)`` over ``damages`` for a :class:`Diagnosis`."""
+        return lambda niche, h: self(niche, damages[h])

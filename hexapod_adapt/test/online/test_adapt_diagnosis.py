@@ -1,0 +1,205 @@
+# Copyright 2026 Hexapod adaptation team
+# SPDX-License-Identifier: MIT
+"""
+Naming the damage from the trials (hexapod_adapt.online.diagnosis) and a session that acts on it.
+
+The hypotheses are walked on the map's engine (MuJoCo, at the map's physics step); the trials
+on MuJoCo at its converged step, a physics the hypotheses were not walked in, and without foot
+contacts, as a robot gives them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+import math
+
+from hexapod_adapt.mapping.archive import load_archive
+from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+from hexapod_adapt.online.adaptation import recorded_trial, TrialOutcome
+from hexapod_adapt.online.bank import DamageBank
+from hexapod_adapt.online.diagnosis import (
+    Diagnosis,
+    feature_names,
+    HypothesisWalks,
+    NONE_LABEL,
+    signature,
+    TrialRecord,
+)
+from hexapod_adapt.online.mboa import MboaConfig, PROFILES
+from hexapod_adapt.online.session import AdaptationSession, diagnosis_plan, SessionStart
+from hexapod_sim import create_simulator, SimConfig
+from hexapod_sim.damage import Damage
+from hexapod_sim.traces import trace_gait
+import numpy as np
+import pytest
+
+
+@pytest.fixture(scope='module')
+def archive():
+    return load_archive(shipped_map(DEFAULT_MAP))
+
+
+@pytest.fixture(scope='module')
+def walks(archive):
+    return HypothesisWalks(archive)
+
+
+@pytest.fixture(scope='module')
+def trial_sim():
+    with create_simulator(SimConfig.converged('mujoco')) as sim:
+        yield sim
+
+
+def fastest(archive, k: int) -> list[int]:
+    niches = archive.elite_indices()
+    return [int(n) for n in niches[np.argsort(-archive.fitness[niches], kind='stable')][:k]]
+
+
+def straight_walk(speed: float, crab: float, yaw_rate: float = 0.0, n: int = 500) -> TrialRecord:
+    t = np.linspace(0.01, 5.0, n)
+    yaw = yaw_rate * t
+    heading = crab  # the start's yaw is 0: the walking direction is the crab angle
+    position = np.column_stack([speed * t * math.cos(heading), speed * t * math.sin(heading)])
+    attitude = np.column_stack([np.zeros(n), np.full(n, 0.02), yaw])
+    return TrialRecord(t, position, attitude, crab, 0.5)
+
+
+def test_a_record_refuses_what_is_not_a_trial():
+    good = straight_walk(0.2, 0.3)
+    with pytest.raises(ValueError, match='increasing time stamps'):
+        TrialRecord(good.t[::-1], good.position, good.attitude, 0.3, 0.5)
+    with pytest.raises(ValueError, match=r'attitude must be \(500, 3\)'):
+        TrialRecord(good.t, good.position, good.attitude[:, :2], 0.3, 0.5)
+    bad = good.position.copy()
+    bad[7, 0] = np.nan
+    with pytest.raises(ValueError, match='must be finite'):
+        TrialRecord(good.t, bad, good.attitude, 0.3, 0.5)
+    with pytest.raises(ValueError, match='period > 0'):
+        TrialRecord(good.t, good.position, good.attitude, 0.3, 0.0)
+    with pytest.raises(ValueError, match='holds no foot contacts'):
+        signature(good, contacts=True)
+
+
+def test_the_signature_measures_speed_drift_yaw_rate_and_tilt():
+    s = dict(zip(feature_names(False), signature(straight_walk(0.2, 0.3, yaw_rate=0.05), False)))
+    # the heading is taken at the window's start (after 1 s of settling): a turning walk drifts
+    assert s['speed'] == pytest.approx(0.2, abs=0.01)
+    assert abs(s['drift']) < 0.02
+    assert s['yaw_rate'] == pytest.approx(0.05, abs=1e-6)
+    assert s['pitch'] == pytest.approx(0.02) and s['roll'] == pytest.approx(0.0)
+    assert all(abs(v) < 1e-12 for k, v in s.items() if '_phase_' in k)  # no swing in the tilt
+
+
+@pytest.mark.parametrize(
+    'true,others',
+    [
+        (Damage.lifted([1]), [Damage.lifted([4]), Damage.lifted([1, 4])]),
+        (Damage.of('locked', [2]), [Damage.of('locked', [5]), Damage.lifted([2])]),
+        (Damage.of('no_tibia', [3]), [Damage.of('no_tibia', [6]), Damage.lifted([3])]),
+        (Damage.of('unpowered_femur', [6]), [Damage.of('unpowered_femur', [1]), Damage()]),
+    ],
+    ids=lambda v: v.label if isinstance(v, Damage) else '',
+)
+def test_trials_of_each_kind_name_it_among_its_neighbours(archive, walks, trial_sim, true, others):
+    hypotheses = [true, *others]
+    diagnosis = Diagnosis(tuple(d.label for d in hypotheses), walks.under(hypotheses))
+    for niche in fastest(archive, 2):
+        trace = trace_gait(archive.genotypes[niche], trial_sim, true, archive.trial_duration)
+        post = diagnosis.observe(niche, TrialRecord.from_trace(trace, contacts=False))
+    # named, and more likely than the rest together (a lost tibia and a lifted leg both leave
+    # the leg unloaded: two trials put 0.86 on the true one of that pair)
+    assert post.leader == 0, post.describe()
+    assert post.probabilities[0] > 0.5, post.describe()
+
+
+def test_a_damage_no_hypothesis_holds_is_none_of_these(archive, walks, trial_sim):
+    hypotheses = [Damage.lifted([2]), Damage.lifted([5]), Damage.lifted([2, 5])]
+    diagnosis = Diagnosis(tuple(d.label for d in hypotheses), walks.under(hypotheses))
+    true = Damage.lifted([1, 4])
+    for niche in fastest(archive, 2):
+        trace = trace_gait(archive.genotypes[niche], trial_sim, true, archive.trial_duration)
+        post = diagnosis.observe(niche, TrialRecord.from_trace(trace, contacts=False))
+    assert post.top(1)[0][0] == NONE_LABEL, post.describe()
+
+
+def _bank(archive, damages: list[Damage]) -> DamageBank:
+    """Return a bank of ``damages`` whose re-scores are the map's speeds, each scaled apart."""
+    speeds = np.array(
+        [archive.speeds()[archive.elite_indices()] * (0.5 + 0.1 * k) for k in range(len(damages))]
+    )
+    assert speeds.shape == (len(damages), len(archive.elite_indices()))
+    return DamageBank('mujoco', tuple(damages), speeds)
+
+
+def test_a_blind_session_goes_on_as_the_damage_it_names_and_back_when_contradicted(
+    archive, walks, trial_sim
+):
+    damages = [Damage.lifted([1]), Damage.lifted([4]), Damage.lifted([3, 6])]
+    plan = diagnosis_plan(archive, _bank(archive, damages), walks=walks)
+    # a success floor no gait reaches: the run goes on through the budget, whatever it names
+    config = replace(PROFILES['default'], max_trials=6, min_speed=0.9)
+    session = AdaptationSession(archive, config, SessionStart(diagnosis=plan))
+    assert session.rules.stop_gain is not None  # blind: the expected-gain stop
+    first = recorded_trial(archive, damages[1], trial_sim)
+    niche = session.ask()
+    session.tell(niche, first(niche))
+    assert session.named == 1, session.posterior.describe()
+    assert session.rules.stop_gain is None  # as the damage's prior: alpha's rule alone
+    assert session.result().named == [damages[1].label]
+    # trials that say another damage: the named one is given up (and the other named)
+    other = recorded_trial(archive, damages[2], trial_sim)
+    for _ in range(3):
+        niche = session.ask()
+        if niche is None:
+            break
+        session.tell(niche, other(niche))
+        if session.named != 1:
+            break
+    assert session.named in (None, 2), session.posterior.describe()
+    assert session.result().posterior.startswith(damages[2].label) or session.named is None
+
+
+def test_a_trial_without_a_record_leaves_the_diagnosis_alone(archive, walks):
+    damages = [Damage.lifted([1]), Damage.lifted([4])]
+    plan = diagnosis_plan(archive, _bank(archive, damages), walks=walks)
+    session = AdaptationSession(archive, MboaConfig(max_trials=3), SessionStart(diagnosis=plan))
+    niche = session.ask()
+    session.tell(niche, TrialOutcome(0.1))
+    assert session.posterior is None and session.named is None
+    assert plan.diagnosis.trials == 0
+
+
+def test_a_trial_recorded_to_mcap_and_read_back_names_its_damage(
+    archive, walks, trial_sim, tmp_path
+):
+    """The odometry a trial publishes (sim_node's 10 Hz at real_time_factor 0), via MCAP."""
+    from hexapod_adapt.online.trials import odometry_record
+    from hexapod_adapt.ros.graph_port import odom_sample
+    from hexapod_adapt.ros.run_recording import RunRecording
+    from hexapod_util.recording import read_messages
+    from nav_msgs.msg import Odometry
+
+    true = Damage.lifted([2, 5])
+    hypotheses = [Damage.lifted([2]), true, Damage.lifted([3, 6])]
+    diagnosis = Diagnosis(tuple(d.label for d in hypotheses), walks.under(hypotheses))
+    clock = iter(range(1, 10**6))
+    rec = RunRecording(lambda topic: '/' + topic.lstrip('/'), lambda: next(clock), print)
+    path = rec.start(tmp_path, {'odom': 'nav_msgs/msg/Odometry'})
+    niche = fastest(archive, 1)[0]
+    trace = trace_gait(archive.genotypes[niche], trial_sim, true, archive.trial_duration, every=24)
+    t0_ns = 7 * 10**9  # the reset's stamp: the gait's phase 0
+    for t, p, q in zip(trace.t, trace.position, trace.quaternion):
+        msg = Odometry()
+        stamp = t0_ns + int(round(t * 1e9))
+        msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(stamp, 10**9)
+        msg.pose.pose.position.x, msg.pose.pose.position.y = float(p[0]), float(p[1])
+        o = msg.pose.pose.orientation
+        o.x, o.y, o.z, o.w = (float(v) for v in q)
+        rec.record('odom', msg)
+    rec.stop()
+    samples = [odom_sample(m) for topic, m, _ in read_messages(path) if topic == '/odom']
+    assert len(samples) == len(trace.t) == 50
+    end = t0_ns + int(round(archive.trial_duration * 1e9))
+    record = odometry_record(samples, t0_ns, end, trace.gait.crab_angle, trace.gait.period)
+    post = diagnosis.observe(niche, record)
+    assert post.leader == 1, post.describe()

@@ -1,0 +1,111 @@
+# Copyright 2026 Hexapod adaptation team
+# SPDX-License-Identifier: MIT
+"""
+Blind adaptation that names its damage (issue 67): the experiment's runs, with a diagnosis.
+
+Every orientation of the scenarios, damage of one kind, the default profile with the damaged
+tripod as the success floor and adapt_node's tip guard, no servo report, no damage told. The
+hypotheses are the shipped bank of that kind (the default map re-scored under each of its 21 leg
+sets, on MuJoCo); trials on ``--engine`` at its converged step (on MuJoCo too: not the physics
+the hypotheses are walked in). One CSV row per run and a
+summary (``BENCH``-like lines, not benchmarks):
+
+    python -m studies.diagnosis.run_diagnosis --engine pybullet --kind lifted \
+        --out studies/diagnosis/results/lifted_pybullet.csv
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+from dataclasses import asdict, replace
+from pathlib import Path
+import sys
+
+from hexapod_adapt.mapping.archive import load_archive
+from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
+from hexapod_adapt.mapping.simulation import engine_of_map
+from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
+from hexapod_adapt.online.bank import load_bank
+from hexapod_adapt.online.experiment import ExperimentSetup, run_experiment
+from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
+from hexapod_sim import SimConfig
+from hexapod_sim.damage import Damage
+from hexapod_sim.scenarios import scenario
+import numpy as np
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--engine', default='pybullet')
+    parser.add_argument('--kind', default='lifted')
+    parser.add_argument('--scenarios', nargs='+', default=['S1', 'S2', 'S3', 'S4'])
+    parser.add_argument('--archive', default=str(shipped_map(DEFAULT_MAP)))
+    parser.add_argument('--out', required=True)
+    args = parser.parse_args(argv)
+    archive = load_archive(args.archive)
+    map_engine = engine_of_map(archive)
+    legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
+    damages = [Damage.of(args.kind, legs) for legs in legs_all]
+    bank = load_bank(archive, map_engine, [shipped_ceilings()], damages)
+    if bank.missing:
+        print(f'not cached: {[d.label for d in bank.missing]}', file=sys.stderr)
+    setup = ExperimentSetup(
+        scenarios=tuple(args.scenarios),
+        config=replace(PROFILES['default'], max_trials=TRIAL_BUDGET),
+        # the converged step on every engine: on MuJoCo too, a physics the hypotheses (walked at
+        # the map's step) were not walked in
+        trial_config=SimConfig.converged(args.engine),
+        floor=True,
+        setup='default+diagnosis',
+        bank=bank,
+        kind=args.kind,
+        tip_guard=DEFAULT_TIP_GUARD,
+        diagnose=True,
+    )
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    rows = []
+    with open(out, 'w', newline='', encoding='utf-8') as f:
+        writer = None
+
+        def on_row(row) -> None:
+            nonlocal writer
+            data = asdict(row)
+            if writer is None:
+                writer = csv.DictWriter(f, fieldnames=list(data))
+                writer.writeheader()
+            writer.writerow(data)
+            f.flush()
+            rows.append(row)
+            named = row.named.split('|')
+            print(
+                f'{row.scenario} legs {row.failed_legs}: {row.trials} trials, best'
+                f' {row.best_speed:.3f} m/s (tripod {row.control_speed:.3f}), tipped'
+                f' {row.tipped_trials}; named {named[:3]}; {row.posterior}',
+                flush=True,
+            )
+
+        run_experiment(archive, setup, on_row)
+    summarise(rows, args.kind, args.engine)
+    return 0
+
+
+def summarise(rows, kind: str, engine: str) -> None:
+    """Print the figures issue 67's acceptance names, for these runs."""
+
+    def named_by(row, k: int) -> str:
+        names = row.named.split('|') if row.named else []
+        return names[min(k, len(names)) - 1] if names else ''
+
+    correct = sum(named_by(r, 2) == Damage.of(kind, r.failed_legs).label for r in rows)
+    tag = f'{kind}_{engine}'
+    print(f'diagnosis_correct_after_2_{tag} {correct} of {len(rows)}')
+    print(f'trials_median_{tag} {np.median([r.trials for r in rows]):g}')
+    print(f'best_mean_{tag} {np.mean([r.best_speed for r in rows]):.3f} m/s')
+    print(f'tipped_trials_{tag} {sum(r.tipped_trials for r in rows)}')
+    print(f'beat_tripod_{tag} {sum(r.best_speed > r.control_speed for r in rows)} of {len(rows)}')
+
+
+if __name__ == '__main__':
+    raise SystemExit(main())
