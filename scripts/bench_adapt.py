@@ -25,7 +25,10 @@ def bench_adapt() -> None:
     re-scored under a damage no cache holds (leg 3 locked), 2 processes. Then thesis experiment 5.2
     on the default map (``BENCH_ADAPT_MAP`` overrides it): every orientation of S1-S4, with trials
     on the map's engine and again across engines (suffix _cross), in three setups: the default
-    profile (no suffix; the damaged control tripod is each run's success floor), the default
+    profile (no suffix; the damaged control tripod is each run's success floor; blind, each run
+    names its damage among the shipped bank's 21 lifted-leg hypotheses as adapt_node's blind
+    requests do: adapt_diagnosis_correct, the runs whose damage was named after 2 trials, and
+    adapt_best_after_<k>, the mean best after k trials), the default
     profile starting from the damage-informed prior (suffix _prior), and the thesis profile (suffix
     _thesis; the thesis rule, no floor). Per run: the best speed found, the trials, the control
     tripod with the same damage, and the ratio to the map's ceiling under the damage (cached
@@ -50,6 +53,7 @@ def bench_adapt() -> None:
     from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
     from hexapod_adapt.mapping.simulation import engine_of_map
     from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
+    from hexapod_adapt.online.bank import load_bank
     from hexapod_adapt.online.ceiling import (
         approximate_ceiling,
         approximate_key,
@@ -115,6 +119,8 @@ def bench_adapt() -> None:
         for setup, (label, name, floor, informed) in SETUPS.items()
         if setup in chosen and (have_priors or not informed)
     ]
+    # blind default runs name their damage among the shipped bank, as adapt_node's blind runs do
+    bank = load_bank(archive, map_engine, [cached])
     for engine, cross in ((map_engine, ''), (other, '_cross')):
         # cached ceilings only (loose or packed): a missing PyBullet ceiling costs many minutes
         have = all(holds_ceiling(cached, key(legs, engine)) for legs in legs_all)
@@ -132,6 +138,8 @@ def bench_adapt() -> None:
                     priors=priors if informed else None,
                     setup=name + ('+prior' if informed else ''),
                     tip_guard=DEFAULT_TIP_GUARD,
+                    bank=bank if name == 'default' else None,
+                    diagnose=name == 'default' and not informed,
                 ),
             )
             _print_experiment(rows, suffix, have, engine, cached)
@@ -149,6 +157,8 @@ def bench_adapt() -> None:
                     priors=priors if informed else None,
                     setup='default' + ('+prior' if informed else ''),
                     tip_guard=DEFAULT_TIP_GUARD,
+                    bank=bank,
+                    diagnose=not informed,
                 ),
             )
             _print_experiment(rows, f'{label}_judge', False, JUDGE_ENGINE, cached)
@@ -307,3 +317,12 @@ def _print_experiment(rows, suffix: str, have: bool, engine: str, cached) -> Non
     print(
         f'BENCH adapt_stopped_by_rule{suffix} {sum(r.success for r in rows)} of {len(rows)} runs'
     )
+    if any(r.named for r in rows):  # a diagnosing run: the damage named, the anytime curve
+        from hexapod_sim.damage import Damage
+
+        truth = [Damage.of(r.damage_kind, r.failed_legs).label for r in rows]
+        correct = sum(r.named_after(2) == label for r, label in zip(rows, truth))
+        print(f'BENCH adapt_diagnosis_correct{suffix} {correct} of {len(rows)} runs')
+        for k in (1, 3, 5, 8, 12, 24):
+            best = np.mean([r.best_after(k) for r in rows])
+            print(f'BENCH adapt_best_after_{k}{suffix} {best:.3f} m/s')

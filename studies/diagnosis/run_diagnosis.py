@@ -93,18 +93,15 @@ def main(argv: list[str] | None = None) -> int:
 
 def summarise(rows, kind: str, engine: str) -> None:
     """Print the figures issue 67's acceptance names, for these runs."""
-
-    def named_by(row, k: int) -> str:
-        names = row.named.split('|') if row.named else []
-        return names[min(k, len(names)) - 1] if names else ''
-
-    correct = sum(named_by(r, 2) == Damage.of(kind, r.failed_legs).label for r in rows)
+    correct = sum(r.named_after(2) == Damage.of(kind, r.failed_legs).label for r in rows)
     tag = f'{kind}_{engine}'
     print(f'diagnosis_correct_after_2_{tag} {correct} of {len(rows)}')
     print(f'trials_median_{tag} {np.median([r.trials for r in rows]):g}')
     print(f'best_mean_{tag} {np.mean([r.best_speed for r in rows]):.3f} m/s')
     print(f'tipped_trials_{tag} {sum(r.tipped_trials for r in rows)}')
     print(f'beat_tripod_{tag} {sum(r.best_speed > r.control_speed for r in rows)} of {len(rows)}')
+    for k in (1, 3, 5, 8, 12, 24):
+        print(f'best_after_{k}_{tag} {np.mean([r.best_after(k) for r in rows]):.3f} m/s')
 
 
 if __name__ == '__main__':

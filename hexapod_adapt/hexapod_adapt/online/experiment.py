@@ -113,6 +113,16 @@ class ExperimentRow:
     #: a diagnosing run's damage named after each trial ('' none), '|'-joined
     named: str = ''
     posterior: str = ''  # its last posterior's top hypotheses
+    trial_speeds: tuple[float, ...] = ()  # each trial's measured speed, in order (tipped: 0)
+
+    def best_after(self, k: int) -> float:
+        """Return the best speed the first ``k`` trials measured (all, if the run stopped)."""
+        return max(self.trial_speeds[:k], default=float('nan'))
+
+    def named_after(self, k: int) -> str:
+        """Return the damage the diagnosis named after trial ``k`` (its last if it stopped)."""
+        names = self.named.split('|') if self.named else []
+        return names[min(k, len(names)) - 1] if names else ''
 
 
 def _screen(archive: Archive, damage: Damage, engine: str, guard: float) -> TipScreen | None:
@@ -199,6 +209,7 @@ def _row(
         tipped_trials=len(result.tipped),
         named='|'.join(result.named),
         posterior=result.posterior,
+        trial_speeds=tuple(float(t.measured) for t in result.trials),
     )
 
 

@@ -187,8 +187,9 @@ SETTINGS = (
     Setting(
         'diagnose',
         True,
-        'Blind runs (no damage known or a blind request) name the damage from the trials among'
-        " the map's cached damage bank, and go on as the prior of the damage named",
+        'A run whose damage nobody told (robot mode: no servo report; sim mode: a blind'
+        " request) names it from the trials among the map's cached damage bank, and goes on as"
+        ' the prior of the damage named',
     ),
     Setting(
         'stand_still',

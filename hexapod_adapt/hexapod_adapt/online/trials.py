@@ -133,6 +133,7 @@ class TiltSample:
 
     tilt: float  # the larger of |roll| and |pitch| [rad]
     received: float  # time.monotonic() when it arrived
+    attitude: tuple[float, float, float] = (0.0, 0.0, 0.0)  # roll, pitch, yaw [rad]
 
 
 class TiltLog(SampleLog[TiltSample]):
@@ -148,6 +149,11 @@ class TiltLog(SampleLog[TiltSample]):
                 peak = max(peak, s.tilt)
         return peak
 
+    def between(self, t0: float, t1: float) -> list[TiltSample]:
+        """Return the readings received after monotonic time ``t0`` and by ``t1``, in order."""
+        with self._lock:
+            return [s for s in self._samples if t0 < s.received <= t1]
+
     def tilt_at(self, t: float) -> float | None:
         """Return the newest tilt [rad] received at or before monotonic time ``t`` (None: none)."""
         with self._lock:
@@ -155,6 +161,33 @@ class TiltLog(SampleLog[TiltSample]):
                 if s.received <= t:
                     return s.tilt
         return None
+
+
+def imu_record(
+    samples: list[TiltSample],
+    started: float,
+    velocity: tuple[float, float],
+    crab: float,
+    period: float,
+) -> TrialRecord | None:
+    """
+    Return a robot trial's record from the IMU's attitude and the bridge's mean velocity.
+
+    Timed from ``started`` (the trial's start, monotonic; the gait's phase 0 within the link's
+    latency). The robot reports no path, only the trial's mean ``velocity`` in the frame it
+    started in: the position moves along it at that speed, and yaw is taken from the first
+    reading (the start frame). None when fewer than two readings came.
+    """
+    if len(samples) < 2:
+        return None
+    t = np.array([s.received - started for s in samples])
+    attitude = np.array([s.attitude for s in samples])
+    attitude[:, 2] = np.unwrap(attitude[:, 2]) - attitude[0, 2]
+    position = np.outer(t, velocity)
+    try:
+        return TrialRecord(t, position, attitude, crab, period)
+    except ValueError:
+        return None  # readings that cannot make a record (a time twice): no record
 
 
 @dataclass(frozen=True)
@@ -517,7 +550,12 @@ class RobotTrials:
                 f'the measured {math.hypot(result.vx, result.vy):.2f} m/s is faster than the robot'
                 f' can walk ({self.max_speed:.2f} m/s)'
             )
-        return TrialOutcome(speed, False, peak())
+        record = None
+        if tilts is not None:
+            walked = tilts.between(started, started + self.timing.walking)
+            period = self.gaits(niche).period
+            record = imu_record(walked, started, (result.vx, result.vy), crab, period)
+        return TrialOutcome(speed, False, peak(), record)
 
     def _stand(self) -> None:
         """Stop a walk the robot may still make (it heard no stop while the link was down)."""

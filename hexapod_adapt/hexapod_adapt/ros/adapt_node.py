@@ -224,9 +224,10 @@ class AdaptNode(Node):
         engine = self.port.sim_engine() if self.mode == 'sim' else 'the real robot'
         note = engine_note(archive, engine)
         self.get_logger().info(say.start_message(archive, run.config, timing, note))
-        start = informed_start(
-            archive, damage, source, self.priors, guard, diagnose=self._param('diagnose')
-        )
+        # damage nobody told is named from the trials (in sim mode an auto run asks sim_node;
+        # manual trials record nothing)
+        diagnose = self._param('diagnose') and {'sim': not run.auto, 'robot': True}.get(self.mode)
+        start = informed_start(archive, damage, source, self.priors, guard, diagnose=diagnose)
         response.prior = start.note
         self._tell(handle, say.start_note(start.note, check), warn=False)
         session = AdaptationSession(archive, run.config, start)

@@ -265,7 +265,9 @@ class GraphPort:
 
     def _on_imu(self, msg: Imu) -> None:
         q = msg.orientation
-        self.tilts.append(TiltSample(peak_tilt(np.array([q.x, q.y, q.z, q.w])), time.monotonic()))
+        quat = (q.x, q.y, q.z, q.w)
+        sample = TiltSample(peak_tilt(np.array(quat)), time.monotonic(), quat_to_euler(quat))
+        self.tilts.append(sample)
 
     def _on_active(self, msg: Header) -> None:
         self._active = stamp_ns(msg.stamp)
