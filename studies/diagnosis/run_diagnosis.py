@@ -42,6 +42,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument('--scenarios', nargs='+', default=['S1', 'S2', 'S3', 'S4'])
     parser.add_argument('--archive', default=str(shipped_map(DEFAULT_MAP)))
     parser.add_argument('--out', required=True)
+    parser.add_argument(
+        '--leave-out',
+        action='store_true',
+        help="drop each run's own damage from the hypotheses: a damage no hypothesis holds",
+    )
     args = parser.parse_args(argv)
     archive = load_archive(args.archive)
     map_engine = engine_of_map(archive)
@@ -59,6 +64,7 @@ def main(argv: list[str] | None = None) -> int:
         floor=True,
         setup='default+diagnosis',
         bank=bank,
+        leave_out=args.leave_out,
         kind=args.kind,
         tip_guard=DEFAULT_TIP_GUARD,
         diagnose=True,
