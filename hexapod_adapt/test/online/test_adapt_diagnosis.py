@@ -203,3 +203,24 @@ def test_a_trial_recorded_to_mcap_and_read_back_names_its_damage(
     record = odometry_record(samples, t0_ns, end, trace.gait.crab_angle, trace.gait.period)
     post = diagnosis.observe(niche, record)
     assert post.leader == 1, post.describe()
+
+
+def test_records_from_the_graph_need_two_samples_and_keep_the_trial_window():
+    from hexapod_adapt.online.trials import imu_record, odometry_record, OdomSample, TiltSample
+
+    t0 = 10**9
+    odom = [
+        OdomSample(t0 + k * 10**8, 0.02 * k, 0.0, 0.0, 0.0, 0.0, attitude=(0.0, 0.01, 0.1))
+        for k in range(-3, 60)
+    ]
+    record = odometry_record(odom, t0, t0 + 5 * 10**9, 0.0, 0.5)
+    assert record.t[0] == pytest.approx(0.1) and record.t[-1] == pytest.approx(5.0)
+    assert len(record.t) == 50  # the samples stamped before the reset are not the trial's
+    assert odometry_record(odom[:4], t0, t0 + 5 * 10**9, 0.0, 0.5) is None  # one sample only
+    tilts = [TiltSample(0.0, 100.0 + 0.05 * k, (0.0, 0.02, 1.0 + 0.01 * k)) for k in range(1, 101)]
+    robot = imu_record(tilts, 100.0, (0.2, 0.0), 0.0, 0.5)
+    assert robot.attitude[0, 2] == 0.0  # yaw in the frame the trial started in
+    s = dict(zip(feature_names(False), signature(robot, False)))
+    # the speed is along the heading at the window's start (1 s in: yawed 0.2 rad by then)
+    assert s['speed'] == pytest.approx(0.2 * math.cos(0.2)) and s['yaw_rate'] == pytest.approx(0.2)
+    assert imu_record(tilts[:1], 100.0, (0.2, 0.0), 0.0, 0.5) is None
