@@ -13,6 +13,7 @@ import sys
 from hexapod_msgs.action import Adapt, Navigate
 from hexapod_msgs.msg import (
     AdaptationTrial,
+    DamageDiagnosis,
     FootContacts,
     GaitParameters,
     LegDamage,
@@ -40,6 +41,7 @@ MESSAGES = [
     TrajectoryActivation,
     LegDamage,
     RobotTrial,
+    DamageDiagnosis,
 ]
 SERVICES = [GetServoFailures, SetLegFailure, ReportDistance, UploadGait, GetLegDamage]
 # the actions go through their servers in tests/graph (test_adapt_graph, test_navigate_graph)

@@ -178,9 +178,11 @@ def informed_start(
         plan = priors.diagnosis(archive, tip_guard) if diagnose else None
         if plan is None:
             return SessionStart(floor=floor, note=source)
+        n = len(plan.damages)
         note = (
-            f'{source}; the damage is named from the trials among {len(plan.damages)}'
-            ' hypotheses, and the run goes on as the prior of the one named'
+            f'{source}; the damage is named from the trials among {n}'
+            f' {"hypothesis" if n == 1 else "hypotheses"}, and the run goes on as the prior of'
+            ' the one named'
         )
         return SessionStart(floor=floor, note=note, diagnosis=plan)
     got = priors.start(archive, damage, source)
