@@ -426,6 +426,10 @@ def launch(domain_id, tmp_path):
     started: list[NodeProcess] = []
 
     def _launch(pkg: str, exe: str, **kwargs) -> NodeProcess:
+        if exe == 'adapt_node':
+            # each test its own re-scores: a bank other tests cached would change a blind run
+            own = {'prior_cache_dir': str(tmp_path / 'prior_cache')}
+            kwargs['params'] = {**own, **(kwargs.get('params') or {})}
         node = NodeProcess(pkg, exe, domain_id, tmp_path, **kwargs)
         started.append(node)
         return node

@@ -589,12 +589,7 @@ def test_a_recorded_type_without_a_definition_is_refused_and_the_run_goes_on(
     node = launch(
         'hexapod_adapt',
         'adapt_node',
-        # its own prior cache: re-scores other tests cached would make the blind run diagnose
-        params={
-            'archive': str(path),
-            'record_dir': str(tmp_path / 'runs'),
-            'prior_cache_dir': str(tmp_path / 'priors'),
-        },
+        params={'archive': str(path), 'record_dir': str(tmp_path / 'runs')},
         env={'AMENT_PREFIX_PATH': _prefix_without('nav_msgs', tmp_path)},
     )
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
