@@ -42,6 +42,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument('--scenarios', nargs='+', default=['S1', 'S2', 'S3', 'S4'])
     parser.add_argument('--archive', default=str(shipped_map(DEFAULT_MAP)))
     parser.add_argument('--out', required=True)
+    parser.add_argument('--force', action='store_true', help='replace an existing --out file')
     parser.add_argument(
         '--leave-out',
         action='store_true',
@@ -70,6 +71,9 @@ def main(argv: list[str] | None = None) -> int:
         diagnose=True,
     )
     out = Path(args.out)
+    if out.exists() and not args.force:
+        print(f'{out} exists: --force replaces it', file=sys.stderr)
+        return 2
     out.parent.mkdir(parents=True, exist_ok=True)
     rows = []
     with open(out, 'w', newline='', encoding='utf-8') as f:

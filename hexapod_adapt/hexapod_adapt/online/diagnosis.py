@@ -116,10 +116,6 @@ class TrialRecord:
             trace.contacts if contacts else None,
         )
 
-    def without_contacts(self) -> TrialRecord:
-        """Return the record as a robot gives it: no foot contacts."""
-        return TrialRecord(self.t, self.position, self.attitude, self.crab, self.period)
-
 
 def feature_names(contacts: bool) -> tuple[str, ...]:
     """Return the names of a signature's features, in order."""
@@ -261,14 +257,6 @@ class Diagnosis:
         """Return the current posterior."""
         p = np.exp(self._log - self._log.max())
         return Posterior((*self.labels, NONE_LABEL), p / p.sum())
-
-    def residuals(self, niche: int, record: TrialRecord, h: int) -> dict[str, float]:
-        """Return each feature's scaled mismatch of a trial under hypothesis ``h`` (to study)."""
-        expected = self.expected(niche, h)
-        if expected is None:
-            return {}
-        scaled = (signature(record, self.contacts) - expected) / self.noise
-        return dict(zip(self.names, (float(v) for v in scaled)))
 
 
 class HypothesisWalks:
