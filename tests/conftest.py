@@ -12,6 +12,7 @@ from __future__ import annotations
 import itertools
 import os
 from pathlib import Path
+import queue
 import signal
 import subprocess
 import sys
@@ -143,6 +144,7 @@ class RosHarness:
 
     def __init__(self, domain_id: int):
         import rclpy
+        from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
         from rclpy.executors import MultiThreadedExecutor
 
         self.rclpy = rclpy
@@ -151,10 +153,53 @@ class RosHarness:
         rclpy.init(context=self.context, domain_id=domain_id)
         self.node = rclpy.create_node('test_harness', context=self.context)
         self._adapt_client = None
+        # rclpy's ActionClient races when one thread sends while another spins it: an answer
+        # that arrives before send_goal_async (or get_result_async, cancel_goal_async) has filed
+        # its request is dropped, 'Ignoring unexpected goal response' (ros2/rclpy#1123; twice in
+        # CI). Clients made by action_client() are served in this mutually exclusive group, and
+        # on_spin_thread() sends from a callback of the same group: no answer overtakes its send.
+        self.goals = MutuallyExclusiveCallbackGroup()
+        self._jobs: queue.SimpleQueue = queue.SimpleQueue()
+        self._job_guard = self.node.create_guard_condition(self._run_jobs, self.goals)
         self.executor = MultiThreadedExecutor(num_threads=2, context=self.context)
         self.executor.add_node(self.node)
         self._thread = threading.Thread(target=self.executor.spin, daemon=True)
         self._thread.start()
+
+    def _run_jobs(self) -> None:
+        while True:
+            try:
+                job = self._jobs.get_nowait()
+            except queue.Empty:
+                return
+            job()
+
+    def on_spin_thread(self, call: Callable[[], Any], timeout: float = 10.0) -> Any:
+        """Run ``call`` in the ``goals`` callback group on the spin thread; return its value."""
+        box: dict[str, Any] = {}
+        ran = threading.Event()
+
+        def job() -> None:
+            try:
+                box['value'] = call()
+            except Exception as error:  # noqa: BLE001 - raised again in the caller's thread
+                box['error'] = error
+            finally:
+                ran.set()
+
+        self._jobs.put(job)
+        self._job_guard.trigger()
+        if not ran.wait(timeout):
+            raise TimeoutError(f'the spin thread did not run {call!r} within {timeout:g} s')
+        if 'error' in box:
+            raise box['error']
+        return box['value']
+
+    def action_client(self, action_type, name: str, **kwargs):
+        """An action client of the harness node, served in the ``goals`` group."""
+        from rclpy.action import ActionClient
+
+        return ActionClient(self.node, action_type, name, callback_group=self.goals, **kwargs)
 
     def collect(self, msg_type, topic: str, qos) -> list:
         """Subscribe and return the (growing) list of received messages."""
@@ -202,16 +247,12 @@ class RosHarness:
         """Send a goal to adapt_node's ``adapt`` action (waiting for the server); do not wait."""
         from hexapod_msgs.action import Adapt
         from hexapod_util.ros_glue import ACTION_QOS
-        from rclpy.action import ActionClient
 
         if self._adapt_client is None:
-            self._adapt_client = ActionClient(
-                self.node, Adapt, 'adapt',
-                **ACTION_QOS,
-            )  # fmt: skip
+            self._adapt_client = self.action_client(Adapt, 'adapt', **ACTION_QOS)
         if not self._adapt_client.wait_for_server(timeout_sec=timeout):
             raise TimeoutError('action adapt not available')
-        return AdaptRun(self._adapt_client, goal)
+        return AdaptRun(self, self._adapt_client, goal)
 
     def adapt(self, goal, timeout: float = 20.0):
         """Run one adapt goal to its end and return its result (``Adapt.Result``)."""
@@ -228,10 +269,13 @@ class RosHarness:
 class AdaptRun:
     """One goal sent to the ``adapt`` action: its answer, feedback and result as they arrive."""
 
-    def __init__(self, client, goal) -> None:
+    def __init__(self, ros: RosHarness, client, goal) -> None:
         self.feedback: list = []  # Adapt.Feedback, one per trial and one per note
         self.arrived: list[float] = []  # time.monotonic() each feedback arrived
-        self.sent = client.send_goal_async(goal, feedback_callback=self._on_feedback)
+        self._ros = ros
+        self.sent = ros.on_spin_thread(
+            lambda: client.send_goal_async(goal, feedback_callback=self._on_feedback)
+        )
         self._answer = None
 
     def _on_feedback(self, message) -> None:
@@ -260,7 +304,7 @@ class AdaptRun:
         if not handle.accepted:
             return True
         if self._answer is None:
-            self._answer = handle.get_result_async()
+            self._answer = self._ros.on_spin_thread(handle.get_result_async)
         return self._answer.done()
 
     @property
@@ -275,7 +319,7 @@ class AdaptRun:
 
     def cancel(self, timeout: float = 10.0) -> bool:
         """Ask for a cancel; return whether adapt_node accepted it."""
-        future = self.handle().cancel_goal_async()
+        future = self._ros.on_spin_thread(self.handle().cancel_goal_async)
         wait_for(future.done, timeout, 'the answer to a cancel')
         return len(future.result().goals_canceling) > 0
 

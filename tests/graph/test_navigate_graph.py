@@ -36,7 +36,7 @@ def start_graph(ros, launch, **navigate):
     launch('hexapod_sim', 'sim_node', params=SIM)
     launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
     nav = launch('hexapod_navigation', 'navigate_node', params=navigate)
-    client = navigate_client(ros.node)
+    client = navigate_client(ros.node, callback_group=ros.goals)
     assert client.wait_for_server(timeout_sec=60)
     return nav, client
 
@@ -52,12 +52,21 @@ class Goal:
 
     def __init__(self, ros, client, x, y, **fields):
         self.feedback = []
-        future = client.send_goal_async(
-            goal_at(x, y, **fields),
-            feedback_callback=lambda m: self.feedback.append(m.feedback),
+        self._ros = ros
+        future = ros.on_spin_thread(
+            lambda: client.send_goal_async(
+                goal_at(x, y, **fields),
+                feedback_callback=lambda m: self.feedback.append(m.feedback),
+            )
         )
         self.handle = wait_for(lambda: future.done() and future.result(), 30, 'the goal response')
-        self._result = self.handle.get_result_async() if self.handle.accepted else None
+        self._result = (
+            ros.on_spin_thread(self.handle.get_result_async) if self.handle.accepted else None
+        )
+
+    def cancel(self):
+        """Ask for a cancel; return the answer's future."""
+        return self._ros.on_spin_thread(self.handle.cancel_goal_async)
 
     def result(self, timeout=120):
         """Return (status, result) when the goal ends."""
@@ -97,7 +106,7 @@ def test_goals_are_reached_whatever_the_odometry_rate(ros, launch, period):
     launch('hexapod_sim', 'sim_node', params={**SIM, 'publish_period_steps': period})  # default 4
     launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
     nav = launch('hexapod_navigation', 'navigate_node', params={'max_range': 5.0})
-    client = navigate_client(ros.node)
+    client = navigate_client(ros.node, callback_group=ros.goals)
     assert client.wait_for_server(timeout_sec=60)
     for x, y in ((0.8, 0.4), (0.0, 0.0)):
         status, result = Goal(ros, client, x, y).result()
@@ -118,7 +127,7 @@ def test_invalid_goals_are_rejected_with_a_reason_and_the_node_goes_on(ros, grap
     # a pose in a frame the node does not hold (it knows odom only)
     in_map = goal_at(1.0, 0.0)
     in_map.pose.header.frame_id = 'map'
-    sent = client.send_goal_async(in_map)
+    sent = ros.on_spin_thread(lambda: client.send_goal_async(in_map))
     assert not wait_for(lambda: sent.done() and sent.result(), 30, 'the answer').accepted
     wait_for(lambda: any("frame 'map'" in s.message for s in status), 10, 'the frame refusal')
     # the range needs the robot's pose: before the node's first one (CI twice), a far goal is
@@ -158,7 +167,7 @@ def test_invalid_goals_are_rejected_with_a_reason_and_the_node_goes_on(ros, grap
 def test_before_the_first_pose_a_bad_goal_is_rejected_and_a_good_one_waits_for_it(ros, launch):
     """CI once saw a NaN goal accepted because no pose had arrived yet (no range to check)."""
     nav = launch('hexapod_navigation', 'navigate_node', params={'max_range': 5.0})  # no sim_node
-    client = navigate_client(ros.node)
+    client = navigate_client(ros.node, callback_group=ros.goals)
     assert client.wait_for_server(timeout_sec=60)
     for x, y, fields in ((math.nan, 0.0, {}), (1.0, 0.0, {'tolerance': -1.0})):
         assert not Goal(ros, client, x, y, **fields).handle.accepted
@@ -176,7 +185,7 @@ def test_cancel_stops_the_robot_and_a_new_goal_preempts(ros, graph):
     wait_for(lambda: odom, 30, 'odometry')
     far = Goal(ros, client, 3.0, 1.0)
     wait_for(lambda: far.feedback, 60, 'the first step')
-    far.handle.cancel_goal_async()
+    far.cancel()
     status, result = far.result()
     assert result.outcome == Navigate.Result.CANCELED and status == 5  # STATUS_CANCELED
     # within one gait cycle (1 s of sim time) of the result the robot stands
@@ -251,7 +260,7 @@ def test_the_robot_path_walks_its_first_gait_through_the_bridge(ros, launch, tmp
     nav = launch(
         'hexapod_navigation', 'navigate_node', params={'mode': 'robot', 'trial_duration': 2.0}
     )
-    client = navigate_client(ros.node)
+    client = navigate_client(ros.node, callback_group=ros.goals)
     assert client.wait_for_server(timeout_sec=60)
     odom, trial_odom = (
         ros.collect(Odometry, 'odom', ODOM),
@@ -270,7 +279,7 @@ def test_the_robot_path_walks_its_first_gait_through_the_bridge(ros, launch, tmp
     assert (odom[-1].pose.pose.position.x, odom[-1].pose.pose.position.y) == pytest.approx(
         (p.x, p.y)
     )
-    goal.handle.cancel_goal_async()
+    goal.cancel()
     assert goal.result(timeout=60)[1].outcome == Navigate.Result.CANCELED
     assert nav.alive()
 
@@ -323,7 +332,7 @@ def test_the_robot_path_refuses_goals_when_the_bridge_walks_other_trials(ros, la
         'navigate_node',
         params={'mode': 'robot', 'trial_duration': 2.0, 'bank_file': str(absent)},
     )
-    client = navigate_client(ros.node)
+    client = navigate_client(ros.node, callback_group=ros.goals)
     assert client.wait_for_server(timeout_sec=60)
     assert f'no damage bank, the GP learns alone: no step bank at {absent}' in nav.log()
     status = ros.collect(DiagnosticStatus, 'navigate/status', status_log_qos())
@@ -501,7 +510,7 @@ def test_the_tip_guard_stops_a_step_that_tilts_the_robot_and_says_so(ros, launch
     goal = Goal(ros, client, 1.5, 0.0)
     assert goal.handle.accepted
     wait_for(lambda: len(goal.feedback) >= 3, 60, 'three steps')
-    cancel = goal.handle.cancel_goal_async()
+    cancel = goal.cancel()
     wait_for(cancel.done, 10, 'the cancel response')
     status, result = goal.result()
     assert result.outcome != Navigate.Result.FAILED, result.reason

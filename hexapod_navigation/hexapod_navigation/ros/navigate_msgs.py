@@ -21,12 +21,15 @@ from hexapod_sim.simulator import quat_to_euler
 from hexapod_util.ros_glue import ACTION_QOS
 from nav_msgs.msg import Odometry
 from rclpy.action import ActionClient
+from rclpy.callback_groups import CallbackGroup
 from rclpy.client import Client
 from rclpy.node import Node
 from visualization_msgs.msg import Marker
 
 
-def navigate_client(node: Node, action: str = 'navigate') -> ActionClient:
+def navigate_client(
+    node: Node, action: str = 'navigate', callback_group: CallbackGroup | None = None
+) -> ActionClient:
     """
     Return an action client for ``navigate`` whose services keep a burst of answers.
 
@@ -35,12 +38,7 @@ def navigate_client(node: Node, action: str = 'navigate') -> ActionClient:
     Any Navigate client works; one with the services' default depth loses answers when many goals
     end at once (a goal storm).
     """
-    return ActionClient(
-        node,
-        Navigate,
-        action,
-        **ACTION_QOS,
-    )
+    return ActionClient(node, Navigate, action, callback_group=callback_group, **ACTION_QOS)
 
 
 #: Navigate.Result's outcome constant of each library outcome.

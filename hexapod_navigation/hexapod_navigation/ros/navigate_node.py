@@ -55,7 +55,7 @@ from hexapod_util.ros_glue import (
 )
 import rclpy
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
-from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.node import Node
 from std_srvs.srv import Trigger
 from visualization_msgs.msg import Marker
@@ -138,10 +138,12 @@ class NavigateNode(DamageServices, Node):
             **ACTION_QOS,
         )
         # RViz's "2D Goal Pose" (a PoseStamped on goal_pose) is a goal, as for nav2's navigator
-        self.own = conv.navigate_client(self)
+        # sent from a callback of the client's own group: its answer cannot overtake the send
+        own = MutuallyExclusiveCallbackGroup()
+        self.own = conv.navigate_client(self, callback_group=own)
         self.create_subscription(
             PoseStamped, 'goal_pose', lambda m: self.own.send_goal_async(Navigate.Goal(pose=m)),
-            10, callback_group=work,
+            10, callback_group=own,
         )  # fmt: skip
         self.serve_damage(self.mode == 'robot', work)
         if self.problem:
