@@ -442,3 +442,35 @@ def test_a_damage_leaves_nothing_behind_when_another_replaces_it():
     assert after == new
     np.testing.assert_array_equal(used.m.body_contype, fresh.m.body_contype)
     np.testing.assert_array_equal(used.m.body_conaffinity, fresh.m.body_conaffinity)
+
+
+@pytest.mark.parametrize('substeps', [1, 4])
+def test_a_link_on_the_floor_is_found_and_named_alike_by_step_and_rollout(substeps):
+    """
+    One sensor counts the robot's floor contacts: more than its feet's means a link is down.
+
+    A gait too low for its body (0.04 m) puts a link on the floor; the per-step loop and the
+    batch rollout find it in the same row and name the same link, the first in the base, coxae,
+    femurs order of those ``d.contact`` holds.
+    """
+    from hexapod_gait import build_joint_table
+    from hexapod_sim.simulator import JointRows
+
+    low = _gaits_that_collide_or_not()[1]
+    config = SimConfig(engine='mujoco', mujoco=MujocoSettings(substeps=substeps))
+    with create_simulator(config) as sim:
+        t = build_joint_table(low, rate=1.0 / sim.dt)
+        played = sim.rollout([JointRows(t.positions, t.velocities)], 240)[0]
+        rows = sim.prepare_rows(t.positions, t.velocities)
+        sim.reset(t.positions[0])
+        first = None
+        for k in range(240):
+            sim.apply_row(rows, k % len(rows))
+            report = sim.step()
+            if report.collision is not None:
+                first = (k, report.collision)
+                break
+    assert first is not None and first[1].endswith('touched the ground'), first
+    link = first[1].split()[0]
+    assert link == 'base_link' or link.startswith('link_') and link[-1] in '12'
+    assert played.first_collision == f'{first[1]} at t = {(first[0] + 1) * sim.dt:.3f} s'

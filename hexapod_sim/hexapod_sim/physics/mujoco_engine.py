@@ -10,7 +10,9 @@ is added to the URDF text first, so ``base_link`` keeps its inertia and moves fr
 massless foot frames are fused into the tibias, as in PyBullet.
 
 What every step must know (foot contacts, a non-foot link on the ground, self-collision) is
-measured by MuJoCo ``contact`` sensors, so :meth:`MujocoSimulator.rollout` lets C run all the
+measured by eight MuJoCo ``contact`` sensors (one per foot, the whole robot on the floor, the
+robot on itself; a non-foot link is on the ground when the robot has more floor contacts than its
+feet), so :meth:`MujocoSimulator.rollout` lets C run all the
 steps of a batch of gaits (``mujoco.rollout``) with no Python per step. When collisions are
 fatal (map generation) it plays each gait in chunks and stops after the chunk of its first
 collision: the same steps bit for bit, without the rest of a gait that is already invalid.
@@ -93,10 +95,10 @@ class MujocoSimulator(Simulator):
         sensor = {m.sensor(i).name: int(m.sensor_adr[i]) for i in range(m.nsensor)}
         self._foot_adr = np.array([sensor[f'foot_{leg}'] for leg in range(1, N_LEGS + 1)])
         self._ground_links = [name for name in self._link_bodies() if not name.endswith('_3')]
-        self._ground_adr = np.array([sensor[f'ground_{name}'] for name in self._ground_links])
+        self._ground_bodies = [m.body(name).id for name in self._ground_links]
+        self._floor_adr = sensor['robot_on_floor']
+        self._floor = m.geom('floor').id
         self._self_adr = sensor['self_collision']
-        # every sensor that makes a step a collision (a non-foot link on the ground, robot-robot)
-        self._collision_adr = np.append(self._ground_adr, self._self_adr)
         self._coxa_geoms = [self._geoms_of(f'link_{leg}_1') for leg in range(1, N_LEGS + 1)]
         self._tibia_geoms = [self._geoms_of(f'link_{leg}_3') for leg in range(1, N_LEGS + 1)]
         # the healthy values damage scales (weak servos, a lost tibia)
@@ -212,13 +214,13 @@ class MujocoSimulator(Simulator):
             sensor.intprm[1] = 0  # no reduction
             sensor.intprm[2] = 1  # one slot
 
+        # Eight sensors, not one per link: each scans every contact at every physics step, and
+        # 20 of them took a quarter of a step's time (docs/simulator.md, "Cheaper converged").
         floor = (mujoco.mjtObj.mjOBJ_GEOM, 'floor')
         for leg in range(1, N_LEGS + 1):
             contact_sensor(f'foot_{leg}', (mujoco.mjtObj.mjOBJ_BODY, f'link_{leg}_3'), floor)
-        for name in self._link_bodies():
-            if not name.endswith('_3'):
-                contact_sensor(f'ground_{name}', (mujoco.mjtObj.mjOBJ_BODY, name), floor)
         robot = (mujoco.mjtObj.mjOBJ_XBODY, 'base_link')  # subtree: the whole robot
+        contact_sensor('robot_on_floor', robot, floor)
         contact_sensor('self_collision', robot, robot)
         return spec.compile()
 
@@ -320,25 +322,55 @@ class MujocoSimulator(Simulator):
     def step(self) -> StepReport:
         warnings = self.d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number
         sensors = None
+        ground = pair = None
         for _ in range(self.settings.substeps):
             # sensors and d.contact: the state this physics step started from
             mujoco.mj_step(self.m, self.d)
             now = self.d.sensordata
+            # a contact in any of the row's physics steps counts (as rollout counts it), named
+            # from the contacts of the physics step that found it
+            if ground is None and self._on_ground(now):
+                ground = self._ground_link()
+            if pair is None and now[self._self_adr] > 0:
+                pair = self._self_collision_pair()
             sensors = now.copy() if sensors is None else np.maximum(sensors, now)
         self.time += self.dt
-        # a contact in any of the row's physics steps counts (as rollout counts it)
-        report = self._report(sensors)
+        report = self.report
+        report.contacts = (sensors[self._foot_adr] > 0).tolist()
+        report.body_ground, report.self_collision = ground, pair
         # MuJoCo resets the data after a blow-up and carries on: say so
         report.unstable = self.d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > warnings
         return report
 
+    def _on_ground(self, sensordata: np.ndarray) -> np.ndarray:
+        """Whether a non-foot link touches the floor: more robot-floor contacts than feet's."""
+        feet = sensordata[..., self._foot_adr].sum(axis=-1)
+        return sensordata[..., self._floor_adr] > feet
+
+    def _collided(self, sensordata: np.ndarray) -> np.ndarray:
+        """Return per physics step (row of ``sensordata``): a link on the floor, or robot-robot."""
+        return self._on_ground(sensordata) | (sensordata[..., self._self_adr] > 0)
+
     def _report(self, sensordata: np.ndarray) -> StepReport:
+        """Report the physics step whose contacts ``d.contact`` holds now."""
         r = self.report
         r.contacts = (sensordata[self._foot_adr] > 0).tolist()
-        ground = np.flatnonzero(sensordata[self._ground_adr] > 0)
-        r.body_ground = self._ground_links[ground[0]] if ground.size else None
+        r.body_ground = self._ground_link() if self._on_ground(sensordata) else None
         r.self_collision = self._self_collision_pair() if sensordata[self._self_adr] > 0 else None
         return r
+
+    def _ground_link(self) -> str:
+        """Name the first non-foot link (base, coxae, femurs) on the floor in ``d.contact``."""
+        m, d = self.m, self.d
+        on_floor = {
+            int(m.geom_bodyid[g1 if g2 == self._floor else g2])
+            for g1, g2 in zip(d.contact.geom1[: d.ncon], d.contact.geom2[: d.ncon])
+            if self._floor in (g1, g2)
+        }
+        for name, body in zip(self._ground_links, self._ground_bodies):
+            if body in on_floor:
+                return name
+        return 'a link'  # the sensor saw it; d.contact is of another step (not expected)
 
     def _self_collision_pair(self) -> str:
         """Name 'link_a / link_b' of the first robot-robot contact in ``d.contact``."""
@@ -390,9 +422,7 @@ class MujocoSimulator(Simulator):
         for i in range(n):
             bad = self._unstable_steps(initial[i][None], fine_state[i][None])
             # collisions fatal: a collision before the blow-up ends the gait first
-            if bad and not (
-                stop_on_collision and (fine_sd[i][: bad[0], self._collision_adr] > 0).any()
-            ):
+            if bad and not (stop_on_collision and self._collided(fine_sd[i][: bad[0]]).any()):
                 unstable[i] = bad[0] // sub
         results = [
             self._unstable_result(unstable[i])
@@ -450,7 +480,8 @@ class MujocoSimulator(Simulator):
         """
         m, d, sub = self.m, self.d, self.settings.substeps
         feet = sd[:, self._foot_adr] > 0
-        collided = (sd[:, self._collision_adr] > 0).any(axis=1)
+        # a row collided if any of its physics steps did
+        collided = self._collided(fine_sd).reshape(-1, sub).any(axis=1)
         hits = np.flatnonzero(collided)
         first = None
         used = n_steps
@@ -458,8 +489,8 @@ class MujocoSimulator(Simulator):
             k = int(hits[0])
             # its first physics step that collided (row k's); the contacts of a physics step
             # are those of the state it started from: recompute them
-            row = fine_sd[slice(k * sub, (k + 1) * sub), self._collision_adr]
-            j = k * sub + int(np.argmax((row > 0).any(axis=1)))
+            in_row = self._collided(fine_sd[slice(k * sub, (k + 1) * sub)])
+            j = k * sub + int(np.argmax(in_row))
             mujoco.mj_setState(m, d, initial if j == 0 else fine_state[j - 1], self._state_spec)
             mujoco.mj_forward(m, d)
             first = f'{self._report(fine_sd[j]).collision} at t = {(k + 1) * self.dt:.3f} s'
@@ -511,7 +542,7 @@ class MujocoSimulator(Simulator):
                 nstep=k1 - k0,
                 skip_checks=True,  # shapes and types made here
             )
-            if (sensors[0, k0:k1, self._collision_adr] > 0).any():
+            if self._collided(sensors[0, k0:k1]).any():
                 return state[0, :k1], sensors[0, :k1]
             start, warm = state[:, k1 - 1], d.qacc_warmstart[None].copy()
             k0 = k1
