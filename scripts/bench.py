@@ -112,6 +112,56 @@ def bench_sim() -> None:
     print(f'BENCH sim_tripod_speed_mujoco {tripod[1]:.4f} m/s')
     print(f'BENCH sim_tripod_speed_dart {tripod[2]:.4f} m/s')
     print(f'BENCH sim_engine_tripod_ratio {tripod[1] / tripod[0]:.4f} 1')
+    bench_converged()
+
+
+def bench_converged() -> None:
+    """
+    MuJoCo's converged evaluation against today's 4 steps per row and the 8-step reference.
+
+    On the default map's 300 fastest and 100 other gaits (``BENCH_CONVERGED_GAITS``, 'F,R'),
+    5 s, collisions not fatal, batches of 8 interleaved across the three settings on the core
+    bench_sim pinned: sim_eval_mujoco_converged_ms (``SimConfig.converged``, per gait),
+    sim_converged_cost_ratio (converged / 4 steps per row), sim_eval_mujoco_8step_ms, and the
+    converged setting's agreement with 8 steps per row: sim_converged_speed_mad (median |speed
+    change|) and sim_converged_spearman (studies/engines/converged_cost.py, the whole study).
+    """
+    from dataclasses import replace
+
+    from hexapod_adapt.mapping.archive import load_archive
+    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+    from hexapod_adapt.mapping.transfer import ranked_gaits
+    from hexapod_sim import create_simulator, evaluate_gaits, SimConfig
+    from hexapod_sim.engine_settings import DEFAULT_SETTINGS
+    from scipy.stats import spearmanr
+
+    fastest, others = (
+        int(x) for x in os.environ.get('BENCH_CONVERGED_GAITS', '300,100').split(',')
+    )
+    archive = load_archive(shipped_map(DEFAULT_MAP))
+    genes = archive.genotypes[ranked_gaits(archive, fastest, others, seed=0)]
+    configs = {
+        'converged': SimConfig.converged('mujoco'),
+        '4': SimConfig('mujoco', mujoco=replace(DEFAULT_SETTINGS, substeps=4)),
+        '8': SimConfig('mujoco', mujoco=replace(DEFAULT_SETTINGS, substeps=8)),
+    }
+    sims = {name: create_simulator(config) for name, config in configs.items()}
+    per_gait: dict[str, list[float]] = {name: [] for name in sims}
+    speeds: dict[str, list[float]] = {name: [] for name in sims}
+    for i in range(0, len(genes), 8):
+        batch = list(genes[i : i + 8])
+        for name, sim in sims.items():
+            t0 = time.process_time()
+            speeds[name] += [r.speed for r in evaluate_gaits(batch, sim, collisions_fatal=False)]
+            per_gait[name].append((time.process_time() - t0) / len(batch))
+    ms = {name: float(np.median(t)) * 1e3 for name, t in per_gait.items()}
+    conv, ref = np.array(speeds['converged']), np.array(speeds['8'])
+    print(f'BENCH sim_converged_gaits {len(genes)} gaits')
+    print(f'BENCH sim_eval_mujoco_converged_ms {ms["converged"]:.1f} ms')
+    print(f'BENCH sim_eval_mujoco_8step_ms {ms["8"]:.1f} ms')
+    print(f'BENCH sim_converged_cost_ratio {ms["converged"] / ms["4"]:.3f} 1')
+    print(f'BENCH sim_converged_speed_mad {np.median(np.abs(conv - ref)):.4f} m/s')
+    print(f'BENCH sim_converged_spearman {spearmanr(conv, ref).statistic:.4f} 1')
 
 
 def bench_bridge() -> None:
