@@ -29,6 +29,7 @@ from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
 from hexapod_adapt.online.bank import load_bank
 from hexapod_adapt.online.experiment import ExperimentSetup, run_experiment
 from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
+from hexapod_adapt.online.safety import RISK_LIMIT
 from hexapod_sim import SimConfig
 from hexapod_sim.damage import Damage
 from hexapod_sim.scenarios import scenario
@@ -48,6 +49,12 @@ def main(argv: list[str] | None = None) -> int:
         action='store_true',
         help="drop each run's own damage from the hypotheses: a damage no hypothesis holds",
     )
+    parser.add_argument(
+        '--risk-limit',
+        type=float,
+        default=RISK_LIMIT,
+        help="the safety model's risk limit (issue 67, 2); 0: no safety model",
+    )
     args = parser.parse_args(argv)
     archive = load_archive(args.archive)
     map_engine = engine_of_map(archive)
@@ -63,12 +70,13 @@ def main(argv: list[str] | None = None) -> int:
         # the map's step) were not walked in
         trial_config=SimConfig.converged(args.engine),
         floor=True,
-        setup='default+diagnosis',
+        setup='default+diagnosis' + (f'+safety{args.risk_limit:g}' if args.risk_limit else ''),
         bank=bank,
         leave_out=args.leave_out,
         kind=args.kind,
         tip_guard=DEFAULT_TIP_GUARD,
         diagnose=True,
+        safety=args.risk_limit or None,
     )
     out = Path(args.out)
     if out.exists() and not args.force:
@@ -92,7 +100,7 @@ def main(argv: list[str] | None = None) -> int:
             print(
                 f'{row.scenario} legs {row.failed_legs}: {row.trials} trials, best'
                 f' {row.best_speed:.3f} m/s (tripod {row.control_speed:.3f}), tipped'
-                f' {row.tipped_trials}; named {named[:3]}; {row.posterior}',
+                f' {row.tipped_trials}, vetoed {row.vetoed}; named {named[:3]}; {row.posterior}',
                 flush=True,
             )
 
@@ -109,6 +117,7 @@ def summarise(rows, kind: str, engine: str) -> None:
     print(f'trials_median_{tag} {np.median([r.trials for r in rows]):g}')
     print(f'best_mean_{tag} {np.mean([r.best_speed for r in rows]):.3f} m/s')
     print(f'tipped_trials_{tag} {sum(r.tipped_trials for r in rows)}')
+    print(f'vetoed_{tag} {sum(r.vetoed for r in rows)}')
     print(f'beat_tripod_{tag} {sum(r.best_speed > r.control_speed for r in rows)} of {len(rows)}')
     for k in (1, 3, 5, 8, 12, 24):
         print(f'best_after_{k}_{tag} {np.mean([r.best_after(k) for r in rows]):.3f} m/s')

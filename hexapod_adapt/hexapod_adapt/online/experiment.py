@@ -26,6 +26,7 @@ from hexapod_adapt.online.adaptation import (
 from hexapod_adapt.online.diagnosis import HypothesisWalks
 from hexapod_adapt.online.mboa import MboaConfig
 from hexapod_adapt.online.prior import simulated_tilts, TipScreen
+from hexapod_adapt.online.safety import RISK_LIMIT
 from hexapod_adapt.online.session import adapt, diagnosis_plan, SessionStart
 from hexapod_gait import preset
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig, Simulator
@@ -64,7 +65,8 @@ class ExperimentSetup:
     (:data:`hexapod_sim.damage.EXPERIMENT_KINDS`). ``tip_guard`` [rad]: trials that tilt the body
     past it are stopped and scored 0 (pi: no guard). ``diagnose``: runs without a prior name
     their damage from the trials among ``bank``'s (:class:`~hexapod_adapt.online.session.
-    DiagnosisPlan`).
+    DiagnosisPlan`); with a ``tip_guard``, a safety model with risk limit ``safety`` (None:
+    none) screens their gaits (:class:`~hexapod_adapt.online.safety.SafetyModel`).
     """
 
     scenarios: Sequence[str] = ('S1', 'S2', 'S3', 'S4')
@@ -82,6 +84,7 @@ class ExperimentSetup:
     kind: str = 'lifted'
     tip_guard: float = math.pi
     diagnose: bool = False
+    safety: float | None = RISK_LIMIT
 
 
 @dataclass
@@ -114,6 +117,7 @@ class ExperimentRow:
     named: str = ''
     posterior: str = ''  # its last posterior's top hypotheses
     trial_speeds: tuple[float, ...] = ()  # each trial's measured speed, in order (tipped: 0)
+    vetoed: int = 0  # gaits a tip screen or the safety model kept from being tried
 
     def best_after(self, k: int) -> float:
         """Return the best speed the first ``k`` trials measured (all, if the run stopped)."""
@@ -154,7 +158,7 @@ def _start(
         hypotheses = s.bank.hypotheses(config.use_bank, damage if s.leave_out else None)
         if s.diagnose:
             bank = s.bank.without(damage) if s.leave_out else s.bank
-            plan = diagnosis_plan(archive, bank, s.tip_guard, walks=walks)
+            plan = diagnosis_plan(archive, bank, s.tip_guard, walks=walks, safety=s.safety)
     return SessionStart(hypotheses=hypotheses, floor=floor, diagnosis=plan)
 
 
@@ -210,6 +214,7 @@ def _row(
         named='|'.join(result.named),
         posterior=result.posterior,
         trial_speeds=tuple(float(t.measured) for t in result.trials),
+        vetoed=len(result.vetoed),
     )
 
 

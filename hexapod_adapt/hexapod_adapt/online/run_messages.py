@@ -144,8 +144,14 @@ def trial_message(trial: Trial, niche: int) -> str:
     )
 
 
-def veto_message(niche: int, tilt: float, guard: float) -> str:
-    """Return the line a run logs when the tip screen keeps a gait from being tried."""
+def veto_message(niche: int, tilt: float, guard: float, risk: float | None = None) -> str:
+    """Return the line a run logs when the tip screen (or the safety model) skips a gait."""
+    if risk is not None:
+        return (
+            f'gait {niche} skipped: a {risk:.0%} risk that it tilts the body past the'
+            f' {math.degrees(guard):.0f} deg tip guard (predicted {math.degrees(tilt):.0f} deg,'
+            ' the damage not known); never tried'
+        )
     return (
         f'gait {niche} skipped: it tilts the body {math.degrees(tilt):.0f} deg in simulation'
         f' under the damage, past the {math.degrees(guard):.0f} deg tip guard; never tried'

@@ -37,6 +37,7 @@ from hexapod_adapt.online.bank import DamageBank
 from hexapod_adapt.online.diagnosis import Diagnosis, HypothesisWalks, Posterior, TrialRecord
 from hexapod_adapt.online.mboa import Mboa, MboaConfig, MIN_SPEED_RANGE, StopReason, Trial
 from hexapod_adapt.online.prior import simulated_tilts, TipScreen
+from hexapod_adapt.online.safety import RISK_LIMIT, SafetyModel
 from hexapod_sim.damage import Damage
 import numpy as np
 
@@ -79,7 +80,8 @@ class DiagnosisPlan:
     map is ``priors[h]`` (one speed per elite, a damage bank's row). Once hypothesis h holds
     ``threshold`` of the posterior, the run goes on as the damage-informed prior of that damage
     (its re-score, its stop rule, its tip screen: ``screen_of(damage)``); once it falls below
-    ``release``, the run goes back to the map as it is.
+    ``release``, the run goes back to the map as it is. ``safety``: the gaits whose risk of
+    tipping is above its limit are not tried, a damage named or not (None: no such screen).
     """
 
     diagnosis: Diagnosis
@@ -88,6 +90,7 @@ class DiagnosisPlan:
     screen_of: Callable[[Damage], 'TipScreen | None']
     threshold: float = NAME_THRESHOLD
     release: float = RELEASE_THRESHOLD
+    safety: SafetyModel | None = None
 
     def __post_init__(self) -> None:
         if len(self.damages) != len(self.diagnosis.labels) or len(self.priors) != len(
@@ -107,13 +110,15 @@ def diagnosis_plan(
     contacts: bool = False,
     threshold: float = NAME_THRESHOLD,
     walks: HypothesisWalks | None = None,
+    safety: float | None = RISK_LIMIT,
 ) -> DiagnosisPlan | None:
     """
     Return the diagnosis of a blind run over ``bank``'s damages (None: the bank is empty).
 
     The hypotheses are walked on the bank's engine (the map's) by ``walks`` (runs that share
     one walk each gait once); with a ``tip_guard`` below pi, a named damage screens gaits as a
-    known one does (:func:`informed_start`).
+    known one does (:func:`informed_start`), and a :class:`SafetyModel` over the same walks
+    with risk limit ``safety`` (None: none) screens them, a damage named or not.
     """
     if len(bank) == 0:
         return None
@@ -126,7 +131,20 @@ def diagnosis_plan(
             return None
         return TipScreen(simulated_tilts(archive, damage, bank.engine), tip_guard)
 
-    return DiagnosisPlan(diagnosis, bank.damages, bank.speeds, screen_of, threshold)
+    model = None
+    if safety is not None and tip_guard < math.pi:
+        niches, descriptors, _ = candidates(archive)
+        under = (*bank.damages, Damage.lifted(()))  # the last: intact, for none of these
+        model = SafetyModel(
+            niches,
+            descriptors,
+            lambda niche, h: walks(niche, under[h]),
+            len(bank.damages),
+            tip_guard,
+            diagnosis.posterior().probabilities,
+            limit=safety,
+        )
+    return DiagnosisPlan(diagnosis, bank.damages, bank.speeds, screen_of, threshold, safety=model)
 
 
 @dataclass(frozen=True)
@@ -233,7 +251,8 @@ class Veto:
     """A gait the tip screen kept from being tried."""
 
     niche: int
-    tilt: float  # its peak tilt in simulation under the damage [rad]
+    tilt: float  # its peak tilt in simulation under the damage (the safety model's: predicted)
+    risk: float | None = None  # the safety model's risk of tipping (None: a damage's screen)
 
 
 @dataclass
@@ -316,7 +335,10 @@ class AdaptationSession:
         self._result.niches.append(int(niche))
         if outcome.tipped:
             self._result.tipped.append(int(niche))
-        if self.start.diagnosis is not None and outcome.record is not None:
+        plan = self.start.diagnosis
+        if plan is not None and plan.safety is not None:  # against the belief it was tried on
+            plan.safety.observe(index, outcome.peak_tilt, outcome.tipped)
+        if plan is not None and outcome.record is not None:
             self._diagnose(int(niche), outcome.record)
         return trial
 
@@ -370,6 +392,8 @@ class AdaptationSession:
         """Weigh the hypotheses by a trial; name a damage, keep it, or give it up."""
         plan = self.start.diagnosis
         post = self.posterior = plan.diagnosis.observe(niche, record)
+        if plan.safety is not None:
+            plan.safety.weigh(post.probabilities)
         self._result.posterior = post.describe()
         leader, p = post.leader, post.probabilities
         holds = leader < len(plan.damages) and p[leader] >= plan.threshold
@@ -394,15 +418,24 @@ class AdaptationSession:
         self._result.config = self.rules
 
     def _vetoed(self, index: int | None) -> bool:
-        """Veto ``index`` if the screen says it tips (False: no screen, no gait, or upright)."""
-        screen = self.screen
-        if screen is None or index is None or not screen.tips(index):
+        """
+        Veto ``index`` if a screen says it tips (False: no screen, no gait, or upright).
+
+        The screens: the prior's or the named damage's, then a diagnosing run's safety model,
+        named or not (a damage named wrongly has a screen that does not know the real one).
+        """
+        if index is None:
             return False
-        self.opt.veto(index)
-        niche = int(self.niches[index])
-        self._result.vetoed.append(niche)
-        self.vetoes.append(Veto(niche, screen.tilts[index]))
-        return True
+        plan = self.start.diagnosis
+        for screen in (self.screen, None if plan is None else plan.safety):
+            if screen is not None and screen.tips(index):
+                self.opt.veto(index)
+                niche = int(self.niches[index])
+                self._result.vetoed.append(niche)
+                risk = screen.risks[index] if isinstance(screen, SafetyModel) else None
+                self.vetoes.append(Veto(niche, screen.tilts[index], risk))
+                return True
+        return False
 
 
 def run_session(

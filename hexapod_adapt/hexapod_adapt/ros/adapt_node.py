@@ -277,7 +277,7 @@ class AdaptNode(Node):
 
     def _say_vetoes(self, session: AdaptationSession, guard: float) -> None:
         for veto in session.new_vetoes():
-            self.get_logger().info(say.veto_message(veto.niche, veto.tilt, guard))
+            self.get_logger().info(say.veto_message(veto.niche, veto.tilt, guard, veto.risk))
 
     def _finish(
         self, result: AdaptationResult, note: str, gaits: GaitOf, response, timeout: float

@@ -1,0 +1,143 @@
+# Copyright 2026 Hexapod adaptation team
+# SPDX-License-Identifier: MIT
+"""
+The blind run's safety model (hexapod_adapt.online.safety): each gait's risk of tipping.
+
+First on walks whose tilts the test sets (the model's arithmetic), then in a session over the
+default map whose hypotheses are walked on MuJoCo: no gait above the limit is ever offered.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+import math
+
+from hexapod_adapt.mapping.archive import load_archive
+from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD, recorded_trial
+from hexapod_adapt.online.bank import DamageBank
+from hexapod_adapt.online.diagnosis import HypothesisWalks, TrialRecord
+from hexapod_adapt.online.mboa import PROFILES
+from hexapod_adapt.online.safety import record_tilt, SafetyModel
+from hexapod_adapt.online.session import AdaptationSession, diagnosis_plan, SessionStart
+from hexapod_sim import create_simulator, SimConfig
+from hexapod_sim.damage import Damage
+import numpy as np
+import pytest
+
+GUARD = math.radians(30.0)
+
+
+def tilted(peak: float, n: int = 50) -> TrialRecord:
+    """Return a record whose body rolls up to ``peak`` [rad] and back."""
+    t = np.linspace(0.1, 5.0, n)
+    roll = peak * np.sin(np.linspace(0.0, math.pi, n))
+    attitude = np.column_stack([roll, np.zeros(n), np.zeros(n)])
+    return TrialRecord(t, np.column_stack([0.05 * t, 0 * t]), attitude, 0.0, 1.0)
+
+
+def model(tilts: np.ndarray, weights=None, **kwargs) -> SafetyModel:
+    """Return a safety model over gaits on a line (x = 2 gait / n) whose walks tilt ``tilts``."""
+    tilts = np.asarray(tilts, dtype=float)  # (gaits, hypotheses + 1)
+    n, h = tilts.shape[0], tilts.shape[1] - 1
+    descriptors = np.zeros((n, 6))
+    descriptors[:, 0] = 2.0 * np.arange(n) / n
+    if weights is None:
+        weights = np.full(h + 1, 1.0 / (h + 1))
+    return SafetyModel(
+        np.arange(n),
+        descriptors,
+        lambda niche, k: tilted(tilts[niche, k]),
+        h,
+        GUARD,
+        np.asarray(weights, dtype=float),
+        **kwargs,
+    )
+
+
+def test_record_tilt_is_the_largest_roll_or_pitch_and_an_unwalkable_gait_may_tip():
+    assert record_tilt(tilted(0.3)) == pytest.approx(0.3, abs=1e-3)
+    assert record_tilt(None) == math.pi
+
+
+def test_the_risk_is_the_belief_in_the_hypotheses_under_which_a_gait_tips():
+    # gait 0 tips under hypothesis 0 only; gait 1 under none; gait 2 under every one
+    tilts = [[1.2, 0.1, 0.1], [0.1, 0.1, 0.1], [1.0, 1.0, 1.0]]
+    m = model(tilts)
+    assert m.risk(1) < 0.01 and m.risk(2) > 0.99
+    assert m.risk(0) == pytest.approx(1 / 3, abs=0.01)
+    assert m.tips(0) and m.limit < 1 / 3  # above the default limit of 0.25: vetoed
+    m.weigh(np.array([0.01, 0.98, 0.01]))  # the trials say hypothesis 1
+    assert m.risk(0) < 0.02 and not m.tips(0)
+    m.weigh(np.array([0.9, 0.05, 0.05]))
+    assert m.tips(0) and m.risks[0] > 0.85
+    assert m.tilts[0] == pytest.approx(0.9 * 1.2 + 0.1 * 0.1, abs=0.01)
+
+
+def test_a_trial_that_tilted_more_than_predicted_raises_its_neighbours_risk_only():
+    n = 20
+    tilts = np.full((n, 2), 0.2)  # every walk predicts 0.2 rad
+    m = model(tilts, weights=[0.5, 0.5])
+    before = [m.risk(i) for i in range(n)]
+    assert max(before) < 0.05  # 0.3 rad under the guard, the trials' shift not yet known
+    m.observe(10, 0.9, tipped=True)  # it tipped: the guard was passed
+    after = [m.risk(i) for i in range(n)]
+    assert after[10] > 0.5 and after[11] > 0.3  # near (0.1 away): raised
+    assert after[0] == pytest.approx(before[0], abs=0.01)  # far (1.0 away): as before
+    # a trial that tilted less than predicted lowers the risk about it
+    m2 = model(np.full((n, 2), 0.45), weights=[0.5, 0.5])
+    high = m2.risk(10)
+    m2.observe(10, 0.1, tipped=False)
+    assert m2.risk(10) < high
+
+
+def test_a_tilt_not_measured_teaches_nothing_unless_the_trial_tipped():
+    m = model(np.full((5, 2), 0.2), weights=[0.5, 0.5])
+    unknown = m.risk(2)
+    m.observe(2, math.nan, tipped=False)
+    assert m.risk(2) == unknown
+    m.observe(2, math.nan, tipped=True)
+    assert m.risk(2) > 0.3
+
+
+def test_bad_settings_are_refused():
+    with pytest.raises(ValueError, match='weights'):
+        model(np.full((3, 3), 0.1), weights=[0.5, 0.5])
+    with pytest.raises(ValueError, match='risk limit'):
+        model(np.full((3, 2), 0.1), limit=1.5)
+    with pytest.raises(ValueError, match='spread'):
+        model(np.full((3, 2), 0.1), spread=0.0)
+
+
+@pytest.fixture(scope='module')
+def archive():
+    return load_archive(shipped_map(DEFAULT_MAP))
+
+
+def test_a_blind_session_never_offers_a_gait_above_the_limit(archive):
+    """
+    Over the default map, its hypotheses walked on MuJoCo: each gait asked for is under the limit.
+
+    The trials (legs 2 and 5 lifted, MuJoCo at its converged step) tell the session their tilt
+    and record; every gait it offers is one the safety model, asked then, kept under its limit,
+    and every gait it skipped was above it.
+    """
+    damages = [Damage.lifted([2]), Damage.lifted([5]), Damage.lifted([2, 5]), Damage.lifted([1])]
+    speeds = np.array([archive.speeds()[archive.elite_indices()] * 0.5 for _ in damages])
+    bank = DamageBank('mujoco', tuple(damages), speeds)
+    plan = diagnosis_plan(archive, bank, DEFAULT_TIP_GUARD, walks=HypothesisWalks(archive))
+    assert plan.safety is not None
+    safety = plan.safety
+    config = replace(PROFILES['default'], max_trials=4, min_speed=0.9)  # never done early
+    session = AdaptationSession(archive, config, SessionStart(diagnosis=plan))
+    index_of = {int(n): i for i, n in enumerate(session.niches)}
+    with create_simulator(SimConfig.converged('mujoco')) as sim:
+        trial = recorded_trial(archive, Damage.lifted([2, 5]), sim, tip_guard=DEFAULT_TIP_GUARD)
+        while (niche := session.ask()) is not None:
+            assert safety.risks[index_of[niche]] <= safety.limit
+            session.tell(niche, trial(niche))
+            if session.named is not None:
+                break
+    for veto in session.vetoes:
+        assert veto.risk is not None and veto.risk > safety.limit
+    assert session.result().niches  # it walked
