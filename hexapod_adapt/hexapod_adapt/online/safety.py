@@ -11,8 +11,9 @@ tip. What it knows about a gait:
 - how much each hypothesis is believed (the diagnosis's posterior; before any trial, its prior);
 - the trials so far: each trial's peak tilt against the tilt the weighed walks predicted for it.
   The differences (the damage and the physics the walks lack) are smoothed over the descriptor
-  space by a Gaussian process with M-BOA's kernel, so a trial that tilted more than predicted
-  raises its neighbours' predicted tilt (SafeAPT's safety model over the behaviour space).
+  space by a Gaussian process with M-BOA's kernel plus a constant, so a trial that tilted more
+  than predicted raises its neighbours' predicted tilt most (SafeAPT's safety model over the
+  behaviour space) and every gait's a little.
 
 A gait's risk is the believed probability that its trial tilts past the tip guard::
 
@@ -39,8 +40,12 @@ RISK_LIMIT = 0.25
 #: [rad] spread of a trial's peak tilt around its simulated walk's (about 6 deg: what another
 #: physics moves a walk's tilt by; judgement, as the diagnosis's noise scales).
 TILT_SPREAD = 0.1
-#: [rad] how far the trials may move the tilts the walks predict (the GP's standard deviation).
+#: [rad] how far the trials may move the tilts the walks predict near a trial (the GP's local
+#: standard deviation), and everywhere at once (a constant term: a damage the walks lack tilts
+#: every gait more, and each trial says how much; 0 until the tuning set chooses it:
+#: studies/diagnosis/README.md).
 TILT_SHIFT = 0.15
+TILT_OFFSET = 0.0
 #: Descriptor units: the GP's length scale, M-BOA's default profile's.
 TILT_LENGTH_SCALE = 0.3
 #: [rad] what a trial the tip guard stopped counts as: the tip-over line.
@@ -77,6 +82,7 @@ class SafetyModel:
     limit: float = RISK_LIMIT
     spread: float = TILT_SPREAD
     shift: float = TILT_SHIFT
+    offset: float = TILT_OFFSET
     length_scale: float = TILT_LENGTH_SCALE
     tilts: dict[int, float] = field(default_factory=dict)  # index -> predicted tilt [rad]
     risks: dict[int, float] = field(default_factory=dict)  # index -> risk when last asked
@@ -91,8 +97,10 @@ class SafetyModel:
             )
         if not 0.0 < self.limit < 1.0:
             raise ValueError(f'the risk limit must lie in (0, 1), got {self.limit}')
-        if not (self.spread > 0 and self.shift >= 0 and self.length_scale > 0):
-            raise ValueError('spread and length_scale must be positive, shift not negative')
+        if not (
+            self.spread > 0 and self.shift >= 0 and self.offset >= 0 and self.length_scale > 0
+        ):
+            raise ValueError('spread and length_scale must be positive, shift and offset not')
         self.weights = weights
 
     def weigh(self, probabilities: np.ndarray) -> None:
@@ -141,15 +149,17 @@ class SafetyModel:
 
     def _residual(self, index: int) -> tuple[float, float]:
         """Return the GP's mean and standard deviation [rad] of the tilt residual at ``index``."""
-        if not self._seen or self.shift == 0:
-            return 0.0, self.shift
+        prior = self.shift**2 + self.offset**2
+        if not self._seen or prior == 0:
+            return 0.0, math.sqrt(prior)
         where = np.array([i for i, _ in self._seen])
         y = np.array([r for _, r in self._seen])
         x = self.descriptors[where]
-        k = self.shift**2 * matern52(x, x, self.length_scale)
+        k = self.shift**2 * matern52(x, x, self.length_scale) + self.offset**2
         k[np.diag_indices_from(k)] += self.spread**2
-        ks = self.shift**2 * matern52(self.descriptors[[index]], x, self.length_scale)[0]
+        near = matern52(self.descriptors[[index]], x, self.length_scale)[0]
+        ks = self.shift**2 * near + self.offset**2
         chol = np.linalg.cholesky(k)
         alpha = np.linalg.solve(chol.T, np.linalg.solve(chol, y))
         v = np.linalg.solve(chol, ks)
-        return float(ks @ alpha), math.sqrt(max(self.shift**2 - float(v @ v), 0.0))
+        return float(ks @ alpha), math.sqrt(max(prior - float(v @ v), 0.0))

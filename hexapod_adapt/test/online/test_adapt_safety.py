@@ -63,7 +63,7 @@ def test_record_tilt_is_the_largest_roll_or_pitch_and_an_unwalkable_gait_may_tip
 def test_the_risk_is_the_belief_in_the_hypotheses_under_which_a_gait_tips():
     # gait 0 tips under hypothesis 0 only; gait 1 under none; gait 2 under every one
     tilts = [[1.2, 0.1, 0.1], [0.1, 0.1, 0.1], [1.0, 1.0, 1.0]]
-    m = model(tilts)
+    m = model(tilts, shift=0.0, offset=0.0)  # the walks alone: no trial may move them
     assert m.risk(1) < 0.01 and m.risk(2) > 0.99
     assert m.risk(0) == pytest.approx(1 / 3, abs=0.01)
     assert m.tips(0) and m.limit < 1 / 3  # above the default limit of 0.25: vetoed
@@ -74,10 +74,10 @@ def test_the_risk_is_the_belief_in_the_hypotheses_under_which_a_gait_tips():
     assert m.tilts[0] == pytest.approx(0.9 * 1.2 + 0.1 * 0.1, abs=0.01)
 
 
-def test_a_trial_that_tilted_more_than_predicted_raises_its_neighbours_risk_only():
+def test_a_trial_that_tilted_more_than_predicted_raises_its_neighbours_risk_most():
     n = 20
     tilts = np.full((n, 2), 0.2)  # every walk predicts 0.2 rad
-    m = model(tilts, weights=[0.5, 0.5])
+    m = model(tilts, weights=[0.5, 0.5], offset=0.0)  # the local part alone
     before = [m.risk(i) for i in range(n)]
     assert max(before) < 0.05  # 0.3 rad under the guard, the trials' shift not yet known
     m.observe(10, 0.9, tipped=True)  # it tipped: the guard was passed
@@ -89,6 +89,11 @@ def test_a_trial_that_tilted_more_than_predicted_raises_its_neighbours_risk_only
     high = m2.risk(10)
     m2.observe(10, 0.1, tipped=False)
     assert m2.risk(10) < high
+    # with the constant part, a tip raises every gait's risk: a damage the walks lack
+    m3 = model(tilts, weights=[0.5, 0.5], offset=0.15)
+    far = m3.risk(0)
+    m3.observe(10, 0.9, tipped=True)
+    assert m3.risk(0) > far + 0.05 and m3.risk(11) > m3.risk(0)
 
 
 def test_a_tilt_not_measured_teaches_nothing_unless_the_trial_tipped():
@@ -107,6 +112,8 @@ def test_bad_settings_are_refused():
         model(np.full((3, 2), 0.1), limit=1.5)
     with pytest.raises(ValueError, match='spread'):
         model(np.full((3, 2), 0.1), spread=0.0)
+    with pytest.raises(ValueError, match='offset'):
+        model(np.full((3, 2), 0.1), offset=-0.1)
 
 
 @pytest.fixture(scope='module')
