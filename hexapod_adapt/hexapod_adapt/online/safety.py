@@ -88,6 +88,7 @@ class SafetyModel:
     risks: dict[int, float] = field(default_factory=dict)  # index -> risk when last asked
     _seen: list[tuple[int, float]] = field(default_factory=list)  # (index, residual [rad])
     _walked: dict[int, np.ndarray] = field(default_factory=dict)
+    _fit: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # (x, chol, alpha) of _seen
 
     def __post_init__(self) -> None:
         weights = np.asarray(self.weights, dtype=float)
@@ -146,20 +147,22 @@ class SafetyModel:
         if math.isfinite(seen):
             expected = float(self.weights @ self.simulated(int(index)))
             self._seen.append((int(index), seen - expected))
+            self._fit = None  # refit on the next question
 
     def _residual(self, index: int) -> tuple[float, float]:
         """Return the GP's mean and standard deviation [rad] of the tilt residual at ``index``."""
         prior = self.shift**2 + self.offset**2
         if not self._seen or prior == 0:
             return 0.0, math.sqrt(prior)
-        where = np.array([i for i, _ in self._seen])
-        y = np.array([r for _, r in self._seen])
-        x = self.descriptors[where]
-        k = self.shift**2 * matern52(x, x, self.length_scale) + self.offset**2
-        k[np.diag_indices_from(k)] += self.spread**2
+        if self._fit is None:  # once per trial, not per gait asked about
+            x = self.descriptors[np.array([i for i, _ in self._seen])]
+            y = np.array([r for _, r in self._seen])
+            k = self.shift**2 * matern52(x, x, self.length_scale) + self.offset**2
+            k[np.diag_indices_from(k)] += self.spread**2
+            chol = np.linalg.cholesky(k)
+            self._fit = (x, chol, np.linalg.solve(chol.T, np.linalg.solve(chol, y)))
+        x, chol, alpha = self._fit
         near = matern52(self.descriptors[[index]], x, self.length_scale)[0]
         ks = self.shift**2 * near + self.offset**2
-        chol = np.linalg.cholesky(k)
-        alpha = np.linalg.solve(chol.T, np.linalg.solve(chol, y))
         v = np.linalg.solve(chol, ks)
         return float(ks @ alpha), math.sqrt(max(prior - float(v @ v), 0.0))
