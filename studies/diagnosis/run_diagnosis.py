@@ -30,6 +30,7 @@ from hexapod_adapt.online.bank import load_bank
 from hexapod_adapt.online.experiment import ExperimentSetup, run_experiment
 from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
 from hexapod_adapt.online.safety import RISK_LIMIT
+from hexapod_adapt.online.session import BlindRules
 from hexapod_sim import SimConfig
 from hexapod_sim.damage import Damage
 from hexapod_sim.scenarios import scenario
@@ -55,7 +56,20 @@ def main(argv: list[str] | None = None) -> int:
         default=RISK_LIMIT,
         help="the safety model's risk limit (issue 67, 2); 0: no safety model",
     )
+    parser.add_argument(
+        '--offset-std',
+        type=float,
+        default=BlindRules().offset_std,
+        help="while no damage is named: M-BOA's shared speed shift [m/s] (issue 67, 3)",
+    )
+    parser.add_argument(
+        '--stop',
+        choices=('alpha', 'gain'),
+        default='alpha' if BlindRules().alpha_stop else 'gain',
+        help="while no damage is named: stop on alpha alone, or also on the profile's stop_gain",
+    )
     args = parser.parse_args(argv)
+    blind = BlindRules(args.offset_std, args.stop == 'alpha')
     archive = load_archive(args.archive)
     map_engine = engine_of_map(archive)
     legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
@@ -70,13 +84,16 @@ def main(argv: list[str] | None = None) -> int:
         # the map's step) were not walked in
         trial_config=SimConfig.converged(args.engine),
         floor=True,
-        setup='default+diagnosis' + (f'+safety{args.risk_limit:g}' if args.risk_limit else ''),
+        setup='default+diagnosis'
+        + (f'+safety{args.risk_limit:g}' if args.risk_limit else '')
+        + f'+{args.stop}stop+offset{args.offset_std:g}',
         bank=bank,
         leave_out=args.leave_out,
         kind=args.kind,
         tip_guard=DEFAULT_TIP_GUARD,
         diagnose=True,
         safety=args.risk_limit or None,
+        blind=blind,
     )
     out = Path(args.out)
     if out.exists() and not args.force:

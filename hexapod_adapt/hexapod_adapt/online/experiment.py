@@ -27,7 +27,7 @@ from hexapod_adapt.online.diagnosis import HypothesisWalks
 from hexapod_adapt.online.mboa import MboaConfig
 from hexapod_adapt.online.prior import simulated_tilts, TipScreen
 from hexapod_adapt.online.safety import RISK_LIMIT
-from hexapod_adapt.online.session import adapt, diagnosis_plan, SessionStart
+from hexapod_adapt.online.session import adapt, BlindRules, diagnosis_plan, SessionStart
 from hexapod_gait import preset
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig, Simulator
 from hexapod_sim.damage import Damage
@@ -66,7 +66,8 @@ class ExperimentSetup:
     past it are stopped and scored 0 (pi: no guard). ``diagnose``: runs without a prior name
     their damage from the trials among ``bank``'s (:class:`~hexapod_adapt.online.session.
     DiagnosisPlan`); with a ``tip_guard``, a safety model with risk limit ``safety`` (None:
-    none) screens their gaits (:class:`~hexapod_adapt.online.safety.SafetyModel`).
+    none) screens their gaits (:class:`~hexapod_adapt.online.safety.SafetyModel`), and
+    ``blind`` says how they adapt and stop while they name nothing.
     """
 
     scenarios: Sequence[str] = ('S1', 'S2', 'S3', 'S4')
@@ -85,6 +86,7 @@ class ExperimentSetup:
     tip_guard: float = math.pi
     diagnose: bool = False
     safety: float | None = RISK_LIMIT
+    blind: BlindRules = BlindRules()
 
 
 @dataclass
@@ -158,7 +160,9 @@ def _start(
         hypotheses = s.bank.hypotheses(config.use_bank, damage if s.leave_out else None)
         if s.diagnose:
             bank = s.bank.without(damage) if s.leave_out else s.bank
-            plan = diagnosis_plan(archive, bank, s.tip_guard, walks=walks, safety=s.safety)
+            plan = diagnosis_plan(
+                archive, bank, s.tip_guard, walks=walks, safety=s.safety, blind=s.blind
+            )
     return SessionStart(hypotheses=hypotheses, floor=floor, diagnosis=plan)
 
 

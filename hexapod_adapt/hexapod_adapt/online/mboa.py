@@ -62,6 +62,7 @@ NOISE_RANGE = (1e-9, 1.0)  # (m/s)^2: a trial speed's variance, 1 = +/-1 m/s
 KAPPA_RANGE = (0.0, 100.0)
 ALPHA_RANGE = (0.05, 1.0)  # stop ratio: below 5 % any forward step would "succeed"
 SIGNAL_VARIANCE_RANGE = (1e-6, 10.0)  # (m/s)^2: the kernel's variance
+OFFSET_STD_RANGE = (0.0, 1.0)  # m/s: a speed shift every gait shares (0 = none)
 STOP_GAIN_RANGE = (1e-6, 1.0)  # m/s: expected gain of one more trial worth walking it
 KNOWN_STD_RANGE = (0.0, 1.0)  # m/s: spread of the truth about a known model (0 = off)
 PRIOR_UNKNOWN_RANGE = (1e-3, 0.999)  # prior weight of 'unknown damage' among the hypotheses
@@ -79,6 +80,10 @@ class MboaConfig:
     exclude_tested: bool = True
     min_speed: float = 0.0  # success floor [m/s]: no success while the best is slower
     signal_variance: float = 1.0  # kernel variance [(m/s)^2]: how far damage moves speeds
+    #: [m/s] std of a shift of the map's speeds shared by every gait, a constant term in the
+    #: kernel: trials that all walk slower than the map lower every untried gait's prediction
+    #: (a damage that slows the whole map). 0: none, the thesis's GP
+    offset_std: float = 0.0
     #: [m/s] also go on while an untried gait's expected gain exceeds it (None: no such stop,
     #: alpha and max_trials alone). A session from a known damage's prior stops on alpha alone
     #: (``session.run_rules``), its first trial being the re-scored map's best
@@ -114,6 +119,7 @@ class MboaConfig:
         within('noise variance', self.noise, *NOISE_RANGE, ' (m/s)^2')
         within('min_speed (success floor)', self.min_speed, *MIN_SPEED_RANGE, ' m/s')
         within('signal_variance', self.signal_variance, *SIGNAL_VARIANCE_RANGE, ' (m/s)^2')
+        within('offset_std', self.offset_std, *OFFSET_STD_RANGE, ' m/s')
         if self.stop_gain is not None:
             within('stop_gain', self.stop_gain, *STOP_GAIN_RANGE, ' m/s')
         within('known_std', self.known_std, *KNOWN_STD_RANGE, ' m/s')
@@ -253,7 +259,7 @@ class Mboa:
             self._log_prior[-1] = math.log(unknown)
         self._log_weight = np.zeros(len(self._means))  # log marginal likelihoods (+ const)
         self._mu_h = self._means.copy()  # posterior mean under each hypothesis
-        self._gp_var = np.full(len(self.prior), self.config.signal_variance)
+        self._gp_var = np.full(len(self.prior), self._prior_variance())
         self._known_var = np.full(len(self.prior), self.config.known_std**2)
         self._mix()
         # Incremental GP state (one column / row per trial, so a step costs O(m t), not O(m t^2)):
@@ -273,6 +279,10 @@ class Mboa:
         """Posterior standard deviation of every candidate [m/s]."""
         return np.sqrt(np.maximum(self._var, 0.0))
 
+    def _prior_variance(self) -> float:
+        """Return a gait's prior variance under the broad kernel [(m/s)^2]."""
+        return self.config.signal_variance + self.config.offset_std**2
+
     def _refit(self) -> None:
         """
         Add the newest trial to the posterior: kernel column, Cholesky row, v row.
@@ -288,18 +298,20 @@ class Mboa:
         t = len(self.trials) - 1
         new = self.trials[-1]
         x = self.descriptors[new.index][None, :]
-        s2 = self.config.signal_variance
+        s2, c2 = self.config.signal_variance, self.config.offset_std**2
         k_new = s2 * matern52(self.descriptors, x, self.config.length_scale)[:, 0]  # (m,)
+        if c2:
+            k_new = k_new + c2
         self._k_sx[:, t] = k_new
         idx = np.array([tr.index for tr in self.trials])
         chol = self._chol
         if t == 0:
-            chol[0, 0] = math.sqrt(s2 + self.config.noise)
+            chol[0, 0] = math.sqrt(s2 + c2 + self.config.noise)
             row = np.empty(0)
         else:
             row = _solve_lower(chol[:t, :t], k_new[idx[:t]])  # L^-1 k(x_old, x_new)
             chol[t, :t] = row
-            chol[t, t] = math.sqrt(max(s2 + self.config.noise - float(row @ row), 1e-12))
+            chol[t, t] = math.sqrt(max(s2 + c2 + self.config.noise - float(row @ row), 1e-12))
         self._v[t] = (k_new - row @ self._v[:t]) / chol[t, t]
         self._gp_var = self._gp_var - self._v[t] ** 2
         lower = chol[: t + 1, : t + 1]

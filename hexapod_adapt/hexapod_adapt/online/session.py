@@ -72,6 +72,21 @@ RELEASE_THRESHOLD = 0.5
 
 
 @dataclass(frozen=True)
+class BlindRules:
+    """
+    How a diagnosing run adapts and stops while it names no damage.
+
+    ``offset_std`` [m/s]: M-BOA's shared shift of the map's speeds (``MboaConfig.offset_std``),
+    so that trials all slower than the map lower every untried gait's prediction.
+    ``alpha_stop``: stop on alpha alone, as a named damage's run does (False: the profile's
+    ``stop_gain`` too, which a blind GP seldom lets end a run before its budget).
+    """
+
+    offset_std: float = 0.0
+    alpha_stop: bool = False
+
+
+@dataclass(frozen=True)
 class DiagnosisPlan:
     """
     A blind run's diagnosis, and what the run becomes when it names a damage.
@@ -80,8 +95,9 @@ class DiagnosisPlan:
     map is ``priors[h]`` (one speed per elite, a damage bank's row). Once hypothesis h holds
     ``threshold`` of the posterior, the run goes on as the damage-informed prior of that damage
     (its re-score, its stop rule, its tip screen: ``screen_of(damage)``); once it falls below
-    ``release``, the run goes back to the map as it is. ``safety``: the gaits whose risk of
-    tipping is above its limit are not tried, a damage named or not (None: no such screen).
+    ``release``, the run goes back to the map as it is, under ``blind``'s rules. ``safety``: the
+    gaits whose risk of tipping is above its limit are not tried, a damage named or not (None:
+    no such screen).
     """
 
     diagnosis: Diagnosis
@@ -91,6 +107,7 @@ class DiagnosisPlan:
     threshold: float = NAME_THRESHOLD
     release: float = RELEASE_THRESHOLD
     safety: SafetyModel | None = None
+    blind: BlindRules = BlindRules()
 
     def __post_init__(self) -> None:
         if len(self.damages) != len(self.diagnosis.labels) or len(self.priors) != len(
@@ -111,6 +128,7 @@ def diagnosis_plan(
     threshold: float = NAME_THRESHOLD,
     walks: HypothesisWalks | None = None,
     safety: float | None = RISK_LIMIT,
+    blind: BlindRules = BlindRules(),
 ) -> DiagnosisPlan | None:
     """
     Return the diagnosis of a blind run over ``bank``'s damages (None: the bank is empty).
@@ -118,7 +136,8 @@ def diagnosis_plan(
     The hypotheses are walked on the bank's engine (the map's) by ``walks`` (runs that share
     one walk each gait once); with a ``tip_guard`` below pi, a named damage screens gaits as a
     known one does (:func:`informed_start`), and a :class:`SafetyModel` over the same walks
-    with risk limit ``safety`` (None: none) screens them, a damage named or not.
+    with risk limit ``safety`` (None: none) screens them, a damage named or not. ``blind``: how
+    the run adapts and stops while it names nothing.
     """
     if len(bank) == 0:
         return None
@@ -144,7 +163,9 @@ def diagnosis_plan(
             diagnosis.posterior().probabilities,
             limit=safety,
         )
-    return DiagnosisPlan(diagnosis, bank.damages, bank.speeds, screen_of, threshold, safety=model)
+    return DiagnosisPlan(
+        diagnosis, bank.damages, bank.speeds, screen_of, threshold, safety=model, blind=blind
+    )
 
 
 @dataclass(frozen=True)
@@ -226,11 +247,16 @@ def run_rules(config: MboaConfig, start: SessionStart) -> MboaConfig:
     Return the M-BOA settings a run keeps to: ``config`` with what its start changes.
 
     A run from a known damage's prior stops on alpha alone (its first trial is the re-score's
-    best; ``stop_gain`` is for blind runs). A floor above ``config.min_speed`` raises the
-    success floor to it.
+    best; ``stop_gain`` is for blind runs). A diagnosing run that names nothing keeps to its
+    plan's :class:`BlindRules`. A floor above ``config.min_speed`` raises the success floor
+    to it.
     """
+    plan = start.diagnosis
     if start.informed and config.stop_gain is not None:
         config = replace(config, stop_gain=None)
+    elif plan is not None and not start.informed:
+        stop_gain = None if plan.blind.alpha_stop else config.stop_gain
+        config = replace(config, offset_std=plan.blind.offset_std, stop_gain=stop_gain)
     floor = start.floor
     if floor is not None and math.isfinite(floor) and floor > config.min_speed:
         config = replace(config, min_speed=min(float(floor), MIN_SPEED_RANGE[1]))
