@@ -26,7 +26,12 @@ from hexapod_adapt.online.diagnosis import (
     TrialRecord,
 )
 from hexapod_adapt.online.mboa import MboaConfig, PROFILES
-from hexapod_adapt.online.session import AdaptationSession, diagnosis_plan, SessionStart
+from hexapod_adapt.online.session import (
+    AdaptationSession,
+    BlindRules,
+    diagnosis_plan,
+    SessionStart,
+)
 from hexapod_sim import create_simulator, SimConfig
 from hexapod_sim.damage import Damage
 from hexapod_sim.traces import trace_gait
@@ -157,6 +162,30 @@ def test_a_blind_session_goes_on_as_the_damage_it_names_and_back_when_contradict
             break
     assert session.named in (None, 2), session.posterior.describe()
     assert session.result().posterior.startswith(damages[2].label) or session.named is None
+
+
+def test_blind_rules_hold_while_nothing_is_named_and_the_prior_s_once_named(
+    archive, walks, trial_sim
+):
+    damages = [Damage.lifted([1]), Damage.lifted([4])]
+    blind = BlindRules(offset_std=0.1, alpha_stop=True)
+    plan = diagnosis_plan(archive, _bank(archive, damages), walks=walks, blind=blind)
+    config = replace(PROFILES['default'], max_trials=6)
+    session = AdaptationSession(archive, config, SessionStart(diagnosis=plan))
+    assert session.rules.stop_gain is None and session.rules.offset_std == 0.1
+    first = recorded_trial(archive, damages[1], trial_sim)
+    niche = session.ask()
+    session.tell(niche, first(niche))
+    assert session.named == 1, session.posterior.describe()
+    # as the damage's prior: its rules, not the blind ones
+    assert session.rules.stop_gain is None and session.rules.offset_std == 0.0
+    # the default plan keeps the profile's expected-gain stop and no offset
+    shipped = diagnosis_plan(archive, _bank(archive, damages), walks=walks)
+    rules = AdaptationSession(archive, config, SessionStart(diagnosis=shipped)).rules
+    assert (rules.stop_gain, rules.offset_std) == (
+        None if BlindRules().alpha_stop else config.stop_gain,
+        BlindRules().offset_std,
+    )
 
 
 def test_a_trial_without_a_record_leaves_the_diagnosis_alone(archive, walks):

@@ -315,3 +315,29 @@ def test_known_models_get_a_tight_gp_and_unknown_damage_the_profile_kernel():
     np.testing.assert_array_equal(alone.mean, plain.mean)
     with pytest.raises(ValueError, match='known_std'):
         MboaConfig(known_std=-0.1)
+
+
+def test_the_shared_offset_is_a_constant_kernel_term_that_slows_untried_gaits():
+    rng = np.random.default_rng(7)
+    x, prior = rng.random((50, 6)), rng.uniform(0.2, 0.4, 50)
+    cfg = MboaConfig(noise=0.001, length_scale=0.3, signal_variance=0.01, offset_std=0.1)
+    opt = Mboa(x, prior, cfg)
+    obs = {2: prior[2] - 0.2, 11: prior[11] - 0.15, 29: prior[29] - 0.25}
+    for i, y in obs.items():
+        opt.observe(i, y)
+    idx = np.array(list(obs))
+    kern = 0.01 * matern52(x, x[idx], 0.3) + 0.01  # the offset's variance 0.1^2 everywhere
+    k = kern[idx] + 0.001 * np.eye(3)
+    mu = prior + kern @ np.linalg.solve(k, np.array(list(obs.values())) - prior[idx])
+    var = 0.02 - np.einsum('ij,ji->i', kern, np.linalg.solve(k, kern.T))
+    np.testing.assert_allclose(opt.mean, mu, atol=1e-10)
+    np.testing.assert_allclose(opt.std**2, var, atol=1e-10)
+    # every gait, however far from the trials, is predicted slower than the map
+    without = Mboa(x, prior, replace(cfg, offset_std=0.0))
+    for i, y in obs.items():
+        without.observe(i, y)
+    far = int(np.argmin(matern52(x, x[idx], 0.3).max(axis=1)))
+    assert opt.mean[far] < prior[far] - 0.1
+    assert abs(without.mean[far] - prior[far]) < abs(opt.mean[far] - prior[far])
+    with pytest.raises(ValueError, match='offset_std'):
+        MboaConfig(offset_std=-0.1)
