@@ -79,11 +79,12 @@ class BlindRules:
     ``offset_std`` [m/s]: M-BOA's shared shift of the map's speeds (``MboaConfig.offset_std``),
     so that trials all slower than the map lower every untried gait's prediction.
     ``alpha_stop``: stop on alpha alone, as a named damage's run does (False: the profile's
-    ``stop_gain`` too, which a blind GP seldom lets end a run before its budget).
+    ``stop_gain`` too, which a blind GP seldom lets end a run before its budget). The defaults
+    won on a tuning set (studies/diagnosis/README.md, "The stop rule").
     """
 
-    offset_std: float = 0.0
-    alpha_stop: bool = False
+    offset_std: float = 0.05
+    alpha_stop: bool = True
 
 
 @dataclass(frozen=True)

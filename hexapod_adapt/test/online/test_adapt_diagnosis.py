@@ -144,12 +144,14 @@ def test_a_blind_session_goes_on_as_the_damage_it_names_and_back_when_contradict
     # a success floor no gait reaches: the run goes on through the budget, whatever it names
     config = replace(PROFILES['default'], max_trials=6, min_speed=0.9)
     session = AdaptationSession(archive, config, SessionStart(diagnosis=plan))
-    assert session.rules.stop_gain is not None  # blind: the expected-gain stop
+    blind = BlindRules()  # while nothing is named: the shared shift
+    assert session.rules.offset_std == blind.offset_std > 0
     first = recorded_trial(archive, damages[1], trial_sim)
     niche = session.ask()
     session.tell(niche, first(niche))
     assert session.named == 1, session.posterior.describe()
     assert session.rules.stop_gain is None  # as the damage's prior: alpha's rule alone
+    assert session.rules.offset_std == 0.0
     assert session.result().named == [damages[1].label]
     # trials that say another damage: the named one is given up (and the other named)
     other = recorded_trial(archive, damages[2], trial_sim)
