@@ -27,6 +27,7 @@ from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_ma
 from hexapod_adapt.mapping.simulation import engine_of_map
 from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
 from hexapod_adapt.online.bank import load_bank
+from hexapod_adapt.online.diagnosis import Weighing
 from hexapod_adapt.online.experiment import ExperimentSetup, run_experiment
 from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
 from hexapod_adapt.online.safety import RISK_LIMIT
@@ -68,8 +69,21 @@ def main(argv: list[str] | None = None) -> int:
         default='alpha' if BlindRules().alpha_stop else 'gain',
         help="while no damage is named: stop on alpha alone, or also on the profile's stop_gain",
     )
+    parser.add_argument(
+        '--temperature',
+        type=float,
+        default=Weighing().temperature,
+        help="each trial's likelihood raised to it (issue 67, 1)",
+    )
+    parser.add_argument(
+        '--none-deviation',
+        type=float,
+        default=Weighing().none_deviation,
+        help='"none of these" explains a trial this many noise scales off',
+    )
     args = parser.parse_args(argv)
     blind = BlindRules(args.offset_std, args.stop == 'alpha')
+    weighing = Weighing(args.none_deviation, temperature=args.temperature)
     archive = load_archive(args.archive)
     map_engine = engine_of_map(archive)
     legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
@@ -86,7 +100,8 @@ def main(argv: list[str] | None = None) -> int:
         floor=True,
         setup='default+diagnosis'
         + (f'+safety{args.risk_limit:g}' if args.risk_limit else '')
-        + f'+{args.stop}stop+offset{args.offset_std:g}',
+        + f'+{args.stop}stop+offset{args.offset_std:g}'
+        + f'+t{args.temperature:g}+none{args.none_deviation:g}',
         bank=bank,
         leave_out=args.leave_out,
         kind=args.kind,
@@ -94,6 +109,7 @@ def main(argv: list[str] | None = None) -> int:
         diagnose=True,
         safety=args.risk_limit or None,
         blind=blind,
+        weighing=weighing,
     )
     out = Path(args.out)
     if out.exists() and not args.force:

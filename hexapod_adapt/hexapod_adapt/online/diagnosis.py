@@ -16,7 +16,8 @@ hypothesis (on the map's engine; each walk simulated when first needed, then kep
 posterior over the hypotheses plus "none of these". A feature's mismatch is scaled by its noise
 (:data:`FEATURE_NOISE`) and weighed with a Student-t (a few features far off, as another physics
 gives them, do not veto a hypothesis the others support); "none of these" explains every trial
-equally, as a hypothesis :data:`NONE_DEVIATION` noise scales off in every feature would.
+equally, as a hypothesis ``none_deviation`` noise scales off in every feature would; each
+trial's likelihood is raised to a ``temperature`` (:class:`Weighing`).
 """
 
 from __future__ import annotations
@@ -52,11 +53,32 @@ FEATURE_NOISE = {
 }
 #: Student-t degrees of freedom of a feature's mismatch.
 STUDENT_NU = 4.0
-#: "None of these" explains a trial as a hypothesis this many noise scales off in every feature.
-NONE_DEVIATION = 2.5
-#: Prior probability of "none of these".
-NONE_PRIOR = 0.2
 NONE_LABEL = 'none of these'
+
+
+@dataclass(frozen=True)
+class Weighing:
+    """
+    How a trial weighs the hypotheses.
+
+    ``none_deviation``: "none of these" explains a trial as a hypothesis this many noise scales
+    off in every feature would; ``none_prior``: its prior probability; ``temperature``: each
+    trial's log likelihood is multiplied by it (below 1: the features are not independent
+    witnesses, and one trial should not be worth their product). The defaults won on a tuning
+    set (studies/diagnosis/README.md, "How sure the diagnosis should be").
+    """
+
+    none_deviation: float = 2.5
+    none_prior: float = 0.2
+    temperature: float = 1.0
+
+    def __post_init__(self) -> None:
+        if not 0.0 < self.none_prior < 1.0:
+            raise ValueError(f'none_prior must lie in (0, 1), got {self.none_prior}')
+        if not (math.isfinite(self.none_deviation) and self.none_deviation > 0):
+            raise ValueError(f'none_deviation must be > 0, got {self.none_deviation}')
+        if not (math.isfinite(self.temperature) and 0.0 < self.temperature <= 1.0):
+            raise ValueError(f'temperature must lie in (0, 1], got {self.temperature}')
 
 
 @dataclass(frozen=True)
@@ -206,25 +228,23 @@ class Diagnosis:
 
     ``simulate(niche, h)`` walks a gait under hypothesis h on the map's engine; each walk is
     simulated when first needed and kept. ``contacts``: compare foot duty factors too (only
-    when every trial records contacts, as a simulator's do).
+    when every trial records contacts, as a simulator's do). ``weighing``: how a trial weighs
+    them.
     """
 
     labels: tuple[str, ...]
     simulate: Simulate
     contacts: bool = False
-    none_prior: float = NONE_PRIOR
-    none_deviation: float = NONE_DEVIATION
+    weighing: Weighing = Weighing()
     _log: np.ndarray = field(init=False)
     _cache: dict[tuple[int, int], np.ndarray | None] = field(init=False, default_factory=dict)
 
     def __post_init__(self) -> None:
         if not self.labels:
             raise ValueError('a diagnosis needs at least one hypothesis')
-        if not 0.0 < self.none_prior < 1.0:
-            raise ValueError(f'none_prior must lie in (0, 1), got {self.none_prior}')
-        h = len(self.labels)
-        prior = np.full(h + 1, (1.0 - self.none_prior) / h)
-        prior[-1] = self.none_prior
+        h, none_prior = len(self.labels), self.weighing.none_prior
+        prior = np.full(h + 1, (1.0 - none_prior) / h)
+        prior[-1] = none_prior
         self._log = np.log(prior)
         self.names = feature_names(self.contacts)
         self.noise = feature_noise(self.names)
@@ -241,14 +261,14 @@ class Diagnosis:
     def observe(self, niche: int, record: TrialRecord) -> Posterior:
         """Weigh the hypotheses by the trial of gait ``niche``; return the new posterior."""
         seen = signature(record, self.contacts)
-        none = student_log_likelihood(np.full(len(seen), self.none_deviation))
+        none = student_log_likelihood(np.full(len(seen), self.weighing.none_deviation))
         update = np.full(len(self.labels) + 1, none)
         for h in range(len(self.labels)):
             expected = self.expected(niche, h)
             # a gait the hypothesis cannot walk says nothing of it: the none-of-these weight
             if expected is not None:
                 update[h] = student_log_likelihood((seen - expected) / self.noise)
-        self._log = self._log + update
+        self._log = self._log + self.weighing.temperature * update
         self._log -= self._log.max()
         self.trials += 1
         return self.posterior()

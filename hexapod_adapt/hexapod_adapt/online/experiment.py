@@ -23,7 +23,7 @@ from hexapod_adapt.online.adaptation import (
     recorded_trial,
     simulated_trial,
 )
-from hexapod_adapt.online.diagnosis import HypothesisWalks
+from hexapod_adapt.online.diagnosis import HypothesisWalks, Weighing
 from hexapod_adapt.online.mboa import MboaConfig
 from hexapod_adapt.online.prior import simulated_tilts, TipScreen
 from hexapod_adapt.online.safety import RISK_LIMIT
@@ -67,7 +67,8 @@ class ExperimentSetup:
     their damage from the trials among ``bank``'s (:class:`~hexapod_adapt.online.session.
     DiagnosisPlan`); with a ``tip_guard``, a safety model with risk limit ``safety`` (None:
     none) screens their gaits (:class:`~hexapod_adapt.online.safety.SafetyModel`), and
-    ``blind`` says how they adapt and stop while they name nothing.
+    ``blind`` says how they adapt and stop while they name nothing, ``weighing`` how a trial
+    weighs the hypotheses.
     """
 
     scenarios: Sequence[str] = ('S1', 'S2', 'S3', 'S4')
@@ -87,6 +88,7 @@ class ExperimentSetup:
     diagnose: bool = False
     safety: float | None = RISK_LIMIT
     blind: BlindRules = BlindRules()
+    weighing: Weighing = Weighing()
 
 
 @dataclass
@@ -161,7 +163,13 @@ def _start(
         if s.diagnose:
             bank = s.bank.without(damage) if s.leave_out else s.bank
             plan = diagnosis_plan(
-                archive, bank, s.tip_guard, walks=walks, safety=s.safety, blind=s.blind
+                archive,
+                bank,
+                s.tip_guard,
+                walks=walks,
+                safety=s.safety,
+                blind=s.blind,
+                weighing=s.weighing,
             )
     return SessionStart(hypotheses=hypotheses, floor=floor, diagnosis=plan)
 

@@ -34,7 +34,13 @@ from hexapod_adapt.online.adaptation import (
     TrialOutcome,
 )
 from hexapod_adapt.online.bank import DamageBank
-from hexapod_adapt.online.diagnosis import Diagnosis, HypothesisWalks, Posterior, TrialRecord
+from hexapod_adapt.online.diagnosis import (
+    Diagnosis,
+    HypothesisWalks,
+    Posterior,
+    TrialRecord,
+    Weighing,
+)
 from hexapod_adapt.online.mboa import Mboa, MboaConfig, MIN_SPEED_RANGE, StopReason, Trial
 from hexapod_adapt.online.prior import simulated_tilts, TipScreen
 from hexapod_adapt.online.safety import RISK_LIMIT, SafetyModel
@@ -130,6 +136,7 @@ def diagnosis_plan(
     walks: HypothesisWalks | None = None,
     safety: float | None = RISK_LIMIT,
     blind: BlindRules = BlindRules(),
+    weighing: Weighing = Weighing(),
 ) -> DiagnosisPlan | None:
     """
     Return the diagnosis of a blind run over ``bank``'s damages (None: the bank is empty).
@@ -138,13 +145,14 @@ def diagnosis_plan(
     one walk each gait once); with a ``tip_guard`` below pi, a named damage screens gaits as a
     known one does (:func:`informed_start`), and a :class:`SafetyModel` over the same walks
     with risk limit ``safety`` (None: none) screens them, a damage named or not. ``blind``: how
-    the run adapts and stops while it names nothing.
+    the run adapts and stops while it names nothing; ``weighing``: how a trial weighs the
+    hypotheses.
     """
     if len(bank) == 0:
         return None
     walks = walks or HypothesisWalks(archive, bank.engine)
     labels = tuple(d.label for d in bank.damages)
-    diagnosis = Diagnosis(labels, walks.under(bank.damages), contacts)
+    diagnosis = Diagnosis(labels, walks.under(bank.damages), contacts, weighing)
 
     def screen_of(damage: Damage) -> TipScreen | None:
         if tip_guard >= math.pi:

@@ -24,6 +24,7 @@ from hexapod_adapt.online.diagnosis import (
     NONE_LABEL,
     signature,
     TrialRecord,
+    Weighing,
 )
 from hexapod_adapt.online.mboa import MboaConfig, PROFILES
 from hexapod_adapt.online.session import (
@@ -93,6 +94,22 @@ def test_the_signature_measures_speed_drift_yaw_rate_and_tilt():
     assert s['yaw_rate'] == pytest.approx(0.05, abs=1e-6)
     assert s['pitch'] == pytest.approx(0.02) and s['roll'] == pytest.approx(0.0)
     assert all(abs(v) < 1e-12 for k, v in s.items() if '_phase_' in k)  # no swing in the tilt
+
+
+def test_a_temperature_tempers_each_trial_s_evidence_and_weighing_refuses_nonsense():
+    walks = {0: straight_walk(0.2, 0.0), 1: straight_walk(0.15, 0.0)}
+    trial = straight_walk(0.19, 0.0)
+    odds = []
+    for temperature in (1.0, 0.5):
+        diagnosis = Diagnosis(
+            ('a', 'b'), lambda niche, h: walks[h], weighing=Weighing(temperature=temperature)
+        )
+        p = diagnosis.observe(7, trial).probabilities
+        odds.append(math.log(p[0] / p[1]))
+    assert odds[0] > 0.5 and odds[1] == pytest.approx(odds[0] / 2)
+    for bad in ({'temperature': 0.0}, {'temperature': 1.5}, {'none_prior': 1.0}):
+        with pytest.raises(ValueError):
+            Weighing(**bad)
 
 
 @pytest.mark.parametrize(

@@ -1,0 +1,146 @@
+# Copyright 2026 Hexapod adaptation team
+# SPDX-License-Identifier: MIT
+"""
+How sure the diagnosis should be: its posterior over fixed trials, tempered and not (issue 67).
+
+Open loop, so that every setting sees the same trials: each damage of ``--kind`` (every
+orientation of S1-S4) walks the map's ``--gaits`` fastest gaits on ``--engine`` at its converged
+step (the record a run's trial gives, no foot contacts; ``--friction`` and, on MuJoCo,
+``--compliance-slope`` make it a physics the hypotheses were not walked in); the same gaits are
+walked under each of the kind's 21 hypotheses on the map's engine, as a run's diagnosis walks
+them. Then, for each
+temperature (the power each trial's likelihood is raised to) and each "none of these" deviation,
+the posterior after 1, 2, ... trials, with the run's own damage in the hypotheses (it should be
+named) and left out (nothing should be named: "none of these" leads, or no hypothesis holds the
+naming threshold). Prints one row per setting and trial count:
+
+    python -m studies.diagnosis.calibration --engine mujoco --kind no_tibia --gaits 3
+"""
+
+from __future__ import annotations
+
+import argparse
+from dataclasses import replace
+from itertools import product
+
+from hexapod_adapt.mapping.archive import load_archive
+from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+from hexapod_adapt.online.adaptation import recorded_trial
+from hexapod_adapt.online.diagnosis import (
+    feature_names,
+    feature_noise,
+    HypothesisWalks,
+    signature,
+    student_log_likelihood,
+    Weighing,
+)
+from hexapod_adapt.online.session import NAME_THRESHOLD
+from hexapod_sim import create_simulator, SimConfig
+from hexapod_sim.damage import Damage
+from hexapod_sim.scenarios import scenario
+import numpy as np
+
+TEMPERATURES = (1.0, 0.5, 0.3, 0.2, 0.1)
+NONE_DEVIATIONS = (1.5, 2.0, 2.5, 3.0)
+
+
+def residuals(archive, damages, trials: SimConfig, gaits: list[int]) -> np.ndarray:
+    """
+    Return (damage, gait, hypothesis, feature) scaled mismatches; NaN where a walk failed.
+
+    Damage d's trial of each gait on ``trials``' physics against the same gait under each
+    damage of ``damages`` on the map's engine.
+    """
+    walks = HypothesisWalks(archive)
+    noise = feature_noise(feature_names(False))
+    sim = create_simulator(trials)
+    out = np.full((len(damages), len(gaits), len(damages), len(noise)), np.nan)
+    for d, damage in enumerate(damages):
+        trial = recorded_trial(archive, damage, sim)
+        for g, niche in enumerate(gaits):
+            outcome = trial(niche)
+            if outcome.record is None:
+                continue
+            seen = signature(outcome.record, False)
+            for h, hypothesis in enumerate(damages):
+                walk = walks(niche, hypothesis)
+                if walk is not None:
+                    out[d, g, h] = (seen - signature(walk, False)) / noise
+    return out
+
+
+def posteriors(r: np.ndarray, temperature: float, deviation: float, keep: np.ndarray):
+    """Return the posterior over ``keep``'s hypotheses and none (last) after each trial."""
+    n_features = r.shape[-1]
+    none = student_log_likelihood(np.full(n_features, deviation))
+    none_prior = Weighing().none_prior
+    log = np.log(np.append(np.full(keep.sum(), (1 - none_prior) / keep.sum()), none_prior))
+    out = []
+    for g in range(r.shape[0]):
+        update = np.full(len(log), none)
+        for i, h in enumerate(np.flatnonzero(keep)):
+            if np.isfinite(r[g, h]).all():
+                update[i] = student_log_likelihood(r[g, h])
+        log = log + temperature * update
+        p = np.exp(log - log.max())
+        out.append(p / p.sum())
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--engine', default='mujoco')
+    parser.add_argument('--kind', default='no_tibia')
+    parser.add_argument('--gaits', type=int, default=3)
+    parser.add_argument('--archive', default=str(shipped_map(DEFAULT_MAP)))
+    parser.add_argument(
+        '--friction',
+        type=float,
+        default=None,
+        help="the trials' foot friction (a physics variant)",
+    )
+    parser.add_argument(
+        '--compliance-slope',
+        type=float,
+        default=None,
+        help="MuJoCo trials: the servos' compliance slope (32 stock; larger is softer)",
+    )
+    args = parser.parse_args(argv)
+    trials = replace(SimConfig.converged(args.engine), friction=args.friction)
+    if args.compliance_slope is not None:
+        slope = replace(trials.engine_settings(), compliance_slope=args.compliance_slope)
+        trials = replace(trials, mujoco=slope)
+    archive = load_archive(args.archive)
+    legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
+    damages = [Damage.of(args.kind, legs) for legs in legs_all]
+    elites = archive.elite_indices()
+    gaits = [int(n) for n in elites[np.argsort(-archive.fitness[elites])][: args.gaits]]
+    r = residuals(archive, damages, trials, gaits)
+    n = len(damages)
+    print('temperature none_dev trials | in bank: named right, named wrong | left out: named')
+    for temperature, deviation in product(TEMPERATURES, NONE_DEVIATIONS):
+        right = np.zeros(len(gaits), int)
+        wrong = np.zeros(len(gaits), int)
+        named_out = np.zeros(len(gaits), int)
+        for d in range(n):
+            everyone = np.ones(n, bool)
+            for k, p in enumerate(posteriors(r[d], temperature, deviation, everyone)):
+                lead = int(np.argmax(p))
+                right[k] += lead == d and p[lead] >= NAME_THRESHOLD
+                wrong[k] += lead not in (d, n) and p[lead] >= NAME_THRESHOLD
+            others = everyone.copy()
+            others[d] = False
+            for k, p in enumerate(posteriors(r[d], temperature, deviation, others)):
+                lead = int(np.argmax(p))
+                named_out[k] += lead < n - 1 and p[lead] >= NAME_THRESHOLD
+        for k in range(len(gaits)):
+            print(
+                f'{temperature:g} {deviation:g} {k + 1} | {right[k]} {wrong[k]} of {n}'
+                f' | {named_out[k]} of {n}',
+                flush=True,
+            )
+    return 0
+
+
+if __name__ == '__main__':
+    raise SystemExit(main())
