@@ -81,8 +81,14 @@ def main(argv: list[str] | None = None) -> int:
         default=Weighing().none_deviation,
         help='"none of these" explains a trial this many noise scales off',
     )
+    parser.add_argument(
+        '--bank-prior',
+        action=argparse.BooleanOptionalAction,
+        default=BlindRules().bank_prior,
+        help="while no damage is named: M-BOA's prior is the bank weighed by the posterior",
+    )
     args = parser.parse_args(argv)
-    blind = BlindRules(args.offset_std, args.stop == 'alpha')
+    blind = BlindRules(args.offset_std, args.stop == 'alpha', args.bank_prior)
     weighing = Weighing(args.none_deviation, temperature=args.temperature)
     archive = load_archive(args.archive)
     map_engine = engine_of_map(archive)
@@ -101,7 +107,8 @@ def main(argv: list[str] | None = None) -> int:
         setup='default+diagnosis'
         + (f'+safety{args.risk_limit:g}' if args.risk_limit else '')
         + f'+{args.stop}stop+offset{args.offset_std:g}'
-        + f'+t{args.temperature:g}+none{args.none_deviation:g}',
+        + f'+t{args.temperature:g}+none{args.none_deviation:g}'
+        + ('+bankprior' if args.bank_prior else ''),
         bank=bank,
         leave_out=args.leave_out,
         kind=args.kind,

@@ -86,11 +86,14 @@ class BlindRules:
     so that trials all slower than the map lower every untried gait's prediction.
     ``alpha_stop``: stop on alpha alone, as a named damage's run does (False: the profile's
     ``stop_gain`` too, which a blind GP seldom lets end a run before its budget). The defaults
-    won on a tuning set (studies/diagnosis/README.md, "The stop rule").
+    won on a tuning set (studies/diagnosis/README.md, "The stop rule"). ``bank_prior``: M-BOA's
+    prior is the hypotheses' re-scores and the map's speeds (for "none of these") weighed by
+    the posterior, after every trial (False: the map's speeds).
     """
 
     offset_std: float = 0.05
     alpha_stop: bool = True
+    bank_prior: bool = False
 
 
 @dataclass(frozen=True)
@@ -243,6 +246,16 @@ def informed_start(
     return SessionStart(got.speeds, got.updates, screen, floor=floor, note=note)
 
 
+def blended_prior(plan: DiagnosisPlan, map_prior: np.ndarray) -> np.ndarray:
+    """
+    Return the speeds a blind run expects of each gait: the plan's re-scores and ``map_prior``.
+
+    Each weighed by its hypothesis's probability ("none of these": the map's own speeds).
+    """
+    p = plan.diagnosis.posterior().probabilities
+    return p[:-1] @ np.asarray(plan.priors) + p[-1] * np.asarray(map_prior)
+
+
 def screen_note(screen: TipScreen) -> str:
     """Say what a prior's tip screen will do, to follow what the prior is."""
     return (
@@ -311,6 +324,9 @@ class AdaptationSession:
             raise ValueError(
                 f'a prior needs one speed per gait ({len(map_prior)}), got {np.shape(prior)}'
             )
+        self._map_prior = map_prior
+        if self._bank_prior():
+            prior = blended_prior(self.start.diagnosis, map_prior)
         self.rules = run_rules(self.config, self.start)
         self.opt = Mboa(descriptors, prior, self.rules, hypotheses=self.start.hypotheses)
         self._blind = (prior, self.rules)  # what a released diagnosis goes back to
@@ -436,6 +452,8 @@ class AdaptationSession:
             self._go_on_as(leader)
         elif self.named is not None and p[self.named] < plan.release:
             self._go_on_as(None)
+        elif self.named is None and self._bank_prior():
+            self._go_on_as(None)  # the blind prior, weighed by the new posterior
         self._result.named.append('' if self.named is None else plan.damages[self.named].label)
 
     def _go_on_as(self, h: int | None) -> None:
@@ -443,6 +461,9 @@ class AdaptationSession:
         plan = self.start.diagnosis
         if h is None:
             prior, self.rules = self._blind
+            if self._bank_prior():
+                prior = blended_prior(plan, self._map_prior)
+                self._blind = (prior, self.rules)
             self.screen = self.start.screen
         else:
             prior = plan.priors[h]
@@ -451,6 +472,11 @@ class AdaptationSession:
         self.named = h
         self.opt = _with_prior(self.opt, prior, self.rules)
         self._result.config = self.rules
+
+    def _bank_prior(self) -> bool:
+        """Whether the blind prior is the bank weighed by the posterior (:class:`BlindRules`)."""
+        plan = self.start.diagnosis
+        return plan is not None and plan.blind.bank_prior and not self.start.informed
 
     def _vetoed(self, index: int | None) -> bool:
         """

@@ -15,7 +15,7 @@ import math
 
 from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
-from hexapod_adapt.online.adaptation import recorded_trial, TrialOutcome
+from hexapod_adapt.online.adaptation import candidates, recorded_trial, TrialOutcome
 from hexapod_adapt.online.bank import DamageBank
 from hexapod_adapt.online.diagnosis import (
     Diagnosis,
@@ -205,6 +205,26 @@ def test_blind_rules_hold_while_nothing_is_named_and_the_prior_s_once_named(
         None if BlindRules().alpha_stop else config.stop_gain,
         BlindRules().offset_std,
     )
+
+
+def test_a_bank_prior_is_the_re_scores_weighed_by_the_posterior(archive, walks, trial_sim):
+    damages = [Damage.lifted([1]), Damage.lifted([4]), Damage.lifted([3, 6])]
+    bank = _bank(archive, damages)
+    blind = BlindRules(bank_prior=True)
+    # evidence so tempered that no hypothesis is named: the run stays blind, its prior following
+    # the posterior
+    weighing = Weighing(temperature=0.01)
+    plan = diagnosis_plan(archive, bank, walks=walks, blind=blind, weighing=weighing)
+    config = replace(PROFILES['default'], max_trials=4, min_speed=0.9)
+    session = AdaptationSession(archive, config, SessionStart(diagnosis=plan))
+    _, _, map_prior = candidates(archive)
+    np.testing.assert_allclose(session.opt.prior, 0.8 * bank.speeds.mean(axis=0) + 0.2 * map_prior)
+    trial = recorded_trial(archive, damages[1], trial_sim)
+    niche = session.ask()
+    session.tell(niche, trial(niche))
+    p = session.posterior.probabilities
+    np.testing.assert_allclose(session.opt.prior, p[:-1] @ bank.speeds + p[-1] * map_prior)
+    assert p[1] == max(p) and session.named is None
 
 
 def test_a_trial_without_a_record_leaves_the_diagnosis_alone(archive, walks):
