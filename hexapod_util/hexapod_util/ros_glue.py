@@ -47,6 +47,7 @@ from rclpy.qos import (
     QoSProfile,
     ReliabilityPolicy,
 )
+from rclpy.signals import uninstall_signal_handlers
 
 #: Latched state: the last message is kept for late joiners (gait parameters, the active
 #: trajectory, reset stamps, status topics on the publishing side).
@@ -303,6 +304,10 @@ def run_node(
         # Ctrl-C shut the context down while the executor was taking a message: rclpy raises
         # RuntimeError from take_message then (ros/joint_state_publisher#117); a clean stop
     finally:
+        # rclpy's handlers have done their part (the context is down or going): a second Ctrl-C
+        # (a terminal's and a launcher's) now reaches only ours, not rclpy's signal thread while
+        # the node and the context are destroyed (a launcher once found a node hung there)
+        uninstall_signal_handlers()
         if node is not None:
             shutdown = getattr(node, 'shutdown', None)
             if callable(shutdown):
