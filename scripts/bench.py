@@ -112,7 +112,39 @@ def bench_sim() -> None:
     print(f'BENCH sim_tripod_speed_mujoco {tripod[1]:.4f} m/s')
     print(f'BENCH sim_tripod_speed_dart {tripod[2]:.4f} m/s')
     print(f'BENCH sim_engine_tripod_ratio {tripod[1] / tripod[0]:.4f} 1')
+    _gil_wait(dart)
     bench_converged()
+
+
+def _gil_wait(sim) -> None:
+    """
+    Print sim_loop_gil_wait_ms: what a thread waits for the GIL while a loop runs flat out.
+
+    The median wall time of ``time.sleep(0)`` (it gives up the GIL and takes it back) in another
+    thread while a PhysicsLoop steps ``sim`` as fast as possible: what every syscall or rcl call
+    of sim_node's executor pays (Python's default switch interval: ~5 ms).
+    """
+    import statistics
+
+    from hexapod_gait import build_joint_table, preset
+    from hexapod_sim.physics.physics_loop import LoopHooks, PhysicsLoop
+    from hexapod_sim.trajectory_input import CycleTable
+
+    table = build_joint_table(preset('tripod'), rate=1.0 / sim.dt)
+
+    def nothing(*_):
+        return False
+
+    hooks = LoopHooks(nothing, nothing, nothing, nothing, nothing)
+    loop = PhysicsLoop(sim, CycleTable(table.positions, table.velocities, sim.dt), hooks, rtf=0.0)
+    loop.start()
+    waits = []
+    for _ in range(200):
+        t0 = time.perf_counter()
+        time.sleep(0)
+        waits.append(time.perf_counter() - t0)
+    loop.stop()
+    print(f'BENCH sim_loop_gil_wait_ms {statistics.median(waits) * 1e3:.3f} ms')
 
 
 def bench_converged() -> None:

@@ -134,12 +134,12 @@ class SimNode(Node):
             self._values,
             'simulating',
         )
-        self.loop.start()
         watch_for_duplicates(self, lambda text: self._status(DiagnosticStatus.ERROR, text))
         self.get_logger().info(
             f'simulating with the {engine} engine at real_time_factor {rtf:g}, state every '
             f'{self.loop.period_steps} steps, {self.sim.settings.substeps} physics step(s) a step'
         )
+        self.loop.start()
 
     def _make_publishers(self) -> None:
         self.clock_pub = self.create_publisher(Clock, '/clock', 10)

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 import queue
+import sys
 import threading
 import time
 from typing import Callable, TypeVar
@@ -43,6 +44,14 @@ class LoopHooks:
 #: trial reads (CI: three trials in a row repeated, then aborted).
 REAL_TIME_PERIOD_STEPS = 4
 FAST_PERIOD_STEPS = 24
+
+
+#: The process's GIL switch interval while a loop runs [s], lowered from Python's 5 ms. The
+#: physics thread holds the GIL except in short engine calls; every other thread that gives it
+#: up (a syscall, an rcl call) waits a whole interval to get it back. A DART or PyBullet loop at
+#: rtf 0 so made sim_node's first log line take 8-14 s and its first trajectory arrive after a
+#: test's 30 s wait (CI, 2026-12-02); at 0.1 ms it takes 0.5-0.6 s, at the same physics rate.
+SWITCH_INTERVAL_S = 1e-4
 
 
 def publish_period_steps(requested: int, rtf: float) -> int:
@@ -79,7 +88,12 @@ class PhysicsLoop:
 
     # -- from any thread -------------------------------------------------------------------------
     def start(self) -> None:
-        """Reset the robot to the cycle's first pose and start stepping."""
+        """
+        Reset the robot to the cycle's first pose and start stepping.
+
+        Lowers the process's GIL switch interval to :data:`SWITCH_INTERVAL_S` (never raises it).
+        """
+        sys.setswitchinterval(min(sys.getswitchinterval(), SWITCH_INTERVAL_S))
         self.reset()
         self._running = True
         self._thread = threading.Thread(target=self._run, name='physics', daemon=True)
