@@ -377,7 +377,8 @@ def wait_for(
 # A separate process whose node is not the bridge publishes ServoFailure reports on
 # servo_failures: ``times`` nodes one after another (NAME_0, NAME_1, ... when several), each
 # publishing one report as soon as a subscriber matched, then lingering ``linger`` s after it
-# was delivered (0: destroyed at once, the forger who leaves).
+# was delivered (0: destroyed at once, the forger who leaves). It prints how many of its reports
+# the subscriber acknowledged: one not acknowledged in 10 s is left behind with its node.
 _IMPOSTOR = """
 import rclpy, sys, time
 from hexapod_util.ros_glue import EVENTS
@@ -385,6 +386,7 @@ from hexapod_msgs.msg import ServoFailure
 from rclpy.duration import Duration
 name, servo, leg, joint, times, linger = sys.argv[1:]
 rclpy.init()
+acked = 0
 for i in range(int(times)):
     node = rclpy.create_node(name if int(times) == 1 else f'{name}_{i}')
     pub = node.create_publisher(ServoFailure, 'servo_failures', EVENTS)
@@ -392,10 +394,11 @@ for i in range(int(times)):
     while pub.get_subscription_count() < 1 and time.monotonic() < end:
         time.sleep(0.01)
     pub.publish(ServoFailure(servo_id=int(servo), robot_leg=int(leg), leg=int(leg), joint=joint))
-    pub.wait_for_all_acked(Duration(seconds=10))  # delivered: then it leaves
+    acked += pub.wait_for_all_acked(Duration(seconds=10))  # delivered: then it leaves
     time.sleep(float(linger))
     node.destroy_node()
     time.sleep(0.5)  # the next forger is a new node: let the graph see this one go
+print(f'acked {acked}', flush=True)
 """
 
 
@@ -408,10 +411,16 @@ def publish_servo_report_as(
     times: int = 1,
     linger: float = 5.0,
 ) -> subprocess.Popen:
-    """Start a process whose node ``node_name`` reports ``servo_id`` (on ``leg``) dead."""
+    """
+    Start a process whose node ``node_name`` reports ``servo_id`` (on ``leg``) dead.
+
+    Its stdout (a pipe) ends with ``acked N``: the reports the subscriber acknowledged.
+    """
     env = dict(os.environ, ROS_DOMAIN_ID=str(domain_id))
     args = [node_name, str(servo_id), str(leg), joint, str(times), str(linger)]
-    return subprocess.Popen([sys.executable, '-c', _IMPOSTOR, *args], env=env)
+    return subprocess.Popen(
+        [sys.executable, '-c', _IMPOSTOR, *args], env=env, stdout=subprocess.PIPE, text=True
+    )
 
 
 def forgers_are_ignored_and_named(node, domain_id: int, tries: int = 20) -> None:
@@ -427,26 +436,36 @@ def forgers_are_ignored_and_named(node, domain_id: int, tries: int = 20) -> None
 
     ignored = 'servo 5 (leg 3) reported dead: servo report ignored: the bridge /test_harness does'
     quick = publish_servo_report_as('not_the_bridge', domain_id, 5, 3, 'tibia', tries, linger=0)
-    assert quick.wait(120) == 0
+    out, _ = quick.communicate(timeout=tries * 45)
+    assert quick.returncode == 0
+    # a report not acknowledged when its forger left may be lost with it (CI, 2026-12-02, 19 of
+    # 20 refused; acknowledgements not counted then): every acknowledged one must be judged
+    acked = int(out.split()[-1])
+    assert acked >= tries // 2, out
     # adapt_node judges one report at a time: each may take the bridge's answer and a wait for
     # the sender's name (a loaded machine judged one in 3 s, and fell behind the forgers)
     judging = tries * (ASK_TIMEOUT_S + NAME_WAIT_S) + 30
     wait_for(
-        lambda: node.log().count(ignored) == tries, judging, f'{tries} forged reports refused'
+        lambda: node.log().count(ignored) >= acked, judging, f'{acked} forged reports refused'
     )
+    time.sleep(ASK_TIMEOUT_S + NAME_WAIT_S)  # one not acknowledged may still be judged
     lines = [line for line in node.log().splitlines() if ignored in line]
+    assert acked <= len(lines) <= tries
     named = [i for i, line in enumerate(lines) if f'/not_the_bridge_{i}' in line]
     left = [i for i, line in enumerate(lines) if 'the sender left at once' in line]
     print(
-        f'forgers who left at once: {len(named)} of {tries} named, {len(left)} said to have left'
+        f'forgers who left at once: {acked} of {tries} acknowledged, {len(lines)} refused,'
+        f' {len(named)} named, {len(left)} said to have left'
     )
     assert all('not hold servo 5 dead' in line for line in lines)
     assert all('/not_the_bridge_' in line or i in left for i, line in enumerate(lines))
     lingering = publish_servo_report_as('not_the_bridge', domain_id, 5, 3, 'tibia')
-    wait_for(lambda: node.log().count(ignored) == tries + 1, 30, 'a lingering forger refused')
+    count = len(lines)
+    wait_for(lambda: node.log().count(ignored) == count + 1, 30, 'a lingering forger refused')
     last = [line for line in node.log().splitlines() if ignored in line][-1]
     assert last.endswith('/not_the_bridge') or '/not_the_bridge,' in last, last
-    lingering.wait(30)
+    out, _ = lingering.communicate(timeout=30)
+    assert out.split()[-1] == '1', out  # its one report acknowledged
 
 
 @pytest.fixture
