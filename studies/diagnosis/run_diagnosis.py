@@ -31,7 +31,7 @@ from hexapod_adapt.online.diagnosis import Weighing
 from hexapod_adapt.online.experiment import ExperimentSetup, run_experiment
 from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
 from hexapod_adapt.online.safety import RISK_LIMIT
-from hexapod_adapt.online.session import BlindRules
+from hexapod_adapt.online.session import BlindRules, FirstGait
 from hexapod_sim import SimConfig
 from hexapod_sim.damage import Damage
 from hexapod_sim.scenarios import scenario
@@ -87,8 +87,17 @@ def main(argv: list[str] | None = None) -> int:
         default=BlindRules().bank_prior,
         help="while no damage is named: M-BOA's prior is the bank weighed by the posterior",
     )
+    parser.add_argument(
+        '--first',
+        choices=[f.value for f in FirstGait],
+        default=BlindRules().first.value,
+        help="while no damage is named, the first gait: the map's fastest, or the fastest on"
+        ' average over the hypotheses',
+    )
     args = parser.parse_args(argv)
-    blind = BlindRules(args.offset_std, args.stop == 'alpha', args.bank_prior)
+    blind = BlindRules(
+        args.offset_std, args.stop == 'alpha', args.bank_prior, FirstGait(args.first)
+    )
     weighing = Weighing(args.none_deviation, temperature=args.temperature)
     archive = load_archive(args.archive)
     map_engine = engine_of_map(archive)
@@ -108,7 +117,8 @@ def main(argv: list[str] | None = None) -> int:
         + (f'+safety{args.risk_limit:g}' if args.risk_limit else '')
         + f'+{args.stop}stop+offset{args.offset_std:g}'
         + f'+t{args.temperature:g}+none{args.none_deviation:g}'
-        + ('+bankprior' if args.bank_prior else ''),
+        + ('+bankprior' if args.bank_prior else '')
+        + ('' if args.first == FirstGait.FASTEST.value else f'+first-{args.first}'),
         bank=bank,
         leave_out=args.leave_out,
         kind=args.kind,

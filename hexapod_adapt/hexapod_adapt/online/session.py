@@ -20,6 +20,7 @@ or the floor changes in M-BOA's settings is resolved once, at construction
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+import enum
 import math
 import time
 from typing import Callable, Protocol
@@ -77,6 +78,13 @@ NAME_THRESHOLD = 0.9
 RELEASE_THRESHOLD = 0.5
 
 
+class FirstGait(enum.Enum):
+    """Which gait a diagnosing run that names nothing walks first."""
+
+    FASTEST = 'fastest'  # the map's fastest (intact) gait, as M-BOA's prior has it
+    EXPECTED = 'expected'  # the fastest on average over the hypotheses (see blended_prior)
+
+
 @dataclass(frozen=True)
 class BlindRules:
     """
@@ -88,12 +96,15 @@ class BlindRules:
     ``stop_gain`` too, which a blind GP seldom lets end a run before its budget). The defaults
     won on a tuning set (studies/diagnosis/README.md, "The stop rule"). ``bank_prior``: M-BOA's
     prior is the hypotheses' re-scores and the map's speeds (for "none of these") weighed by
-    the posterior, after every trial (False: the map's speeds).
+    the posterior, after every trial (False: the map's speeds). ``first``: the first trial's
+    gait (:class:`FirstGait`; the default won on a tuning set: studies/diagnosis/README.md, "The
+    first gait"); M-BOA chooses the later ones.
     """
 
     offset_std: float = 0.05
     alpha_stop: bool = True
     bank_prior: bool = False
+    first: FirstGait = FirstGait.EXPECTED
 
 
 @dataclass(frozen=True)
@@ -357,7 +368,9 @@ class AdaptationSession:
             newer = self.start.updates() if self.start.updates is not None else None
             if newer is not None:
                 self.opt = _with_prior(self.opt, newer)  # its bar is vetted before a stop
-            index = self.opt.next_index()
+            index = self._first_index()
+            if index is None:
+                index = self.opt.next_index()
             if not self._vetoed(index):
                 self._asked = index
                 return int(self.niches[index])
@@ -472,6 +485,28 @@ class AdaptationSession:
         self.named = h
         self.opt = _with_prior(self.opt, prior, self.rules)
         self._result.config = self.rules
+
+    def _first_index(self) -> int | None:
+        """
+        Return the first trial's gait when the blind rules choose it (None: M-BOA's choice).
+
+        With :attr:`FirstGait.EXPECTED`, the untried, unvetoed gait with the best expected speed
+        over the hypotheses (:func:`blended_prior`), before any trial of a run naming nothing.
+        """
+        plan = self.start.diagnosis
+        if (
+            plan is None
+            or plan.blind.first is not FirstGait.EXPECTED
+            or self.start.informed
+            or self.named is not None
+            or self.opt.trials
+        ):
+            return None
+        expected = blended_prior(plan, self._map_prior)
+        for index in map(int, np.argsort(-expected, kind='stable')):
+            if index not in self.opt.vetoed and not self._vetoed(index):
+                return index
+        return None
 
     def _bank_prior(self) -> bool:
         """Whether the blind prior is the bank weighed by the posterior (:class:`BlindRules`)."""

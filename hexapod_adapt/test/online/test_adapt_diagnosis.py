@@ -31,6 +31,7 @@ from hexapod_adapt.online.session import (
     AdaptationSession,
     BlindRules,
     diagnosis_plan,
+    FirstGait,
     SessionStart,
 )
 from hexapod_sim import create_simulator, SimConfig
@@ -225,6 +226,27 @@ def test_a_bank_prior_is_the_re_scores_weighed_by_the_posterior(archive, walks, 
     p = session.posterior.probabilities
     np.testing.assert_allclose(session.opt.prior, p[:-1] @ bank.speeds + p[-1] * map_prior)
     assert p[1] == max(p) and session.named is None
+
+
+def test_the_first_gait_may_be_the_fastest_on_average_over_the_hypotheses(
+    archive, walks, trial_sim
+):
+    damages = [Damage.lifted([1]), Damage.lifted([4])]
+    _, _, map_prior = candidates(archive)
+    speeds = np.tile(map_prior * 0.2, (2, 1))
+    robust = int(np.argsort(map_prior)[len(map_prior) // 2])  # a gait of middling intact speed
+    speeds[:, robust] = map_prior.max()  # walks under every hypothesis as the best does intact
+    bank = DamageBank('mujoco', tuple(damages), speeds)
+    config = replace(PROFILES['default'], max_trials=3, min_speed=0.9)
+    firsts = {}
+    for first in FirstGait:
+        plan = diagnosis_plan(archive, bank, walks=walks, blind=BlindRules(first=first))
+        session = AdaptationSession(archive, config, SessionStart(diagnosis=plan))
+        firsts[first] = niche = session.ask()
+        session.tell(niche, recorded_trial(archive, damages[0], trial_sim)(niche))
+        assert session.ask() not in (None, niche)  # M-BOA chooses the second
+    assert firsts[FirstGait.FASTEST] == int(session.niches[np.argmax(map_prior)])
+    assert firsts[FirstGait.EXPECTED] == int(session.niches[robust])
 
 
 def test_a_trial_without_a_record_leaves_the_diagnosis_alone(archive, walks):
