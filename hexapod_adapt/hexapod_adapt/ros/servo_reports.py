@@ -13,6 +13,7 @@ the refusal says so).
 
 from __future__ import annotations
 
+import queue
 import threading
 import time
 
@@ -47,14 +48,33 @@ class ServoReports:
             callback_group=ReentrantCallbackGroup(),
         )
         self.topic = node.resolve_topic_name('servo_failures')
-        reports = MutuallyExclusiveCallbackGroup()  # a report waits for the bridge's answer
+        # each report is judged in a thread of its own, one at a time, in arrival order: the
+        # subscription only queues it. Judged in the executor (a mutually exclusive group, busy
+        # while a report waits for the bridge), one acknowledged report of 20 was never handed
+        # to the callback (CI, 2026-12-02; rclcpp#832 describes the same executor pattern).
+        self._reports: queue.Queue[ServoFailure | None] = queue.Queue()
         node.create_subscription(
-            ServoFailure, 'servo_failures', self._on_report, EVENTS, callback_group=reports,
-        )  # fmt: skip
+            ServoFailure,
+            'servo_failures',
+            self._reports.put,
+            EVENTS,
+            callback_group=MutuallyExclusiveCallbackGroup(),
+        )
+        self._closed = threading.Event()
+        threading.Thread(target=self._judge, daemon=True, name='servo_report_judge').start()
         # rclpy does not say who sent a message, and a sender may leave at once: the graph is
         # watched often enough to see who joins (its own thread: a busy executor is too late)
-        self._closed = threading.Event()
         threading.Thread(target=self._watch, daemon=True, name='servo_report_senders').start()
+
+    def _judge(self) -> None:
+        """Judge the queued reports in arrival order, until :meth:`close`."""
+        while (msg := self._reports.get()) is not None:
+            try:
+                self._on_report(msg)
+            except Exception:  # noqa: BLE001 - the node is closing: its client and graph are gone
+                if not rclpy.ok(context=self.node.context):
+                    return
+                raise
 
     def _watch(self) -> None:
         """Look at the topic's publishers every WATCH_S s, in a thread of its own."""
@@ -75,8 +95,9 @@ class ServoReports:
                     self.seen[f'{i.node_namespace.rstrip("/")}/{i.node_name}'] = now
 
     def close(self) -> None:
-        """Stop watching the graph."""
+        """Stop watching the graph and judging reports (those still queued are dropped)."""
         self._closed.set()
+        self._reports.put(None)
 
     def others(self) -> list[str]:
         """
