@@ -304,9 +304,14 @@ def run_node(
         # Ctrl-C shut the context down while the executor was taking a message: rclpy raises
         # RuntimeError from take_message then (ros/joint_state_publisher#117); a clean stop
     finally:
-        # rclpy's handlers have done their part (the context is down or going): a second Ctrl-C
-        # (a terminal's and a launcher's) now reaches only ours, not rclpy's signal thread while
-        # the node and the context are destroyed (a launcher once found a node hung there)
+        # a signal stops the node with its context down, as rclpy's handlers do: what still runs
+        # (a goal waiting on the graph) sees it at its next check. Their signal thread may not
+        # have done it yet (CI, 2026-12-02: a navigate goal walked on 10 s after a Ctrl-C)
+        if stop.is_set():
+            rclpy.try_shutdown()
+        # then a second Ctrl-C (a terminal's and a launcher's) reaches only ours, not rclpy's
+        # signal thread while the node and the context are destroyed (a launcher once found a
+        # node hung there)
         uninstall_signal_handlers()
         if node is not None:
             shutdown = getattr(node, 'shutdown', None)
