@@ -368,9 +368,11 @@ class AdaptationSession:
             newer = self.start.updates() if self.start.updates is not None else None
             if newer is not None:
                 self.opt = _with_prior(self.opt, newer)  # its bar is vetted before a stop
-            index = self._first_index()
-            if index is None:
-                index = self.opt.next_index()
+            first = self._first_index()  # already screened
+            if first is not None:
+                self._asked = first
+                return int(self.niches[first])
+            index = self.opt.next_index()
             if not self._vetoed(index):
                 self._asked = index
                 return int(self.niches[index])

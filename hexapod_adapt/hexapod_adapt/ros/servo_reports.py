@@ -71,10 +71,10 @@ class ServoReports:
         while (msg := self._reports.get()) is not None:
             try:
                 self._on_report(msg)
-            except Exception:  # noqa: BLE001 - the node is closing: its client and graph are gone
+            except Exception as exc:  # noqa: BLE001 - one report's failure must not stop the rest
                 if not rclpy.ok(context=self.node.context):
-                    return
-                raise
+                    return  # the node is closing: its client and graph are gone
+                self.node.get_logger().error(f'servo report {msg.servo_id} not judged: {exc}')
 
     def _watch(self) -> None:
         """Look at the topic's publishers every WATCH_S s, in a thread of its own."""
