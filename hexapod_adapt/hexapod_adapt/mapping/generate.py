@@ -32,7 +32,7 @@ from hexapod_adapt.mapping.archive import (
     map_kind,
 )
 from hexapod_adapt.mapping.cvt import cached_cvt, cvt_cache_path
-from hexapod_adapt.mapping.emitters import EmitterSettings
+from hexapod_adapt.mapping.emitter_settings import EmitterSettings
 from hexapod_adapt.mapping.map_elites import (
     load_checkpoint_state,
     MapElitesConfig,

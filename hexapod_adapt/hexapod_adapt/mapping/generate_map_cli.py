@@ -22,7 +22,7 @@ import math
 import sys
 
 from hexapod_adapt.mapping.archive import MAP_KINDS
-from hexapod_adapt.mapping.emitters import EMITTER_SETS
+from hexapod_adapt.mapping.emitter_settings import EMITTER_SETS
 from hexapod_adapt.mapping.generate import (
     BACKENDS,
     EmptyMapError,

@@ -27,12 +27,15 @@ import json
 import math
 import os
 import time
-from typing import Callable, Protocol, Sequence
+from typing import Callable, Protocol, Sequence, TYPE_CHECKING
 
 from hexapod_adapt.mapping.archive import Archive, ArchiveError, InsertStatus, load_archive
-from hexapod_adapt.mapping.emitters import EMITTER_SETS, EmitterSettings, RibsProposer
+from hexapod_adapt.mapping.emitter_settings import EMITTER_SETS, EmitterSettings
 from hexapod_util.npz import read_npz, UnreadableFile
 import numpy as np
+
+if TYPE_CHECKING:  # pyribs loads in seconds: only a run with its emitters imports it
+    from hexapod_adapt.mapping.emitters import RibsProposer
 
 
 @dataclass(frozen=True)
@@ -160,6 +163,8 @@ class MapElites:
         return np.clip(child, 0.0, 1.0)
 
     def _start_proposer(self, first: int) -> RibsProposer:
+        from hexapod_adapt.mapping.emitters import RibsProposer
+
         a = self.archive
         seen = [(a.genotypes[i], a.fitness[i], a.descriptors[i]) for i in a.elite_indices()]
         proposer = RibsProposer(
@@ -247,7 +252,11 @@ def load_checkpoint_state(
     pending = {int(k): np.array(g) for k, g in zip(index, genes)}
     blob = data['emitter_state'].tobytes() if 'emitter_state' in data else None
     try:
-        proposer = RibsProposer.loads(blob) if blob is not None else None
+        proposer = None
+        if blob is not None:
+            from hexapod_adapt.mapping.emitters import RibsProposer
+
+            proposer = RibsProposer.loads(blob)
     except Exception as exc:  # noqa: BLE001 - any damage to the state is the same refusal
         raise ArchiveError(f'{path}: its emitter state cannot be read ({exc})') from None
     return archive, pending, proposer
