@@ -4,9 +4,11 @@
 
 from __future__ import annotations
 
+import importlib.util
 from pathlib import Path
 import re
 import subprocess
+import sys
 
 import pytest
 
@@ -74,3 +76,27 @@ def test_every_name_the_benchmarks_import_exists(script: str):
             except ImportError:
                 missing.append(f'{node.module}.{alias.name}')
     assert not missing, f'scripts/{script} imports names that do not exist: {missing}'
+
+
+def _collected(*args: str) -> list[str]:
+    out = subprocess.run(
+        [sys.executable, '-m', 'pytest', '--collect-only', '-q', *args],
+        cwd=WS,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    return [line for line in out.stdout.splitlines() if '::' in line]
+
+
+def test_make_tests_two_processes_run_every_test_once():
+    """run_tests.py's selections split the tests: none left out, none run twice."""
+    spec = importlib.util.spec_from_file_location('run_tests', WS / 'scripts' / 'run_tests.py')
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    paths = ['tests/graph', 'hexapod_util/test']  # graph tests of both lanes, and others
+    everything = _collected(*paths)
+    parts = [_collected('-m', selection, *paths) for _, selection in module.PARTS]
+    assert all(parts) and sorted(sum(parts, [])) == sorted(everything)
+    second = [t for t in parts[1] if t.startswith('tests/graph/')]
+    assert second and len(second) < len([t for t in parts[0] if t.startswith('tests/graph/')])
