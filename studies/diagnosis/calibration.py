@@ -15,6 +15,10 @@ named) and left out (nothing should be named: "none of these" leads, or no hypot
 naming threshold). Prints one row per setting and trial count:
 
     python -m studies.diagnosis.calibration --engine mujoco --kind no_tibia --gaits 3
+
+``--kind all``: the 168 damages of every kind, each weighed against all of them (the bank of
+every kind); ``--shipped-only``: the shipped weighing alone, with the runs named right by kind
+and those that named the right legs with another kind.
 """
 
 from __future__ import annotations
@@ -36,7 +40,7 @@ from hexapod_adapt.online.diagnosis import (
 )
 from hexapod_adapt.online.session import NAME_THRESHOLD
 from hexapod_sim import create_simulator, SimConfig
-from hexapod_sim.damage import Damage
+from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
 from hexapod_sim.scenarios import scenario
 import numpy as np
 
@@ -105,6 +109,11 @@ def main(argv: list[str] | None = None) -> int:
         default=None,
         help="MuJoCo trials: the servos' compliance slope (32 stock; larger is softer)",
     )
+    parser.add_argument(
+        '--shipped-only',
+        action='store_true',
+        help='the shipped weighing only, with a count by kind',
+    )
     args = parser.parse_args(argv)
     trials = replace(SimConfig.converged(args.engine), friction=args.friction)
     if args.compliance_slope is not None:
@@ -112,11 +121,16 @@ def main(argv: list[str] | None = None) -> int:
         trials = replace(trials, mujoco=slope)
     archive = load_archive(args.archive)
     legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
-    damages = [Damage.of(args.kind, legs) for legs in legs_all]
+    kinds = EXPERIMENT_KINDS if args.kind == 'all' else (args.kind,)
+    damages = [Damage.of(kind, legs) for kind in kinds for legs in legs_all]
+    kind_of = [kind for kind in kinds for _ in legs_all]
     elites = archive.elite_indices()
     gaits = [int(n) for n in elites[np.argsort(-archive.fitness[elites])][: args.gaits]]
     r = residuals(archive, damages, trials, gaits)
     n = len(damages)
+    if args.shipped_only:
+        _by_kind(r, damages, kind_of, len(gaits))
+        return 0
     print('temperature none_dev trials | in bank: named right, named wrong | left out: named')
     for temperature, deviation in product(TEMPERATURES, NONE_DEVIATIONS):
         right = np.zeros(len(gaits), int)
@@ -140,6 +154,28 @@ def main(argv: list[str] | None = None) -> int:
                 flush=True,
             )
     return 0
+
+
+def _by_kind(r: np.ndarray, damages: list[Damage], kind_of: list[str], n_gaits: int) -> None:
+    """Print, per kind and trial count, the runs named right and those named on the right legs."""
+    shipped = Weighing()
+    everyone = np.ones(len(damages), bool)
+    print('kind trials | named right | right legs, another kind | none or below the threshold')
+    for kind in dict.fromkeys(kind_of):
+        rows = [i for i, k in enumerate(kind_of) if k == kind]
+        right = np.zeros(n_gaits, int)
+        legs = np.zeros(n_gaits, int)
+        for d in rows:
+            ps = posteriors(r[d], shipped.temperature, shipped.none_deviation, everyone)
+            for k, p in enumerate(ps):
+                lead = int(np.argmax(p))
+                named = lead < len(damages) and p[lead] >= NAME_THRESHOLD
+                right[k] += named and lead == d
+                same_legs = damages[lead].failed_legs == damages[d].failed_legs
+                legs[k] += named and lead != d and same_legs
+        for k in range(n_gaits):
+            rest = len(rows) - right[k] - legs[k]
+            print(f'{kind} {k + 1} | {right[k]} | {legs[k]} | {rest} of {len(rows)}', flush=True)
 
 
 if __name__ == '__main__':

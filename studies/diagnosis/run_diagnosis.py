@@ -6,7 +6,7 @@ Blind adaptation that names its damage (issue 67): the experiment's runs, with a
 Every orientation of the scenarios, damage of one kind, the default profile with the damaged
 tripod as the success floor and adapt_node's tip guard, no servo report, no damage told. The
 hypotheses are the shipped bank of that kind (the default map re-scored under each of its 21 leg
-sets, on MuJoCo); trials on ``--engine`` at its converged step (on MuJoCo too: not the physics
+sets, on MuJoCo), or of every kind (``--hypotheses every``: 168); trials on ``--engine`` at its converged step (on MuJoCo too: not the physics
 the hypotheses are walked in). One CSV row per run and a
 summary (``BENCH``-like lines, not benchmarks):
 
@@ -33,7 +33,7 @@ from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
 from hexapod_adapt.online.safety import RISK_LIMIT
 from hexapod_adapt.online.session import BlindRules, FirstGait
 from hexapod_sim import SimConfig
-from hexapod_sim.damage import Damage
+from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
 from hexapod_sim.scenarios import scenario
 import numpy as np
 
@@ -94,6 +94,12 @@ def main(argv: list[str] | None = None) -> int:
         help="while no damage is named, the first gait: the map's fastest, or the fastest on"
         ' average over the hypotheses',
     )
+    parser.add_argument(
+        '--hypotheses',
+        choices=('kind', 'every'),
+        default='kind',
+        help="the bank: the run's kind's 21 damages, or every kind's (168)",
+    )
     args = parser.parse_args(argv)
     blind = BlindRules(
         args.offset_std, args.stop == 'alpha', args.bank_prior, FirstGait(args.first)
@@ -102,7 +108,8 @@ def main(argv: list[str] | None = None) -> int:
     archive = load_archive(args.archive)
     map_engine = engine_of_map(archive)
     legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
-    damages = [Damage.of(args.kind, legs) for legs in legs_all]
+    kinds = EXPERIMENT_KINDS if args.hypotheses == 'every' else (args.kind,)
+    damages = [Damage.of(kind, legs) for kind in kinds for legs in legs_all]
     bank = load_bank(archive, map_engine, [shipped_ceilings()], damages)
     if bank.missing:
         print(f'not cached: {[d.label for d in bank.missing]}', file=sys.stderr)
@@ -118,7 +125,8 @@ def main(argv: list[str] | None = None) -> int:
         + f'+{args.stop}stop+offset{args.offset_std:g}'
         + f'+t{args.temperature:g}+none{args.none_deviation:g}'
         + ('+bankprior' if args.bank_prior else '')
-        + ('' if args.first == FirstGait.FASTEST.value else f'+first-{args.first}'),
+        + ('' if args.first == FirstGait.FASTEST.value else f'+first-{args.first}')
+        + ('+every-kind' if args.hypotheses == 'every' else ''),
         bank=bank,
         leave_out=args.leave_out,
         kind=args.kind,
@@ -161,9 +169,10 @@ def main(argv: list[str] | None = None) -> int:
 
 def summarise(rows, kind: str, engine: str) -> None:
     """Print the figures issue 67's acceptance names, for these runs."""
-    correct = sum(r.named_after(2) == Damage.of(kind, r.failed_legs).label for r in rows)
     tag = f'{kind}_{engine}'
-    print(f'diagnosis_correct_after_2_{tag} {correct} of {len(rows)}')
+    for k in (2, 3):
+        correct = sum(r.named_after(k) == Damage.of(kind, r.failed_legs).label for r in rows)
+        print(f'diagnosis_correct_after_{k}_{tag} {correct} of {len(rows)}')
     print(f'trials_median_{tag} {np.median([r.trials for r in rows]):g}')
     print(f'best_mean_{tag} {np.mean([r.best_speed for r in rows]):.3f} m/s')
     print(f'tipped_trials_{tag} {sum(r.tipped_trials for r in rows)}')
