@@ -320,6 +320,10 @@ def run_node(
             _let_callbacks_end(executor, SHUTDOWN_WAIT_S)
             node.destroy_node()
         rclpy.try_shutdown()
+        # the node is down: a Ctrl-C still on its way (a launcher's after a terminal's) must not
+        # kill the process as it ends, where Python gives SIGINT back its default action
+        if threading.current_thread() is threading.main_thread():
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
     return 0
 
 

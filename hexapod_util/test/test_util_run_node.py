@@ -190,3 +190,31 @@ def test_a_stop_that_comes_while_the_node_starts_stops_it_cleanly(signame: str):
     )
     assert done.returncode == 0, done.stderr
     assert done.stdout == 'clean-up\n'
+
+
+def test_ctrl_cs_that_come_while_the_process_ends_are_not_its_death():
+    """
+    A Ctrl-C that reaches a node as its process ends is not its death.
+
+    A launcher's Ctrl-C may come after a terminal's, when the node has cleaned up (CI,
+    2026-12-03: a launcher exited 130, a node killed by it): Python restores SIGINT's default
+    action as the interpreter ends, so the node ignores it once it is down.
+    """
+    proc = subprocess.Popen(
+        [sys.executable, '-c', SPINNING, '0'],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert proc.stdout.readline() == 'spinning\n'
+    proc.send_signal(signal.SIGINT)
+    assert proc.stdout.readline() == 'clean-up\n'
+    sent = 0
+    end = time.monotonic() + 30
+    while proc.poll() is None and time.monotonic() < end:
+        proc.send_signal(signal.SIGINT)  # within SAME_CTRL_C_S of the first: the same Ctrl-C
+        sent += 1
+        time.sleep(0.002)
+    out, err = proc.communicate(timeout=30)
+    assert proc.returncode == 0, (proc.returncode, sent, err[-2000:])
+    assert out.endswith('cleaned up\n')
