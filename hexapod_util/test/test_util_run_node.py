@@ -83,8 +83,8 @@ SPINNING = textwrap.dedent(
 )
 
 
-def ctrl_c_twice(clean_up_s: float, gap_s: float) -> tuple[int, str, str]:
-    """Start a spinning node, send SIGINT twice ``gap_s`` apart; return its (status, out, err)."""
+def stopping(clean_up_s: float) -> subprocess.Popen:
+    """Start a spinning node and Ctrl-C it; return it as its clean-up begins."""
     proc = subprocess.Popen(
         [sys.executable, '-c', SPINNING, str(clean_up_s)],
         stdout=subprocess.PIPE,
@@ -94,6 +94,12 @@ def ctrl_c_twice(clean_up_s: float, gap_s: float) -> tuple[int, str, str]:
     assert proc.stdout.readline() == 'spinning\n'
     proc.send_signal(signal.SIGINT)
     assert proc.stdout.readline() == 'clean-up\n'
+    return proc
+
+
+def ctrl_c_twice(clean_up_s: float, gap_s: float) -> tuple[int, str, str]:
+    """Start a spinning node, send SIGINT twice ``gap_s`` apart; return its (status, out, err)."""
+    proc = stopping(clean_up_s)
     time.sleep(gap_s)
     proc.send_signal(signal.SIGINT)
     out, err = proc.communicate(timeout=30)
@@ -200,15 +206,7 @@ def test_ctrl_cs_that_come_while_the_process_ends_are_not_its_death():
     2026-12-03: a launcher exited 130, a node killed by it): Python restores SIGINT's default
     action as the interpreter ends, so the node ignores it once it is down.
     """
-    proc = subprocess.Popen(
-        [sys.executable, '-c', SPINNING, '0'],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
-    assert proc.stdout.readline() == 'spinning\n'
-    proc.send_signal(signal.SIGINT)
-    assert proc.stdout.readline() == 'clean-up\n'
+    proc = stopping(0.0)
     sent = 0
     end = time.monotonic() + 30
     while proc.poll() is None and time.monotonic() < end:
