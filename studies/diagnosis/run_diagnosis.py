@@ -6,9 +6,9 @@ Blind adaptation that names its damage (issue 67): the experiment's runs, with a
 Every orientation of the scenarios, damage of one kind, the default profile with the damaged
 tripod as the success floor and adapt_node's tip guard, no servo report, no damage told. The
 hypotheses are the shipped bank of that kind (the default map re-scored under each of its 21 leg
-sets, on MuJoCo), or of every kind (``--hypotheses every``: 168); trials on ``--engine`` at its converged step (on MuJoCo too: not the physics
-the hypotheses are walked in). One CSV row per run and a
-summary (``BENCH``-like lines, not benchmarks):
+sets, on MuJoCo), or of every kind (``--hypotheses every``: 168); trials on ``--engine`` at its
+converged step (on MuJoCo too: not the physics the hypotheses are walked in). One CSV row per
+run and a summary (``BENCH``-like lines, not benchmarks):
 
     python -m studies.diagnosis.run_diagnosis --engine pybullet --kind lifted \
         --out studies/diagnosis/results/lifted_pybullet.csv

@@ -28,8 +28,9 @@ def node_modules() -> dict[str, str]:
     found = {}
     for setup in sorted(WS.glob('hexapod_*/setup.py')):
         for node in ast.walk(ast.parse(setup.read_text(encoding='utf-8'))):
-            if isinstance(node, ast.Constant) and isinstance(node.value, str) and '=' in node.value:
-                exe, _, target = (part.strip() for part in node.value.partition('='))
+            text = node.value if isinstance(node, ast.Constant) else None
+            if isinstance(text, str) and '=' in text:
+                exe, _, target = (part.strip() for part in text.partition('='))
                 if exe.endswith(('_node', '_client', 'state_publisher')) and ':' in target:
                     found[exe] = target.split(':')[0]
     return found
@@ -45,8 +46,7 @@ def test_the_nodes_are_found():
 def test_a_node_loads_no_offline_library(exe):
     module = node_modules()[exe]
     probe = (
-        f'import sys, {module}\n'
-        f'print(" ".join(m for m in {OFFLINE_ONLY!r} if m in sys.modules))\n'
+        f'import sys, {module}\nprint(" ".join(m for m in {OFFLINE_ONLY!r} if m in sys.modules))\n'
     )
     out = subprocess.run(
         [sys.executable, '-c', probe], capture_output=True, text=True, timeout=120, check=True

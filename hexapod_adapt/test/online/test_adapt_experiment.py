@@ -16,7 +16,7 @@ DEMO_MAP = Path(__file__).resolve().parents[2] / 'maps' / 'demo_map.npz'
 
 @pytest.fixture(scope='module')
 def demo_cut(tmp_path_factory) -> Path:
-    """The demo map's 40 fastest gaits in its niches (a ceiling walks each gait of its map)."""
+    """Return the demo map's 40 fastest gaits alone (a ceiling walks every gait of its map)."""
     from hexapod_adapt.mapping.archive import Archive, load_archive
     import numpy as np
 
