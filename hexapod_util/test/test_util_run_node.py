@@ -213,6 +213,8 @@ def test_ctrl_cs_that_come_while_the_process_ends_are_not_its_death():
         proc.send_signal(signal.SIGINT)  # within SAME_CTRL_C_S of the first: the same Ctrl-C
         sent += 1
         time.sleep(0.002)
-    out, err = proc.communicate(timeout=30)
+    proc.wait(timeout=30)
+    # read through the text streams: readline may have buffered the last line already
+    out, err = proc.stdout.read(), proc.stderr.read()
     assert proc.returncode == 0, (proc.returncode, sent, err[-2000:])
     assert out.endswith('cleaned up\n')
