@@ -220,19 +220,27 @@ def _bench_damage_kinds(
     Per kind K: adapt_beats_control_<K> (of the 21 S1-S4 cases), adapt_speed_mean_<K>,
     adapt_tipped_trials_<K> and, where the shipped cache holds the kind's 21 ceilings,
     adapt_ceiling_ratio_median_<K> and _min_<K>; the same with the damage-informed prior (suffix
-    _prior), which needs those ceilings. Trials have adapt_node's tip guard, as the experiment's.
+    _prior), which needs those ceilings. Blind runs name their damage among the hypotheses
+    adapt_node's blind requests weigh (the shipped bank, :data:`BANK_DAMAGES`):
+    adapt_diagnosis_correct_<K> (kind and legs named after 3 trials), adapt_trials_median_<K>
+    and adapt_best_after_<k>_<K>; blind runs are walked again on the other engine (suffix
+    _cross, at its converged step). Trials have adapt_node's tip guard, as the experiment's.
     ``kinds``: these kinds only (default: every one).
     """
     from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
+    from hexapod_adapt.online.bank import load_bank
     from hexapod_adapt.online.ceiling import cached_ceiling, ceiling
     from hexapod_adapt.online.experiment import ExperimentSetup, run_experiment
     from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
+    from hexapod_sim import ENGINES
     from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
 
     unknown = set(kinds) - set(EXPERIMENT_KINDS)
     if unknown:
         raise SystemExit(f'unknown damage kinds {sorted(unknown)}: one of {EXPERIMENT_KINDS}')
     config = replace(PROFILES['default'], max_trials=TRIAL_BUDGET)
+    bank = load_bank(archive, map_engine, [cached])  # what adapt_node's blind runs weigh
+    other = next(e for e in ENGINES if e != map_engine)
     for kind in kinds or EXPERIMENT_KINDS:
         damages = [Damage.of(kind, legs) for legs in legs_all]
         have = all(cached_ceiling(archive, d, map_engine, [cached]) is not None for d in damages)
@@ -242,21 +250,32 @@ def _bench_damage_kinds(
         def ceilings(damage, engine):
             return ceiling(archive, damage, engine, cached)
 
-        for suffix, informed in (('', False), ('_prior', True)):
+        for suffix, informed, engine in (
+            ('', False, map_engine),
+            ('_prior', True, map_engine),
+            ('_cross', False, other),
+        ):
             if informed and not have:
                 continue
             rows = run_experiment(
                 archive,
                 ExperimentSetup(
                     config=config,
-                    ceilings=ceilings if have else None,
+                    trial_engine=engine,  # another engine at its converged step (map_physics)
+                    ceilings=ceilings if have and engine == map_engine else None,
                     floor=True,
                     priors=(lambda d: ceilings(d, map_engine).speeds) if informed else None,
                     setup='default' + ('+prior' if informed else ''),
                     kind=kind,
                     tip_guard=DEFAULT_TIP_GUARD,
+                    bank=bank,
+                    diagnose=not informed,
                 ),
             )
+            if not informed:  # kind and legs, named by trial 3 (issue 67's target)
+                _print_diagnosis(rows, f'_{kind}{suffix}', 3)
+                trials = np.median([r.trials for r in rows])
+                print(f'BENCH adapt_trials_median_{kind}{suffix} {trials:.1f} trials')
             best = np.array([r.best_speed for r in rows])
             control = np.array([r.control_speed for r in rows])
             name = f'{kind}{suffix}'
@@ -265,7 +284,7 @@ def _bench_damage_kinds(
             print(f'BENCH adapt_speed_mean_{name} {best.mean():.3f} m/s')
             print(f'BENCH control_speed_mean_{name} {control.mean():.3f} m/s')
             print(f'BENCH adapt_tipped_trials_{name} {sum(r.tipped_trials for r in rows)} trials')
-            if have:
+            if have and engine == map_engine:
                 ratio = np.median([r.ratio for r in rows])
                 print(f'BENCH adapt_ceiling_ratio_median_{name} {ratio:.3f} 1')
                 print(f'BENCH adapt_ceiling_ratio_min_{name} {min(r.ratio for r in rows):.3f} 1')
@@ -318,11 +337,16 @@ def _print_experiment(rows, suffix: str, have: bool, engine: str, cached) -> Non
         f'BENCH adapt_stopped_by_rule{suffix} {sum(r.success for r in rows)} of {len(rows)} runs'
     )
     if any(r.named for r in rows):  # a diagnosing run: the damage named, the anytime curve
-        from hexapod_sim.damage import Damage
+        _print_diagnosis(rows, suffix, 2)
 
-        truth = [Damage.of(r.damage_kind, r.failed_legs).label for r in rows]
-        correct = sum(r.named_after(2) == label for r, label in zip(rows, truth))
-        print(f'BENCH adapt_diagnosis_correct{suffix} {correct} of {len(rows)} runs')
-        for k in (1, 3, 5, 8, 12, 24):
-            best = np.mean([r.best_after(k) for r in rows])
-            print(f'BENCH adapt_best_after_{k}{suffix} {best:.3f} m/s')
+
+def _print_diagnosis(rows, suffix: str, by: int) -> None:
+    """Print the runs whose damage was named after ``by`` trials, and the anytime curve."""
+    from hexapod_sim.damage import Damage
+
+    truth = [Damage.of(r.damage_kind, r.failed_legs).label for r in rows]
+    correct = sum(r.named_after(by) == label for r, label in zip(rows, truth))
+    print(f'BENCH adapt_diagnosis_correct{suffix} {correct} of {len(rows)} runs')
+    for k in (1, 3, 5, 8, 12, 24):
+        best = np.mean([r.best_after(k) for r in rows])
+        print(f'BENCH adapt_best_after_{k}{suffix} {best:.3f} m/s')
