@@ -4,8 +4,9 @@
 Run every test in two pytest processes side by side: `make test`.
 
 One process runs the tests that start a ROS graph or a node (marked ``graph`` by conftest.py),
-one at a time; the other runs the rest, and then the graph tests marked ``second_lane`` (the
-robot path's real-time trials), so that the two end together. So the 2-core machine's second
+one at a time; the other runs the rest, the graph tests marked ``second_lane`` among them (the
+robot path's real-time trials, collected after the packages' tests), so that the two end
+together. So the 2-core machine's second
 core works while the graphs wait on DDS and simulated time. Each process takes its own DDS
 domains (``HEXAPOD_TEST_SHARD``, tests/conftest.py). Their outputs go to
 ``build/test-<part>.log`` and are printed whole when both have ended; the exit status is the
