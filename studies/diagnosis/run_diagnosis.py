@@ -100,6 +100,12 @@ def main(argv: list[str] | None = None) -> int:
         default='kind',
         help="the bank: the run's kind's 21 damages, or every kind's (168)",
     )
+    parser.add_argument(
+        '--leg-sets',
+        action=argparse.BooleanOptionalAction,
+        default=False,
+        help='name a leg set when its hypotheses of several kinds hold the threshold together',
+    )
     args = parser.parse_args(argv)
     blind = BlindRules(
         args.offset_std, args.stop == 'alpha', args.bank_prior, FirstGait(args.first)
@@ -126,7 +132,8 @@ def main(argv: list[str] | None = None) -> int:
         + f'+t{args.temperature:g}+none{args.none_deviation:g}'
         + ('+bankprior' if args.bank_prior else '')
         + ('' if args.first == FirstGait.FASTEST.value else f'+first-{args.first}')
-        + ('+every-kind' if args.hypotheses == 'every' else ''),
+        + ('+every-kind' if args.hypotheses == 'every' else '')
+        + ('+leg-sets' if args.leg_sets else ''),
         bank=bank,
         leave_out=args.leave_out,
         kind=args.kind,
@@ -135,6 +142,7 @@ def main(argv: list[str] | None = None) -> int:
         safety=args.risk_limit or None,
         blind=blind,
         weighing=weighing,
+        leg_sets=args.leg_sets,
     )
     out = Path(args.out)
     if out.exists() and not args.force:
@@ -173,6 +181,8 @@ def summarise(rows, kind: str, engine: str) -> None:
     for k in (2, 3):
         correct = sum(r.named_after(k) == Damage.of(kind, r.failed_legs).label for r in rows)
         print(f'diagnosis_correct_after_{k}_{tag} {correct} of {len(rows)}')
+        legs = sum(r.legs_named_after(k) == tuple(r.failed_legs) for r in rows)
+        print(f'legs_named_after_{k}_{tag} {legs} of {len(rows)}')
     print(f'trials_median_{tag} {np.median([r.trials for r in rows]):g}')
     print(f'best_mean_{tag} {np.mean([r.best_speed for r in rows]):.3f} m/s')
     print(f'tipped_trials_{tag} {sum(r.tipped_trials for r in rows)}')

@@ -42,6 +42,8 @@ class AdaptationResult:
     config: MboaConfig | None = None
     #: what a blind run's diagnosis said: the damage named after each trial ('' none), in order
     named: list[str] = field(default_factory=list)
+    #: the legs of what it named after each trial (() none): one leg set, whatever the kinds
+    named_legs: list[tuple[int, ...]] = field(default_factory=list)
     posterior: str = ''  # the diagnosis's last posterior, its top hypotheses ('' no diagnosis)
 
 

@@ -68,7 +68,7 @@ class ExperimentSetup:
     DiagnosisPlan`); with a ``tip_guard``, a safety model with risk limit ``safety`` (None:
     none) screens their gaits (:class:`~hexapod_adapt.online.safety.SafetyModel`), and
     ``blind`` says how they adapt and stop while they name nothing, ``weighing`` how a trial
-    weighs the hypotheses.
+    weighs the hypotheses, ``leg_sets`` whether they may name a leg set of several kinds.
     """
 
     scenarios: Sequence[str] = ('S1', 'S2', 'S3', 'S4')
@@ -89,6 +89,7 @@ class ExperimentSetup:
     safety: float | None = RISK_LIMIT
     blind: BlindRules = BlindRules()
     weighing: Weighing = Weighing()
+    leg_sets: bool = False
 
 
 @dataclass
@@ -119,6 +120,7 @@ class ExperimentRow:
     tipped_trials: int = 0  # trials the tip guard stopped
     #: a diagnosing run's damage named after each trial ('' none), '|'-joined
     named: str = ''
+    named_legs: str = ''  # the legs of each, e.g. '1+4|1+4' ('' where none)
     posterior: str = ''  # its last posterior's top hypotheses
     trial_speeds: tuple[float, ...] = ()  # each trial's measured speed, in order (tipped: 0)
     vetoed: int = 0  # gaits a tip screen or the safety model kept from being tried
@@ -131,6 +133,14 @@ class ExperimentRow:
         """Return the damage the diagnosis named after trial ``k`` (its last if it stopped)."""
         names = self.named.split('|') if self.named else []
         return names[min(k, len(names)) - 1] if names else ''
+
+    def legs_named_after(self, k: int) -> tuple[int, ...]:
+        """Return the legs the diagnosis named after trial ``k`` (() none)."""
+        if not self.named:
+            return ()
+        sets = self.named_legs.split('|')
+        legs = sets[min(k, len(sets)) - 1]
+        return tuple(int(leg) for leg in legs.split('+')) if legs else ()
 
 
 def _screen(archive: Archive, damage: Damage, engine: str, guard: float) -> TipScreen | None:
@@ -170,6 +180,7 @@ def _start(
                 safety=s.safety,
                 blind=s.blind,
                 weighing=s.weighing,
+                leg_sets=s.leg_sets,
             )
     return SessionStart(hypotheses=hypotheses, floor=floor, diagnosis=plan)
 
@@ -224,6 +235,7 @@ def _row(
         damage_kind=s.kind,
         tipped_trials=len(result.tipped),
         named='|'.join(result.named),
+        named_legs='|'.join('+'.join(map(str, legs)) for legs in result.named_legs),
         posterior=result.posterior,
         trial_speeds=tuple(float(t.measured) for t in result.trials),
         vetoed=len(result.vetoed),

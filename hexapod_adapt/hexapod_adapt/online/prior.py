@@ -77,6 +77,27 @@ class TipScreen:
         self._tilts_of, self.guard = tilts_of, float(guard)
         self.tilts: dict[int, float] = {}  # position -> peak tilt [rad], each walked once
 
+    @classmethod
+    def worst_of(cls, screens: Sequence[TipScreen]) -> TipScreen:
+        """
+        Return a screen of several damages at once: a gait's tilt is the largest of theirs.
+
+        A gait that tips under any of them is vetoed (the damage is one of them, which is not
+        known). Each screen still walks each gait once.
+        """
+        if not screens:
+            raise ValueError('worst_of needs at least one screen')
+
+        def tilts_of(positions: np.ndarray) -> np.ndarray:
+            worst = []
+            for position in map(int, positions):
+                for screen in screens:
+                    screen.tips(position)
+                worst.append(max(screen.tilts[position] for screen in screens))
+            return np.array(worst)
+
+        return cls(tilts_of, min(screen.guard for screen in screens))
+
     @property
     def tipping(self) -> list[int]:
         """Return the positions walked so far that tilt past the guard, in order."""

@@ -118,7 +118,10 @@ class DiagnosisPlan:
     (its re-score, its stop rule, its tip screen: ``screen_of(damage)``); once it falls below
     ``release``, the run goes back to the map as it is, under ``blind``'s rules. ``safety``: the
     gaits whose risk of tipping is above its limit are not tried, a damage named or not (None:
-    no such screen).
+    no such screen). ``leg_sets``: when no one hypothesis holds the threshold but hypotheses of
+    one leg set do together (a lifted leg and its unpowered coxa walk alike), name that leg set:
+    the fewest of its hypotheses that hold it, the run going on as their re-scores weighed by
+    the posterior, with every one's tip screen.
     """
 
     diagnosis: Diagnosis
@@ -129,6 +132,7 @@ class DiagnosisPlan:
     release: float = RELEASE_THRESHOLD
     safety: SafetyModel | None = None
     blind: BlindRules = BlindRules()
+    leg_sets: bool = False
 
     def __post_init__(self) -> None:
         if len(self.damages) != len(self.diagnosis.labels) or len(self.priors) != len(
@@ -139,6 +143,36 @@ class DiagnosisPlan:
             raise ValueError(
                 f'need 0 < release <= threshold < 1, got {self.release} and {self.threshold}'
             )
+
+    def holding(self, probabilities: np.ndarray) -> tuple[int, ...] | None:
+        """
+        Return the hypotheses the posterior names (None: none holds the threshold).
+
+        One hypothesis past the threshold; else, with ``leg_sets``, the fewest hypotheses of one
+        leg set that hold it together, most probable first.
+        """
+        p = np.asarray(probabilities, dtype=float)[: len(self.damages)]
+        best = int(np.argmax(p))
+        if p[best] >= self.threshold:
+            return (best,)
+        if not self.leg_sets:
+            return None
+        for legs in {d.failed_legs for d in self.damages}:
+            members = [h for h, d in enumerate(self.damages) if d.failed_legs == legs]
+            members.sort(key=lambda h: -p[h])
+            held = np.cumsum(p[members])
+            if held[-1] >= self.threshold:  # at most one leg set can: the threshold is > 1/2
+                return tuple(members[: int(np.argmax(held >= self.threshold)) + 1])
+        return None
+
+    def label_of(self, named: tuple[int, ...]) -> str:
+        """Say what ``named`` names, e.g. ``leg 1 lifted or leg 1 unpowered coxa``."""
+        return ' or '.join(self.damages[h].label for h in named)
+
+    def prior_of(self, named: tuple[int, ...], probabilities: np.ndarray) -> np.ndarray:
+        """Return the re-scores of ``named`` weighed by their share of ``probabilities``."""
+        w = np.asarray(probabilities, dtype=float)[list(named)]
+        return (w / w.sum()) @ np.asarray(self.priors)[list(named)]
 
 
 def diagnosis_plan(
@@ -151,6 +185,7 @@ def diagnosis_plan(
     safety: float | None = RISK_LIMIT,
     blind: BlindRules = BlindRules(),
     weighing: Weighing = Weighing(),
+    leg_sets: bool = False,
 ) -> DiagnosisPlan | None:
     """
     Return the diagnosis of a blind run over ``bank``'s damages (None: the bank is empty).
@@ -160,7 +195,7 @@ def diagnosis_plan(
     known one does (:func:`informed_start`), and a :class:`SafetyModel` over the same walks
     with risk limit ``safety`` (None: none) screens them, a damage named or not. ``blind``: how
     the run adapts and stops while it names nothing; ``weighing``: how a trial weighs the
-    hypotheses.
+    hypotheses; ``leg_sets``: whether a leg set may be named (:class:`DiagnosisPlan`).
     """
     if len(bank) == 0:
         return None
@@ -187,7 +222,14 @@ def diagnosis_plan(
             limit=safety,
         )
     return DiagnosisPlan(
-        diagnosis, bank.damages, bank.speeds, screen_of, threshold, safety=model, blind=blind
+        diagnosis,
+        bank.damages,
+        bank.speeds,
+        screen_of,
+        threshold,
+        safety=model,
+        blind=blind,
+        leg_sets=leg_sets,
     )
 
 
@@ -342,7 +384,8 @@ class AdaptationSession:
         self.opt = Mboa(descriptors, prior, self.rules, hypotheses=self.start.hypotheses)
         self._blind = (prior, self.rules)  # what a released diagnosis goes back to
         self.screen = self.start.screen
-        self.named: int | None = None  # the diagnosis's hypothesis the run goes on as
+        self.named: tuple[int, ...] | None = None  # the diagnosis's hypotheses the run goes on as
+        self._screens: dict[int, TipScreen | None] = {}  # each hypothesis's, made when named
         self.posterior: Posterior | None = None  # the diagnosis's, after the last trial
         self._result = AdaptationResult(False, '', config=self.rules)
         self._asked: int | None = None  # the candidate index of the niche ask() returned
@@ -455,38 +498,51 @@ class AdaptationSession:
         self._result.elapsed = time.monotonic() - self._t0
 
     def _diagnose(self, niche: int, record: TrialRecord) -> None:
-        """Weigh the hypotheses by a trial; name a damage, keep it, or give it up."""
+        """Weigh the hypotheses by a trial; name a damage or a leg set, keep it, or give it up."""
         plan = self.start.diagnosis
         post = self.posterior = plan.diagnosis.observe(niche, record)
         if plan.safety is not None:
             plan.safety.weigh(post.probabilities)
         self._result.posterior = post.describe()
-        leader, p = post.leader, post.probabilities
-        holds = leader < len(plan.damages) and p[leader] >= plan.threshold
-        if holds and leader != self.named:
-            self._go_on_as(leader)
-        elif self.named is not None and p[self.named] < plan.release:
+        p = post.probabilities
+        holding = plan.holding(p)
+        if holding is not None and (holding != self.named or len(holding) > 1):
+            self._go_on_as(holding)  # a leg set's weights follow the posterior
+        elif self.named is not None and p[list(self.named)].sum() < plan.release:
             self._go_on_as(None)
         elif self.named is None and self._bank_prior():
             self._go_on_as(None)  # the blind prior, weighed by the new posterior
-        self._result.named.append('' if self.named is None else plan.damages[self.named].label)
+        named, result = self.named, self._result
+        result.named.append('' if named is None else plan.label_of(named))
+        result.named_legs.append(() if named is None else plan.damages[named[0]].failed_legs)
 
-    def _go_on_as(self, h: int | None) -> None:
-        """Go on as hypothesis ``h``'s damage-informed prior (None: the map, blind)."""
+    def _go_on_as(self, named: tuple[int, ...] | None) -> None:
+        """Go on as the damage-informed prior of the ``named`` hypotheses (None: blind)."""
         plan = self.start.diagnosis
-        if h is None:
+        if named is None:
             prior, self.rules = self._blind
             if self._bank_prior():
                 prior = blended_prior(plan, self._map_prior)
                 self._blind = (prior, self.rules)
             self.screen = self.start.screen
         else:
-            prior = plan.priors[h]
+            prior = plan.prior_of(named, self.posterior.probabilities)
             self.rules = run_rules(self.config, replace(self.start, prior=prior))
-            self.screen = plan.screen_of(plan.damages[h])
-        self.named = h
+            screens = [self._screen_of(h) for h in named]
+            if None in screens or len(screens) == 1:
+                self.screen = screens[0]  # None: no tip guard
+            else:
+                self.screen = TipScreen.worst_of(screens)
+        self.named = named
         self.opt = _with_prior(self.opt, prior, self.rules)
         self._result.config = self.rules
+
+    def _screen_of(self, h: int) -> TipScreen | None:
+        """Return hypothesis ``h``'s tip screen (made once: each keeps the gaits it walked)."""
+        if h not in self._screens:
+            plan = self.start.diagnosis
+            self._screens[h] = plan.screen_of(plan.damages[h])
+        return self._screens[h]
 
     def _first_index(self) -> int | None:
         """

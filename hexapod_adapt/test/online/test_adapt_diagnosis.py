@@ -27,10 +27,12 @@ from hexapod_adapt.online.diagnosis import (
     Weighing,
 )
 from hexapod_adapt.online.mboa import MboaConfig, PROFILES
+from hexapod_adapt.online.prior import TipScreen
 from hexapod_adapt.online.session import (
     AdaptationSession,
     BlindRules,
     diagnosis_plan,
+    DiagnosisPlan,
     FirstGait,
     SessionStart,
 )
@@ -167,7 +169,7 @@ def test_a_blind_session_goes_on_as_the_damage_it_names_and_back_when_contradict
     first = recorded_trial(archive, damages[1], trial_sim)
     niche = session.ask()
     session.tell(niche, first(niche))
-    assert session.named == 1, session.posterior.describe()
+    assert session.named == (1,), session.posterior.describe()
     assert session.rules.stop_gain is None  # as the damage's prior: alpha's rule alone
     assert session.rules.offset_std == 0.0
     assert session.result().named == [damages[1].label]
@@ -178,9 +180,9 @@ def test_a_blind_session_goes_on_as_the_damage_it_names_and_back_when_contradict
         if niche is None:
             break
         session.tell(niche, other(niche))
-        if session.named != 1:
+        if session.named != (1,):
             break
-    assert session.named in (None, 2), session.posterior.describe()
+    assert session.named in (None, (2,)), session.posterior.describe()
     assert session.result().posterior.startswith(damages[2].label) or session.named is None
 
 
@@ -196,7 +198,7 @@ def test_blind_rules_hold_while_nothing_is_named_and_the_prior_s_once_named(
     first = recorded_trial(archive, damages[1], trial_sim)
     niche = session.ask()
     session.tell(niche, first(niche))
-    assert session.named == 1, session.posterior.describe()
+    assert session.named == (1,), session.posterior.describe()
     # as the damage's prior: its rules, not the blind ones
     assert session.rules.stop_gain is None and session.rules.offset_std == 0.0
     # the default plan keeps the profile's expected-gain stop and no offset
@@ -247,6 +249,74 @@ def test_the_first_gait_may_be_the_fastest_on_average_over_the_hypotheses(
         assert session.ask() not in (None, niche)  # M-BOA chooses the second
     assert firsts[FirstGait.FASTEST] == int(session.niches[np.argmax(map_prior)])
     assert firsts[FirstGait.EXPECTED] == int(session.niches[robust])
+
+
+def _leg_one_plan(archive, walks, leg_sets: bool, tips: dict[int, int] | None = None):
+    """Return a plan whose first two hypotheses (leg 1 lifted, its coxa dead) walk alike."""
+    damages = (Damage.lifted([1]), Damage.of('unpowered_coxa', [1]), Damage.lifted([4]))
+    alike = (damages[0], damages[0], damages[2])  # the first two: the very same walks
+    diagnosis = Diagnosis(tuple(d.label for d in damages), walks.under(alike))
+    bank = _bank(archive, list(damages))
+    tips = tips or {}
+
+    def screen_of(damage: Damage) -> TipScreen:
+        tipping = tips.get(damages.index(damage))  # this damage's one gait that tips
+        return TipScreen(lambda positions: np.where(positions == tipping, 1.0, 0.1), 0.5)
+
+    plan = DiagnosisPlan(diagnosis, damages, bank.speeds, screen_of, leg_sets=leg_sets)
+    return plan, damages
+
+
+def test_a_plan_names_the_fewest_hypotheses_of_one_leg_set_that_hold_it():
+    damages = (
+        Damage.lifted([1]),
+        Damage.of('unpowered_coxa', [1]),
+        Damage.of('unpowered_tibia', [1]),
+        Damage.lifted([4]),
+    )
+    plan = DiagnosisPlan(
+        Diagnosis(tuple(d.label for d in damages), lambda niche, h: None),
+        damages,
+        np.zeros((4, 3)),
+        lambda damage: None,
+        leg_sets=True,
+    )
+    # p: the four hypotheses, then none of these
+    assert plan.holding(np.array([0.92, 0.03, 0.0, 0.05, 0.0])) == (0,)
+    assert plan.holding(np.array([0.41, 0.39, 0.15, 0.03, 0.02])) == (0, 1, 2)
+    assert plan.holding(np.array([0.55, 0.05, 0.36, 0.0, 0.04])) == (0, 2)
+    assert plan.holding(np.array([0.5, 0.2, 0.1, 0.15, 0.05])) is None  # the set holds 0.8
+    assert replace(plan, leg_sets=False).holding(np.array([0.41, 0.39, 0.15, 0.03, 0.02])) is None
+    assert plan.label_of((0, 1)) == 'leg 1 lifted or leg 1 unpowered coxa'
+
+
+def test_a_session_named_a_leg_set_goes_on_as_its_weighed_re_scores_and_every_screen(
+    archive, walks, trial_sim
+):
+    config = replace(PROFILES['default'], max_trials=3, min_speed=0.9)
+    trial = recorded_trial(archive, Damage.lifted([1]), trial_sim)
+    # without leg sets the two that walk alike share the posterior and nothing is named
+    plan, damages = _leg_one_plan(archive, walks, leg_sets=False)
+    session = AdaptationSession(archive, config, SessionStart(diagnosis=plan))
+    niche = session.ask()
+    session.tell(niche, trial(niche))
+    p = session.posterior.probabilities
+    assert p[0] == pytest.approx(p[1]) and p[0] + p[1] > 0.9, session.posterior.describe()
+    assert session.named is None and session.result().named_legs == [()]
+    # with them the leg set is named; each of its screens vetoes its own tipping gait
+    _, _, map_prior = candidates(archive)
+    order = [int(i) for i in np.argsort(-map_prior, kind='stable')]
+    tips = {0: order[5], 1: order[6]}
+    plan, damages = _leg_one_plan(archive, walks, leg_sets=True, tips=tips)
+    session = AdaptationSession(archive, config, SessionStart(diagnosis=plan))
+    niche = session.ask()
+    session.tell(niche, trial(niche))
+    assert session.named == (0, 1), session.posterior.describe()
+    np.testing.assert_allclose(session.opt.prior, 0.5 * (plan.priors[0] + plan.priors[1]))
+    assert session.screen.tips(order[5]) and session.screen.tips(order[6])
+    assert not session.screen.tips(order[7])
+    assert session.result().named == ['leg 1 lifted or leg 1 unpowered coxa']
+    assert session.result().named_legs == [(1,)]
 
 
 def test_a_trial_without_a_record_leaves_the_diagnosis_alone(archive, walks):
