@@ -31,7 +31,7 @@ from hexapod_adapt.online.diagnosis import Weighing
 from hexapod_adapt.online.experiment import ExperimentSetup, run_experiment
 from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
 from hexapod_adapt.online.safety import RISK_LIMIT
-from hexapod_adapt.online.session import BlindRules, FirstGait
+from hexapod_adapt.online.session import BlindRules, FirstGait, NAME_LEG_SETS
 from hexapod_sim import SimConfig
 from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
 from hexapod_sim.scenarios import scenario
@@ -103,7 +103,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         '--leg-sets',
         action=argparse.BooleanOptionalAction,
-        default=False,
+        default=NAME_LEG_SETS,
         help='name a leg set when its hypotheses of several kinds hold the threshold together',
     )
     args = parser.parse_args(argv)
@@ -133,7 +133,7 @@ def main(argv: list[str] | None = None) -> int:
         + ('+bankprior' if args.bank_prior else '')
         + ('' if args.first == FirstGait.FASTEST.value else f'+first-{args.first}')
         + ('+every-kind' if args.hypotheses == 'every' else '')
-        + ('+leg-sets' if args.leg_sets else ''),
+        + ('+leg-sets' if args.leg_sets and args.hypotheses == 'every' else ''),
         bank=bank,
         leave_out=args.leave_out,
         kind=args.kind,

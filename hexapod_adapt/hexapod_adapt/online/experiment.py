@@ -27,7 +27,13 @@ from hexapod_adapt.online.diagnosis import HypothesisWalks, Weighing
 from hexapod_adapt.online.mboa import MboaConfig
 from hexapod_adapt.online.prior import simulated_tilts, TipScreen
 from hexapod_adapt.online.safety import RISK_LIMIT
-from hexapod_adapt.online.session import adapt, BlindRules, diagnosis_plan, SessionStart
+from hexapod_adapt.online.session import (
+    adapt,
+    BlindRules,
+    diagnosis_plan,
+    NAME_LEG_SETS,
+    SessionStart,
+)
 from hexapod_gait import preset
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig, Simulator
 from hexapod_sim.damage import Damage
@@ -89,7 +95,7 @@ class ExperimentSetup:
     safety: float | None = RISK_LIMIT
     blind: BlindRules = BlindRules()
     weighing: Weighing = Weighing()
-    leg_sets: bool = False
+    leg_sets: bool = NAME_LEG_SETS
 
 
 @dataclass

@@ -76,6 +76,10 @@ class PriorSource(Protocol):
 NAME_THRESHOLD = 0.9
 #: A named damage is given up when its probability falls below this.
 RELEASE_THRESHOLD = 0.5
+#: Whether a leg set whose hypotheses of several kinds hold the threshold together is named
+#: (won on a tuning set: studies/diagnosis/README.md, "Naming the leg set"; a bank of one kind
+#: has one hypothesis per leg set, and names as without it).
+NAME_LEG_SETS = True
 
 
 class FirstGait(enum.Enum):
@@ -132,7 +136,7 @@ class DiagnosisPlan:
     release: float = RELEASE_THRESHOLD
     safety: SafetyModel | None = None
     blind: BlindRules = BlindRules()
-    leg_sets: bool = False
+    leg_sets: bool = NAME_LEG_SETS
 
     def __post_init__(self) -> None:
         if len(self.damages) != len(self.diagnosis.labels) or len(self.priors) != len(
@@ -185,7 +189,7 @@ def diagnosis_plan(
     safety: float | None = RISK_LIMIT,
     blind: BlindRules = BlindRules(),
     weighing: Weighing = Weighing(),
-    leg_sets: bool = False,
+    leg_sets: bool = NAME_LEG_SETS,
 ) -> DiagnosisPlan | None:
     """
     Return the diagnosis of a blind run over ``bank``'s damages (None: the bank is empty).
