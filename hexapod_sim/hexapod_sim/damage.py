@@ -124,10 +124,14 @@ class LegDamage:
     @property
     def label(self) -> str:
         """Return e.g. ``3 locked``, ``4 weak 0.33`` or ``2 unpowered femur+tibia``."""
-        text = f'{self.leg} {self.kind}'
+        return f'{self.leg} {self.condition}'
+
+    @property
+    def condition(self) -> str:
+        """Return what is wrong with the leg, e.g. ``locked`` or ``unpowered femur``."""
         if self.kind in ('weak', 'shortened'):
-            return f'{text} {self.strength:.2f}'
-        return f'{text} {"+".join(self.joints)}' if self.joints else text
+            return f'{self.kind} {self.strength:.2f}'
+        return f'{self.kind} {"+".join(self.joints)}' if self.joints else self.kind
 
     def dead_slots(self) -> list[int]:
         """Joint slots (URDF order) of this leg's dead servos."""

@@ -170,8 +170,15 @@ class DiagnosisPlan:
         return None
 
     def label_of(self, named: tuple[int, ...]) -> str:
-        """Say what ``named`` names, e.g. ``leg 1 lifted or leg 1 unpowered coxa``."""
-        return ' or '.join(self.damages[h].label for h in named)
+        """Say what ``named`` names, e.g. ``leg 1 lifted, unpowered coxa or unpowered tibia``."""
+        damages = [self.damages[h] for h in named]
+        conditions = [{d.condition for d in damage.legs} for damage in damages]
+        if len(damages) == 1 or any(len(c) != 1 for c in conditions):  # or mixed on its legs
+            return ' or '.join(damage.label for damage in damages)
+        legs = damages[0].failed_legs
+        where = f'{"legs" if len(legs) > 1 else "leg"} {"+".join(map(str, legs))}'
+        kinds = [c.pop() for c in conditions]
+        return f'{where} {", ".join(kinds[:-1])} or {kinds[-1]}'
 
     def prior_of(self, named: tuple[int, ...], probabilities: np.ndarray) -> np.ndarray:
         """Return the re-scores of ``named`` weighed by their share of ``probabilities``."""

@@ -287,7 +287,9 @@ def test_a_plan_names_the_fewest_hypotheses_of_one_leg_set_that_hold_it():
     assert plan.holding(np.array([0.55, 0.05, 0.36, 0.0, 0.04])) == (0, 2)
     assert plan.holding(np.array([0.5, 0.2, 0.1, 0.15, 0.05])) is None  # the set holds 0.8
     assert replace(plan, leg_sets=False).holding(np.array([0.41, 0.39, 0.15, 0.03, 0.02])) is None
-    assert plan.label_of((0, 1)) == 'leg 1 lifted or leg 1 unpowered coxa'
+    assert plan.label_of((0, 1)) == 'leg 1 lifted or unpowered coxa'
+    assert plan.label_of((1, 0, 2)) == 'leg 1 unpowered coxa, lifted or unpowered tibia'
+    assert plan.label_of((3,)) == 'leg 4 lifted'
 
 
 def test_a_session_named_a_leg_set_goes_on_as_its_weighed_re_scores_and_every_screen(
@@ -315,7 +317,7 @@ def test_a_session_named_a_leg_set_goes_on_as_its_weighed_re_scores_and_every_sc
     np.testing.assert_allclose(session.opt.prior, 0.5 * (plan.priors[0] + plan.priors[1]))
     assert session.screen.tips(order[5]) and session.screen.tips(order[6])
     assert not session.screen.tips(order[7])
-    assert session.result().named == ['leg 1 lifted or leg 1 unpowered coxa']
+    assert session.result().named == ['leg 1 lifted or unpowered coxa']
     assert session.result().named_legs == [(1,)]
 
 
