@@ -366,12 +366,13 @@ def wait_for(
 ):
     """Poll predicate until truthy; raise AssertionError naming what did not happen."""
     deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        value = predicate()
+    while True:
+        value = predicate()  # asked once more after the deadline: a stalled poll is no failure
         if value:
             return value
+        if time.monotonic() >= deadline:
+            raise AssertionError(f'timed out after {timeout:g} s waiting for {what}')
         time.sleep(period)
-    raise AssertionError(f'timed out after {timeout:g} s waiting for {what}')
 
 
 # A separate process whose node is not the bridge publishes ServoFailure reports on

@@ -366,12 +366,18 @@ class StormClient:
     def spin_until(self, predicate, timeout, what='condition'):
         """Spin until predicate is truthy; AssertionError naming what did not happen."""
         deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            value = predicate()
+        while True:
+            value = predicate()  # asked once more after the deadline: a stalled spin is no failure
             if value:
                 return value
+            if time.monotonic() >= deadline:
+                raise AssertionError(f'timed out after {timeout:g} s waiting for {what}')
             self.executor.spin_once(timeout_sec=0.005)
-        raise AssertionError(f'timed out after {timeout:g} s waiting for {what}')
+
+    def pause(self, until):
+        """Spin until the monotonic time ``until`` (however long a spin takes: never fails)."""
+        while time.monotonic() < until:
+            self.executor.spin_once(timeout_sec=0.005)
 
     def storm(self, goals, spacing_s):
         """Send ``goals`` (x, y) ``spacing_s`` apart: [(sent, answered-time list, future)]."""
@@ -382,7 +388,7 @@ class StormClient:
             future = self.client.send_goal_async(goal_at(x, y))
             future.add_done_callback(lambda _f, a=answered: a.append(time.monotonic()))
             sent.append((t, answered, future))
-            self.spin_until(lambda t=t: time.monotonic() >= t + spacing_s, 1.0)
+            self.pause(t + spacing_s)
         return sent
 
     def close(self):
