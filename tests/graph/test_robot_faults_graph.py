@@ -95,6 +95,18 @@ class Robot:
             if line.startswith('TRIAL ')
         ]
 
+    def unplug(self) -> None:
+        """
+        Remove the links a killed life left behind, as a dead port's device node goes.
+
+        They point at pseudo-terminal numbers the kernel frees and gives to the next pty opened
+        on the machine: in ci22 this test's bridge, retrying the stale link, opened a concurrent
+        test's emulator, locked its port and walked a gait on it.
+        """
+        for link in (self.radio, self.imu):
+            if os.path.islink(link):
+                os.unlink(link)
+
     def stop(self) -> None:
         for life in self.lives:
             life.proc.send_signal(signal.SIGCONT)
@@ -107,6 +119,7 @@ def _inject(robot: Robot, fault: str, hold: float) -> None:
     if fault == 'kill':
         os.kill(pid, signal.SIGKILL)
         robot.now.proc.wait()
+        robot.unplug()
         time.sleep(hold)
         robot.start()
     elif fault == 'port':
