@@ -96,9 +96,10 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument(
         '--hypotheses',
-        choices=('kind', 'every'),
+        choices=('kind', 'every', 'lifted'),
         default='kind',
-        help="the bank: the run's kind's 21 damages, or every kind's (168)",
+        help="the bank: the run's kind's 21 damages, every kind's (168), or the 21 lifted-leg"
+        " damages whatever the run's kind (adapt_node's bank)",
     )
     parser.add_argument(
         '--leg-sets',
@@ -114,7 +115,7 @@ def main(argv: list[str] | None = None) -> int:
     archive = load_archive(args.archive)
     map_engine = engine_of_map(archive)
     legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
-    kinds = EXPERIMENT_KINDS if args.hypotheses == 'every' else (args.kind,)
+    kinds = {'every': EXPERIMENT_KINDS, 'lifted': ('lifted',)}.get(args.hypotheses, (args.kind,))
     damages = [Damage.of(kind, legs) for kind in kinds for legs in legs_all]
     bank = load_bank(archive, map_engine, [shipped_ceilings()], damages)
     if bank.missing:
@@ -132,7 +133,7 @@ def main(argv: list[str] | None = None) -> int:
         + f'+t{args.temperature:g}+none{args.none_deviation:g}'
         + ('+bankprior' if args.bank_prior else '')
         + ('' if args.first == FirstGait.FASTEST.value else f'+first-{args.first}')
-        + ('+every-kind' if args.hypotheses == 'every' else '')
+        + {'every': '+every-kind', 'lifted': '+lifted-bank', 'kind': ''}[args.hypotheses]
         + ('+leg-sets' if args.leg_sets and args.hypotheses == 'every' else ''),
         bank=bank,
         leave_out=args.leave_out,
@@ -166,7 +167,8 @@ def main(argv: list[str] | None = None) -> int:
             print(
                 f'{row.scenario} legs {row.failed_legs}: {row.trials} trials, best'
                 f' {row.best_speed:.3f} m/s (tripod {row.control_speed:.3f}), tipped'
-                f' {row.tipped_trials}, vetoed {row.vetoed}; named {named[:3]}; {row.posterior}',
+                f' {row.tipped_trials}, vetoed {row.vetoed}, {row.hypothesis_walks} walks; named'
+                f' {named[:3]}; {row.posterior}',
                 flush=True,
             )
 
@@ -187,6 +189,9 @@ def summarise(rows, kind: str, engine: str) -> None:
     print(f'best_mean_{tag} {np.mean([r.best_speed for r in rows]):.3f} m/s')
     print(f'tipped_trials_{tag} {sum(r.tipped_trials for r in rows)}')
     print(f'vetoed_{tag} {sum(r.vetoed for r in rows)}')
+    walks = [r.hypothesis_walks for r in rows]
+    first, median = walks[0], np.median(walks)
+    print(f'hypothesis_walks_{tag} {sum(walks)} (first run {first}, median {median:g})')
     print(f'beat_tripod_{tag} {sum(r.best_speed > r.control_speed for r in rows)} of {len(rows)}')
     for k in (1, 3, 5, 8, 12, 24):
         print(f'best_after_{k}_{tag} {np.mean([r.best_after(k) for r in rows]):.3f} m/s')

@@ -53,6 +53,11 @@ FEATURE_NOISE = {
 }
 #: Student-t degrees of freedom of a feature's mismatch.
 STUDENT_NU = 4.0
+#: A hypothesis this many nats below the most probable (a probability ratio under 1e-10) is
+#: asleep: a trial's gait is not walked under it. Its log posterior is kept as an upper bound (a
+#: trial's log likelihood is at most 0) and made exact, from the gaits it missed, once the bound
+#: comes within this of the most probable again.
+ASLEEP_NATS = 23.0
 NONE_LABEL = 'none of these'
 
 
@@ -227,9 +232,11 @@ class Diagnosis:
     The posterior over ``labels`` (the hypotheses) and "none of these", trial by trial.
 
     ``simulate(niche, h)`` walks a gait under hypothesis h on the map's engine; each walk is
-    simulated when first needed and kept. ``contacts``: compare foot duty factors too (only
-    when every trial records contacts, as a simulator's do). ``weighing``: how a trial weighs
-    them.
+    simulated when first needed and kept, and a hypothesis :data:`ASLEEP_NATS` below the most
+    probable is not walked until it could matter again (a bank of every kind then walks a
+    trial's gait under the few hypotheses still in play, not all). ``contacts``: compare foot
+    duty factors too (only when every trial records contacts, as a simulator's do).
+    ``weighing``: how a trial weighs them.
     """
 
     labels: tuple[str, ...]
@@ -238,6 +245,8 @@ class Diagnosis:
     weighing: Weighing = Weighing()
     _log: np.ndarray = field(init=False)
     _cache: dict[tuple[int, int], np.ndarray | None] = field(init=False, default_factory=dict)
+    # each asleep hypothesis's trials not yet weighed: (niche, the trial's signature)
+    _missed: dict[int, list[tuple[int, np.ndarray]]] = field(init=False, default_factory=dict)
 
     def __post_init__(self) -> None:
         if not self.labels:
@@ -261,17 +270,44 @@ class Diagnosis:
     def observe(self, niche: int, record: TrialRecord) -> Posterior:
         """Weigh the hypotheses by the trial of gait ``niche``; return the new posterior."""
         seen = signature(record, self.contacts)
-        none = student_log_likelihood(np.full(len(seen), self.weighing.none_deviation))
-        update = np.full(len(self.labels) + 1, none)
+        awake = self._log >= self._log.max() - ASLEEP_NATS
+        update = np.zeros(len(self.labels) + 1)
+        update[-1] = self._weight(niche, None, seen)
         for h in range(len(self.labels)):
-            expected = self.expected(niche, h)
-            # a gait the hypothesis cannot walk says nothing of it: the none-of-these weight
-            if expected is not None:
-                update[h] = student_log_likelihood((seen - expected) / self.noise)
+            if awake[h] and h not in self._missed:
+                update[h] = self._weight(niche, h, seen)
+            else:  # its bound stays: a likelihood is at most 1
+                self._missed.setdefault(h, []).append((int(niche), seen))
         self._log = self._log + self.weighing.temperature * update
+        self._wake()
         self._log -= self._log.max()
         self.trials += 1
         return self.posterior()
+
+    @property
+    def asleep(self) -> int:
+        """Return how many hypotheses the next trial will not walk (too far behind)."""
+        return int(np.sum(self._log[:-1] < self._log.max() - ASLEEP_NATS))
+
+    def _weight(self, niche: int, h: int | None, seen: np.ndarray) -> float:
+        """Return the log likelihood of a trial's signature under ``h`` (None: none of these)."""
+        expected = None if h is None else self.expected(niche, h)
+        if expected is None:  # a gait the hypothesis cannot walk says nothing of it
+            return student_log_likelihood(np.full(len(seen), self.weighing.none_deviation))
+        return student_log_likelihood((seen - expected) / self.noise)
+
+    def _wake(self) -> None:
+        """Weigh the missed trials of every asleep hypothesis whose bound could matter now."""
+        while self._missed:
+            exact = np.ones(len(self._log), dtype=bool)
+            exact[list(self._missed)] = False
+            top = self._log[exact].max()
+            late = [h for h in self._missed if self._log[h] >= top - ASLEEP_NATS]
+            if not late:
+                return
+            for h in late:
+                for niche, seen in self._missed.pop(h):
+                    self._log[h] += self.weighing.temperature * self._weight(niche, h, seen)
 
     def posterior(self) -> Posterior:
         """Return the current posterior."""
@@ -302,6 +338,11 @@ class HypothesisWalks:
             trace = trace_gait(genes, sim, damage, self.archive.trial_duration)
             self._walks[key] = None if trace is None else TrialRecord.from_trace(trace)
         return self._walks[key]
+
+    @property
+    def walked(self) -> int:
+        """Return how many walks were simulated."""
+        return len(self._walks)
 
     def under(self, damages: Sequence[Damage]) -> Simulate:
         """Return ``simulate(niche, h)`` over ``damages`` for a :class:`Diagnosis`."""

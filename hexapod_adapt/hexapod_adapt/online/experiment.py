@@ -130,6 +130,8 @@ class ExperimentRow:
     posterior: str = ''  # its last posterior's top hypotheses
     trial_speeds: tuple[float, ...] = ()  # each trial's measured speed, in order (tipped: 0)
     vetoed: int = 0  # gaits a tip screen or the safety model kept from being tried
+    #: the hypotheses' walks this run simulated (the runs before it may have walked the rest)
+    hypothesis_walks: int = 0
 
     def best_after(self, k: int) -> float:
         """Return the best speed the first ``k`` trials measured (all, if the run stopped)."""
@@ -264,12 +266,15 @@ def _one_run(
     ).speed
     walk = recorded_trial if s.diagnose else simulated_trial
     trial = walk(archive, damage, sim, s.trial_duration, s.settle, s.tip_guard)
+    walked = 0 if walks is None else walks.walked
     result = adapt(archive, trial, config, _start(archive, s, config, damage, control, walks))
     adapted = result.best_speed
     if s.settle > 0 or (s.trial_duration or archive.trial_duration) != archive.trial_duration:
         # settled or shorter trials measure another thing: judge the gait as the map
         adapted = map_speed(archive, result.best_niche, damage, sim)
     row = _row(archive, s, result, where, (adapted, control, intact))
+    if walks is not None:
+        row = replace(row, hypothesis_walks=walks.walked - walked)
     return row if s.ceilings is None else _with_ceiling(row, archive, s, damage)
 
 

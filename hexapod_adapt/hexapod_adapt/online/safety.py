@@ -48,6 +48,8 @@ TILT_SHIFT = 0.15
 TILT_OFFSET = 0.0
 #: Descriptor units: the GP's length scale, M-BOA's default profile's.
 TILT_LENGTH_SCALE = 0.3
+#: A hypothesis believed less than this is left out of a gait's risk (and not walked for it).
+NEGLIGIBLE_WEIGHT = 1e-9
 #: [rad] what a trial the tip guard stopped counts as: the tip-over line.
 TIPPED_TILT = math.radians(TIP_OVER_DEG)
 
@@ -109,24 +111,33 @@ class SafetyModel:
         self.weights = np.asarray(probabilities, dtype=float)
 
     def simulated(self, index: int) -> np.ndarray:
-        """Return candidate ``index``'s simulated peak tilt under each hypothesis and intact."""
-        if index not in self._walked:
-            niche = int(self.niches[index])
-            self._walked[index] = np.array(
-                [record_tilt(self.walk(niche, h)) for h in range(self.hypotheses + 1)]
-            )
-        return self._walked[index]
+        """
+        Return candidate ``index``'s simulated peak tilt under each hypothesis and intact.
+
+        Only those in play are walked (believed at least :data:`NEGLIGIBLE_WEIGHT`); nan for
+        the others, until the belief brings them back.
+        """
+        tilts = self._walked.setdefault(int(index), np.full(self.hypotheses + 1, np.nan))
+        niche = int(self.niches[index])
+        for h in np.flatnonzero((self.weights >= NEGLIGIBLE_WEIGHT) & np.isnan(tilts)):
+            tilts[h] = record_tilt(self.walk(niche, int(h)))
+        return tilts
 
     def predicted(self, index: int) -> float:
         """Return the tilt [rad] the belief and the trials predict for candidate ``index``."""
         mean, _ = self._residual(index)
-        return float(self.weights @ self.simulated(index)) + mean
+        return self._weighed(self.simulated(index)) + mean
 
     def risk(self, index: int) -> float:
         """Return the believed probability that candidate ``index`` tilts past the guard."""
         mean, std = self._residual(index)
         z = (self.simulated(index) + mean - self.guard) / math.hypot(self.spread, std)
-        return float(self.weights @ ndtr(z))
+        return self._weighed(ndtr(z))
+
+    def _weighed(self, values: np.ndarray) -> float:
+        """Return the belief's mean of per-hypothesis ``values`` over those in play."""
+        play = self.weights >= NEGLIGIBLE_WEIGHT
+        return float(self.weights[play] @ values[play])
 
     def tips(self, index: int) -> bool:
         """Whether candidate ``index`` is too risky to try (a session's screen asks this)."""
@@ -145,7 +156,7 @@ class SafetyModel:
         """
         seen = TIPPED_TILT if tipped else float(peak_tilt)
         if math.isfinite(seen):
-            expected = float(self.weights @ self.simulated(int(index)))
+            expected = self._weighed(self.simulated(int(index)))
             self._seen.append((int(index), seen - expected))
             self._fit = None  # refit on the next question
 

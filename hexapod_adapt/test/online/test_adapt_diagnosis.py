@@ -15,9 +15,11 @@ import math
 
 from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+from hexapod_adapt.online import diagnosis as diagnosis_module
 from hexapod_adapt.online.adaptation import candidates, recorded_trial, TrialOutcome
 from hexapod_adapt.online.bank import DamageBank
 from hexapod_adapt.online.diagnosis import (
+    ASLEEP_NATS,
     Diagnosis,
     feature_names,
     HypothesisWalks,
@@ -113,6 +115,43 @@ def test_a_temperature_tempers_each_trial_s_evidence_and_weighing_refuses_nonsen
     for bad in ({'temperature': 0.0}, {'temperature': 1.5}, {'none_prior': 1.0}):
         with pytest.raises(ValueError):
             Weighing(**bad)
+
+
+def _walk(speed: float, yaw_rate: float, pitch: float) -> TrialRecord:
+    record = straight_walk(speed, 0.0, yaw_rate)
+    attitude = record.attitude.copy()
+    attitude[:, 1] = pitch
+    return TrialRecord(record.t, record.position, attitude, 0.0, 0.5)
+
+
+def test_a_hypothesis_far_behind_is_not_walked_until_it_could_matter(monkeypatch):
+    # 30 hypotheses; hypothesis 29 walks far from the others (faster, turning, pitched), and
+    # the trials are hypothesis 0's walks twice, then 29's four times
+    def walk(niche: int, h: int) -> TrialRecord:
+        odd = h == 29
+        return _walk(0.1 + 0.004 * h + 0.4 * odd, 0.6 * odd, 0.02 + 0.3 * odd)
+
+    trials = [(n, walk(n, 0 if n < 2 else 29)) for n in range(6)]
+    labels = tuple(f'h{h}' for h in range(30))
+    walked: list[tuple[int, int]] = []
+    lazy = Diagnosis(labels, lambda n, h: walked.append((n, h)) or walk(n, h))
+    monkeypatch.setattr(diagnosis_module, 'ASLEEP_NATS', math.inf)  # every hypothesis walked
+    every = Diagnosis(labels, walk)
+    asleep, walks = [], []
+    for niche, record in trials:
+        expected = every.observe(niche, record).probabilities
+        monkeypatch.setattr(diagnosis_module, 'ASLEEP_NATS', ASLEEP_NATS)
+        before = len(walked)
+        got = lazy.observe(niche, record).probabilities
+        asleep.append(lazy.asleep)
+        walks.append(len(walked) - before)
+        monkeypatch.setattr(diagnosis_module, 'ASLEEP_NATS', math.inf)
+        # the same posterior: an asleep hypothesis's bound is below 1e-10 of the leader's
+        assert np.allclose(got, expected, rtol=1e-6, atol=1e-9), (asleep, got, expected)
+    # 29 fell asleep, woke when the trials turned to it, and leads; the others sleep now
+    assert asleep[:2] == [1, 1] and asleep[-1] == 29 and np.argmax(got) == 29, asleep
+    assert len(set(walked)) == len(walked)  # each walk once
+    assert walks[1] == 29 and walks[-1] == 1, walks  # a trial walks the hypotheses in play
 
 
 @pytest.mark.parametrize(

@@ -74,6 +74,17 @@ def test_the_risk_is_the_belief_in_the_hypotheses_under_which_a_gait_tips():
     assert m.tilts[0] == pytest.approx(0.9 * 1.2 + 0.1 * 0.1, abs=0.01)
 
 
+def test_a_hypothesis_believed_too_little_to_matter_is_not_walked_until_believed_again():
+    tilts = np.array([[1.2, 0.1, 0.1], [0.1, 0.1, 0.1]])
+    walked: list[tuple[int, int]] = []
+    m = model(tilts, weights=[1e-12, 0.5, 0.5 - 1e-12], shift=0.0, offset=0.0)
+    m.walk = lambda niche, k: walked.append((niche, k)) or tilted(tilts[niche, k])
+    assert not m.tips(0) and m.risk(0) < 0.01  # its tipping under hypothesis 0 is not believed
+    assert sorted(walked) == [(0, 1), (0, 2)]
+    m.weigh(np.array([0.9, 0.05, 0.05]))  # the trials say hypothesis 0: it is walked now
+    assert m.tips(0) and (0, 0) in walked and len(walked) == len(set(walked)) == 3
+
+
 def test_a_trial_that_tilted_more_than_predicted_raises_its_neighbours_risk_most():
     n = 20
     tilts = np.full((n, 2), 0.2)  # every walk predicts 0.2 rad
