@@ -365,15 +365,28 @@ def test_archive_for_another_simulator_is_refused(ros, launch, tmp_path, small_a
     assert node.alive()
 
 
-def test_an_unknown_mode_is_reported_not_replaced(ros, launch, small_archive):
-    path, _archive, _ = small_archive
-    node = launch(
-        'hexapod_adapt',
-        'adapt_node',
-        params={'archive': str(path), 'mode': 'warp', 'record_dir': ''},
+def _adapt_node(launch, small_archive, **params):
+    """Start adapt_node on the small map, not recording, with ``params``."""
+    path = small_archive[0]
+    return launch(
+        'hexapod_adapt', 'adapt_node', params={'archive': str(path), 'record_dir': '', **params}
     )
+
+
+def test_an_unknown_mode_is_reported_not_replaced(ros, launch, small_archive):
+    node = _adapt_node(launch, small_archive, mode='warp')
     answer = ros.adapt(Adapt.Goal(max_trials=1), timeout=60)
     assert not answer.success and 'mode must be one of sim, robot, manual' in answer.message
+    assert node.alive()
+
+
+def test_an_unknown_diagnosis_bank_is_said_and_the_lifted_one_weighed(ros, launch, small_archive):
+    node = _adapt_node(launch, small_archive, diagnosis_bank='all')
+    wait_for(lambda: 'adapt_node ready' in node.log(), 60, 'the node')
+    assert (
+        "diagnosis_bank: no diagnosis bank 'all': one of lifted, every; blind runs weigh the"
+        ' lifted legs' in node.log()
+    )
     assert node.alive()
 
 

@@ -6,14 +6,15 @@ A damage bank: the map re-scored in simulation under each damage M-BOA should co
 When the damage is not known, M-BOA can still weigh hypotheses about it: the map's gaits
 evaluated, offline, under every one- and two-leg failure (:data:`BANK_DAMAGES`, 21 cases), each a
 prior mean the trials confirm or rule out (:class:`hexapod_adapt.online.mboa.Mboa`'s
-``hypotheses``). A bank is a set of cached ceilings (:mod:`hexapod_adapt.online.ceiling`): for the
-default map they ship in ``maps/ceilings`` (``maps/make_ceilings.sh`` makes them, 35 min on 2
-cores); for another map ``python -m hexapod_adapt.online.ceilings_cli --archive MAP --cache-dir
-DIR`` does. Nothing here computes: a case that is not cached is listed as missing, and the bank is
-what is there.
+``hypotheses``). A blind run's diagnosis weighs them, or every damage kind on those legs
+(:data:`DIAGNOSIS_BANKS`). A bank is a set of cached ceilings
+(:mod:`hexapod_adapt.online.ceiling`): for the default map they ship in ``maps/ceilings``
+(``maps/make_ceilings.sh`` makes them, 35 min on 2 cores); for another map ``python -m
+hexapod_adapt.online.ceilings_cli --archive MAP --cache-dir DIR`` does. Nothing here computes: a
+case that is not cached is listed as missing, and the bank is what is there.
 
 A bank only helps where its hypotheses resemble the real damage. The tuning set measures the case
-where they do not (locked legs, weak servos, lost tibias: none is in the bank).
+where they do not (locked legs, weak servos, lost tibias: none is in the lifted bank).
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ from typing import Sequence
 
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.online.ceiling import cached_ceiling
-from hexapod_sim.damage import Damage
+from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
 from hexapod_sim.scenarios import scenario
 import numpy as np
 
@@ -32,6 +33,24 @@ import numpy as np
 BANK_DAMAGES: tuple[Damage, ...] = tuple(
     Damage.lifted(legs) for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)
 )
+#: Every damage kind on each of those leg sets (168 cases).
+EVERY_KIND_DAMAGES: tuple[Damage, ...] = tuple(
+    Damage.of(kind, d.failed_legs) for kind in EXPERIMENT_KINDS for d in BANK_DAMAGES
+)
+#: The banks a blind run may name its damage among, by adapt_node's ``diagnosis_bank``. 'lifted'
+#: is the default: every kind names locked legs far better, but tipped once more on a tuning
+#: set (studies/diagnosis/README.md, "The product's bank").
+DIAGNOSIS_BANKS: dict[str, tuple[Damage, ...]] = {
+    'lifted': BANK_DAMAGES,
+    'every': EVERY_KIND_DAMAGES,
+}
+
+
+def diagnosis_damages(bank: str) -> tuple[Damage, ...]:
+    """Return the damages of the diagnosis bank named ``bank`` (ValueError: no such bank)."""
+    if bank not in DIAGNOSIS_BANKS:
+        raise ValueError(f'no diagnosis bank {bank!r}: one of {", ".join(DIAGNOSIS_BANKS)}')
+    return DIAGNOSIS_BANKS[bank]
 
 
 @dataclass(frozen=True)

@@ -192,6 +192,14 @@ SETTINGS = (
         ' the prior of the damage named',
     ),
     Setting(
+        'diagnosis_bank',
+        'lifted',
+        "What a blind run names its damage among: 'lifted' (each one- and two-leg set of S1-S4"
+        " lifted, 21) or 'every' (the 8 damage kinds on those legs, 168: names locked and"
+        ' unpowered joints too); the cached ones of the map',
+        read_only=True,
+    ),
+    Setting(
         'stand_still',
         1.0,
         'Robot modes: seconds the robot stands still after an upload, before the trial: the '

@@ -24,7 +24,7 @@ from typing import Callable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import engine_of_map
-from hexapod_adapt.online.bank import DamageBank, load_bank
+from hexapod_adapt.online.bank import BANK_DAMAGES, DamageBank, load_bank
 from hexapod_adapt.online.ceiling import (
     cached_ceiling,
     Ceiling,
@@ -218,8 +218,10 @@ class StreamingPriors:
         workers: int,
         log: Callable[[str], None],
         progress_period: float = 5.0,
+        bank: Sequence[Damage] = BANK_DAMAGES,
     ) -> None:
         self.cache_dir, self.read_dirs, self.workers = cache_dir, list(read_dirs), workers
+        self.bank_damages = tuple(bank)  # what a blind run's diagnosis weighs, where cached
         self.log, self.progress_period = log, progress_period
         self.stream: StreamingPrior | None = None  # the last run's (may still stream)
         self._walks: HypothesisWalks | None = None  # the hypotheses' walks, kept across runs
@@ -253,13 +255,14 @@ class StreamingPriors:
         """
         Return a blind run's diagnosis over the cached bank (None: no bank is cached).
 
-        The bank is the map under every one- and two-leg lifted failure (:data:`BANK_DAMAGES`),
-        read from ``read_dirs`` and ``cache_dir``; the hypotheses' walks are kept across runs.
+        The bank is the map under each of ``bank_damages`` (the lifted legs of S1-S4 unless told
+        otherwise), read from ``read_dirs`` and ``cache_dir``; the hypotheses' walks are kept
+        across runs.
         """
         if self._walks is None or self._walks.archive is not archive:
             engine = engine_of_map(archive)
             dirs = [*self.read_dirs] + ([self.cache_dir] if self.cache_dir else [])
-            self._bank = load_bank(archive, engine, dirs)
+            self._bank = load_bank(archive, engine, dirs, self.bank_damages)
             self._walks = HypothesisWalks(archive, engine)
         return diagnosis_plan(archive, self._bank, tip_guard, walks=self._walks)
 

@@ -24,6 +24,7 @@ from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.maps import shipped_ceilings
 from hexapod_adapt.online import run_messages as say
 from hexapod_adapt.online.adaptation import AdaptationResult, TrialAborted
+from hexapod_adapt.online.bank import BANK_DAMAGES, diagnosis_damages
 from hexapod_adapt.online.prior import damage_of_request
 from hexapod_adapt.online.run_config import (
     ArchiveSlot,
@@ -102,8 +103,17 @@ class AdaptNode(Node):
         self.recorded = RecordedTopics(self, self.recording)
         self.feed = TrialFeed(self, self.recording, lambda s: self._say_vetoes(s, self._guard()))
         cache = os.path.expanduser(str(self._param('prior_cache_dir'))) or None
+        try:
+            bank = diagnosis_damages(str(self._param('diagnosis_bank')))
+        except ValueError as error:  # the node runs: blind runs weigh the default bank
+            self.get_logger().error(f'diagnosis_bank: {error}; blind runs weigh the lifted legs')
+            bank = BANK_DAMAGES
         self.priors = StreamingPriors(
-            cache, [shipped_ceilings()], int(self._param('prior_workers')), self.get_logger().info
+            cache,
+            [shipped_ceilings()],
+            int(self._param('prior_workers')),
+            self.get_logger().info,
+            bank=bank,
         )
         work = ReentrantCallbackGroup()
         self.action = AdaptServer(self, self._adapt, work)

@@ -4,6 +4,8 @@
 
 from __future__ import annotations
 
+import math
+
 from hexapod_adapt.mapping.archive import Archive, load_archive
 from hexapod_adapt.mapping.maps import DEMO_MAP, shipped_map
 from hexapod_adapt.mapping.simulation import engine_of_map, map_physics, UNRECORDED_MAP_ENGINE
@@ -307,3 +309,24 @@ def test_a_damage_bank_is_the_cached_ceilings_and_says_what_is_missing(small_map
     )
     assert len(result.trials) == len(weights) == 4
     assert int(np.argmax(weights[-1])) == 2  # map, leg 1, legs 2+5
+
+
+def test_a_blind_run_weighs_the_diagnosis_bank_adapt_node_was_given():
+    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings
+    from hexapod_adapt.online.bank import BANK_DAMAGES, diagnosis_damages
+    from hexapod_adapt.online.streaming_prior import StreamingPriors
+    from hexapod_sim.damage import EXPERIMENT_KINDS
+
+    every = diagnosis_damages('every')
+    assert diagnosis_damages('lifted') == BANK_DAMAGES and len(BANK_DAMAGES) == 21
+    conditions = {d.legs[0].condition for d in every}  # 'locked', 'unpowered femur', ...
+    assert len(set(every)) == 168 and len(conditions) == len(EXPERIMENT_KINDS) == 8
+    assert {d.failed_legs for d in every} == {d.failed_legs for d in BANK_DAMAGES}
+    with pytest.raises(ValueError, match="no diagnosis bank 'all': one of lifted, every"):
+        diagnosis_damages('all')
+    # the shipped default map's cache holds all 168: a blind run weighs them
+    archive = load_archive(shipped_map(DEFAULT_MAP))
+    for damages, n in ((BANK_DAMAGES, 21), (every, 168)):
+        priors = StreamingPriors(None, [shipped_ceilings()], 1, print, bank=damages)
+        plan = priors.diagnosis(archive, math.pi)
+        assert plan is not None and plan.damages == damages and plan.priors.shape[0] == n
