@@ -102,6 +102,13 @@ def main(argv: list[str] | None = None) -> int:
         " damages whatever the run's kind (adapt_node's bank)",
     )
     parser.add_argument(
+        '--fit-floor',
+        type=float,
+        default=None,
+        help='name a hypothesis only when its mean log likelihood over the trials is at least'
+        ' this (default: no floor)',
+    )
+    parser.add_argument(
         '--leg-sets',
         action=argparse.BooleanOptionalAction,
         default=NAME_LEG_SETS,
@@ -111,7 +118,9 @@ def main(argv: list[str] | None = None) -> int:
     blind = BlindRules(
         args.offset_std, args.stop == 'alpha', args.bank_prior, FirstGait(args.first)
     )
-    weighing = Weighing(args.none_deviation, temperature=args.temperature)
+    weighing = Weighing(
+        args.none_deviation, temperature=args.temperature, fit_floor=args.fit_floor
+    )
     archive = load_archive(args.archive)
     map_engine = engine_of_map(archive)
     legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
@@ -131,6 +140,7 @@ def main(argv: list[str] | None = None) -> int:
         + (f'+safety{args.risk_limit:g}' if args.risk_limit else '')
         + f'+{args.stop}stop+offset{args.offset_std:g}'
         + f'+t{args.temperature:g}+none{args.none_deviation:g}'
+        + ('' if args.fit_floor is None else f'+fit{args.fit_floor:g}')
         + ('+bankprior' if args.bank_prior else '')
         + ('' if args.first == FirstGait.FASTEST.value else f'+first-{args.first}')
         + {'every': '+every-kind', 'lifted': '+lifted-bank', 'kind': ''}[args.hypotheses]

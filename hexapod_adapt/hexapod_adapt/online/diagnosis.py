@@ -70,12 +70,16 @@ class Weighing:
     off in every feature would; ``none_prior``: its prior probability; ``temperature``: each
     trial's log likelihood is multiplied by it (below 1: the features are not independent
     witnesses, and one trial should not be worth their product). The defaults won on a tuning
-    set (studies/diagnosis/README.md, "How sure the diagnosis should be").
+    set (studies/diagnosis/README.md, "How sure the diagnosis should be"). ``fit_floor``: a
+    hypothesis whose mean log likelihood over the trials lies below it does not fit, however
+    probable (None: every one fits; a candidate, studies/diagnosis/README.md, "Does the leader
+    fit?").
     """
 
     none_deviation: float = 2.5
     none_prior: float = 0.2
     temperature: float = 1.0
+    fit_floor: float | None = None
 
     def __post_init__(self) -> None:
         if not 0.0 < self.none_prior < 1.0:
@@ -84,6 +88,10 @@ class Weighing:
             raise ValueError(f'none_deviation must be > 0, got {self.none_deviation}')
         if not (math.isfinite(self.temperature) and 0.0 < self.temperature <= 1.0):
             raise ValueError(f'temperature must lie in (0, 1], got {self.temperature}')
+        if self.fit_floor is not None and not (
+            math.isfinite(self.fit_floor) and self.fit_floor < 0
+        ):
+            raise ValueError(f'fit_floor must be a negative log likelihood, got {self.fit_floor}')
 
 
 @dataclass(frozen=True)
@@ -247,6 +255,8 @@ class Diagnosis:
     _cache: dict[tuple[int, int], np.ndarray | None] = field(init=False, default_factory=dict)
     # each asleep hypothesis's trials not yet weighed: (niche, the trial's signature)
     _missed: dict[int, list[tuple[int, np.ndarray]]] = field(init=False, default_factory=dict)
+    _fit: np.ndarray = field(init=False)  # each hypothesis's log likelihoods summed, and none's
+    _fitted: np.ndarray = field(init=False)  # the trials in each sum
 
     def __post_init__(self) -> None:
         if not self.labels:
@@ -255,6 +265,7 @@ class Diagnosis:
         prior = np.full(h + 1, (1.0 - none_prior) / h)
         prior[-1] = none_prior
         self._log = np.log(prior)
+        self._fit, self._fitted = np.zeros(h + 1), np.zeros(h + 1, dtype=int)
         self.names = feature_names(self.contacts)
         self.noise = feature_noise(self.names)
         self.trials = 0
@@ -278,11 +289,22 @@ class Diagnosis:
                 update[h] = self._weight(niche, h, seen)
             else:  # its bound stays: a likelihood is at most 1
                 self._missed.setdefault(h, []).append((int(niche), seen))
+        weighed = np.ones(len(update), dtype=bool)
+        weighed[list(self._missed)] = False
+        self._fit[weighed] += update[weighed]
+        self._fitted[weighed] += 1
         self._log = self._log + self.weighing.temperature * update
         self._wake()
         self._log -= self._log.max()
         self.trials += 1
         return self.posterior()
+
+    def fits(self, h: int) -> bool:
+        """Whether hypothesis ``h``'s mean log likelihood is at least the fit floor."""
+        floor = self.weighing.fit_floor
+        if floor is None or self._fitted[h] == 0:
+            return True
+        return bool(self._fit[h] / self._fitted[h] >= floor)
 
     @property
     def asleep(self) -> int:
@@ -307,7 +329,10 @@ class Diagnosis:
                 return
             for h in late:
                 for niche, seen in self._missed.pop(h):
-                    self._log[h] += self.weighing.temperature * self._weight(niche, h, seen)
+                    weight = self._weight(niche, h, seen)
+                    self._log[h] += self.weighing.temperature * weight
+                    self._fit[h] += weight
+                    self._fitted[h] += 1
 
     def posterior(self) -> Posterior:
         """Return the current posterior."""

@@ -153,9 +153,13 @@ class DiagnosisPlan:
         Return the hypotheses the posterior names (None: none holds the threshold).
 
         One hypothesis past the threshold; else, with ``leg_sets``, the fewest hypotheses of one
-        leg set that hold it together, most probable first.
+        leg set that hold it together, most probable first. None too when the most probable of
+        them does not fit the trials (:meth:`Diagnosis.fits`).
         """
-        p = np.asarray(probabilities, dtype=float)[: len(self.damages)]
+        named = self._holding(np.asarray(probabilities, dtype=float)[: len(self.damages)])
+        return named if named is None or self.diagnosis.fits(named[0]) else None
+
+    def _holding(self, p: np.ndarray) -> tuple[int, ...] | None:
         best = int(np.argmax(p))
         if p[best] >= self.threshold:
             return (best,)

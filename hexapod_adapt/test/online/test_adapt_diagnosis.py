@@ -154,6 +154,24 @@ def test_a_hypothesis_far_behind_is_not_walked_until_it_could_matter(monkeypatch
     assert walks[1] == 29 and walks[-1] == 1, walks  # a trial walks the hypotheses in play
 
 
+def test_with_a_fit_floor_a_probable_hypothesis_that_fits_badly_is_not_named():
+    # two hypotheses far from the trials (3 and 4 speed noise scales); the nearer one holds
+    # the posterior, but its mean log likelihood (-2.9) lies below a floor of -2
+    walks = {0: straight_walk(0.32, 0.0), 1: straight_walk(0.36, 0.0)}
+    trial = straight_walk(0.2, 0.0)
+    for floor, named in ((None, (0,)), (-2.0, None)):
+        weighing = Weighing(none_prior=0.01, fit_floor=floor)
+        diagnosis = Diagnosis(('near', 'far'), lambda niche, h: walks[h], weighing=weighing)
+        plan = DiagnosisPlan(diagnosis, (Damage.lifted([1]), Damage.lifted([2])), np.zeros((2, 3)),
+                             lambda d: None, leg_sets=False)  # fmt: skip
+        for niche in range(4):
+            p = diagnosis.observe(niche, trial).probabilities
+        assert p[0] > 0.9 and plan.holding(p) == named, (p, floor)
+    assert diagnosis.fits(1) is False
+    with pytest.raises(ValueError, match='fit_floor'):
+        Weighing(fit_floor=0.5)
+
+
 @pytest.mark.parametrize(
     'true,others',
     [
