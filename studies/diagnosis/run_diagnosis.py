@@ -103,10 +103,10 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument(
         '--fit-floor',
-        type=float,
-        default=None,
+        type=lambda v: None if v == 'off' else float(v),
+        default=Weighing().fit_floor,
         help='name a hypothesis only when its mean log likelihood over the trials is at least'
-        ' this (default: no floor)',
+        " this ('off': no floor)",
     )
     parser.add_argument(
         '--leg-sets',

@@ -72,14 +72,14 @@ class Weighing:
     witnesses, and one trial should not be worth their product). The defaults won on a tuning
     set (studies/diagnosis/README.md, "How sure the diagnosis should be"). ``fit_floor``: a
     hypothesis whose mean log likelihood over the trials lies below it does not fit, however
-    probable (None: every one fits; a candidate, studies/diagnosis/README.md, "Does the leader
-    fit?").
+    probable, and is not named (None: every one fits; the default won on a tuning set:
+    studies/diagnosis/README.md, "Does the leader fit?").
     """
 
     none_deviation: float = 2.5
     none_prior: float = 0.2
     temperature: float = 1.0
-    fit_floor: float | None = None
+    fit_floor: float | None = -12.0
 
     def __post_init__(self) -> None:
         if not 0.0 < self.none_prior < 1.0:

@@ -158,9 +158,18 @@ def veto_message(niche: int, tilt: float, guard: float, risk: float | None = Non
     )
 
 
-def diagnosis_message(trial: int, named: str, posterior: Posterior) -> str:
-    """Say what the trials so far point to, e.g. after trial 2: legs 1+4 lifted 0.97 (named)."""
-    going = f'; the run goes on as {named}' if named else '; no damage named yet'
+def diagnosis_message(trial: int, named: str, posterior: Posterior, unfit: bool = False) -> str:
+    """
+    Say what the trials so far point to, e.g. after trial 2: legs 1+4 lifted 0.97 (named).
+
+    ``unfit``: the most probable damage does not fit the trials (none in the bank does).
+    """
+    if named:
+        going = f'; the run goes on as {named}'
+    elif unfit:
+        going = '; no hypothesis fits the trials: the run goes on blind'
+    else:
+        going = '; no damage named yet'
     return f'diagnosis after trial {trial}: {posterior.describe()}{going}'
 
 

@@ -159,6 +159,11 @@ class DiagnosisPlan:
         named = self._holding(np.asarray(probabilities, dtype=float)[: len(self.damages)])
         return named if named is None or self.diagnosis.fits(named[0]) else None
 
+    def unfit(self, probabilities: np.ndarray) -> bool:
+        """Whether the posterior holds hypotheses of which none fits the trials."""
+        named = self._holding(np.asarray(probabilities, dtype=float)[: len(self.damages)])
+        return named is not None and not self.diagnosis.fits(named[0])
+
     def _holding(self, p: np.ndarray) -> tuple[int, ...] | None:
         best = int(np.argmax(p))
         if p[best] >= self.threshold:
@@ -402,6 +407,7 @@ class AdaptationSession:
         self.named: tuple[int, ...] | None = None  # the diagnosis's hypotheses the run goes on as
         self._screens: dict[int, TipScreen | None] = {}  # each hypothesis's, made when named
         self.posterior: Posterior | None = None  # the diagnosis's, after the last trial
+        self.unfit = False  # whether the posterior holds a damage that does not fit the trials
         self._result = AdaptationResult(False, '', config=self.rules)
         self._asked: int | None = None  # the candidate index of the niche ask() returned
         self._ended = False
@@ -520,7 +526,7 @@ class AdaptationSession:
             plan.safety.weigh(post.probabilities)
         self._result.posterior = post.describe()
         p = post.probabilities
-        holding = plan.holding(p)
+        holding, self.unfit = plan.holding(p), plan.unfit(p)
         if holding is not None and (holding != self.named or len(holding) > 1):
             self._go_on_as(holding)  # a leg set's weights follow the posterior
         elif self.named is not None and p[list(self.named)].sum() < plan.release:

@@ -78,5 +78,7 @@ class TrialFeed:
             node.get_logger().info(say.trial_message(trial, niche))
         if diagnosis is not None:
             node.get_logger().info(
-                say.diagnosis_message(trial.number, diagnosis.named, session.posterior)
+                say.diagnosis_message(
+                    trial.number, diagnosis.named, session.posterior, session.unfit
+                )
             )

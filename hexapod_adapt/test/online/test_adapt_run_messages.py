@@ -83,3 +83,20 @@ def test_run_settings_are_checked_by_the_request_rules():
     assert settings_problem(good) == ''
     assert settings_problem({**good, 'trial_duration': -1.0})
     assert settings_problem({**good, 'profile': 'nonsense'})
+
+
+def test_a_diagnosis_says_what_the_run_goes_on_as_or_that_no_hypothesis_fits():
+    from hexapod_adapt.online.diagnosis import Posterior
+    import numpy as np
+
+    post = Posterior(
+        ('leg 1 lifted', 'leg 2 lifted', 'none of these'), np.array([0.95, 0.04, 0.01])
+    )
+    say = run_messages.diagnosis_message
+    named = say(2, 'leg 1 lifted', post)
+    assert named.startswith('diagnosis after trial 2: leg 1 lifted 0.95')
+    assert named.endswith('; the run goes on as leg 1 lifted')
+    assert say(2, '', post).endswith('; no damage named yet')
+    assert say(2, '', post, unfit=True).endswith(
+        '; no hypothesis fits the trials: the run goes on blind'
+    )
