@@ -48,6 +48,17 @@ TEMPERATURES = (1.0, 0.5, 0.3, 0.2, 0.1)
 NONE_DEVIATIONS = (1.5, 2.0, 2.5, 3.0)
 
 
+def trial_physics(
+    engine: str, friction: float | None = None, compliance_slope: float | None = None
+) -> SimConfig:
+    """Return ``engine``'s converged physics with the trials' friction and servo compliance."""
+    trials = replace(SimConfig.converged(engine), friction=friction)
+    if compliance_slope is not None:
+        slope = replace(trials.engine_settings(), compliance_slope=compliance_slope)
+        trials = replace(trials, mujoco=slope)
+    return trials
+
+
 def residuals(archive, damages, trials: SimConfig, gaits: list[int]) -> np.ndarray:
     """
     Return (damage, gait, hypothesis, feature) scaled mismatches; NaN where a walk failed.
@@ -115,10 +126,7 @@ def main(argv: list[str] | None = None) -> int:
         help='the shipped weighing only, with a count by kind',
     )
     args = parser.parse_args(argv)
-    trials = replace(SimConfig.converged(args.engine), friction=args.friction)
-    if args.compliance_slope is not None:
-        slope = replace(trials.engine_settings(), compliance_slope=args.compliance_slope)
-        trials = replace(trials, mujoco=slope)
+    trials = trial_physics(args.engine, args.friction, args.compliance_slope)
     archive = load_archive(args.archive)
     legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
     kinds = EXPERIMENT_KINDS if args.kind == 'all' else (args.kind,)

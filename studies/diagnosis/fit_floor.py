@@ -19,7 +19,6 @@ fit at least each floor. MuJoCo only: PyBullet and DART take no part in choosing
 from __future__ import annotations
 
 import argparse
-from dataclasses import replace
 
 from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
@@ -28,21 +27,19 @@ from hexapod_adapt.online.diagnosis import student_log_likelihood, Weighing
 from hexapod_sim import SimConfig
 from hexapod_sim.damage import Damage
 import numpy as np
-from studies.diagnosis.calibration import posteriors, residuals
+from studies.diagnosis.calibration import posteriors, residuals, trial_physics
 
 FLOORS = (-8.0, -10.0, -12.0, -14.0)
 
 
-def trial_physics(variant: str) -> SimConfig:
+def variant_physics(variant: str) -> SimConfig:
     """Return MuJoCo's converged physics, as ``variant`` changes it."""
-    trials = SimConfig.converged('mujoco')
     if variant == 'stock':
-        return trials
+        return trial_physics('mujoco')
     if variant.startswith('f'):
-        return replace(trials, friction=float(variant[1:]))
+        return trial_physics('mujoco', friction=float(variant[1:]))
     if variant.startswith('s'):
-        slope = replace(trials.engine_settings(), compliance_slope=float(variant[1:]))
-        return replace(trials, mujoco=slope)
+        return trial_physics('mujoco', compliance_slope=float(variant[1:]))
     raise SystemExit(f'unknown variant {variant!r}: stock, fF or sS')
 
 
@@ -62,7 +59,7 @@ def main(argv: list[str] | None = None) -> int:
     others = [kind for kind in args.kinds if kind != 'lifted']
     damages = bank + [Damage.of(kind, d.failed_legs) for kind in others for d in bank]
     kind_of = ['lifted'] * len(bank) + [kind for kind in others for _ in bank]
-    r = residuals(archive, damages, trial_physics(args.variant), gaits)
+    r = residuals(archive, damages, variant_physics(args.variant), gaits)
     keep = np.zeros(len(damages), bool)
     keep[: len(bank)] = True
     shipped = Weighing()

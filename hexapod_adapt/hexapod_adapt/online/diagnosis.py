@@ -255,8 +255,7 @@ class Diagnosis:
     _cache: dict[tuple[int, int], np.ndarray | None] = field(init=False, default_factory=dict)
     # each asleep hypothesis's trials not yet weighed: (niche, the trial's signature)
     _missed: dict[int, list[tuple[int, np.ndarray]]] = field(init=False, default_factory=dict)
-    _fit: np.ndarray = field(init=False)  # each hypothesis's log likelihoods summed, and none's
-    _fitted: np.ndarray = field(init=False)  # the trials in each sum
+    _fit: np.ndarray = field(init=False)  # each hypothesis's log likelihoods of weighed trials
 
     def __post_init__(self) -> None:
         if not self.labels:
@@ -265,7 +264,7 @@ class Diagnosis:
         prior = np.full(h + 1, (1.0 - none_prior) / h)
         prior[-1] = none_prior
         self._log = np.log(prior)
-        self._fit, self._fitted = np.zeros(h + 1), np.zeros(h + 1, dtype=int)
+        self._fit = np.zeros(h + 1)
         self.names = feature_names(self.contacts)
         self.noise = feature_noise(self.names)
         self.trials = 0
@@ -289,10 +288,7 @@ class Diagnosis:
                 update[h] = self._weight(niche, h, seen)
             else:  # its bound stays: a likelihood is at most 1
                 self._missed.setdefault(h, []).append((int(niche), seen))
-        weighed = np.ones(len(update), dtype=bool)
-        weighed[list(self._missed)] = False
-        self._fit[weighed] += update[weighed]
-        self._fitted[weighed] += 1
+        self._fit += update  # 0 where a trial was missed
         self._log = self._log + self.weighing.temperature * update
         self._wake()
         self._log -= self._log.max()
@@ -302,9 +298,8 @@ class Diagnosis:
     def fits(self, h: int) -> bool:
         """Whether hypothesis ``h``'s mean log likelihood is at least the fit floor."""
         floor = self.weighing.fit_floor
-        if floor is None or self._fitted[h] == 0:
-            return True
-        return bool(self._fit[h] / self._fitted[h] >= floor)
+        weighed = self.trials - len(self._missed.get(h, ()))
+        return floor is None or weighed == 0 or bool(self._fit[h] / weighed >= floor)
 
     @property
     def asleep(self) -> int:
@@ -332,7 +327,6 @@ class Diagnosis:
                     weight = self._weight(niche, h, seen)
                     self._log[h] += self.weighing.temperature * weight
                     self._fit[h] += weight
-                    self._fitted[h] += 1
 
     def posterior(self) -> Posterior:
         """Return the current posterior."""

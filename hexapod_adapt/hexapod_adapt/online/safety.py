@@ -117,7 +117,9 @@ class SafetyModel:
         Only those in play are walked (believed at least :data:`NEGLIGIBLE_WEIGHT`); nan for
         the others, until the belief brings them back.
         """
-        tilts = self._walked.setdefault(int(index), np.full(self.hypotheses + 1, np.nan))
+        tilts = self._walked.get(int(index))
+        if tilts is None:
+            tilts = self._walked[int(index)] = np.full(self.hypotheses + 1, np.nan)
         niche = int(self.niches[index])
         for h in np.flatnonzero((self.weights >= NEGLIGIBLE_WEIGHT) & np.isnan(tilts)):
             tilts[h] = record_tilt(self.walk(niche, int(h)))

@@ -156,13 +156,18 @@ class DiagnosisPlan:
         leg set that hold it together, most probable first. None too when the most probable of
         them does not fit the trials (:meth:`Diagnosis.fits`).
         """
-        named = self._holding(np.asarray(probabilities, dtype=float)[: len(self.damages)])
-        return named if named is None or self.diagnosis.fits(named[0]) else None
+        return self.assess(probabilities)[0]
 
-    def unfit(self, probabilities: np.ndarray) -> bool:
-        """Whether the posterior holds hypotheses of which none fits the trials."""
-        named = self._holding(np.asarray(probabilities, dtype=float)[: len(self.damages)])
-        return named is not None and not self.diagnosis.fits(named[0])
+    def assess(self, probabilities: np.ndarray) -> tuple[tuple[int, ...] | None, bool]:
+        """
+        Return :meth:`holding`'s answer, and whether it is None because what is held misfits.
+
+        The second is True when the posterior holds a damage that does not fit the trials.
+        """
+        held = self._holding(np.asarray(probabilities, dtype=float)[: len(self.damages)])
+        if held is None or self.diagnosis.fits(held[0]):
+            return held, False
+        return None, True
 
     def _holding(self, p: np.ndarray) -> tuple[int, ...] | None:
         best = int(np.argmax(p))
@@ -526,7 +531,7 @@ class AdaptationSession:
             plan.safety.weigh(post.probabilities)
         self._result.posterior = post.describe()
         p = post.probabilities
-        holding, self.unfit = plan.holding(p), plan.unfit(p)
+        holding, self.unfit = plan.assess(p)
         if holding is not None and (holding != self.named or len(holding) > 1):
             self._go_on_as(holding)  # a leg set's weights follow the posterior
         elif self.named is not None and p[list(self.named)].sum() < plan.release:
