@@ -83,10 +83,10 @@ SPINNING = textwrap.dedent(
 )
 
 
-def stopping(clean_up_s: float) -> subprocess.Popen:
+def stopping(clean_up_s: float, script: str = SPINNING) -> subprocess.Popen:
     """Start a spinning node and Ctrl-C it; return it as its clean-up begins."""
     proc = subprocess.Popen(
-        [sys.executable, '-c', SPINNING, str(clean_up_s)],
+        [sys.executable, '-c', script, str(clean_up_s)],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
@@ -218,3 +218,32 @@ def test_ctrl_cs_that_come_while_the_process_ends_are_not_its_death():
     out, err = proc.stdout.read(), proc.stderr.read()
     assert proc.returncode == 0, (proc.returncode, sent, err[-2000:])
     assert out.endswith('cleaned up\n')
+
+
+# SPINNING, with rclpy's signal thread shutting the context down between try_shutdown's check and
+# its call (no lock orders the two): the call then raises rclpy's RCLError
+RACED_STOP = (
+    textwrap.dedent(
+        """
+        import rclpy
+
+
+        def shut_down_by_the_signal_thread_meanwhile(context=None):
+            context = rclpy.get_default_context()
+            context.shutdown()
+            context.shutdown()
+
+
+        rclpy.try_shutdown = shut_down_by_the_signal_thread_meanwhile
+        """
+    )
+    + SPINNING
+)
+
+
+def test_a_ctrl_c_whose_context_rclpy_shuts_down_at_the_same_time_is_a_clean_stop():
+    proc = stopping(0.0, RACED_STOP)
+    out, err = proc.communicate(timeout=30)
+    assert proc.returncode == 0, err
+    assert out == 'cleaned up\n'
+    assert 'Traceback' not in err
