@@ -251,8 +251,8 @@ def _stop_handler(stop: threading.Event) -> Callable[[int, Any], None]:
 SHUTDOWN_WAIT_S = 5.0
 
 
-def _shut_down_context() -> None:
-    """Shut the default context down, unless rclpy's signal thread did so meanwhile."""
+def try_shutdown() -> None:
+    """Shut the default context down (rclpy.try_shutdown), also when rclpy's signal thread does."""
     try:
         rclpy.try_shutdown()
     except RuntimeError:  # rclpy's RCLError: "rcl_shutdown already called"
@@ -319,7 +319,7 @@ def run_node(
         # (a goal waiting on the graph) sees it at its next check. Their signal thread may not
         # have done it yet (CI, 2026-12-02: a navigate goal walked on 10 s after a Ctrl-C)
         if stop.is_set():
-            _shut_down_context()
+            try_shutdown()
         # then a second Ctrl-C (a terminal's and a launcher's) reaches only ours, not rclpy's
         # signal thread while the node and the context are destroyed (a launcher once found a
         # node hung there)
@@ -330,7 +330,7 @@ def run_node(
                 shutdown()
             _let_callbacks_end(executor, SHUTDOWN_WAIT_S)
             node.destroy_node()
-        _shut_down_context()
+        try_shutdown()
         # the node is down: a Ctrl-C still on its way (a launcher's after a terminal's) must not
         # kill the process as it ends, where Python gives SIGINT back its default action
         if threading.current_thread() is threading.main_thread():

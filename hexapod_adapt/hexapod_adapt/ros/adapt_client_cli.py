@@ -35,7 +35,7 @@ from hexapod_msgs.action import Adapt
 from hexapod_msgs.msg import AdaptationTrial
 from hexapod_sim.damage import Damage, parse_damage
 from hexapod_util.cli import interval, number, run_command
-from hexapod_util.ros_glue import ACTION_QOS, spin_until_done, Waited
+from hexapod_util.ros_glue import ACTION_QOS, spin_until_done, try_shutdown, Waited
 import rclpy
 from rclpy.action import ActionClient
 from rclpy.signals import SignalHandlerOptions
@@ -257,7 +257,7 @@ def _call(args: argparse.Namespace, ros_args: list[str]) -> int:
         return _report(answer.result().status, answer.result().result)
     finally:
         node.destroy_node()
-        rclpy.try_shutdown()
+        try_shutdown()
 
 
 def _wait(node, client: ActionClient, future, deadline: float, args) -> int | None:

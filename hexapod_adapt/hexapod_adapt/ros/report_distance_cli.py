@@ -21,7 +21,7 @@ import time
 
 from hexapod_msgs.srv import ReportDistance
 from hexapod_util.cli import number, run_command
-from hexapod_util.ros_glue import spin_until_done, Waited
+from hexapod_util.ros_glue import spin_until_done, try_shutdown, Waited
 import rclpy
 from rclpy.signals import SignalHandlerOptions
 
@@ -77,7 +77,7 @@ def _call(args: argparse.Namespace, ros_args: list[str]) -> int:
         return 1
     finally:
         node.destroy_node()
-        rclpy.try_shutdown()
+        try_shutdown()
 
 
 if __name__ == '__main__':

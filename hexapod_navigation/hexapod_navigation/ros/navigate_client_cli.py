@@ -24,7 +24,7 @@ import time
 from hexapod_msgs.action import Navigate
 from hexapod_navigation.ros.navigate_msgs import goal_at, navigate_client
 from hexapod_util.cli import number, run_command
-from hexapod_util.ros_glue import spin_until_done, Waited
+from hexapod_util.ros_glue import spin_until_done, try_shutdown, Waited
 import rclpy
 from rclpy.signals import SignalHandlerOptions
 
@@ -145,7 +145,7 @@ def _send(args: argparse.Namespace, ros_args: list[str]) -> int:
         raise
     finally:
         node.destroy_node()
-        rclpy.try_shutdown()
+        try_shutdown()
 
 
 if __name__ == '__main__':
