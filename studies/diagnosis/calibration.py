@@ -59,6 +59,21 @@ def trial_physics(
     return trials
 
 
+def variant_physics(variant: str) -> SimConfig:
+    """
+    Return MuJoCo's converged physics, as ``variant`` changes it.
+
+    ``fF``: foot friction F; ``sS``: servo compliance slope S; ``stock``: neither.
+    """
+    if variant == 'stock':
+        return trial_physics('mujoco')
+    if variant.startswith('f'):
+        return trial_physics('mujoco', friction=float(variant[1:]))
+    if variant.startswith('s'):
+        return trial_physics('mujoco', compliance_slope=float(variant[1:]))
+    raise SystemExit(f'unknown variant {variant!r}: stock, fF or sS')
+
+
 def residuals(archive, damages, trials: SimConfig, gaits: list[int]) -> np.ndarray:
     """
     Return (damage, gait, hypothesis, feature) scaled mismatches; NaN where a walk failed.

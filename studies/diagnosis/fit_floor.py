@@ -24,23 +24,11 @@ from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
 from hexapod_adapt.online.bank import BANK_DAMAGES
 from hexapod_adapt.online.diagnosis import student_log_likelihood, Weighing
-from hexapod_sim import SimConfig
 from hexapod_sim.damage import Damage
 import numpy as np
-from studies.diagnosis.calibration import posteriors, residuals, trial_physics
+from studies.diagnosis.calibration import posteriors, residuals, variant_physics
 
 FLOORS = (-8.0, -10.0, -12.0, -14.0)
-
-
-def variant_physics(variant: str) -> SimConfig:
-    """Return MuJoCo's converged physics, as ``variant`` changes it."""
-    if variant == 'stock':
-        return trial_physics('mujoco')
-    if variant.startswith('f'):
-        return trial_physics('mujoco', friction=float(variant[1:]))
-    if variant.startswith('s'):
-        return trial_physics('mujoco', compliance_slope=float(variant[1:]))
-    raise SystemExit(f'unknown variant {variant!r}: stock, fF or sS')
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import csv
 from dataclasses import asdict, replace
+import math
 from pathlib import Path
 import sys
 
@@ -31,16 +32,23 @@ from hexapod_adapt.online.diagnosis import Weighing
 from hexapod_adapt.online.experiment import ExperimentSetup, run_experiment
 from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
 from hexapod_adapt.online.safety import RISK_LIMIT
-from hexapod_adapt.online.session import BlindRules, FirstGait, NAME_LEG_SETS
+from hexapod_adapt.online.session import BlindRules, FirstGait, NAME_LEG_SETS, SCREEN_MARGIN
 from hexapod_sim import SimConfig
 from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
 from hexapod_sim.scenarios import scenario
 import numpy as np
+from studies.diagnosis.calibration import variant_physics
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--engine', default='pybullet')
+    parser.add_argument(
+        '--variant',
+        default=None,
+        help="MuJoCo only: the trials' physics changed (fF: foot friction F; sS: servo"
+        ' compliance slope S), a tuning set of physics the hypotheses were not walked in',
+    )
     parser.add_argument('--kind', default='lifted')
     parser.add_argument('--scenarios', nargs='+', default=['S1', 'S2', 'S3', 'S4'])
     parser.add_argument('--archive', default=str(shipped_map(DEFAULT_MAP)))
@@ -114,12 +122,23 @@ def main(argv: list[str] | None = None) -> int:
         default=NAME_LEG_SETS,
         help='name a leg set when its hypotheses of several kinds hold the threshold together',
     )
+    parser.add_argument(
+        '--screen-margin',
+        type=float,
+        default=math.degrees(SCREEN_MARGIN),
+        help="[deg] a named damage's tip screen vetoes tilts past the tip guard less this",
+    )
     args = parser.parse_args(argv)
     blind = BlindRules(
         args.offset_std, args.stop == 'alpha', args.bank_prior, FirstGait(args.first)
     )
     weighing = Weighing(
         args.none_deviation, temperature=args.temperature, fit_floor=args.fit_floor
+    )
+    if args.variant is not None and args.engine != 'mujoco':
+        parser.error('--variant changes MuJoCo trials only')
+    trials = (
+        SimConfig.converged(args.engine) if args.variant is None else variant_physics(args.variant)
     )
     archive = load_archive(args.archive)
     map_engine = engine_of_map(archive)
@@ -134,7 +153,7 @@ def main(argv: list[str] | None = None) -> int:
         config=replace(PROFILES['default'], max_trials=TRIAL_BUDGET),
         # the converged step on every engine: on MuJoCo too, a physics the hypotheses (walked at
         # the map's step) were not walked in
-        trial_config=SimConfig.converged(args.engine),
+        trial_config=trials,
         floor=True,
         setup='default+diagnosis'
         + (f'+safety{args.risk_limit:g}' if args.risk_limit else '')
@@ -144,7 +163,9 @@ def main(argv: list[str] | None = None) -> int:
         + ('+bankprior' if args.bank_prior else '')
         + ('' if args.first == FirstGait.FASTEST.value else f'+first-{args.first}')
         + {'every': '+every-kind', 'lifted': '+lifted-bank', 'kind': ''}[args.hypotheses]
-        + ('+leg-sets' if args.leg_sets and args.hypotheses == 'every' else ''),
+        + ('+leg-sets' if args.leg_sets and args.hypotheses == 'every' else '')
+        + ('' if args.variant is None else f'+trials-{args.variant}')
+        + (f'+margin{args.screen_margin:g}' if args.screen_margin else ''),
         bank=bank,
         leave_out=args.leave_out,
         kind=args.kind,
@@ -154,6 +175,7 @@ def main(argv: list[str] | None = None) -> int:
         blind=blind,
         weighing=weighing,
         leg_sets=args.leg_sets,
+        screen_margin=math.radians(args.screen_margin),
     )
     out = Path(args.out)
     if out.exists() and not args.force:

@@ -32,6 +32,7 @@ from hexapod_adapt.online.session import (
     BlindRules,
     diagnosis_plan,
     NAME_LEG_SETS,
+    SCREEN_MARGIN,
     SessionStart,
 )
 from hexapod_gait import preset
@@ -74,7 +75,8 @@ class ExperimentSetup:
     DiagnosisPlan`); with a ``tip_guard``, a safety model with risk limit ``safety`` (None:
     none) screens their gaits (:class:`~hexapod_adapt.online.safety.SafetyModel`), and
     ``blind`` says how they adapt and stop while they name nothing, ``weighing`` how a trial
-    weighs the hypotheses, ``leg_sets`` whether they may name a leg set of several kinds.
+    weighs the hypotheses, ``leg_sets`` whether they may name a leg set of several kinds,
+    ``screen_margin`` [rad] how far below the guard a named damage's screen vetoes.
     """
 
     scenarios: Sequence[str] = ('S1', 'S2', 'S3', 'S4')
@@ -96,6 +98,7 @@ class ExperimentSetup:
     blind: BlindRules = BlindRules()
     weighing: Weighing = Weighing()
     leg_sets: bool = NAME_LEG_SETS
+    screen_margin: float = SCREEN_MARGIN
 
 
 @dataclass
@@ -189,6 +192,7 @@ def _start(
                 blind=s.blind,
                 weighing=s.weighing,
                 leg_sets=s.leg_sets,
+                screen_margin=s.screen_margin,
             )
     return SessionStart(hypotheses=hypotheses, floor=floor, diagnosis=plan)
 

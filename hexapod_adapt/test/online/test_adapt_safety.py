@@ -159,3 +159,26 @@ def test_a_blind_session_never_offers_a_gait_above_the_limit(archive):
     for veto in session.vetoes:
         assert veto.risk is not None and veto.risk > safety.limit
     assert session.result().niches  # it walked
+
+
+def test_a_named_damages_screen_vetoes_gaits_within_its_margin_of_the_guard(archive):
+    """With a margin, a gait whose simulated tilt lies just under the guard is vetoed too."""
+    damage = Damage.lifted([2, 5])
+    bank = DamageBank('mujoco', (damage,), archive.speeds()[archive.elite_indices()][None])
+    margin = math.radians(10.0)
+    walks = HypothesisWalks(archive)
+    plain = diagnosis_plan(archive, bank, DEFAULT_TIP_GUARD, walks=walks)
+    wary = diagnosis_plan(archive, bank, DEFAULT_TIP_GUARD, walks=walks, screen_margin=margin)
+    screen, wary_screen = plain.screen_of(damage), wary.screen_of(damage)
+    assert wary_screen.guard == pytest.approx(DEFAULT_TIP_GUARD - margin)
+    near = None
+    for position in np.argsort(-bank.speeds[0], kind='stable')[:300]:
+        screen.tips(int(position))
+        if DEFAULT_TIP_GUARD - margin < screen.tilts[int(position)] <= DEFAULT_TIP_GUARD:
+            near = int(position)
+            break
+    assert near is not None, 'no gait of the 300 fastest tilts within the margin of the guard'
+    assert not screen.tips(near) and wary_screen.tips(near)
+    for bad in (-0.1, DEFAULT_TIP_GUARD, math.nan):
+        with pytest.raises(ValueError, match='screen_margin'):
+            diagnosis_plan(archive, bank, DEFAULT_TIP_GUARD, walks=walks, screen_margin=bad)
