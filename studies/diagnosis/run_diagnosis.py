@@ -220,6 +220,7 @@ def summarise(rows, kind: str, engine: str) -> None:
     print(f'trials_median_{tag} {np.median([r.trials for r in rows]):g}')
     print(f'best_mean_{tag} {np.mean([r.best_speed for r in rows]):.3f} m/s')
     print(f'tipped_trials_{tag} {sum(r.tipped_trials for r in rows)}')
+    print(f'no_hypothesis_fits_{tag} {sum(r.unfit for r in rows)} of {len(rows)}')
     print(f'vetoed_{tag} {sum(r.vetoed for r in rows)}')
     walks = [r.hypothesis_walks for r in rows]
     first, median = walks[0], np.median(walks)

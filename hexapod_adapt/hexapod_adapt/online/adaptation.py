@@ -45,6 +45,9 @@ class AdaptationResult:
     #: the legs of what it named after each trial (() none): one leg set, whatever the kinds
     named_legs: list[tuple[int, ...]] = field(default_factory=list)
     posterior: str = ''  # the diagnosis's last posterior, its top hypotheses ('' no diagnosis)
+    #: whether that posterior's most probable damage did not fit the trials (none in the bank
+    #: does: the run went on blind)
+    unfit: bool = False
 
 
 @dataclass(frozen=True)

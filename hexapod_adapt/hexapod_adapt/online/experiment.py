@@ -135,6 +135,8 @@ class ExperimentRow:
     vetoed: int = 0  # gaits a tip screen or the safety model kept from being tried
     #: the hypotheses' walks this run simulated (the runs before it may have walked the rest)
     hypothesis_walks: int = 0
+    #: whether the run ended saying no hypothesis fits its trials (the most probable did not)
+    unfit: bool = False
 
     def best_after(self, k: int) -> float:
         """Return the best speed the first ``k`` trials measured (all, if the run stopped)."""
@@ -249,6 +251,7 @@ def _row(
         named='|'.join(result.named),
         named_legs='|'.join('+'.join(map(str, legs)) for legs in result.named_legs),
         posterior=result.posterior,
+        unfit=result.unfit,
         trial_speeds=tuple(float(t.measured) for t in result.trials),
         vetoed=len(result.vetoed),
     )

@@ -540,6 +540,7 @@ class AdaptationSession:
         self._result.posterior = post.describe()
         p = post.probabilities
         holding, self.unfit = plan.assess(p)
+        self._result.unfit = self.unfit
         if holding is not None and (holding != self.named or len(holding) > 1):
             self._go_on_as(holding)  # a leg set's weights follow the posterior
         elif self.named is not None and p[list(self.named)].sum() < plan.release:

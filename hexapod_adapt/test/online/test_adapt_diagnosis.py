@@ -172,6 +172,24 @@ def test_with_a_fit_floor_a_probable_hypothesis_that_fits_badly_is_not_named():
         Weighing(fit_floor=0.5)
 
 
+def test_a_session_whose_most_probable_damage_does_not_fit_says_so_and_stays_blind(archive):
+    walks = {0: straight_walk(0.32, 0.0), 1: straight_walk(0.36, 0.0)}
+    trial = TrialOutcome(0.2, record=straight_walk(0.2, 0.0))
+    n = len(archive.elite_indices())
+    for floor, named, unfit in ((None, (0,), False), (-2.0, None, True)):
+        weighing = Weighing(none_prior=0.01, fit_floor=floor)
+        diagnosis = Diagnosis(('near', 'far'), lambda niche, h: walks[h], weighing=weighing)
+        plan = DiagnosisPlan(diagnosis, (Damage.lifted([1]), Damage.lifted([2])), np.zeros((2, n)),
+                             lambda d: None, leg_sets=False)  # fmt: skip
+        config = replace(PROFILES['default'], max_trials=4, min_speed=0.9)
+        session = AdaptationSession(archive, config, SessionStart(diagnosis=plan))
+        while (niche := session.ask()) is not None:
+            session.tell(niche, trial)
+        assert session.named == named and session.unfit is unfit, floor
+        result = session.result()
+        assert result.unfit is unfit and result.named[-1] == ('' if unfit else 'leg 1 lifted')
+
+
 @pytest.mark.parametrize(
     'true,others',
     [
