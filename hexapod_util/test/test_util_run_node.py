@@ -102,8 +102,18 @@ def ctrl_c_twice(clean_up_s: float, gap_s: float) -> tuple[int, str, str]:
     proc = stopping(clean_up_s)
     time.sleep(gap_s)
     proc.send_signal(signal.SIGINT)
-    out, err = proc.communicate(timeout=30)
-    return proc.returncode, out, err
+    return finish(proc)
+
+
+def finish(proc: subprocess.Popen) -> tuple[int, str, str]:
+    """
+    Wait for ``proc`` to end; return its (status, the rest of stdout, stderr).
+
+    Read through the text streams: after a readline() the rest may sit in their buffer already,
+    which communicate() would bypass.
+    """
+    code = proc.wait(timeout=30)
+    return code, proc.stdout.read(), proc.stderr.read()
 
 
 def test_a_terminals_and_a_launchers_ctrl_c_together_let_the_clean_up_finish():
@@ -242,10 +252,7 @@ RACED_STOP = (
 
 
 def test_a_ctrl_c_whose_context_rclpy_shuts_down_at_the_same_time_is_a_clean_stop():
-    proc = stopping(0.0, RACED_STOP)
-    # read through the text streams: the rest of stdout may already sit in their buffer, which
-    # communicate() would bypass
-    out, err = proc.stdout.read(), proc.stderr.read()
-    assert proc.wait(timeout=30) == 0, err
+    code, out, err = finish(stopping(0.0, RACED_STOP))
+    assert code == 0, err
     assert out == 'cleaned up\n'
     assert 'Traceback' not in err
