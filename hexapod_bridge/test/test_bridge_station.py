@@ -231,8 +231,9 @@ def test_a_trial_cut_by_a_fault_is_never_scorable_and_ends_within_seconds(
     with _emulator_process(tmp_path) as (radio, imu, _log, proc):
         station = _walking_station(radio, imu)
         try:
-            ok, message = station.start_trial()
-            assert ok, message
+            # as the next start below: ci28 once saw an emulator just started on a loaded machine
+            # leave all 7 attempts of a first start unanswered; this test is of the faults after it
+            _until(lambda: station.start_trial()[0], 20, 'the first start')
             time.sleep(1.5)
             proc.send_signal(cut)
             cut_at = time.monotonic()
