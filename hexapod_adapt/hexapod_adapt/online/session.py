@@ -420,7 +420,6 @@ class AdaptationSession:
         self.named: tuple[int, ...] | None = None  # the diagnosis's hypotheses the run goes on as
         self._screens: dict[int, TipScreen | None] = {}  # each hypothesis's, made when named
         self.posterior: Posterior | None = None  # the diagnosis's, after the last trial
-        self.unfit = False  # whether the posterior holds a damage that does not fit the trials
         self._result = AdaptationResult(False, '', config=self.rules)
         self._asked: int | None = None  # the candidate index of the niche ask() returned
         self._ended = False
@@ -513,6 +512,11 @@ class AdaptationSession:
         said, self._said = self._said, len(self.vetoes)
         return self.vetoes[said:]
 
+    @property
+    def unfit(self) -> bool:
+        """Whether the posterior holds a damage that does not fit the trials."""
+        return self._result.unfit
+
     def result(self) -> AdaptationResult:
         """Return the run's outcome so far: its trials, best gait and why it stopped."""
         r = self._result
@@ -539,8 +543,7 @@ class AdaptationSession:
             plan.safety.weigh(post.probabilities)
         self._result.posterior = post.describe()
         p = post.probabilities
-        holding, self.unfit = plan.assess(p)
-        self._result.unfit = self.unfit
+        holding, self._result.unfit = plan.assess(p)
         if holding is not None and (holding != self.named or len(holding) > 1):
             self._go_on_as(holding)  # a leg set's weights follow the posterior
         elif self.named is not None and p[list(self.named)].sum() < plan.release:
