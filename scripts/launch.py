@@ -365,6 +365,8 @@ def main(argv: list[str] | None = None) -> int:
         # SIGINT (the nodes finish cleanly), then SIGTERM, then SIGKILL: never leave one running
         for signum, grace in ((signal.SIGINT, 10.0), (signal.SIGTERM, 5.0), (signal.SIGKILL, 5.0)):
             alive = [p for p in procs if p.poll() is None]
+            if signum == signal.SIGTERM:
+                _ask_for_stacks(alive, [commands[procs.index(p)][0] for p in alive])
             for p in alive:
                 if signum != signal.SIGINT:
                     name = commands[procs.index(p)][0]
@@ -382,6 +384,18 @@ def main(argv: list[str] | None = None) -> int:
         if p.returncode and not (stop.is_set() and p.returncode == 128 + signal.SIGINT)
     ]
     return (codes[0] if codes[0] > 0 else 128 - codes[0]) if codes else 0
+
+
+def _ask_for_stacks(procs: list, names: list[str]) -> None:
+    """Have the nodes that outlived their Ctrl-C print where their threads are, into the log."""
+    from hexapod_util.ros_glue import STACKS_SIGNAL
+
+    nodes = [(p, n) for p, n in zip(procs, names) if n != 'robot_emulator']  # not a node
+    for p, name in nodes:
+        print(f'[launch] {name} did not stop at Ctrl-C: its stacks follow', flush=True)
+        p.send_signal(STACKS_SIGNAL)
+    if nodes:
+        time.sleep(1.0)  # the dumps reach the log before anything else is said
 
 
 def _tell_exit(name: str, code: int, last: deque, stopping: bool) -> None:

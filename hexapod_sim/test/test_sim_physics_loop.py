@@ -90,8 +90,10 @@ def test_work_that_timed_out_is_withdrawn_never_run_later(loop):
     stall, ran = threading.Event(), []
     loop.call(lambda: None)  # the thread is stepping
     loop._work.put(stall.wait)  # the physics thread stalls (a hook blocked, a starved process)
-    with pytest.raises(TimeoutError, match='did not respond in 0.2 s'):
+    with pytest.raises(TimeoutError, match='did not respond in 0.2 s') as refused:
         loop.call(lambda: ran.append('late'), timeout=0.2)
+    # and says where the thread is stuck, innermost call first (a stalled CI run left no trace)
+    assert str(refused.value).split('it is at ')[1].startswith('wait (threading.py:'), refused
     stall.set()
     assert loop.call(lambda: 'after') == 'after'  # the queue behind it has run: it was not
     assert ran == []

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 import enum
+import faulthandler
 import os
 import re
 import signal
@@ -247,6 +248,11 @@ def _stop_handler(stop: threading.Event) -> Callable[[int, Any], None]:
     return on_signal
 
 
+#: The signal at which a node started by :func:`run_node` prints every thread's stack to stderr
+#: and runs on: a launcher sends it before it escalates past Ctrl-C, so that a node that would not
+#: stop says where it is stuck (``kill -USR1 PID`` does the same by hand).
+STACKS_SIGNAL = signal.SIGUSR1
+
 #: s a stopping node waits for the callbacks in flight to end before it is destroyed.
 SHUTDOWN_WAIT_S = 5.0
 
@@ -286,6 +292,7 @@ def run_node(
     # the project's Fast DDS profile (services answer clients discovered late), unless one is set:
     # read when rclpy.init creates the DDS participant, however the node was started
     os.environ.update(profile_environment(os.environ))
+    faulthandler.register(STACKS_SIGNAL, all_threads=True)
     stop = threading.Event()  # a SIGINT or SIGTERM, whenever it came
     if threading.current_thread() is threading.main_thread():
         on_signal = _stop_handler(stop)

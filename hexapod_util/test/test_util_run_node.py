@@ -10,7 +10,7 @@ import sys
 import textwrap
 import time
 
-from hexapod_util.ros_glue import SAME_CTRL_C_S
+from hexapod_util.ros_glue import SAME_CTRL_C_S, STACKS_SIGNAL
 import pytest
 
 NODE = textwrap.dedent(
@@ -256,3 +256,23 @@ def test_a_ctrl_c_whose_context_rclpy_shuts_down_at_the_same_time_is_a_clean_sto
     assert code == 0, err
     assert out == 'cleaned up\n'
     assert 'Traceback' not in err
+
+
+def test_a_node_asked_for_its_stacks_prints_every_thread_and_runs_on():
+    """What a launcher asks of a node that did not stop at Ctrl-C (CI, 2026-12-03: no trace)."""
+    proc = subprocess.Popen(
+        [sys.executable, '-c', SPINNING, '0'],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert proc.stdout.readline() == 'spinning\n'
+    proc.send_signal(STACKS_SIGNAL)
+    time.sleep(1.0)
+    assert proc.poll() is None  # it runs on
+    proc.send_signal(signal.SIGINT)
+    code, out, err = finish(proc)
+    assert code == 0, err
+    assert out.endswith('cleaned up\n')
+    assert 'Current thread' in err and '(most recent call first)' in err, err
+    assert 'in spin_once' in err, err  # where its main thread was: spinning

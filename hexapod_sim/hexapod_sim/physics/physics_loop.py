@@ -18,6 +18,7 @@ import queue
 import sys
 import threading
 import time
+import traceback
 from typing import Callable, TypeVar
 
 from hexapod_sim.damage import Damage
@@ -130,11 +131,24 @@ class PhysicsLoop:
 
         self._work.put(wrapped)
         if not done.wait(timeout) and claim.acquire(blocking=False):
-            raise TimeoutError(f'the physics thread did not respond in {timeout:g} s')
+            raise TimeoutError(
+                f'the physics thread did not respond in {timeout:g} s; it is at {self.where()}'
+            )
         done.wait()  # taken just as the time ran out: it finishes
         if 'error' in box:
             raise box['error']  # type: ignore[misc]
         return box.get('result')  # type: ignore[return-value]
+
+    def where(self, frames: int = 3) -> str:
+        """Say where the physics thread is now: its innermost ``frames`` calls, innermost last."""
+        thread = self._thread
+        frame = sys._current_frames().get(thread.ident) if thread is not None else None
+        if frame is None:
+            return 'no physics thread running'
+        stack = traceback.extract_stack(frame)[-frames:]
+        return ' < '.join(
+            f'{s.name} ({s.filename.rsplit("/", 1)[-1]}:{s.lineno})' for s in reversed(stack)
+        )
 
     # -- in the physics thread (through call) --------------------------------------------------
     def play(self, cycle: CycleTable) -> float:
