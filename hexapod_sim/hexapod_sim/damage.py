@@ -173,8 +173,18 @@ class Damage:
         Every one of ``legs`` damaged the same way: a kind of :data:`EXPERIMENT_KINDS`.
 
         ``unpowered_<joint>`` is that joint's servo dead; the amount of ``weak`` and
-        ``shortened`` is their default unless ``strength`` is given.
+        ``shortened`` is their default unless ``strength`` is given. ``A+B`` is two kinds at
+        once: two legs, the lower-numbered one A, the other B.
         """
+        if '+' in kind:
+            kinds, legs_t = kind.split('+'), validate_failed_legs(legs)
+            if len(kinds) != len(legs_t) or len(kinds) != MAX_FAILED_LEGS:
+                raise ValueError(
+                    f'damage kind {kind!r} is two kinds at once, one for each of two legs;'
+                    f' the legs are {list(legs_t)}'
+                )
+            parts = [cls.of(k, [leg], strength).legs[0] for k, leg in zip(kinds, legs_t)]
+            return cls(tuple(parts))
         joints: tuple[str, ...] = ()
         if kind.startswith('unpowered_'):
             kind, joints = 'unpowered', (kind.removeprefix('unpowered_'),)
@@ -265,6 +275,17 @@ EXPERIMENT_KINDS = (
     'no_tibia',
     'shortened',
 )
+
+
+def check_experiment_kind(kind: str) -> str:
+    """Return ``kind`` when :meth:`Damage.of` takes it, else raise ValueError saying what does."""
+    parts = kind.split('+')
+    if len(parts) > MAX_FAILED_LEGS or any(part not in EXPERIMENT_KINDS for part in parts):
+        raise ValueError(
+            f'damage kind {kind!r} is none of {", ".join(EXPERIMENT_KINDS)}, nor two of them'
+            ' joined by "+" (two legs, two kinds)'
+        )
+    return kind
 
 
 def default_amount(kind: str) -> float:

@@ -14,6 +14,7 @@ from hexapod_sim import create_simulator, ENGINES, evaluate_gait, SimConfig
 from hexapod_sim.damage import (
     Damage,
     damage_from_lists,
+    default_amount,
     DEFAULT_WEAK_STRENGTH,
     LegDamage,
     parse_damage,
@@ -122,6 +123,9 @@ def test_prepared_rows_hold_the_held_legs():
         (lambda: LegDamage(1, 'locked', 0.5), 'only a weak or shortened leg has a strength'),
         (lambda: Damage((LegDamage(1), LegDamage(1, 'locked'))), 'a leg is damaged twice'),
         (lambda: Damage.of('locked', [1, 2, 3]), 'at most 2 legs'),
+        (lambda: Damage.of('locked+weak', [1]), 'two kinds at once, one for each of two legs'),
+        (lambda: Damage.of('locked+weak+lifted', [1, 2]), 'one for each of two legs'),
+        (lambda: Damage.of('locked+broken', [1, 2]), "unknown damage kind 'broken'"),
         (lambda: parse_damage('1'), 'is not LEG:KIND'),
         (lambda: parse_damage('x:locked'), 'leg must be an integer'),
         (lambda: damage_from_lists([1, 2], ['weak']), '1 damage kinds for 2 legs'),
@@ -188,3 +192,11 @@ def test_damage_text_and_lists_agree():
     assert dead.label == 'leg 2 unpowered femur+tibia, leg 5 shortened 0.40'
     assert dead.dead_slots().tolist() == [4, 5] and dead.tibia_fraction(5) == 0.4
     assert Damage.of('unpowered_femur', [3]) == parse_damage('3:unpowered:femur')
+
+
+def test_two_kinds_at_once_damage_the_lower_numbered_leg_with_the_first():
+    damage = Damage.of('unpowered_tibia+shortened', [5, 2])
+    assert [(d.leg, d.kind) for d in damage.legs] == [(2, 'unpowered'), (5, 'shortened')]
+    assert damage.legs[0].joints == ('tibia',)
+    assert damage.legs[1].strength == default_amount('shortened')
+    assert damage == parse_damage(f'2:unpowered:tibia,5:shortened:{default_amount("shortened")}')

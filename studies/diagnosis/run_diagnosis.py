@@ -137,6 +137,8 @@ def main(argv: list[str] | None = None) -> int:
     )
     if args.variant is not None and args.engine != 'mujoco':
         parser.error('--variant changes MuJoCo trials only')
+    if '+' in args.kind and args.hypotheses == 'kind':
+        parser.error(f'--kind {args.kind} is two kinds at once: no bank of it; --hypotheses?')
     trials = (
         SimConfig.converged(args.engine) if args.variant is None else variant_physics(args.variant)
     )

@@ -54,7 +54,8 @@ from hexapod_adapt.online.mboa import (
 )
 from hexapod_adapt.online.run_config import PROFILE_SETTINGS
 from hexapod_sim import ENGINES
-from hexapod_sim.damage import EXPERIMENT_KINDS
+from hexapod_sim.damage import check_experiment_kind, Damage, EXPERIMENT_KINDS
+from hexapod_sim.scenarios import scenario
 from hexapod_util.cli import (
     add_force,
     claim_outputs,
@@ -116,6 +117,13 @@ def summary(rows: list[ExperimentRow]) -> str:
     return '\n'.join(lines)
 
 
+def _kind_arg(text: str) -> str:
+    try:
+        return check_experiment_kind(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
 def build_parser() -> argparse.ArgumentParser:
     """Return the command-line options of ``run_experiment``."""
     ap = argparse.ArgumentParser(
@@ -148,11 +156,12 @@ def _run_options(ap: argparse.ArgumentParser) -> None:
     )
     ap.add_argument(
         '--damage-kind',
-        choices=EXPERIMENT_KINDS,
+        type=_kind_arg,
         default='lifted',
         help="what each scenario's failed legs suffer: the thesis's lifted legs (default), a dead"
         ' coxa, femur or tibia servo (unpowered_*: the joint free, the leg folded by the live'
-        ' ones), locked, weak, a lost or a shortened tibia (hexapod_sim.damage)',
+        ' ones), locked, weak, a lost or a shortened tibia (hexapod_sim.damage); two kinds at'
+        ' once as A+B, for two-leg scenarios (S2-S4): ' + ', '.join(EXPERIMENT_KINDS),
     )
     ap.add_argument(
         '--trial-engine',
@@ -348,6 +357,8 @@ def _experiment(args: argparse.Namespace) -> int:
     try:
         archive = load_archive(args.archive or shipped_map(DEFAULT_MAP))
         config = _config(args)
+        for name in args.scenarios:  # two kinds at once need two legs: refused before any run
+            Damage.of(args.damage_kind, scenario(name)[0])
     except (ArchiveError, ValueError) as exc:
         print(f'run_experiment: {exc}', file=sys.stderr)
         return 2

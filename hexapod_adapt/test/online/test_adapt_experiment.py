@@ -69,7 +69,9 @@ def test_the_experiment_runs_on_another_damage_kind(tmp_path):
     controls = [float(row['control_speed']) for row in rows]
     assert controls != [float(row['control_speed']) for row in csv.DictReader(lifted.open())]
     r = _run(*common, '--damage-kind', 'broken')
-    assert r.returncode == 2 and "invalid choice: 'broken'" in r.stderr
+    assert r.returncode == 2 and "damage kind 'broken' is none of lifted," in r.stderr
+    r = _run(*common, '--damage-kind', 'locked+weak')  # S1 fails one leg
+    assert r.returncode == 2 and 'two kinds at once, one for each of two legs' in r.stderr
 
 
 @pytest.mark.slow
