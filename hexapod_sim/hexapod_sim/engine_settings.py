@@ -88,6 +88,12 @@ def _in_range(name: str, value: float, low: float, high: float) -> None:
         raise ValueError(f'MuJoCo setting {name} must be in [{low:g}, {high:g}], got {value!r}')
 
 
+def _integer(name: str, value: int, low: int, high: int) -> None:
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise ValueError(f'MuJoCo setting {name} must be an integer, got {value!r}')
+    _in_range(name, value, low, high)
+
+
 def _choice(name: str, value: str, options: tuple[str, ...]) -> None:
     if value not in options:
         raise ValueError(
@@ -140,20 +146,29 @@ class MujocoSettings:
     #: is the shared ``SimConfig.friction``.
     torsional_friction: float = 0.005
     rolling_friction: float = 0.0001
+    #: A physics variant (hexapod_sim.variants, issue 66): the servos' stall torque and no-load
+    #: speed as fractions of the URDF's, the rows of 240 Hz by which each command reaches the
+    #: servos late, and each link type's mass and inertia as a fraction of the URDF's. At 1, 0
+    #: and 1 (:data:`MUJOCO_VARIANT_DEFAULTS`) the model is the URDF's.
+    effort_scale: float = 1.0
+    speed_scale: float = 1.0
+    latency_rows: int = 0
+    base_mass_scale: float = 1.0
+    coxa_mass_scale: float = 1.0
+    femur_mass_scale: float = 1.0
+    tibia_mass_scale: float = 1.0
 
     def __post_init__(self) -> None:
+        _integer('latency_rows', self.latency_rows, 0, 48)
+        for name in MUJOCO_VARIANT_DEFAULTS:
+            if name != 'latency_rows':
+                _in_range(name, getattr(self, name), 0.1, 10.0)
         _in_range('time_step', self.time_step, 1e-4, 0.01)
-        if isinstance(self.substeps, bool) or not isinstance(self.substeps, int):
-            raise ValueError(f'MuJoCo setting substeps must be an integer, got {self.substeps!r}')
-        _in_range('substeps', self.substeps, 1, 64)
+        _integer('substeps', self.substeps, 1, 64)
         _choice('integrator', self.integrator, INTEGRATOR_NAMES)
         _choice('solver', self.solver, SOLVER_NAMES)
         _choice('cone', self.cone, CONE_NAMES)
-        if isinstance(self.iterations, bool) or not isinstance(self.iterations, int):
-            raise ValueError(
-                f'MuJoCo setting iterations must be an integer, got {self.iterations!r}'
-            )
-        _in_range('iterations', self.iterations, 1, 1000)
+        _integer('iterations', self.iterations, 1, 1000)
         _in_range('tolerance', self.tolerance, 0.0, 1e-2)
         _in_range('compliance_slope', self.compliance_slope, 1.0, 256.0)
         _in_range('armature', self.armature, 0.0, 1.0)
@@ -176,6 +191,18 @@ def servo_kp(effort: float, compliance_slope: float) -> float:
     """
     return effort / (compliance_slope * DYNAMIXEL_RAD_PER_UNIT)
 
+
+#: The variant fields (added after maps were made) at the model's own values: a fingerprint
+#: leaves them out there, so a map made before them keeps its fingerprint.
+MUJOCO_VARIANT_DEFAULTS = {
+    'effort_scale': 1.0,
+    'speed_scale': 1.0,
+    'latency_rows': 0,
+    'base_mass_scale': 1.0,
+    'coxa_mass_scale': 1.0,
+    'femur_mass_scale': 1.0,
+    'tibia_mass_scale': 1.0,
+}
 
 DEFAULT_SETTINGS = MujocoSettings()
 

@@ -38,7 +38,12 @@ from hexapod_sim.damage import (  # noqa: F401 (re-exported: one home, hexapod_s
     MAX_FAILED_LEGS,
     validate_failed_legs,
 )
-from hexapod_sim.engine_settings import ACCURATE, DART_DEFAULT_SETTINGS, DEFAULT_SETTINGS
+from hexapod_sim.engine_settings import (
+    ACCURATE,
+    DART_DEFAULT_SETTINGS,
+    DEFAULT_SETTINGS,
+    MUJOCO_VARIANT_DEFAULTS,
+)
 import numpy as np
 
 GRAVITY = 9.81
@@ -130,9 +135,12 @@ class SimConfig:
         Engine, its settings (and their hash), friction. Recorded in archive metadata.
         """
         settings = asdict(self.engine_settings())
-        if self.engine == 'mujoco' and settings['substeps'] == 1:
-            # as before substeps existed: the maps, ceilings and banks made then stay valid
-            del settings['substeps']
+        if self.engine == 'mujoco':
+            # as before these fields existed: the maps, ceilings and banks made then stay valid
+            added_later = {'substeps': 1, **MUJOCO_VARIANT_DEFAULTS}
+            for name, value in added_later.items():
+                if settings[name] == value:
+                    del settings[name]
         blob = json.dumps(
             {'engine': self.engine, 'settings': settings, 'friction': self.friction},
             sort_keys=True,

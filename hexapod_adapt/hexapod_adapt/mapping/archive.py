@@ -11,6 +11,9 @@ An archive has one row per niche (a CVT centroid in its descriptor space). Its m
                          seconds (thesis 4.1.1); NaN where the niche is empty
     descriptors (n, 6)   measured duty factor per leg of the elite (eq. 4.2); NaN if empty
     genotypes   (n, 32)  the elite's genes, 0..1 (mapping ``genotype_mapping``); NaN if empty
+    peak_tilt   (n,)     the elite's largest body roll or pitch in its trial [rad] (over every
+                         physics variant that scored it); NaN if empty or not recorded (a map
+                         made before 2026-12-03 has no such array)
 
 A navigation repertoire (docs/navigation.md) has 2-D descriptors (the body's displacement in
 its start frame, scaled to 0..1), 34-gene omni genotypes, and as fitness minus the heading
@@ -126,14 +129,19 @@ class Archive:
     descriptors: np.ndarray
     genotypes: np.ndarray
     metadata: dict[str, Any] = field(default_factory=dict)
+    peak_tilt: np.ndarray | None = None  # (n,) [rad]; None: not recorded (all NaN)
 
     def __post_init__(self) -> None:
         self.centroids = np.asarray(self.centroids, dtype=float)
         self.fitness = np.asarray(self.fitness, dtype=float)
         self.descriptors = np.asarray(self.descriptors, dtype=float)
         self.genotypes = np.asarray(self.genotypes, dtype=float)
+        if self.peak_tilt is None:
+            self.peak_tilt = np.full(len(self.fitness), np.nan)
+        self.peak_tilt = np.asarray(self.peak_tilt, dtype=float)
         kind = map_kind(self.metadata.get('kind', 'gait'))
         _check_arrays(self.centroids, self.fitness, self.descriptors, self.genotypes, kind)
+        _check_tilt(self.peak_tilt, len(self.centroids), 'archive')
         self.metadata.setdefault('format', FORMAT)
         self.metadata.setdefault('format_version', FORMAT_VERSION)
         self.metadata['niches'] = int(len(self.centroids))
@@ -206,10 +214,15 @@ class Archive:
         )
 
     def insert(
-        self, niche: int, fitness: float, descriptor: np.ndarray, genotype: np.ndarray
+        self,
+        niche: int,
+        fitness: float,
+        descriptor: np.ndarray,
+        genotype: np.ndarray,
+        peak_tilt: float = math.nan,
     ) -> InsertStatus:
         """
-        Offer a result to ``niche``.
+        Offer a result to ``niche`` (its peak tilt [rad], NaN if not recorded).
 
         It becomes the elite if the niche is empty or it is fitter (a tie keeps the incumbent).
         Returns what happened.
@@ -223,6 +236,8 @@ class Archive:
         self.fitness[niche] = fitness
         self.descriptors[niche] = descriptor
         self.genotypes[niche] = genotype
+        assert self.peak_tilt is not None  # __post_init__ made it
+        self.peak_tilt[niche] = peak_tilt
         return status
 
     # -- files ------------------------------------------------------------------------------
@@ -250,6 +265,7 @@ class Archive:
             fitness=self.fitness,
             descriptors=self.descriptors,
             genotypes=self.genotypes,
+            peak_tilt=self.peak_tilt,
             metadata=np.array(json.dumps(meta, sort_keys=True)),
             **dict(extra_arrays or {}),
         )
@@ -300,6 +316,20 @@ def _check_arrays(
             )
 
 
+def _check_tilt(peak_tilt: np.ndarray, n: int, where: str) -> None:
+    if peak_tilt.shape != (n,):
+        raise ArchiveError(
+            f'{where}: peak_tilt must have shape ({n},) (one per niche), got {peak_tilt.shape}'
+        )
+    recorded = peak_tilt[~np.isnan(peak_tilt)]
+    if recorded.size and not (np.all(np.isfinite(recorded)) and 0.0 <= recorded.min()):
+        raise ArchiveError(f'{where}: peak_tilt must be NaN or finite and >= 0 rad')
+    if recorded.size and recorded.max() > math.pi:
+        raise ArchiveError(
+            f'{where}: peak_tilt must be at most pi rad, found {recorded.max():.6g}'
+        )
+
+
 #: Longest trial an archive may be measured over [s] (thesis 4.1.1 uses 5 s).
 MAX_TRIAL_DURATION = 120.0
 
@@ -344,11 +374,14 @@ def load_archive(path: str | os.PathLike) -> Archive:
     if not path.is_file():
         raise ArchiveError(f'{path}: no such archive file')
     try:
-        data = read_npz(path, (), optional=(*_ARRAYS, 'metadata'))
+        data = read_npz(path, (), optional=(*_ARRAYS, 'peak_tilt', 'metadata'))
         missing = [k for k in (*_ARRAYS, 'metadata') if k not in data]
         if missing:
             raise ArchiveError(f'{path}: not a hexapod archive (missing {", ".join(missing)})')
         arrays = {name: float_array(data[name], f'{path}: {name}') for name in _ARRAYS}
+        tilt = (
+            float_array(data['peak_tilt'], f'{path}: peak_tilt') if 'peak_tilt' in data else None
+        )
         meta = json_array(data['metadata'], f'{path}: metadata')
     except (OSError, UnreadableFile) as exc:
         raise ArchiveError(str(exc)) from None
@@ -374,8 +407,15 @@ def load_archive(path: str | os.PathLike) -> Archive:
         raise ArchiveError(
             f'{path}: centroids do not match the centroid hash in the metadata (file altered?)'
         )
+    if tilt is not None:
+        _check_tilt(tilt, len(arrays['centroids']), str(path))
     return Archive(
-        arrays['centroids'], arrays['fitness'], arrays['descriptors'], arrays['genotypes'], meta
+        arrays['centroids'],
+        arrays['fitness'],
+        arrays['descriptors'],
+        arrays['genotypes'],
+        meta,
+        tilt,
     )
 
 

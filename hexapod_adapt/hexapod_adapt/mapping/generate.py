@@ -39,6 +39,7 @@ from hexapod_adapt.mapping.map_elites import (
     Progress,
     run_map_elites,
 )
+from hexapod_adapt.mapping.robust import RobustScore
 from hexapod_adapt.mapping.simulation import (
     DEFAULT_MAP_ENGINE,
     SimulateGenotypes,
@@ -101,6 +102,8 @@ class GenerateConfig:
     min_stance_legs: int = 0
     #: gait maps: what an elite must also do (feet on the ground on average, the body's tilt)
     guards: WalkGuards = WalkGuards()
+    #: gait maps on MuJoCo: each gait walked in physics variants, stored by a low statistic
+    robust: RobustScore = RobustScore()
     #: who proposes candidates after the random start: iso_line (the thesis's operator), or a
     #: pyribs emitter set (cma_me, cma_mae, bandit; mapping.emitters) with these settings
     emitters: str = 'iso_line'
@@ -132,6 +135,8 @@ class GenerateConfig:
             raise ValueError('substeps applies to gait maps only')
         if self.guards.active and self.kind != 'gait':
             raise ValueError('walk guards (min_feet, max_tilt) apply to gait maps only')
+        if self.robust.active and (self.kind != 'gait' or self.engine != 'mujoco'):
+            raise ValueError('physics variants (--variants) apply to gait maps on MuJoCo only')
         self.engine_config()  # the MAP-Elites settings' own checks (emitters, ...)
 
     @property
@@ -317,8 +322,10 @@ def generate_map(
         fingerprint = repertoire_fingerprint(config.engine, config.min_stance_legs)
         evaluate = SimulateSteps(config.engine, config.min_stance_legs)
     else:
-        fingerprint = simulation_fingerprint(config.engine, config.guards, config.substeps)
-        evaluate = SimulateGenotypes(config.engine, config.guards, config.substeps)
+        fingerprint = simulation_fingerprint(
+            config.engine, config.guards, config.substeps, config.robust
+        )
+        evaluate = SimulateGenotypes(config.engine, config.guards, config.substeps, config.robust)
     engine = config.engine_config()
     pending, proposer = None, None
     source = None  # the file a resumed run continues

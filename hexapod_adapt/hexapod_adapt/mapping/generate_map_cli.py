@@ -30,6 +30,7 @@ from hexapod_adapt.mapping.generate import (
     GenerateConfig,
     LIMITS,
 )
+from hexapod_adapt.mapping.robust import RobustScore, STATISTICS
 from hexapod_adapt.mapping.simulation import WalkGuards
 from hexapod_sim import ENGINES
 from hexapod_util.cli import claim_outputs, number, output_dir, output_file, run_command
@@ -242,6 +243,27 @@ def _gait_guards(ap: argparse.ArgumentParser) -> None:
         metavar='RAD',
         help='gait maps: only gaits whose body never tilts past RAD (roll or pitch; pi: any)',
     )
+    ap.add_argument(
+        '--variants',
+        type=int,
+        default=0,
+        metavar='K',
+        help='gait maps on MuJoCo: walk each gait in K physics variants (friction, servos, '
+        'latency, masses, floor) and store a low statistic of the K (0: the model alone)',
+    )
+    ap.add_argument(
+        '--statistic',
+        choices=sorted(STATISTICS),
+        default='min',
+        help='with --variants: the statistic of the K distances a map stores (default: min)',
+    )
+    ap.add_argument(
+        '--variant-seed',
+        type=int,
+        default=0,
+        metavar='S',
+        help='with --variants: the seed the K variants are drawn from (default: 0)',
+    )
     ap.add_argument('--quiet', action='store_true', help='no progress bar or progress lines')
     ap.add_argument(
         '--no-bar', action='store_true', help='progress lines instead of a progress bar (logs, CI)'
@@ -283,6 +305,7 @@ def _config(args: argparse.Namespace) -> GenerateConfig:
         kind=args.kind,
         min_stance_legs=args.min_stance_legs,
         guards=WalkGuards(args.min_feet, args.max_tilt),
+        robust=RobustScore(args.variants, args.statistic, args.variant_seed),
         emitters=args.emitters,
         emitter_count=args.emitter_count,
         emitter_batch=args.emitter_batch,

@@ -101,6 +101,7 @@ class Evaluation(Protocol):
     descriptor: np.ndarray  # (the archive's descriptor dimension,)
     valid: bool
     seconds: float  # the worker's CPU time for this evaluation (utilisation, core time)
+    peak_tilt: float  # the body's largest roll or pitch [rad] (NaN: not recorded)
 
 
 EvaluateFn = Callable[[np.ndarray], Sequence[Evaluation]]  # (m, genes) -> m evaluations
@@ -198,7 +199,9 @@ class MapElites:
         if not result.valid:
             return None
         niche = int(self.niche_of(result.descriptor)[0])
-        return self.archive.insert(niche, result.fitness, result.descriptor, genes)
+        return self.archive.insert(
+            niche, result.fitness, result.descriptor, genes, result.peak_tilt
+        )
 
 
 # -- checkpoints -------------------------------------------------------------------------------

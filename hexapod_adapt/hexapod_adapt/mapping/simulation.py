@@ -9,7 +9,7 @@ depends on. (``map_elites.py`` stays generic.).
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 import hashlib
 import math
 from pathlib import Path
@@ -17,6 +17,7 @@ import time
 from typing import Any
 
 from hexapod_adapt.mapping.archive import Archive
+from hexapod_adapt.mapping.robust import RobustScore
 from hexapod_description import urdf_path
 from hexapod_gait import GENOTYPE_MAPPING_VERSION
 from hexapod_sim import create_simulator, evaluate_gaits, SimConfig, Simulator, validate_engine
@@ -31,7 +32,7 @@ DEFAULT_MAP_ENGINE = 'mujoco'
 #: thesis map (import_thesis_map) records none either; its own simulator is none of ours.
 UNRECORDED_MAP_ENGINE = 'pybullet'
 
-_WORKER_SIMS: dict[tuple[str, int], Simulator] = {}
+_WORKER_SIMS: dict[SimConfig, Simulator] = {}
 
 
 def map_sim_config(engine: str, substeps: int = 0) -> SimConfig:
@@ -86,9 +87,14 @@ def worker_simulator(engine: str, substeps: int = 0) -> Simulator:
 
     A worker process evaluates many batches.
     """
-    sim = _WORKER_SIMS.get((engine, substeps))
+    return config_simulator(map_sim_config(engine, substeps))
+
+
+def config_simulator(config: SimConfig) -> Simulator:
+    """Return this process's simulator for ``config``, made once, reused."""
+    sim = _WORKER_SIMS.get(config)
     if sim is None:
-        sim = _WORKER_SIMS[engine, substeps] = create_simulator(map_sim_config(engine, substeps))
+        sim = _WORKER_SIMS[config] = create_simulator(config)
     return sim
 
 
@@ -97,7 +103,8 @@ class SimulateGenotypes:
     Picklable MAP-Elites evaluation function.
 
     (m, 32) genotypes -> m results, evaluated as one batch in the worker's simulator, collisions
-    fatal (thesis 4.2.5).
+    fatal (thesis 4.2.5); with a :class:`RobustScore`, one batch in each physics variant, each
+    gait's walks combined by the score. Each result records the body's peak tilt.
     """
 
     def __init__(
@@ -105,54 +112,57 @@ class SimulateGenotypes:
         engine: str = DEFAULT_MAP_ENGINE,
         guards: WalkGuards | None = None,
         substeps: int = 0,
+        robust: RobustScore | None = None,
     ) -> None:
         self.engine = validate_engine(engine)
         self.guards = guards or WalkGuards()
         self.substeps = substeps
+        self.robust = robust or RobustScore()
+        self._configs = self.robust.configs(map_sim_config(self.engine, substeps))
 
     def __call__(self, genes: np.ndarray) -> list[EvaluationResult]:
         genes = np.atleast_2d(genes)
         t = time.thread_time()  # CPU time: a busy machine does not inflate it
         # intact, said explicitly: the process's simulator is shared, and a ceiling computed in
         # this process (or a parent it was forked from) may have left legs failed in it
-        results = evaluate_gaits(
-            list(genes),
-            worker_simulator(self.engine, self.substeps),
-            collisions_fatal=True,
-            failed_legs=(),
-            record_tilt=self.guards.max_tilt < math.pi,
-        )
-        each = (time.thread_time() - t) / max(len(results), 1)
-        out = []
-        for r in results:
-            why = self.guards.problem(r) if r.valid and self.guards.active else ''
-            if why:  # the thesis's failure value, with the reason
-                out.append(failure(why, r.duration))
-                continue
-            out.append(
-                EvaluationResult(
-                    r.fitness,
-                    r.descriptor,
-                    r.valid,
-                    r.reason,
-                    r.duration,
-                    r.collision_steps,
-                    None,
-                    each,
+        walks = [
+            [
+                self._guarded(r)
+                for r in evaluate_gaits(
+                    list(genes),
+                    config_simulator(config),
+                    collisions_fatal=True,
+                    failed_legs=(),
+                    record_tilt=True,
                 )
-            )
-        return out
+            ]
+            for config in self._configs
+        ]
+        each = (time.thread_time() - t) / max(len(genes), 1)
+        if not self.robust.active:
+            return [replace(r, contacts=None, seconds=each) for r in walks[0]]
+        return [
+            replace(self.robust.combine(gait), seconds=each) for gait in zip(*walks, strict=True)
+        ]
+
+    def _guarded(self, r: EvaluationResult) -> EvaluationResult:
+        """Return ``r``, or the thesis's failure value with the reason if it fails the guards."""
+        why = self.guards.problem(r) if r.valid and self.guards.active else ''
+        return failure(why, r.duration) if why else r
 
 
 def simulation_fingerprint(
-    engine: str = DEFAULT_MAP_ENGINE, guards: WalkGuards | None = None, substeps: int = 0
+    engine: str = DEFAULT_MAP_ENGINE,
+    guards: WalkGuards | None = None,
+    substeps: int = 0,
+    robust: RobustScore | None = None,
 ) -> dict[str, Any]:
     """
     Return what a map's fitness depends on besides the genes.
 
-    The URDF, the engine and its settings, the genotype mapping, the trial duration and the walk
-    guards (only when any applies: maps made without them keep their fingerprint). Stored in the
-    archive's metadata.
+    The URDF, the engine and its settings, the genotype mapping, the trial duration, the walk
+    guards and the physics variants (each only when it applies: maps made without them keep
+    their fingerprint). Stored in the archive's metadata.
     """
     sim = map_sim_config(engine, substeps).fingerprint()
     out = {
@@ -163,6 +173,8 @@ def simulation_fingerprint(
     }
     if guards is not None and guards.active:
         out['walk_guards'] = asdict(guards)
+    if robust is not None and robust.active:
+        out['robust_score'] = robust.fingerprint()
     return out
 
 

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 import hashlib
+import math
 from pathlib import Path
 import time
 from typing import Any
@@ -62,6 +63,7 @@ class StepEvaluation:
     valid: bool
     seconds: float  # compute time [s]
     displacement: Displacement
+    peak_tilt: float = math.nan  # not recorded for a step
 
 
 class SimulateSteps:

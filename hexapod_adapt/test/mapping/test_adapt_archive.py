@@ -143,3 +143,26 @@ def test_insert_says_what_happened():
     assert a.insert(0, 2.0, d, np.zeros(32)) is InsertStatus.IMPROVED and a.fitness[0] == 2.0
     s = a.stats()
     assert (s.filled, s.coverage, s.max, s.qd_score) == (1, 0.5, 2.0, 2.0)
+
+
+def test_peak_tilt_round_trips_and_a_map_without_it_reads_as_unrecorded(tmp_path):
+    a = _archive()
+    elites = a.elite_indices()
+    a.peak_tilt[elites] = np.linspace(0.0, 1.0, len(elites))
+    b = load_archive(a.save(tmp_path / 'map.npz'))
+    np.testing.assert_array_equal(a.peak_tilt, b.peak_tilt)
+    # a map written before peak tilts were kept: its file has no such array
+    with np.load(tmp_path / 'map.npz') as data:
+        old = {k: data[k] for k in data.files if k != 'peak_tilt'}
+    np.savez(tmp_path / 'old.npz', **old)
+    assert np.isnan(load_archive(tmp_path / 'old.npz').peak_tilt).all()
+    # an insert keeps the elite's tilt; a result that does not record one leaves NaN
+    c = Archive.empty(a.centroids)
+    c.insert(0, 1.0, np.full(6, 0.5), np.full(32, 0.5), 0.25)
+    c.insert(1, 1.0, np.full(6, 0.5), np.full(32, 0.5))
+    assert c.peak_tilt[0] == 0.25 and np.isnan(c.peak_tilt[1:]).all()
+    for bad, match in ((np.full(50, -0.1), '>= 0 rad'), (np.full(50, 4.0), 'at most pi'),
+                       (np.zeros(49), r'shape \(50,\)')):  # fmt: skip
+        np.savez(tmp_path / 'bad.npz', **{**old, 'peak_tilt': bad})
+        with pytest.raises(ArchiveError, match=match):
+            load_archive(tmp_path / 'bad.npz')

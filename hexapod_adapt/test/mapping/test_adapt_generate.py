@@ -288,6 +288,29 @@ def test_a_walk_guarded_map_is_made_from_its_seed_and_resumes_exactly_after_sigk
     assert (a.descriptors[elites].sum(axis=1) >= 3.0).all()
 
 
+def _made_twice_and_resumed(tmp_path, args, kill_at: int, other):
+    """
+    Make the map ``args(out)`` says on 2 workers and on 1, and on 1 killed at ``kill_at``.
+
+    The killed run resumed with ``other(out)`` is refused (another simulator);
+    resumed as it was, on 2 workers, it ends as the others, bit for bit. Returns the map.
+    """
+    first, second = tmp_path / 'a' / 'map.npz', tmp_path / 'b' / 'map.npz'
+    assert _run_cli(*args(first), '--workers', '2').returncode == 0
+    assert _run_cli(*args(second), '--workers', '1').returncode == 0
+    killed = tmp_path / 'killed' / 'map.npz'
+    _kill_midway(args(killed), killed, kill_at, emitters=False)
+    refused = _run_cli(*other(killed), '--resume')
+    assert refused.returncode != 0 and 'another simulator' in refused.stderr
+    assert _run_cli(*args(killed), '--workers', '2', '--resume').returncode == 0
+    a, b, k = load_archive(first), load_archive(second), load_archive(killed)
+    for o in (b, k):
+        np.testing.assert_array_equal(a.fitness, o.fitness)
+        np.testing.assert_array_equal(a.genotypes, o.genotypes)
+        np.testing.assert_array_equal(a.peak_tilt, o.peak_tilt)
+    return a
+
+
 @pytest.mark.slow
 def test_a_map_at_4_substeps_is_made_from_its_seed_and_resumes_exactly_after_sigkill(tmp_path):
     """The default map's option: MuJoCo at 4 physics steps per row, recorded, never mixed."""
@@ -298,19 +321,8 @@ def test_a_map_at_4_substeps_is_made_from_its_seed_and_resumes_exactly_after_sig
             '--with-presets', '--substeps', substeps, '--checkpoint-every', '0.2', '--quiet',
         ]  # fmt: skip
 
-    first, second = tmp_path / 'a' / 'map.npz', tmp_path / 'b' / 'map.npz'
-    assert _run_cli(*args(first), '--workers', '2').returncode == 0
-    assert _run_cli(*args(second), '--workers', '1').returncode == 0
-    killed = tmp_path / 'killed' / 'map.npz'
-    _kill_midway(args(killed), killed, 100, emitters=False)
     # resumed on the engine's default (1 step per row): refused, the checkpoint kept
-    other = _run_cli(*args(killed, substeps='0'), '--resume')
-    assert other.returncode != 0 and 'another simulator' in other.stderr
-    assert _run_cli(*args(killed), '--workers', '2', '--resume').returncode == 0
-    a, b, k = load_archive(first), load_archive(second), load_archive(killed)
-    for o in (b, k):
-        np.testing.assert_array_equal(a.fitness, o.fitness)
-        np.testing.assert_array_equal(a.genotypes, o.genotypes)
+    a = _made_twice_and_resumed(tmp_path, args, 100, lambda out: args(out, substeps='0'))
     assert a.metadata['simulator']['settings']['substeps'] == 4
     assert a.n_filled > 0
     # the map's stored speeds are MuJoCo's at 4 substeps: one re-walked there gives it again
@@ -336,3 +348,71 @@ def test_walk_guards_refuse_nonsense_and_say_why_a_gait_fails():
     assert 'tilted 40 deg' in guards.problem(walks)
     assert WalkGuards(min_feet=3.0).problem(walks) == ''
     assert 'walk_guards' not in simulation_fingerprint('mujoco', WalkGuards())
+
+
+@pytest.mark.slow
+def test_a_robust_map_is_made_from_its_seed_and_resumes_exactly_after_sigkill(tmp_path):
+    """Issue 66: each gait walked in 3 physics variants, stored by their minimum, tilt kept."""
+    from hexapod_adapt.mapping.robust import RobustScore
+    from hexapod_adapt.mapping.simulation import SimulateGenotypes
+
+    def args(out, statistic='min'):
+        return [
+            '--out', str(out), '--niches', '30', '--evaluations', '120', '--seed', '5',
+            '--with-presets', '--variants', '3', '--statistic', statistic,
+            '--variant-seed', '7', '--checkpoint-every', '0.2', '--quiet',
+        ]  # fmt: skip
+
+    # resumed with another statistic: refused, the checkpoint kept
+    a = _made_twice_and_resumed(tmp_path, args, 40, lambda out: args(out, statistic='q25'))
+    score = a.metadata['robust_score']
+    assert (score['variants'], score['statistic'], score['seed']) == (3, 'min', 7)
+    assert len(score['physics']) == 3
+    elites = a.elite_indices()
+    assert len(elites) > 0
+    assert (
+        np.isfinite(a.peak_tilt[elites]).all() and np.isnan(np.delete(a.peak_tilt, elites)).all()
+    )
+    # the stored distance is the least of the gait's walks in its variants, each walked alone
+    best = elites[np.argmax(a.fitness[elites])]
+    genes = a.genotypes[best][None]
+    robust = RobustScore(3, 'min', 7)
+    walks = [
+        SimulateGenotypes('mujoco', robust=RobustScore(1, 'min', 0))(genes)[0],  # another one
+        SimulateGenotypes('mujoco', robust=robust)(genes)[0],
+    ]
+    assert walks[1].fitness == a.fitness[best] and walks[1].peak_tilt == a.peak_tilt[best]
+    assert walks[0].fitness != a.fitness[best]
+
+
+def test_a_robust_score_refuses_nonsense_and_combines_walks_as_it_says():
+    from hexapod_adapt.mapping.robust import RobustScore
+    from hexapod_sim.evaluation import EvaluationResult, failure
+
+    for bad, match in (
+        ({'variants': -1}, r'variants must be in \[0, 256\]'),
+        ({'variants': 2.0}, 'variants must be an integer'),
+        ({'variants': 2, 'statistic': 'median'}, 'statistic must be one of min, q25, mean-std'),
+        ({'variants': 2, 'seed': -3}, 'variant seed must be in'),
+    ):
+        with pytest.raises(ValueError, match=match):
+            RobustScore(**bad)
+
+    def walk(distance, duty, tilt):
+        return EvaluationResult(distance, np.full(6, duty), True, '', 5.0, peak_tilt=tilt)
+
+    walks = [walk(1.0, 0.5, 0.1), walk(0.6, 0.7, 0.3), walk(0.8, 0.6, 0.2), walk(1.4, 0.4, 0.1)]
+    d = np.array([1.0, 0.6, 0.8, 1.4])
+    for statistic, expected in (
+        ('min', 0.6),
+        ('q25', np.quantile(d, 0.25)),
+        ('mean-std', d.mean() - d.std()),
+    ):
+        r = RobustScore(4, statistic).combine(walks)
+        assert r.valid and r.fitness == pytest.approx(expected)
+        np.testing.assert_allclose(r.descriptor, np.full(6, 0.55))
+        assert r.peak_tilt == 0.3
+    broken = RobustScore(4).combine([*walks[:2], failure('self-collision a / b', 5.0), walks[3]])
+    assert not broken.valid and broken.reason == 'in physics variant 2: self-collision a / b'
+    with pytest.raises(ValueError, match='gait maps on MuJoCo only'):
+        GenerateConfig(out=Path('m.npz'), engine='pybullet', robust=RobustScore(2))

@@ -22,10 +22,16 @@ torque = clip(kp (q_target - q), -effort, effort) - (effort / velocity) q_dot, i
 proportional position servo saturating at the URDF effort limit, plus the motor's back-EMF,
 which makes the URDF velocity limit the no-load speed. The RX firmware has no velocity
 feed-forward, so the table's velocities are not used by this engine.
+
+A physics variant (:mod:`hexapod_sim.variants`) scales the servos' stall torque and no-load
+speed and the links' masses and inertias when the model is built, and delays every command by
+``latency_rows`` rows (the first rows hold the pose of the reset), stepping one at a time and in
+a rollout alike.
 """
 
 from __future__ import annotations
 
+from collections import deque
 from typing import Any, Sequence
 import xml.etree.ElementTree as ET
 
@@ -141,6 +147,7 @@ class MujocoSimulator(Simulator):
         self._state_spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
         self._nstate = mujoco.mj_stateSize(m, self._state_spec)
         self._renderer: Any = None
+        self._late_rows: deque[np.ndarray] = deque()  # commands not yet reached the servos
         self._apply_failed_legs()
         self.reset(np.zeros(3 * N_LEGS))
 
@@ -189,9 +196,10 @@ class MujocoSimulator(Simulator):
             spec.add_exclude(bodyname1='base_link', bodyname2=f'link_{leg}_2')
         for lim in self.model.limits:
             joint = spec.joint(lim.name)
-            joint.damping = [lim.effort / lim.velocity if s.back_emf else 0.0, 0.0, 0.0]
+            effort, velocity = lim.effort * s.effort_scale, lim.velocity * s.speed_scale
+            joint.damping = [effort / velocity if s.back_emf else 0.0, 0.0, 0.0]
             joint.armature = s.armature
-            kp = s.servo_kp(lim.effort)
+            kp = s.servo_kp(effort)
             act = spec.add_actuator(
                 name=lim.name, target=lim.name, trntype=mujoco.mjtTrn.mjTRN_JOINT
             )
@@ -199,7 +207,7 @@ class MujocoSimulator(Simulator):
             act.gainprm[0] = kp
             act.biasprm[0], act.biasprm[1], act.biasprm[2] = 0.0, -kp, 0.0
             act.forcelimited = True
-            act.forcerange = [-lim.effort, lim.effort]
+            act.forcerange = [-effort, effort]
 
         def contact_sensor(name: str, obj: tuple, ref: tuple) -> None:
             sensor = spec.add_sensor(
@@ -222,7 +230,23 @@ class MujocoSimulator(Simulator):
         robot = (mujoco.mjtObj.mjOBJ_XBODY, 'base_link')  # subtree: the whole robot
         contact_sensor('robot_on_floor', robot, floor)
         contact_sensor('self_collision', robot, robot)
-        return spec.compile()
+        return self._scale_masses(spec.compile())
+
+    def _scale_masses(self, m: mujoco.MjModel) -> mujoco.MjModel:
+        """Scale each link type's mass and inertia by the settings' factors."""
+        s = self.settings
+        scales = {'1': s.coxa_mass_scale, '2': s.femur_mass_scale, '3': s.tibia_mass_scale}
+        changed = False
+        for name in self._link_bodies():
+            scale = s.base_mass_scale if name == 'base_link' else scales[name[-1]]
+            if scale != 1.0:
+                body = m.body(name).id
+                m.body_mass[body] *= scale
+                m.body_inertia[body] *= scale
+                changed = True
+        if changed:  # the derived constants (subtree masses, ...) follow
+            mujoco.mj_setConst(m, mujoco.MjData(m))
+        return m
 
     # -- configuration ---------------------------------------------------------------------
     def _apply_failed_legs(self) -> None:
@@ -305,13 +329,21 @@ class MujocoSimulator(Simulator):
         d.qpos[:7] = [0.0, 0.0, body_height, 1.0, 0.0, 0.0, 0.0]
         d.qpos[self._qadr] = q
         d.ctrl[self._act] = q
+        self._late_rows.clear()
         mujoco.mj_forward(m, d)
 
     def prepare_rows(self, positions: np.ndarray, velocities: np.ndarray) -> np.ndarray:
         return self._position_targets(positions)
 
     def apply_row(self, rows: Any, index: int) -> None:
-        self.d.ctrl[self._act] = rows[index]
+        latency = self.settings.latency_rows
+        if not latency:
+            self.d.ctrl[self._act] = rows[index]
+            return
+        # the servos get the row sent latency rows ago (until then, what they hold)
+        self._late_rows.append(np.array(rows[index]))
+        if len(self._late_rows) > latency:
+            self.d.ctrl[self._act] = self._late_rows.popleft()
 
     def set_motor_power(self, on: bool) -> None:
         if on:
@@ -397,7 +429,8 @@ class MujocoSimulator(Simulator):
         sub = self.settings.substeps  # physics steps per row, the row's target held through them
         initial = np.empty((n, self._nstate))
         control = np.empty((n, n_steps * sub, m.nu))
-        steps = np.arange(n_steps)
+        # each row reaches the servos latency_rows late; until then they hold the reset's pose
+        steps = np.maximum(np.arange(n_steps) - self.settings.latency_rows, 0)
         for i, table in enumerate(tables):
             rows = self.prepare_rows(table.positions, table.velocities)
             self.reset(table.positions[0])

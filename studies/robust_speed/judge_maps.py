@@ -1,0 +1,107 @@
+# Copyright 2026 Hexapod adaptation team
+# SPDX-License-Identifier: MIT
+"""
+Decide the robust-speed study (issue 66, deliverable 2): which candidate map walks best elsewhere.
+
+Each candidate map's 300 fastest gaits (by its stored statistic) and 100 others at random (seed
+0) are walked on PyBullet at its converged step, intact, 5 s, collisions not fatal
+(:func:`hexapod_adapt.mapping.transfer.transfer_figures`). The decision rule is the one
+studies/robust_speed/README.md wrote before the runs (:func:`decide`). ``--judge`` walks the
+winner and the nominal map on DART as well, reported, deciding nothing.
+
+    python -m studies.robust_speed.judge_maps --maps DIR [--judge]
+"""
+
+from __future__ import annotations
+
+import argparse
+from dataclasses import dataclass
+from pathlib import Path
+
+from hexapod_adapt.mapping.archive import load_archive
+from hexapod_adapt.mapping.transfer import transfer_figures, TransferFigures
+from hexapod_sim import create_simulator, SimConfig
+
+#: The candidates (studies/robust_speed/README.md): name -> (variants per gait, statistic).
+CANDIDATES: dict[str, tuple[int, str]] = {
+    'nominal': (0, 'min'),
+    'k4_min': (4, 'min'),
+    'k4_q25': (4, 'q25'),
+    'k4_mean-std': (4, 'mean-std'),
+    'k8_min': (8, 'min'),
+    'k8_q25': (8, 'q25'),
+    'k8_mean-std': (8, 'mean-std'),
+}
+#: Within this of a candidate with fewer variants, the one with fewer wins [m/s].
+CHEAPER_MARGIN = 0.005
+
+
+@dataclass(frozen=True)
+class Judged:
+    """One candidate map's figures on PyBullet."""
+
+    name: str
+    variants: int
+    filled: int
+    figures: TransferFigures
+
+
+def decide(judged: list[Judged]) -> str:
+    """
+    Return the winner's name by the README's rule.
+
+    The highest median PyBullet speed of the 100 fastest among the candidates that tip no more
+    of them than the nominal map; then, of the candidates with fewer variants within
+    :data:`CHEAPER_MARGIN` of it, the one with the fewest (ties: the faster).
+    """
+    nominal = next(j for j in judged if j.name == 'nominal')
+    eligible = [j for j in judged if j.figures.top_tipped <= nominal.figures.top_tipped]
+    best = max(eligible, key=lambda j: j.figures.top_speed_median)
+    close = [
+        j
+        for j in eligible
+        if j.variants < best.variants
+        and j.figures.top_speed_median >= best.figures.top_speed_median - CHEAPER_MARGIN
+    ]
+    if close:
+        best = min(close, key=lambda j: (j.variants, -j.figures.top_speed_median))
+    return best.name
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
+    parser.add_argument('--maps', type=Path, required=True, help='the finished maps, NAME.npz')
+    parser.add_argument('--judge', action='store_true', help='also DART, winner and nominal')
+    args = parser.parse_args()
+    judged = []
+    with create_simulator(SimConfig.converged('pybullet')) as sim:
+        for name, (variants, _) in CANDIDATES.items():
+            archive = load_archive(args.maps / f'{name}.npz')
+            figures = transfer_figures(archive, sim)
+            judged.append(Judged(name, variants, archive.n_filled, figures))
+            print(f'{name}: {figures}', flush=True)
+    winner = decide(judged)
+    print(
+        '\n| candidate | gaits | its 100 fastest: stored median | PyBullet median | tipped '
+        '| Spearman (400) |'
+    )
+    print('|---|---|---|---|---|---|')
+    for j in judged:
+        f = j.figures
+        print(
+            f'| {j.name}{" (winner)" if j.name == winner else ""} | {j.filled} '
+            f'| {f.top_map_speed_median:.3f} m/s | {f.top_speed_median:.3f} m/s '
+            f'| {f.top_tipped} | {f.spearman:.3f} |'
+        )
+    if args.judge:
+        with create_simulator(SimConfig.converged('dart')) as sim:
+            for name in dict.fromkeys(('nominal', winner)):
+                f = transfer_figures(load_archive(args.maps / f'{name}.npz'), sim)
+                print(
+                    f'DART (judge), {name}: 100 fastest median {f.top_speed_median:.3f} m/s, '
+                    f'{f.top_tipped} tipped, Spearman {f.spearman:.3f}'
+                )
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# Start or resume the robust-speed study's seven candidate maps (studies/robust_speed/README.md)
+# in the background, niced, from a worktree pinned to the commit that started them
+# (studies/robust_speed/COMMIT), in two queues (one per core). Each map: MuJoCo at 4 steps per
+# row, iso+line, the default map's 10,000 niches and seed, presets first, WALKS simulated walks
+# (its evaluations x its variants per gait). A finished map is skipped; a stopped one resumes
+# from its checkpoint (every 300 s).
+#   bash studies/robust_speed/robust_study.sh [WORKTREE]          # start or resume
+#   bash studies/robust_speed/robust_study.sh stop                # stop both queues now
+# The checkpoints (3.5 MB each) stay in WORKTREE/tuning/robust_speed, outside git; the finished
+# maps are judged with: python -m studies.robust_speed.judge_maps --maps WORKTREE/tuning/robust_speed
+set -euo pipefail
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+if [ "${1:-}" = stop ]; then
+  pkill -f robust_study_queue || true  # the queues first: they start no next map
+  pkill -f "generate_map_cli --out tuning/robust_speed/" || true  # its workers die with it
+  echo "stopped; resume with: bash studies/robust_speed/robust_study.sh"
+  exit 0
+fi
+tree="${1:-$repo/../robust-study}"
+WALKS=32000
+REPO="$repo" TREE="$tree" PIN_FILE="$repo/studies/robust_speed/COMMIT"
+# shellcheck disable=SC1091
+source "$repo/scripts/fixed_worktree.sh"
+out=tuning/robust_speed
+mkdir -p out "$out"
+# the default map's niches (the CVT file itself is 1.2 MB: not kept in git)
+[ -f "$out/centroids_10000_6.dat" ] || python - <<'PY'
+from hexapod_adapt.mapping.archive import load_archive
+from hexapod_adapt.mapping.cvt import cvt_cache_path, save_centroids
+
+base = load_archive('hexapod_adapt/maps/default_map.npz')
+save_centroids(cvt_cache_path('tuning/robust_speed', 10000), base.centroids)
+PY
+run() {  # run NAME VARIANTS STATISTIC WALKS: one candidate map, resumed where it stopped
+  local evaluations=$(($4 / ($2 > 0 ? $2 : 1)))
+  python -m hexapod_adapt.mapping.generate_map_cli --out "tuning/robust_speed/$1.npz" \
+    --engine mujoco --substeps 4 --niches 10000 --evaluations "$evaluations" --seed 1 \
+    --with-presets --emitters iso_line --cvt-dir tuning/robust_speed --workers 1 \
+    --variants "$2" --statistic "$3" --variant-seed 0 \
+    --checkpoint-every 300 --log-every 60 --no-bar --resume
+}
+queue() {  # queue SPEC...: each NAME:VARIANTS:STATISTIC in turn, the finished ones skipped
+  for spec in "$@"; do
+    IFS=: read -r name variants statistic <<< "$spec"
+    [ -f "tuning/robust_speed/$name.npz" ] || run "$name" "$variants" "$statistic" "$WALKS"
+  done
+}
+if pgrep -f robust_study_queue >/dev/null; then
+  echo "running already: tail -f $tree/out/robust_study_*.out"
+  exit 0
+fi
+first=(nominal:0:min k4_min:4:min k4_q25:4:q25 k4_mean-std:4:mean-std)
+second=(k8_min:8:min k8_q25:8:q25 k8_mean-std:8:mean-std)
+for q in first second; do
+  declare -n specs="$q"
+  nohup nice -n 19 bash -c "WALKS=$WALKS; $(declare -f run queue); queue ${specs[*]}" \
+    robust_study_queue >> "out/robust_study_$q.out" 2>&1 &
+  echo "queue $q (${specs[*]}) running in $tree (pid $!): tail -f $tree/out/robust_study_$q.out"
+done
