@@ -42,6 +42,7 @@ from hexapod_adapt.online.session import NAME_THRESHOLD
 from hexapod_sim import create_simulator, SimConfig
 from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
 from hexapod_sim.scenarios import scenario
+from hexapod_sim.variants import draw_variants, variant_config
 import numpy as np
 
 TEMPERATURES = (1.0, 0.5, 0.3, 0.2, 0.1)
@@ -63,15 +64,19 @@ def variant_physics(variant: str) -> SimConfig:
     """
     Return MuJoCo's converged physics, as ``variant`` changes it.
 
-    ``fF``: foot friction F; ``sS``: servo compliance slope S; ``stock``: neither.
+    ``fF``: foot friction F; ``sS``: servo compliance slope S; ``rN``: the physics variant drawn
+    from seed N (:func:`hexapod_sim.variants.draw_variants`: friction, servos, latency, masses,
+    floor at once); ``stock``: none.
     """
     if variant == 'stock':
         return trial_physics('mujoco')
+    if variant.startswith('r'):
+        return variant_config(trial_physics('mujoco'), draw_variants(1, int(variant[1:]))[0])
     if variant.startswith('f'):
         return trial_physics('mujoco', friction=float(variant[1:]))
     if variant.startswith('s'):
         return trial_physics('mujoco', compliance_slope=float(variant[1:]))
-    raise SystemExit(f'unknown variant {variant!r}: stock, fF or sS')
+    raise SystemExit(f'unknown variant {variant!r}: stock, fF, sS or rN')
 
 
 def residuals(archive, damages, trials: SimConfig, gaits: list[int]) -> np.ndarray:
