@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Start or resume the robust-speed study's seven candidate maps (studies/robust_speed/README.md)
 # in the background, niced, from a worktree pinned to the commit that started them
-# (studies/robust_speed/COMMIT), in two queues (one per core). Each map: MuJoCo at 4 steps per
-# row, iso+line, the default map's 10,000 niches and seed, presets first, WALKS simulated walks
-# (its evaluations x its variants per gait). A finished map is skipped; a stopped one resumes
+# (studies/robust_speed/COMMIT), in two queues (one per core) that take the maps in turn. Each
+# map: MuJoCo at 4 steps per row, iso+line, the default map's 10,000 niches and seed, presets
+# first, WALKS simulated walks (its evaluations x its variants per gait). A finished map is skipped; a stopped one resumes
 # from its checkpoint (every 300 s).
 #   bash studies/robust_speed/robust_study.sh [WORKTREE]          # start or resume
 #   bash studies/robust_speed/robust_study.sh stop                # stop both queues now
@@ -40,21 +40,24 @@ run() {  # run NAME VARIANTS STATISTIC WALKS: one candidate map, resumed where i
     --variants "$2" --statistic "$3" --variant-seed 0 \
     --checkpoint-every 300 --log-every 60 --no-bar --resume
 }
-queue() {  # queue SPEC...: each NAME:VARIANTS:STATISTIC in turn, the finished ones skipped
+queue() {  # queue SPEC...: the next map no other queue has claimed, until none is left
   for spec in "$@"; do
     IFS=: read -r name variants statistic <<< "$spec"
-    [ -f "tuning/robust_speed/$name.npz" ] || run "$name" "$variants" "$statistic" "$WALKS"
+    [ -f "tuning/robust_speed/$name.npz" ] && continue
+    mkdir "tuning/robust_speed/$name.claim" 2>/dev/null || continue  # the other queue's
+    run "$name" "$variants" "$statistic" "$WALKS"
   done
 }
 if pgrep -f robust_study_queue >/dev/null; then
   echo "running already: tail -f $tree/out/robust_study_*.out"
   exit 0
 fi
-first=(nominal:0:min k4_min:4:min k4_q25:4:q25 k4_mean-std:4:mean-std)
-second=(k8_min:8:min k8_q25:8:q25 k8_mean-std:8:mean-std)
-for q in first second; do
-  declare -n specs="$q"
+rm -rf tuning/robust_speed/*.claim  # no queue runs: a claim left is a stopped run's
+# the longest first (a nominal walk is a map proposal: more of them reach the slow 5 s walks)
+specs=(nominal:0:min k4_min:4:min k4_q25:4:q25 k4_mean-std:4:mean-std k8_min:8:min
+  k8_q25:8:q25 k8_mean-std:8:mean-std)
+for q in 1 2; do
   nohup nice -n 19 bash -c "WALKS=$WALKS; $(declare -f run queue); queue ${specs[*]}" \
     robust_study_queue >> "out/robust_study_$q.out" 2>&1 &
-  echo "queue $q (${specs[*]}) running in $tree (pid $!): tail -f $tree/out/robust_study_$q.out"
+  echo "queue $q running in $tree (pid $!): tail -f $tree/out/robust_study_$q.out"
 done
