@@ -78,7 +78,11 @@ class RobustScore:
         }
 
     def combine(self, walks: Sequence[EvaluationResult]) -> EvaluationResult:
-        """Return one gait's result from its walks in the variants (in variant order)."""
+        """
+        Return one gait's result from its walks in the variants (in variant order).
+
+        The walks end at the first that failed, if one did (the gait walks no further).
+        """
         for k, walk in enumerate(walks):
             if not walk.valid:
                 reason = f'in physics variant {k}: {walk.reason}'

@@ -125,25 +125,24 @@ class SimulateGenotypes:
         t = time.thread_time()  # CPU time: a busy machine does not inflate it
         # intact, said explicitly: the process's simulator is shared, and a ceiling computed in
         # this process (or a parent it was forked from) may have left legs failed in it
-        walks = [
-            [
-                self._guarded(r)
-                for r in evaluate_gaits(
-                    list(genes),
-                    config_simulator(config),
-                    collisions_fatal=True,
-                    failed_legs=(),
-                    record_tilt=True,
-                )
-            ]
-            for config in self._configs
-        ]
+        walks: list[list[EvaluationResult]] = [[] for _ in genes]
+        alive = list(range(len(genes)))
+        for config in self._configs:
+            # a gait that failed in one variant fails: it walks in no further one
+            results = evaluate_gaits(
+                [genes[i] for i in alive],
+                config_simulator(config),
+                collisions_fatal=True,
+                failed_legs=(),
+                record_tilt=True,
+            )
+            for i, r in zip(alive, results, strict=True):
+                walks[i].append(self._guarded(r))
+            alive = [i for i in alive if walks[i][-1].valid]
         each = (time.thread_time() - t) / max(len(genes), 1)
         if not self.robust.active:
-            return [replace(r, contacts=None, seconds=each) for r in walks[0]]
-        return [
-            replace(self.robust.combine(gait), seconds=each) for gait in zip(*walks, strict=True)
-        ]
+            return [replace(w[0], contacts=None, seconds=each) for w in walks]
+        return [replace(self.robust.combine(w), seconds=each) for w in walks]
 
     def _guarded(self, r: EvaluationResult) -> EvaluationResult:
         """Return ``r``, or the thesis's failure value with the reason if it fails the guards."""
