@@ -99,8 +99,8 @@ def main(argv: list[str] | None = None) -> int:
         '--first',
         choices=[f.value for f in FirstGait],
         default=BlindRules().first.value,
-        help="while no damage is named, the first gait: the map's fastest, the fastest on"
-        ' average over the hypotheses, or the first of those upright under every one',
+        help="while no damage is named, the first gait: the map's fastest, or the fastest on"
+        ' average over the hypotheses',
     )
     parser.add_argument(
         '--hypotheses',

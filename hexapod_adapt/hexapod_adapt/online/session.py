@@ -91,14 +91,6 @@ class FirstGait(enum.Enum):
 
     FASTEST = 'fastest'  # the map's fastest (intact) gait, as M-BOA's prior has it
     EXPECTED = 'expected'  # the fastest on average over the hypotheses (see blended_prior)
-    #: of the :data:`CAUTIOUS_SEARCH` fastest on average, the first whose simulated walk stays
-    #: within the tip guard under every hypothesis and intact (the safety model's walks;
-    #: ``expected``'s gait if none does, or without a safety model)
-    CAUTIOUS = 'cautious'
-
-
-#: How many gaits (fastest on average first) a cautious first gait is sought among.
-CAUTIOUS_SEARCH = 20
 
 
 @dataclass(frozen=True)
@@ -595,31 +587,19 @@ class AdaptationSession:
         Return the first trial's gait when the blind rules choose it (None: M-BOA's choice).
 
         With :attr:`FirstGait.EXPECTED`, the untried, unvetoed gait with the best expected speed
-        over the hypotheses (:func:`blended_prior`), before any trial of a run naming nothing;
-        with :attr:`FirstGait.CAUTIOUS`, the first of them upright under every hypothesis.
+        over the hypotheses (:func:`blended_prior`), before any trial of a run naming nothing.
         """
         plan = self.start.diagnosis
         if (
             plan is None
-            or plan.blind.first not in (FirstGait.EXPECTED, FirstGait.CAUTIOUS)
+            or plan.blind.first is not FirstGait.EXPECTED
             or self.start.informed
             or self.named is not None
             or self.opt.trials
         ):
             return None
         expected = blended_prior(plan, self._map_prior)
-        order = [
-            index
-            for index in map(int, np.argsort(-expected, kind='stable'))
-            if index not in self.opt.vetoed
-        ]
-        if plan.blind.first is FirstGait.CAUTIOUS and plan.safety is not None:
-            safety = plan.safety
-            for index in order[:CAUTIOUS_SEARCH]:
-                tilts = safety.simulated(index)
-                if np.nanmax(tilts) <= safety.guard and not self._vetoed(index):
-                    return index
-        for index in order:
+        for index in map(int, np.argsort(-expected, kind='stable')):
             if index not in self.opt.vetoed and not self._vetoed(index):
                 return index
         return None

@@ -326,38 +326,6 @@ def test_the_first_gait_may_be_the_fastest_on_average_over_the_hypotheses(
     assert firsts[FirstGait.EXPECTED] == int(session.niches[robust])
 
 
-def test_a_cautious_first_gait_is_upright_under_every_hypothesis(archive, walks):
-    """The fastest on average whose walks stay within the guard; the expected one tilts past."""
-    from hexapod_adapt.online.session import blended_prior, CAUTIOUS_SEARCH
-
-    damages = [Damage.lifted([1]), Damage.lifted([3, 6])]
-    bank = _bank(archive, damages)
-    config = replace(PROFILES['default'], max_trials=3, min_speed=0.9)
-
-    def first(rule: FirstGait, guard: float):
-        plan = diagnosis_plan(
-            archive, bank, tip_guard=guard, walks=walks, blind=BlindRules(first=rule)
-        )
-        session = AdaptationSession(archive, config, SessionStart(diagnosis=plan))
-        return plan, session, session.ask()
-
-    plan, session, expected = first(FirstGait.EXPECTED, math.pi / 2)
-    index = int(np.flatnonzero(session.niches == expected)[0])
-    # a guard just under the expected gait's largest simulated tilt turns it away
-    guard = float(np.nanmax(plan.safety.simulated(index))) - 1e-6
-    plan, session, cautious = first(FirstGait.CAUTIOUS, guard)
-    assert cautious != expected
-    _, _, map_prior = candidates(archive)
-    order = np.argsort(-blended_prior(plan, map_prior), kind='stable')
-    chosen = int(np.flatnonzero(session.niches == cautious)[0])
-    rank = int(np.flatnonzero(order == chosen)[0])
-    assert rank < CAUTIOUS_SEARCH and np.nanmax(plan.safety.simulated(chosen)) <= guard
-    for before in order[:rank]:  # every faster one tilts past the guard, or was vetoed
-        assert (
-            np.nanmax(plan.safety.simulated(int(before))) > guard or before in session.opt.vetoed
-        )
-
-
 def _leg_one_plan(archive, walks, leg_sets: bool, tips: dict[int, int] | None = None):
     """Return a plan whose first two hypotheses (leg 1 lifted, its coxa dead) walk alike."""
     damages = (Damage.lifted([1]), Damage.of('unpowered_coxa', [1]), Damage.lifted([4]))
