@@ -7,7 +7,9 @@ Each candidate map's 300 fastest gaits (by its stored statistic) and 100 others 
 0) are walked on PyBullet at its converged step, intact, 5 s, collisions not fatal
 (:func:`hexapod_adapt.mapping.transfer.transfer_figures`). The decision rule is the one
 studies/robust_speed/README.md wrote before the runs (:func:`decide`). ``--judge`` walks the
-winner and the nominal map on DART as well, reported, deciding nothing.
+winner and the nominal map on DART as well, reported, deciding nothing. Each map's PyBullet
+figures are kept in DIR/judged.json (by the map file's hash), so the maps finished so far may be
+walked while the others run, and each is walked once.
 
     python -m studies.robust_speed.judge_maps --maps DIR [--judge]
 """
@@ -15,7 +17,9 @@ winner and the nominal map on DART as well, reported, deciding nothing.
 from __future__ import annotations
 
 import argparse
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
+import hashlib
+import json
 from pathlib import Path
 
 from hexapod_adapt.mapping.archive import load_archive
@@ -68,18 +72,41 @@ def decide(judged: list[Judged]) -> str:
     return best.name
 
 
+def judge_finished(maps: Path) -> list[Judged]:
+    """Return the figures of every finished candidate map, walking those not yet kept."""
+    kept_path = maps / 'judged.json'
+    kept = json.loads(kept_path.read_text()) if kept_path.is_file() else {}
+    judged = []
+    with create_simulator(SimConfig.converged('pybullet')) as sim:
+        for name, (variants, _) in CANDIDATES.items():
+            path = maps / f'{name}.npz'
+            if not path.is_file():
+                continue
+            digest = hashlib.sha256(path.read_bytes()).hexdigest()
+            archive = load_archive(path)
+            if kept.get(name, {}).get('sha256') == digest:
+                figures = TransferFigures(**kept[name]['figures'])
+            else:
+                figures = transfer_figures(archive, sim)
+                kept[name] = {'sha256': digest, 'figures': asdict(figures)}
+                tmp = kept_path.with_suffix('.tmp')
+                tmp.write_text(json.dumps(kept, indent=1))
+                tmp.replace(kept_path)
+            judged.append(Judged(name, variants, archive.n_filled, figures))
+            print(f'{name}: {figures}', flush=True)
+    return judged
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     parser.add_argument('--maps', type=Path, required=True, help='the finished maps, NAME.npz')
     parser.add_argument('--judge', action='store_true', help='also DART, winner and nominal')
     args = parser.parse_args()
-    judged = []
-    with create_simulator(SimConfig.converged('pybullet')) as sim:
-        for name, (variants, _) in CANDIDATES.items():
-            archive = load_archive(args.maps / f'{name}.npz')
-            figures = transfer_figures(archive, sim)
-            judged.append(Judged(name, variants, archive.n_filled, figures))
-            print(f'{name}: {figures}', flush=True)
+    judged = judge_finished(args.maps)
+    missing = [name for name in CANDIDATES if name not in {j.name for j in judged}]
+    if missing:
+        print(f'not finished: {", ".join(missing)}; nothing decided')
+        return
     winner = decide(judged)
     print(
         '\n| candidate | gaits | its 100 fastest: stored median | PyBullet median | tipped '
