@@ -17,6 +17,7 @@ walked while the others run, and each is walked once.
 from __future__ import annotations
 
 import argparse
+import concurrent.futures as cf
 from dataclasses import asdict, dataclass
 import hashlib
 import json
@@ -72,28 +73,35 @@ def decide(judged: list[Judged]) -> str:
     return best.name
 
 
-def judge_finished(maps: Path) -> list[Judged]:
+def _walk(path: Path) -> TransferFigures:
+    """Return one map's figures on PyBullet at its converged step (a worker's task)."""
+    with create_simulator(SimConfig.converged('pybullet')) as sim:
+        return transfer_figures(load_archive(path), sim)
+
+
+def judge_finished(maps: Path, workers: int = 1) -> list[Judged]:
     """Return the figures of every finished candidate map, walking those not yet kept."""
     kept_path = maps / 'judged.json'
     kept = json.loads(kept_path.read_text()) if kept_path.is_file() else {}
+    paths = {name: maps / f'{name}.npz' for name in CANDIDATES}
+    digests = {
+        n: hashlib.sha256(p.read_bytes()).hexdigest() for n, p in paths.items() if p.is_file()
+    }
+    todo = [n for n, d in digests.items() if kept.get(n, {}).get('sha256') != d]
+    with cf.ProcessPoolExecutor(max(1, min(workers, len(todo) or 1))) as pool:
+        futures = {pool.submit(_walk, paths[n]): n for n in todo}
+        for future in cf.as_completed(futures):
+            name = futures[future]
+            kept[name] = {'sha256': digests[name], 'figures': asdict(future.result())}
+            tmp = kept_path.with_suffix('.tmp')
+            tmp.write_text(json.dumps(kept, indent=1))
+            tmp.replace(kept_path)
     judged = []
-    with create_simulator(SimConfig.converged('pybullet')) as sim:
-        for name, (variants, _) in CANDIDATES.items():
-            path = maps / f'{name}.npz'
-            if not path.is_file():
-                continue
-            digest = hashlib.sha256(path.read_bytes()).hexdigest()
-            archive = load_archive(path)
-            if kept.get(name, {}).get('sha256') == digest:
-                figures = TransferFigures(**kept[name]['figures'])
-            else:
-                figures = transfer_figures(archive, sim)
-                kept[name] = {'sha256': digest, 'figures': asdict(figures)}
-                tmp = kept_path.with_suffix('.tmp')
-                tmp.write_text(json.dumps(kept, indent=1))
-                tmp.replace(kept_path)
-            judged.append(Judged(name, variants, archive.n_filled, figures))
-            print(f'{name}: {figures}', flush=True)
+    for name in digests:
+        figures = TransferFigures(**kept[name]['figures'])
+        filled = load_archive(paths[name]).n_filled
+        judged.append(Judged(name, CANDIDATES[name][0], filled, figures))
+        print(f'{name}: {figures}', flush=True)
     return judged
 
 
@@ -101,8 +109,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     parser.add_argument('--maps', type=Path, required=True, help='the finished maps, NAME.npz')
     parser.add_argument('--judge', action='store_true', help='also DART, winner and nominal')
+    parser.add_argument('--workers', type=int, default=2, help='maps walked at once')
     args = parser.parse_args()
-    judged = judge_finished(args.maps)
+    judged = judge_finished(args.maps, args.workers)
     missing = [name for name in CANDIDATES if name not in {j.name for j in judged}]
     if missing:
         print(f'not finished: {", ".join(missing)}; nothing decided')
