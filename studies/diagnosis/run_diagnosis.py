@@ -103,6 +103,12 @@ def main(argv: list[str] | None = None) -> int:
         ' average over the hypotheses',
     )
     parser.add_argument(
+        '--unfit-fallback',
+        action='store_true',
+        default=BlindRules().unfit_fallback,
+        help='once the leader fits no trial, adapt and stop as blind M-BOA without a diagnosis',
+    )
+    parser.add_argument(
         '--hypotheses',
         choices=('kind', 'every', 'lifted'),
         default='kind',
@@ -130,7 +136,11 @@ def main(argv: list[str] | None = None) -> int:
     )
     args = parser.parse_args(argv)
     blind = BlindRules(
-        args.offset_std, args.stop == 'alpha', args.bank_prior, FirstGait(args.first)
+        args.offset_std,
+        args.stop == 'alpha',
+        args.bank_prior,
+        FirstGait(args.first),
+        args.unfit_fallback,
     )
     weighing = Weighing(
         args.none_deviation, temperature=args.temperature, fit_floor=args.fit_floor
@@ -163,6 +173,7 @@ def main(argv: list[str] | None = None) -> int:
         + f'+t{args.temperature:g}+none{args.none_deviation:g}'
         + ('' if args.fit_floor is None else f'+fit{args.fit_floor:g}')
         + ('+bankprior' if args.bank_prior else '')
+        + ('+unfit-fallback' if args.unfit_fallback else '')
         + ('' if args.first == FirstGait.FASTEST.value else f'+first-{args.first}')
         + {'every': '+every-kind', 'lifted': '+lifted-bank', 'kind': ''}[args.hypotheses]
         + ('+leg-sets' if args.leg_sets and args.hypotheses == 'every' else '')

@@ -106,13 +106,16 @@ class BlindRules:
     prior is the hypotheses' re-scores and the map's speeds (for "none of these") weighed by
     the posterior, after every trial (False: the map's speeds). ``first``: the first trial's
     gait (:class:`FirstGait`; the default won on a tuning set: studies/diagnosis/README.md, "The
-    first gait"); M-BOA chooses the later ones.
+    first gait"); M-BOA chooses the later ones. ``unfit_fallback``: once the posterior holds a
+    damage that fits no trial (:meth:`DiagnosisPlan.assess`), the run adapts and stops as blind
+    M-BOA without a diagnosis does (the request's offset and expected-gain stop), to its end.
     """
 
     offset_std: float = 0.05
     alpha_stop: bool = True
     bank_prior: bool = False
     first: FirstGait = FirstGait.EXPECTED
+    unfit_fallback: bool = False
 
 
 @dataclass(frozen=True)
@@ -544,6 +547,8 @@ class AdaptationSession:
         self._result.posterior = post.describe()
         p = post.probabilities
         holding, self._result.unfit = plan.assess(p)
+        if self._result.unfit and plan.blind.unfit_fallback and self.named is None:
+            self._fall_back()
         if holding is not None and (holding != self.named or len(holding) > 1):
             self._go_on_as(holding)  # a leg set's weights follow the posterior
         elif self.named is not None and p[list(self.named)].sum() < plan.release:
@@ -553,6 +558,16 @@ class AdaptationSession:
         named, result = self.named, self._result
         result.named.append('' if named is None else plan.label_of(named))
         result.named_legs.append(() if named is None else plan.damages[named[0]].failed_legs)
+
+    def _fall_back(self) -> None:
+        """Adapt and stop as blind M-BOA without a diagnosis, from now on (BlindRules)."""
+        prior, rules = self._blind
+        plain = replace(rules, offset_std=self.config.offset_std, stop_gain=self.config.stop_gain)
+        if plain != rules:
+            self._blind = (prior, plain)
+            self.rules = plain
+            self.opt = _with_prior(self.opt, self.opt.prior, plain)
+            self._result.config = plain
 
     def _go_on_as(self, named: tuple[int, ...] | None) -> None:
         """Go on as the damage-informed prior of the ``named`` hypotheses (None: blind)."""

@@ -190,6 +190,31 @@ def test_a_session_whose_most_probable_damage_does_not_fit_says_so_and_stays_bli
         assert result.unfit is unfit and result.named[-1] == ('' if unfit else 'leg 1 lifted')
 
 
+def test_a_run_whose_leader_does_not_fit_may_fall_back_to_blind_m_boa(archive):
+    walks = {0: straight_walk(0.32, 0.0), 1: straight_walk(0.36, 0.0)}
+    trial = TrialOutcome(0.2, record=straight_walk(0.2, 0.0))
+    n = len(archive.elite_indices())
+    config = replace(PROFILES['default'], max_trials=4, min_speed=0.9)
+    for fallback in (False, True):
+        weighing = Weighing(none_prior=0.01, fit_floor=-2.0)
+        diagnosis = Diagnosis(('near', 'far'), lambda niche, h: walks[h], weighing=weighing)
+        plan = DiagnosisPlan(diagnosis, (Damage.lifted([1]), Damage.lifted([2])), np.zeros((2, n)),
+                             lambda d: None, leg_sets=False,
+                             blind=BlindRules(unfit_fallback=fallback))  # fmt: skip
+        session = AdaptationSession(archive, config, SessionStart(diagnosis=plan))
+        blind = session.rules
+        assert (blind.offset_std, blind.stop_gain) == (BlindRules().offset_std, None)
+        while not session.unfit and (niche := session.ask()) is not None:
+            session.tell(niche, trial)
+        assert session.unfit
+        rules = session.result().config
+        if fallback:  # the request's own: blind M-BOA as without a diagnosis
+            assert (rules.offset_std, rules.stop_gain) == (config.offset_std, config.stop_gain)
+            assert session.opt.config == rules
+        else:
+            assert rules == blind
+
+
 @pytest.mark.parametrize(
     'true,others',
     [
