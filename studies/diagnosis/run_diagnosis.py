@@ -104,7 +104,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument(
         '--unfit-fallback',
-        action='store_true',
+        action=argparse.BooleanOptionalAction,
         default=BlindRules().unfit_fallback,
         help='once the leader fits no trial, adapt and stop as blind M-BOA without a diagnosis',
     )
@@ -173,7 +173,7 @@ def main(argv: list[str] | None = None) -> int:
         + f'+t{args.temperature:g}+none{args.none_deviation:g}'
         + ('' if args.fit_floor is None else f'+fit{args.fit_floor:g}')
         + ('+bankprior' if args.bank_prior else '')
-        + ('+unfit-fallback' if args.unfit_fallback else '')
+        + ('' if args.unfit_fallback else '+no-unfit-fallback')
         + ('' if args.first == FirstGait.FASTEST.value else f'+first-{args.first}')
         + {'every': '+every-kind', 'lifted': '+lifted-bank', 'kind': ''}[args.hypotheses]
         + ('+leg-sets' if args.leg_sets and args.hypotheses == 'every' else '')

@@ -108,14 +108,15 @@ class BlindRules:
     gait (:class:`FirstGait`; the default won on a tuning set: studies/diagnosis/README.md, "The
     first gait"); M-BOA chooses the later ones. ``unfit_fallback``: once the posterior holds a
     damage that fits no trial (:meth:`DiagnosisPlan.assess`), the run adapts and stops as blind
-    M-BOA without a diagnosis does (the request's offset and expected-gain stop), to its end.
+    M-BOA without a diagnosis does (the request's offset and expected-gain stop), to its end
+    (on since it won on a tuning set: studies/diagnosis/README.md, "Falling back").
     """
 
     offset_std: float = 0.05
     alpha_stop: bool = True
     bank_prior: bool = False
     first: FirstGait = FirstGait.EXPECTED
-    unfit_fallback: bool = False
+    unfit_fallback: bool = True
 
 
 @dataclass(frozen=True)
