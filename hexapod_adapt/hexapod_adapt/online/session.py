@@ -563,7 +563,7 @@ class AdaptationSession:
     def _fall_back(self) -> None:
         """Adapt and stop as blind M-BOA without a diagnosis, from now on (BlindRules)."""
         prior, rules = self._blind
-        plain = replace(rules, offset_std=self.config.offset_std, stop_gain=self.config.stop_gain)
+        plain = run_rules(self.config, replace(self.start, diagnosis=None))  # as if undiagnosed
         if plain != rules:
             self._blind = (prior, plain)
             self.rules = plain
