@@ -7,6 +7,8 @@
 #   start the moment it is written; once the map is written (kept in
 #   hexapod_adapt/maps/in_progress/, or shipped), its ceilings (resume_ceilings.sh: only the
 #   cases not cached yet), until the shipped cache holds them all;
+# - the robust-speed study's seven maps (studies/robust_speed/robust_study.sh), until
+#   studies/robust_speed/progress holds them all finished;
 # Before the session ends: bash scripts/save_progress.sh, then commit what it lists.
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -28,4 +30,11 @@ else
   bash hexapod_adapt/maps/resume_default_map.sh
   nohup bash hexapod_adapt/maps/then_ceilings.sh >> out/then_ceilings.out 2>&1 &
   echo "then_ceilings.sh waiting for the map (pid $!): out/then_ceilings.out"
+fi
+finished="$(find studies/robust_speed/progress -maxdepth 1 -name '*.npz' ! -name '*.ckpt.npz' \
+  2>/dev/null | wc -l)"
+if [ "$finished" -lt 7 ]; then
+  bash studies/robust_speed/robust_study.sh
+else
+  echo "the robust-speed study's seven maps are finished: judge them (studies/robust_speed/README.md)"
 fi

@@ -20,6 +20,7 @@
 #   transfer_study/ (a checkpoint only when it is further on than the one kept there); a
 #   finished map and its log to studies/out/transfer_study/, and its checkpoint is then dropped
 #   (TRANSFER_KEEP and TRANSFER_DONE name other folders). The runs go on.
+# - The robust-speed study in ROBUST_TREE (default ../robust-study): see its block below.
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 map_tree="${1:-$repo/../mapgen}"
@@ -144,5 +145,12 @@ if [ -d "$transfer_tree/tuning/transfer_study" ]; then  # the pinned commit's la
     copy_whole_rows "$log" "$transfer_keep/$name.log.jsonl"
     echo "saved $name's checkpoint ($here evaluations, $(du -h "$ckpt" | cut -f1)) and log to $transfer_keep"
   done
+fi
+# The robust-speed study (studies/robust_speed/robust_study.sh): its checkpoints and finished
+# maps, compressed and without their centroids, to studies/robust_speed/progress (committed). The
+# runs go on.
+robust_tree="${ROBUST_TREE:-$repo/../robust-study}"
+if [ -d "$robust_tree/tuning/robust_speed" ]; then
+  (cd "$repo" && python -m studies.robust_speed.progress save --tree "$robust_tree")
 fi
 echo "now commit them (git add the folders above)"

@@ -7,8 +7,9 @@
 # from its checkpoint (every 300 s).
 #   bash studies/robust_speed/robust_study.sh [WORKTREE]          # start or resume
 #   bash studies/robust_speed/robust_study.sh stop                # stop both queues now
-# The checkpoints (3.5 MB each) stay in WORKTREE/tuning/robust_speed, outside git; the finished
-# maps are judged with: python -m studies.robust_speed.judge_maps --maps WORKTREE/tuning/robust_speed
+# The checkpoints (3.5 MB each) are in WORKTREE/tuning/robust_speed, outside git; before a
+# session ends, scripts/save_progress.sh keeps them, compressed, in studies/robust_speed/progress
+# (committed), and a start here restores them. The finished maps are judged with: python -m studies.robust_speed.judge_maps --maps WORKTREE/tuning/robust_speed
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 if [ "${1:-}" = stop ]; then
@@ -53,6 +54,8 @@ if pgrep -f robust_study_queue >/dev/null; then
   exit 0
 fi
 rm -rf tuning/robust_speed/*.claim  # no queue runs: a claim left is a stopped run's
+# what an earlier session kept in the repository (progress.py save), where further on than here
+PYTHONPATH="$repo:$PYTHONPATH" python -m studies.robust_speed.progress restore --tree "$tree"
 # the longest first (a nominal walk is a map proposal: more of them reach the slow 5 s walks)
 specs=(nominal:0:min k4_min:4:min k4_q25:4:q25 k4_mean-std:4:mean-std k8_min:8:min
   k8_q25:8:q25 k8_mean-std:8:mean-std)

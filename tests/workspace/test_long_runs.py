@@ -14,6 +14,7 @@ import sys
 import time
 
 from hexapod_adapt.mapping.archive import load_archive
+import numpy as np
 import pytest
 
 WS = Path(__file__).resolve().parents[2]
@@ -334,3 +335,59 @@ def test_a_map_is_not_shipped_before_its_lifted_leg_ceilings(tmp_path):
         capture_output=True, text=True, timeout=60,
     )  # fmt: skip
     assert r.returncode == 1 and 'no finished map with its log' in r.stderr
+
+
+def _checkpoint(path: Path, evaluations: int) -> None:
+    """Write the demo map to ``path`` as a checkpoint holding ``evaluations`` evaluations."""
+    archive = load_archive(DEMO_MAP)
+    archive.metadata['evaluations'] = evaluations
+    pending = {'pending_index': np.arange(3), 'pending_genes': np.full((3, 32), 0.25)}
+    archive.save(path, pending)
+
+
+@pytest.mark.slow
+def test_the_robust_study_keeps_small_checkpoints_and_restores_them_exactly(tmp_path):
+    """Saved compressed without centroids, only when further on; restored to the same arrays."""
+    from hexapod_adapt.mapping.map_elites import load_checkpoint
+    from studies.robust_speed import progress
+
+    tree, keep = tmp_path / 'robust-study', tmp_path / 'kept'
+    runs = tree / progress.RUNS
+    runs.mkdir(parents=True)
+    keep.mkdir()
+    (tree / 'hexapod_adapt' / 'maps').mkdir(parents=True)
+    shutil.copyfile(DEMO_MAP, tree / progress.DEFAULT_MAP)
+    for name in ('a', 'b', 'c'):
+        (runs / f'{name}.npz.log.jsonl').write_text('{"evaluations": 5}\n{"evalu')  # torn row
+    _checkpoint(runs / 'a.npz.ckpt.npz', 300)  # further on than the kept one
+    _checkpoint(keep / 'a.npz.ckpt.npz', 200)
+    _with_evaluations(runs / 'b.npz', 400)  # finished
+    _checkpoint(keep / 'b.npz.ckpt.npz', 350)
+    _checkpoint(runs / 'c.npz.ckpt.npz', 100)  # behind the kept one
+    _checkpoint(keep / 'c.npz.ckpt.npz', 200)
+    kept_c = (keep / 'c.npz.ckpt.npz').read_bytes()
+    saved = progress.save(tree, keep)
+    assert saved == ['a.npz.ckpt.npz (300 evaluations)', 'b.npz (400 evaluations)']
+    assert (keep / 'c.npz.ckpt.npz').read_bytes() == kept_c
+    assert not (keep / 'b.npz.ckpt.npz').exists()  # the map finished: its checkpoint goes
+    assert (keep / 'a.npz.log.jsonl').read_text() == '{"evaluations": 5}\n'
+    with np.load(keep / 'a.npz.ckpt.npz') as data:
+        assert 'centroids' not in data.files
+    assert (keep / 'a.npz.ckpt.npz').stat().st_size < (runs / 'a.npz.ckpt.npz').stat().st_size / 2
+
+    fresh = tmp_path / 'new-machine'
+    (fresh / 'hexapod_adapt' / 'maps').mkdir(parents=True)
+    shutil.copyfile(DEMO_MAP, fresh / progress.DEFAULT_MAP)
+    restored = progress.restore(fresh, keep)
+    assert sorted(restored) == [
+        'a.npz.ckpt.npz (300 evaluations)',
+        'b.npz (400 evaluations)',
+        'c.npz.ckpt.npz (200 evaluations)',
+    ]
+    again, pending = load_checkpoint(fresh / progress.RUNS / 'a.npz.ckpt.npz')
+    before, pending_before = load_checkpoint(runs / 'a.npz.ckpt.npz')
+    for name in ('centroids', 'fitness', 'genotypes', 'descriptors'):
+        np.testing.assert_array_equal(getattr(again, name), getattr(before, name))
+    assert again.metadata == before.metadata
+    assert pending.keys() == pending_before.keys()
+    assert progress.restore(fresh, keep) == []  # nothing further on than what is there now
