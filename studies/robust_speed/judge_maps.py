@@ -8,8 +8,8 @@ Each candidate map's 300 fastest gaits (by its stored statistic) and 100 others 
 (:func:`hexapod_adapt.mapping.transfer.transfer_figures`). The decision rule is the one
 studies/robust_speed/README.md wrote before the runs (:func:`decide`). ``--judge`` walks the
 winner and the nominal map on DART as well, reported, deciding nothing. Each map's PyBullet
-figures are kept in DIR/judged.json (by the map file's hash), so the maps finished so far may be
-walked while the others run, and each is walked once.
+figures are kept in DIR/judged.json (by a hash of the map's gaits), so the maps finished so far
+may be walked while the others run, and each is walked once.
 
     python -m studies.robust_speed.judge_maps --maps DIR [--judge]
 """
@@ -26,6 +26,7 @@ from pathlib import Path
 from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.transfer import transfer_figures, TransferFigures
 from hexapod_sim import create_simulator, SimConfig
+import numpy as np
 
 #: The candidates (studies/robust_speed/README.md): name -> (variants per gait, statistic).
 CANDIDATES: dict[str, tuple[int, str]] = {
@@ -79,14 +80,21 @@ def _walk(path: Path) -> TransferFigures:
         return transfer_figures(load_archive(path), sim)
 
 
+def _digest(path: Path) -> str:
+    """Return a hash of a map's gaits and speeds (a file's bytes change when it is re-packed)."""
+    archive = load_archive(path)
+    h = hashlib.sha256()
+    for array in (archive.centroids, archive.fitness, archive.descriptors, archive.genotypes):
+        h.update(np.ascontiguousarray(array, dtype=np.float64).tobytes())
+    return h.hexdigest()
+
+
 def judge_finished(maps: Path, workers: int = 1) -> list[Judged]:
     """Return the figures of every finished candidate map, walking those not yet kept."""
     kept_path = maps / 'judged.json'
     kept = json.loads(kept_path.read_text()) if kept_path.is_file() else {}
     paths = {name: maps / f'{name}.npz' for name in CANDIDATES}
-    digests = {
-        n: hashlib.sha256(p.read_bytes()).hexdigest() for n, p in paths.items() if p.is_file()
-    }
+    digests = {n: _digest(p) for n, p in paths.items() if p.is_file()}
     todo = [n for n, d in digests.items() if kept.get(n, {}).get('sha256') != d]
     with cf.ProcessPoolExecutor(max(1, min(workers, len(todo) or 1))) as pool:
         futures = {pool.submit(_walk, paths[n]): n for n in todo}
