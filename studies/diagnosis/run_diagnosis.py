@@ -109,6 +109,13 @@ def main(argv: list[str] | None = None) -> int:
         help='once the leader fits no trial, adapt and stop as blind M-BOA without a diagnosis',
     )
     parser.add_argument(
+        '--fallback-stop',
+        choices=('gain', 'alpha'),
+        default='alpha' if BlindRules().fallback_alpha_stop else 'gain',
+        help='a run fallen back stops as blind M-BOA does (alpha and the expected gain), or on'
+        ' alpha alone',
+    )
+    parser.add_argument(
         '--hypotheses',
         choices=('kind', 'every', 'lifted'),
         default='kind',
@@ -141,6 +148,7 @@ def main(argv: list[str] | None = None) -> int:
         args.bank_prior,
         FirstGait(args.first),
         args.unfit_fallback,
+        args.fallback_stop == 'alpha',
     )
     weighing = Weighing(
         args.none_deviation, temperature=args.temperature, fit_floor=args.fit_floor
@@ -174,6 +182,7 @@ def main(argv: list[str] | None = None) -> int:
         + ('' if args.fit_floor is None else f'+fit{args.fit_floor:g}')
         + ('+bankprior' if args.bank_prior else '')
         + ('' if args.unfit_fallback else '+no-unfit-fallback')
+        + ('+fallback-alpha-stop' if args.unfit_fallback and args.fallback_stop == 'alpha' else '')
         + ('' if args.first == FirstGait.FASTEST.value else f'+first-{args.first}')
         + {'every': '+every-kind', 'lifted': '+lifted-bank', 'kind': ''}[args.hypotheses]
         + ('+leg-sets' if args.leg_sets and args.hypotheses == 'every' else '')

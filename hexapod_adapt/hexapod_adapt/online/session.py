@@ -110,6 +110,8 @@ class BlindRules:
     damage that fits no trial (:meth:`DiagnosisPlan.assess`), the run adapts and stops as blind
     M-BOA without a diagnosis does (the request's offset and expected-gain stop), to its end
     (on since it won on a tuning set: studies/diagnosis/README.md, "Falling back").
+    ``fallback_alpha_stop``: a run fallen back stops on alpha alone (the expected-gain stop
+    left out), as a run naming nothing does.
     """
 
     offset_std: float = 0.05
@@ -117,6 +119,7 @@ class BlindRules:
     bank_prior: bool = False
     first: FirstGait = FirstGait.EXPECTED
     unfit_fallback: bool = True
+    fallback_alpha_stop: bool = False
 
 
 @dataclass(frozen=True)
@@ -564,6 +567,8 @@ class AdaptationSession:
         """Adapt and stop as blind M-BOA without a diagnosis, from now on (BlindRules)."""
         prior, rules = self._blind
         plain = run_rules(self.config, replace(self.start, diagnosis=None))  # as if undiagnosed
+        if self.start.diagnosis.blind.fallback_alpha_stop:
+            plain = replace(plain, stop_gain=None)
         if plain != rules:
             self._blind = (prior, plain)
             self.rules = plain

@@ -195,12 +195,12 @@ def test_a_run_whose_leader_does_not_fit_may_fall_back_to_blind_m_boa(archive):
     trial = TrialOutcome(0.2, record=straight_walk(0.2, 0.0))
     n = len(archive.elite_indices())
     config = replace(PROFILES['default'], max_trials=4, min_speed=0.9)
-    for fallback in (False, True):
+    for fallback, alpha_stop in ((False, False), (True, False), (True, True)):
         weighing = Weighing(none_prior=0.01, fit_floor=-2.0)
         diagnosis = Diagnosis(('near', 'far'), lambda niche, h: walks[h], weighing=weighing)
+        rules = BlindRules(unfit_fallback=fallback, fallback_alpha_stop=alpha_stop)
         plan = DiagnosisPlan(diagnosis, (Damage.lifted([1]), Damage.lifted([2])), np.zeros((2, n)),
-                             lambda d: None, leg_sets=False,
-                             blind=BlindRules(unfit_fallback=fallback))  # fmt: skip
+                             lambda d: None, leg_sets=False, blind=rules)  # fmt: skip
         session = AdaptationSession(archive, config, SessionStart(diagnosis=plan))
         blind = session.rules
         assert (blind.offset_std, blind.stop_gain) == (BlindRules().offset_std, None)
@@ -209,7 +209,8 @@ def test_a_run_whose_leader_does_not_fit_may_fall_back_to_blind_m_boa(archive):
         assert session.unfit
         rules = session.result().config
         if fallback:  # the request's own: blind M-BOA as without a diagnosis
-            assert (rules.offset_std, rules.stop_gain) == (config.offset_std, config.stop_gain)
+            stop_gain = None if alpha_stop else config.stop_gain
+            assert (rules.offset_std, rules.stop_gain) == (config.offset_std, stop_gain)
             assert session.opt.config == rules
         else:
             assert rules == blind
