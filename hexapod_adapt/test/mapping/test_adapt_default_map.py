@@ -14,6 +14,8 @@ import numpy as np
 
 WS = Path(__file__).resolve().parents[3]
 KEYS = ('niches', 'evaluations', 'seed', 'engine', 'substeps')
+#: The commit a map in the making is pinned at (resume_default_map.sh; removed when it ships).
+IN_THE_MAKING = WS / 'hexapod_adapt' / 'maps' / 'in_progress' / 'COMMIT'
 
 
 def test_the_default_map_is_the_one_its_script_makes_and_fits_this_installation():
@@ -22,8 +24,12 @@ def test_the_default_map_is_the_one_its_script_makes_and_fits_this_installation(
     # make_default_map.sh is the one home of its size, engine and step
     script = (WS / 'hexapod_adapt' / 'maps' / 'make_default_map.sh').read_text()
     asked = {k: re.search(rf'--{k} (\w+)', script).group(1) for k in KEYS}
-    assert archive.n_niches == int(asked['niches']) >= 10_000
-    assert archive.metadata['evaluations'] == int(asked['evaluations'])
+    if IN_THE_MAKING.is_file():  # the script makes the next map; the shipped one is smaller
+        assert 10_000 <= archive.n_niches <= int(asked['niches'])
+        assert archive.metadata['evaluations'] < int(asked['evaluations'])
+    else:
+        assert archive.n_niches == int(asked['niches']) >= 10_000
+        assert archive.metadata['evaluations'] == int(asked['evaluations'])
     assert archive.metadata['seed'] == int(asked['seed'])
     assert archive_engine(archive.metadata) == asked['engine']
     assert archive.metadata['simulator']['settings']['substeps'] == int(asked['substeps'])
