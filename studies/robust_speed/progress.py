@@ -72,9 +72,11 @@ def save(tree: Path, keep: Path = KEEP) -> list[str]:
             kept_map = _evaluations(keep / name)
             if not finished and kept_map >= 0:
                 break  # the map is kept finished already
-            if _evaluations(src) < max(_evaluations(keep / (name + suffix)), kept_map):
-                print(f'not saved: {keep} holds {name} further on than {tree}')
-                break
+            kept = max(_evaluations(keep / (name + suffix)), kept_map)
+            if _evaluations(src) <= kept:
+                if _evaluations(src) < kept:
+                    print(f'not saved: {keep} holds {name} further on than {tree}')
+                break  # (as far on: kept already)
             _repack(src, keep / (name + suffix), None)
             _log_whole_rows(log, keep / log.name)
             if finished:

@@ -391,3 +391,4 @@ def test_the_robust_study_keeps_small_checkpoints_and_restores_them_exactly(tmp_
     assert again.metadata == before.metadata
     assert pending.keys() == pending_before.keys()
     assert progress.restore(fresh, keep) == []  # nothing further on than what is there now
+    assert progress.save(tree, keep) == []  # nor here
