@@ -36,5 +36,5 @@ finished="$(find studies/robust_speed/progress -maxdepth 1 -name '*.npz' ! -name
 if [ "$finished" -lt 7 ]; then
   bash studies/robust_speed/robust_study.sh
 else
-  echo "the robust-speed study's seven maps are finished: judge them (studies/robust_speed/README.md)"
+  echo "the robust-speed study's seven maps are finished (its result: studies/robust_speed/README.md)"
 fi
