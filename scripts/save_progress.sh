@@ -39,16 +39,8 @@ copy_atomic() {  # copy_atomic SRC DEST: DEST is never seen half written
 
 copy_compressed() {  # copy_compressed NPZ DEST: the same arrays, compressed (a map's empty
   # niches are NaN rows: a 20,000-niche checkpoint keeps in a fraction of its size), atomically
-  python - "$1" "$2" <<'EOF'
-import io, sys
-import numpy as np
-from hexapod_util.files import atomic_write_bytes
-with np.load(sys.argv[1], allow_pickle=False) as data:
-    arrays = {k: data[k] for k in data.files}
-buf = io.BytesIO()
-np.savez_compressed(buf, **arrays)
-atomic_write_bytes(sys.argv[2], buf.getvalue())
-EOF
+  python -c 'import sys; from hexapod_util.npz import compress_npz; compress_npz(*sys.argv[1:])' \
+    "$1" "$2"
 }
 
 copy_whole_rows() {  # copy_whole_rows LOG DEST: LOG up to its last whole row (a row being

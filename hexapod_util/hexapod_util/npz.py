@@ -17,6 +17,7 @@ import os
 from pathlib import Path
 from typing import Any, Sequence
 
+from hexapod_util.files import atomic_write_bytes
 import numpy as np
 
 
@@ -82,3 +83,18 @@ def float_array(array: np.ndarray, what: str) -> np.ndarray:
     if array.dtype.kind not in 'fiu':
         raise UnreadableFile(f'{what} must hold numbers, found dtype {array.dtype}')
     return array.astype(float)
+
+
+def write_npz(
+    path: str | os.PathLike, arrays: dict[str, np.ndarray], compressed: bool = False
+) -> None:
+    """Write ``arrays`` as an ``.npz`` atomically (compressed: zlib, for files kept in git)."""
+    buf = io.BytesIO()
+    (np.savez_compressed if compressed else np.savez)(buf, **arrays)
+    atomic_write_bytes(path, buf.getvalue())
+
+
+def compress_npz(src: str | os.PathLike, dest: str | os.PathLike) -> None:
+    """Copy an ``.npz`` to ``dest`` atomically with the same arrays, compressed."""
+    with np.load(src, allow_pickle=False) as data:
+        write_npz(dest, {k: data[k] for k in data.files}, compressed=True)

@@ -16,13 +16,13 @@ map's, put back on restore and checked against the file's centroid hash), so a s
 from __future__ import annotations
 
 import argparse
-import io
 import json
 from pathlib import Path
 import shutil
 
 from hexapod_adapt.mapping.archive import centroid_hash, load_archive
 from hexapod_util.files import atomic_write_bytes
+from hexapod_util.npz import write_npz
 import numpy as np
 
 KEEP = Path(__file__).resolve().parent / 'progress'
@@ -47,9 +47,7 @@ def _repack(src: Path, dest: Path, centroids: np.ndarray | None) -> None:
         if meta.get('centroid_hash') != centroid_hash(centroids):
             raise ValueError(f'{src}: its niches are not the default map (centroid hash)')
         arrays = {'centroids': centroids, **arrays}
-    buf = io.BytesIO()
-    (np.savez if centroids is not None else np.savez_compressed)(buf, **arrays)
-    atomic_write_bytes(dest, buf.getvalue())
+    write_npz(dest, arrays, compressed=centroids is None)
 
 
 def _log_whole_rows(src: Path, dest: Path) -> None:
@@ -72,16 +70,16 @@ def save(tree: Path, keep: Path = KEEP) -> list[str]:
             kept_map = _evaluations(keep / name)
             if not finished and kept_map >= 0:
                 break  # the map is kept finished already
-            kept = max(_evaluations(keep / (name + suffix)), kept_map)
-            if _evaluations(src) <= kept:
-                if _evaluations(src) < kept:
+            here, kept = _evaluations(src), max(_evaluations(keep / (name + suffix)), kept_map)
+            if here <= kept:
+                if here < kept:
                     print(f'not saved: {keep} holds {name} further on than {tree}')
                 break  # (as far on: kept already)
             _repack(src, keep / (name + suffix), None)
             _log_whole_rows(log, keep / log.name)
             if finished:
                 (keep / (name + '.ckpt.npz')).unlink(missing_ok=True)
-            saved.append(f'{name + suffix} ({_evaluations(src)} evaluations)')
+            saved.append(f'{name + suffix} ({here} evaluations)')
             break
     judged = tree / RUNS / 'judged.json'
     if judged.is_file():
