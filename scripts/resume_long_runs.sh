@@ -7,7 +7,7 @@
 #   start the moment it is written; once the map is written (kept in
 #   hexapod_adapt/maps/in_progress/, or shipped), its ceilings (resume_ceilings.sh: only the
 #   cases not cached yet), until the shipped cache holds them all;
-# - the robust-speed study's seven maps (studies/robust_speed/robust_study.sh), until
+# - the robust-speed study's maps (studies/robust_speed/candidates.py, robust_study.sh), until
 #   studies/robust_speed/progress holds them all finished;
 # Before the session ends: bash scripts/save_progress.sh, then commit what it lists.
 set -euo pipefail
@@ -33,8 +33,9 @@ else
 fi
 finished="$(find studies/robust_speed/progress -maxdepth 1 -name '*.npz' ! -name '*.ckpt.npz' \
   2>/dev/null | wc -l)"
-if [ "$finished" -lt 7 ]; then
+candidates="$(PYTHONPATH="$repo:$PYTHONPATH" python -m studies.robust_speed.candidates | wc -l)"
+if [ "$finished" -lt "$candidates" ]; then
   bash studies/robust_speed/robust_study.sh
 else
-  echo "the robust-speed study's seven maps are finished (its result: studies/robust_speed/README.md)"
+  echo "the robust-speed study's $candidates maps are finished (its result: studies/robust_speed/README.md)"
 fi

@@ -43,16 +43,8 @@ copy_compressed() {  # copy_compressed NPZ DEST: the same arrays, compressed (a 
     "$1" "$2"
 }
 
-copy_whole_rows() {  # copy_whole_rows LOG DEST: LOG up to its last whole row (a row being
-  # written is torn), written atomically
-  python3 - "$1" "$2" <<'EOF'
-import os, sys
-data = open(sys.argv[1], 'rb').read()
-tmp = sys.argv[2] + '.tmp'
-with open(tmp, 'wb') as out:
-    out.write(data[: data.rfind(b'\n') + 1])
-os.replace(tmp, sys.argv[2])
-EOF
+copy_whole_rows() {  # copy_whole_rows LOG DEST: LOG up to its last whole row, atomically
+  python -c 'import sys, hexapod_util.files as f; f.copy_whole_rows(*sys.argv[1:])' "$1" "$2"
 }
 
 maps="$map_tree/hexapod_adapt/maps"

@@ -51,6 +51,12 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> None:
         fh.write(data)
 
 
+def copy_whole_rows(src: str | os.PathLike, dest: str | os.PathLike) -> None:
+    """Copy a JSON-lines log up to its last whole row (a row being written is torn), atomically."""
+    data = Path(src).read_bytes()
+    atomic_write_bytes(dest, data[: data.rfind(b'\n') + 1])
+
+
 def save_png(fig: Any, out: str | os.PathLike) -> Path:
     """Write a matplotlib figure to ``out`` as a PNG, atomically, and close it."""
     import matplotlib.pyplot as plt  # here: importing this module costs no matplotlib

@@ -27,17 +27,8 @@ from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.transfer import transfer_figures, TransferFigures
 from hexapod_sim import create_simulator, SimConfig
 import numpy as np
+from studies.robust_speed.candidates import CANDIDATES
 
-#: The candidates (studies/robust_speed/README.md): name -> (variants per gait, statistic).
-CANDIDATES: dict[str, tuple[int, str]] = {
-    'nominal': (0, 'min'),
-    'k4_min': (4, 'min'),
-    'k4_q25': (4, 'q25'),
-    'k4_mean-std': (4, 'mean-std'),
-    'k8_min': (8, 'min'),
-    'k8_q25': (8, 'q25'),
-    'k8_mean-std': (8, 'mean-std'),
-}
 #: Within this of a candidate with fewer variants, the one with fewer wins [m/s].
 CHEAPER_MARGIN = 0.005
 

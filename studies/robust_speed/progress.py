@@ -21,7 +21,7 @@ from pathlib import Path
 import shutil
 
 from hexapod_adapt.mapping.archive import centroid_hash, load_archive
-from hexapod_util.files import atomic_write_bytes
+from hexapod_util.files import copy_whole_rows
 from hexapod_util.npz import write_npz
 import numpy as np
 
@@ -50,12 +50,6 @@ def _repack(src: Path, dest: Path, centroids: np.ndarray | None) -> None:
     write_npz(dest, arrays, compressed=centroids is None)
 
 
-def _log_whole_rows(src: Path, dest: Path) -> None:
-    """Copy a JSON-lines log up to its last whole row (a row being written is torn)."""
-    data = src.read_bytes()
-    atomic_write_bytes(dest, data[: data.rfind(b'\n') + 1])
-
-
 def save(tree: Path, keep: Path = KEEP) -> list[str]:
     """Copy the worktree's checkpoints and finished maps into ``keep``; return what was saved."""
     keep.mkdir(parents=True, exist_ok=True)
@@ -76,7 +70,7 @@ def save(tree: Path, keep: Path = KEEP) -> list[str]:
                     print(f'not saved: {keep} holds {name} further on than {tree}')
                 break  # (as far on: kept already)
             _repack(src, keep / (name + suffix), None)
-            _log_whole_rows(log, keep / log.name)
+            copy_whole_rows(log, keep / log.name)
             if finished:
                 (keep / (name + '.ckpt.npz')).unlink(missing_ok=True)
             saved.append(f'{name + suffix} ({here} evaluations)')

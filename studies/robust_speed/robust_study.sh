@@ -57,8 +57,7 @@ rm -rf tuning/robust_speed/*.claim  # no queue runs: a claim left is a stopped r
 # what an earlier session kept in the repository (progress.py save), where further on than here
 PYTHONPATH="$repo:$PYTHONPATH" python -m studies.robust_speed.progress restore --tree "$tree"
 # the longest first (a nominal walk is a map proposal: more of them reach the slow 5 s walks)
-specs=(nominal:0:min k4_min:4:min k4_q25:4:q25 k4_mean-std:4:mean-std k8_min:8:min
-  k8_q25:8:q25 k8_mean-std:8:mean-std)
+mapfile -t specs < <(PYTHONPATH="$repo:$PYTHONPATH" python -m studies.robust_speed.candidates)
 for q in 1 2; do
   nohup nice -n 19 bash -c "WALKS=$WALKS; $(declare -f run queue); queue ${specs[*]}" \
     robust_study_queue >> "out/robust_study_$q.out" 2>&1 &
