@@ -6,7 +6,7 @@ How many gaits the streaming prior must score before the first trial (``TOP_FIRS
 The first trial of a run with the damage-informed prior walks M-BOA's first pick (its UCB before
 any trial is the prior mean plus a constant: the prior's best gait). When the damage has no cached
 ceiling, the prior is a partial re-score
-(:func:`hexapod_adapt.online.streaming_prior.partial_prior`): the ``n`` fastest intact gaits scored
+(:func:`hexapod_adapt.online.ceiling.estimate_unwalked`): the ``n`` fastest intact gaits scored
 under the damage, the others estimated. For each case this replays that choice from the case's full
 ceiling and reports the first gait's speed under the damage as a ratio of the ceiling, for each
 ``n``.
@@ -27,9 +27,8 @@ import sys
 from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.maps import shipped_ceilings, shipped_map
 from hexapod_adapt.mapping.simulation import engine_of_map
-from hexapod_adapt.online.ceiling import cached_ceiling
+from hexapod_adapt.online.ceiling import cached_ceiling, estimate_unwalked
 from hexapod_adapt.online.mboa import Mboa, PROFILES
-from hexapod_adapt.online.streaming_prior import partial_prior
 from hexapod_sim.damage import Damage
 from hexapod_sim.scenarios import scenario
 import numpy as np
@@ -45,7 +44,7 @@ def first_pick_ratio(
     order = np.argsort(-intact, kind='stable')
     scored = np.full(len(intact), np.nan)
     scored[order[:n]] = damaged[order[:n]]
-    pick = Mboa(descriptors, partial_prior(intact, scored), PROFILES['default']).next_index()
+    pick = Mboa(descriptors, estimate_unwalked(intact, scored), PROFILES['default']).next_index()
     return float(damaged[pick] / damaged.max())
 
 

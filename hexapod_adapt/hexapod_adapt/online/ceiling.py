@@ -21,7 +21,7 @@ Cache them with ``python -m hexapod_adapt.online.ceilings_cli`` (``maps/make_cei
 from __future__ import annotations
 
 from collections import defaultdict
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import hashlib
 import io
 import json
@@ -52,6 +52,11 @@ from hexapod_util.processes import map_in_workers
 import numpy as np
 
 FORMAT = 'hexapod-ceiling/v1'
+#: A partial ceiling walks only this share of the map, its fastest gaits intact: on the map of
+#: 2026-11-28 every one of the 168 cases' fastest damaged gait was among the intact-fastest 20 %
+#: (hexapod_adapt/maps/ceilings/README.md, "Partial ceilings"). make_ceilings.sh makes the kinds
+#: beyond lifted legs partial.
+TOP_FRACTION = 0.4
 #: Cached ceilings per pack: the default map's (about 130 kB each) keep a pack under 1 MB.
 PACK_MEMBERS = 6
 #: How a damaged pack reads (zipfile and zlib raise these on bad bytes).
@@ -65,7 +70,10 @@ class Ceiling:
     damage: Damage
     engine: str
     niches: np.ndarray  # (n,) archive niche of each elite
-    speeds: np.ndarray  # (n,) m/s along the walking direction, with the damage
+    # (n,) m/s along the walking direction, with the damage: walked, or for a gait a partial
+    # ceiling did not walk, its estimate (:func:`estimate_unwalked`)
+    speeds: np.ndarray
+    walked: np.ndarray | None = None  # (n,) bool: walked under the damage (None: every gait)
 
     @property
     def failed_legs(self) -> tuple[int, ...]:
@@ -73,9 +81,19 @@ class Ceiling:
         return self.damage.failed_legs
 
     @property
+    def walked_mask(self) -> np.ndarray:
+        """Return which gaits were walked under the damage (all of a full ceiling)."""
+        return np.ones(len(self.speeds), bool) if self.walked is None else self.walked
+
+    @property
+    def walked_speeds(self) -> np.ndarray:
+        """Return the speeds, -inf for a gait not walked (for argmax-like choices)."""
+        return np.where(self.walked_mask, self.speeds, -np.inf)
+
+    @property
     def best_index(self) -> int:
-        """Position (in ``niches``) of the fastest gait under the damage."""
-        return int(np.argmax(self.speeds))
+        """Position (in ``niches``) of the fastest gait walked under the damage."""
+        return int(np.argmax(self.walked_speeds))
 
     @property
     def best_speed(self) -> float:
@@ -88,8 +106,32 @@ class Ceiling:
         return int(self.niches[self.best_index])
 
     def beating(self, speed: float) -> int:
-        """How many gaits walk faster than ``speed`` [m/s] with the damage."""
-        return int(np.sum(self.speeds > speed))
+        """How many gaits walked faster than ``speed`` [m/s] with the damage (of those walked)."""
+        return int(np.sum(self.walked_speeds > speed))
+
+
+def estimate_unwalked(intact: np.ndarray, speeds: np.ndarray) -> np.ndarray:
+    """
+    Return ``speeds`` (NaN: not walked under the damage) with each gait not walked estimated.
+
+    Such a gait gets its ``intact`` speed times the median ratio of damaged to intact speed over
+    the gaits walked (1 before any): M-BOA's prior mean for it, in a partial ceiling or a
+    re-score still streaming.
+    """
+    speeds = np.array(speeds, dtype=float)
+    missing = np.isnan(speeds)
+    if missing.any():
+        done = ~missing & (intact > 1e-6)
+        ratio = float(np.median(speeds[done] / intact[done])) if done.any() else 1.0
+        speeds[missing] = intact[missing] * ratio
+    return speeds
+
+
+def _estimated(archive: Archive, c: Ceiling | None) -> Ceiling | None:
+    """Return ``c`` with its gaits not walked estimated from the map (as read: NaN)."""
+    if c is None or c.walked is None:
+        return c
+    return replace(c, speeds=estimate_unwalked(archive.speeds()[c.niches], c.speeds))
 
 
 def map_digest(archive: Archive) -> str:
@@ -101,12 +143,15 @@ def map_digest(archive: Archive) -> str:
     return h.hexdigest()
 
 
-def ceiling_key(archive: Archive, damage: Damage | Sequence[int], engine: str) -> dict:
+def ceiling_key(
+    archive: Archive, damage: Damage | Sequence[int], engine: str, partial: bool = False
+) -> dict:
     """
     Return everything a ceiling depends on (its cache key, stored in the file).
 
     A thesis damage (lifted legs) is keyed by its legs alone, as before other damage types
-    existed, so the shipped cache stays valid; any other damage adds its description.
+    existed, so the shipped cache stays valid; any other damage adds its description; a partial
+    ceiling (``partial``: the intact-fastest :data:`TOP_FRACTION` walked), its share.
     """
     damage = as_damage(damage)
     # at the physics steps it is computed at: the map's on its own engine, else converged
@@ -126,6 +171,8 @@ def ceiling_key(archive: Archive, damage: Damage | Sequence[int], engine: str) -
     if not damage.thesis:
         # an unpowered leg's dead joints follow (keys of the other kinds are as before)
         key['damage'] = [[d.leg, d.kind, d.strength, *d.joints] for d in damage.legs]
+    if partial:
+        key['top_fraction'] = TOP_FRACTION
     return key
 
 
@@ -149,6 +196,7 @@ def cache_path(directory: str | os.PathLike, key: dict) -> Path:
         for leg, kind, _, *joints in key.get('damage', [])
     )
     subset = f'_top{key["subset"]["top"]}' if 'subset' in key else ''
+    subset += f'_part{round(100 * key["top_fraction"])}' if 'top_fraction' in key else ''
     return Path(directory) / f'ceiling_{key["engine"]}_legs{legs}{kinds}{subset}_{digest}.npz'
 
 
@@ -200,15 +248,23 @@ def compute_ceiling(
     chunk: int = 64,
     progress: Callable[[int, int], None] | None = None,
     niches: np.ndarray | None = None,
+    partial: bool = False,
 ) -> Ceiling:
     """
     Evaluate every elite of ``archive`` (or only ``niches``) with ``damage`` on ``engine``.
 
-    No cache. ``progress(done, total)`` is called after each chunk of ``chunk`` gaits.
+    ``partial``: only the intact-fastest :data:`TOP_FRACTION` of them; the others are estimated
+    (:func:`estimate_unwalked`). No cache. ``progress(done, total)`` is called after each chunk
+    of ``chunk`` gaits.
     """
     damage = as_damage(damage)
     niches = archive.elite_indices() if niches is None else np.asarray(niches, dtype=int)
-    genes = archive.genotypes[niches]
+    walk = np.arange(len(niches))
+    if partial:
+        intact = archive.speeds()[niches]
+        top = int(np.ceil(TOP_FRACTION * len(niches)))
+        walk = np.sort(np.argsort(-intact, kind='stable')[:top])
+    genes = archive.genotypes[niches[walk]]
     how = Rescoring.of(archive, damage, engine)
     jobs = [(how, part) for part in np.split(genes, range(chunk, len(genes), chunk)) if len(part)]
     parts: list[np.ndarray] = []
@@ -220,8 +276,12 @@ def compute_ceiling(
                 progress(sum(len(x) for x in parts), len(genes))
 
     collect(map_in_workers(evaluate_part, jobs, workers))
-    speeds = np.concatenate(parts) if parts else np.zeros(0)
-    return Ceiling(damage, engine, niches, speeds)
+    speeds = np.full(len(niches), np.nan)
+    speeds[walk] = np.concatenate(parts) if parts else np.zeros(0)
+    if not partial:
+        return Ceiling(damage, engine, niches, speeds)
+    walked = ~np.isnan(speeds)
+    return Ceiling(damage, engine, niches, estimate_unwalked(intact, speeds), walked)
 
 
 def _read(path: Path, key: dict) -> Ceiling | None:
@@ -239,9 +299,16 @@ def _checked(data: dict[str, np.ndarray], where: str, key: dict) -> Ceiling | No
         niches, speeds = data['niches'], float_array(data['speeds'], f'{where}: speeds')
     except UnreadableFile:
         return None
-    if stored != key or niches.shape != speeds.shape or not np.all(np.isfinite(speeds)):
+    walked = np.isfinite(speeds)
+    if 'top_fraction' in key:  # a partial ceiling: NaN for a gait not walked
+        ok = walked.any() and not np.isinf(speeds).any()
+    else:
+        ok = walked.all()
+    if stored != key or niches.shape != speeds.shape or not ok:
         return None
-    return Ceiling(_damage_of(key), key['engine'], niches, speeds)
+    return Ceiling(
+        _damage_of(key), key['engine'], niches, speeds, walked if 'top_fraction' in key else None
+    )
 
 
 def _packs(directory: Path) -> Iterator[tuple[Path, list[str]]]:
@@ -346,12 +413,17 @@ def cached_ceiling(
     engine: str,
     dirs: Sequence[str | os.PathLike],
 ) -> Ceiling | None:
-    """Return the ceiling cached in the first of ``dirs`` that holds it, or None (no compute)."""
-    key = ceiling_key(archive, damage, engine)
-    for directory in dirs:
-        cached = _cached_in(directory, key)
-        if cached is not None:  # the key's map digest covers the elites' niches
-            return cached
+    """
+    Return the ceiling cached in the first of ``dirs`` that holds it, or None (no compute).
+
+    A full ceiling is looked for first, then a partial one (its gaits not walked estimated).
+    """
+    for partial in (False, True):
+        key = ceiling_key(archive, damage, engine, partial)
+        for directory in dirs:
+            cached = _cached_in(directory, key)
+            if cached is not None:  # the key's map digest covers the elites' niches
+                return _estimated(archive, cached)
     return None
 
 
@@ -363,20 +435,24 @@ def ceiling(
     workers: int = 1,
     read_dirs: Sequence[str | os.PathLike] = (),
     progress: Callable[[int, int], None] | None = None,
+    partial: bool = False,
 ) -> Ceiling:
     """
     Return the ceiling of ``archive`` under a damage on ``engine`` (cached if asked).
 
-    A cached copy is looked for in ``read_dirs`` (e.g. the shipped, read-only cache), then in
-    ``cache_dir``, where a computed one is written.
+    A cached copy (full or partial) is looked for in ``read_dirs`` (e.g. the shipped, read-only
+    cache), then in ``cache_dir``, where a computed one is written; ``partial``: one not cached
+    is computed partial (:data:`TOP_FRACTION`).
     """
-    key = ceiling_key(archive, failed_legs, engine)
+    key = ceiling_key(archive, failed_legs, engine, partial)
     path = cache_path(cache_dir, key) if cache_dir is not None else None
     dirs = [*read_dirs] + ([cache_dir] if cache_dir is not None else [])
     cached = cached_ceiling(archive, failed_legs, engine, dirs)
     if cached is not None:
         return cached
-    result = compute_ceiling(archive, failed_legs, engine, workers, progress=progress)
+    result = compute_ceiling(
+        archive, failed_legs, engine, workers, progress=progress, partial=partial
+    )
     _write(path, key, result)
     return result
 
@@ -416,7 +492,7 @@ def approximate_ceiling(
         cached = _read(path, key)
         if cached is not None:
             return cached
-    niches = guide.niches[np.argsort(-guide.speeds, kind='stable')[:top]]
+    niches = guide.niches[np.argsort(-guide.walked_speeds, kind='stable')[:top]]
     result = compute_ceiling(archive, damage, engine, workers, niches=np.sort(niches))
     _write(path, key, result)
     return result
@@ -425,7 +501,7 @@ def approximate_ceiling(
 def store_ceiling(archive: Archive, result: Ceiling, cache_dir: str | os.PathLike | None) -> None:
     """Write a computed ceiling to ``cache_dir`` (atomically; nothing if None)."""
     if cache_dir is not None:
-        key = ceiling_key(archive, result.damage, result.engine)
+        key = ceiling_key(archive, result.damage, result.engine, result.walked is not None)
         _write(cache_path(cache_dir, key), key, result)
 
 
@@ -436,6 +512,6 @@ def _write(path: Path | None, key: dict, result: Ceiling) -> None:
             buf,
             key=np.array(json.dumps(key, sort_keys=True)),
             niches=result.niches,
-            speeds=result.speeds,
+            speeds=np.where(result.walked_mask, result.speeds, np.nan),  # what was walked only
         )
         atomic_write_bytes(path, buf.getvalue())

@@ -204,9 +204,10 @@ def _with_ceiling(row: ExperimentRow, archive: Archive, s: ExperimentSetup, dama
     c = s.ceilings(damage, row.trial_engine)
     # the best gait a guarded trial can keep: none that tips past the guard
     upright = _screen(archive, damage, row.trial_engine, s.tip_guard)
-    best = int(np.argmax(c.speeds)) if upright is None else upright.best_upright(c.speeds)
+    speeds = c.walked_speeds  # a partial ceiling's estimates are no ceiling
+    best = c.best_index if upright is None else upright.best_upright(speeds)
     row = replace(row, gaits_beating_intact_control=c.beating(row.intact_control_speed))
-    if best is None:  # every gait tips: no ceiling to compare with
+    if best is None or not c.walked_mask[best]:  # every gait walked tips: no ceiling
         return row
     return replace(
         row,

@@ -28,6 +28,7 @@ from hexapod_adapt.online.bank import BANK_DAMAGES, DamageBank, load_bank
 from hexapod_adapt.online.ceiling import (
     cached_ceiling,
     Ceiling,
+    estimate_unwalked,
     evaluate_part,
     Rescoring,
     store_ceiling,
@@ -66,22 +67,6 @@ class PriorSnapshot:
     def complete(self) -> bool:
         """Return True when every gait is scored."""
         return self.scored == self.total
-
-
-def partial_prior(intact: np.ndarray, scored: np.ndarray) -> np.ndarray:
-    """
-    Return the prior from a partial re-score: ``scored`` speeds (NaN: not yet scored) as scored.
-
-    A gait not yet scored gets its ``intact`` speed times the median ratio of damaged to intact
-    speed over the gaits scored so far (1 before any).
-    """
-    speeds = np.array(scored, dtype=float)
-    missing = np.isnan(speeds)
-    if missing.any():
-        done = ~missing & (intact > 1e-6)
-        ratio = float(np.median(speeds[done] / intact[done])) if done.any() else 1.0
-        speeds[missing] = intact[missing] * ratio
-    return speeds
 
 
 class StreamingPrior:
@@ -176,7 +161,7 @@ class StreamingPrior:
             speeds, scored = self._speeds.copy(), self._scored
             if take:
                 self._seen = scored
-        speeds = partial_prior(self._intact, speeds)
+        speeds = estimate_unwalked(self._intact, speeds)
         return PriorSnapshot(speeds, scored, self.total, time.monotonic() - self._t0)
 
     def update(self) -> np.ndarray | None:

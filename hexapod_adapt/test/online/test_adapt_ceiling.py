@@ -4,6 +4,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 
 from hexapod_adapt.mapping.archive import Archive, load_archive
@@ -20,6 +21,7 @@ from hexapod_adapt.online.ceiling import (
     pack_ceilings,
 )
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig
+from hexapod_sim.damage import Damage
 import numpy as np
 import pytest
 
@@ -250,6 +252,49 @@ def test_a_replayed_run_is_the_simulated_run(small_map):
     assert runs[0].ratio == pytest.approx(floored.best_speed / c.best_speed)
     assert len(floored.trials) == 12 > len(replayed.trials)  # below the floor it goes on
     assert not runs[0].success and summarise(runs).below_control == 1
+
+
+def test_a_partial_ceiling_walks_the_intact_fastest_share_and_estimates_the_rest(
+    small_map, tmp_path
+):
+    from hexapod_adapt.online.ceiling import estimate_unwalked, store_ceiling, TOP_FRACTION
+
+    damage = Damage.of('locked', [2])
+    full = compute_ceiling(small_map, damage, 'mujoco')
+    part = ceiling(small_map, damage, 'mujoco', cache_dir=tmp_path, partial=True)
+    elites = small_map.elite_indices()
+    intact = small_map.speeds()[elites]
+    top = np.argsort(-intact, kind='stable')[: math.ceil(TOP_FRACTION * len(elites))]
+    assert part.walked is not None and sorted(np.flatnonzero(part.walked)) == sorted(top)
+    np.testing.assert_array_equal(part.speeds[part.walked], full.speeds[part.walked])
+    with_nan = np.where(part.walked, full.speeds, np.nan)
+    np.testing.assert_array_equal(part.speeds, estimate_unwalked(intact, with_nan))
+    assert part.walked_mask[part.best_index]  # the best is one walked, never an estimate
+    assert part.best_speed == full.speeds[part.walked].max()
+    assert part.beating(-1.0) == part.walked.sum()
+    # on disk: only what was walked, under its own key; read back estimated as computed
+    path = cache_path(tmp_path, ceiling_key(small_map, damage, 'mujoco', partial=True))
+    assert path.is_file() and '_part' in path.name
+    assert not cache_path(tmp_path, ceiling_key(small_map, damage, 'mujoco')).exists()
+    with np.load(path) as data:
+        assert np.isnan(data['speeds']).sum() == len(elites) - len(top)
+    again = cached_ceiling(small_map, damage, 'mujoco', [tmp_path])
+    np.testing.assert_array_equal(again.speeds, part.speeds)
+    np.testing.assert_array_equal(again.walked, part.walked)
+    # ceiling() takes the partial one as cached; a full one, once cached, is preferred
+    assert ceiling(small_map, damage, 'mujoco', cache_dir=tmp_path).walked is not None
+    store_ceiling(small_map, full, tmp_path)
+    assert cached_ceiling(small_map, damage, 'mujoco', [tmp_path]).walked is None
+    # a partial file that walked nothing is not trusted
+    key = ceiling_key(small_map, damage, 'mujoco', partial=True)
+    from hexapod_adapt.online.ceiling import _checked
+
+    data = {
+        'key': np.array(json.dumps(key, sort_keys=True)),
+        'niches': elites,
+        'speeds': np.full(len(elites), np.nan),
+    }
+    assert _checked(data, 'x', key) is None
 
 
 @pytest.mark.slow

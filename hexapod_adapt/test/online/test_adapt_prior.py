@@ -221,14 +221,14 @@ def test_a_streaming_prior_scores_the_best_gaits_first_and_caches_the_whole(tiny
 
 
 def test_a_partial_prior_estimates_the_gaits_not_yet_scored_from_those_scored():
-    from hexapod_adapt.online.streaming_prior import partial_prior
+    from hexapod_adapt.online.ceiling import estimate_unwalked
 
     intact = np.array([0.4, 0.3, 0.2, 0.1, 0.0])
     scored = np.array([0.2, 0.3, np.nan, np.nan, np.nan])  # ratios 0.5 and 1.0: median 0.75
-    prior = partial_prior(intact, scored)
+    prior = estimate_unwalked(intact, scored)
     np.testing.assert_allclose(prior, [0.2, 0.3, 0.15, 0.075, 0.0])
     assert np.isnan(scored[2])  # the caller's array is left as it was
-    np.testing.assert_array_equal(partial_prior(intact, np.full(5, np.nan)), intact)
+    np.testing.assert_array_equal(estimate_unwalked(intact, np.full(5, np.nan)), intact)
 
 
 @pytest.mark.slow

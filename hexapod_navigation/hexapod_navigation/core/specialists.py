@@ -132,7 +132,9 @@ def source_gaits(
                 f' {", ".join(map(str, ceiling_dirs))} (hexapod_adapt/maps/make_ceilings.sh)'
             )
         fits = np.array([int(n) in stable for n in ceiling.niches])
-        niches.append(int(ceiling.niches[np.argmax(np.where(fits, ceiling.speeds, -np.inf))]))
+        niches.append(
+            int(ceiling.niches[np.argmax(np.where(fits, ceiling.walked_speeds, -np.inf))])
+        )
     return list(dict.fromkeys(niches))
 
 
