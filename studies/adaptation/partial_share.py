@@ -47,18 +47,20 @@ def main() -> None:
             for legs in scenario(name):
                 c = cached_ceiling(archive, Damage.of(kind, legs), 'mujoco', dirs)
                 if c is not None and c.walked is None:
-                    cases.append((kind, c.speeds))
+                    cases.append((kind, c.speeds, c.damage.label))
     if not cases:
         raise SystemExit(f'no full ceiling of the map in {dirs[0]}')
-    ranks = np.array([rank_of[int(np.argmax(s))] for _, s in cases])
+    ranks = np.array([rank_of[int(np.argmax(s))] for _, s, _ in cases])
     print(f'{len(cases)} full ceilings, {len(intact)} gaits; the fastest damaged gait at intact')
     print(
         f'rank median {np.median(ranks):.0f}, largest {ranks.max()}'
         f' ({ranks.max() / len(intact):.1%})'
     )
-    for kind in dict.fromkeys(k for k, _ in cases):
-        mine = [r for (k, _), r in zip(cases, ranks) if k == kind]
+    for kind in dict.fromkeys(k for k, _, _ in cases):
+        mine = [r for (k, _, _), r in zip(cases, ranks) if k == kind]
         print(f'  {kind}: median {np.median(mine):.0f}, largest {max(mine)}')
+    deepest = np.argsort(-ranks, kind='stable')[:3]
+    print('deepest: ' + '; '.join(f'{cases[i][2]} ({ranks[i]})' for i in deepest))
     print(
         '| share walked | fastest within | prior puts another first | top-10 kept: median, least |'
     )
@@ -67,7 +69,7 @@ def main() -> None:
         walk = order[: int(np.ceil(share * len(intact)))]
         within = int(np.sum(ranks < len(walk)))
         other, kept = 0, []
-        for _, speeds in cases:
+        for _, speeds, _ in cases:
             part = np.full(len(speeds), np.nan)
             part[walk] = speeds[walk]
             prior = estimate_unwalked(intact, part)
