@@ -66,7 +66,8 @@ def variant_physics(variant: str) -> SimConfig:
 
     ``fF``: foot friction F; ``sS``: servo compliance slope S; ``rN``: the physics variant drawn
     from seed N (:func:`hexapod_sim.variants.draw_variants`: friction, servos, latency, masses,
-    floor at once); ``stock``: none.
+    floor at once); ``nN``: N physics steps per row, not converged (a larger gap to the
+    hypotheses' walks: studies/engines, "No cheaper MuJoCo setting converges"); ``stock``: none.
     """
     if variant == 'stock':
         return trial_physics('mujoco')
@@ -76,7 +77,9 @@ def variant_physics(variant: str) -> SimConfig:
         return trial_physics('mujoco', friction=float(variant[1:]))
     if variant.startswith('s'):
         return trial_physics('mujoco', compliance_slope=float(variant[1:]))
-    raise SystemExit(f'unknown variant {variant!r}: stock, fF, sS or rN')
+    if variant.startswith('n'):
+        return trial_physics('mujoco').with_substeps(int(variant[1:]))
+    raise SystemExit(f'unknown variant {variant!r}: stock, fF, sS, rN or nN')
 
 
 def residuals(archive, damages, trials: SimConfig, gaits: list[int]) -> np.ndarray:

@@ -28,7 +28,7 @@ from hexapod_sim.damage import Damage
 import numpy as np
 from studies.diagnosis.calibration import posteriors, residuals, variant_physics
 
-FLOORS = (-8.0, -10.0, -12.0, -14.0)
+FLOORS = (-8.0, -10.0, -12.0, -14.0, -16.0, -20.0, -25.0)
 
 
 def main(argv: list[str] | None = None) -> int:
