@@ -13,10 +13,13 @@ set -eo pipefail   # (no -u: colcon's setup scripts read unset variables)
 cd "$(dirname "$0")/../.."
 source scripts/env.sh
 # Lifted legs in full (the bank, the S1-S4 prior, the navigation specialists and the acceptance
-# runs read them); the other kinds' cases not cached yet are partial: the intact-fastest share
-# of the map (ceiling.TOP_FRACTION; maps/ceilings/README.md, "Partial ceilings").
+# runs read them), then, in full too, the three cases whose fastest gait lay deepest in the
+# intact order on the map of 2026-11-28 (the check of the share); then the other kinds' cases not
+# cached yet, partial: the intact-fastest share of the map (ceiling.TOP_FRACTION;
+# maps/ceilings/README.md, "Partial ceilings").
 full=(lifted)
+check=(3:no_tibia,4:no_tibia 5:locked,6:locked 4:unpowered:tibia,6:unpowered:tibia)
 partial=(unpowered_coxa unpowered_femur unpowered_tibia locked weak no_tibia shortened)
 exec python -m hexapod_adapt.online.ceilings_cli --engine mujoco --scenarios S1 S2 S3 S4 \
-  --damage-kind "${full[@]}" "${partial[@]}" --partial "${partial[@]}" \
+  --damage-kind "${full[@]}" "${partial[@]}" --partial "${partial[@]}" --damage "${check[@]}" \
   --cache-dir hexapod_adapt/maps/ceilings --workers "${WORKERS:-2}" "$@"

@@ -80,5 +80,6 @@ fi
 git add "$maps" hexapod_adapt/config/adapt.yaml hexapod_navigation/maps/navigation_specialists.npz
 echo "shipped (staged): the map, $(ls "$maps"/ceilings/ceilings_*.zip | wc -l) ceiling packs,"\
   "adapt.yaml at $engine/$substeps, the navigation specialists"
-echo "before committing: name the cases made elsewhere in $maps/ceilings/README.md and the map's"\
-  "figures in $maps/README.md; make test; make demo; make bench-adapt; the docs' figures"
+echo "before committing: name the cases made elsewhere in $maps/ceilings/README.md; then"\
+  "bash $maps/regenerate_derived.sh (the check of partial ceilings, the docs' figures, what to"\
+  "measure); make test"

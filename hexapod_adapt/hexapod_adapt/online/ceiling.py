@@ -127,6 +127,20 @@ def estimate_unwalked(intact: np.ndarray, speeds: np.ndarray) -> np.ndarray:
     return speeds
 
 
+def deepest_share(archive: Archive, ceilings: Iterable[Ceiling]) -> float:
+    """
+    Return how deep in the map's intact order the fastest damaged gait of any full ceiling lies.
+
+    The share of the map's gaits, intact-fastest first, a partial ceiling must walk to hold each
+    of them (0 if none is full): :data:`TOP_FRACTION` is meant to be more.
+    """
+    elites = archive.elite_indices()
+    rank = np.empty(len(elites), int)
+    rank[np.argsort(-archive.speeds()[elites], kind='stable')] = np.arange(len(elites))
+    full = [c for c in ceilings if c.walked is None]
+    return max(((rank[c.best_index] + 1) / len(elites) for c in full), default=0.0)
+
+
 def _estimated(archive: Archive, c: Ceiling | None) -> Ceiling | None:
     """Return ``c`` with its gaits not walked estimated from the map (as read: NaN)."""
     if c is None or c.walked is None:

@@ -22,7 +22,9 @@ from hexapod_adapt.online.ceiling import (
     approximate_ceiling,
     cached_ceiling,
     cached_names,
+    Ceiling,
     ceiling,
+    deepest_share,
     pack_ceilings,
     TOP_FRACTION,
 )
@@ -145,6 +147,7 @@ def main(argv: list[str] | None = None) -> int:
             for legs in scenario(name)
         ]
         cases += [('-', damage, False) for damage in args.damage]
+        cases.sort(key=lambda case: case[2])  # the full cases first, in the order given
         if args.missing:
             lacking = sum(
                 cached_ceiling(archive, damage, args.engine, [args.cache_dir]) is None
@@ -152,7 +155,20 @@ def main(argv: list[str] | None = None) -> int:
             )
             print(lacking)
             return 0
+        full: list[Ceiling] = []  # the full cases made or read: they come first
+        checked = False
         for name, damage, partial in cases:
+            if partial and not checked:
+                share = deepest_share(archive, full)
+                if share > TOP_FRACTION:
+                    print(
+                        f"a full case's fastest gait lies at {share:.1%} of the intact order,"
+                        f' past the partial share {TOP_FRACTION:.0%}: no partial case is made'
+                        ' (raise ceiling.TOP_FRACTION; maps/ceilings/README.md)',
+                        file=sys.stderr,
+                    )
+                    return 1
+                checked = True
             t0 = time.monotonic()
             if args.top:
                 guide = ceiling(archive, damage, args.guide_engine, args.cache_dir, args.workers)
@@ -163,6 +179,8 @@ def main(argv: list[str] | None = None) -> int:
                 c = ceiling(
                     archive, damage, args.engine, args.cache_dir, args.workers, partial=partial
                 )
+                if not partial:
+                    full.append(c)
             print(
                 f'{args.engine} {name} {damage.label}: ceiling {c.best_speed:.3f} m/s'
                 f' (gait {c.best_niche}), {int(c.walked_mask.sum())} of {len(c.speeds)} gaits'

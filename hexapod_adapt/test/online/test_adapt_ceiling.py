@@ -297,6 +297,29 @@ def test_a_partial_ceiling_walks_the_intact_fastest_share_and_estimates_the_rest
     assert _checked(data, 'x', key) is None
 
 
+def test_the_cli_makes_no_partial_case_once_a_full_one_lies_deeper_than_the_share(
+    small_map, tmp_path, monkeypatch, capsys
+):
+    from hexapod_adapt.online import ceiling as ceiling_module
+    from hexapod_adapt.online import ceilings_cli
+
+    archive = small_map.save(tmp_path / 'map.npz')
+    cache = tmp_path / 'cache'
+    argv = ['--archive', str(archive), '--scenarios', 'S1', '--damage-kind', 'locked']
+    argv += ['--partial', 'locked', '--damage', '2:locked,5:locked', '--cache-dir', str(cache)]
+    # a share under any full case's depth (at least 1 of the 12 gaits): refused, said, nothing made
+    for module in (ceiling_module, ceilings_cli):
+        monkeypatch.setattr(module, 'TOP_FRACTION', 0.5 / 12)
+    assert ceilings_cli.main(argv) == 1
+    assert 'past the partial share 4%' in capsys.readouterr().err
+    assert [p.name for p in cache.glob('*_part*')] == []
+    assert len(list(cache.glob('ceiling_*.npz'))) == 1  # the full case, made first
+    for module in (ceiling_module, ceilings_cli):  # a share that holds it: the 6 partial cases
+        monkeypatch.setattr(module, 'TOP_FRACTION', 1.0)
+    assert ceilings_cli.main(argv) == 0
+    assert len(list(cache.glob('ceiling_*_part100_*.npz'))) == 6
+
+
 @pytest.mark.slow
 def test_an_approximate_ceiling_evaluates_the_guides_best_gaits_only(small_map, tmp_path):
     from hexapod_adapt.online.ceiling import approximate_ceiling, approximate_key
