@@ -31,7 +31,7 @@ mkdir -p "$keep/ceilings"
 count_missing() {
   bash "$maps/make_ceilings.sh" --archive "$map" --missing --cache-dir "$keep/ceilings" "$@"
 }
-lifted="$(count_missing --damage-kind lifted)"
+lifted="$(count_missing --damage-kind lifted --damage)"  # (no check cases: make_ceilings.sh's)
 if [ "$lifted" != 0 ]; then
   echo "$lifted lifted-leg ceiling cases of $map are not in $keep/ceilings yet: nothing shipped" >&2
   exit 1

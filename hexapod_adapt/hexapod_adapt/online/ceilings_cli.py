@@ -70,11 +70,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     ap.add_argument(
         '--damage',
-        nargs='+',
+        nargs='*',
         type=_damage_arg,
         default=[],
         metavar='SPEC',
-        help='other damage, each LEG:KIND[:STRENGTH][,...], e.g. 1:locked,4:weak:0.3',
+        help='other damage, each LEG:KIND[:STRENGTH][,...], e.g. 1:locked,4:weak:0.3 (none'
+        ' given: none, e.g. to drop those of an earlier --damage)',
     )
     ap.add_argument(
         '--partial',
