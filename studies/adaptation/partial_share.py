@@ -26,6 +26,7 @@ from hexapod_adapt.online.ceiling import (
     cached_ceiling,
     deepest_share,
     estimate_unwalked,
+    intact_order,
     TOP_FRACTION,
 )
 from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
@@ -49,7 +50,7 @@ def main() -> int:
     archive = load_archive(args.archive or shipped_map(DEFAULT_MAP))
     dirs = [args.ceilings or shipped_ceilings()]
     intact = archive.speeds()[archive.elite_indices()]
-    order = np.argsort(-intact, kind='stable')
+    order = intact_order(archive)
     rank_of = np.empty(len(order), int)
     rank_of[order] = np.arange(len(order))
     cases = []

@@ -127,6 +127,12 @@ def estimate_unwalked(intact: np.ndarray, speeds: np.ndarray) -> np.ndarray:
     return speeds
 
 
+def intact_order(archive: Archive, niches: np.ndarray | None = None) -> np.ndarray:
+    """Return positions in ``niches`` (default: the elites) from the fastest intact gait down."""
+    niches = archive.elite_indices() if niches is None else niches
+    return np.argsort(-archive.speeds()[niches], kind='stable')
+
+
 def deepest_share(archive: Archive, ceilings: Iterable[Ceiling]) -> float:
     """
     Return how deep in the map's intact order the fastest damaged gait of any full ceiling lies.
@@ -134,11 +140,11 @@ def deepest_share(archive: Archive, ceilings: Iterable[Ceiling]) -> float:
     The share of the map's gaits, intact-fastest first, a partial ceiling must walk to hold each
     of them (0 if none is full): :data:`TOP_FRACTION` is meant to be more.
     """
-    elites = archive.elite_indices()
-    rank = np.empty(len(elites), int)
-    rank[np.argsort(-archive.speeds()[elites], kind='stable')] = np.arange(len(elites))
+    order = intact_order(archive)
+    rank = np.empty(len(order), int)
+    rank[order] = np.arange(len(order))
     full = [c for c in ceilings if c.walked is None]
-    return max(((rank[c.best_index] + 1) / len(elites) for c in full), default=0.0)
+    return max(((rank[c.best_index] + 1) / len(order) for c in full), default=0.0)
 
 
 def _estimated(archive: Archive, c: Ceiling | None) -> Ceiling | None:
@@ -275,9 +281,7 @@ def compute_ceiling(
     niches = archive.elite_indices() if niches is None else np.asarray(niches, dtype=int)
     walk = np.arange(len(niches))
     if partial:
-        intact = archive.speeds()[niches]
-        top = int(np.ceil(TOP_FRACTION * len(niches)))
-        walk = np.sort(np.argsort(-intact, kind='stable')[:top])
+        walk = np.sort(intact_order(archive, niches)[: int(np.ceil(TOP_FRACTION * len(niches)))])
     genes = archive.genotypes[niches[walk]]
     how = Rescoring.of(archive, damage, engine)
     jobs = [(how, part) for part in np.split(genes, range(chunk, len(genes), chunk)) if len(part)]
@@ -294,7 +298,9 @@ def compute_ceiling(
     speeds[walk] = np.concatenate(parts) if parts else np.zeros(0)
     if not partial:
         return Ceiling(damage, engine, niches, speeds)
-    walked = ~np.isnan(speeds)
+    walked = np.zeros(len(niches), bool)
+    walked[walk] = True
+    intact = archive.speeds()[niches]
     return Ceiling(damage, engine, niches, estimate_unwalked(intact, speeds), walked)
 
 
