@@ -256,6 +256,13 @@ STACKS_SIGNAL = signal.SIGUSR1
 #: s a stopping node waits for the callbacks in flight to end before it is destroyed.
 SHUTDOWN_WAIT_S = 5.0
 
+#: s the middleware may take to tear a stopped node down (its state is saved by then). Fast DDS
+#: can hang deleting a participant (eProsima/Fast-DDS#235, #2500; CI found gait_node stuck in
+#: ``destroy_node`` twice, 2026-11 and 2026-12-04), holding the GIL, so no Python code can end it:
+#: faulthandler's watchdog thread then prints every stack and exits with status 1, well inside a
+#: launcher's 10 s between Ctrl-C and SIGTERM.
+TEARDOWN_LIMIT_S = 4.0
+
 
 def try_shutdown() -> None:
     """Shut the default context down (rclpy.try_shutdown), also when rclpy's signal thread does."""
@@ -336,8 +343,11 @@ def run_node(
             if callable(shutdown):
                 shutdown()
             _let_callbacks_end(executor, SHUTDOWN_WAIT_S)
+        faulthandler.dump_traceback_later(TEARDOWN_LIMIT_S, exit=True)
+        if node is not None:
             node.destroy_node()
         try_shutdown()
+        faulthandler.cancel_dump_traceback_later()
         # the node is down: a Ctrl-C still on its way (a launcher's after a terminal's) must not
         # kill the process as it ends, where Python gives SIGINT back its default action
         if threading.current_thread() is threading.main_thread():

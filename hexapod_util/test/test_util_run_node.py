@@ -10,7 +10,7 @@ import sys
 import textwrap
 import time
 
-from hexapod_util.ros_glue import SAME_CTRL_C_S, STACKS_SIGNAL
+from hexapod_util.ros_glue import SAME_CTRL_C_S, STACKS_SIGNAL, TEARDOWN_LIMIT_S
 import pytest
 
 NODE = textwrap.dedent(
@@ -277,3 +277,25 @@ def test_a_node_asked_for_its_stacks_prints_every_thread_and_runs_on():
     assert 'Current thread' in err and '(most recent call first)' in err, err
     # where its main thread was: in run_node (spinning, or still making the node: CI, 2026-12-03)
     assert 'in run_node' in err, err
+
+
+# SPINNING, with the middleware stuck tearing the node down, as Fast DDS once left gait_node
+# (CI, 2026-12-04): destroy_node blocks after the node has saved its state
+HUNG_TEARDOWN = SPINNING.replace(
+    "        print('cleaned up', flush=True)\n",
+    "        print('cleaned up', flush=True)\n\n"
+    '    def destroy_node(self):\n'
+    '        time.sleep(120)\n',
+)
+assert HUNG_TEARDOWN != SPINNING
+
+
+def test_a_node_whose_middleware_hangs_in_teardown_ends_by_itself_and_says_where():
+    proc = stopping(0.0, HUNG_TEARDOWN)
+    started = time.monotonic()
+    code, out, err = finish(proc)
+    took = time.monotonic() - started
+    assert out == 'cleaned up\n'  # its state was saved first
+    assert code == 1, err
+    assert TEARDOWN_LIMIT_S <= took < TEARDOWN_LIMIT_S + 5.0, took
+    assert 'in destroy_node' in err  # every thread's stack, for the report
