@@ -27,14 +27,14 @@ from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
 from hexapod_adapt.mapping.simulation import engine_of_map
 from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
-from hexapod_adapt.online.bank import load_bank
+from hexapod_adapt.online.bank import diagnosis_damages, load_bank
 from hexapod_adapt.online.diagnosis import Weighing
 from hexapod_adapt.online.experiment import ExperimentSetup, run_experiment
 from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
 from hexapod_adapt.online.safety import RISK_LIMIT
 from hexapod_adapt.online.session import BlindRules, FirstGait, NAME_LEG_SETS, SCREEN_MARGIN
 from hexapod_sim import SimConfig
-from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
+from hexapod_sim.damage import Damage
 from hexapod_sim.scenarios import scenario
 import numpy as np
 from studies.diagnosis.calibration import variant_physics
@@ -117,10 +117,11 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument(
         '--hypotheses',
-        choices=('kind', 'every', 'lifted'),
+        choices=('kind', 'every', 'lifted', 'lifted-then-every'),
         default='kind',
-        help="the bank: the run's kind's 21 damages, every kind's (168), or the 21 lifted-leg"
-        " damages whatever the run's kind (adapt_node's bank)",
+        help="the bank: the run's kind's 21 damages, every kind's (168), the 21 lifted-leg"
+        " damages whatever the run's kind (adapt_node's bank), or those and then every kind's"
+        ' once no lifted leg fits',
     )
     parser.add_argument(
         '--fit-floor',
@@ -163,11 +164,15 @@ def main(argv: list[str] | None = None) -> int:
     archive = load_archive(args.archive)
     map_engine = engine_of_map(archive)
     legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
-    kinds = {'every': EXPERIMENT_KINDS, 'lifted': ('lifted',)}.get(args.hypotheses, (args.kind,))
-    damages = [Damage.of(kind, legs) for kind in kinds for legs in legs_all]
-    bank = load_bank(archive, map_engine, [shipped_ceilings()], damages)
-    if bank.missing:
-        print(f'not cached: {[d.label for d in bank.missing]}', file=sys.stderr)
+    if args.hypotheses == 'kind':
+        first, then = [Damage.of(args.kind, legs) for legs in legs_all], None
+    else:
+        first, then = diagnosis_damages(args.hypotheses)
+    bank = load_bank(archive, map_engine, [shipped_ceilings()], first)
+    wider = None if then is None else load_bank(archive, map_engine, [shipped_ceilings()], then)
+    for b in (bank, wider or bank):
+        if b.missing:
+            print(f'not cached: {[d.label for d in b.missing]}', file=sys.stderr)
     setup = ExperimentSetup(
         scenarios=tuple(args.scenarios),
         config=replace(PROFILES['default'], max_trials=TRIAL_BUDGET),
@@ -184,8 +189,13 @@ def main(argv: list[str] | None = None) -> int:
         + ('' if args.unfit_fallback else '+no-unfit-fallback')
         + ('+fallback-alpha-stop' if args.unfit_fallback and args.fallback_stop == 'alpha' else '')
         + ('' if args.first == FirstGait.FASTEST.value else f'+first-{args.first}')
-        + {'every': '+every-kind', 'lifted': '+lifted-bank', 'kind': ''}[args.hypotheses]
-        + ('+leg-sets' if args.leg_sets and args.hypotheses == 'every' else '')
+        + {
+            'every': '+every-kind',
+            'lifted': '+lifted-bank',
+            'lifted-then-every': '+lifted-then-every',
+            'kind': '',
+        }[args.hypotheses]
+        + ('+leg-sets' if args.leg_sets and 'every' in args.hypotheses else '')
         + ('' if args.variant is None else f'+trials-{args.variant}')
         + (f'+margin{args.screen_margin:g}' if args.screen_margin else ''),
         bank=bank,
@@ -198,6 +208,7 @@ def main(argv: list[str] | None = None) -> int:
         weighing=weighing,
         leg_sets=args.leg_sets,
         screen_margin=math.radians(args.screen_margin),
+        wider=wider,
     )
     out = Path(args.out)
     if out.exists() and not args.force:
@@ -243,6 +254,7 @@ def summarise(rows, kind: str, engine: str) -> None:
     print(f'best_mean_{tag} {np.mean([r.best_speed for r in rows]):.3f} m/s')
     print(f'tipped_trials_{tag} {sum(r.tipped_trials for r in rows)}')
     print(f'no_hypothesis_fits_{tag} {sum(r.unfit for r in rows)} of {len(rows)}')
+    print(f'widened_{tag} {sum(r.widened > 0 for r in rows)} of {len(rows)}')
     print(f'vetoed_{tag} {sum(r.vetoed for r in rows)}')
     walks = [r.hypothesis_walks for r in rows]
     first, median = walks[0], np.median(walks)

@@ -48,6 +48,8 @@ class AdaptationResult:
     #: whether that posterior's most probable damage did not fit the trials (none in the bank
     #: does: the run went on blind)
     unfit: bool = False
+    #: the trial after which the diagnosis widened its bank, none of the first fitting (0: never)
+    widened: int = 0
 
 
 @dataclass(frozen=True)

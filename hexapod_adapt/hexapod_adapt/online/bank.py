@@ -37,17 +37,20 @@ BANK_DAMAGES: tuple[Damage, ...] = tuple(
 EVERY_KIND_DAMAGES: tuple[Damage, ...] = tuple(
     Damage.of(kind, d.failed_legs) for kind in EXPERIMENT_KINDS for d in BANK_DAMAGES
 )
-#: The banks a blind run may name its damage among, by adapt_node's ``diagnosis_bank``. 'lifted'
-#: is the default: every kind names locked legs far better, but tipped once more on a tuning
-#: set (studies/diagnosis/README.md, "The product's bank").
-DIAGNOSIS_BANKS: dict[str, tuple[Damage, ...]] = {
-    'lifted': BANK_DAMAGES,
-    'every': EVERY_KIND_DAMAGES,
+#: The banks a blind run may name its damage among, by adapt_node's ``diagnosis_bank``: the
+#: damages it weighs first, and those it weighs once none of them fits its trials (None: it
+#: falls back to blind M-BOA then). 'lifted' is the default: every kind names locked legs far
+#: better, but tipped once more on a tuning set (studies/diagnosis/README.md, "The product's
+#: bank"); 'lifted-then-every' weighs every kind only when no lifted leg fits.
+DIAGNOSIS_BANKS: dict[str, tuple[tuple[Damage, ...], tuple[Damage, ...] | None]] = {
+    'lifted': (BANK_DAMAGES, None),
+    'every': (EVERY_KIND_DAMAGES, None),
+    'lifted-then-every': (BANK_DAMAGES, EVERY_KIND_DAMAGES),
 }
 
 
-def diagnosis_damages(bank: str) -> tuple[Damage, ...]:
-    """Return the damages of the diagnosis bank named ``bank`` (ValueError: no such bank)."""
+def diagnosis_damages(bank: str) -> tuple[tuple[Damage, ...], tuple[Damage, ...] | None]:
+    """Return the damages of the diagnosis bank ``bank``: first, and wider (ValueError: none)."""
     if bank not in DIAGNOSIS_BANKS:
         raise ValueError(f'no diagnosis bank {bank!r}: one of {", ".join(DIAGNOSIS_BANKS)}')
     return DIAGNOSIS_BANKS[bank]

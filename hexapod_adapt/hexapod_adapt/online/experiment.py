@@ -76,7 +76,8 @@ class ExperimentSetup:
     none) screens their gaits (:class:`~hexapod_adapt.online.safety.SafetyModel`), and
     ``blind`` says how they adapt and stop while they name nothing, ``weighing`` how a trial
     weighs the hypotheses, ``leg_sets`` whether they may name a leg set of several kinds,
-    ``screen_margin`` [rad] how far below the guard a named damage's screen vetoes.
+    ``screen_margin`` [rad] how far below the guard a named damage's screen vetoes, ``wider``
+    the bank they weigh once none of ``bank``'s fits (``leave_out`` drops their damage there too).
     """
 
     scenarios: Sequence[str] = ('S1', 'S2', 'S3', 'S4')
@@ -99,6 +100,7 @@ class ExperimentSetup:
     weighing: Weighing = Weighing()
     leg_sets: bool = NAME_LEG_SETS
     screen_margin: float = SCREEN_MARGIN
+    wider: DamageBank | None = None
 
 
 @dataclass
@@ -137,6 +139,7 @@ class ExperimentRow:
     hypothesis_walks: int = 0
     #: whether the run ended saying no hypothesis fits its trials (the most probable did not)
     unfit: bool = False
+    widened: int = 0  # the trial after which its diagnosis weighed the wider bank (0: never)
 
     def best_after(self, k: int) -> float:
         """Return the best speed the first ``k`` trials measured (all, if the run stopped)."""
@@ -185,6 +188,7 @@ def _start(
         hypotheses = s.bank.hypotheses(config.use_bank, damage if s.leave_out else None)
         if s.diagnose:
             bank = s.bank.without(damage) if s.leave_out else s.bank
+            wider = s.wider.without(damage) if s.leave_out and s.wider else s.wider
             plan = diagnosis_plan(
                 archive,
                 bank,
@@ -195,6 +199,7 @@ def _start(
                 weighing=s.weighing,
                 leg_sets=s.leg_sets,
                 screen_margin=s.screen_margin,
+                wider=wider,
             )
     return SessionStart(hypotheses=hypotheses, floor=floor, diagnosis=plan)
 
@@ -253,6 +258,7 @@ def _row(
         named_legs='|'.join('+'.join(map(str, legs)) for legs in result.named_legs),
         posterior=result.posterior,
         unfit=result.unfit,
+        widened=result.widened,
         trial_speeds=tuple(float(t.measured) for t in result.trials),
         vetoed=len(result.vetoed),
     )

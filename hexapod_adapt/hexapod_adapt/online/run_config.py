@@ -195,8 +195,9 @@ SETTINGS = (
         'diagnosis_bank',
         'lifted',
         "What a blind run names its damage among: 'lifted' (each one- and two-leg set of S1-S4"
-        " lifted, 21) or 'every' (the 8 damage kinds on those legs, 168: names locked and"
-        ' unpowered joints too); the cached ones of the map',
+        " lifted, 21), 'every' (the 8 damage kinds on those legs, 168: names locked and"
+        " unpowered joints too) or 'lifted-then-every' (every kind once no lifted leg fits the"
+        ' trials); the cached ones of the map',
         read_only=True,
     ),
     Setting(

@@ -158,19 +158,26 @@ def veto_message(niche: int, tilt: float, guard: float, risk: float | None = Non
     )
 
 
-def diagnosis_message(trial: int, named: str, posterior: Posterior, unfit: bool = False) -> str:
+def diagnosis_message(
+    trial: int, named: str, posterior: Posterior, unfit: bool = False, widened: int = 0
+) -> str:
     """
     Say what the trials so far point to, e.g. after trial 2: legs 1+4 lifted 0.97 (named).
 
     ``unfit``: the most probable damage does not fit the trials (none in the bank does).
+    ``widened``: the trial after which the diagnosis went to its wider bank (0: never).
     """
+    wider = ' (none of the first bank fits them: every trial weighed over the wider bank)'
     if named:
         going = f'; the run goes on as {named}'
     elif unfit:
         going = '; no hypothesis fits the trials: the run goes on blind'
     else:
         going = '; no damage named yet'
-    return f'diagnosis after trial {trial}: {posterior.describe()}{going}'
+    return (
+        f'diagnosis after trial {trial}{wider if widened == trial else ""}:'
+        f' {posterior.describe()}{going}'
+    )
 
 
 def report_distance(trials: TrialProcedure | None, distance: float) -> str:

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 import enum
+from functools import partial
 import math
 import time
 from typing import Callable, Protocol
@@ -136,7 +137,9 @@ class DiagnosisPlan:
     no such screen). ``leg_sets``: when no one hypothesis holds the threshold but hypotheses of
     one leg set do together (a lifted leg and its unpowered coxa walk alike), name that leg set:
     the fewest of its hypotheses that hold it, the run going on as their re-scores weighed by
-    the posterior, with every one's tip screen.
+    the posterior, with every one's tip screen. ``wider``: makes the plan of a wider bank,
+    which a run that names nothing weighs its trials under, once the damage this bank holds
+    most probable fits none of them, before it falls back to blind M-BOA (None: it falls back).
     """
 
     diagnosis: Diagnosis
@@ -148,6 +151,7 @@ class DiagnosisPlan:
     safety: SafetyModel | None = None
     blind: BlindRules = BlindRules()
     leg_sets: bool = NAME_LEG_SETS
+    wider: Callable[[], DiagnosisPlan] | None = None
 
     def __post_init__(self) -> None:
         if len(self.damages) != len(self.diagnosis.labels) or len(self.priors) != len(
@@ -223,6 +227,7 @@ def diagnosis_plan(
     weighing: Weighing = Weighing(),
     leg_sets: bool = NAME_LEG_SETS,
     screen_margin: float = SCREEN_MARGIN,
+    wider: DamageBank | None = None,
 ) -> DiagnosisPlan | None:
     """
     Return the diagnosis of a blind run over ``bank``'s damages (None: the bank is empty).
@@ -234,6 +239,8 @@ def diagnosis_plan(
     the run adapts and stops while it names nothing; ``weighing``: how a trial weighs the
     hypotheses; ``leg_sets``: whether a leg set may be named (:class:`DiagnosisPlan`);
     ``screen_margin`` [rad]: a named damage's screen vetoes tilts past ``tip_guard`` less it.
+    ``wider``: the bank a run weighs once none of ``bank``'s fits (:class:`DiagnosisPlan`),
+    diagnosed as this one is, over the same walks.
     """
     if len(bank) == 0:
         return None
@@ -261,6 +268,8 @@ def diagnosis_plan(
             diagnosis.posterior().probabilities,
             limit=safety,
         )
+    same = (contacts, threshold, walks, safety, blind, weighing, leg_sets, screen_margin)
+    widen = partial(diagnosis_plan, archive, wider, tip_guard, *same) if wider else None
     return DiagnosisPlan(
         diagnosis,
         bank.damages,
@@ -270,6 +279,7 @@ def diagnosis_plan(
         safety=model,
         blind=blind,
         leg_sets=leg_sets,
+        wider=widen,
     )
 
 
@@ -431,6 +441,7 @@ class AdaptationSession:
         self._asked: int | None = None  # the candidate index of the niche ask() returned
         self._ended = False
         self._said = 0  # vetoes said through new_vetoes()
+        self._told: list[tuple[int, TrialOutcome]] = []  # (candidate index, outcome) per trial
         self._t0 = time.monotonic()
 
     # -- ask / tell -------------------------------------------------------------------------
@@ -484,6 +495,7 @@ class AdaptationSession:
         self._result.niches.append(int(niche))
         if outcome.tipped:
             self._result.tipped.append(int(niche))
+        self._told.append((index, outcome))
         plan = self.start.diagnosis
         if plan is not None and plan.safety is not None:  # against the belief it was tried on
             plan.safety.observe(index, outcome.peak_tilt, outcome.tipped)
@@ -548,9 +560,13 @@ class AdaptationSession:
         post = self.posterior = plan.diagnosis.observe(niche, record)
         if plan.safety is not None:
             plan.safety.weigh(post.probabilities)
+        holding, self._result.unfit = plan.assess(post.probabilities)
+        if self._result.unfit and self.named is None and plan.wider is not None:
+            plan = self._widen(plan.wider())
+            holding, self._result.unfit = plan.assess(self.posterior.probabilities)
+        post = self.posterior
         self._result.posterior = post.describe()
         p = post.probabilities
-        holding, self._result.unfit = plan.assess(p)
         if self._result.unfit and plan.blind.unfit_fallback and self.named is None:
             self._fall_back()
         if holding is not None and (holding != self.named or len(holding) > 1):
@@ -562,6 +578,20 @@ class AdaptationSession:
         named, result = self.named, self._result
         result.named.append('' if named is None else plan.label_of(named))
         result.named_legs.append(() if named is None else plan.damages[named[0]].failed_legs)
+
+    def _widen(self, wider: DiagnosisPlan) -> DiagnosisPlan:
+        """Weigh every trial so far under ``wider``'s hypotheses, and go on diagnosing by it."""
+        for index, outcome in self._told:  # as tell() did, each against the belief before it
+            if wider.safety is not None:
+                wider.safety.observe(index, outcome.peak_tilt, outcome.tipped)
+            if outcome.record is not None:
+                self.posterior = wider.diagnosis.observe(int(self.niches[index]), outcome.record)
+                if wider.safety is not None:
+                    wider.safety.weigh(self.posterior.probabilities)
+        self.start = replace(self.start, diagnosis=wider)
+        self._screens = {}  # by hypothesis: the wider bank numbers them anew
+        self._result.widened = len(self._told)
+        return wider
 
     def _fall_back(self) -> None:
         """Adapt and stop as blind M-BOA without a diagnosis, from now on (BlindRules)."""

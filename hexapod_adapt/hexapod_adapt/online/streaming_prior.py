@@ -204,13 +204,16 @@ class StreamingPriors:
         log: Callable[[str], None],
         progress_period: float = 5.0,
         bank: Sequence[Damage] = BANK_DAMAGES,
+        wider: Sequence[Damage] | None = None,
     ) -> None:
         self.cache_dir, self.read_dirs, self.workers = cache_dir, list(read_dirs), workers
         self.bank_damages = tuple(bank)  # what a blind run's diagnosis weighs, where cached
+        self.wider_damages = None if wider is None else tuple(wider)  # once none of those fits
         self.log, self.progress_period = log, progress_period
         self.stream: StreamingPrior | None = None  # the last run's (may still stream)
         self._walks: HypothesisWalks | None = None  # the hypotheses' walks, kept across runs
         self._bank: DamageBank | None = None
+        self._wider: DamageBank | None = None
 
     def start(self, archive: Archive, damage: Damage, source: str) -> PriorStart:
         """Wait for the top of the re-score under ``damage``; return the run's PriorStart."""
@@ -241,15 +244,17 @@ class StreamingPriors:
         Return a blind run's diagnosis over the cached bank (None: no bank is cached).
 
         The bank is the map under each of ``bank_damages`` (the lifted legs of S1-S4 unless told
-        otherwise), read from ``read_dirs`` and ``cache_dir``; the hypotheses' walks are kept
-        across runs.
+        otherwise), and ``wider_damages``, read from ``read_dirs`` and ``cache_dir``; the
+        hypotheses' walks are kept across runs.
         """
         if self._walks is None or self._walks.archive is not archive:
             engine = engine_of_map(archive)
             dirs = [*self.read_dirs] + ([self.cache_dir] if self.cache_dir else [])
             self._bank = load_bank(archive, engine, dirs, self.bank_damages)
+            if self.wider_damages is not None:
+                self._wider = load_bank(archive, engine, dirs, self.wider_damages)
             self._walks = HypothesisWalks(archive, engine)
-        return diagnosis_plan(archive, self._bank, tip_guard, walks=self._walks)
+        return diagnosis_plan(archive, self._bank, tip_guard, walks=self._walks, wider=self._wider)
 
     def close(self) -> None:
         """Stop a re-score still streaming."""

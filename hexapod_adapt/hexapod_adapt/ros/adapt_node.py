@@ -104,16 +104,17 @@ class AdaptNode(Node):
         self.feed = TrialFeed(self, self.recording, lambda s: self._say_vetoes(s, self._guard()))
         cache = os.path.expanduser(str(self._param('prior_cache_dir'))) or None
         try:
-            bank = diagnosis_damages(str(self._param('diagnosis_bank')))
+            bank, wider = diagnosis_damages(str(self._param('diagnosis_bank')))
         except ValueError as error:  # the node runs: blind runs weigh the default bank
             self.get_logger().error(f'diagnosis_bank: {error}; blind runs weigh the lifted legs')
-            bank = BANK_DAMAGES
+            bank, wider = BANK_DAMAGES, None
         self.priors = StreamingPriors(
             cache,
             [shipped_ceilings()],
             int(self._param('prior_workers')),
             self.get_logger().info,
             bank=bank,
+            wider=wider,
         )
         work = ReentrantCallbackGroup()
         self.action = AdaptServer(self, self._adapt, work)

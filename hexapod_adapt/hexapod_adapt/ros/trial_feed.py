@@ -79,6 +79,10 @@ class TrialFeed:
         if diagnosis is not None:
             node.get_logger().info(
                 say.diagnosis_message(
-                    trial.number, diagnosis.named, session.posterior, session.unfit
+                    trial.number,
+                    diagnosis.named,
+                    session.posterior,
+                    session.unfit,
+                    session.result().widened,
                 )
             )

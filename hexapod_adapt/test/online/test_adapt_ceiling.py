@@ -385,12 +385,15 @@ def test_a_blind_run_weighs_the_diagnosis_bank_adapt_node_was_given():
     from hexapod_adapt.online.streaming_prior import StreamingPriors
     from hexapod_sim.damage import EXPERIMENT_KINDS
 
-    every = diagnosis_damages('every')
-    assert diagnosis_damages('lifted') == BANK_DAMAGES and len(BANK_DAMAGES) == 21
+    every, none = diagnosis_damages('every')
+    assert diagnosis_damages('lifted') == (BANK_DAMAGES, None) and len(BANK_DAMAGES) == 21
+    assert none is None and diagnosis_damages('lifted-then-every') == (BANK_DAMAGES, every)
     conditions = {d.legs[0].condition for d in every}  # 'locked', 'unpowered femur', ...
     assert len(set(every)) == 168 and len(conditions) == len(EXPERIMENT_KINDS) == 8
     assert {d.failed_legs for d in every} == {d.failed_legs for d in BANK_DAMAGES}
-    with pytest.raises(ValueError, match="no diagnosis bank 'all': one of lifted, every"):
+    with pytest.raises(
+        ValueError, match="no diagnosis bank 'all': one of lifted, every, lifted-then-every"
+    ):
         diagnosis_damages('all')
     # the shipped default map's cache holds all 168: a blind run weighs them
     archive = load_archive(shipped_map(DEFAULT_MAP))
@@ -398,3 +401,10 @@ def test_a_blind_run_weighs_the_diagnosis_bank_adapt_node_was_given():
         priors = StreamingPriors(None, [shipped_ceilings()], 1, print, bank=damages)
         plan = priors.diagnosis(archive, math.pi)
         assert plan is not None and plan.damages == damages and plan.priors.shape[0] == n
+        assert plan.wider is None
+    # lifted, then every kind: the wider plan weighs the 168
+    priors = StreamingPriors(None, [shipped_ceilings()], 1, print, bank=BANK_DAMAGES, wider=every)
+    plan = priors.diagnosis(archive, math.pi)
+    wider = plan.wider()
+    assert plan.damages == BANK_DAMAGES and wider.damages == every and wider.wider is None
+    assert wider.priors.shape[0] == 168

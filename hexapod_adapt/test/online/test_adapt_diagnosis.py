@@ -216,6 +216,52 @@ def test_a_run_whose_leader_does_not_fit_may_fall_back_to_blind_m_boa(archive):
             assert rules == blind
 
 
+def test_a_run_that_no_hypothesis_fits_weighs_its_trials_under_a_wider_bank(archive):
+    # the first bank's two hypotheses are far from the trials; the wider bank holds one that
+    # walks as they do: the run weighs every trial so far under it and names it, not falling back
+    walks = {0: straight_walk(0.32, 0.0), 1: straight_walk(0.36, 0.0), 2: straight_walk(0.2, 0.0)}
+    trial = TrialOutcome(0.2, record=straight_walk(0.2, 0.0))
+    n = len(archive.elite_indices())
+    weighing = Weighing(none_prior=0.01, fit_floor=-2.0)
+    damages = (Damage.lifted([1]), Damage.lifted([2]), Damage.of('locked', [3]))
+    seen: list[tuple[int, int]] = []  # (hypothesis, niche) of each walk of the wider diagnosis
+
+    def plan_of(hypotheses: tuple[int, ...], wider=None) -> DiagnosisPlan:
+        def walk(niche: int, h: int) -> TrialRecord:
+            if len(hypotheses) == 3:
+                seen.append((h, niche))
+            return walks[hypotheses[h]]
+
+        diagnosis = Diagnosis(tuple(damages[h].label for h in hypotheses), walk, weighing=weighing)
+        return DiagnosisPlan(diagnosis, tuple(damages[h] for h in hypotheses),
+                             np.zeros((len(hypotheses), n)), lambda d: None, leg_sets=False,
+                             wider=wider)  # fmt: skip
+
+    config = replace(PROFILES['default'], max_trials=6, min_speed=0.9)
+    unfit_at = 0  # the trial after which the first bank's leader fits no trial
+    for wider in (None, lambda: plan_of((0, 1, 2))):
+        seen.clear()
+        session = AdaptationSession(
+            archive, config, SessionStart(diagnosis=plan_of((0, 1), wider))
+        )
+        tried = []
+        while session.named is None and (niche := session.ask()) is not None:
+            session.tell(niche, trial)
+            tried.append(niche)
+            unfit_at = unfit_at or (len(tried) if session.unfit else 0)
+        result = session.result()
+        if wider is None:  # the leader never fits: the run names nothing
+            assert session.named is None and session.unfit and result.named[-1] == ''
+            assert result.widened == 0 and 0 < unfit_at < len(tried)
+            continue
+        # widened then: every trial so far weighed again, the one that fits named at once
+        assert result.widened == unfit_at and len(tried) == unfit_at
+        assert session.named == (2,) and not session.unfit, session.posterior.describe()
+        assert result.named[-1] == 'leg 3 locked' and set(result.named[:-1]) == {''}
+        assert sorted({niche for _, niche in seen}) == sorted(tried)
+        assert session.start.diagnosis.damages == damages
+
+
 @pytest.mark.parametrize(
     'true,others',
     [

@@ -100,3 +100,6 @@ def test_a_diagnosis_says_what_the_run_goes_on_as_or_that_no_hypothesis_fits():
     assert say(2, '', post, unfit=True).endswith(
         '; no hypothesis fits the trials: the run goes on blind'
     )
+    widened = say(3, 'leg 1 lifted', post, widened=3)
+    assert widened.startswith('diagnosis after trial 3 (none of the first bank fits them: every')
+    assert 'wider' not in say(4, 'leg 1 lifted', post, widened=3)
