@@ -26,8 +26,9 @@ def bench_adapt() -> None:
     on the default map (``BENCH_ADAPT_MAP`` overrides it): every orientation of S1-S4, with trials
     on the map's engine and again across engines (suffix _cross), in three setups: the default
     profile (no suffix; the damaged control tripod is each run's success floor; blind, each run
-    names its damage among the shipped bank's 21 lifted-leg hypotheses as adapt_node's blind
-    requests do: adapt_diagnosis_correct, the runs whose damage was named after 2 trials, and
+    names its damage among adapt_node's default bank (:data:`DEFAULT_DIAGNOSIS_BANK`: the 21
+    lifted-leg hypotheses, every kind's 168 once none of those fits) as its blind requests do:
+    adapt_diagnosis_correct, the runs whose damage was named after 2 trials, and
     adapt_best_after_<k>, the mean best after k trials), the default
     profile starting from the damage-informed prior (suffix _prior), and the thesis profile (suffix
     _thesis; the thesis rule, no floor). Per run: the best speed found, the trials, the control
@@ -53,7 +54,7 @@ def bench_adapt() -> None:
     from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
     from hexapod_adapt.mapping.simulation import engine_of_map
     from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
-    from hexapod_adapt.online.bank import load_bank
+    from hexapod_adapt.online.bank import load_diagnosis_banks
     from hexapod_adapt.online.ceiling import (
         approximate_ceiling,
         approximate_key,
@@ -120,7 +121,7 @@ def bench_adapt() -> None:
         if setup in chosen and (have_priors or not informed)
     ]
     # blind default runs name their damage among the shipped bank, as adapt_node's blind runs do
-    bank = load_bank(archive, map_engine, [cached])
+    bank, wider = load_diagnosis_banks(archive, map_engine, [cached])
     for engine, cross in ((map_engine, ''), (other, '_cross')):
         # cached ceilings only (loose or packed): a missing PyBullet ceiling costs many minutes
         have = all(holds_ceiling(cached, key(legs, engine)) for legs in legs_all)
@@ -139,6 +140,7 @@ def bench_adapt() -> None:
                     setup=name + ('+prior' if informed else ''),
                     tip_guard=DEFAULT_TIP_GUARD,
                     bank=bank if name == 'default' else None,
+                    wider=wider if name == 'default' else None,
                     diagnose=name == 'default' and not informed,
                 ),
             )
@@ -158,6 +160,7 @@ def bench_adapt() -> None:
                     setup='default' + ('+prior' if informed else ''),
                     tip_guard=DEFAULT_TIP_GUARD,
                     bank=bank,
+                    wider=wider,
                     diagnose=not informed,
                 ),
             )
@@ -221,14 +224,14 @@ def _bench_damage_kinds(
     adapt_tipped_trials_<K> and, where the shipped cache holds the kind's 21 ceilings,
     adapt_ceiling_ratio_median_<K> and _min_<K>; the same with the damage-informed prior (suffix
     _prior), which needs those ceilings. Blind runs name their damage among the hypotheses
-    adapt_node's blind requests weigh (the shipped bank, :data:`BANK_DAMAGES`):
+    adapt_node's blind requests weigh (:data:`DEFAULT_DIAGNOSIS_BANK`):
     adapt_diagnosis_correct_<K> (kind and legs named after 3 trials), adapt_trials_median_<K>
     and adapt_best_after_<k>_<K>; blind runs are walked again on the other engine (suffix
     _cross, at its converged step). Trials have adapt_node's tip guard, as the experiment's.
     ``kinds``: these kinds only (default: every one).
     """
     from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
-    from hexapod_adapt.online.bank import load_bank
+    from hexapod_adapt.online.bank import load_diagnosis_banks
     from hexapod_adapt.online.ceiling import cached_ceiling, ceiling
     from hexapod_adapt.online.experiment import ExperimentSetup, run_experiment
     from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
@@ -239,7 +242,7 @@ def _bench_damage_kinds(
     if unknown:
         raise SystemExit(f'unknown damage kinds {sorted(unknown)}: one of {EXPERIMENT_KINDS}')
     config = replace(PROFILES['default'], max_trials=TRIAL_BUDGET)
-    bank = load_bank(archive, map_engine, [cached])  # what adapt_node's blind runs weigh
+    bank, wider = load_diagnosis_banks(archive, map_engine, [cached])  # adapt_node's
     other = next(e for e in ENGINES if e != map_engine)
     for kind in kinds or EXPERIMENT_KINDS:
         damages = [Damage.of(kind, legs) for legs in legs_all]
@@ -269,6 +272,7 @@ def _bench_damage_kinds(
                     kind=kind,
                     tip_guard=DEFAULT_TIP_GUARD,
                     bank=bank,
+                    wider=wider,
                     diagnose=not informed,
                 ),
             )

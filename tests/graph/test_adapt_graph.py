@@ -380,12 +380,12 @@ def test_an_unknown_mode_is_reported_not_replaced(ros, launch, small_archive):
     assert node.alive()
 
 
-def test_an_unknown_diagnosis_bank_is_said_and_the_lifted_one_weighed(ros, launch, small_archive):
+def test_an_unknown_diagnosis_bank_is_said_and_the_default_weighed(ros, launch, small_archive):
     node = _adapt_node(launch, small_archive, diagnosis_bank='all')
     wait_for(lambda: 'adapt_node ready' in node.log(), 60, 'the node')
     assert (
-        "diagnosis_bank: no diagnosis bank 'all': one of lifted, every; blind runs weigh the"
-        ' lifted legs' in node.log()
+        "diagnosis_bank: no diagnosis bank 'all': one of lifted, every, lifted-then-every; blind"
+        ' runs weigh the default, lifted-then-every' in node.log()
     )
     assert node.alive()
 

@@ -22,6 +22,7 @@ from hexapod_adapt.mapping.archive import (
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
 from hexapod_adapt.mapping.simulation import archive_engine, simulation_fingerprint
 from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
+from hexapod_adapt.online.bank import DEFAULT_DIAGNOSIS_BANK
 from hexapod_adapt.online.mboa import (
     ALPHA_RANGE,
     DEFAULT_PROFILE,
@@ -193,7 +194,7 @@ SETTINGS = (
     ),
     Setting(
         'diagnosis_bank',
-        'lifted',
+        DEFAULT_DIAGNOSIS_BANK,
         "What a blind run names its damage among: 'lifted' (each one- and two-leg set of S1-S4"
         " lifted, 21), 'every' (the 8 damage kinds on those legs, 168: names locked and"
         " unpowered joints too) or 'lifted-then-every' (every kind once no lifted leg fits the"

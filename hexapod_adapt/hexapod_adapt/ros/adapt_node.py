@@ -24,7 +24,7 @@ from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.maps import shipped_ceilings
 from hexapod_adapt.online import run_messages as say
 from hexapod_adapt.online.adaptation import AdaptationResult, TrialAborted
-from hexapod_adapt.online.bank import BANK_DAMAGES, diagnosis_damages
+from hexapod_adapt.online.bank import DEFAULT_DIAGNOSIS_BANK, diagnosis_damages
 from hexapod_adapt.online.prior import damage_of_request
 from hexapod_adapt.online.run_config import (
     ArchiveSlot,
@@ -106,8 +106,10 @@ class AdaptNode(Node):
         try:
             bank, wider = diagnosis_damages(str(self._param('diagnosis_bank')))
         except ValueError as error:  # the node runs: blind runs weigh the default bank
-            self.get_logger().error(f'diagnosis_bank: {error}; blind runs weigh the lifted legs')
-            bank, wider = BANK_DAMAGES, None
+            self.get_logger().error(
+                f'diagnosis_bank: {error}; blind runs weigh the default, {DEFAULT_DIAGNOSIS_BANK}'
+            )
+            bank, wider = diagnosis_damages(DEFAULT_DIAGNOSIS_BANK)
         self.priors = StreamingPriors(
             cache,
             [shipped_ceilings()],
