@@ -27,7 +27,7 @@ from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
 from hexapod_adapt.mapping.simulation import engine_of_map
 from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
-from hexapod_adapt.online.bank import diagnosis_damages, load_bank
+from hexapod_adapt.online.bank import load_bank, load_diagnosis_banks
 from hexapod_adapt.online.diagnosis import Weighing
 from hexapod_adapt.online.experiment import ExperimentSetup, run_experiment
 from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
@@ -165,11 +165,12 @@ def main(argv: list[str] | None = None) -> int:
     map_engine = engine_of_map(archive)
     legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
     if args.hypotheses == 'kind':
-        first, then = [Damage.of(args.kind, legs) for legs in legs_all], None
+        own = [Damage.of(args.kind, legs) for legs in legs_all]
+        bank, wider = load_bank(archive, map_engine, [shipped_ceilings()], own), None
     else:
-        first, then = diagnosis_damages(args.hypotheses)
-    bank = load_bank(archive, map_engine, [shipped_ceilings()], first)
-    wider = None if then is None else load_bank(archive, map_engine, [shipped_ceilings()], then)
+        bank, wider = load_diagnosis_banks(
+            archive, map_engine, [shipped_ceilings()], args.hypotheses
+        )
     for b in (bank, wider or bank):
         if b.missing:
             print(f'not cached: {[d.label for d in b.missing]}', file=sys.stderr)

@@ -536,6 +536,11 @@ class AdaptationSession:
         """Whether the posterior holds a damage that does not fit the trials."""
         return self._result.unfit
 
+    @property
+    def widened(self) -> int:
+        """Return the trial after which the diagnosis went to its wider bank (0: never)."""
+        return self._result.widened
+
     def result(self) -> AdaptationResult:
         """Return the run's outcome so far: its trials, best gait and why it stopped."""
         r = self._result

@@ -83,6 +83,6 @@ class TrialFeed:
                     diagnosis.named,
                     session.posterior,
                     session.unfit,
-                    session.result().widened,
+                    session.widened,
                 )
             )
