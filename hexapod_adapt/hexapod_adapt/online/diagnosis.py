@@ -55,8 +55,8 @@ FEATURE_NOISE = {
 STUDENT_NU = 4.0
 #: A hypothesis this many nats below the most probable (a probability ratio under 1e-10) is
 #: asleep: a trial's gait is not walked under it. Its log posterior is kept as an upper bound (a
-#: trial's log likelihood is at most 0) and made exact, from the gaits it missed, once the bound
-#: comes within this of the most probable again.
+#: trial's log likelihood is at most 0), and tightened by the gaits it missed, one at a time,
+#: whenever the bound comes within this of the most probable again.
 ASLEEP_NATS = 23.0
 NONE_LABEL = 'none of these'
 
@@ -73,13 +73,16 @@ class Weighing:
     set (studies/diagnosis/README.md, "How sure the diagnosis should be"). ``fit_floor``: a
     hypothesis whose mean log likelihood over the trials lies below it does not fit, however
     probable, and is not named (None: every one fits; the default won on a tuning set:
-    studies/diagnosis/README.md, "Does the leader fit?").
+    studies/diagnosis/README.md, "Does the leader fit?"). ``wake_walks``: the most walks a
+    trial's waking of asleep hypotheses may simulate (None: no cap; the default is a compute
+    budget, about 6 s of a core: studies/diagnosis/README.md, "A trial's cost in walks").
     """
 
     none_deviation: float = 2.5
     none_prior: float = 0.2
     temperature: float = 1.0
     fit_floor: float | None = -12.0
+    wake_walks: int | None = 60
 
     def __post_init__(self) -> None:
         if not 0.0 < self.none_prior < 1.0:
@@ -92,6 +95,12 @@ class Weighing:
             math.isfinite(self.fit_floor) and self.fit_floor < 0
         ):
             raise ValueError(f'fit_floor must be a negative log likelihood, got {self.fit_floor}')
+        if self.wake_walks is not None and (
+            isinstance(self.wake_walks, bool)
+            or not isinstance(self.wake_walks, int)
+            or self.wake_walks < 1
+        ):
+            raise ValueError(f'wake_walks must be a whole number >= 1, got {self.wake_walks!r}')
 
 
 @dataclass(frozen=True)
@@ -242,9 +251,9 @@ class Diagnosis:
     ``simulate(niche, h)`` walks a gait under hypothesis h on the map's engine; each walk is
     simulated when first needed and kept, and a hypothesis :data:`ASLEEP_NATS` below the most
     probable is not walked until it could matter again (a bank of every kind then walks a
-    trial's gait under the few hypotheses still in play, not all). ``contacts``: compare foot
-    duty factors too (only when every trial records contacts, as a simulator's do).
-    ``weighing``: how a trial weighs them.
+    trial's gait under the few hypotheses still in play, not all); a trial wakes at most
+    ``weighing.wake_walks`` walks' worth. ``contacts``: compare foot duty factors too (only when
+    every trial records contacts, as a simulator's do). ``weighing``: how a trial weighs them.
     """
 
     labels: tuple[str, ...]
@@ -268,11 +277,13 @@ class Diagnosis:
         self.names = feature_names(self.contacts)
         self.noise = feature_noise(self.names)
         self.trials = 0
+        self.simulated = 0  # walks this diagnosis asked for (its own cache's misses)
 
     def expected(self, niche: int, h: int) -> np.ndarray | None:
         """Return gait ``niche``'s signature simulated under hypothesis ``h`` (cached)."""
         key = (int(niche), int(h))
         if key not in self._cache:
+            self.simulated += 1
             record = self.simulate(*key)
             self._cache[key] = None if record is None else signature(record, self.contacts)
         return self._cache[key]
@@ -280,7 +291,7 @@ class Diagnosis:
     def observe(self, niche: int, record: TrialRecord) -> Posterior:
         """Weigh the hypotheses by the trial of gait ``niche``; return the new posterior."""
         seen = signature(record, self.contacts)
-        awake = self._log >= self._log.max() - ASLEEP_NATS
+        awake = self._log >= self._top() - ASLEEP_NATS
         update = np.zeros(len(self.labels) + 1)
         update[-1] = self._weight(niche, None, seen)
         for h in range(len(self.labels)):
@@ -290,9 +301,9 @@ class Diagnosis:
                 self._missed.setdefault(h, []).append((int(niche), seen))
         self._fit += update  # 0 where a trial was missed
         self._log = self._log + self.weighing.temperature * update
-        self._wake()
-        self._log -= self._log.max()
         self.trials += 1
+        self._wake()
+        self._log -= self._top()
         return self.posterior()
 
     def fits(self, h: int) -> bool:
@@ -304,7 +315,9 @@ class Diagnosis:
     @property
     def asleep(self) -> int:
         """Return how many hypotheses the next trial will not walk (too far behind)."""
-        return int(np.sum(self._log[:-1] < self._log.max() - ASLEEP_NATS))
+        behind = self._log[:-1] < self._top() - ASLEEP_NATS
+        behind[list(self._missed)] = True
+        return int(np.sum(behind))
 
     def _weight(self, niche: int, h: int | None, seen: np.ndarray) -> float:
         """Return the log likelihood of a trial's signature under ``h`` (None: none of these)."""
@@ -313,24 +326,50 @@ class Diagnosis:
             return student_log_likelihood(np.full(len(seen), self.weighing.none_deviation))
         return student_log_likelihood((seen - expected) / self.noise)
 
+    def _top(self) -> float:
+        """Return the highest exact log posterior (none of these is always exact)."""
+        exact = np.ones(len(self._log), dtype=bool)
+        exact[list(self._missed)] = False
+        return float(self._log[exact].max())
+
+    def _shown(self) -> np.ndarray:
+        """Return the log posterior, a bound the cap left unweighed counted as asleep."""
+        shown = self._log.copy()
+        if self._missed:
+            missed = list(self._missed)
+            shown[missed] = np.minimum(shown[missed], self._top() - ASLEEP_NATS)
+        return shown
+
     def _wake(self) -> None:
-        """Weigh the missed trials of every asleep hypothesis whose bound could matter now."""
+        """
+        Weigh missed trials of asleep hypotheses whose bound could matter now.
+
+        The highest bound first, a missed trial at a time (oldest first), until it falls
+        :data:`ASLEEP_NATS` behind again or has none left; within ``weighing.wake_walks``
+        simulated walks (a trial already simulated costs none).
+        """
+        limit, start = self.weighing.wake_walks, self.simulated
         while self._missed:
-            exact = np.ones(len(self._log), dtype=bool)
-            exact[list(self._missed)] = False
-            top = self._log[exact].max()
+            top = self._top()
             late = [h for h in self._missed if self._log[h] >= top - ASLEEP_NATS]
             if not late:
                 return
-            for h in late:
-                for niche, seen in self._missed.pop(h):
-                    weight = self._weight(niche, h, seen)
-                    self._log[h] += self.weighing.temperature * weight
-                    self._fit[h] += weight
+            h = max(late, key=lambda k: (self._log[k], -k))
+            niche, seen = self._missed[h][0]
+            if limit is not None and self.simulated - start >= limit:
+                if (niche, h) not in self._cache:
+                    return  # the rest wait for a later trial's waking
+            self._missed[h].pop(0)
+            if not self._missed[h]:
+                del self._missed[h]
+            weight = self._weight(niche, h, seen)
+            self._log[h] += self.weighing.temperature * weight
+            self._fit[h] += weight
 
     def posterior(self) -> Posterior:
         """Return the current posterior."""
-        p = np.exp(self._log - self._log.max())
+        shown = self._shown()
+        p = np.exp(shown - shown.max())
         return Posterior((*self.labels, NONE_LABEL), p / p.sum())
 
 
