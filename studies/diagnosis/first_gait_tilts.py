@@ -11,11 +11,18 @@ unguarded, and prints its peak tilt and whether it passes the trials' tip guard.
 it chooses nothing.
 
     python -m studies.diagnosis.first_gait_tilts --kind locked
+
+With ``--runs F.csv`` (a ``run_diagnosis`` CSV of one kind), it walks instead every trial that
+tipped there once more under that run's damage on MuJoCo and DART, and counts the ones each
+engine also tips, by when the run tipped it: its first trial, while naming nothing, named.
 """
 
 from __future__ import annotations
 
 import argparse
+import ast
+from collections import Counter
+import csv
 import math
 
 from hexapod_adapt.mapping.archive import load_archive
@@ -42,14 +49,44 @@ def first_gait(archive) -> int:
     return int(niches[int(np.argmax(blended_prior(plan, map_prior)))])
 
 
+def tipped_elsewhere(archive, rows: list[dict[str, str]]) -> Counter:
+    """Count a run CSV's tipped trials by when they tipped and whether MuJoCo and DART tip too."""
+    guard = DEFAULT_TIP_GUARD
+    walks = {engine: HypothesisWalks(archive, engine) for engine in ('mujoco', 'dart')}
+    tally: Counter = Counter()
+    for row in rows:
+        damage = Damage.of(row['damage_kind'], tuple(map(int, row['failed_legs'].split())))
+        niches = ast.literal_eval(row['trial_niches'])
+        tipped = ast.literal_eval(row['trial_tipped'])
+        named = row['named'].split('|') if row['named'] else [''] * len(niches)
+        for k, (niche, fell) in enumerate(zip(niches, tipped)):
+            if not fell:
+                continue
+            when = 'first trial' if k == 0 else ('named' if named[k - 1] else 'naming nothing')
+            also = tuple(
+                f'{engine} {"tips" if record_tilt(w(niche, damage)) > guard else "upright"}'
+                for engine, w in walks.items()
+            )
+            tally[(when, *also)] += 1
+    return tally
+
+
 def main(argv: list[str] | None = None) -> int:
     """Print each gait's peak tilt under each one-leg damage of the kind, per engine."""
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('--archive', default=str(shipped_map(DEFAULT_MAP)))
     parser.add_argument('--kind', default='locked', help='a one-leg damage kind (Damage.of)')
     parser.add_argument('--niches', type=int, nargs='*', help='default: the first gait')
+    parser.add_argument('--runs', help="a run_diagnosis CSV: its tipped trials' gaits instead")
     args = parser.parse_args(argv)
     archive = load_archive(args.archive)
+    if args.runs:
+        with open(args.runs, newline='', encoding='utf-8') as f:
+            tally = tipped_elsewhere(archive, list(csv.DictReader(f)))
+        for key, count in sorted(tally.items()):
+            print(f'{count:4d}  ' + ', '.join(key))
+        print(f'{sum(tally.values()):4d}  tipped trials in all')
+        return 0
     niches = args.niches or [first_gait(archive)]
     guard = math.degrees(DEFAULT_TIP_GUARD)
     walks = {engine: HypothesisWalks(archive, engine) for engine in ENGINES}

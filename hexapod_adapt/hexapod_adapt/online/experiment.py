@@ -140,6 +140,8 @@ class ExperimentRow:
     #: whether the run ended saying no hypothesis fits its trials (the most probable did not)
     unfit: bool = False
     widened: int = 0  # the trial after which its diagnosis weighed the wider bank (0: never)
+    trial_niches: tuple[int, ...] = ()  # each trial's gait (archive niche), in order
+    trial_tipped: tuple[bool, ...] = ()  # whether the tip guard stopped each trial
 
     def best_after(self, k: int) -> float:
         """Return the best speed the first ``k`` trials measured (all, if the run stopped)."""
@@ -261,6 +263,8 @@ def _row(
         widened=result.widened,
         trial_speeds=tuple(float(t.measured) for t in result.trials),
         vetoed=len(result.vetoed),
+        trial_niches=tuple(int(n) for n in result.niches),
+        trial_tipped=tuple(bool(t.tipped) for t in result.trials),
     )
 
 

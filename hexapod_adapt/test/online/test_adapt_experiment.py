@@ -2,6 +2,7 @@
 # SPDX-License-Identifier: MIT
 """run_experiment: thesis experiment 5.2 on the shipped demo map."""
 
+import ast
 import csv
 import math
 from pathlib import Path
@@ -107,6 +108,12 @@ def test_cross_engine_experiment_writes_csv_and_box_plots(tmp_path):
     for row in rows:
         assert 1 <= int(row['trials']) <= 4 and float(row['intact_control_speed']) > 0.25
         assert 0 <= int(row['tipped_trials']) <= int(row['trials'])  # adapt_node's tip guard
+        # each trial's gait and whether it tipped, in order, the best among the gaits
+        niches = ast.literal_eval(row['trial_niches'])
+        tipped = ast.literal_eval(row['trial_tipped'])
+        assert len(niches) == len(tipped) == int(row['trials'])
+        assert sum(tipped) == int(row['tipped_trials'])
+        assert int(row['best_niche']) in (*niches, -1)  # -1: no trial walked
     for name in ('adapted_speed.png', 'trials.png'):
         assert (tmp_path / name).read_bytes().startswith(PNG)
     assert 'trials on  scenario' in r.stdout
