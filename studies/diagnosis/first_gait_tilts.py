@@ -55,7 +55,9 @@ def tipped_elsewhere(archive, rows: list[dict[str, str]]) -> Counter:
     walks = {engine: HypothesisWalks(archive, engine) for engine in ('mujoco', 'dart')}
     tally: Counter = Counter()
     for row in rows:
-        damage = Damage.of(row['damage_kind'], tuple(map(int, row['failed_legs'].split())))
+        legs = row['failed_legs']  # run_diagnosis writes '(1, 4)', run_experiment_cli '1 4'
+        legs = ast.literal_eval(legs) if legs.startswith('(') else tuple(map(int, legs.split()))
+        damage = Damage.of(row['damage_kind'], tuple(legs))
         niches = ast.literal_eval(row['trial_niches'])
         tipped = ast.literal_eval(row['trial_tipped'])
         named = row['named'].split('|') if row['named'] else [''] * len(niches)

@@ -501,6 +501,8 @@ class AdaptationSession:
             plan.safety.observe(index, outcome.peak_tilt, outcome.tipped)
         if plan is not None and outcome.record is not None:
             self._diagnose(int(niche), outcome.record)
+        elif plan is not None:  # no record (a tipped trial): the belief and the naming stand
+            self._note_named()
         return trial
 
     def end(self, why: str) -> None:
@@ -580,7 +582,11 @@ class AdaptationSession:
             self._go_on_as(None)
         elif self.named is None and self._bank_prior():
             self._go_on_as(None)  # the blind prior, weighed by the new posterior
-        named, result = self.named, self._result
+        self._note_named()
+
+    def _note_named(self) -> None:
+        """Record what the run names after this trial (one entry per trial told)."""
+        plan, named, result = self.start.diagnosis, self.named, self._result
         result.named.append('' if named is None else plan.label_of(named))
         result.named_legs.append(() if named is None else plan.damages[named[0]].failed_legs)
 

@@ -343,6 +343,24 @@ def _bank(archive, damages: list[Damage]) -> DamageBank:
     return DamageBank('mujoco', tuple(damages), speeds)
 
 
+def test_a_trial_without_a_record_keeps_the_naming_one_entry_per_trial(archive, walks, trial_sim):
+    # a first trial that tipped (no record: no evidence) and then one of leg 4 lifted: what
+    # was named after each trial stays aligned with the trials ("named by trial 2" counts)
+    damages = [Damage.lifted([1]), Damage.lifted([4]), Damage.lifted([3, 6])]
+    plan = diagnosis_plan(archive, _bank(archive, damages), walks=walks)
+    config = replace(PROFILES['default'], max_trials=6, min_speed=0.9)
+    session = AdaptationSession(archive, config, SessionStart(diagnosis=plan))
+    niche = session.ask()
+    session.tell(niche, TrialOutcome(0.0, True, 1.0))
+    assert session.result().named == [''] and session.result().named_legs == [()]
+    walk = recorded_trial(archive, damages[1], trial_sim)
+    niche = session.ask()
+    session.tell(niche, walk(niche))
+    result = session.result()
+    assert session.named == (1,) and len(result.trials) == 2
+    assert result.named == ['', damages[1].label] and result.named_legs == [(), (4,)]
+
+
 def test_a_blind_session_goes_on_as_the_damage_it_names_and_back_when_contradicted(
     archive, walks, trial_sim
 ):
