@@ -356,9 +356,9 @@ class Diagnosis:
                 return
             h = max(late, key=lambda k: (self._log[k], -k))
             niche, seen = self._missed[h][0]
-            if limit is not None and self.simulated - start >= limit:
-                if (niche, h) not in self._cache:
-                    return  # the rest wait for a later trial's waking
+            spent = limit is not None and self.simulated - start >= limit
+            if spent and (niche, h) not in self._cache:
+                return  # the rest wait for a later trial's waking
             self._missed[h].pop(0)
             if not self._missed[h]:
                 del self._missed[h]
