@@ -142,7 +142,16 @@ def main(argv: list[str] | None = None) -> int:
         default=math.degrees(SCREEN_MARGIN),
         help="[deg] a named damage's tip screen vetoes tilts past the tip guard less this",
     )
+    parser.add_argument(
+        '--calibrate',
+        type=int,
+        default=0,
+        help="walk the map's this many fastest gaits intact on the trials' physics first, and"
+        ' weigh the trials against the gap they measure (0: none)',
+    )
     args = parser.parse_args(argv)
+    if args.calibrate == 1 or args.calibrate < 0:
+        parser.error('--calibrate takes 0 (none) or two gaits or more')
     blind = BlindRules(
         args.offset_std,
         args.stop == 'alpha',
@@ -198,7 +207,8 @@ def main(argv: list[str] | None = None) -> int:
         }[args.hypotheses]
         + ('+leg-sets' if args.leg_sets and 'every' in args.hypotheses else '')
         + ('' if args.variant is None else f'+trials-{args.variant}')
-        + (f'+margin{args.screen_margin:g}' if args.screen_margin else ''),
+        + (f'+margin{args.screen_margin:g}' if args.screen_margin else '')
+        + (f'+calibrate{args.calibrate}' if args.calibrate else ''),
         bank=bank,
         leave_out=args.leave_out,
         kind=args.kind,
@@ -210,6 +220,7 @@ def main(argv: list[str] | None = None) -> int:
         leg_sets=args.leg_sets,
         screen_margin=math.radians(args.screen_margin),
         wider=wider,
+        calibrate=args.calibrate,
     )
     out = Path(args.out)
     if out.exists() and not args.force:

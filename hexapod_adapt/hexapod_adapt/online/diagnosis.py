@@ -211,6 +211,59 @@ def signature(record: TrialRecord, contacts: bool, settle: float = SETTLE_S) -> 
     return np.asarray(values, dtype=float)
 
 
+@dataclass(frozen=True)
+class GapCalibration:
+    """
+    How one robot's trials lie from the map's engine's walks, measured on the intact robot.
+
+    A few gaits walked by the intact robot and by the map's engine (:func:`calibrate_gap`): the
+    mean of their signatures' differences is a bias the robot adds to every walk (an IMU mounted
+    a degree off, a floor that slows every gait), so ``offset`` is added to every simulated
+    signature; the differences' spread around that mean is a mismatch the simulation makes gait
+    by gait, so ``noise`` (each feature's scale, :func:`feature_names` order) widens
+    :data:`FEATURE_NOISE` by it. ``contacts``: the features include foot duty factors.
+    """
+
+    offset: np.ndarray
+    noise: np.ndarray
+    contacts: bool = False
+
+    def __post_init__(self) -> None:
+        n = len(feature_names(self.contacts))
+        offset = np.asarray(self.offset, dtype=float)
+        noise = np.asarray(self.noise, dtype=float)
+        if offset.shape != (n,) or noise.shape != (n,):
+            raise ValueError(
+                f'offset and noise need {n} features each, got {offset.shape} and {noise.shape}'
+            )
+        if not (np.isfinite(offset).all() and np.isfinite(noise).all() and np.all(noise > 0)):
+            raise ValueError('a calibration needs finite offsets and noise scales > 0')
+        object.__setattr__(self, 'offset', offset)
+        object.__setattr__(self, 'noise', noise)
+
+
+def calibrate_gap(
+    observed: Sequence[TrialRecord], simulated: Sequence[TrialRecord], contacts: bool = False
+) -> GapCalibration:
+    """
+    Return the gap between the robot's intact walks and the same gaits on the map's engine.
+
+    ``observed[i]`` and ``simulated[i]`` are one gait, walked by the intact robot and simulated
+    intact; two gaits or more (the spread needs two).
+    """
+    if len(observed) != len(simulated) or len(observed) < 2:
+        raise ValueError(
+            f'a calibration needs two or more gaits walked both ways, got {len(observed)}'
+            f' and {len(simulated)}'
+        )
+    gap = np.array(
+        [signature(o, contacts) - signature(s, contacts) for o, s in zip(observed, simulated)]
+    )
+    spread = gap.std(axis=0, ddof=1)
+    base = feature_noise(feature_names(contacts))
+    return GapCalibration(gap.mean(axis=0), np.hypot(base, spread), contacts)
+
+
 def student_log_likelihood(residual: np.ndarray, nu: float = STUDENT_NU) -> float:
     """Return the log density (up to a constant) of scaled residuals under a Student-t."""
     return float(-0.5 * (nu + 1.0) * np.sum(np.log1p(np.square(residual) / nu)))
@@ -254,12 +307,14 @@ class Diagnosis:
     trial's gait under the few hypotheses still in play, not all); a trial wakes at most
     ``weighing.wake_walks`` walks' worth. ``contacts``: compare foot duty factors too (only when
     every trial records contacts, as a simulator's do). ``weighing``: how a trial weighs them.
+    ``calibration``: the trials' source's gap to the map's engine (None: none measured).
     """
 
     labels: tuple[str, ...]
     simulate: Simulate
     contacts: bool = False
     weighing: Weighing = Weighing()
+    calibration: GapCalibration | None = None
     _log: np.ndarray = field(init=False)
     _cache: dict[tuple[int, int], np.ndarray | None] = field(init=False, default_factory=dict)
     # each asleep hypothesis's trials not yet weighed: (niche, the trial's signature)
@@ -276,6 +331,11 @@ class Diagnosis:
         self._fit = np.zeros(h + 1)
         self.names = feature_names(self.contacts)
         self.noise = feature_noise(self.names)
+        self.offset = np.zeros(len(self.names))
+        if self.calibration is not None:
+            if self.calibration.contacts != self.contacts:
+                raise ValueError('the calibration and the diagnosis disagree on foot contacts')
+            self.noise, self.offset = self.calibration.noise, self.calibration.offset
         self.trials = 0
         self.simulated = 0  # walks this diagnosis asked for (its own cache's misses)
 
@@ -324,7 +384,7 @@ class Diagnosis:
         expected = None if h is None else self.expected(niche, h)
         if expected is None:  # a gait the hypothesis cannot walk says nothing of it
             return student_log_likelihood(np.full(len(seen), self.weighing.none_deviation))
-        return student_log_likelihood((seen - expected) / self.noise)
+        return student_log_likelihood((seen - expected - self.offset) / self.noise)
 
     def _top(self) -> float:
         """Return the highest exact log posterior (none of these is always exact)."""

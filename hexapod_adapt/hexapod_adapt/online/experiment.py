@@ -23,7 +23,12 @@ from hexapod_adapt.online.adaptation import (
     recorded_trial,
     simulated_trial,
 )
-from hexapod_adapt.online.diagnosis import HypothesisWalks, Weighing
+from hexapod_adapt.online.diagnosis import (
+    calibrate_gap,
+    GapCalibration,
+    HypothesisWalks,
+    Weighing,
+)
 from hexapod_adapt.online.mboa import MboaConfig
 from hexapod_adapt.online.prior import simulated_tilts, TipScreen
 from hexapod_adapt.online.safety import RISK_LIMIT
@@ -78,6 +83,9 @@ class ExperimentSetup:
     weighs the hypotheses, ``leg_sets`` whether they may name a leg set of several kinds,
     ``screen_margin`` [rad] how far below the guard a named damage's screen vetoes, ``wider``
     the bank they weigh once none of ``bank``'s fits (``leave_out`` drops their damage there too).
+    ``calibrate``: before the runs, the map's this many fastest gaits are walked intact on the
+    trials' physics, and the diagnosis weighs the trials against the gap they measure
+    (:func:`~hexapod_adapt.online.diagnosis.calibrate_gap`; 0: none).
     """
 
     scenarios: Sequence[str] = ('S1', 'S2', 'S3', 'S4')
@@ -101,6 +109,7 @@ class ExperimentSetup:
     leg_sets: bool = NAME_LEG_SETS
     screen_margin: float = SCREEN_MARGIN
     wider: DamageBank | None = None
+    calibrate: int = 0
 
 
 @dataclass
@@ -175,6 +184,7 @@ def _start(
     damage: Damage,
     control: float,
     walks: HypothesisWalks | None,
+    calibration: GapCalibration | None = None,
 ) -> SessionStart:
     """
     Return a run's session start: its prior and screen, or its bank's hypotheses; its floor.
@@ -202,6 +212,7 @@ def _start(
                 leg_sets=s.leg_sets,
                 screen_margin=s.screen_margin,
                 wider=wider,
+                calibration=calibration,
             )
     return SessionStart(hypotheses=hypotheses, floor=floor, diagnosis=plan)
 
@@ -276,6 +287,7 @@ def _one_run(
     where,
     intact: float,
     walks: HypothesisWalks | None = None,
+    calibration: GapCalibration | None = None,
 ) -> ExperimentRow:
     """Adapt once under ``where``'s damage (scenario, legs, trial engine); return its row."""
     damage = Damage.of(s.kind, where[1])
@@ -285,7 +297,8 @@ def _one_run(
     walk = recorded_trial if s.diagnose else simulated_trial
     trial = walk(archive, damage, sim, s.trial_duration, s.settle, s.tip_guard)
     walked = 0 if walks is None else walks.walked
-    result = adapt(archive, trial, config, _start(archive, s, config, damage, control, walks))
+    start = _start(archive, s, config, damage, control, walks, calibration)
+    result = adapt(archive, trial, config, start)
     adapted = result.best_speed
     if s.settle > 0 or (s.trial_duration or archive.trial_duration) != archive.trial_duration:
         # settled or shorter trials measure another thing: judge the gait as the map
@@ -294,6 +307,32 @@ def _one_run(
     if walks is not None:
         row = replace(row, hypothesis_walks=walks.walked - walked)
     return row if s.ceilings is None else _with_ceiling(row, archive, s, damage)
+
+
+def intact_gap(
+    archive: Archive,
+    sim: Simulator,
+    walks: HypothesisWalks,
+    gaits: int,
+    duration: float | None = None,
+) -> GapCalibration:
+    """
+    Return the gap of ``sim``'s trials to ``walks``' engine: the map's ``gaits`` fastest, intact.
+
+    As an operator calibrates a robot before a mission: each gait walked once by the intact
+    robot (a trial, timed as the runs' are) and simulated as the hypotheses are.
+    """
+    trial = recorded_trial(archive, Damage.lifted(()), sim, duration)
+    niches = archive.elite_indices()[np.argsort(-archive.fitness[archive.elite_indices()])]
+    observed, simulated = [], []
+    for niche in niches:
+        record, expected = trial(int(niche)).record, walks(int(niche), Damage.lifted(()))
+        if record is not None and expected is not None:
+            observed.append(record)
+            simulated.append(expected)
+        if len(observed) == gaits:
+            break
+    return calibrate_gap(observed, simulated)
 
 
 def run_experiment(
@@ -319,10 +358,13 @@ def run_experiment(
         intact = evaluate_gait(
             preset('control'), sim, collisions_fatal=False, failed_legs=()
         ).speed
+        calibration = None
+        if walks is not None and s.calibrate > 0:
+            calibration = intact_gap(archive, sim, walks, s.calibrate, s.trial_duration)
         for name in s.scenarios:
             for legs in orientations_of(name):
                 where = (name, tuple(legs), trial_engine)
-                row = _one_run(archive, s, config, sim, where, intact, walks)
+                row = _one_run(archive, s, config, sim, where, intact, walks, calibration)
                 rows.append(row)
                 if on_row:
                     on_row(row)

@@ -38,6 +38,7 @@ from hexapod_adapt.online.adaptation import (
 from hexapod_adapt.online.bank import DamageBank
 from hexapod_adapt.online.diagnosis import (
     Diagnosis,
+    GapCalibration,
     HypothesisWalks,
     Posterior,
     TrialRecord,
@@ -228,6 +229,7 @@ def diagnosis_plan(
     leg_sets: bool = NAME_LEG_SETS,
     screen_margin: float = SCREEN_MARGIN,
     wider: DamageBank | None = None,
+    calibration: GapCalibration | None = None,
 ) -> DiagnosisPlan | None:
     """
     Return the diagnosis of a blind run over ``bank``'s damages (None: the bank is empty).
@@ -240,7 +242,8 @@ def diagnosis_plan(
     hypotheses; ``leg_sets``: whether a leg set may be named (:class:`DiagnosisPlan`);
     ``screen_margin`` [rad]: a named damage's screen vetoes tilts past ``tip_guard`` less it.
     ``wider``: the bank a run weighs once none of ``bank``'s fits (:class:`DiagnosisPlan`),
-    diagnosed as this one is, over the same walks.
+    diagnosed as this one is, over the same walks. ``calibration``: the trials' gap to the
+    map's engine, measured on the intact robot (``diagnosis.calibrate_gap``; None: none).
     """
     if len(bank) == 0:
         return None
@@ -248,7 +251,7 @@ def diagnosis_plan(
         raise ValueError(f'screen_margin must lie in [0, tip_guard), got {screen_margin}')
     walks = walks or HypothesisWalks(archive, bank.engine)
     labels = tuple(d.label for d in bank.damages)
-    diagnosis = Diagnosis(labels, walks.under(bank.damages), contacts, weighing)
+    diagnosis = Diagnosis(labels, walks.under(bank.damages), contacts, weighing, calibration)
 
     def screen_of(damage: Damage) -> TipScreen | None:
         if tip_guard >= math.pi:
@@ -269,7 +272,11 @@ def diagnosis_plan(
             limit=safety,
         )
     same = (contacts, threshold, walks, safety, blind, weighing, leg_sets, screen_margin)
-    widen = partial(diagnosis_plan, archive, wider, tip_guard, *same) if wider else None
+    widen = (
+        partial(diagnosis_plan, archive, wider, tip_guard, *same, calibration=calibration)
+        if wider
+        else None
+    )
     return DiagnosisPlan(
         diagnosis,
         bank.damages,

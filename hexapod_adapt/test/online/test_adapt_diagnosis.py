@@ -20,8 +20,11 @@ from hexapod_adapt.online.adaptation import candidates, recorded_trial, TrialOut
 from hexapod_adapt.online.bank import DamageBank
 from hexapod_adapt.online.diagnosis import (
     ASLEEP_NATS,
+    calibrate_gap,
     Diagnosis,
     feature_names,
+    feature_noise,
+    GapCalibration,
     HypothesisWalks,
     NONE_LABEL,
     signature,
@@ -332,6 +335,75 @@ def test_a_damage_no_hypothesis_holds_is_none_of_these(archive, walks, trial_sim
         trace = trace_gait(archive.genotypes[niche], trial_sim, true, archive.trial_duration)
         post = diagnosis.observe(niche, TrialRecord.from_trace(trace, contacts=False))
     assert post.top(1)[0][0] == NONE_LABEL, post.describe()
+
+
+def _tilted(record: TrialRecord, roll: float, pitch: float) -> TrialRecord:
+    """Return ``record`` as an IMU mounted ``roll`` and ``pitch`` rad off would give it."""
+    return replace(record, attitude=record.attitude + np.array([roll, pitch, 0.0]))
+
+
+def test_a_calibration_measures_a_constant_bias_and_refuses_too_few_gaits():
+    walks = [straight_walk(0.2, 0.1), straight_walk(0.3, -0.2, 0.05), straight_walk(0.25, 0.4)]
+    same = calibrate_gap(walks, walks)
+    base = feature_noise(feature_names(False))
+    assert np.allclose(same.offset, 0.0) and np.allclose(same.noise, base)
+    biased = calibrate_gap([_tilted(w, 0.05, -0.02) for w in walks], walks)
+    names = feature_names(False)
+    expect = np.zeros(len(names))
+    expect[names.index('roll')], expect[names.index('pitch')] = 0.05, -0.02
+    assert np.allclose(biased.offset, expect) and np.allclose(biased.noise, base)
+    # gaits the simulation misses by different amounts widen those features' noise
+    slower = calibrate_gap([straight_walk(0.15, 0.1), straight_walk(0.3, -0.2, 0.05)], walks[:2])
+    speed = names.index('speed')
+    assert slower.offset[speed] == pytest.approx(-0.025, abs=1e-3)
+    assert slower.noise[speed] > base[speed]
+    with pytest.raises(ValueError, match='two or more gaits'):
+        calibrate_gap(walks[:1], walks[:1])
+    with pytest.raises(ValueError, match='two or more gaits'):
+        calibrate_gap(walks, walks[:2])
+    with pytest.raises(ValueError, match='features each'):
+        GapCalibration(np.zeros(3), np.ones(3))
+    with pytest.raises(ValueError, match='noise scales > 0'):
+        GapCalibration(np.zeros(len(names)), np.zeros(len(names)))
+    with pytest.raises(ValueError, match='foot contacts'):
+        Diagnosis(('a',), lambda niche, h: None, contacts=True, calibration=same)
+
+
+def test_a_robot_whose_imu_is_mounted_off_is_diagnosed_once_calibrated(
+    archive, walks, trial_sim
+):
+    """
+    An IMU 6 deg off in roll: the true damage fits worse; three intact walks calibrate it away.
+
+    The trials here are the hypotheses' own physics, so the bias is the whole gap: a floor of
+    -2 nats a trial turns the true damage away uncalibrated and keeps it calibrated.
+    """
+    roll, pitch = math.radians(6.0), math.radians(-2.0)
+    intact = fastest(archive, 3)
+    observed = [
+        _tilted(
+            TrialRecord.from_trace(
+                trace_gait(archive.genotypes[n], trial_sim, Damage(), archive.trial_duration),
+                contacts=False,
+            ),
+            roll,
+            pitch,
+        )
+        for n in intact
+    ]
+    calibration = calibrate_gap(observed, [walks(n, Damage()) for n in intact])
+    hypotheses = [Damage.lifted([1]), Damage.lifted([4]), Damage.lifted([1, 4])]
+    labels = tuple(d.label for d in hypotheses)
+    strict = Weighing(fit_floor=-2.0)
+    plain = Diagnosis(labels, walks.under(hypotheses), weighing=strict)
+    calibrated = Diagnosis(labels, walks.under(hypotheses), weighing=strict, calibration=calibration)
+    for niche in fastest(archive, 2):
+        trace = trace_gait(archive.genotypes[niche], trial_sim, hypotheses[0], 5.0)
+        record = _tilted(TrialRecord.from_trace(trace, contacts=False), roll, pitch)
+        before, after = plain.observe(niche, record), calibrated.observe(niche, record)
+    assert before.leader == 0 and not plain.fits(0), before.describe()
+    assert after.leader == 0 and after.probabilities[0] > 0.9, after.describe()
+    assert calibrated.fits(0)
 
 
 def _bank(archive, damages: list[Damage]) -> DamageBank:
