@@ -17,7 +17,9 @@ posterior over the hypotheses plus "none of these". A feature's mismatch is scal
 (:data:`FEATURE_NOISE`) and weighed with a Student-t (a few features far off, as another physics
 gives them, do not veto a hypothesis the others support); "none of these" explains every trial
 equally, as a hypothesis ``none_deviation`` noise scales off in every feature would; each
-trial's likelihood is raised to a ``temperature`` (:class:`Weighing`).
+trial's likelihood is raised to a ``temperature`` (:class:`Weighing`). A :class:`GapCalibration`,
+measured on the intact robot (:func:`calibrate_gap`), takes the robot's own bias out of every
+comparison.
 """
 
 from __future__ import annotations

@@ -369,9 +369,7 @@ def test_a_calibration_measures_a_constant_bias_and_refuses_too_few_gaits():
         Diagnosis(('a',), lambda niche, h: None, contacts=True, calibration=same)
 
 
-def test_a_robot_whose_imu_is_mounted_off_is_diagnosed_once_calibrated(
-    archive, walks, trial_sim
-):
+def test_a_robot_whose_imu_is_mounted_off_is_diagnosed_once_calibrated(archive, walks, trial_sim):
     """
     An IMU 6 deg off in roll: the true damage fits worse; three intact walks calibrate it away.
 
@@ -396,7 +394,9 @@ def test_a_robot_whose_imu_is_mounted_off_is_diagnosed_once_calibrated(
     labels = tuple(d.label for d in hypotheses)
     strict = Weighing(fit_floor=-2.0)
     plain = Diagnosis(labels, walks.under(hypotheses), weighing=strict)
-    calibrated = Diagnosis(labels, walks.under(hypotheses), weighing=strict, calibration=calibration)
+    calibrated = Diagnosis(
+        labels, walks.under(hypotheses), weighing=strict, calibration=calibration
+    )
     for niche in fastest(archive, 2):
         trace = trace_gait(archive.genotypes[niche], trial_sim, hypotheses[0], 5.0)
         record = _tilted(TrialRecord.from_trace(trace, contacts=False), roll, pitch)
