@@ -31,6 +31,7 @@ from hexapod_adapt.online.diagnosis import (
     TrialRecord,
     Weighing,
 )
+from hexapod_adapt.online.experiment import intact_gap
 from hexapod_adapt.online.mboa import MboaConfig, PROFILES
 from hexapod_adapt.online.prior import TipScreen
 from hexapod_adapt.online.session import (
@@ -404,6 +405,23 @@ def test_a_robot_whose_imu_is_mounted_off_is_diagnosed_once_calibrated(archive, 
     assert before.leader == 0 and not plain.fits(0), before.describe()
     assert after.leader == 0 and after.probabilities[0] > 0.9, after.describe()
     assert calibrated.fits(0)
+
+
+def test_the_experiment_s_calibration_walks_the_fastest_gaits_on_the_trials_physics(
+    archive, walks, trial_sim
+):
+    """
+    On the hypotheses' own physics next to no gap; on another friction, one the walks measure.
+
+    (A trial samples every physics step, a hypothesis's walk every fourth: the means differ by
+    under 2 mm/s or 2 mrad.)
+    """
+    base = feature_noise(feature_names(False))
+    same = intact_gap(archive, trial_sim, walks, 3)
+    assert np.max(np.abs(same.offset)) < 0.002 and np.allclose(same.noise, base, atol=1e-3)
+    with create_simulator(replace(SimConfig.converged('mujoco'), friction=0.3)) as sim:
+        other = intact_gap(archive, sim, walks, 3)
+    assert np.max(np.abs(other.offset)) > 0.01 and np.all(other.noise >= base)
 
 
 def _bank(archive, damages: list[Damage]) -> DamageBank:
