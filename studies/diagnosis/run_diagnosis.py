@@ -131,6 +131,13 @@ def main(argv: list[str] | None = None) -> int:
         " this ('off': no floor)",
     )
     parser.add_argument(
+        '--wider-fit-floor',
+        type=lambda v: None if v == 'off' else float(v),
+        default=Weighing().wider_fit_floor,
+        help="the fit floor once the run widens its bank (--hypotheses lifted-then-every; 'off':"
+        ' no floor)',
+    )
+    parser.add_argument(
         '--leg-sets',
         action=argparse.BooleanOptionalAction,
         default=NAME_LEG_SETS,
@@ -161,7 +168,10 @@ def main(argv: list[str] | None = None) -> int:
         args.fallback_stop == 'alpha',
     )
     weighing = Weighing(
-        args.none_deviation, temperature=args.temperature, fit_floor=args.fit_floor
+        args.none_deviation,
+        temperature=args.temperature,
+        fit_floor=args.fit_floor,
+        wider_fit_floor=args.wider_fit_floor,
     )
     if args.variant is not None and args.engine != 'mujoco':
         parser.error('--variant changes MuJoCo trials only')
@@ -195,6 +205,11 @@ def main(argv: list[str] | None = None) -> int:
         + f'+{args.stop}stop+offset{args.offset_std:g}'
         + f'+t{args.temperature:g}+none{args.none_deviation:g}'
         + ('' if args.fit_floor is None else f'+fit{args.fit_floor:g}')
+        + (
+            ''
+            if args.wider_fit_floor == args.fit_floor or args.hypotheses != 'lifted-then-every'
+            else f'+widerfit{args.wider_fit_floor}'
+        )
         + ('+bankprior' if args.bank_prior else '')
         + ('' if args.unfit_fallback else '+no-unfit-fallback')
         + ('+fallback-alpha-stop' if args.unfit_fallback and args.fallback_stop == 'alpha' else '')

@@ -61,6 +61,8 @@ STUDENT_NU = 4.0
 #: whenever the bound comes within this of the most probable again.
 ASLEEP_NATS = 23.0
 NONE_LABEL = 'none of these'
+#: The mean log likelihood per trial below which a hypothesis does not fit (:class:`Weighing`).
+FIT_FLOOR = -12.0
 
 
 @dataclass(frozen=True)
@@ -75,7 +77,9 @@ class Weighing:
     set (studies/diagnosis/README.md, "How sure the diagnosis should be"). ``fit_floor``: a
     hypothesis whose mean log likelihood over the trials lies below it does not fit, however
     probable, and is not named (None: every one fits; the default won on a tuning set:
-    studies/diagnosis/README.md, "Does the leader fit?"). ``wake_walks``: the most walks a
+    studies/diagnosis/README.md, "Does the leader fit?"); ``wider_fit_floor``: the fit floor
+    of the wider bank a run goes on to once none of its first bank's fits (``wider`` of
+    :func:`~hexapod_adapt.online.session.diagnosis_plan`). ``wake_walks``: the most walks a
     trial's waking of asleep hypotheses may simulate (None: no cap; the default is a compute
     budget, about 6 s of a core: studies/diagnosis/README.md, "A trial's cost in walks").
     """
@@ -83,7 +87,8 @@ class Weighing:
     none_deviation: float = 2.5
     none_prior: float = 0.2
     temperature: float = 1.0
-    fit_floor: float | None = -12.0
+    fit_floor: float | None = FIT_FLOOR
+    wider_fit_floor: float | None = FIT_FLOOR
     wake_walks: int | None = 60
 
     def __post_init__(self) -> None:
@@ -93,10 +98,10 @@ class Weighing:
             raise ValueError(f'none_deviation must be > 0, got {self.none_deviation}')
         if not (math.isfinite(self.temperature) and 0.0 < self.temperature <= 1.0):
             raise ValueError(f'temperature must lie in (0, 1], got {self.temperature}')
-        if self.fit_floor is not None and not (
-            math.isfinite(self.fit_floor) and self.fit_floor < 0
-        ):
-            raise ValueError(f'fit_floor must be a negative log likelihood, got {self.fit_floor}')
+        for name in ('fit_floor', 'wider_fit_floor'):
+            floor = getattr(self, name)
+            if floor is not None and not (math.isfinite(floor) and floor < 0):
+                raise ValueError(f'{name} must be a negative log likelihood, got {floor}')
         if self.wake_walks is not None and (
             isinstance(self.wake_walks, bool)
             or not isinstance(self.wake_walks, int)

@@ -242,8 +242,9 @@ def diagnosis_plan(
     hypotheses; ``leg_sets``: whether a leg set may be named (:class:`DiagnosisPlan`);
     ``screen_margin`` [rad]: a named damage's screen vetoes tilts past ``tip_guard`` less it.
     ``wider``: the bank a run weighs once none of ``bank``'s fits (:class:`DiagnosisPlan`),
-    diagnosed as this one is, over the same walks. ``calibration``: the trials' gap to the
-    map's engine, measured on the intact robot (``diagnosis.calibrate_gap``; None: none).
+    diagnosed as this one is, over the same walks, with the fit floor
+    ``weighing.wider_fit_floor``. ``calibration``: the trials' gap to the map's engine,
+    measured on the intact robot (``diagnosis.calibrate_gap``; None: none).
     """
     if len(bank) == 0:
         return None
@@ -271,9 +272,20 @@ def diagnosis_plan(
             diagnosis.posterior().probabilities,
             limit=safety,
         )
-    same = (contacts, threshold, walks, safety, blind, weighing, leg_sets, screen_margin)
+    same = (contacts, threshold, walks, safety, blind)
+    as_wide = replace(weighing, fit_floor=weighing.wider_fit_floor)
     widen = (
-        partial(diagnosis_plan, archive, wider, tip_guard, *same, calibration=calibration)
+        partial(
+            diagnosis_plan,
+            archive,
+            wider,
+            tip_guard,
+            *same,
+            as_wide,
+            leg_sets,
+            screen_margin,
+            calibration=calibration,
+        )
         if wider
         else None
     )
