@@ -4,6 +4,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 import json
 import math
 
@@ -381,7 +382,9 @@ def test_a_damage_bank_is_the_cached_ceilings_and_says_what_is_missing(small_map
 
 def test_a_blind_run_weighs_the_diagnosis_bank_adapt_node_was_given():
     from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings
-    from hexapod_adapt.online.bank import BANK_DAMAGES, diagnosis_damages
+    from hexapod_adapt.online.bank import BANK_DAMAGES, diagnosis_damages, load_bank
+    from hexapod_adapt.online.diagnosis import Weighing
+    from hexapod_adapt.online.session import diagnosis_plan
     from hexapod_adapt.online.streaming_prior import StreamingPriors
     from hexapod_sim.damage import EXPERIMENT_KINDS
 
@@ -408,3 +411,15 @@ def test_a_blind_run_weighs_the_diagnosis_bank_adapt_node_was_given():
     wider = plan.wider()
     assert plan.damages == BANK_DAMAGES and wider.damages == every and wider.wider is None
     assert wider.priors.shape[0] == 168
+    # the wider bank weighs as the first does, but for its own fit floor
+    default = Weighing()
+    assert plan.diagnosis.weighing == default
+    assert wider.diagnosis.weighing == replace(default, fit_floor=default.wider_fit_floor)
+    engine = engine_of_map(archive)
+    first, rest = (
+        load_bank(archive, engine, [shipped_ceilings()], d) for d in (BANK_DAMAGES, every)
+    )
+    weighing = Weighing(fit_floor=-12.0, wider_fit_floor=-20.0)
+    plan = diagnosis_plan(archive, first, math.pi, weighing=weighing, wider=rest)
+    assert plan.diagnosis.weighing.fit_floor == -12.0
+    assert plan.wider().diagnosis.weighing.fit_floor == -20.0
