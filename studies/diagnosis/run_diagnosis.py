@@ -208,7 +208,8 @@ def main(argv: list[str] | None = None) -> int:
         + (
             ''
             if args.wider_fit_floor == args.fit_floor or args.hypotheses != 'lifted-then-every'
-            else f'+widerfit{args.wider_fit_floor}'
+            else '+widerfit'
+            + ('off' if args.wider_fit_floor is None else f'{args.wider_fit_floor:g}')
         )
         + ('+bankprior' if args.bank_prior else '')
         + ('' if args.unfit_fallback else '+no-unfit-fallback')

@@ -61,8 +61,11 @@ STUDENT_NU = 4.0
 #: whenever the bound comes within this of the most probable again.
 ASLEEP_NATS = 23.0
 NONE_LABEL = 'none of these'
-#: The mean log likelihood per trial below which a hypothesis does not fit (:class:`Weighing`).
+#: The mean log likelihood per trial below which a hypothesis does not fit (:class:`Weighing`),
+#: in the first bank and in the wider one (studies/diagnosis/README.md, "Does the leader fit?"
+#: and "The servo's range as a tuning set").
 FIT_FLOOR = -12.0
+WIDER_FIT_FLOOR = -20.0
 
 
 @dataclass(frozen=True)
@@ -79,16 +82,17 @@ class Weighing:
     probable, and is not named (None: every one fits; the default won on a tuning set:
     studies/diagnosis/README.md, "Does the leader fit?"); ``wider_fit_floor``: the fit floor
     of the wider bank a run goes on to once none of its first bank's fits (``wider`` of
-    :func:`~hexapod_adapt.online.session.diagnosis_plan`). ``wake_walks``: the most walks a
-    trial's waking of asleep hypotheses may simulate (None: no cap; the default is a compute
-    budget, about 6 s of a core: studies/diagnosis/README.md, "A trial's cost in walks").
+    :func:`~hexapod_adapt.online.session.diagnosis_plan`; lower: its leader is the best of 8
+    kinds). ``wake_walks``: the most walks a trial's waking of asleep hypotheses may simulate
+    (None: no cap; the default is a compute budget, about 6 s of a core:
+    studies/diagnosis/README.md, "A trial's cost in walks").
     """
 
     none_deviation: float = 2.5
     none_prior: float = 0.2
     temperature: float = 1.0
     fit_floor: float | None = FIT_FLOOR
-    wider_fit_floor: float | None = FIT_FLOOR
+    wider_fit_floor: float | None = WIDER_FIT_FLOOR
     wake_walks: int | None = 60
 
     def __post_init__(self) -> None:

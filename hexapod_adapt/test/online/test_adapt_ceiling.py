@@ -419,7 +419,7 @@ def test_a_blind_run_weighs_the_diagnosis_bank_adapt_node_was_given():
     first, rest = (
         load_bank(archive, engine, [shipped_ceilings()], d) for d in (BANK_DAMAGES, every)
     )
-    weighing = Weighing(fit_floor=-12.0, wider_fit_floor=-20.0)
+    weighing = Weighing(fit_floor=-14.0, wider_fit_floor=-25.0)
     plan = diagnosis_plan(archive, first, math.pi, weighing=weighing, wider=rest)
-    assert plan.diagnosis.weighing.fit_floor == -12.0
-    assert plan.wider().diagnosis.weighing.fit_floor == -20.0
+    assert plan.diagnosis.weighing.fit_floor == -14.0
+    assert plan.wider().diagnosis.weighing.fit_floor == -25.0
