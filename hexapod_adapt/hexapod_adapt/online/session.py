@@ -272,23 +272,9 @@ def diagnosis_plan(
             diagnosis.posterior().probabilities,
             limit=safety,
         )
-    same = (contacts, threshold, walks, safety, blind)
-    as_wide = replace(weighing, fit_floor=weighing.wider_fit_floor)
-    widen = (
-        partial(
-            diagnosis_plan,
-            archive,
-            wider,
-            tip_guard,
-            *same,
-            as_wide,
-            leg_sets,
-            screen_margin,
-            calibration=calibration,
-        )
-        if wider
-        else None
-    )
+    wide = replace(weighing, fit_floor=weighing.wider_fit_floor)  # the wider bank's own floor
+    same = (contacts, threshold, walks, safety, blind, wide, leg_sets, screen_margin)
+    widen = partial(diagnosis_plan, archive, wider, tip_guard, *same, calibration=calibration)
     return DiagnosisPlan(
         diagnosis,
         bank.damages,
@@ -298,7 +284,7 @@ def diagnosis_plan(
         safety=model,
         blind=blind,
         leg_sets=leg_sets,
-        wider=widen,
+        wider=widen if wider else None,
     )
 
 
