@@ -40,6 +40,11 @@ import numpy as np
 from studies.diagnosis.calibration import variant_physics
 
 
+def fit_floor(value: str) -> float | None:
+    """Parse a fit floor option: a number, or 'off' (None: no floor)."""
+    return None if value == 'off' else float(value)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--engine', default='pybullet')
@@ -125,14 +130,14 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument(
         '--fit-floor',
-        type=lambda v: None if v == 'off' else float(v),
+        type=fit_floor,
         default=Weighing().fit_floor,
         help='name a hypothesis only when its mean log likelihood over the trials is at least'
         " this ('off': no floor)",
     )
     parser.add_argument(
         '--wider-fit-floor',
-        type=lambda v: None if v == 'off' else float(v),
+        type=fit_floor,
         default=Weighing().wider_fit_floor,
         help="the fit floor once the run widens its bank (--hypotheses lifted-then-every; 'off':"
         ' no floor)',
