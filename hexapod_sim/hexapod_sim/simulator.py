@@ -78,6 +78,40 @@ def body_height_from_joints(q: np.ndarray) -> float:
     return float(np.max(-(feet[:, 2] + default_geometry().mount_z)))
 
 
+def start_height(
+    commanded: Sequence[float], held_slots: np.ndarray, held_values: np.ndarray
+) -> float:
+    """
+    Return the base height a reset starts at: the lowest foot on the ground.
+
+    The commanded feet's, raised if a held leg (a locked one, at the standing pose) reaches
+    lower: its foot would start inside the floor, and the contact throws it out (on PyBullet
+    the body is flung past 60 degrees; studies/diagnosis/README.md, "Locked legs started inside
+    the floor"). A held leg above the commanded feet (a lifted one) changes nothing: the robot
+    drops onto them as before, so walks under every other damage are unchanged
+    (:data:`HELD_START_VERSION`).
+    """
+    height = body_height_from_joints(np.asarray(commanded, dtype=float))
+    if len(held_slots) == 0:
+        return height
+    held = np.array(commanded, dtype=float)
+    held[held_slots] = held_values
+    return max(height, body_height_from_joints(held))
+
+
+#: The version of :func:`start_height`'s rule for damage with a locked leg, the only kind whose
+#: held pose can reach below the commanded feet (2: raised onto it; before, started in the
+#: floor). Cached walks under such damage carry it in their key (:func:`start_key`).
+HELD_START_VERSION = 2
+
+
+def start_key(damages: Iterable[Damage]) -> dict[str, int]:
+    """Return what a cache of walks under ``damages`` adds to its key for the start rule."""
+    if any(leg.kind == 'locked' for damage in damages for leg in damage.legs):
+        return {'held_start': HELD_START_VERSION}
+    return {}
+
+
 #: Friction coefficient where a foot meets the floor, on every engine (SimConfig.friction's
 #: default): 1, the thesis's (3.5.4, listing 3.5: "a lateralFriction coefficient of 1 ... for the
 #: ground plane and the tibia links"). Each engine combines two surfaces' coefficients its own way,
@@ -435,11 +469,12 @@ class Simulator(abc.ABC):
         Put the robot back at the origin (yaw 0), at rest, with the given joint angles.
 
         Angles are clipped to the limits; held legs (lifted, locked) go to their pose. The base is
-        placed at ``body_height``, by default the height that puts the lowest foot on the ground.
+        placed at ``body_height``, by default the height that puts the lowest commanded foot on
+        the ground, or higher if a held leg reaches lower (:func:`start_height`).
         """
-        if body_height is None:
-            body_height = body_height_from_joints(joint_positions)
         q = np.clip(np.asarray(joint_positions, dtype=float), self.lower, self.upper)
+        if body_height is None:
+            body_height = start_height(joint_positions, self._held_slots, self._held_values)
         q[self._held_slots] = self._held_values
         self._reset_state(q, float(body_height))
         self.time = 0.0

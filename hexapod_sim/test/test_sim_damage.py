@@ -20,7 +20,13 @@ from hexapod_sim.damage import (
     parse_damage,
     standing_pose,
 )
-from hexapod_sim.simulator import JointRows
+from hexapod_sim.simulator import (
+    body_height_from_joints,
+    HELD_START_VERSION,
+    JointRows,
+    start_height,
+    start_key,
+)
 import numpy as np
 import pytest
 
@@ -200,3 +206,42 @@ def test_two_kinds_at_once_damage_the_lower_numbered_leg_with_the_first():
     assert damage.legs[0].joints == ('tibia',)
     assert damage.legs[1].strength == default_amount('shortened')
     assert damage == parse_damage(f'2:unpowered:tibia,5:shortened:{default_amount("shortened")}')
+
+
+def test_a_locked_leg_below_the_commanded_feet_starts_on_the_floor_not_in_it(sim):
+    # every commanded foot raised: the locked leg's standing pose reaches about 3 cm lower. A
+    # reset at the commanded feet's height started its foot inside the floor (on PyBullet a
+    # gait's start flung the body past 45 degrees: studies/diagnosis/README.md, "Locked legs
+    # started inside the floor")
+    commanded = standing_pose()
+    commanded[1::3] += 0.5
+    locked = Damage.of('locked', [3])
+    slots, values = locked.held_slots()
+    assert start_height(commanded, slots, values) > body_height_from_joints(commanded) + 0.025
+    sim.set_damage(locked)
+    rows = sim.prepare_rows(commanded[None, :], np.zeros((1, 18)))
+    sim.reset(commanded)
+    z0 = sim.base_pose()[0][2]
+    tilt, rise = 0.0, 0.0
+    for _ in range(int(0.5 / sim.dt)):
+        sim.apply_row(rows, 0)
+        sim.step()
+        roll, pitch, _ = sim.base_euler()
+        tilt = max(tilt, np.degrees(np.arccos(np.cos(roll) * np.cos(pitch))))
+        rise = max(rise, sim.base_pose()[0][2] - z0)
+    # nothing throws the body up (before: 2.3 cm on PyBullet, 1.8 on MuJoCo), and it leans on the
+    # locked leg as a robot standing on it does (11.6 degrees on each engine; before, DART kept
+    # the foot in the floor and the body level, 0.7)
+    assert rise < 0.005 and 5.0 < tilt < 20.0, (rise, tilt)
+    sim.set_damage(Damage())
+
+
+def test_a_held_leg_above_the_commanded_feet_leaves_the_start_as_it_was():
+    # a lifted leg (and an unpowered one's folded joints) never reaches the floor: the start
+    # height is the commanded feet's, so walks under those damages are unchanged
+    commanded = standing_pose()
+    for damage in (Damage.of('lifted', [1, 4]), Damage.of('unpowered_femur', [2])):
+        slots, values = damage.held_slots()
+        assert start_height(commanded, slots, values) == body_height_from_joints(commanded)
+    assert start_key([Damage.of('lifted', [1])]) == {}
+    assert start_key([Damage(), Damage.of('locked', [5])]) == {'held_start': HELD_START_VERSION}

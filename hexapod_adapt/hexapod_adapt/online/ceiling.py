@@ -40,6 +40,7 @@ from hexapod_adapt.mapping.simulation import (
 from hexapod_sim import evaluate_gaits, EvaluationResult
 from hexapod_sim.damage import as_damage, Damage, LegDamage
 from hexapod_sim.evaluation import EVALUATION_VERSION
+from hexapod_sim.simulator import start_key
 from hexapod_util.files import atomic_write_bytes
 from hexapod_util.npz import (
     float_array,
@@ -191,6 +192,7 @@ def ceiling_key(
     if not damage.thesis:
         # an unpowered leg's dead joints follow (keys of the other kinds are as before)
         key['damage'] = [[d.leg, d.kind, d.strength, *d.joints] for d in damage.legs]
+        key.update(start_key([damage]))  # a locked leg's start (cases made before it: stale)
     if partial:
         key['top_fraction'] = TOP_FRACTION
     return key

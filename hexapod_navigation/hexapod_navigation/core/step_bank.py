@@ -39,6 +39,7 @@ from hexapod_navigation.core.repertoire import PACKAGE, Repertoire
 from hexapod_navigation.core.tripod import tripod_cycles, tripod_gaits
 from hexapod_sim.damage import Damage, LegDamage
 from hexapod_sim.evaluation import evaluate_displacements, EVALUATION_VERSION
+from hexapod_sim.simulator import start_key
 from hexapod_util.files import atomic_write_bytes
 from hexapod_util.npz import float_array, json_array, read_npz, UnreadableFile
 from hexapod_util.processes import map_in_workers
@@ -162,6 +163,7 @@ def bank_key(repertoire: Repertoire, engine: str, damages: Sequence[Damage]) -> 
         'collisions_fatal': False,
         'evaluation_version': EVALUATION_VERSION,
         'damages': _damage_rows(damages),
+        **start_key(damages),  # a locked leg's start (a bank made before it: stale)
         'tripod_sha256': hashlib.sha256(tripod.encode()).hexdigest(),
     }
 
