@@ -173,9 +173,12 @@ class Damage:
         Every one of ``legs`` damaged the same way: a kind of :data:`EXPERIMENT_KINDS`.
 
         ``unpowered_<joint>`` is that joint's servo dead; the amount of ``weak`` and
-        ``shortened`` is their default unless ``strength`` is given. ``A+B`` is two kinds at
-        once: two legs, the lower-numbered one A, the other B.
+        ``shortened`` is their default unless ``strength`` is given, or the kind names it
+        (``shortened:0.75``: a tibia cut to three quarters). ``A+B`` is two kinds at once: two
+        legs, the lower-numbered one A, the other B.
         """
+        if ':' in kind and '+' not in kind:
+            kind, strength = split_amount(kind)
         if '+' in kind:
             kinds, legs_t = kind.split('+'), validate_failed_legs(legs)
             if len(kinds) != len(legs_t) or len(kinds) != MAX_FAILED_LEGS:
@@ -277,14 +280,37 @@ EXPERIMENT_KINDS = (
 )
 
 
+def split_amount(kind: str) -> tuple[str, float | None]:
+    """
+    Split ``weak:0.5`` or ``shortened:0.75`` into the kind and its amount (None: none given).
+
+    ValueError says what is wrong: an amount on a kind that has none, or one that is no number.
+    """
+    name, sep, amount = kind.partition(':')
+    if not sep:
+        return kind, None
+    if name not in ('weak', 'shortened'):
+        raise ValueError(f'damage kind {kind!r}: only weak and shortened legs take an amount')
+    try:
+        return name, float(amount)
+    except ValueError:
+        raise ValueError(f'damage kind {kind!r}: the amount after ":" must be a number') from None
+
+
 def check_experiment_kind(kind: str) -> str:
     """Return ``kind`` when :meth:`Damage.of` takes it, else raise ValueError saying what does."""
     parts = kind.split('+')
-    if len(parts) > MAX_FAILED_LEGS or any(part not in EXPERIMENT_KINDS for part in parts):
+    if len(parts) > MAX_FAILED_LEGS or any(
+        split_amount(part)[0] not in EXPERIMENT_KINDS for part in parts
+    ):
         raise ValueError(
-            f'damage kind {kind!r} is none of {", ".join(EXPERIMENT_KINDS)}, nor two of them'
-            ' joined by "+" (two legs, two kinds)'
+            f'damage kind {kind!r} is none of {", ".join(EXPERIMENT_KINDS)} (weak and shortened'
+            ' with an amount as weak:0.5), nor two of them joined by "+" (two legs, two kinds)'
         )
+    for part in parts:  # the amount within its range
+        name, amount = split_amount(part)
+        if amount is not None:
+            Damage.of(name, [1], amount)
     return kind
 
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 from hexapod_gait import build_joint_table, preset
 from hexapod_sim import create_simulator, ENGINES, evaluate_gait, SimConfig
 from hexapod_sim.damage import (
+    check_experiment_kind,
     Damage,
     damage_from_lists,
     default_amount,
@@ -143,6 +144,10 @@ def test_prepared_rows_hold_the_held_legs():
         (lambda: LegDamage(1, 'locked', joints=('femur',)), 'only an unpowered leg'),
         (lambda: LegDamage(1, 'shortened', 0.05), 'fraction in [0.2, 0.9]'),
         (lambda: parse_damage('1:unpowered:hip'), "got ['hip']"),
+        (lambda: check_experiment_kind('lifted:0.5'), 'only weak and shortened legs take'),
+        (lambda: check_experiment_kind('shortened:half'), 'must be a number'),
+        (lambda: check_experiment_kind('locked+shortened:0.1'), 'fraction in [0.2, 0.9]'),
+        (lambda: Damage.of('weak:2', [1]), 'strength in [0.05, 0.95]'),
         (lambda: damage_from_lists([1], ['unpowered'], [], ['femur', 'tibia']), '2 joints for 1'),
     ],
 )
@@ -206,6 +211,15 @@ def test_two_kinds_at_once_damage_the_lower_numbered_leg_with_the_first():
     assert damage.legs[0].joints == ('tibia',)
     assert damage.legs[1].strength == default_amount('shortened')
     assert damage == parse_damage(f'2:unpowered:tibia,5:shortened:{default_amount("shortened")}')
+
+
+def test_an_experiment_kind_may_name_its_amount_as_a_damage_item_does():
+    # a tibia cut to a length the diagnosis bank lacks (it holds half and none: issue 67)
+    assert check_experiment_kind('shortened:0.25') == 'shortened:0.25'
+    assert Damage.of('shortened:0.25', [4, 1]) == parse_damage('1:shortened:0.25,4:shortened:0.25')
+    two = Damage.of('locked+weak:0.5', [2, 5])
+    assert two == parse_damage('2:locked,5:weak:0.5')
+    assert Damage.of('weak', [3]) == Damage.of(f'weak:{default_amount("weak")}', [3])
 
 
 def test_a_locked_leg_below_the_commanded_feet_starts_on_the_floor_not_in_it(sim):

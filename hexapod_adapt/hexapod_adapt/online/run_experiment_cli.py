@@ -160,8 +160,9 @@ def _run_options(ap: argparse.ArgumentParser) -> None:
         default='lifted',
         help="what each scenario's failed legs suffer: the thesis's lifted legs (default), a dead"
         ' coxa, femur or tibia servo (unpowered_*: the joint free, the leg folded by the live'
-        ' ones), locked, weak, a lost or a shortened tibia (hexapod_sim.damage); two kinds at'
-        ' once as A+B, for two-leg scenarios (S2-S4): ' + ', '.join(EXPERIMENT_KINDS),
+        ' ones), locked, weak, a lost or a shortened tibia (hexapod_sim.damage), weak and'
+        ' shortened with an amount as shortened:0.25; two kinds at once as A+B, for two-leg'
+        ' scenarios (S2-S4): ' + ', '.join(EXPERIMENT_KINDS),
     )
     ap.add_argument(
         '--trial-engine',
