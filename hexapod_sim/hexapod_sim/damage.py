@@ -299,18 +299,15 @@ def split_amount(kind: str) -> tuple[str, float | None]:
 
 def check_experiment_kind(kind: str) -> str:
     """Return ``kind`` when :meth:`Damage.of` takes it, else raise ValueError saying what does."""
-    parts = kind.split('+')
-    if len(parts) > MAX_FAILED_LEGS or any(
-        split_amount(part)[0] not in EXPERIMENT_KINDS for part in parts
-    ):
+    parts = [split_amount(part) for part in kind.split('+')]
+    if len(parts) > MAX_FAILED_LEGS or any(name not in EXPERIMENT_KINDS for name, _ in parts):
         raise ValueError(
             f'damage kind {kind!r} is none of {", ".join(EXPERIMENT_KINDS)} (weak and shortened'
             ' with an amount as weak:0.5), nor two of them joined by "+" (two legs, two kinds)'
         )
-    for part in parts:  # the amount within its range
-        name, amount = split_amount(part)
+    for name, amount in parts:  # the amount within its range
         if amount is not None:
-            Damage.of(name, [1], amount)
+            LegDamage(1, name, amount)
     return kind
 
 
