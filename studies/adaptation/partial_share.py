@@ -44,7 +44,7 @@ def main() -> int:
     ap.add_argument(
         '--check',
         action='store_true',
-        help=f'exit 1 if a fastest damaged gait lies past the intact-fastest {TOP_FRACTION:.0%}',
+        help=f'exit 1 if a fastest damaged gait lies past the intact-fastest {TOP_FRACTION:.0%}%',
     )
     args = ap.parse_args()
     archive = load_archive(args.archive or shipped_map(DEFAULT_MAP))

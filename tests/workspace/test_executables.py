@@ -82,3 +82,24 @@ def test_node_executables_answer_help_with_their_parameters(pkg, exe, module):
     assert result.stdout.startswith(f'usage: {exe}')
     for spec in specs:
         assert f'  {spec.name} (' in result.stdout and spec.description[:30] in result.stdout
+
+
+CLI_MODULES = sorted(
+    '.'.join(path.relative_to(WS / pkg).with_suffix('').parts)
+    for pkg in PACKAGES
+    for path in (WS / pkg / pkg).rglob('*_cli.py')
+)
+
+
+def test_every_package_has_command_line_tools_to_check():
+    assert 'hexapod_adapt.online.ceilings_cli' in CLI_MODULES and len(CLI_MODULES) >= 15
+
+
+@pytest.mark.parametrize('module', CLI_MODULES)
+def test_every_command_line_tool_answers_help(module, monkeypatch, capsys):
+    # argparse formats each option's help with %: a bare % in a help text crashes --help
+    monkeypatch.setattr('sys.argv', [module.rsplit('.', 1)[1], '--help'])
+    with pytest.raises(SystemExit) as stop:
+        importlib.import_module(module).main()
+    assert stop.value.code == 0
+    assert capsys.readouterr().out.startswith('usage: ')

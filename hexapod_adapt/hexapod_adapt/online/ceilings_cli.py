@@ -83,7 +83,7 @@ def build_parser() -> argparse.ArgumentParser:
         choices=EXPERIMENT_KINDS,
         default=[],
         metavar='KIND',
-        help=f'kinds whose cases not cached yet walk only the intact-fastest {TOP_FRACTION:.0%}'
+        help=f'kinds whose cases not cached yet walk only the intact-fastest {TOP_FRACTION:.0%}%'
         ' of the map (a partial ceiling: the rest estimated)',
     )
     ap.add_argument(
