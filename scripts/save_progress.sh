@@ -59,6 +59,8 @@ elif [ "$(cd "$repo" && map_finished "$maps/default_map.npz")" = yes ]; then
   mkdir -p "$keep"
   copy_atomic "$maps/default_map.npz" "$keep/default_map.npz"
   copy_atomic "$maps/default_map.npz.log.jsonl" "$keep/default_map.npz.log.jsonl"
+  # the written map supersedes the checkpoint it was resumed from: nothing resumes a finished run
+  rm -f "$keep/default_map.npz.ckpt.npz"
   echo "saved the finished map and its log to $keep"
 elif [ -f "$ckpt" ]; then
   pid="$(cat "$pidfile" 2>/dev/null || true)"

@@ -161,10 +161,13 @@ def test_a_written_map_is_kept_to_ship_with_its_ceilings(tmp_path):
     _made_by(archive, emitters)
     archive.save(maps / 'default_map.npz')
     (maps / 'default_map.npz.log.jsonl').write_text('{"evaluations": 1}\n')
+    keep.mkdir()
+    (keep / 'default_map.npz.ckpt.npz').write_bytes(b'the checkpoint it resumed from')
     r = _save(tree, keep)
     assert r.returncode == 0 and 'saved the finished map' in r.stdout, r.stdout + r.stderr
     assert load_archive(keep / 'default_map.npz').metadata['evaluations'] == target
     assert (keep / 'default_map.npz.log.jsonl').read_text() == '{"evaluations": 1}\n'
+    assert not (keep / 'default_map.npz.ckpt.npz').exists()  # superseded by the map
 
 
 @pytest.mark.slow
