@@ -20,6 +20,7 @@ after 3, 6, 10, 16 and 24 trials (median and 10th percentile over the cases). Ke
 
 from __future__ import annotations
 
+import argparse
 from dataclasses import replace
 import sys
 
@@ -102,7 +103,9 @@ def line(label: str, curves: list[list[float]]) -> str:
     return f'{label:42s} median {med} | 10th pct {p10}'
 
 
-def main() -> int:
+def main(argv: list[str] | None = None) -> int:
+    # no options: --help says what the study does instead of running it
+    argparse.ArgumentParser(description=__doc__.strip().splitlines()[0]).parse_args(argv)
     archive = load_archive(MAP)
     niches = archive.elite_indices()
     desc, prior = archive.descriptors[niches], archive.speeds()[niches]

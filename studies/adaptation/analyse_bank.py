@@ -17,6 +17,7 @@ most likely hypothesis's highest mean).
 
 from __future__ import annotations
 
+import argparse
 from dataclasses import replace
 import sys
 
@@ -68,7 +69,9 @@ def run(
     return opt.best().measured / ceiling.best_speed, len(opt.trials)
 
 
-def main() -> int:
+def main(argv: list[str] | None = None) -> int:
+    # no options: --help says what the study does instead of running it
+    argparse.ArgumentParser(description=__doc__.strip().splitlines()[0]).parse_args(argv)
     archive = load_archive(MAP)
     bank = load_bank(archive, 'mujoco', ['studies/out/bank'])
     floors = control_speeds(BANK_DAMAGES + TUNING_DAMAGES, 'mujoco', archive.trial_duration)

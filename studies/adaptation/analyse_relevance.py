@@ -17,6 +17,7 @@ studies/adaptation/results/analyses.txt).
 
 from __future__ import annotations
 
+import argparse
 import itertools
 import sys
 
@@ -68,8 +69,13 @@ def run(kernels, prior, truth, floor, rule: bool, budget: int = 24):
     return (max(ys) / truth.max(), len(ys)) if rule else best
 
 
-def main() -> int:
-    rho = float(sys.argv[1]) if len(sys.argv) > 1 else PROFILES['default'].length_scale
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
+    ap.add_argument(
+        'rho', type=float, nargs='?', default=PROFILES['default'].length_scale,
+        help="the kernels' length scale (default: the default profile's)",
+    )  # fmt: skip
+    rho = ap.parse_args(argv).rho
     archive = load_archive(MAP)
     niches = archive.elite_indices()
     desc, prior = archive.descriptors[niches], archive.speeds()[niches]

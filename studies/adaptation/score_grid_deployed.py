@@ -24,6 +24,7 @@ than 0.02.
 
 from __future__ import annotations
 
+import argparse
 import concurrent.futures as cf
 from dataclasses import asdict, replace
 import functools
@@ -77,7 +78,9 @@ def evaluate(
     }
 
 
-def main() -> int:
+def main(argv: list[str] | None = None) -> int:
+    # no options: --help says what the study does instead of running it
+    argparse.ArgumentParser(description=__doc__.strip().splitlines()[0]).parse_args(argv)
     """Score the grid on the deployed-kind tuning set; print the rule's choice."""
     cases = []
     for path in MAPS:

@@ -14,6 +14,8 @@ minus A's speed of B's best gait. Each cell prints the medians over the leg sets
 
 from __future__ import annotations
 
+import argparse
+
 from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
 from hexapod_adapt.mapping.simulation import engine_of_map
@@ -24,7 +26,9 @@ import numpy as np
 from scipy.stats import spearmanr
 
 
-def main() -> int:
+def main(argv: list[str] | None = None) -> int:
+    # no options: --help says what the study does instead of running it
+    argparse.ArgumentParser(description=__doc__.strip().splitlines()[0]).parse_args(argv)
     archive = load_archive(shipped_map(DEFAULT_MAP))
     leg_sets = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
     damages = [Damage.of(kind, legs) for kind in EXPERIMENT_KINDS for legs in leg_sets]

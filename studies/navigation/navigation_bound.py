@@ -26,6 +26,7 @@ Three measurements, none of which chooses a setting:
 
 from __future__ import annotations
 
+import argparse
 from dataclasses import replace
 import math
 import sys
@@ -196,7 +197,9 @@ def specialists(out) -> None:
     )
 
 
-def main() -> int:
+def main(argv: list[str] | None = None) -> int:
+    # no options: --help says what the study does instead of running it
+    argparse.ArgumentParser(description=__doc__.strip().splitlines()[0]).parse_args(argv)
     out = sys.stdout
     bound(out)
     known(out)

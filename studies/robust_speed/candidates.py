@@ -9,6 +9,8 @@ longest run first: robust_study.sh starts the maps from it, resume_long_runs.sh 
 
 from __future__ import annotations
 
+import argparse
+
 #: name -> (variants per gait, statistic); 0 variants: the nominal map (one walk per gait).
 CANDIDATES: dict[str, tuple[int, str]] = {
     'nominal': (0, 'min'),
@@ -21,7 +23,9 @@ CANDIDATES: dict[str, tuple[int, str]] = {
 }
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
+    # no options: --help says what the study does instead of running it
+    argparse.ArgumentParser(description=__doc__.strip().splitlines()[0]).parse_args(argv)
     for name, (variants, statistic) in CANDIDATES.items():
         print(f'{name}:{variants}:{statistic}')
 

@@ -14,6 +14,7 @@ and settled trials (1 s, then 2, 3 or 5 s timed).
 
 from __future__ import annotations
 
+import argparse
 from dataclasses import replace
 import sys
 
@@ -31,7 +32,9 @@ ENGINE = 'pybullet'
 TRIALS = ((0.0, 5.0), (1.0, 2.0), (1.0, 3.0), (1.0, 5.0))  # (settle, timed) [s]
 
 
-def main() -> int:
+def main(argv: list[str] | None = None) -> int:
+    # no options: --help says what the study does instead of running it
+    argparse.ArgumentParser(description=__doc__.strip().splitlines()[0]).parse_args(argv)
     archive = load_archive(MAP)
     damages = TUNING_DAMAGES[::3]
     controls = control_speeds(damages, ENGINE, archive.trial_duration)
