@@ -205,8 +205,12 @@ def _walking_station(radio, imu, **config) -> BaseStation:
     station.start()
     station.arm(True)
     gait = preset('tripod')
-    op = station.upload(gait)
-    assert station.wait(op, 20) and op.ok, op.message
+
+    def acknowledged():  # CI once saw an emulator just started leave all 7 attempts unanswered
+        op = station.upload(gait)
+        return station.wait(op, 20) and op.ok and op
+
+    op = _until(acknowledged, 60, 'an acknowledged upload')
     station.uploaded(op, gait)
     time.sleep(1.0)
     return station

@@ -219,9 +219,12 @@ class StreamingPriors:
         """Wait for the top of the re-score under ``damage``; return the run's PriorStart."""
         stream = self._stream_for(archive, damage)
         if not stream.wait_first(PRIOR_FIRST_TIMEOUT):
-            why = stream.error or (
-                f'the top of the map was not re-scored in {PRIOR_FIRST_TIMEOUT:.0f} s'
-            )
+            if stream.error:
+                why = stream.error
+            elif stream.stopped:  # the node shutting down, before the timeout
+                why = 'the re-score was stopped before the top of the map was scored'
+            else:
+                why = f'the top of the map was not re-scored in {PRIOR_FIRST_TIMEOUT:.0f} s'
             return PriorStart(None, f'the map as it is ({why}; damage from {source})')
         snap = stream.take()  # one snapshot: the speeds and what is said of them agree
         what = f'the map re-scored on {stream.engine} under {damage.label}'

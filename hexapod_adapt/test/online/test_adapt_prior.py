@@ -220,6 +220,22 @@ def test_a_streaming_prior_scores_the_best_gaits_first_and_caches_the_whole(tiny
     assert again.cached and again.wait_first(0)  # the whole was cached
 
 
+@pytest.mark.slow
+def test_a_run_whose_re_score_is_stopped_says_so_and_not_that_it_timed_out(tiny_map, tmp_path):
+    """A log on CI once blamed a 600 s timeout on a re-score that the node's shutdown stopped."""
+    import threading
+
+    from hexapod_adapt.online.streaming_prior import StreamingPriors
+
+    priors = StreamingPriors(str(tmp_path), [], workers=1, log=lambda _line: None)
+    # stopped while the workers still start (they import the engine: seconds)
+    threading.Timer(0.2, priors.close).start()
+    start = priors.start(tiny_map, Damage.of('unpowered_femur', [2]), 'the request')
+    assert start.speeds is None
+    assert 'stopped before the top of the map was scored' in start.note, start.note
+    assert 'not re-scored in' not in start.note
+
+
 def test_a_partial_prior_estimates_the_gaits_not_yet_scored_from_those_scored():
     from hexapod_adapt.online.ceiling import estimate_unwalked
 
