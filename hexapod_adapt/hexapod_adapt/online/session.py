@@ -510,6 +510,14 @@ class AdaptationSession:
             self._note_named()
         return trial
 
+    def recorded_trials(self) -> list[tuple[int, TrialRecord]]:
+        """Return (niche, record) of each trial so far that recorded its walk (not tipped)."""
+        return [
+            (int(self.niches[index]), outcome.record)
+            for index, outcome in self._told
+            if outcome.record is not None and not outcome.tipped
+        ]
+
     def end(self, why: str) -> None:
         """Stop the run before its rule does (a trial aborted, a cancel): ``why`` says so."""
         if not self._ended:

@@ -33,7 +33,7 @@ from hexapod_adapt.online.ceiling import (
     Rescoring,
     store_ceiling,
 )
-from hexapod_adapt.online.diagnosis import HypothesisWalks
+from hexapod_adapt.online.diagnosis import GapCalibration, HypothesisWalks
 from hexapod_adapt.online.session import diagnosis_plan, DiagnosisPlan, PriorStart
 from hexapod_sim.damage import Damage
 from hexapod_util.processes import die_with_parent
@@ -211,8 +211,11 @@ class StreamingPriors:
         self.wider_damages = None if wider is None else tuple(wider)  # once none of those fits
         self.log, self.progress_period = log, progress_period
         self.stream: StreamingPrior | None = None  # the last run's (may still stream)
+        #: the robot's gap to the map's engine, taken out of every blind run's hypotheses
+        self.calibration: GapCalibration | None = None
         self._walks: HypothesisWalks | None = None  # the hypotheses' walks, kept across runs
         self._bank: DamageBank | None = None
+        self._banked: Archive | None = None  # the map _bank and _wider are of
         self._wider: DamageBank | None = None
 
     def start(self, archive: Archive, damage: Damage, source: str) -> PriorStart:
@@ -248,16 +251,30 @@ class StreamingPriors:
 
         The bank is the map under each of ``bank_damages`` (the lifted legs of S1-S4 unless told
         otherwise), and ``wider_damages``, read from ``read_dirs`` and ``cache_dir``; the
-        hypotheses' walks are kept across runs.
+        hypotheses' walks are kept across runs, and :attr:`calibration` (when set) takes the
+        robot's gap to the engine out of them.
         """
-        if self._walks is None or self._walks.archive is not archive:
+        if self._banked is not archive:
             engine = engine_of_map(archive)
             dirs = [*self.read_dirs] + ([self.cache_dir] if self.cache_dir else [])
             self._bank = load_bank(archive, engine, dirs, self.bank_damages)
             if self.wider_damages is not None:
                 self._wider = load_bank(archive, engine, dirs, self.wider_damages)
-            self._walks = HypothesisWalks(archive, engine)
-        return diagnosis_plan(archive, self._bank, tip_guard, walks=self._walks, wider=self._wider)
+            self._banked = archive
+        return diagnosis_plan(
+            archive,
+            self._bank,
+            tip_guard,
+            walks=self.walks(archive),
+            wider=self._wider,
+            calibration=self.calibration,
+        )
+
+    def walks(self, archive: Archive) -> HypothesisWalks:
+        """Return the walks the diagnosis of runs on ``archive`` compares trials with."""
+        if self._walks is None or self._walks.archive is not archive:
+            self._walks = HypothesisWalks(archive, engine_of_map(archive))
+        return self._walks
 
     def close(self) -> None:
         """Stop a re-score still streaming."""
