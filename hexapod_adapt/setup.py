@@ -42,6 +42,7 @@ setup(
             'adapt_client = hexapod_adapt.ros.adapt_client_cli:main',
             'recover_recording = hexapod_adapt.ros.recover_recording_cli:main',
             'report_distance = hexapod_adapt.ros.report_distance_cli:main',
+            'adapt_service = hexapod_adapt.ros.adapt_service_cli:main',
         ]
     },
 )

@@ -48,7 +48,7 @@ from rclpy.qos import (
     QoSProfile,
     ReliabilityPolicy,
 )
-from rclpy.signals import uninstall_signal_handlers
+from rclpy.signals import SignalHandlerOptions, uninstall_signal_handlers
 
 #: Latched state: the last message is kept for late joiners (gait parameters, the active
 #: trajectory, reset stamps, status topics on the publishing side).
@@ -452,3 +452,32 @@ def spin_until_done(
         elif time.monotonic() - gone_since > SERVER_GONE_S:
             return Waited.SERVER_GONE
     return Waited.DONE
+
+
+def call_service_once(
+    prog: str, srv_type: Any, name: str, request: Any, timeout: float, args: list[str], hint: str
+) -> Any | None:
+    """
+    Call the service ``name`` once from a command-line tool; return its answer.
+
+    None, with the reason printed as ``prog: ...`` on stderr, when the service is not there
+    within ``timeout`` s (``hint`` says what to check) or does not answer in it. ``args``: the
+    command's ROS arguments.
+    """
+    deadline = time.monotonic() + timeout
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    node = rclpy.create_node(prog)
+    try:
+        client = node.create_client(srv_type, name)
+        if not client.wait_for_service(timeout_sec=timeout):
+            print(f'{prog}: {client.srv_name} not available within {timeout:g} s ({hint})',
+                  file=sys.stderr)  # fmt: skip
+            return None
+        future = client.call_async(request)
+        if spin_until_done(node, future, deadline, client.service_is_ready) is not Waited.DONE:
+            print(f'{prog}: no answer within {timeout:g} s', file=sys.stderr)
+            return None
+        return future.result()
+    finally:
+        node.destroy_node()
+        try_shutdown()

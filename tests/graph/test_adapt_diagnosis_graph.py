@@ -10,11 +10,14 @@ on ``adapt/diagnosis`` and in the run's recording.
 
 from __future__ import annotations
 
+import subprocess
+
 from hexapod_msgs.action import Adapt
 from hexapod_msgs.msg import DamageDiagnosis
 from hexapod_sim.damage import Damage
 from hexapod_util.recording import read_messages
 from hexapod_util.ros_glue import EVENTS
+import numpy as np
 import pytest
 
 from conftest import fast_sim_graph, NodeProcess, wait_for
@@ -81,3 +84,58 @@ def test_on_the_robot_path_a_blind_run_diagnoses_from_the_imu_and_the_trial_odom
         assert top == f'leg {leg} lifted' and said[-1].named == top, (leg, said[-1])
     finally:
         robot.stop()
+
+
+def test_a_short_intact_run_calibrates_the_gap_and_later_blind_runs_carry_it(
+    ros, launch, tmp_path
+):
+    """
+    adapt_node/calibrate: the last run's trials, walked intact, against the map's engine.
+
+    The trials walk on PyBullet (sim_node's default engine), the hypotheses on MuJoCo (the
+    default map's): the file holds that gap. A damaged file is refused and the last good kept.
+    """
+    from hexapod_adapt.mapping.archive import load_archive
+    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
+    from hexapod_adapt.online.calibration import gap_key, load_gap
+    from rcl_interfaces.msg import ParameterType, ParameterValue
+
+    from conftest import executable, set_adapt_parameter
+
+    gap = tmp_path / 'gap.npz'
+    launch('hexapod_sim', 'sim_node', params={'real_time_factor': 0.0})
+    launch('hexapod_gait', 'gait_node', params={'initial_preset': ''})
+    node = launch(
+        'hexapod_adapt', 'adapt_node', params={'record_dir': '', 'gap_calibration': str(gap)}
+    )
+
+    def calibrate() -> subprocess.CompletedProcess:  # as an operator does, with the command
+        return subprocess.run(
+            [str(executable('hexapod_adapt', 'adapt_service')), 'calibrate'],
+            capture_output=True, text=True, timeout=120, stdin=subprocess.DEVNULL,
+        )  # fmt: skip
+
+    refused = calibrate()
+    assert refused.returncode == 1 and 'no run on this map yet' in refused.stderr, refused
+    intact = ros.send_adapt(Adapt.Goal(max_trials=3, alpha=1.0), timeout=60)
+    wait_for(intact.done, 300, 'the intact run')
+    assert intact.result().trials == 3, intact.result().message
+    made = calibrate()
+    assert made.returncode == 0 and 'calibrated on 3 gaits' in made.stdout, made
+    calibration, gaits = load_gap(gap, gap_key(load_archive(shipped_map(DEFAULT_MAP)), 'mujoco'))
+    assert gaits == 3 and np.isfinite(calibration.offset).all()
+    damaged = tmp_path / 'damaged.npz'
+    damaged.write_bytes(b'PK\x03\x04 not a calibration')
+    text = ParameterValue(type=ParameterType.PARAMETER_STRING, string_value=str(damaged))
+    answer = set_adapt_parameter(ros, 'gap_calibration', text)
+    assert not answer.successful and 'damaged.npz' in answer.reason, answer.reason
+    blind = ros.send_adapt(Adapt.Goal(blind=True, max_trials=2), timeout=60)
+
+    def told():
+        return [n for _, n in blind.notes_after(0.0) if 'gap calibrated on 3 intact gaits' in n]
+
+    wait_for(lambda: told() or blind.done(), 300, 'the blind run to say it is calibrated')
+    assert told() and str(gap) in told()[0], blind.notes_after(0.0)
+    blind.cancel()
+    wait_for(blind.done, 300, 'the cancelled blind run to end')
+    assert node.alive()

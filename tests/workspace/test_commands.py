@@ -32,6 +32,7 @@ PACKAGE = {
     'plot_map': 'hexapod_adapt',
     'recover_recording': 'hexapod_adapt',
     'report_distance': 'hexapod_adapt',
+    'adapt_service': 'hexapod_adapt',
     'robot_emulator': 'hexapod_bridge',
     'firmware_fuzz': 'hexapod_bridge',
     'leg_check': 'hexapod_bridge',
@@ -55,6 +56,10 @@ def _main(command: str) -> Callable[[list[str]], int]:
         from hexapod_adapt.ros.report_distance_cli import build_parser
 
         return lambda argv: build_parser().parse_args(['0.5', *argv])
+    elif command == 'adapt_service':
+        from hexapod_adapt.ros.adapt_service_cli import build_parser
+
+        return lambda argv: build_parser().parse_args(['forget', *argv])
     elif command == 'run_experiment':
         from hexapod_adapt.online.run_experiment_cli import main
     elif command == 'run_navigation':
@@ -109,6 +114,7 @@ BOUNDS = [
     Bound('generate_map', '--sigma0', 1e-4, 1.0, integer=False),
     Bound('generate_map', '--lanes', 1, 64),
     Bound('report_distance', '--timeout', 0.0, 3600.0, False, low_open=True),
+    Bound('adapt_service', '--timeout', 0.0, 3600.0, False, low_open=True),
     Bound('adapt_client', '--max-trials', 1, 1000, zero_means_default=True),
     Bound('adapt_client', '--trial-duration', 1.0, 120.0, False, zero_means_default=True),
     Bound('adapt_client', '--alpha', 0.05, 1.0, False, zero_means_default=True),

@@ -202,6 +202,13 @@ SETTINGS = (
         read_only=True,
     ),
     Setting(
+        'gap_calibration',
+        '',
+        "The robot's gap to the map's engine, taken out of blind runs' hypotheses: a file that"
+        " ~/calibrate writes after a short run on the intact robot ('' = none); a file that is"
+        " not a calibration of the map's engine is refused, the last good one kept",
+    ),
+    Setting(
         'stand_still',
         1.0,
         'Robot modes: seconds the robot stands still after an upload, before the trial: the '

@@ -10,7 +10,7 @@ operator's tape measure (``manual``):
 :mod:`hexapod_adapt.online.trials`. A known damage (the request's, ``sim/damage`` or the bridge's
 ``servo_failures``) starts M-BOA from the map re-scored under it (``blind`` skips it). Publishes
 ``adapt/trials`` (also each goal's feedback) and records each run to MCAP in ``record_dir``.
-Services: ``~/report_distance``, ``~/forget``.
+Services: ``~/report_distance``, ``~/forget``, ``~/calibrate`` (:mod:`.gap_calibration`).
 """
 
 from __future__ import annotations
@@ -40,6 +40,7 @@ from hexapod_adapt.online.streaming_prior import StreamingPriors
 from hexapod_adapt.online.trials import GaitOf, MODES, OdomLog, TrialTiming, Waiter
 from hexapod_adapt.ros.adapt_action import AdaptServer
 from hexapod_adapt.ros.damage_reports import DamageReports
+from hexapod_adapt.ros.gap_calibration import GapCalibrationService
 from hexapod_adapt.ros.graph_port import (
     duplicate_peers,
     GraphPort,
@@ -121,6 +122,11 @@ class AdaptNode(Node):
         work = ReentrantCallbackGroup()
         self.action = AdaptServer(self, self._adapt, work)
         self.damage = DamageReports(self, self.mode, bridge_name, self.action.busy.locked, work)
+        self.session: AdaptationSession | None = None  # the last run's
+        self.gap = GapCalibrationService(
+            self, self.priors, lambda: self.slot.archive, lambda: self.session,
+            self.action.busy, work,
+        )  # fmt: skip
         self.create_service(
             ReportDistance, '~/report_distance', self._on_report, callback_group=work
         )
@@ -140,15 +146,15 @@ class AdaptNode(Node):
 
     # -- archive and parameters -------------------------------------------------------------
     def _on_set_parameters(self, params) -> SetParametersResult:
+        problem = ''  # a refused archive or calibration: the loaded one stays
         for param in (p for p in params if p.name == 'archive'):
             busy = self.action.busy.locked() and self.slot.usable
             problem = 'an adaptation is running' if busy else self.slot.load(param.value)
-            if problem:  # the old archive stays
-                return SetParametersResult(successful=False, reason=problem)
+        problem = problem or self.gap.on_parameters(params)
         # the run defaults are checked by the same rules as a request's fields
         values = {name: self._param(name) for name in RUN_SETTINGS}
         values.update({param.name: param.value for param in params if param.name in RUN_SETTINGS})
-        problem = settings_problem(values)
+        problem = problem or settings_problem(values)
         return SetParametersResult(successful=not problem, reason=problem)
 
     # -- services ---------------------------------------------------------------------------
@@ -227,8 +233,8 @@ class AdaptNode(Node):
         except TrialAborted as exc:
             response.success, response.message = False, f'run not started: {exc}'
             return
-        if self._param('record_dir'):
-            path = self.recorded.start(self._param('record_dir'), RECORDED_TYPES, self._warn)
+        if record := self._param('record_dir'):
+            path = self.recorded.start(record, RECORDED_TYPES, self.get_logger().warning)
             response.mcap_path = str(path.resolve()) if path else ''
         gaits, guard = say.archive_gaits(archive), self._guard()
         self.trials = say.trial_procedure(
@@ -240,10 +246,12 @@ class AdaptNode(Node):
         # damage nobody told is named from the trials (in sim mode an auto run asks sim_node;
         # manual trials record nothing)
         diagnose = self._param('diagnose') and {'sim': not run.auto, 'robot': True}.get(self.mode)
+        calibrated = self.gap.for_run(archive)  # what a diagnosis takes out of its hypotheses
         start = informed_start(archive, damage, source, self.priors, guard, diagnose=diagnose)
         response.prior = start.note
-        self._tell(handle, say.start_note(start.note, check), warn=False)
-        session = AdaptationSession(archive, run.config, start)
+        calibrated = f'; {calibrated}' if calibrated and start.diagnosis is not None else ''
+        self._tell(handle, say.start_note(start.note, check) + calibrated, warn=False)
+        session = self.session = AdaptationSession(archive, run.config, start)
         try:
             result = run_session(
                 session,
@@ -284,9 +292,6 @@ class AdaptNode(Node):
 
     def _guard(self) -> float:
         return float(self._param('tip_guard'))
-
-    def _warn(self, text: str) -> None:
-        self.get_logger().warning(text)
 
     def _say_vetoes(self, session: AdaptationSession, guard: float) -> None:
         for veto in session.new_vetoes():

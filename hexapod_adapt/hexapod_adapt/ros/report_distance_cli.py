@@ -17,13 +17,11 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
 
+from hexapod_adapt.ros.adapt_service_cli import exit_status, node_options
 from hexapod_msgs.srv import ReportDistance
 from hexapod_util.cli import number, run_command
-from hexapod_util.ros_glue import spin_until_done, try_shutdown, Waited
-import rclpy
-from rclpy.signals import SignalHandlerOptions
+from hexapod_util.ros_glue import call_service_once
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -36,13 +34,7 @@ def build_parser() -> argparse.ArgumentParser:
         type=number(float),
         help='metres walked along the walking direction (0: it did not move; negative: backwards)',
     )
-    ap.add_argument('--node', default='adapt_node', help='name of the adapt node')
-    ap.add_argument(
-        '--timeout',
-        type=number(float, 0, 3600, low_open=True),
-        default=10.0,
-        help='give up after this many seconds, waiting for the node included',
-    )
+    node_options(ap, 10.0)
     return ap
 
 
@@ -53,31 +45,13 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _call(args: argparse.Namespace, ros_args: list[str]) -> int:
-    deadline = time.monotonic() + args.timeout
-    rclpy.init(args=ros_args, signal_handler_options=SignalHandlerOptions.NO)
-    node = rclpy.create_node('report_distance')
-    try:
-        client = node.create_client(ReportDistance, f'{args.node}/report_distance')
-        if not client.wait_for_service(timeout_sec=args.timeout):
-            print(
-                f'report_distance: {client.srv_name} not available within {args.timeout:g} s'
-                ' (is adapt_node running, in manual mode?)',
-                file=sys.stderr,
-            )
-            return 1
-        future = client.call_async(ReportDistance.Request(distance=args.distance))
-        if spin_until_done(node, future, deadline, client.service_is_ready) is not Waited.DONE:
-            print(f'report_distance: no answer within {args.timeout:g} s', file=sys.stderr)
-            return 1
-        answer = future.result()
-        if answer.accepted:
-            print(answer.message)
-            return 0
-        print(f'report_distance: refused: {answer.message}', file=sys.stderr)
-        return 1
-    finally:
-        node.destroy_node()
-        try_shutdown()
+    answer = call_service_once(
+        'report_distance', ReportDistance, f'{args.node}/report_distance',
+        ReportDistance.Request(distance=args.distance), args.timeout, ros_args,
+        'is adapt_node running, in manual mode?',
+    )  # fmt: skip
+    done = None if answer is None else answer.accepted
+    return exit_status('report_distance', done, '' if answer is None else answer.message)
 
 
 if __name__ == '__main__':
