@@ -207,6 +207,24 @@ def trial_substeps(archive: Archive, engine: str) -> int:
     return SimConfig.converged(engine).engine_settings().substeps
 
 
+def trial_walk_key(archive: Archive, engine: str) -> dict[str, Any]:
+    """
+    Return what a walk of ``archive``'s gaits on ``engine`` depends on, besides the gait.
+
+    The engine at :func:`trial_substeps` (its settings), the URDF, the genotype mapping and the
+    map's trial duration: part of the key of every file derived from such walks (ceilings, gap
+    calibrations).
+    """
+    fp = simulation_fingerprint(engine, substeps=trial_substeps(archive, engine))
+    return {
+        'engine': engine,
+        'settings_sha256': fp['simulator']['settings_sha256'],
+        'urdf_sha256': fp['urdf_sha256'],
+        'genotype_mapping': fp['genotype_mapping'],
+        'trial_duration': archive.trial_duration,
+    }
+
+
 def map_physics(archive: Archive, engine: str) -> SimConfig:
     """Return ``engine`` as ``archive``'s gaits are walked on it (:func:`trial_substeps`)."""
     return map_sim_config(engine, trial_substeps(archive, engine))

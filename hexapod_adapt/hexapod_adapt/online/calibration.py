@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Sequence
 
 from hexapod_adapt.mapping.archive import Archive
-from hexapod_adapt.mapping.simulation import simulation_fingerprint, trial_substeps
+from hexapod_adapt.mapping.simulation import trial_walk_key
 from hexapod_adapt.online.diagnosis import (
     calibrate_gap,
     feature_names,
@@ -37,15 +37,7 @@ FORMAT = 1
 
 def gap_key(archive: Archive, engine: str) -> dict:
     """Return what a calibration against ``engine``'s walks of ``archive``'s gaits depends on."""
-    fp = simulation_fingerprint(engine, substeps=trial_substeps(archive, engine))
-    return {
-        'format': FORMAT,
-        'engine': engine,
-        'settings_sha256': fp['simulator']['settings_sha256'],
-        'urdf_sha256': fp['urdf_sha256'],
-        'genotype_mapping': fp['genotype_mapping'],
-        'trial_duration': archive.trial_duration,
-    }
+    return {'format': FORMAT, **trial_walk_key(archive, engine)}
 
 
 def gap_from_trials(

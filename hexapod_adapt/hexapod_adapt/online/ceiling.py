@@ -33,8 +33,8 @@ import zlib
 
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import (
-    simulation_fingerprint,
     trial_substeps,
+    trial_walk_key,
     worker_simulator,
 )
 from hexapod_sim import evaluate_gaits, EvaluationResult
@@ -176,15 +176,10 @@ def ceiling_key(
     """
     damage = as_damage(damage)
     # at the physics steps it is computed at: the map's on its own engine, else converged
-    fp = simulation_fingerprint(engine, substeps=trial_substeps(archive, engine))
     key = {
         'format': FORMAT,
         'map_sha256': map_digest(archive),
-        'engine': engine,
-        'settings_sha256': fp['simulator']['settings_sha256'],
-        'urdf_sha256': fp['urdf_sha256'],
-        'genotype_mapping': fp['genotype_mapping'],
-        'trial_duration': archive.trial_duration,
+        **trial_walk_key(archive, engine),
         'failed_legs': list(damage.failed_legs),
         'collisions_fatal': False,
         'evaluation_version': EVALUATION_VERSION,  # a cache made under other rules is not reused

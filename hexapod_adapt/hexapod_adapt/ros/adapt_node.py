@@ -246,11 +246,11 @@ class AdaptNode(Node):
         # damage nobody told is named from the trials (in sim mode an auto run asks sim_node;
         # manual trials record nothing)
         diagnose = self._param('diagnose') and {'sim': not run.auto, 'robot': True}.get(self.mode)
-        calibrated = self.gap.for_run(archive)  # what a diagnosis takes out of its hypotheses
+        gap = self.gap.for_run(archive)  # what a diagnosis takes out of its hypotheses
         start = informed_start(archive, damage, source, self.priors, guard, diagnose=diagnose)
         response.prior = start.note
-        calibrated = f'; {calibrated}' if calibrated and start.diagnosis is not None else ''
-        self._tell(handle, say.start_note(start.note, check) + calibrated, warn=False)
+        gap = f'; {gap}' if gap and start.diagnosis is not None else ''
+        self._tell(handle, say.start_note(start.note, check) + gap, warn=False)
         session = self.session = AdaptationSession(archive, run.config, start)
         try:
             result = run_session(

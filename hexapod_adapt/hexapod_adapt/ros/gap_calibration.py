@@ -21,7 +21,7 @@ from typing import Callable
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import engine_of_map
 from hexapod_adapt.online.calibration import gap_from_trials, gap_key, load_gap, save_gap
-from hexapod_adapt.online.diagnosis import GapCalibration
+from hexapod_adapt.online.diagnosis import GapCalibration, TrialRecord
 from hexapod_adapt.online.session import AdaptationSession
 from hexapod_adapt.online.streaming_prior import StreamingPriors
 from rclpy.callback_groups import CallbackGroup
@@ -101,19 +101,21 @@ class GapCalibrationService:
             response.message = 'an adaptation is running: calibrate after it'
             return response
         try:
-            response.message = self._refusal()
+            session = self.last_session()
+            trials = session.recorded_trials() if session is not None else []
+            response.message = self._refusal(session, trials)
             if not response.message:
-                self._calibrate(response)
+                self._calibrate(response, trials)
         finally:
             self.busy.release()
         return response
 
-    def _calibrate(self, response: Trigger.Response) -> None:
-        archive, session = self.archive(), self.last_session()
-        trials = session.recorded_trials()
-        walks = self.priors.walks(archive)
+    def _calibrate(
+        self, response: Trigger.Response, trials: list[tuple[int, TrialRecord]]
+    ) -> None:
+        archive = self.archive()
         try:
-            calibration, used = gap_from_trials(walks, trials)
+            calibration, used = gap_from_trials(self.priors.walks(archive), trials)
         except ValueError as exc:
             response.message = f'cannot calibrate from the last run: {exc}'
             return
@@ -133,18 +135,19 @@ class GapCalibrationService:
         )
         self.node.get_logger().info(response.message)
 
-    def _refusal(self) -> str:
-        """Return why ``~/calibrate`` cannot run now ('' when it can)."""
-        session = self.last_session()
+    def _refusal(
+        self, session: AdaptationSession | None, trials: list[tuple[int, TrialRecord]]
+    ) -> str:
+        """Return why ``~/calibrate`` cannot run on ``session``'s ``trials`` ('' if it can)."""
         if self.path is None:
             return "set the parameter gap_calibration to the file to write (it is '')"
         if self.archive() is None:
             return 'no map is loaded'
         if session is None or session.archive is not self.archive():
             return 'no run on this map yet: walk a short run on the intact robot first'
-        if len(session.recorded_trials()) < 2:
+        if len(trials) < 2:
             return (
-                f'the last run recorded {len(session.recorded_trials())} trial(s) that did not tip'
+                f'the last run recorded {len(trials)} trial(s) that did not tip'
                 ' (manual trials record none): a calibration needs two or more'
             )
         return ''
