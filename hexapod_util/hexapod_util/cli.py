@@ -23,6 +23,10 @@ What every console command of the project does the same way (no ROS needed).
   ``sys.unraisablehook``. A signal that lands there would be lost, and the command would run on:
   :func:`run_command` sends such a dropped stop to itself again, so it ends the command as soon
   as the interpreter is back in ordinary code.
+
+  A library can also catch the KeyboardInterrupt a signal raised and run on. A stop that has not
+  ended the command, nor been taken in hand by it (:func:`acknowledge_stop`, for a clean-up that
+  takes a while), within :data:`RESEND_AFTER_S` seconds is sent again.
 """
 
 from __future__ import annotations
@@ -43,8 +47,27 @@ STATUS_INTERRUPTED = 128 + signal.SIGINT
 STATUS_TERMINATED = 128 + signal.SIGTERM
 
 
+#: A stop the command has neither ended on nor acknowledged is sent again after this many seconds.
+RESEND_AFTER_S = 20.0
+
+
 class Terminated(KeyboardInterrupt):
     """SIGTERM: stops a command the way Ctrl-C does."""
+
+
+#: The running command's "the stop is in hand" event (None: no command runs in this process).
+_in_hand: threading.Event | None = None
+
+
+def acknowledge_stop() -> None:
+    """
+    Say that the running command has its stop in hand: it is not sent again.
+
+    For a command that catches KeyboardInterrupt to clean up (a goal cancelled, completed runs
+    written) before it re-raises.
+    """
+    if _in_hand is not None:
+        _in_hand.set()
 
 
 def number(
@@ -227,8 +250,31 @@ def os_error_text(exc: OSError) -> str:
     return str(exc) or type(exc).__name__
 
 
-def _raise_terminated(signum, frame) -> None:
-    raise Terminated()
+def _stop_handler(in_hand: threading.Event, resend_after: float) -> Callable:
+    """
+    Make the handler of SIGINT and SIGTERM: raise the stop, and send it again while not in hand.
+
+    A forked worker inherits the handler but not the resending: in it the stop is only raised.
+    """
+    pid = os.getpid()
+    armed: set[int] = set()
+    lock = threading.Lock()
+
+    def resend(signum: int) -> None:
+        while not in_hand.wait(resend_after):
+            os.kill(pid, signum)
+
+    def handler(signum, frame) -> None:
+        if os.getpid() == pid:
+            with lock:
+                if signum not in armed:
+                    armed.add(signum)
+                    threading.Thread(
+                        target=resend, args=(signum,), name='stop-resend', daemon=True
+                    ).start()
+        raise Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
+
+    return handler
 
 
 def _stop_signal(exc: BaseException | None) -> int | None:
@@ -264,29 +310,41 @@ def _redeliver_dropped_stops(previous: Callable, stopped: threading.Event) -> Ca
     return hook
 
 
-def run_command(prog: str, body: Callable[[], int], stopped_note: str = '') -> int:
+def run_command(
+    prog: str,
+    body: Callable[[], int],
+    stopped_note: str = '',
+    resend_after: float = RESEND_AFTER_S,
+) -> int:
     """
     Run a command's ``body`` and return its exit status; see the module docstring.
 
     ``stopped_note`` is added to the line printed when a signal stops the command (e.g. how to
-    resume).
+    resume); a stop neither ended on nor acknowledged in ``resend_after`` s is sent again.
     """
-    previous = None
+    global _in_hand
+    previous: dict[int, object] = {}
     previous_hook = sys.unraisablehook
+    previous_in_hand = _in_hand
     stopped = threading.Event()
     if threading.current_thread() is threading.main_thread():
-        previous = signal.signal(signal.SIGTERM, _raise_terminated)
+        handler = _stop_handler(stopped, resend_after)
+        previous[signal.SIGTERM] = signal.signal(signal.SIGTERM, handler)
+        # Ctrl-C is left alone where it is ignored (a command started with nohup ... &)
+        if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+            previous[signal.SIGINT] = signal.signal(signal.SIGINT, handler)
         sys.unraisablehook = _redeliver_dropped_stops(previous_hook, stopped)
+        _in_hand = stopped
     note = f'; {stopped_note}' if stopped_note else ''
     try:
         return body()
     except Terminated:
-        _say(prog, f'terminated (SIGTERM){note}')
         stopped.set()
+        _say(prog, f'terminated (SIGTERM){note}')
         return STATUS_TERMINATED
     except KeyboardInterrupt:
-        _say(prog, f'interrupted (SIGINT){note}')
         stopped.set()
+        _say(prog, f'interrupted (SIGINT){note}')
         return STATUS_INTERRUPTED
     except OSError as exc:
         _say(prog, os_error_text(exc))
@@ -295,11 +353,14 @@ def run_command(prog: str, body: Callable[[], int], stopped_note: str = '') -> i
         _say(prog, str(exc) or type(exc).__name__)
         return 1
     finally:
-        if previous is not None:
+        if previous:
             if stopped.is_set():
                 gc.collect()  # what the stop left half built goes now, under the quiet hook
-            signal.signal(signal.SIGTERM, previous)
+            for signum, before in previous.items():
+                signal.signal(signum, before)
             sys.unraisablehook = previous_hook
+            _in_hand = previous_in_hand
+        stopped.set()  # the command is over: nothing is sent again
 
 
 def _say(prog: str, text: str) -> None:

@@ -9,6 +9,7 @@ import sys
 import time
 
 from hexapod_util.cli import (
+    acknowledge_stop,
     input_file,
     interval,
     number,
@@ -120,6 +121,56 @@ def test_a_stop_dropped_by_a_destructor_still_ends_the_command(signum, capsys):
     assert time.monotonic() - start < 5
     err = capsys.readouterr().err
     assert 'Traceback' not in err and err.endswith(f'({signal.Signals(signum).name})\n'), err
+
+
+@pytest.mark.parametrize('signum', [signal.SIGINT, signal.SIGTERM], ids=['SIGINT', 'SIGTERM'])
+def test_a_stop_a_library_swallows_is_sent_again(signum, capsys):
+    # CI: run_navigation ran on for 60 s after a SIGINT; a library that catches the
+    # KeyboardInterrupt and goes on must not keep the command running
+    swallowed = []
+
+    def body():
+        try:
+            os.kill(os.getpid(), signum)
+            time.sleep(5)  # the handler raises here
+        except KeyboardInterrupt:  # as a library that retries might
+            swallowed.append(True)
+        time.sleep(10)  # the stop, sent again, ends this
+        return 0
+
+    previous_int = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        start = time.monotonic()
+        status = run_command('cmd', body, resend_after=0.5)
+    finally:
+        signal.signal(signal.SIGINT, previous_int)
+    assert swallowed and status == 128 + signum
+    assert time.monotonic() - start < 5
+    name = signal.Signals(signum).name
+    assert capsys.readouterr().err == f'cmd: {_STOP_WORD[signum]} ({name})\n'
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
+
+
+def test_a_stop_in_hand_is_not_sent_again(capsys):
+    cleaned = []
+
+    def body():
+        try:
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(5)
+        except KeyboardInterrupt:
+            acknowledge_stop()  # a clean-up longer than resend_after: it must not be cut
+            time.sleep(1.0)
+            cleaned.append(True)
+            raise
+        return 0
+
+    assert run_command('cmd', body, resend_after=0.2) == STATUS_TERMINATED
+    assert cleaned
+    assert capsys.readouterr().err == 'cmd: terminated (SIGTERM)\n'
+
+
+_STOP_WORD = {signal.SIGINT: 'interrupted', signal.SIGTERM: 'terminated'}
 
 
 def test_a_stop_inside_a_constructor_leaves_no_destructor_traceback(capsys):

@@ -57,6 +57,7 @@ from hexapod_sim import ENGINES
 from hexapod_sim.damage import check_experiment_kind, Damage, EXPERIMENT_KINDS
 from hexapod_sim.scenarios import scenario
 from hexapod_util.cli import (
+    acknowledge_stop,
     add_force,
     claim_outputs,
     FORCE_HINT,
@@ -397,6 +398,7 @@ def _experiment(args: argparse.Namespace) -> int:
         for engine in engines:
             rows += run_experiment(archive, replace(setup, trial_engine=engine), on_row=_show)
     except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the completed runs are kept
+        acknowledge_stop()
         if rows:
             _write_csv(args, rows)
         raise

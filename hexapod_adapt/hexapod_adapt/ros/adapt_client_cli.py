@@ -34,7 +34,7 @@ from hexapod_adapt.ros.adapt_action import BUSY
 from hexapod_msgs.action import Adapt
 from hexapod_msgs.msg import AdaptationTrial
 from hexapod_sim.damage import Damage, parse_damage
-from hexapod_util.cli import interval, number, run_command
+from hexapod_util.cli import acknowledge_stop, interval, number, run_command
 from hexapod_util.ros_glue import ACTION_QOS, spin_until_done, try_shutdown, Waited
 import rclpy
 from rclpy.action import ActionClient
@@ -250,6 +250,7 @@ def _call(args: argparse.Namespace, ros_args: list[str]) -> int:
         try:
             outcome = _wait(node, client, answer, deadline, args)
         except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the run stops too
+            acknowledge_stop()
             _cancel(node, handle, deadline)
             raise
         if outcome is not None:

@@ -23,7 +23,7 @@ import time
 
 from hexapod_msgs.action import Navigate
 from hexapod_navigation.ros.navigate_msgs import goal_at, navigate_client
-from hexapod_util.cli import number, run_command
+from hexapod_util.cli import acknowledge_stop, number, run_command
 from hexapod_util.ros_glue import spin_until_done, try_shutdown, Waited
 import rclpy
 from rclpy.signals import SignalHandlerOptions
@@ -137,6 +137,7 @@ def _send(args: argparse.Namespace, ros_args: list[str]) -> int:
         handle = None
         return 0 if r.reached else 3
     except KeyboardInterrupt:  # Ctrl-C or SIGTERM: cancel the goal before leaving
+        acknowledge_stop()
         if handle is not None:
             cancel = handle.cancel_goal_async()
             end = time.monotonic() + 5.0
