@@ -13,8 +13,9 @@
 #   (default_map.npz and its log), to ship with its ceilings.
 # - The ceilings' finished cases in CEILING_WORKTREE (default ../ceilgen, resume_ceilings.sh) go
 #   to CHECKPOINTS/ceilings, or, once their map has shipped (ship_map.sh), into the shipped cache
-#   (hexapod_adapt/maps/ceilings), packed; the run goes on (a case in progress is recomputed on
-#   resume).
+#   (hexapod_adapt/maps/ceilings), packed; the run goes on. A case in progress keeps the gaits it
+#   has walked in a walking_*.npz file (every minute): that goes to CHECKPOINTS/ceilings, and
+#   resume_ceilings.sh takes it up.
 # - The transfer study's runs in TRANSFER_TREE (default ../transfer-study,
 #   studies/transfer/transfer_study.sh): each checkpoint and log to studies/checkpoints/
 #   transfer_study/ (a checkpoint only when it is further on than the one kept there); a
@@ -100,7 +101,15 @@ if [ -d "$ceil_tree/hexapod_adapt/maps/ceilings" ]; then
   # the cases the shipped cache holds, loose or packed
   shipped_names="$(python -m hexapod_adapt.online.ceilings_cli --cache-dir "$shipped_cache" --list)"
   n=0
-  for f in "$ceil_tree"/hexapod_adapt/maps/ceilings/*.npz; do
+  # the case in progress: its walking file (one kept from a case since finished goes)
+  rm -f "$keep"/ceilings/walking_*.npz
+  for f in "$ceil_tree"/hexapod_adapt/maps/ceilings/walking_*.npz; do
+    [ -f "$f" ] || continue
+    mkdir -p "$keep/ceilings"
+    copy_atomic "$f" "$keep/ceilings/$(basename "$f")"
+    echo "saved the case in progress, $(basename "$f"), to $keep/ceilings"
+  done
+  for f in "$ceil_tree"/hexapod_adapt/maps/ceilings/ceiling_*.npz; do
     [ -f "$f" ] || continue
     grep -qxF "$(basename "$f")" <<< "$shipped_names" && continue  # shipped already
     # the worktree's own checkout (an older map's shipped cases), not computed there

@@ -47,8 +47,8 @@ if [ "$map" != "$(realpath hexapod_adapt/maps/default_map.npz)" ]; then
   cp "$map" hexapod_adapt/maps/default_map.npz
   if [ -f "$map.log.jsonl" ]; then cp "$map.log.jsonl" hexapod_adapt/maps/default_map.npz.log.jsonl; fi
 fi
-# the cases kept so far, and those this checkout ships (a worktree pinned before the map shipped
-# holds the older map's)
+# the cases kept so far (with the walking file of the case in progress: it goes on from there),
+# and those this checkout ships (a worktree pinned before the map shipped holds the older map's)
 for d in "$keep" "$repo/hexapod_adapt/maps/ceilings"; do
   if [ -d "$d" ]; then cp -n "$d"/*.npz hexapod_adapt/maps/ceilings/ 2>/dev/null || true; fi
 done

@@ -200,6 +200,10 @@ def test_only_the_ceilings_computed_in_the_worktree_are_kept(tmp_path):
     subprocess.run(['git', 'init', '-q', str(tree)], check=True)
     subprocess.run(['git', '-C', str(tree), 'add', '.'], check=True)
     (cache / 'ceiling_mujoco_legs1_5unpowered-coxa_new.npz').write_bytes(b'computed')
+    # the case in progress is kept; the one kept last time has finished since: it goes
+    (cache / 'walking_ceiling_mujoco_legs2_now.npz').write_bytes(b'walked so far')
+    (keep / 'ceilings').mkdir(parents=True)
+    (keep / 'ceilings' / 'walking_ceiling_mujoco_legs1_5unpowered-coxa_new.npz').write_bytes(b'')
     r = subprocess.run(
         ['bash', str(SAVE), str(tmp_path / 'no_map'), str(tree), str(keep)],
         capture_output=True, text=True, timeout=60,
@@ -210,9 +214,13 @@ def test_only_the_ceilings_computed_in_the_worktree_are_kept(tmp_path):
     )  # fmt: skip
     assert r.returncode == 0, r.stderr
     assert sorted(p.name for p in (keep / 'ceilings').iterdir()) == [
-        'ceiling_mujoco_legs1_5unpowered-coxa_new.npz'
+        'ceiling_mujoco_legs1_5unpowered-coxa_new.npz',
+        'walking_ceiling_mujoco_legs2_now.npz',
     ]
-    assert 'saved 1 ceiling cases' in r.stdout
+    assert (keep / 'ceilings' / 'walking_ceiling_mujoco_legs2_now.npz').read_bytes() == (
+        b'walked so far'
+    )
+    assert 'saved 1 ceiling cases' in r.stdout and 'saved the case in progress' in r.stdout
 
 
 @pytest.mark.slow

@@ -11,6 +11,9 @@ what it depends on: the map's gaits, the engine and its settings, the URDF, the 
 the trial duration and the damage (:func:`ceiling_key`). A cached file is checked against its
 key when read; a damaged or foreign one is recomputed, never trusted.
 
+A case being walked keeps the gaits walked so far beside the cache (:class:`WalkingFile`, every
+minute): a run stopped mid-case goes on from there.
+
 A finished cache can be packed (:func:`pack_ceilings`): its files go, unchanged, into a few zip
 files of the same folder (``ceilings_<engine>_<kind>_<n>.zip``), so a shipped cache of hundreds
 of cases is a few dozen files. Loose files are read before packs.
@@ -27,6 +30,7 @@ import io
 import json
 import os
 from pathlib import Path
+import time
 from typing import Callable, Iterable, Iterator, Sequence
 import zipfile
 import zlib
@@ -257,6 +261,56 @@ def evaluate_tilts(how: Rescoring, genes: np.ndarray) -> np.ndarray:
     return np.array([r.peak_tilt for r in _walk(how, genes, record_tilt=True)])
 
 
+@dataclass(frozen=True)
+class WalkingFile:
+    """
+    Where a ceiling being walked keeps its chunks walked so far, so a stopped run goes on.
+
+    Next to the cached file, named ``walking_<its name>``; it holds the ceiling's key, so a file
+    for another map, damage or engine is never taken up. A damaged one is walked again.
+    """
+
+    path: Path
+    key: dict
+    every: float = 60.0  # [s] between two keeps
+
+    @classmethod
+    def beside(cls, cached: Path, key: dict) -> 'WalkingFile':
+        """Return the walking file of the ceiling cached at ``cached`` under ``key``."""
+        return cls(cached.with_name(f'walking_{cached.name}'), key)
+
+    def taken_up(self, chunk: int, total: int) -> list[np.ndarray]:
+        """Return the chunks already walked (none if the file is absent, foreign or damaged)."""
+        try:
+            data = read_npz(self.path, ('key', 'chunk', 'speeds'))
+            stored = json_array(data['key'], f'{self.path}: the key')
+            speeds = float_array(data['speeds'], f'{self.path}: speeds')
+            stored_chunk = int(data['chunk'])
+        except (OSError, UnreadableFile, TypeError, ValueError):
+            return []
+        if stored != self.key or stored_chunk != chunk or speeds.ndim != 1:
+            return []
+        whole = len(speeds) == total or (len(speeds) < total and len(speeds) % chunk == 0)
+        if not whole or not np.isfinite(speeds).all():
+            return []
+        return np.split(speeds, range(chunk, len(speeds), chunk)) if len(speeds) else []
+
+    def keep(self, chunk: int, parts: list[np.ndarray]) -> None:
+        """Keep the chunks walked so far (atomically)."""
+        buf = io.BytesIO()
+        np.savez(
+            buf,
+            key=np.array(json.dumps(self.key, sort_keys=True)),
+            chunk=np.array(chunk),
+            speeds=np.concatenate(parts) if parts else np.zeros(0),
+        )
+        atomic_write_bytes(self.path, buf.getvalue())
+
+    def drop(self) -> None:
+        """Remove the file (the ceiling is cached)."""
+        self.path.unlink(missing_ok=True)
+
+
 def compute_ceiling(
     archive: Archive,
     damage: Damage | Sequence[int],
@@ -266,13 +320,14 @@ def compute_ceiling(
     progress: Callable[[int, int], None] | None = None,
     niches: np.ndarray | None = None,
     partial: bool = False,
+    walking: WalkingFile | None = None,
 ) -> Ceiling:
     """
     Evaluate every elite of ``archive`` (or only ``niches``) with ``damage`` on ``engine``.
 
     ``partial``: only the intact-fastest :data:`TOP_FRACTION` of them; the others are estimated
     (:func:`estimate_unwalked`). No cache. ``progress(done, total)`` is called after each chunk
-    of ``chunk`` gaits.
+    of ``chunk`` gaits. ``walking``: the chunks walked so far are kept there and taken up again.
     """
     damage = as_damage(damage)
     niches = archive.elite_indices() if niches is None else np.asarray(niches, dtype=int)
@@ -282,15 +337,20 @@ def compute_ceiling(
     genes = archive.genotypes[niches[walk]]
     how = Rescoring.of(archive, damage, engine)
     jobs = [(how, part) for part in np.split(genes, range(chunk, len(genes), chunk)) if len(part)]
-    parts: list[np.ndarray] = []
+    parts: list[np.ndarray] = walking.taken_up(chunk, len(genes)) if walking is not None else []
+    last_kept = time.monotonic()
 
     def collect(results: Iterable[np.ndarray]) -> None:
+        nonlocal last_kept
         for part in results:
             parts.append(part)
             if progress is not None:
                 progress(sum(len(x) for x in parts), len(genes))
+            if walking is not None and time.monotonic() - last_kept >= walking.every:
+                walking.keep(chunk, parts)
+                last_kept = time.monotonic()
 
-    collect(map_in_workers(evaluate_part, jobs, workers))
+    collect(map_in_workers(evaluate_part, jobs[len(parts) :], workers))  # noqa: E203
     speeds = np.full(len(niches), np.nan)
     speeds[walk] = np.concatenate(parts) if parts else np.zeros(0)
     if not partial:
@@ -467,10 +527,13 @@ def ceiling(
     cached = cached_ceiling(archive, failed_legs, engine, dirs)
     if cached is not None:
         return cached
+    walking = WalkingFile.beside(path, key) if path is not None else None
     result = compute_ceiling(
-        archive, failed_legs, engine, workers, progress=progress, partial=partial
+        archive, failed_legs, engine, workers, progress=progress, partial=partial, walking=walking
     )
     _write(path, key, result)
+    if walking is not None:
+        walking.drop()
     return result
 
 

@@ -20,6 +20,7 @@ from hexapod_adapt.online.ceiling import (
     compute_ceiling,
     holds_ceiling,
     pack_ceilings,
+    WalkingFile,
 )
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig
 from hexapod_sim.damage import Damage
@@ -123,6 +124,50 @@ def test_a_cached_ceiling_is_reused_and_a_damaged_one_recomputed(small_map, tmp_
     np.testing.assert_array_equal(first.speeds, fixed.speeds)
     other = ceiling_key(small_map, [3], 'mujoco')
     assert cache_path(tmp_path, other) != path  # another damage, another file
+
+
+def test_a_stopped_ceiling_takes_up_the_chunks_it_walked(small_map, tmp_path):
+    """A session's end stops a case mid-way (17-30 min each on the default map): not lost."""
+    legs = (2,)
+    key = ceiling_key(small_map, legs, 'mujoco')
+    walking = WalkingFile.beside(cache_path(tmp_path, key), key)
+    walking = replace(walking, every=0.0)  # keep after every chunk
+    full = compute_ceiling(small_map, legs, 'mujoco', chunk=3)
+
+    def stop_at_the_third_chunk(done: int, total: int) -> None:
+        if done >= 9:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        compute_ceiling(
+            small_map, legs, 'mujoco', chunk=3, progress=stop_at_the_third_chunk, walking=walking
+        )
+    assert walking.path.is_file() and walking.path.name.startswith('walking_ceiling_')
+    seen: list[int] = []
+    again = compute_ceiling(
+        small_map, legs, 'mujoco', chunk=3, progress=lambda d, t: seen.append(d), walking=walking
+    )
+    assert seen[0] == 9  # the two chunks kept were not walked again
+    np.testing.assert_array_equal(again.speeds, full.speeds)
+    assert len(walking.taken_up(3, 12)) == 4 and walking.taken_up(4, 12) == []  # chunks of 3
+    # another damage's key, another chunk size, a damaged file: all walked again
+    for other in (
+        replace(walking, key=ceiling_key(small_map, (3,), 'mujoco')),
+        replace(walking, path=tmp_path / 'damaged.npz'),
+    ):
+        other.path.write_bytes(
+            walking.path.read_bytes()[:60]
+            if 'damaged' in str(other.path)
+            else walking.path.read_bytes()
+        )
+        seen.clear()
+        compute_ceiling(
+            small_map, legs, 'mujoco', chunk=3, progress=lambda d, t: seen.append(d), walking=other
+        )
+        assert seen[0] == 3, other.path
+    # ceiling() caches the result and drops the walking file
+    ceiling(small_map, legs, 'mujoco', cache_dir=tmp_path)
+    assert cache_path(tmp_path, key).is_file() and not walking.path.exists()
 
 
 @pytest.mark.slow
