@@ -190,7 +190,11 @@ def main(argv: list[str] | None = None) -> int:
             )
         return 0
 
-    return run_command('ceiling', run, 'finished damage cases are cached; run again to go on')
+    return run_command(
+        'ceiling',
+        run,
+        'finished damage cases are cached and the one in progress kept; run again to go on',
+    )
 
 
 if __name__ == '__main__':
