@@ -322,7 +322,8 @@ def test_a_signal_while_running_ends_with_one_line_and_its_status(
         stderr=subprocess.PIPE,
         text=True,
         stdin=subprocess.DEVNULL,
-        env=dict(os.environ, PYTHONUNBUFFERED='1'),
+        # faulthandler: a command still running past the time allowed shows where it is (SIGABRT)
+        env=dict(os.environ, PYTHONUNBUFFERED='1', PYTHONFAULTHANDLER='1'),
         # as from a terminal: a suite started in the background (nohup ... &) ignores SIGINT, and
         # its children would inherit that
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
@@ -333,7 +334,12 @@ def test_a_signal_while_running_ends_with_one_line_and_its_status(
             checkpoint = tmp_path / 'map.npz.ckpt.npz'
             wait_for(checkpoint.exists, 120, 'the first checkpoint')
         proc.send_signal(signum)
-        out, err = proc.communicate(timeout=60)
+        try:
+            out, err = proc.communicate(timeout=60)
+        except subprocess.TimeoutExpired:
+            proc.send_signal(signal.SIGABRT)
+            out, err = proc.communicate(timeout=30)
+            pytest.fail(f'{command} still ran 60 s after {signum!r}; where it was:\n{err}')
     finally:
         if proc.poll() is None:
             proc.kill()
