@@ -24,6 +24,8 @@ from hexapod_adapt.online.ceiling import (
 )
 from hexapod_sim import create_simulator, evaluate_gait, SimConfig
 from hexapod_sim.damage import Damage
+from hypothesis import given, HealthCheck, settings
+from hypothesis import strategies as st
 import numpy as np
 import pytest
 
@@ -168,6 +170,29 @@ def test_a_stopped_ceiling_takes_up_the_chunks_it_walked(small_map, tmp_path):
     # ceiling() caches the result and drops the walking file
     ceiling(small_map, legs, 'mujoco', cache_dir=tmp_path)
     assert cache_path(tmp_path, key).is_file() and not walking.path.exists()
+
+
+@settings(
+    max_examples=80, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(
+    data=st.binary(max_size=400),
+    cut=st.integers(0, 3000),
+    chunk=st.sampled_from([1, 3, 64]),
+    walked=st.lists(st.floats(allow_nan=True, allow_infinity=True), max_size=12),
+)
+def test_any_walking_file_is_taken_up_whole_or_not_at_all(tmp_path, data, cut, chunk, walked):
+    key = {'engine': 'mujoco', 'failed_legs': [2]}
+    walking = WalkingFile(tmp_path / 'walking.npz', key)
+    parts = [np.array(walked[i : i + chunk]) for i in range(0, len(walked), chunk)]  # noqa: E203
+    walking.keep(chunk, parts)
+    kept = walking.path.read_bytes()
+    walking.path.write_bytes(kept[:cut] + data)  # a real file cut short, and garbage
+    taken = walking.taken_up(chunk, 12)
+    assert isinstance(taken, list)
+    if taken:  # only what was kept, in whole chunks of finite speeds
+        assert all(np.isfinite(part).all() and len(part) <= chunk for part in taken)
+        assert np.concatenate(taken).tolist() == walked[: sum(len(t) for t in taken)]
 
 
 @pytest.mark.slow
