@@ -134,6 +134,7 @@ class TiltSample:
     tilt: float  # the larger of |roll| and |pitch| [rad]
     received: float  # time.monotonic() when it arrived
     attitude: tuple[float, float, float] = (0.0, 0.0, 0.0)  # roll, pitch, yaw [rad]
+    stamp_ns: int = 0  # header stamp (when bridge_node read it; 0: none)
 
 
 class TiltLog(SampleLog[TiltSample]):
@@ -163,6 +164,24 @@ class TiltLog(SampleLog[TiltSample]):
         return None
 
 
+def reading_times(samples: list[TiltSample]) -> np.ndarray:
+    """
+    Return when each reading was taken, on the receiving clock (monotonic) [s].
+
+    Receipt times carry the graph's delivery jitter (DDS, the executor). Where every reading is
+    stamped and the stamps rise, a reading's time is its stamp moved onto the receiving clock by
+    the smallest receipt-minus-stamp offset among them (the reading delivered fastest): the
+    stamps' spacing, the receipt clock's origin, on any machine whose clock runs at the same
+    rate. Otherwise the receipt times.
+    """
+    received = np.array([s.received for s in samples], dtype=float)
+    stamps = np.array([s.stamp_ns for s in samples], dtype=np.int64)
+    if len(samples) < 2 or np.any(stamps <= 0) or np.any(np.diff(stamps) <= 0):
+        return received
+    relative = (stamps - stamps[0]) * 1e-9  # (float seconds lose ns of a wall-clock stamp)
+    return relative + np.min(received - relative)
+
+
 def imu_record(
     samples: list[TiltSample],
     started: float,
@@ -174,13 +193,14 @@ def imu_record(
     Return a robot trial's record from the IMU's attitude and the bridge's mean velocity.
 
     Timed from ``started`` (the trial's start, monotonic; the gait's phase 0 within the link's
-    latency). The robot reports no path, only the trial's mean ``velocity`` in the frame it
+    latency), each reading at its stamp where the readings are stamped (:func:`reading_times`).
+    The robot reports no path, only the trial's mean ``velocity`` in the frame it
     started in: the position moves along it at that speed, and yaw is taken from the first
     reading (the start frame). None when fewer than two readings came.
     """
     if len(samples) < 2:
         return None
-    t = np.array([s.received - started for s in samples])
+    t = reading_times(samples) - started
     attitude = np.array([s.attitude for s in samples])
     attitude[:, 2] = np.unwrap(attitude[:, 2]) - attitude[0, 2]
     position = np.outer(t, velocity)

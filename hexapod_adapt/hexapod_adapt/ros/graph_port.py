@@ -266,7 +266,10 @@ class GraphPort:
     def _on_imu(self, msg: Imu) -> None:
         q = msg.orientation
         quat = (q.x, q.y, q.z, q.w)
-        sample = TiltSample(peak_tilt(np.array(quat)), time.monotonic(), quat_to_euler(quat))
+        sample = TiltSample(
+            peak_tilt(np.array(quat)), time.monotonic(), quat_to_euler(quat),
+            stamp_ns(msg.header.stamp),
+        )  # fmt: skip
         self.tilts.append(sample)
 
     def _on_active(self, msg: Header) -> None:

@@ -681,3 +681,30 @@ def test_records_from_the_graph_need_two_samples_and_keep_the_trial_window():
     # the speed is along the heading at the window's start (1 s in: yawed 0.2 rad by then)
     assert s['speed'] == pytest.approx(0.2 * math.cos(0.2)) and s['yaw_rate'] == pytest.approx(0.2)
     assert imu_record(tilts[:1], 100.0, (0.2, 0.0), 0.0, 0.5) is None
+
+
+def test_imu_readings_are_timed_by_their_stamps_not_by_when_they_arrived():
+    from hexapod_adapt.online.trials import imu_record, reading_times, TiltSample
+
+    rng = np.random.default_rng(3)
+    taken = 0.05 * np.arange(1, 101)  # the bridge reads the IMU at 20 Hz
+    delay = 0.002 + rng.exponential(0.01, taken.size)  # delivery: 2 ms at best, jittered
+    wall = 1_780_000_000 * 10**9  # the bridge's clock (wall time) [ns]; the receiver's: monotonic
+    readings = [
+        TiltSample(0.0, 100.0 + t + d, (0.0, 0.0, 0.3 * t), wall + round(t * 1e9))
+        for t, d in zip(taken, delay)
+    ]
+    times = reading_times(readings) - 100.0
+    # the stamps' spacing exactly, off by the fastest delivery's delay only
+    assert np.allclose(np.diff(times), 0.05, atol=1e-6)
+    assert np.allclose(times - taken, delay.min(), atol=1e-6)
+    record = imu_record(readings, 100.0, (0.2, 0.0), 0.0, 0.5)
+    assert np.allclose(np.diff(record.t), 0.05, atol=1e-6)
+    received = np.array([r.received for r in readings]) - 100.0
+    assert np.abs(np.diff(received) - 0.05).max() > 0.01  # what receipt times would have given
+    unstamped = [TiltSample(r.tilt, r.received, r.attitude) for r in readings]
+    assert np.array_equal(reading_times(unstamped), received + 100.0)
+    backwards = readings[:50] + [
+        TiltSample(r.tilt, r.received, r.attitude, r.stamp_ns - 10**9) for r in readings[50:]
+    ]  # a clock stepped back mid-trial: the stamps cannot time it
+    assert np.array_equal(reading_times(backwards), received + 100.0)
