@@ -5,6 +5,7 @@
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
 import signal
 import sys
 from typing import Callable, Iterator, Sequence, TypeVar
@@ -35,14 +36,49 @@ def die_with_parent() -> None:
     libc.prctl(pr_set_pdeathsig, signal.SIGTERM, 0, 0, 0)
 
 
+@contextlib.contextmanager
+def worker_pool(
+    workers: int, initializer: Callable[[], None] = die_with_parent
+) -> Iterator[cf.ProcessPoolExecutor]:
+    """
+    Open a process pool that a stop ends at once.
+
+    Left normally, the pool shuts down as ``with ProcessPoolExecutor(...)`` does: it waits for its
+    work. Left by an exception (the stop of a command, Ctrl-C, an error in the caller), it does
+    not wait for the jobs its workers are running, which can take minutes: the jobs not started
+    are cancelled and the workers terminated, so the command ends now and the exception goes on.
+    """
+    pool = cf.ProcessPoolExecutor(workers, initializer=initializer)
+    try:
+        yield pool
+    except BaseException:
+        terminate_workers(pool)
+        raise
+    pool.shutdown(wait=True)
+
+
+def terminate_workers(pool: cf.ProcessPoolExecutor) -> None:
+    """Cancel ``pool``'s jobs not started, terminate its workers, and shut it down, not waiting."""
+    # (Python 3.14's pool.terminate_workers(); before it the pool keeps its workers privately,
+    # and drops them on shutdown)
+    processes = list((getattr(pool, '_processes', None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        if process.is_alive():
+            process.terminate()
+    for process in processes:
+        process.join(timeout=5.0)
+
+
 def map_in_workers(fn: Callable[[T], R], jobs: Sequence[T], workers: int) -> Iterator[R]:
     """
     Yield ``fn(job)`` for each job, in order: in this process (``workers`` <= 1) or in a pool.
 
-    The pool's processes die with this one (:func:`die_with_parent`); ``fn`` must be picklable.
+    The pool's processes die with this one (:func:`die_with_parent`), and with a stop of the
+    caller (:func:`worker_pool`); ``fn`` must be picklable.
     """
     if workers <= 1:
         yield from map(fn, jobs)
         return
-    with cf.ProcessPoolExecutor(workers, initializer=die_with_parent) as pool:
+    with worker_pool(workers) as pool:
         yield from pool.map(fn, jobs)

@@ -301,3 +301,49 @@ def test_a_node_whose_middleware_hangs_in_teardown_ends_by_itself_and_says_where
     # scheduled late to read its clock (CI, 2026-12-05: 3.986 s), so the lower bound has slack
     assert TEARDOWN_LIMIT_S - 0.5 <= took < TEARDOWN_LIMIT_S + 5.0, took
     assert 'in destroy_node' in err  # every thread's stack, for the report
+
+
+def _sleep(seconds: float) -> float:
+    time.sleep(seconds)
+    return seconds
+
+
+def _ended(pid: int, within: float = 5.0) -> bool:
+    """Whether process ``pid`` has ended (gone, or a zombie not yet reaped) within ``within`` s."""
+    deadline = time.monotonic() + within
+    while time.monotonic() < deadline:
+        try:
+            with open(f'/proc/{pid}/stat') as f:
+                if f.read().rsplit(')', 1)[1].split()[0] == 'Z':
+                    return True
+        except FileNotFoundError:
+            return True
+        time.sleep(0.05)
+    return False
+
+
+def test_a_stop_inside_a_worker_pool_ends_it_at_once_and_ends_its_workers():
+    from hexapod_util.processes import map_in_workers, worker_pool
+
+    t0 = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        with worker_pool(2) as pool:
+            futures = [pool.submit(_sleep, 60.0) for _ in range(4)]
+            processes = list(pool._processes.values())
+            time.sleep(0.5)  # the first two jobs running
+            raise KeyboardInterrupt
+    assert time.monotonic() - t0 < 10.0  # not the jobs' 60 s
+    # (is_alive() can say True after the pool's own thread reaped a worker: ask the kernel)
+    assert processes and all(_ended(p.pid, within=1.0) for p in processes)
+    # no job ran on: each is cancelled, or failed as the pool broke
+    assert all(f.cancelled() or f.exception(timeout=5.0) is not None for f in futures)
+    # a generator over the pool, closed by its caller's stop, ends it the same way
+    t0 = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        for _ in map_in_workers(_sleep, [0.1, 60.0, 60.0, 60.0], 2):
+            raise KeyboardInterrupt
+    assert time.monotonic() - t0 < 10.0
+    # left normally, the pool waits for its work
+    with worker_pool(2) as pool:
+        done = pool.submit(_sleep, 0.2)
+    assert done.result(timeout=0) == 0.2

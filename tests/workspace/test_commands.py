@@ -17,6 +17,7 @@ import os
 from pathlib import Path
 import signal
 import subprocess
+import time
 from typing import Callable
 
 import pytest
@@ -309,14 +310,9 @@ RUNNING = {
 }
 
 
-@pytest.mark.slow
-@pytest.mark.parametrize('signum', [signal.SIGINT, signal.SIGTERM], ids=['SIGINT', 'SIGTERM'])
-@pytest.mark.parametrize('command', sorted(RUNNING))
-def test_a_signal_while_running_ends_with_one_line_and_its_status(
-    command, signum, tmp_path, domain_id
-):
-    args = [a.format(tmp=tmp_path) for a in RUNNING[command]]
-    proc = subprocess.Popen(
+def _start(command: str, args: list[str]) -> subprocess.Popen:
+    """Start ``command`` as from a terminal, its output captured."""
+    return subprocess.Popen(
         [str(executable(PACKAGE[command], command)), *args],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
@@ -328,32 +324,94 @@ def test_a_signal_while_running_ends_with_one_line_and_its_status(
         # its children would inherit that
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
+
+
+def _stop(proc: subprocess.Popen, command: str, signum: int, within: float) -> tuple[str, str]:
+    """Send ``signum``; return the output of a command that ended ``within`` s (else fail)."""
+    proc.send_signal(signum)
+    try:
+        return proc.communicate(timeout=within)
+    except subprocess.TimeoutExpired:
+        proc.send_signal(signal.SIGABRT)
+        _, err = proc.communicate(timeout=30)
+        pytest.fail(f'{command} still ran {within:g} s after {signum!r}; where it was:\n{err}')
+
+
+def _last_line_names(err: str, command: str, signum: int) -> list[str]:
+    """Check stderr ends in the command's one line naming the signal; return its lines."""
+    lines = [line for line in err.splitlines() if line.strip()]
+    name = signal.Signals(signum).name
+    assert 'Traceback' not in err, err
+    assert lines and lines[-1].startswith(f'{command}: ') and name in lines[-1], err
+    return lines
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize('signum', [signal.SIGINT, signal.SIGTERM], ids=['SIGINT', 'SIGTERM'])
+@pytest.mark.parametrize('command', sorted(RUNNING))
+def test_a_signal_while_running_ends_with_one_line_and_its_status(
+    command, signum, tmp_path, domain_id
+):
+    proc = _start(command, [a.format(tmp=tmp_path) for a in RUNNING[command]])
     try:
         wait_for(lambda: _handles_sigterm(proc.pid), 60, f'{command} to install its handlers')
         if command == 'generate_map':  # a checkpoint exists: it must survive the signal
             checkpoint = tmp_path / 'map.npz.ckpt.npz'
             wait_for(checkpoint.exists, 120, 'the first checkpoint')
-        proc.send_signal(signum)
-        try:
-            out, err = proc.communicate(timeout=60)
-        except subprocess.TimeoutExpired:
-            proc.send_signal(signal.SIGABRT)
-            out, err = proc.communicate(timeout=30)
-            pytest.fail(f'{command} still ran 60 s after {signum!r}; where it was:\n{err}')
+        out, err = _stop(proc, command, signum, 60)
     finally:
         if proc.poll() is None:
             proc.kill()
             proc.wait()
-    lines = [line for line in err.splitlines() if line.strip()]
-    name = signal.Signals(signum).name
     assert proc.returncode == 128 + signum, (out, err)
-    assert 'Traceback' not in err, err
-    assert lines and lines[-1].startswith(f'{command}: ') and name in lines[-1], err
+    lines = _last_line_names(err, command, signum)
     if command == 'generate_map':
         from hexapod_adapt.mapping.map_elites import load_checkpoint
 
         load_checkpoint(checkpoint)  # intact: --resume continues from it
         assert '--resume' in lines[-1]
+
+
+def _children(pid: int) -> set[int]:
+    """The processes ``pid`` has started (Linux /proc)."""
+    found: set[int] = set()
+    for task in Path(f'/proc/{pid}/task').iterdir():
+        found.update(int(c) for c in (task / 'children').read_text().split())
+    return found
+
+
+def _running(pid: int) -> bool:
+    """Whether ``pid`` still runs (not gone and not a zombie)."""
+    try:
+        return Path(f'/proc/{pid}/stat').read_text().rsplit(')', 1)[1].split()[0] != 'Z'
+    except FileNotFoundError:
+        return False
+
+
+POOLED = {  # the commands that walk gaits in a pool of worker processes, with two workers
+    'run_navigation': ['--workers', '2', '--engine', 'pybullet', '--goals', '5'],
+    'generate_map': RUNNING['generate_map'][:-2] + ['2', '--quiet'],
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize('command', sorted(POOLED))
+def test_a_stop_ends_a_pool_command_and_its_workers_at_once(command, tmp_path, domain_id):
+    # a stop used to wait for the jobs the workers were running and could then hang for good
+    # (run_navigation --workers 2 still ran 10 minutes after its SIGTERM)
+    proc = _start(command, [a.format(tmp=tmp_path) for a in POOLED[command]])
+    try:
+        wait_for(lambda: len(_children(proc.pid)) >= 2, 60, f'{command} to start its workers')
+        workers = _children(proc.pid)
+        time.sleep(3)  # the workers busy with their first jobs
+        _, err = _stop(proc, command, signal.SIGTERM, 15)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    assert proc.returncode == 128 + signal.SIGTERM, err
+    _last_line_names(err, command, signal.SIGTERM)
+    wait_for(lambda: not any(_running(w) for w in workers), 5, 'the workers to end')
 
 
 # -- the output rule: nothing a user has is destroyed (issue 32) --------------------------------

@@ -50,7 +50,7 @@ from hexapod_adapt.mapping.steps import preset_genotypes, repertoire_fingerprint
 from hexapod_gait import preset, PRESETS, to_genotype
 from hexapod_sim import validate_engine
 from hexapod_sim.sampling import random_reachable_genes
-from hexapod_util.processes import die_with_parent
+from hexapod_util.processes import worker_pool
 
 BACKENDS = ('local', 'dask', 'mpi', 'inline')
 
@@ -199,7 +199,7 @@ def open_executor(config: GenerateConfig) -> Iterator[tuple[cf.Executor | None, 
         yield None, 1
     elif config.backend == 'local':
         n = config.worker_count()
-        with cf.ProcessPoolExecutor(n, initializer=die_with_parent) as pool:
+        with worker_pool(n) as pool:  # a stop ends its workers at once
             yield pool, n
     elif config.backend == 'dask':
         try:

@@ -16,7 +16,6 @@ reused for every damage case, so the cases compare goal by goal.
 
 from __future__ import annotations
 
-import concurrent.futures as cf
 import csv
 from dataclasses import asdict, dataclass, field
 import hashlib
@@ -38,7 +37,7 @@ from hexapod_navigation.core.tripod import SteeredTripod
 from hexapod_sim import create_simulator, scenario, SCENARIO_NAMES, SimConfig
 from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
 from hexapod_util.files import atomic_write_bytes
-from hexapod_util.processes import die_with_parent
+from hexapod_util.processes import worker_pool
 import numpy as np
 
 METHODS = ('repertoire', 'no_learning', 'tripod')
@@ -209,7 +208,7 @@ def run_navigation(
     """Run every episode; return the rows and each episode's path (x, y), in case order."""
     todo = cases(settings)
     if workers > 1:
-        with cf.ProcessPoolExecutor(workers, initializer=die_with_parent) as pool:
+        with worker_pool(workers) as pool:  # a stop ends it at once
             done = list(pool.map(_case, [settings] * len(todo), *zip(*todo)))
     else:
         done = [_case(settings, name, legs) for name, legs in todo]
