@@ -373,10 +373,14 @@ def test_a_signal_while_running_ends_with_one_line_and_its_status(
 
 
 def _children(pid: int) -> set[int]:
-    """The processes ``pid`` has started (Linux /proc)."""
+    """The processes ``pid`` has started (Linux /proc: each process's parent)."""
     found: set[int] = set()
-    for task in Path(f'/proc/{pid}/task').iterdir():
-        found.update(int(c) for c in (task / 'children').read_text().split())
+    for stat in Path('/proc').glob('[0-9]*/stat'):
+        try:
+            if int(stat.read_text().rsplit(')', 1)[1].split()[1]) == pid:
+                found.add(int(stat.parent.name))
+        except (OSError, ValueError, IndexError):
+            pass  # a process that ended while being read
     return found
 
 
