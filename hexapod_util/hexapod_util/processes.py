@@ -81,4 +81,8 @@ def map_in_workers(fn: Callable[[T], R], jobs: Sequence[T], workers: int) -> Ite
         yield from map(fn, jobs)
         return
     with worker_pool(workers) as pool:
-        yield from pool.map(fn, jobs)
+        # (not pool.map: closed early, its iterator cancels the jobs itself, and Python 3.11's
+        # pool then fails to mark them broken as it terminates, with a traceback in its thread)
+        futures = [pool.submit(fn, job) for job in jobs]
+        for future in futures:
+            yield future.result()

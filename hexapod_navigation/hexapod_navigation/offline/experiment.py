@@ -37,7 +37,7 @@ from hexapod_navigation.core.tripod import SteeredTripod
 from hexapod_sim import create_simulator, scenario, SCENARIO_NAMES, SimConfig
 from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
 from hexapod_util.files import atomic_write_bytes
-from hexapod_util.processes import worker_pool
+from hexapod_util.processes import map_in_workers
 import numpy as np
 
 METHODS = ('repertoire', 'no_learning', 'tripod')
@@ -202,16 +202,19 @@ def cases(settings: NavigationSettings) -> list[tuple[str, tuple[int, ...]]]:
     return [(name, legs) for name in settings.scenarios for legs in scenario(name)]
 
 
+def _case_job(
+    job: tuple[NavigationSettings, str, tuple[int, ...]],
+) -> list[tuple[NavigationRow, list[tuple[float, float]]]]:
+    """Run :func:`_case` on one (settings, scenario name, failed legs) job (picklable)."""
+    return _case(*job)
+
+
 def run_navigation(
     settings: NavigationSettings, workers: int = 1
 ) -> tuple[list[NavigationRow], list[list[tuple[float, float]]]]:
     """Run every episode; return the rows and each episode's path (x, y), in case order."""
-    todo = cases(settings)
-    if workers > 1:
-        with worker_pool(workers) as pool:  # a stop ends it at once
-            done = list(pool.map(_case, [settings] * len(todo), *zip(*todo)))
-    else:
-        done = [_case(settings, name, legs) for name, legs in todo]
+    jobs = [(settings, name, legs) for name, legs in cases(settings)]
+    done = list(map_in_workers(_case_job, jobs, workers))  # in a pool a stop ends it at once
     rows = [row for case in done for row, _ in case]
     paths = [path for case in done for _, path in case]
     return rows, paths
