@@ -28,6 +28,7 @@ from hypothesis import given, HealthCheck, settings
 from hypothesis import strategies as st
 import numpy as np
 import pytest
+from test_adapt_prior import OTHER_KINDS_BEING_MADE
 
 
 @pytest.fixture(scope='module')
@@ -466,12 +467,7 @@ def test_the_diagnosis_banks_adapt_node_may_be_given():
         diagnosis_damages('all')
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason='the default map of 2026-12-06 shipped with its 21 lifted-leg ceilings; the other'
-    " kinds' cases, which the wider bank weighs, are still being made (scripts/"
-    'resume_long_runs.sh). Remove this mark when they land: strict turns the pass into a failure',
-)
+@OTHER_KINDS_BEING_MADE
 def test_a_blind_run_weighs_every_kind_the_shipped_cache_holds():
     from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings
     from hexapod_adapt.online.bank import BANK_DAMAGES, diagnosis_damages, load_bank
