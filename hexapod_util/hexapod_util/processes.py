@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import contextlib
+from pathlib import Path
 import signal
 import sys
 from typing import Callable, Iterator, Sequence, TypeVar
@@ -86,3 +87,24 @@ def map_in_workers(fn: Callable[[T], R], jobs: Sequence[T], workers: int) -> Ite
         futures = [pool.submit(fn, job) for job in jobs]
         for future in futures:
             yield future.result()
+
+
+def child_pids(pid: int) -> set[int]:
+    """Return the processes ``pid`` has started and that still exist (Linux /proc; else none)."""
+    found: set[int] = set()
+    for stat in Path('/proc').glob('[0-9]*/stat'):
+        try:
+            if int(stat.read_text().rsplit(')', 1)[1].split()[1]) == pid:
+                found.add(int(stat.parent.name))
+        except (OSError, ValueError, IndexError):
+            pass  # a process that ended while being read
+    return found
+
+
+def is_running(pid: int) -> bool:
+    """Return whether ``pid`` runs: it exists and has not exited (a zombie not reaped has)."""
+    try:
+        stat = Path(f'/proc/{pid}/stat').read_text()
+    except FileNotFoundError:
+        return False
+    return stat.rsplit(')', 1)[1].split()[0] not in ('Z', 'X')

@@ -11,6 +11,7 @@ import textwrap
 import threading
 import time
 
+from hexapod_util.processes import is_running
 from hexapod_util.ros_glue import SAME_CTRL_C_S, STACKS_SIGNAL, TEARDOWN_LIMIT_S
 import pytest
 
@@ -130,15 +131,6 @@ def test_a_later_ctrl_c_still_interrupts_a_node_that_does_not_stop():
     assert 'cleaned up' not in out
 
 
-def _gone(pid: int) -> bool:
-    """Return whether ``pid`` has exited (absent, or a zombie nobody has reaped yet)."""
-    try:
-        with open(f'/proc/{pid}/stat') as f:
-            return f.read().rsplit(')', 1)[1].split()[0] in ('Z', 'X')
-    except FileNotFoundError:
-        return True
-
-
 @pytest.mark.skipif(not sys.platform.startswith('linux'), reason='PR_SET_PDEATHSIG is Linux')
 def test_a_node_started_by_a_killed_script_does_not_run_on_as_an_orphan():
     """The demo and launch scripts start nodes with die_with_parent: a SIGKILL leaves none."""
@@ -155,13 +147,13 @@ def test_a_node_started_by_a_killed_script_does_not_run_on_as_an_orphan():
     )
     parent = subprocess.Popen([sys.executable, '-c', script], stdout=subprocess.PIPE, text=True)
     child = int(parent.stdout.readline())
-    assert not _gone(child)
+    assert is_running(child)
     parent.kill()  # no clean-up code runs: only the kernel can stop the child
     parent.wait()
     deadline = time.monotonic() + 10.0
-    while not _gone(child) and time.monotonic() < deadline:
+    while is_running(child) and time.monotonic() < deadline:
         time.sleep(0.05)
-    assert _gone(child)
+    assert not is_running(child)
 
 
 EARLY_STOP = textwrap.dedent(
@@ -312,15 +304,9 @@ def _sleep(seconds: float) -> float:
 def _ended(pid: int, within: float = 5.0) -> bool:
     """Whether process ``pid`` has ended (gone, or a zombie not yet reaped) within ``within`` s."""
     deadline = time.monotonic() + within
-    while time.monotonic() < deadline:
-        try:
-            with open(f'/proc/{pid}/stat') as f:
-                if f.read().rsplit(')', 1)[1].split()[0] == 'Z':
-                    return True
-        except FileNotFoundError:
-            return True
+    while is_running(pid) and time.monotonic() < deadline:
         time.sleep(0.05)
-    return False
+    return not is_running(pid)
 
 
 def test_a_stop_inside_a_worker_pool_ends_it_at_once_and_ends_its_workers(monkeypatch):

@@ -20,6 +20,7 @@ import subprocess
 import time
 from typing import Callable
 
+from hexapod_util.processes import child_pids, is_running
 import pytest
 
 from conftest import executable, wait_for
@@ -372,26 +373,6 @@ def test_a_signal_while_running_ends_with_one_line_and_its_status(
         assert '--resume' in lines[-1]
 
 
-def _children(pid: int) -> set[int]:
-    """The processes ``pid`` has started (Linux /proc: each process's parent)."""
-    found: set[int] = set()
-    for stat in Path('/proc').glob('[0-9]*/stat'):
-        try:
-            if int(stat.read_text().rsplit(')', 1)[1].split()[1]) == pid:
-                found.add(int(stat.parent.name))
-        except (OSError, ValueError, IndexError):
-            pass  # a process that ended while being read
-    return found
-
-
-def _running(pid: int) -> bool:
-    """Whether ``pid`` still runs (not gone and not a zombie)."""
-    try:
-        return Path(f'/proc/{pid}/stat').read_text().rsplit(')', 1)[1].split()[0] != 'Z'
-    except FileNotFoundError:
-        return False
-
-
 POOLED = {  # the commands that walk gaits in a pool of worker processes, with two workers
     'run_navigation': ['--workers', '2', '--engine', 'pybullet', '--goals', '5'],
     'generate_map': RUNNING['generate_map'][:-2] + ['2', '--quiet'],
@@ -405,8 +386,8 @@ def test_a_stop_ends_a_pool_command_and_its_workers_at_once(command, tmp_path, d
     # (run_navigation --workers 2 still ran 10 minutes after its SIGTERM)
     proc = _start(command, [a.format(tmp=tmp_path) for a in POOLED[command]])
     try:
-        wait_for(lambda: len(_children(proc.pid)) >= 2, 60, f'{command} to start its workers')
-        workers = _children(proc.pid)
+        wait_for(lambda: len(child_pids(proc.pid)) >= 2, 60, f'{command} to start its workers')
+        workers = child_pids(proc.pid)
         time.sleep(3)  # the workers busy with their first jobs
         _, err = _stop(proc, command, signal.SIGTERM, 15)
     finally:
@@ -415,7 +396,7 @@ def test_a_stop_ends_a_pool_command_and_its_workers_at_once(command, tmp_path, d
             proc.wait()
     assert proc.returncode == 128 + signal.SIGTERM, err
     _last_line_names(err, command, signal.SIGTERM)
-    wait_for(lambda: not any(_running(w) for w in workers), 5, 'the workers to end')
+    wait_for(lambda: not any(is_running(w) for w in workers), 5, 'the workers to end')
 
 
 # -- the output rule: nothing a user has is destroyed (issue 32) --------------------------------

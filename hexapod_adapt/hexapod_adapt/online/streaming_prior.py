@@ -36,7 +36,7 @@ from hexapod_adapt.online.ceiling import (
 from hexapod_adapt.online.diagnosis import GapCalibration, HypothesisWalks
 from hexapod_adapt.online.session import diagnosis_plan, DiagnosisPlan, PriorStart
 from hexapod_sim.damage import Damage
-from hexapod_util.processes import die_with_parent
+from hexapod_util.processes import die_with_parent, worker_pool
 import numpy as np
 
 #: Gaits scored before the first trial, the map's best by intact speed
@@ -47,6 +47,12 @@ CHUNK = 64
 #: The re-score's processes yield the cores to the trials (a simulator walking in fast mode lost
 #: odometry to a re-score at the same priority on 2 cores).
 NICENESS = 10
+#: [s] how often a re-score waiting for a chunk looks whether it was closed.
+STOP_POLL_S = 0.2
+
+
+class _Closed(Exception):
+    """Raised inside the re-score's pool when it is closed: the pool ends its workers at once."""
 
 
 def _lower_priority() -> None:
@@ -113,21 +119,22 @@ class StreamingPrior:
         parts = np.array_split(order, range(CHUNK, len(order), CHUNK))
         how = Rescoring.of(self.archive, self.damage, self.engine)
         try:
-            with cf.ProcessPoolExecutor(max(1, workers), initializer=_lower_priority) as pool:
+            # closed, the pool's workers are ended at once (worker_pool), not after their chunks:
+            # the next run's re-score gets the cores
+            with worker_pool(max(1, workers), initializer=_lower_priority) as pool:
                 futures = [pool.submit(evaluate_part, (how, genes[idx])) for idx in parts]
                 for idx, future in zip(parts, futures):
-                    speeds = future.result()
+                    speeds = self._result_of(future)
                     with self._cond:
                         if self._stop:
-                            break
+                            raise _Closed
                         self._speeds[idx] = speeds
                         self._scored += len(idx)
                         self._cond.notify_all()
                     if self.progress is not None:
                         self.progress(self._scored, self.total)
-                if self._stop:
-                    for future in futures:
-                        future.cancel()
+        except _Closed:
+            return
         except Exception as exc:  # a broken pool or engine: the runs go on with what is scored
             with self._cond:
                 self.error = f'the re-score stopped: {type(exc).__name__}: {exc}'
@@ -137,6 +144,15 @@ class StreamingPrior:
             niches = self.archive.elite_indices()
             result = Ceiling(self.damage, self.engine, niches, self._speeds.copy())
             store_ceiling(self.archive, result, self.cache_dir)
+
+    def _result_of(self, future: cf.Future) -> np.ndarray:
+        """Return a chunk's speeds once walked; raise _Closed as soon as the re-score is closed."""
+        while True:
+            try:
+                return future.result(timeout=STOP_POLL_S)
+            except cf.TimeoutError:
+                if self._stop:
+                    raise _Closed from None
 
     def wait_first(self, timeout: float) -> bool:
         """Wait until the top ``first`` gaits are scored; False on a timeout or a failure."""
@@ -177,7 +193,7 @@ class StreamingPrior:
         return self._stop
 
     def close(self) -> None:
-        """Stop scoring (the gaits scored so far are kept; nothing is cached)."""
+        """Stop scoring now, and end its workers (what is scored is kept; nothing is cached)."""
         with self._cond:
             self._stop = True
             self._cond.notify_all()

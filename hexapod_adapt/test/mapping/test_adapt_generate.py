@@ -10,6 +10,7 @@ import sys
 from hexapod_adapt.mapping.archive import ArchiveError, load_archive
 from hexapod_adapt.mapping.generate import generate_map, GenerateConfig
 from hexapod_adapt.mapping.simulation import simulation_fingerprint
+from hexapod_util.processes import child_pids, is_running
 import numpy as np
 import pytest
 
@@ -149,24 +150,6 @@ def test_a_finished_map_without_its_checkpoint_continues_with_more_evaluations(t
         generate_map(GenerateConfig(out=out, workers=1, resume=True, **SMALL))
 
 
-@pytest.mark.slow
-def _children(pid: int) -> list[int]:
-    """Return the pids of ``pid``'s child processes (Linux /proc)."""
-    out = []
-    for task in Path(f'/proc/{pid}/task').iterdir():
-        out += [int(c) for c in (task / 'children').read_text().split()]
-    return out
-
-
-def _running(pid: int) -> bool:
-    """Return whether ``pid`` exists and is not a zombie waiting to be reaped."""
-    try:
-        stat = Path(f'/proc/{pid}/stat').read_text()
-    except FileNotFoundError:
-        return False
-    return stat.rsplit(')', 1)[1].split()[0] != 'Z'
-
-
 def _kill_midway(args: list, out: Path, evaluations: int, emitters: bool = True) -> None:
     """
     Run generate_map on one worker; SIGKILL it once a checkpoint holds ``evaluations``.
@@ -197,7 +180,7 @@ def _kill_midway(args: list, out: Path, evaluations: int, emitters: bool = True)
         ] >= evaluations:
             break
         time.sleep(0.05)
-    workers = _children(proc.pid)
+    workers = child_pids(proc.pid)
     assert workers  # the pool's worker
     proc.send_signal(signal.SIGKILL)
     proc.wait()
@@ -206,7 +189,7 @@ def _kill_midway(args: list, out: Path, evaluations: int, emitters: bool = True)
     deadline = time.monotonic() + 20
     while any(Path(f'/proc/{pid}').exists() for pid in workers) and time.monotonic() < deadline:
         time.sleep(0.05)
-    assert not [pid for pid in workers if _running(pid)], 'a worker outlived generate_map'
+    assert not [pid for pid in workers if is_running(pid)], 'a worker outlived generate_map'
 
 
 @pytest.mark.slow

@@ -169,9 +169,14 @@ def test_the_simulators_damage_is_taken_and_a_request_that_differs_is_said():
 @pytest.fixture(scope='module')
 def tiny_map() -> Archive:
     """30 gaits of the default map (MuJoCo), the fastest first."""
+    return _fastest_of_default_map(30)
+
+
+def _fastest_of_default_map(n: int) -> Archive:
+    """Return the default map with only its ``n`` fastest gaits."""
     full = load_archive(shipped_map(DEFAULT_MAP))
     elites = full.elite_indices()
-    keep = elites[np.argsort(-full.fitness[elites])[:30]]
+    keep = elites[np.argsort(-full.fitness[elites])[:n]]
     tiny = Archive(
         full.centroids,
         np.full(len(full.centroids), np.nan),
@@ -231,6 +236,35 @@ def test_a_streaming_prior_scores_the_best_gaits_first_and_caches_the_whole(tiny
     np.testing.assert_array_equal(stream.snapshot().speeds, truth.speeds)
     again = StreamingPrior(tiny_map, damage, 'mujoco', tmp_path)
     assert again.cached and again.wait_first(0)  # the whole was cached
+
+
+@pytest.mark.slow
+def test_a_closed_re_score_ends_its_workers_at_once_not_after_their_chunk(tmp_path):
+    """Closed, a re-score's workers walked their chunk (64 gaits: seconds) beside the next's."""
+    import os
+    import time
+
+    from hexapod_adapt.online.streaming_prior import CHUNK, StreamingPrior
+    from hexapod_util.processes import child_pids, is_running
+
+    archive = _fastest_of_default_map(2 * CHUNK)
+    before = child_pids(os.getpid())
+    stream = StreamingPrior(archive, Damage.of('unpowered_femur', [2]), 'mujoco', tmp_path)
+    deadline = time.monotonic() + 60
+    while not child_pids(os.getpid()) - before and time.monotonic() < deadline:
+        time.sleep(0.05)
+    workers = child_pids(os.getpid()) - before
+    assert workers, 'the re-score started no worker'
+    time.sleep(1.0)  # importing the engine, then walking its first chunk: far more than this
+    t0 = time.monotonic()
+    stream.close()
+    stream._thread.join(60)
+    took = time.monotonic() - t0
+    assert not stream._thread.is_alive()
+    assert stream.snapshot().scored == 0 and not stream.error  # closed mid-chunk, quietly
+    assert took < 5.0, f'the re-score took {took:.1f} s to stop'
+    assert not [pid for pid in workers if is_running(pid)], 'a worker walks on after close()'
+    assert not list(tmp_path.iterdir())  # nothing cached
 
 
 @pytest.mark.slow
