@@ -83,12 +83,6 @@ def main(argv: list[str] | None = None) -> int:
         help="while no damage is named: stop on alpha alone, or also on the profile's stop_gain",
     )
     parser.add_argument(
-        '--equal-leg-counts',
-        action=argparse.BooleanOptionalAction,
-        default=Weighing().equal_leg_counts,
-        help='each count of failed legs gets an equal share of the prior over the hypotheses',
-    )
-    parser.add_argument(
         '--temperature',
         type=float,
         default=Weighing().temperature,
@@ -183,7 +177,6 @@ def main(argv: list[str] | None = None) -> int:
         temperature=args.temperature,
         fit_floor=args.fit_floor,
         wider_fit_floor=args.wider_fit_floor,
-        equal_leg_counts=args.equal_leg_counts,
     )
     if args.variant is not None and args.engine != 'mujoco':
         parser.error('--variant changes MuJoCo trials only')
@@ -217,7 +210,6 @@ def main(argv: list[str] | None = None) -> int:
         + f'+{args.stop}stop+offset{args.offset_std:g}'
         + f'+t{args.temperature:g}+none{args.none_deviation:g}'
         + ('' if args.fit_floor is None else f'+fit{args.fit_floor:g}')
-        + ('+equallegs' if args.equal_leg_counts else '')
         + (
             ''
             if args.wider_fit_floor == args.fit_floor or args.hypotheses != 'lifted-then-every'

@@ -85,10 +85,7 @@ class Weighing:
     :func:`~hexapod_adapt.online.session.diagnosis_plan`; lower: its leader is the best of 8
     kinds). ``wake_walks``: the most walks a trial's waking of asleep hypotheses may simulate
     (None: no cap; the default is a compute budget, about 6 s of a core:
-    studies/diagnosis/README.md, "A trial's cost in walks"). ``equal_leg_counts``: each count of
-    failed legs gets an equal share of the prior (else each hypothesis does: a bank of 6 one-leg
-    and 15 two-leg damages then gives the pairs 71 %; studies/diagnosis/README.md, "One leg or
-    two").
+    studies/diagnosis/README.md, "A trial's cost in walks").
     """
 
     none_deviation: float = 2.5
@@ -97,7 +94,6 @@ class Weighing:
     fit_floor: float | None = FIT_FLOOR
     wider_fit_floor: float | None = WIDER_FIT_FLOOR
     wake_walks: int | None = 60
-    equal_leg_counts: bool = False
 
     def __post_init__(self) -> None:
         if not 0.0 < self.none_prior < 1.0:
@@ -116,12 +112,6 @@ class Weighing:
             or self.wake_walks < 1
         ):
             raise ValueError(f'wake_walks must be a whole number >= 1, got {self.wake_walks!r}')
-
-
-def leg_count_weights(legs: Sequence[Sequence[int]]) -> tuple[float, ...]:
-    """Return prior weights giving each count of failed legs among ``legs`` an equal share."""
-    counts = [len(x) for x in legs]
-    return tuple(1.0 / counts.count(n) for n in counts)
 
 
 @dataclass(frozen=True)
@@ -329,8 +319,6 @@ class Diagnosis:
     ``weighing.wake_walks`` walks' worth. ``contacts``: compare foot duty factors too (only when
     every trial records contacts, as a simulator's do). ``weighing``: how a trial weighs them.
     ``calibration``: the trials' source's gap to the map's engine (None: none measured).
-    ``weights``: each hypothesis's prior weight, relative to the others (None: equal); "none of
-    these" keeps ``weighing.none_prior``.
     """
 
     labels: tuple[str, ...]
@@ -338,7 +326,6 @@ class Diagnosis:
     contacts: bool = False
     weighing: Weighing = Weighing()
     calibration: GapCalibration | None = None
-    weights: tuple[float, ...] | None = None
     _log: np.ndarray = field(init=False)
     _cache: dict[tuple[int, int], np.ndarray | None] = field(init=False, default_factory=dict)
     # each asleep hypothesis's trials not yet weighed: (niche, the trial's signature)
@@ -349,10 +336,8 @@ class Diagnosis:
         if not self.labels:
             raise ValueError('a diagnosis needs at least one hypothesis')
         h, none_prior = len(self.labels), self.weighing.none_prior
-        w = np.ones(h) if self.weights is None else np.asarray(self.weights, dtype=float)
-        if w.shape != (h,) or not (np.all(np.isfinite(w)) and np.all(w > 0)):
-            raise ValueError(f'need one positive prior weight per hypothesis, got {self.weights}')
-        prior = np.append((1.0 - none_prior) * w / w.sum(), none_prior)
+        prior = np.full(h + 1, (1.0 - none_prior) / h)
+        prior[-1] = none_prior
         self._log = np.log(prior)
         self._fit = np.zeros(h + 1)
         self.names = feature_names(self.contacts)

@@ -40,7 +40,6 @@ from hexapod_adapt.online.diagnosis import (
     Diagnosis,
     GapCalibration,
     HypothesisWalks,
-    leg_count_weights,
     Posterior,
     TrialRecord,
     Weighing,
@@ -253,12 +252,7 @@ def diagnosis_plan(
         raise ValueError(f'screen_margin must lie in [0, tip_guard), got {screen_margin}')
     walks = walks or HypothesisWalks(archive, bank.engine)
     labels = tuple(d.label for d in bank.damages)
-    weights = None
-    if weighing.equal_leg_counts:
-        weights = leg_count_weights([d.failed_legs for d in bank.damages])
-    diagnosis = Diagnosis(
-        labels, walks.under(bank.damages), contacts, weighing, calibration, weights
-    )
+    diagnosis = Diagnosis(labels, walks.under(bank.damages), contacts, weighing, calibration)
 
     def screen_of(damage: Damage) -> TipScreen | None:
         if tip_guard >= math.pi:

@@ -26,7 +26,6 @@ from hexapod_adapt.online.diagnosis import (
     feature_noise,
     GapCalibration,
     HypothesisWalks,
-    leg_count_weights,
     NONE_LABEL,
     signature,
     TrialRecord,
@@ -127,22 +126,6 @@ def test_a_temperature_tempers_each_trial_s_evidence_and_weighing_refuses_nonsen
     ):
         with pytest.raises(ValueError):
             Weighing(**bad)
-
-
-def test_equal_leg_counts_give_one_leg_and_two_leg_hypotheses_an_equal_prior_share():
-    legs = [(1,), (2,), (1, 2), (1, 3), (2, 3), (3, 4)]  # 2 one-leg, 4 two-leg sets
-    weights = leg_count_weights(legs)
-    assert weights == (0.5, 0.5, 0.25, 0.25, 0.25, 0.25)
-    diagnosis = Diagnosis(tuple(map(str, legs)), lambda niche, h: None, weights=weights)
-    p = diagnosis.posterior().probabilities
-    none = Weighing().none_prior
-    np.testing.assert_allclose(p[:2].sum(), p[2:-1].sum())
-    np.testing.assert_allclose([p[:-1].sum(), p[-1]], [1 - none, none])
-    flat = Diagnosis(tuple(map(str, legs)), lambda niche, h: None).posterior().probabilities
-    np.testing.assert_allclose(flat[:-1], (1 - none) / 6)
-    for bad in ((1.0, 2.0), (1.0, 0.0, 1.0, 1.0, 1.0, 1.0), (1.0, np.nan, 1, 1, 1, 1)):
-        with pytest.raises(ValueError, match='one positive prior weight per hypothesis'):
-            Diagnosis(tuple(map(str, legs)), lambda niche, h: None, weights=bad)
 
 
 def _walk(speed: float, yaw_rate: float, pitch: float) -> TrialRecord:
