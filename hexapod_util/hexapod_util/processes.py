@@ -94,7 +94,7 @@ def child_pids(pid: int) -> set[int]:
     found: set[int] = set()
     for stat in Path('/proc').glob('[0-9]*/stat'):
         try:
-            if int(stat.read_text().rsplit(')', 1)[1].split()[1]) == pid:
+            if int(_stat_fields(stat.read_text())[1]) == pid:
                 found.add(int(stat.parent.name))
         except (OSError, ValueError, IndexError):
             pass  # a process that ended while being read
@@ -107,4 +107,9 @@ def is_running(pid: int) -> bool:
         stat = Path(f'/proc/{pid}/stat').read_text()
     except FileNotFoundError:
         return False
-    return stat.rsplit(')', 1)[1].split()[0] not in ('Z', 'X')
+    return _stat_fields(stat)[0] not in ('Z', 'X')
+
+
+def _stat_fields(stat: str) -> list[str]:
+    """Return a /proc/PID/stat line's fields after the command name: state, parent, ..."""
+    return stat.rsplit(')', 1)[1].split()
