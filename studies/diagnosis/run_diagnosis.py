@@ -27,7 +27,7 @@ from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
 from hexapod_adapt.mapping.simulation import engine_of_map
 from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
-from hexapod_adapt.online.bank import load_bank, load_diagnosis_banks
+from hexapod_adapt.online.bank import load_bank, load_diagnosis_banks, RESCORE_WHEN_NAMED
 from hexapod_adapt.online.diagnosis import Weighing
 from hexapod_adapt.online.experiment import ExperimentSetup, run_experiment
 from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
@@ -143,6 +143,13 @@ def main(argv: list[str] | None = None) -> int:
         ' no floor)',
     )
     parser.add_argument(
+        '--rescore-when-named',
+        action=argparse.BooleanOptionalAction,
+        default=RESCORE_WHEN_NAMED,
+        help='the wider bank (--hypotheses lifted-then-every) weighs its damages not cached too,'
+        ' each re-scored when a run names it',
+    )
+    parser.add_argument(
         '--leg-sets',
         action=argparse.BooleanOptionalAction,
         default=NAME_LEG_SETS,
@@ -193,7 +200,7 @@ def main(argv: list[str] | None = None) -> int:
         bank, wider = load_bank(archive, map_engine, [shipped_ceilings()], own), None
     else:
         bank, wider = load_diagnosis_banks(
-            archive, map_engine, [shipped_ceilings()], args.hypotheses
+            archive, map_engine, [shipped_ceilings()], args.hypotheses, args.rescore_when_named
         )
     for b in (bank, wider or bank):
         if b.missing:
@@ -227,6 +234,7 @@ def main(argv: list[str] | None = None) -> int:
             'kind': '',
         }[args.hypotheses]
         + ('+leg-sets' if args.leg_sets and 'every' in args.hypotheses else '')
+        + ('+rescore-named' if args.rescore_when_named and wider is not None else '')
         + ('' if args.variant is None else f'+trials-{args.variant}')
         + (f'+margin{args.screen_margin:g}' if args.screen_margin else '')
         + (f'+calibrate{args.calibrate}' if args.calibrate else ''),

@@ -9,9 +9,12 @@ prior mean the trials confirm or rule out (:class:`hexapod_adapt.online.mboa.Mbo
 ``hypotheses``). A blind run's diagnosis weighs them, or every damage kind on those legs
 (:data:`DIAGNOSIS_BANKS`). A bank is a set of cached ceilings
 (:mod:`hexapod_adapt.online.ceiling`): for the default map they ship in ``maps/ceilings``
-(``maps/make_ceilings.sh`` makes them, 35 min on 2 cores); for another map ``python -m
+(``maps/make_ceilings.sh`` makes them); for another map ``python -m
 hexapod_adapt.online.ceilings_cli --archive MAP --cache-dir DIR`` does. Nothing here computes: a
-case that is not cached is listed as missing, and the bank is what is there.
+case that is not cached is listed as missing, and the bank is what is there, or, with
+``rescore_missing``, a hypothesis all the same whose row is NaN until a run names it: the
+diagnosis walks each hypothesis's gaits when it needs them, and a run that names such a damage
+re-scores the top of the map under it then (:func:`~hexapod_adapt.online.ceiling.quick_rescore`).
 
 A bank only helps where its hypotheses resemble the real damage. The tuning set measures the case
 where they do not (locked legs, weak servos, lost tibias: none is in the lifted bank).
@@ -52,6 +55,9 @@ DIAGNOSIS_BANKS: dict[str, tuple[tuple[Damage, ...], tuple[Damage, ...] | None]]
 
 #: adapt_node's bank and the benchmarks'.
 DEFAULT_DIAGNOSIS_BANK = 'lifted-then-every'
+#: Whether the wider bank weighs the damages not cached too, each re-scored when named
+#: (:func:`load_diagnosis_banks`).
+RESCORE_WHEN_NAMED = False
 
 
 def diagnosis_damages(bank: str) -> tuple[tuple[Damage, ...], tuple[Damage, ...] | None]:
@@ -67,7 +73,9 @@ class DamageBank:
 
     engine: str
     damages: tuple[Damage, ...]
-    speeds: np.ndarray  # (len(damages), elites) m/s, elites in archive.elite_indices() order
+    # (len(damages), elites) m/s, elites in archive.elite_indices() order; a row of NaN: a damage
+    # not cached, re-scored when a run names it (load_bank's rescore_missing)
+    speeds: np.ndarray
     missing: tuple[Damage, ...] = ()  # asked for but not cached
 
     def __len__(self) -> int:
@@ -106,7 +114,10 @@ class DamageBank:
     def describe(self) -> str:
         """Say what the bank holds, e.g. ``21 damage hypotheses on mujoco``."""
         text = f'{len(self)} damage hypotheses on {self.engine}'
-        if self.missing:
+        pending = [d for d, row in zip(self.damages, self.speeds) if np.isnan(row).any()]
+        if pending:
+            text += f' ({len(pending)} not cached: each re-scored when a run names it)'
+        elif self.missing:
             text += (
                 f' ({len(self.missing)} not cached: '
                 + ', '.join(d.label for d in self.missing)
@@ -120,17 +131,25 @@ def load_bank(
     engine: str,
     dirs: Sequence[str | os.PathLike],
     damages: Sequence[Damage] = BANK_DAMAGES,
+    rescore_missing: bool = False,
 ) -> DamageBank:
-    """Return the bank of ``archive`` on ``engine``: each of ``damages`` cached in ``dirs``."""
+    """
+    Return the bank of ``archive`` on ``engine``: each of ``damages`` cached in ``dirs``.
+
+    ``rescore_missing``: a damage not cached is a hypothesis too, its row NaN (re-scored when a
+    run names it); else it is left out. Either way it is listed in ``missing``.
+    """
     found, speeds, missing = [], [], []
+    n = len(archive.elite_indices())
     for damage in damages:
         c = cached_ceiling(archive, damage, engine, dirs)
         if c is None:
             missing.append(damage)
-            continue
+            if not rescore_missing:
+                continue
         found.append(damage)
-        speeds.append(c.speeds)  # in elite order: the key's map digest covers the niches
-    n = len(archive.elite_indices())
+        # in elite order: the key's map digest covers the niches
+        speeds.append(np.full(n, np.nan) if c is None else c.speeds)
     return DamageBank(
         engine,
         tuple(found),
@@ -144,9 +163,15 @@ def load_diagnosis_banks(
     engine: str,
     dirs: Sequence[str | os.PathLike],
     bank: str = DEFAULT_DIAGNOSIS_BANK,
+    rescore_when_named: bool = RESCORE_WHEN_NAMED,
 ) -> tuple[DamageBank, DamageBank | None]:
-    """Return the diagnosis bank ``bank`` of ``archive`` (:func:`load_bank`), and its wider one."""
+    """
+    Return the diagnosis bank ``bank`` of ``archive`` (:func:`load_bank`), and its wider one.
+
+    ``rescore_when_named``: the wider bank weighs its damages not cached too, each re-scored
+    when a run names it (the first bank is what is cached: its rows choose the first gait).
+    """
     first, wider = diagnosis_damages(bank)
     return load_bank(archive, engine, dirs, first), (
-        None if wider is None else load_bank(archive, engine, dirs, wider)
+        None if wider is None else load_bank(archive, engine, dirs, wider, rescore_when_named)
     )

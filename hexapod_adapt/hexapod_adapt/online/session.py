@@ -36,6 +36,7 @@ from hexapod_adapt.online.adaptation import (
     TrialOutcome,
 )
 from hexapod_adapt.online.bank import DamageBank
+from hexapod_adapt.online.ceiling import quick_rescore
 from hexapod_adapt.online.diagnosis import (
     Diagnosis,
     GapCalibration,
@@ -141,6 +142,8 @@ class DiagnosisPlan:
     the posterior, with every one's tip screen. ``wider``: makes the plan of a wider bank,
     which a run that names nothing weighs its trials under, once the damage this bank holds
     most probable fits none of them, before it falls back to blind M-BOA (None: it falls back).
+    ``rescore(damage)``: a row of ``priors`` that is NaN (a damage not cached) is filled by it
+    when its hypothesis is named, in place, so the plan's later runs have it too.
     """
 
     diagnosis: Diagnosis
@@ -153,6 +156,7 @@ class DiagnosisPlan:
     blind: BlindRules = BlindRules()
     leg_sets: bool = NAME_LEG_SETS
     wider: Callable[[], DiagnosisPlan] | None = None
+    rescore: Callable[[Damage], np.ndarray] | None = None
 
     def __post_init__(self) -> None:
         if len(self.damages) != len(self.diagnosis.labels) or len(self.priors) != len(
@@ -211,9 +215,19 @@ class DiagnosisPlan:
         return f'{where} {", ".join(kinds[:-1])} or {kinds[-1]}'
 
     def prior_of(self, named: tuple[int, ...], probabilities: np.ndarray) -> np.ndarray:
-        """Return the re-scores of ``named`` weighed by their share of ``probabilities``."""
+        """
+        Return the re-scores of ``named`` weighed by their share of ``probabilities``.
+
+        A re-score not made yet (a NaN row) is made now by ``rescore``.
+        """
+        rows = np.asarray(self.priors, dtype=float)  # a float array: itself, filled in place
+        for h in named:
+            if np.isnan(rows[h]).any():
+                if self.rescore is None:
+                    raise ValueError(f'{self.damages[h].label} has no re-score and no rescore')
+                rows[h] = self.rescore(self.damages[h])
         w = np.asarray(probabilities, dtype=float)[list(named)]
-        return (w / w.sum()) @ np.asarray(self.priors)[list(named)]
+        return (w / w.sum()) @ rows[list(named)]
 
 
 def diagnosis_plan(
@@ -285,6 +299,7 @@ def diagnosis_plan(
         blind=blind,
         leg_sets=leg_sets,
         wider=widen if wider else None,
+        rescore=lambda damage: quick_rescore(archive, damage, bank.engine),
     )
 
 
@@ -361,7 +376,9 @@ def blended_prior(plan: DiagnosisPlan, map_prior: np.ndarray) -> np.ndarray:
     Each weighed by its hypothesis's probability ("none of these": the map's own speeds).
     """
     p = plan.diagnosis.posterior().probabilities
-    return p[:-1] @ np.asarray(plan.priors) + p[-1] * np.asarray(map_prior)
+    map_prior = np.asarray(map_prior, dtype=float)
+    rows = np.where(np.isnan(plan.priors), map_prior, plan.priors)  # not re-scored: the map's
+    return p[:-1] @ rows + p[-1] * map_prior
 
 
 def screen_note(screen: TipScreen) -> str:

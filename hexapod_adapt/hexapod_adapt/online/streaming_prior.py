@@ -24,14 +24,16 @@ from typing import Callable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import engine_of_map
-from hexapod_adapt.online.bank import BANK_DAMAGES, DamageBank, load_bank
+from hexapod_adapt.online.bank import BANK_DAMAGES, DamageBank, load_bank, RESCORE_WHEN_NAMED
 from hexapod_adapt.online.ceiling import (
     cached_ceiling,
     Ceiling,
     estimate_unwalked,
     evaluate_part,
+    intact_order,
     Rescoring,
     store_ceiling,
+    TOP_FIRST,
 )
 from hexapod_adapt.online.diagnosis import GapCalibration, HypothesisWalks
 from hexapod_adapt.online.session import diagnosis_plan, DiagnosisPlan, PriorStart
@@ -39,9 +41,6 @@ from hexapod_sim.damage import Damage
 from hexapod_util.processes import die_with_parent, worker_pool
 import numpy as np
 
-#: Gaits scored before the first trial, the map's best by intact speed
-#: (``adapt_prior_first_trial_s`` in docs/benchmarks.md).
-TOP_FIRST = 256
 #: Gaits per pool job: small enough that the prior refreshes between trials.
 CHUNK = 64
 #: The re-score's processes yield the cores to the trials (a simulator walking in fast mode lost
@@ -108,7 +107,7 @@ class StreamingPrior:
             self._speeds, self._scored, self.cached = cached.speeds.copy(), self.total, True
             return
         self.cached = False
-        order = np.argsort(-self._intact, kind='stable')
+        order = intact_order(archive)
         self._thread = threading.Thread(
             target=self._run, args=(order, workers), name='streaming-prior', daemon=True
         )
@@ -221,10 +220,12 @@ class StreamingPriors:
         progress_period: float = 5.0,
         bank: Sequence[Damage] = BANK_DAMAGES,
         wider: Sequence[Damage] | None = None,
+        rescore_when_named: bool = RESCORE_WHEN_NAMED,
     ) -> None:
         self.cache_dir, self.read_dirs, self.workers = cache_dir, list(read_dirs), workers
         self.bank_damages = tuple(bank)  # what a blind run's diagnosis weighs, where cached
         self.wider_damages = None if wider is None else tuple(wider)  # once none of those fits
+        self.rescore_when_named = rescore_when_named  # the wider bank's damages not cached too
         self.log, self.progress_period = log, progress_period
         self.stream: StreamingPrior | None = None  # the last run's (may still stream)
         #: the robot's gap to the map's engine, taken out of every blind run's hypotheses
@@ -275,7 +276,9 @@ class StreamingPriors:
             dirs = [*self.read_dirs] + ([self.cache_dir] if self.cache_dir else [])
             self._bank = load_bank(archive, engine, dirs, self.bank_damages)
             if self.wider_damages is not None:
-                self._wider = load_bank(archive, engine, dirs, self.wider_damages)
+                self._wider = load_bank(
+                    archive, engine, dirs, self.wider_damages, self.rescore_when_named
+                )
             self._banked = archive
         return diagnosis_plan(
             archive,

@@ -451,6 +451,44 @@ def test_a_damage_bank_is_the_cached_ceilings_and_says_what_is_missing(small_map
     assert int(np.argmax(weights[-1])) == 2  # map, leg 1, legs 2+5
 
 
+def test_a_bank_may_weigh_a_damage_not_cached_and_re_score_it_when_named(small_map, tmp_path):
+    # the wider bank before its ceilings are made: a damage not cached is a hypothesis whose row
+    # is NaN; the run that names it re-scores the top of the map then, and the bank keeps it
+    from hexapod_adapt.online.bank import load_bank
+    from hexapod_adapt.online.ceiling import estimate_unwalked, intact_order, quick_rescore
+    from hexapod_adapt.online.session import blended_prior, diagnosis_plan
+
+    cases = [Damage.lifted([1]), Damage.of('locked', [3])]
+    cached = ceiling(small_map, cases[0], 'mujoco', cache_dir=tmp_path)
+    bank = load_bank(small_map, 'mujoco', [tmp_path], cases, rescore_missing=True)
+    assert bank.damages == tuple(cases) and bank.missing == (cases[1],)
+    np.testing.assert_array_equal(bank.speeds[0], cached.speeds)
+    assert np.isnan(bank.speeds[1]).all()
+    assert bank.describe() == (
+        '2 damage hypotheses on mujoco (1 not cached: each re-scored when a run names it)'
+    )
+    # the re-score: the intact-fastest walked as a ceiling walks them, the rest estimated
+    full = ceiling(small_map, cases[1], 'mujoco')
+    intact = small_map.speeds()[small_map.elite_indices()]
+    top = intact_order(small_map)[:4]
+    part = np.full(len(intact), np.nan)
+    part[top] = full.speeds[top]
+    quick = quick_rescore(small_map, cases[1], 'mujoco', first=4)
+    np.testing.assert_allclose(quick, estimate_unwalked(intact, part), atol=1e-12)
+    # before it is named, a blind run expects the map's own speeds of it
+    plan = diagnosis_plan(small_map, bank)
+    p = plan.diagnosis.posterior().probabilities
+    expected = p[0] * cached.speeds + (p[1] + p[2]) * intact
+    np.testing.assert_allclose(blended_prior(plan, intact), expected, atol=1e-12)
+    # named: re-scored (its 12 gaits are under the 256 walked: all of them), kept in the bank
+    np.testing.assert_allclose(plan.prior_of((1,), p), full.speeds, atol=1e-12)
+    np.testing.assert_allclose(bank.speeds[1], full.speeds, atol=1e-12)
+    # a plan given no way to re-score refuses to name it
+    bare = replace(plan, priors=np.full_like(bank.speeds, np.nan), rescore=None)
+    with pytest.raises(ValueError, match='leg 3 locked has no re-score'):
+        bare.prior_of((1,), p)
+
+
 def test_the_diagnosis_banks_adapt_node_may_be_given():
     from hexapod_adapt.online.bank import BANK_DAMAGES, diagnosis_damages
     from hexapod_sim.damage import EXPERIMENT_KINDS
