@@ -22,7 +22,9 @@ def bench_adapt() -> None:
 
     adapt_mboa_step_ms: one M-BOA step (observe a trial + pick the next gait) on a 40 000-gait map
     after 19 trials (median of 20 runs' last steps). adapt_prior_rescore_s: the default map
-    re-scored under a damage no cache holds (leg 3 locked), 2 processes. Then thesis experiment 5.2
+    re-scored under a damage no cache holds (leg 3 locked), 2 processes; adapt_rescore_named_s:
+    the top of it re-scored under the same damage as a blind run does on naming it (one
+    process). Then thesis experiment 5.2
     on the default map (``BENCH_ADAPT_MAP`` overrides it): every orientation of S1-S4, with trials
     on the map's engine and again across engines (suffix _cross), in three setups: the default
     profile (no suffix; the damaged control tripod is each run's success floor; blind, each run
@@ -182,6 +184,7 @@ def _bench_timings(archive, map_engine: str) -> None:
     """One M-BOA step, the map's size, and the damage-informed prior's re-score and first trial."""
     import tempfile
 
+    from hexapod_adapt.online.ceiling import quick_rescore
     from hexapod_adapt.online.mboa import Mboa, MboaConfig
     from hexapod_adapt.online.prior import damage_prior
     from hexapod_adapt.online.streaming_prior import StreamingPrior
@@ -212,6 +215,11 @@ def _bench_timings(archive, map_engine: str) -> None:
         stream.wait_first(600)
         print(f'BENCH adapt_prior_first_trial_s {time.monotonic() - t0:.1f} s')
         stream.close()
+    # a blind run naming a damage its bank has not cached: the top of the map re-scored under
+    # it, in the run's own process, between two trials
+    t0 = time.monotonic()
+    quick_rescore(archive, Damage.of('locked', [3]), map_engine)
+    print(f'BENCH adapt_rescore_named_s {time.monotonic() - t0:.1f} s')
 
 
 def _bench_damage_kinds(

@@ -202,9 +202,9 @@ def main(argv: list[str] | None = None) -> int:
         bank, wider = load_diagnosis_banks(
             archive, map_engine, [shipped_ceilings()], args.hypotheses, args.rescore_when_named
         )
-    for b in (bank, wider or bank):
-        if b.missing:
-            print(f'not cached: {[d.label for d in b.missing]}', file=sys.stderr)
+    for which, b in (('bank', bank), ('wider bank', wider)):
+        if b is not None:
+            print(f'{which}: {b.describe()}', file=sys.stderr)
     setup = ExperimentSetup(
         scenarios=tuple(args.scenarios),
         config=replace(PROFILES['default'], max_trials=TRIAL_BUDGET),

@@ -56,8 +56,9 @@ DIAGNOSIS_BANKS: dict[str, tuple[tuple[Damage, ...], tuple[Damage, ...] | None]]
 #: adapt_node's bank and the benchmarks'.
 DEFAULT_DIAGNOSIS_BANK = 'lifted-then-every'
 #: Whether the wider bank weighs the damages not cached too, each re-scored when named
-#: (:func:`load_diagnosis_banks`).
-RESCORE_WHEN_NAMED = False
+#: (:func:`load_diagnosis_banks`): it won on a tuning set (studies/diagnosis/README.md,
+#: "Weighing the kinds not cached yet").
+RESCORE_WHEN_NAMED = True
 
 
 def diagnosis_damages(bank: str) -> tuple[tuple[Damage, ...], tuple[Damage, ...] | None]:
@@ -118,11 +119,9 @@ class DamageBank:
         if pending:
             text += f' ({len(pending)} not cached: each re-scored when a run names it)'
         elif self.missing:
-            text += (
-                f' ({len(self.missing)} not cached: '
-                + ', '.join(d.label for d in self.missing)
-                + ')'
-            )
+            named = ', '.join(d.label for d in self.missing[:3])
+            more = f' and {len(self.missing) - 3} more' if len(self.missing) > 3 else ''
+            text += f' ({len(self.missing)} not cached: {named}{more})'
         return text
 
 

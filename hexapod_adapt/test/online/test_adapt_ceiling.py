@@ -505,6 +505,37 @@ def test_the_diagnosis_banks_adapt_node_may_be_given():
         diagnosis_damages('all')
 
 
+def test_a_blind_run_s_wider_bank_weighs_every_kind_before_its_ceilings_land():
+    # adapt_node's source of priors: the lifted legs first, then all 168 damages, those the
+    # shipped cache lacks with no re-score until a run names one
+    from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings
+    from hexapod_adapt.online.bank import BANK_DAMAGES, diagnosis_damages
+    from hexapod_adapt.online.ceiling import cached_ceiling
+    from hexapod_adapt.online.streaming_prior import StreamingPriors
+
+    every, _ = diagnosis_damages('every')
+    archive = load_archive(shipped_map(DEFAULT_MAP))
+    priors = StreamingPriors(None, [shipped_ceilings()], 1, print, bank=BANK_DAMAGES, wider=every)
+    plan = priors.diagnosis(archive, math.pi)
+    assert plan.damages == BANK_DAMAGES and not np.isnan(plan.priors).any()
+    wider = plan.wider()
+    assert wider.damages == every and wider.rescore is not None
+    engine = engine_of_map(archive)
+    for damage, row in zip(every, wider.priors):
+        cached = cached_ceiling(archive, damage, engine, [shipped_ceilings()])
+        if cached is None:
+            assert np.isnan(row).all(), damage.label
+        else:
+            np.testing.assert_array_equal(row, cached.speeds)
+    # told not to, it weighs what is cached alone
+    alone = StreamingPriors(
+        None, [shipped_ceilings()], 1, print, bank=BANK_DAMAGES, wider=every,
+        rescore_when_named=False,
+    )  # fmt: skip
+    kept = alone.diagnosis(archive, math.pi).wider()
+    assert set(kept.damages) < set(every) and not np.isnan(kept.priors).any()
+
+
 @OTHER_KINDS_BEING_MADE
 def test_a_blind_run_weighs_every_kind_the_shipped_cache_holds():
     from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings

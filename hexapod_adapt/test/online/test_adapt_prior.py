@@ -100,8 +100,8 @@ OTHER_KINDS_BEING_MADE = pytest.mark.xfail(
     strict=True,
     reason='the default map of 2026-12-06 shipped with its 21 lifted-leg ceilings; its other'
     " kinds' cases are still being made (scripts/resume_long_runs.sh; hexapod_adapt/maps/"
-    'ceilings/README.md): such a damage is re-scored when asked for, and the wider diagnosis'
-    ' bank weighs only what is cached. Remove this mark when they land: the test then passes'
+    'ceilings/README.md): such a damage is re-scored when asked for, or when a blind run names'
+    ' it. Remove this mark when they land: the test then passes'
     ' and strict turns the pass into a failure',
 )
 
