@@ -159,17 +159,28 @@ def veto_message(niche: int, tilt: float, guard: float, risk: float | None = Non
 
 
 def diagnosis_message(
-    trial: int, named: str, posterior: Posterior, unfit: bool = False, widened: int = 0
+    trial: int,
+    named: str,
+    posterior: Posterior,
+    unfit: bool = False,
+    widened: int = 0,
+    rescore_s: float = 0.0,
 ) -> str:
     """
     Say what the trials so far point to, e.g. after trial 2: legs 1+4 lifted 0.97 (named).
 
     ``unfit``: the most probable damage does not fit the trials (none in the bank does).
     ``widened``: the trial after which the diagnosis went to its wider bank (0: never).
+    ``rescore_s``: [s] the naming spent re-scoring the named damage, not cached (0: none).
     """
     wider = ' (none of the first bank fits them: every trial weighed over the wider bank)'
     if named:
         going = f'; the run goes on as {named}'
+        if rescore_s > 0:
+            going += (
+                f" (its re-score was not cached: the map's fastest gaits were walked under it"
+                f' now, {rescore_s:.0f} s)'
+            )
     elif unfit:
         going = '; no hypothesis fits the trials: the run goes on blind'
     else:

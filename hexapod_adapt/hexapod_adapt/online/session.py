@@ -457,6 +457,8 @@ class AdaptationSession:
         self._blind = (prior, self.rules)  # what a released diagnosis goes back to
         self.screen = self.start.screen
         self.named: tuple[int, ...] | None = None  # the diagnosis's hypotheses the run goes on as
+        #: [s] the last trial's naming spent re-scoring a damage not cached (0: none)
+        self.rescore_s = 0.0
         self._screens: dict[int, TipScreen | None] = {}  # each hypothesis's, made when named
         self.posterior: Posterior | None = None  # the diagnosis's, after the last trial
         self._result = AdaptationResult(False, '', config=self.rules)
@@ -594,6 +596,7 @@ class AdaptationSession:
     def _diagnose(self, niche: int, record: TrialRecord) -> None:
         """Weigh the hypotheses by a trial; name a damage or a leg set, keep it, or give it up."""
         plan = self.start.diagnosis
+        self.rescore_s = 0.0
         post = self.posterior = plan.diagnosis.observe(niche, record)
         if plan.safety is not None:
             plan.safety.weigh(post.probabilities)
@@ -656,7 +659,10 @@ class AdaptationSession:
                 self._blind = (prior, self.rules)
             self.screen = self.start.screen
         else:
+            fresh = any(np.isnan(plan.priors[h]).any() for h in named)  # not re-scored yet
+            t0 = time.monotonic()
             prior = plan.prior_of(named, self.posterior.probabilities)
+            self.rescore_s = time.monotonic() - t0 if fresh else 0.0
             self.rules = run_rules(self.config, replace(self.start, prior=prior))
             screens = [self._screen_of(h) for h in named]
             if None in screens or len(screens) == 1:

@@ -84,5 +84,6 @@ class TrialFeed:
                     session.posterior,
                     session.unfit,
                     session.widened,
+                    session.rescore_s,
                 )
             )

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 import math
+import time
 
 from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
@@ -277,9 +278,15 @@ def test_a_run_that_no_hypothesis_fits_weighs_its_trials_under_a_wider_bank(arch
             return walks[hypotheses[h]]
 
         diagnosis = Diagnosis(tuple(damages[h].label for h in hypotheses), walk, weighing=weighing)
-        return DiagnosisPlan(diagnosis, tuple(damages[h] for h in hypotheses),
-                             np.zeros((len(hypotheses), n)), lambda d: None, leg_sets=False,
-                             wider=wider)  # fmt: skip
+        priors = np.zeros((len(hypotheses), n))
+        priors[2:] = np.nan  # the locked leg's re-score is not cached: made when it is named
+        return DiagnosisPlan(diagnosis, tuple(damages[h] for h in hypotheses), priors,
+                             lambda d: None, leg_sets=False, wider=wider,
+                             rescore=rescore)  # fmt: skip
+
+    def rescore(damage: Damage) -> np.ndarray:
+        time.sleep(0.01)
+        return np.full(n, 0.25)
 
     config = replace(PROFILES['default'], max_trials=6, min_speed=0.9)
     unfit_at = 0  # the trial after which the first bank's leader fits no trial
@@ -302,6 +309,9 @@ def test_a_run_that_no_hypothesis_fits_weighs_its_trials_under_a_wider_bank(arch
         assert result.widened == unfit_at and len(tried) == unfit_at
         assert session.named == (2,) and not session.unfit, session.posterior.describe()
         assert result.named[-1] == 'leg 3 locked' and set(result.named[:-1]) == {''}
+        # named, its re-score was made then (the time said on the feedback), and kept
+        assert session.rescore_s >= 0.01
+        np.testing.assert_array_equal(session.start.diagnosis.priors[2], np.full(n, 0.25))
         assert sorted({niche for _, niche in seen}) == sorted(tried)
         assert session.start.diagnosis.damages == damages
 

@@ -103,3 +103,8 @@ def test_a_diagnosis_says_what_the_run_goes_on_as_or_that_no_hypothesis_fits():
     widened = say(3, 'leg 1 lifted', post, widened=3)
     assert widened.startswith('diagnosis after trial 3 (none of the first bank fits them: every')
     assert 'wider' not in say(4, 'leg 1 lifted', post, widened=3)
+    rescored = say(3, 'leg 1 locked', post, rescore_s=26.6)
+    assert rescored.endswith(
+        "; the run goes on as leg 1 locked (its re-score was not cached: the map's fastest gaits"
+        ' were walked under it now, 27 s)'
+    )
