@@ -214,6 +214,10 @@ class DiagnosisPlan:
         kinds = [c.pop() for c in conditions]
         return f'{where} {", ".join(kinds[:-1])} or {kinds[-1]}'
 
+    def unscored(self, named: tuple[int, ...]) -> bool:
+        """Whether any of ``named`` has no re-score yet (a NaN row: :meth:`prior_of` makes it)."""
+        return any(np.isnan(self.priors[h]).any() for h in named)
+
     def prior_of(self, named: tuple[int, ...], probabilities: np.ndarray) -> np.ndarray:
         """
         Return the re-scores of ``named`` weighed by their share of ``probabilities``.
@@ -222,7 +226,7 @@ class DiagnosisPlan:
         """
         rows = np.asarray(self.priors, dtype=float)  # a float array: itself, filled in place
         for h in named:
-            if np.isnan(rows[h]).any():
+            if self.unscored((h,)):
                 if self.rescore is None:
                     raise ValueError(f'{self.damages[h].label} has no re-score and no rescore')
                 rows[h] = self.rescore(self.damages[h])
@@ -659,7 +663,7 @@ class AdaptationSession:
                 self._blind = (prior, self.rules)
             self.screen = self.start.screen
         else:
-            fresh = any(np.isnan(plan.priors[h]).any() for h in named)  # not re-scored yet
+            fresh = plan.unscored(named)
             t0 = time.monotonic()
             prior = plan.prior_of(named, self.posterior.probabilities)
             self.rescore_s = time.monotonic() - t0 if fresh else 0.0
