@@ -57,6 +57,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument('--kind', default='lifted')
     parser.add_argument('--scenarios', nargs='+', default=['S1', 'S2', 'S3', 'S4'])
     parser.add_argument('--archive', default=str(shipped_map(DEFAULT_MAP)))
+    parser.add_argument(
+        '--ceilings',
+        default=None,
+        help="the folder of the map's cached ceilings the banks are read from (default: the"
+        ' shipped ones; an empty folder: a map with none cached)',
+    )
     parser.add_argument('--out', required=True)
     parser.add_argument('--force', action='store_true', help='replace an existing --out file')
     parser.add_argument(
@@ -194,13 +200,14 @@ def main(argv: list[str] | None = None) -> int:
     )
     archive = load_archive(args.archive)
     map_engine = engine_of_map(archive)
+    cache = shipped_ceilings() if args.ceilings is None else Path(args.ceilings)
     legs_all = [legs for name in ('S1', 'S2', 'S3', 'S4') for legs in scenario(name)]
     if args.hypotheses == 'kind':
         own = [Damage.of(args.kind, legs) for legs in legs_all]
-        bank, wider = load_bank(archive, map_engine, [shipped_ceilings()], own), None
+        bank, wider = load_bank(archive, map_engine, [cache], own), None
     else:
         bank, wider = load_diagnosis_banks(
-            archive, map_engine, [shipped_ceilings()], args.hypotheses, args.rescore_when_named
+            archive, map_engine, [cache], args.hypotheses, args.rescore_when_named
         )
     for which, b in (('bank', bank), ('wider bank', wider)):
         if b is not None:
@@ -236,6 +243,7 @@ def main(argv: list[str] | None = None) -> int:
         + ('+leg-sets' if args.leg_sets and 'every' in args.hypotheses else '')
         + ('+rescore-named' if args.rescore_when_named and wider is not None else '')
         + ('' if args.variant is None else f'+trials-{args.variant}')
+        + ('' if args.ceilings is None else '+other-ceilings')
         + (f'+margin{args.screen_margin:g}' if args.screen_margin else '')
         + (f'+calibrate{args.calibrate}' if args.calibrate else ''),
         bank=bank,

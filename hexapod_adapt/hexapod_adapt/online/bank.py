@@ -164,13 +164,26 @@ def load_diagnosis_banks(
     bank: str = DEFAULT_DIAGNOSIS_BANK,
     rescore_when_named: bool = RESCORE_WHEN_NAMED,
 ) -> tuple[DamageBank, DamageBank | None]:
-    """
-    Return the diagnosis bank ``bank`` of ``archive`` (:func:`load_bank`), and its wider one.
-
-    ``rescore_when_named``: the wider bank weighs its damages not cached too, each re-scored
-    when a run names it (the first bank is what is cached: its rows choose the first gait).
-    """
+    """Return the diagnosis bank ``bank`` of ``archive`` and its wider one (:func:`load_banks`)."""
     first, wider = diagnosis_damages(bank)
-    return load_bank(archive, engine, dirs, first), (
+    return load_banks(archive, engine, dirs, first, wider, rescore_when_named)
+
+
+def load_banks(
+    archive: Archive,
+    engine: str,
+    dirs: Sequence[str | os.PathLike],
+    first: Sequence[Damage],
+    wider: Sequence[Damage] | None,
+    rescore_when_named: bool = RESCORE_WHEN_NAMED,
+) -> tuple[DamageBank, DamageBank | None]:
+    """
+    Return the banks of ``first`` and ``wider`` damages of ``archive`` (:func:`load_bank`).
+
+    ``rescore_when_named``: both weigh their damages not cached too, each re-scored when a run
+    names it, so a map with no ceilings cached is diagnosed all the same (its first gait is then
+    chosen by the map's own speeds where a hypothesis has no row).
+    """
+    return load_bank(archive, engine, dirs, first, rescore_when_named), (
         None if wider is None else load_bank(archive, engine, dirs, wider, rescore_when_named)
     )

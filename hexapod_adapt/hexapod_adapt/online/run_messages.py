@@ -158,6 +158,16 @@ def veto_message(niche: int, tilt: float, guard: float, risk: float | None = Non
     )
 
 
+def rescore_note(rescore_s: float) -> str:
+    """Say that the damage just named was re-scored now, in ``rescore_s`` s ('': it was cached)."""
+    if rescore_s <= 0:
+        return ''
+    return (
+        "its re-score was not cached: the map's fastest gaits were walked under it now,"
+        f' {rescore_s:.0f} s'
+    )
+
+
 def diagnosis_message(
     trial: int,
     named: str,
@@ -177,10 +187,7 @@ def diagnosis_message(
     if named:
         going = f'; the run goes on as {named}'
         if rescore_s > 0:
-            going += (
-                f" (its re-score was not cached: the map's fastest gaits were walked under it"
-                f' now, {rescore_s:.0f} s)'
-            )
+            going += f' ({rescore_note(rescore_s)})'
     elif unfit:
         going = '; no hypothesis fits the trials: the run goes on blind'
     else:

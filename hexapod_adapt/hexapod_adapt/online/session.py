@@ -357,10 +357,12 @@ def informed_start(
         if plan is None:
             return SessionStart(floor=floor, note=source)
         n = len(plan.damages)
+        pending = sum(plan.unscored((h,)) for h in range(n))
         note = (
             f'{source}; the damage is named from the trials among {n}'
             f' {"hypothesis" if n == 1 else "hypotheses"}, and the run goes on as the prior of'
             ' the one named'
+            + (f' ({pending} not cached: one is re-scored when named)' if pending else '')
         )
         return SessionStart(floor=floor, note=note, diagnosis=plan)
     got = priors.start(archive, damage, source)

@@ -24,7 +24,7 @@ from typing import Callable, Sequence
 
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import engine_of_map
-from hexapod_adapt.online.bank import BANK_DAMAGES, DamageBank, load_bank, RESCORE_WHEN_NAMED
+from hexapod_adapt.online.bank import BANK_DAMAGES, DamageBank, load_banks, RESCORE_WHEN_NAMED
 from hexapod_adapt.online.ceiling import (
     cached_ceiling,
     Ceiling,
@@ -225,7 +225,7 @@ class StreamingPriors:
         self.cache_dir, self.read_dirs, self.workers = cache_dir, list(read_dirs), workers
         self.bank_damages = tuple(bank)  # what a blind run's diagnosis weighs, where cached
         self.wider_damages = None if wider is None else tuple(wider)  # once none of those fits
-        self.rescore_when_named = rescore_when_named  # the wider bank's damages not cached too
+        self.rescore_when_named = rescore_when_named  # the damages not cached weighed too
         self.log, self.progress_period = log, progress_period
         self.stream: StreamingPrior | None = None  # the last run's (may still stream)
         #: the robot's gap to the map's engine, taken out of every blind run's hypotheses
@@ -264,21 +264,25 @@ class StreamingPriors:
 
     def diagnosis(self, archive: Archive, tip_guard: float) -> DiagnosisPlan | None:
         """
-        Return a blind run's diagnosis over the cached bank (None: no bank is cached).
+        Return a blind run's diagnosis over the bank (None: the bank weighs nothing).
 
         The bank is the map under each of ``bank_damages`` (the lifted legs of S1-S4 unless told
-        otherwise), and ``wider_damages``, read from ``read_dirs`` and ``cache_dir``; the
-        hypotheses' walks are kept across runs, and :attr:`calibration` (when set) takes the
-        robot's gap to the engine out of them.
+        otherwise), and ``wider_damages``, read from ``read_dirs`` and ``cache_dir``; with
+        ``rescore_when_named``, those not cached too (re-scored when named). The hypotheses'
+        walks are kept across runs, and :attr:`calibration` (when set) takes the robot's gap to
+        the engine out of them.
         """
         if self._banked is not archive:
             engine = engine_of_map(archive)
             dirs = [*self.read_dirs] + ([self.cache_dir] if self.cache_dir else [])
-            self._bank = load_bank(archive, engine, dirs, self.bank_damages)
-            if self.wider_damages is not None:
-                self._wider = load_bank(
-                    archive, engine, dirs, self.wider_damages, self.rescore_when_named
-                )
+            self._bank, self._wider = load_banks(
+                archive,
+                engine,
+                dirs,
+                self.bank_damages,
+                self.wider_damages,
+                self.rescore_when_named,
+            )
             self._banked = archive
         return diagnosis_plan(
             archive,

@@ -67,6 +67,8 @@ class TrialFeed:
         if diagnosis is not None:
             diagnosis.header.stamp = msg.header.stamp
             feedback.diagnosis = diagnosis
+            # the pause before this feedback, when the damage named had no re-score cached
+            feedback.note = say.rescore_note(session.rescore_s)
             unless_closing(node, self.diagnosis_pub.publish, diagnosis)
             self.recording.record('adapt/diagnosis', diagnosis)
         unless_closing(node, handle.publish_feedback, feedback)

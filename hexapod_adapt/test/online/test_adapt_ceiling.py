@@ -545,19 +545,19 @@ def test_a_blind_run_weighs_every_kind_the_shipped_cache_holds():
     from hexapod_adapt.online.streaming_prior import StreamingPriors
 
     every, _ = diagnosis_damages('every')
-    # the shipped default map's cache holds all 168: a blind run weighs them
+    # the shipped default map's cache holds all 168: a blind run weighs them, none to re-score
     archive = load_archive(shipped_map(DEFAULT_MAP))
     for damages, n in ((BANK_DAMAGES, 21), (every, 168)):
         priors = StreamingPriors(None, [shipped_ceilings()], 1, print, bank=damages)
         plan = priors.diagnosis(archive, math.pi)
         assert plan is not None and plan.damages == damages and plan.priors.shape[0] == n
-        assert plan.wider is None
+        assert plan.wider is None and not np.isnan(plan.priors).any()
     # lifted, then every kind: the wider plan weighs the 168
     priors = StreamingPriors(None, [shipped_ceilings()], 1, print, bank=BANK_DAMAGES, wider=every)
     plan = priors.diagnosis(archive, math.pi)
     wider = plan.wider()
     assert plan.damages == BANK_DAMAGES and wider.damages == every and wider.wider is None
-    assert wider.priors.shape[0] == 168
+    assert wider.priors.shape[0] == 168 and not np.isnan(wider.priors).any()
     # the wider bank weighs as the first does, but for its own fit floor
     default = Weighing()
     assert plan.diagnosis.weighing == default

@@ -722,3 +722,44 @@ def test_imu_readings_are_timed_by_their_stamps_not_by_when_they_arrived():
         TiltSample(r.tilt, r.received, r.attitude, r.stamp_ns - 10**9) for r in readings[50:]
     ]  # a clock stepped back mid-trial: the stamps cannot time it
     assert np.array_equal(reading_times(backwards), received + 100.0)
+
+
+def test_a_map_with_no_ceilings_cached_is_diagnosed_and_re_scores_the_damage_it_names(
+    archive, trial_sim, tmp_path
+):
+    # a map of the user's own, none of its bank's re-scores made: the hypotheses are weighed all
+    # the same (walked when needed); the one named is re-scored then and kept
+    from hexapod_adapt.mapping.archive import Archive
+    from hexapod_adapt.online.session import informed_start
+    from hexapod_adapt.online.streaming_prior import StreamingPriors
+
+    keep = fastest(archive, 24)
+    small = Archive(
+        archive.centroids,
+        np.full(len(archive.centroids), np.nan),
+        archive.descriptors.copy(),
+        archive.genotypes.copy(),
+        dict(archive.metadata),
+    )
+    small.fitness[keep] = archive.fitness[keep]
+    damages = [Damage.lifted([1]), Damage.lifted([4]), Damage.lifted([3, 6])]
+    priors = StreamingPriors(None, [tmp_path], 1, print, bank=damages)
+    start = informed_start(small, None, 'blind', priors, diagnose=True)
+    plan = start.diagnosis
+    assert plan is not None and plan.damages == tuple(damages)
+    assert np.isnan(plan.priors).all() and '(3 not cached' in start.note
+    # told to weigh only what is cached: nothing to weigh, no diagnosis
+    cached_only = StreamingPriors(
+        None, [tmp_path], 1, print, bank=damages, rescore_when_named=False
+    )
+    assert informed_start(small, None, 'blind', cached_only, diagnose=True).diagnosis is None
+    # the first gait: with no re-score to go by, the map's fastest
+    config = replace(PROFILES['default'], max_trials=4, min_speed=0.9)
+    session = AdaptationSession(small, config, start)
+    niche = session.ask()
+    assert niche == keep[0]
+    session.tell(niche, recorded_trial(small, damages[1], trial_sim)(niche))
+    assert session.named == (1,), session.posterior.describe()
+    # named: its re-score made (the map's 24 gaits walked under it), the others still to make
+    assert np.isfinite(plan.priors[1]).all() and np.isnan(plan.priors[[0, 2]]).all()
+    assert session.rescore_s > 0

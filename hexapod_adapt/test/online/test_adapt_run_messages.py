@@ -108,3 +108,7 @@ def test_a_diagnosis_says_what_the_run_goes_on_as_or_that_no_hypothesis_fits():
         "; the run goes on as leg 1 locked (its re-score was not cached: the map's fastest gaits"
         ' were walked under it now, 27 s)'
     )
+    # the action feedback's note of that trial says the same; a cached one says nothing
+    assert run_messages.rescore_note(26.6) in rescored
+    assert run_messages.rescore_note(0.0) == ''
+    assert 'not cached' not in named
