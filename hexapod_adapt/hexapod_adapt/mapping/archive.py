@@ -39,7 +39,7 @@ import json
 import math
 import os
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Mapping, Sequence
 
 from hexapod_gait import GENOTYPE_MAPPING_VERSION, GENOTYPE_SIZE
 from hexapod_gait.parameters import OMNI_GENOTYPE_SIZE, OMNI_MAPPING_VERSION
@@ -196,6 +196,23 @@ class Archive:
     def elite_indices(self) -> np.ndarray:
         """Return the indices of the filled niches, ascending."""
         return np.flatnonzero(self.filled)
+
+    def only(self, niches: Sequence[int] | np.ndarray) -> 'Archive':
+        """Return a copy holding only the elites of ``niches`` (the others empty): a small map."""
+        keep = np.asarray(niches, dtype=int)
+        if keep.size and not self.filled[keep].all():
+            empty = [int(n) for n in keep if not self.filled[n]]
+            raise ValueError(f'niches {empty[:5]} hold no elite')
+        fitness, tilt = np.full(self.n_niches, np.nan), np.full(self.n_niches, np.nan)
+        fitness[keep], tilt[keep] = self.fitness[keep], self.peak_tilt[keep]
+        return Archive(
+            self.centroids,
+            fitness,
+            self.descriptors.copy(),
+            self.genotypes.copy(),
+            dict(self.metadata),
+            tilt,
+        )
 
     def stats(self) -> ArchiveStats:
         """Summarise: filled niches, coverage, max/mean/median/5th-percentile fitness, QD-score."""

@@ -129,6 +129,23 @@ def test_thesis_import_refuses_wrong_rows_and_foreign_centroids(tmp_path):
         import_thesis_map(tmp_path / 'm.dat', np.random.default_rng(9).random((40, 6)))
 
 
+def test_a_map_of_some_niches_keeps_their_elites_alone():
+    a = _archive()
+    a.peak_tilt[a.filled] = 0.1
+    keep = a.elite_indices()[[0, 3, 7]]
+    small = a.only(keep)
+    assert small.n_filled == 3 and list(small.elite_indices()) == sorted(keep)
+    np.testing.assert_array_equal(small.fitness[keep], a.fitness[keep])
+    np.testing.assert_array_equal(small.peak_tilt[keep], 0.1)
+    assert np.isnan(small.peak_tilt[~small.filled]).all()
+    np.testing.assert_array_equal(small.genotypes, a.genotypes)  # a copy: the rows kept
+    small.genotypes[keep[0], 0] = -1.0
+    assert a.genotypes[keep[0], 0] != -1.0
+    empty = int(np.flatnonzero(~a.filled)[0])
+    with pytest.raises(ValueError, match=rf'niches \[{empty}\] hold no elite'):
+        a.only([keep[0], empty])
+
+
 def test_insert_says_what_happened():
     from hexapod_adapt.mapping.archive import InsertStatus
 

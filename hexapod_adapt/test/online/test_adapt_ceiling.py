@@ -34,16 +34,7 @@ from test_adapt_prior import OTHER_KINDS_BEING_MADE
 @pytest.fixture(scope='module')
 def small_map() -> Archive:
     demo = load_archive(shipped_map(DEMO_MAP))
-    keep = demo.elite_indices()[:12]
-    small = Archive(
-        demo.centroids,
-        np.full(len(demo.centroids), np.nan),
-        demo.descriptors.copy(),
-        demo.genotypes.copy(),
-        dict(demo.metadata),
-    )
-    small.fitness[keep] = demo.fitness[keep]
-    return small
+    return demo.only(demo.elite_indices()[:12])
 
 
 def test_the_ceiling_is_every_gait_evaluated_with_the_damage(small_map):

@@ -729,19 +729,11 @@ def test_a_map_with_no_ceilings_cached_is_diagnosed_and_re_scores_the_damage_it_
 ):
     # a map of the user's own, none of its bank's re-scores made: the hypotheses are weighed all
     # the same (walked when needed); the one named is re-scored then and kept
-    from hexapod_adapt.mapping.archive import Archive
     from hexapod_adapt.online.session import informed_start
     from hexapod_adapt.online.streaming_prior import StreamingPriors
 
     keep = fastest(archive, 24)
-    small = Archive(
-        archive.centroids,
-        np.full(len(archive.centroids), np.nan),
-        archive.descriptors.copy(),
-        archive.genotypes.copy(),
-        dict(archive.metadata),
-    )
-    small.fitness[keep] = archive.fitness[keep]
+    small = archive.only(keep)
     damages = [Damage.lifted([1]), Damage.lifted([4]), Damage.lifted([3, 6])]
     priors = StreamingPriors(None, [tmp_path], 1, print, bank=damages)
     start = informed_start(small, None, 'blind', priors, diagnose=True)

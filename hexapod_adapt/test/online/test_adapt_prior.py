@@ -176,16 +176,7 @@ def _fastest_of_default_map(n: int) -> Archive:
     """Return the default map with only its ``n`` fastest gaits."""
     full = load_archive(shipped_map(DEFAULT_MAP))
     elites = full.elite_indices()
-    keep = elites[np.argsort(-full.fitness[elites])[:n]]
-    tiny = Archive(
-        full.centroids,
-        np.full(len(full.centroids), np.nan),
-        full.descriptors.copy(),
-        full.genotypes.copy(),
-        dict(full.metadata),
-    )
-    tiny.fitness[keep] = full.fitness[keep]
-    return tiny
+    return full.only(elites[np.argsort(-full.fitness[elites])[:n]])
 
 
 @pytest.mark.slow
