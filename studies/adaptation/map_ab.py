@@ -46,10 +46,11 @@ def adapt_with_prior(map_path: Path, ceilings: Path, trial_engine: str) -> list[
         setup='default+prior',
         tip_guard=DEFAULT_TIP_GUARD,
     )
-    return run_experiment(archive, setup, on_row=lambda row: print(_line(row), flush=True))
+    return run_experiment(archive, setup, on_row=lambda row: print(line(row), flush=True))
 
 
-def _line(r: ExperimentRow) -> str:
+def line(r: ExperimentRow) -> str:
+    """Say one run: its adapted speed, trials and tipped trials, and its damaged tripod's."""
     legs = '+'.join(map(str, r.failed_legs))
     return (
         f'{r.scenario} legs {legs}: {r.best_speed:.3f} m/s in {r.trials} trials,'
@@ -58,10 +59,11 @@ def _line(r: ExperimentRow) -> str:
 
 
 def summary(rows: list[ExperimentRow]) -> str:
-    """Mean adapted speed, median trials, tipped trials, runs beating the damaged tripod."""
+    """Mean adapted speed, median (mean) trials, tipped trials, runs beating the damaged tripod."""
     return (
         f'mean {statistics.fmean(r.best_speed for r in rows):.3f} m/s,'
-        f' median {statistics.median(r.trials for r in rows):g} trials,'
+        f' median {statistics.median(r.trials for r in rows):g} trials'
+        f' (mean {statistics.fmean(r.trials for r in rows):.2f}),'
         f' {sum(r.tipped_trials for r in rows)} tipped,'
         f' {sum(r.best_speed > r.control_speed for r in rows)} / {len(rows)} beat the tripod'
     )

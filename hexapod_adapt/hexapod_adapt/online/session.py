@@ -400,13 +400,16 @@ def run_rules(config: MboaConfig, start: SessionStart) -> MboaConfig:
     Return the M-BOA settings a run keeps to: ``config`` with what its start changes.
 
     A run from a known damage's prior stops on alpha alone (its first trial is the re-score's
-    best; ``stop_gain`` is for blind runs). A diagnosing run that names nothing keeps to its
-    plan's :class:`BlindRules`. A floor above ``config.min_speed`` raises the success floor
-    to it.
+    best; ``stop_gain`` is for blind runs), and one told its damage (no diagnosis) shifts every
+    gait by ``config.prior_offset_std``. A diagnosing run that names nothing keeps to its plan's
+    :class:`BlindRules`; one that names a damage, to the profile's own shift. A floor above
+    ``config.min_speed`` raises the success floor to it.
     """
     plan = start.diagnosis
     if start.informed and config.stop_gain is not None:
         config = replace(config, stop_gain=None)
+    if start.informed and plan is None:
+        config = replace(config, offset_std=config.prior_offset_std)
     elif plan is not None and not start.informed:
         stop_gain = None if plan.blind.alpha_stop else config.stop_gain
         config = replace(config, offset_std=plan.blind.offset_std, stop_gain=stop_gain)

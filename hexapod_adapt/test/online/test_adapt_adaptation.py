@@ -2,6 +2,8 @@
 # SPDX-License-Identifier: MIT
 """An adaptation run over an archive: stopping, aborted trials, cancellation, simulated trials."""
 
+from dataclasses import replace
+
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.online.adaptation import simulated_trial, TrialAborted
 from hexapod_adapt.online.mboa import MboaConfig
@@ -204,3 +206,26 @@ def test_a_known_damage_starts_from_its_prior_with_a_screen_and_stops_on_alpha_a
     informed = AdaptationSession(a, config, SessionStart(prior))
     assert informed.rules.stop_gain is None and config.stop_gain > 0
     assert AdaptationSession(a, config).rules == config
+
+
+def test_a_known_damage_s_run_learns_a_shift_every_gait_shares():
+    # the profile's shift for a run from a servo report's prior: a trial slower than the prior
+    # lowers every gait's prediction, the farthest too, so alpha's bar falls with the trials
+    from hexapod_adapt.online.mboa import PROFILES
+
+    a = _archive()
+    prior = a.speeds()[a.elite_indices()]
+    config = PROFILES['default']
+    assert config.prior_offset_std == 0.05 and PROFILES['thesis'].prior_offset_std == 0.0
+    shifted = AdaptationSession(a, config, SessionStart(prior))
+    plain = AdaptationSession(a, replace(config, prior_offset_std=0.0), SessionStart(prior))
+    assert shifted.rules.offset_std == 0.05 and plain.rules.offset_std == 0.0
+    assert AdaptationSession(a, config).rules.offset_std == 0.0  # not for a blind run
+    first = shifted.ask()
+    assert plain.ask() == first
+    for session in (shifted, plain):
+        session.tell(first, float(a.speeds()[first]) - 0.1)
+    far = int(np.argmax(np.linalg.norm(a.descriptors - a.descriptors[first], axis=1)))
+    k = int(np.searchsorted(a.elite_indices(), far))
+    assert plain.opt.mean[k] == pytest.approx(prior[k], abs=1e-3)  # out of the kernel's reach
+    assert shifted.opt.mean[k] < prior[k] - 0.01
