@@ -146,9 +146,9 @@ PROFILES: dict[str, MboaConfig] = {
         noise=0.001,
         signal_variance=0.01,
         stop_gain=0.002,
-        # won on a tuning set of MuJoCo physics variants (studies/adaptation/README.md, "The
-        # prior's shared shift")
-        prior_offset_std=0.05,
+        # prior_offset_std stays 0: 0.05 m/s won on a tuning set of MuJoCo physics variants and
+        # cost the judge's prior runs 0.020 m/s (studies/adaptation/README.md, "The prior's
+        # shared shift")
     ),
 }
 DEFAULT_PROFILE = 'default'

@@ -209,16 +209,17 @@ def test_a_known_damage_starts_from_its_prior_with_a_screen_and_stops_on_alpha_a
 
 
 def test_a_known_damage_s_run_learns_a_shift_every_gait_shares():
-    # the profile's shift for a run from a servo report's prior: a trial slower than the prior
-    # lowers every gait's prediction, the farthest too, so alpha's bar falls with the trials
+    # a shift for a run from a servo report's prior: a trial slower than the prior lowers
+    # every gait's prediction, the farthest too, so alpha's bar falls with the trials
     from hexapod_adapt.online.mboa import PROFILES
 
     a = _archive()
     prior = a.speeds()[a.elite_indices()]
-    config = PROFILES['default']
-    assert config.prior_offset_std == 0.05 and PROFILES['thesis'].prior_offset_std == 0.0
+    plain_config = PROFILES['default']
+    assert plain_config.prior_offset_std == 0.0 == PROFILES['thesis'].prior_offset_std
+    config = replace(plain_config, prior_offset_std=0.05)
     shifted = AdaptationSession(a, config, SessionStart(prior))
-    plain = AdaptationSession(a, replace(config, prior_offset_std=0.0), SessionStart(prior))
+    plain = AdaptationSession(a, plain_config, SessionStart(prior))
     assert shifted.rules.offset_std == 0.05 and plain.rules.offset_std == 0.0
     assert AdaptationSession(a, config).rules.offset_std == 0.0  # not for a blind run
     first = shifted.ask()
