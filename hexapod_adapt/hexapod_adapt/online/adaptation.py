@@ -34,7 +34,7 @@ class AdaptationResult:
     trials: list[Trial] = field(default_factory=list)
     niches: list[int] = field(default_factory=list)  # archive niche of each trial
     tipped: list[int] = field(default_factory=list)  # niches whose trial the tip guard stopped
-    vetoed: list[int] = field(default_factory=list)  # niches never tried: they tip in simulation
+    vetoed: list[int] = field(default_factory=list)  # niches never tried: predicted to tip
     best_niche: int = -1
     best_speed: float = float('nan')
     elapsed: float = 0.0
@@ -50,6 +50,8 @@ class AdaptationResult:
     unfit: bool = False
     #: the trial after which the diagnosis widened its bank, none of the first fitting (0: never)
     widened: int = 0
+    #: [s] spent re-scoring the damages it named whose re-scores were not cached (0: none)
+    rescore_s: float = 0.0
 
 
 @dataclass(frozen=True)

@@ -158,14 +158,13 @@ def veto_message(niche: int, tilt: float, guard: float, risk: float | None = Non
     )
 
 
-def rescore_note(rescore_s: float) -> str:
-    """Say that the damage just named was re-scored now, in ``rescore_s`` s ('': it was cached)."""
-    if rescore_s <= 0:
-        return ''
-    return (
-        "its re-score was not cached: the map's fastest gaits were walked under it now,"
-        f' {rescore_s:.0f} s'
-    )
+#: What a run says of a damage it named whose re-score is not cached (made before its next trial).
+RESCORE_PENDING = "no re-score cached: the map's fastest gaits are walked under it first"
+
+
+def rescore_note(named: str) -> str:
+    """Say that ``named``, just named, is re-scored before the next trial (not cached)."""
+    return f'{named} named, {RESCORE_PENDING}'
 
 
 def diagnosis_message(
@@ -174,20 +173,20 @@ def diagnosis_message(
     posterior: Posterior,
     unfit: bool = False,
     widened: int = 0,
-    rescore_s: float = 0.0,
+    rescoring: bool = False,
 ) -> str:
     """
     Say what the trials so far point to, e.g. after trial 2: legs 1+4 lifted 0.97 (named).
 
     ``unfit``: the most probable damage does not fit the trials (none in the bank does).
     ``widened``: the trial after which the diagnosis went to its wider bank (0: never).
-    ``rescore_s``: [s] the naming spent re-scoring the named damage, not cached (0: none).
+    ``rescoring``: the damage named has no re-score cached: it is made before the next trial.
     """
     wider = ' (none of the first bank fits them: every trial weighed over the wider bank)'
     if named:
         going = f'; the run goes on as {named}'
-        if rescore_s > 0:
-            going += f' ({rescore_note(rescore_s)})'
+        if rescoring:
+            going += f' ({RESCORE_PENDING})'
     elif unfit:
         going = '; no hypothesis fits the trials: the run goes on blind'
     else:
@@ -215,7 +214,8 @@ def result_message(result: AdaptationResult, note: str, recording_problem: str) 
     message = result.message + (f' ({note})' if note else '')
     if result.vetoed:
         gaits = ', '.join(map(str, result.vetoed))
-        message += f'; never tried, as they tip in simulation under the damage: gait(s) {gaits}'
+        # by the damage's tip screen, or a blind run's safety model (the log says which)
+        message += f'; never tried, predicted to tip past the tip guard: gait(s) {gaits}'
     return message + (f'; recording: {recording_problem}' if recording_problem else '')
 
 
@@ -226,7 +226,12 @@ def finish_message(result: AdaptationResult) -> str:
         if result.best_niche >= 0
         else 'no gait walked without tipping: none is left on the robot'
     )
-    return f'adaptation finished: {result.message}; {len(result.trials)} trials, {best}'
+    rescored = (
+        f' (re-scoring the damage it named took {result.rescore_s:.0f} s)'
+        if result.rescore_s > 0
+        else ''
+    )
+    return f'adaptation finished: {result.message}; {len(result.trials)} trials, {best}{rescored}'
 
 
 def shutdown_message(result: AdaptationResult) -> str:

@@ -466,8 +466,7 @@ class AdaptationSession:
         self._blind = (prior, self.rules)  # what a released diagnosis goes back to
         self.screen = self.start.screen
         self.named: tuple[int, ...] | None = None  # the diagnosis's hypotheses the run goes on as
-        #: [s] the last trial's naming spent re-scoring a damage not cached (0: none)
-        self.rescore_s = 0.0
+        self._unscored: tuple[int, ...] | None = None  # named, re-scored by the next ask()
         self._screens: dict[int, TipScreen | None] = {}  # each hypothesis's, made when named
         self.posterior: Posterior | None = None  # the diagnosis's, after the last trial
         self._result = AdaptationResult(False, '', config=self.rules)
@@ -484,6 +483,9 @@ class AdaptationSession:
             return None
         if self._asked is not None:
             return int(self.niches[self._asked])  # asked again before a tell: the same gait
+        if self._unscored is not None:  # after the trial that named it was said
+            named, self._unscored = self._unscored, None
+            self._as_prior_of(named)
         while True:
             while self._vetoed(self.opt.leading_index()):  # alpha's bar: a gait it could keep
                 pass
@@ -575,6 +577,17 @@ class AdaptationSession:
         return self.vetoes[said:]
 
     @property
+    def rescoring(self) -> str | None:
+        """
+        Return the damage just named whose re-score is not cached (None: none).
+
+        The next :meth:`ask` re-scores the top of the map under it first (about half a minute
+        of a core for the default map on MuJoCo): a caller may say so before asking.
+        """
+        named = self._unscored
+        return None if named is None else self.start.diagnosis.label_of(named)
+
+    @property
     def unfit(self) -> bool:
         """Whether the posterior holds a damage that does not fit the trials."""
         return self._result.unfit
@@ -605,7 +618,6 @@ class AdaptationSession:
     def _diagnose(self, niche: int, record: TrialRecord) -> None:
         """Weigh the hypotheses by a trial; name a damage or a leg set, keep it, or give it up."""
         plan = self.start.diagnosis
-        self.rescore_s = 0.0
         post = self.posterior = plan.diagnosis.observe(niche, record)
         if plan.safety is not None:
             plan.safety.weigh(post.probabilities)
@@ -661,24 +673,39 @@ class AdaptationSession:
     def _go_on_as(self, named: tuple[int, ...] | None) -> None:
         """Go on as the damage-informed prior of the ``named`` hypotheses (None: blind)."""
         plan = self.start.diagnosis
+        self._unscored = None
         if named is None:
             prior, self.rules = self._blind
             if self._bank_prior():
                 prior = blended_prior(plan, self._map_prior)
                 self._blind = (prior, self.rules)
             self.screen = self.start.screen
+            self._restart(prior)
         else:
-            fresh = plan.unscored(named)
-            t0 = time.monotonic()
-            prior = plan.prior_of(named, self.posterior.probabilities)
-            self.rescore_s = time.monotonic() - t0 if fresh else 0.0
-            self.rules = run_rules(self.config, replace(self.start, prior=prior))
             screens = [self._screen_of(h) for h in named]
             if None in screens or len(screens) == 1:
                 self.screen = screens[0]  # None: no tip guard
             else:
                 self.screen = TipScreen.worst_of(screens)
+            if plan.unscored(named):  # slow: made once this trial is said (ask())
+                self._unscored = named
+            else:
+                self._as_prior_of(named)
         self.named = named
+
+    def _as_prior_of(self, named: tuple[int, ...]) -> None:
+        """Go on from the re-scores of ``named`` (one not made yet is made now)."""
+        plan = self.start.diagnosis
+        fresh = plan.unscored(named)
+        t0 = time.monotonic()
+        prior = plan.prior_of(named, self.posterior.probabilities)
+        if fresh:
+            self._result.rescore_s += time.monotonic() - t0
+        self.rules = run_rules(self.config, replace(self.start, prior=prior))
+        self._restart(prior)
+
+    def _restart(self, prior: np.ndarray) -> None:
+        """Start M-BOA again from ``prior`` under :attr:`rules`, the trials learned."""
         self.opt = _with_prior(self.opt, prior, self.rules)
         self._result.config = self.rules
 

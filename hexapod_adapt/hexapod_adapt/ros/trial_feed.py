@@ -67,8 +67,8 @@ class TrialFeed:
         if diagnosis is not None:
             diagnosis.header.stamp = msg.header.stamp
             feedback.diagnosis = diagnosis
-            # the pause before this feedback, when the damage named had no re-score cached
-            feedback.note = say.rescore_note(session.rescore_s)
+            if session.rescoring is not None:  # the pause before the next trial, said first
+                feedback.note = say.rescore_note(session.rescoring)
             unless_closing(node, self.diagnosis_pub.publish, diagnosis)
             self.recording.record('adapt/diagnosis', diagnosis)
         unless_closing(node, handle.publish_feedback, feedback)
@@ -86,6 +86,6 @@ class TrialFeed:
                     session.posterior,
                     session.unfit,
                     session.widened,
-                    session.rescore_s,
+                    session.rescoring is not None,
                 )
             )

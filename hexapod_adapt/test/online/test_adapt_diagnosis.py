@@ -309,8 +309,10 @@ def test_a_run_that_no_hypothesis_fits_weighs_its_trials_under_a_wider_bank(arch
         assert result.widened == unfit_at and len(tried) == unfit_at
         assert session.named == (2,) and not session.unfit, session.posterior.describe()
         assert result.named[-1] == 'leg 3 locked' and set(result.named[:-1]) == {''}
-        # named, its re-score was made then (the time said on the feedback), and kept
-        assert session.rescore_s >= 0.01
+        # named, its re-score is made by the next ask (the trial's feedback says so first)
+        assert session.rescoring == 'leg 3 locked' and session.result().rescore_s == 0.0
+        session.ask()
+        assert session.rescoring is None and session.result().rescore_s >= 0.01
         np.testing.assert_array_equal(session.start.diagnosis.priors[2], np.full(n, 0.25))
         assert sorted({niche for _, niche in seen}) == sorted(tried)
         assert session.start.diagnosis.damages == damages
@@ -752,6 +754,11 @@ def test_a_map_with_no_ceilings_cached_is_diagnosed_and_re_scores_the_damage_it_
     assert niche == keep[0]
     session.tell(niche, recorded_trial(small, damages[1], trial_sim)(niche))
     assert session.named == (1,), session.posterior.describe()
-    # named: its re-score made (the map's 24 gaits walked under it), the others still to make
+    # named: its re-score is made when the next gait is asked for, once the trial is said
+    assert session.rescoring == damages[1].label and np.isnan(plan.priors).all()
+    assert session.result().rescore_s == 0.0
+    session.ask()
+    # made (the map's 24 gaits walked under it), the others still to make
     assert np.isfinite(plan.priors[1]).all() and np.isnan(plan.priors[[0, 2]]).all()
-    assert session.rescore_s > 0
+    assert session.rescoring is None and session.result().rescore_s > 0
+    assert session.rules.offset_std == 0.0 and session.rules.stop_gain is None  # a prior's

@@ -47,8 +47,7 @@ def test_the_response_says_the_engine_gap_and_a_recording_problem():
     )
     vetoed = AdaptationResult(success=True, message='stopped: alpha reached', vetoed=[7, 12])
     assert run_messages.result_message(vetoed, '', '') == (
-        'stopped: alpha reached; never tried, as they tip in simulation under the damage:'
-        ' gait(s) 7, 12'
+        'stopped: alpha reached; never tried, predicted to tip past the tip guard: gait(s) 7, 12'
     )
 
 
@@ -103,12 +102,22 @@ def test_a_diagnosis_says_what_the_run_goes_on_as_or_that_no_hypothesis_fits():
     widened = say(3, 'leg 1 lifted', post, widened=3)
     assert widened.startswith('diagnosis after trial 3 (none of the first bank fits them: every')
     assert 'wider' not in say(4, 'leg 1 lifted', post, widened=3)
-    rescored = say(3, 'leg 1 locked', post, rescore_s=26.6)
-    assert rescored.endswith(
-        "; the run goes on as leg 1 locked (its re-score was not cached: the map's fastest gaits"
-        ' were walked under it now, 27 s)'
+    rescoring = say(3, 'leg 1 locked', post, rescoring=True)
+    assert rescoring.endswith(
+        "; the run goes on as leg 1 locked (no re-score cached: the map's fastest gaits are"
+        ' walked under it first)'
     )
-    # the action feedback's note of that trial says the same; a cached one says nothing
-    assert run_messages.rescore_note(26.6) in rescored
-    assert run_messages.rescore_note(0.0) == ''
-    assert 'not cached' not in named
+    # the action feedback's note of that trial says so too; a cached one says nothing
+    assert run_messages.rescore_note('leg 1 locked') == (
+        "leg 1 locked named, no re-score cached: the map's fastest gaits are walked under it first"
+    )
+    assert 'cached' not in named
+    # and the run's last line says how long it took
+    from hexapod_adapt.online.adaptation import AdaptationResult
+
+    done = AdaptationResult(True, 'gait found', rescore_s=26.6)
+    assert run_messages.finish_message(done).endswith(
+        '0 trials, no gait walked without tipping: none is left on the robot (re-scoring the'
+        ' damage it named took 27 s)'
+    )
+    assert 're-scoring' not in run_messages.finish_message(AdaptationResult(True, 'gait found'))
