@@ -294,7 +294,8 @@ class AdaptNode(Node):
         return float(self._param('tip_guard'))
 
     def _say_vetoes(self, session: AdaptationSession, guard: float) -> None:
-        for veto in session.new_vetoes():
+        said = rclpy.ok(context=self.context)  # shutting down mid-run: its one line says all
+        for veto in session.new_vetoes() if said else ():
             self.get_logger().info(say.veto_message(veto.niche, veto.tilt, guard, veto.risk))
 
     def _finish(
