@@ -45,7 +45,10 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument('--offset-std', type=float, default=0.0, help='[m/s] the shared shift')
     parser.add_argument('--out', type=Path, required=True)
+    parser.add_argument('--force', action='store_true', help='replace an existing --out file')
     args = parser.parse_args(argv)
+    if args.out.exists() and not args.force:
+        parser.error(f'{args.out} exists: --force replaces it')
     if args.engine != 'mujoco' and args.variant != 'stock':
         parser.error('--variant changes MuJoCo trials only')
     archive = load_archive(shipped_map(DEFAULT_MAP))
