@@ -39,6 +39,7 @@ def test_a_blind_run_names_the_hidden_damage_says_so_and_stops_by_itself(ros, la
     assert len(said) == result.trials and all(d.hypotheses for d in said)
     assert said[-1].named == hidden.label, said[-1]
     assert said[-1].hypotheses[0] == hidden.label and said[-1].probabilities[0] >= 0.9
+    assert not any(d.rescoring for d in said)  # legs 1+4 lifted is cached: no pause
     wait_for(lambda: len(published) == result.trials, 10, 'a diagnosis on adapt/diagnosis a trial')
     assert [d.named for d in published] == [d.named for d in said]
     recorded = [

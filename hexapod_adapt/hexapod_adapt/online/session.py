@@ -36,7 +36,7 @@ from hexapod_adapt.online.adaptation import (
     TrialOutcome,
 )
 from hexapod_adapt.online.bank import DamageBank
-from hexapod_adapt.online.ceiling import quick_rescore
+from hexapod_adapt.online.ceiling import quick_rescore, RescoreStopped
 from hexapod_adapt.online.diagnosis import (
     Diagnosis,
     GapCalibration,
@@ -142,8 +142,9 @@ class DiagnosisPlan:
     the posterior, with every one's tip screen. ``wider``: makes the plan of a wider bank,
     which a run that names nothing weighs its trials under, once the damage this bank holds
     most probable fits none of them, before it falls back to blind M-BOA (None: it falls back).
-    ``rescore(damage)``: a row of ``priors`` that is NaN (a damage not cached) is filled by it
-    when its hypothesis is named, in place, so the plan's later runs have it too.
+    ``rescore(damage, stop)``: a row of ``priors`` that is NaN (a damage not cached) is filled by
+    it when its hypothesis is named, in place, so the plan's later runs have it too; ``stop()``
+    true ends it early with :class:`~hexapod_adapt.online.ceiling.RescoreStopped`.
     """
 
     diagnosis: Diagnosis
@@ -156,7 +157,7 @@ class DiagnosisPlan:
     blind: BlindRules = BlindRules()
     leg_sets: bool = NAME_LEG_SETS
     wider: Callable[[], DiagnosisPlan] | None = None
-    rescore: Callable[[Damage], np.ndarray] | None = None
+    rescore: Callable[[Damage, Callable[[], bool] | None], np.ndarray] | None = None
 
     def __post_init__(self) -> None:
         if len(self.damages) != len(self.diagnosis.labels) or len(self.priors) != len(
@@ -218,18 +219,23 @@ class DiagnosisPlan:
         """Whether any of ``named`` has no re-score yet (a NaN row: :meth:`prior_of` makes it)."""
         return any(np.isnan(self.priors[h]).any() for h in named)
 
-    def prior_of(self, named: tuple[int, ...], probabilities: np.ndarray) -> np.ndarray:
+    def prior_of(
+        self,
+        named: tuple[int, ...],
+        probabilities: np.ndarray,
+        stop: Callable[[], bool] | None = None,
+    ) -> np.ndarray:
         """
         Return the re-scores of ``named`` weighed by their share of ``probabilities``.
 
-        A re-score not made yet (a NaN row) is made now by ``rescore``.
+        A re-score not made yet (a NaN row) is made now by ``rescore`` (``stop`` as it takes it).
         """
         rows = np.asarray(self.priors, dtype=float)  # a float array: itself, filled in place
         for h in named:
             if self.unscored((h,)):
                 if self.rescore is None:
                     raise ValueError(f'{self.damages[h].label} has no re-score and no rescore')
-                rows[h] = self.rescore(self.damages[h])
+                rows[h] = self.rescore(self.damages[h], stop)
         w = np.asarray(probabilities, dtype=float)[list(named)]
         return (w / w.sum()) @ rows[list(named)]
 
@@ -303,7 +309,7 @@ def diagnosis_plan(
         blind=blind,
         leg_sets=leg_sets,
         wider=widen if wider else None,
-        rescore=lambda damage: quick_rescore(archive, damage, bank.engine),
+        rescore=lambda damage, stop: quick_rescore(archive, damage, bank.engine, stop=stop),
     )
 
 
@@ -477,15 +483,24 @@ class AdaptationSession:
         self._t0 = time.monotonic()
 
     # -- ask / tell -------------------------------------------------------------------------
-    def ask(self) -> int | None:
-        """Return the niche of the next gait to try (None: the run has stopped)."""
+    def ask(self, stop: Callable[[], bool] | None = None) -> int | None:
+        """
+        Return the niche of the next gait to try (None: the run has stopped).
+
+        ``stop()`` true during a re-score this ask makes (:attr:`rescoring`) ends the run as
+        'cancelled' within about a second (None: the re-score runs to its end).
+        """
         if self._ended:
             return None
         if self._asked is not None:
             return int(self.niches[self._asked])  # asked again before a tell: the same gait
         if self._unscored is not None:  # after the trial that named it was said
             named, self._unscored = self._unscored, None
-            self._as_prior_of(named)
+            try:
+                self._as_prior_of(named, stop)
+            except RescoreStopped:
+                self.end('cancelled')  # the damage stays named; its re-score is not kept
+                return None
         while True:
             while self._vetoed(self.opt.leading_index()):  # alpha's bar: a gait it could keep
                 pass
@@ -693,14 +708,16 @@ class AdaptationSession:
                 self._as_prior_of(named)
         self.named = named
 
-    def _as_prior_of(self, named: tuple[int, ...]) -> None:
-        """Go on from the re-scores of ``named`` (one not made yet is made now)."""
+    def _as_prior_of(self, named: tuple[int, ...], stop: Callable[[], bool] | None = None) -> None:
+        """Go on from the re-scores of ``named`` (one not made yet is made now: ``stop``)."""
         plan = self.start.diagnosis
         fresh = plan.unscored(named)
         t0 = time.monotonic()
-        prior = plan.prior_of(named, self.posterior.probabilities)
-        if fresh:
-            self._result.rescore_s += time.monotonic() - t0
+        try:
+            prior = plan.prior_of(named, self.posterior.probabilities, stop)
+        finally:
+            if fresh:
+                self._result.rescore_s += time.monotonic() - t0
         self.rules = run_rules(self.config, replace(self.start, prior=prior))
         self._restart(prior)
 
@@ -776,7 +793,7 @@ def run_session(
     ``on_trial(trial, niche, session)`` hears each trial; ``cancelled()``, asked before each,
     ends the run as 'cancelled'. A trial that raises :class:`TrialAborted` ends it with why.
     """
-    while (niche := session.ask()) is not None:
+    while (niche := session.ask(cancelled)) is not None:  # a cancel stops a re-score too
         if cancelled is not None and cancelled():
             session.end('cancelled')
             break

@@ -257,7 +257,7 @@ class AdaptNode(Node):
                 session,
                 self.trials,
                 lambda trial, niche, _: self.feed(handle, session, gaits, trial, niche),
-                lambda: handle.is_cancel_requested,
+                lambda: handle.is_cancel_requested or not rclpy.ok(context=self.context),
             )
         finally:
             self._say_vetoes(session, guard)

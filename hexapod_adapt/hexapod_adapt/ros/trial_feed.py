@@ -38,6 +38,7 @@ def diagnosis_msg(session: AdaptationSession, trial: int) -> DamageDiagnosis | N
         hypotheses=[label for label, _ in top],
         probabilities=[p for _, p in top],
         named=named[-1] if named else '',
+        rescoring=session.rescoring is not None,
     )
 
 

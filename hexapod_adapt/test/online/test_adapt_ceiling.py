@@ -480,6 +480,32 @@ def test_a_bank_may_weigh_a_damage_not_cached_and_re_score_it_when_named(small_m
         bare.prior_of((1,), p)
 
 
+def test_a_re_score_stops_within_a_chunk_of_gaits_when_asked_and_keeps_nothing(small_map):
+    # a cancel while a blind run re-scores the damage it named: the walking ends at the next
+    # chunk, the bank's row stays as it was (not cached), and a later re-score makes it whole
+    from hexapod_adapt.online.bank import load_bank
+    from hexapod_adapt.online.ceiling import QUICK_CHUNK, quick_rescore, RescoreStopped
+    from hexapod_adapt.online.session import diagnosis_plan
+
+    damage = Damage.of('locked', [3])
+    assert len(small_map.elite_indices()) > QUICK_CHUNK  # walked in two chunks at least
+    bank = load_bank(small_map, 'mujoco', [], [damage], rescore_missing=True)
+    plan = diagnosis_plan(small_map, bank)
+    p = plan.diagnosis.posterior().probabilities
+    looks: list[int] = []
+
+    def stop() -> bool:  # true from its second look: after the first chunk was walked
+        looks.append(len(looks))
+        return len(looks) > 1
+
+    with pytest.raises(RescoreStopped):
+        plan.prior_of((0,), p, stop)
+    assert len(looks) == 2 and np.isnan(bank.speeds[0]).all()
+    whole = plan.prior_of((0,), p)
+    np.testing.assert_allclose(whole, quick_rescore(small_map, damage, 'mujoco'), atol=1e-12)
+    np.testing.assert_allclose(bank.speeds[0], whole, atol=1e-12)
+
+
 def test_the_diagnosis_banks_adapt_node_may_be_given():
     from hexapod_adapt.online.bank import BANK_DAMAGES, diagnosis_damages
     from hexapod_sim.damage import EXPERIMENT_KINDS

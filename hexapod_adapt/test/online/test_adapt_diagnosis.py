@@ -19,6 +19,7 @@ from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
 from hexapod_adapt.online import diagnosis as diagnosis_module
 from hexapod_adapt.online.adaptation import candidates, recorded_trial, TrialOutcome
 from hexapod_adapt.online.bank import DamageBank
+from hexapod_adapt.online.ceiling import RescoreStopped
 from hexapod_adapt.online.diagnosis import (
     ASLEEP_NATS,
     calibrate_gap,
@@ -284,7 +285,9 @@ def test_a_run_that_no_hypothesis_fits_weighs_its_trials_under_a_wider_bank(arch
                              lambda d: None, leg_sets=False, wider=wider,
                              rescore=rescore)  # fmt: skip
 
-    def rescore(damage: Damage) -> np.ndarray:
+    def rescore(damage: Damage, stop) -> np.ndarray:  # quick_rescore's contract, in short
+        if stop is not None and stop():
+            raise RescoreStopped(damage.label)
         time.sleep(0.01)
         return np.full(n, 0.25)
 
@@ -316,6 +319,17 @@ def test_a_run_that_no_hypothesis_fits_weighs_its_trials_under_a_wider_bank(arch
         np.testing.assert_array_equal(session.start.diagnosis.priors[2], np.full(n, 0.25))
         assert sorted({niche for _, niche in seen}) == sorted(tried)
         assert session.start.diagnosis.damages == damages
+    # a cancel during that re-score ends the run there, keeping nothing of the re-score
+    session = AdaptationSession(
+        archive, config, SessionStart(diagnosis=plan_of((0, 1), lambda: plan_of((0, 1, 2))))
+    )
+    while session.named is None and (niche := session.ask()) is not None:
+        session.tell(niche, trial)
+    assert session.rescoring == 'leg 3 locked'
+    asked: list[int] = []
+    assert session.ask(lambda: asked.append(1) is None) is None
+    assert asked and session.result().message == 'cancelled' and session.rescoring is None
+    assert np.isnan(session.start.diagnosis.priors[2]).all() and session.ask() is None
 
 
 @pytest.mark.parametrize(
