@@ -297,7 +297,8 @@ def _report(status: int, r: Adapt.Result) -> int:
     print(f'{word.get(status, "stopped")}: {r.message}')
     if r.best_archive_index >= 0:
         print(
-            f'best gait {r.best_archive_index}: {r.best_speed:.3f} m/s after {r.trials} trials'
+            f'best gait {r.best_archive_index}: {r.best_speed:.3f} m/s after {r.trials}'
+            f' trial{"" if r.trials == 1 else "s"}'
             f' ({r.elapsed:.1f} s)'
         )
     if r.prior:
