@@ -32,7 +32,13 @@ from hexapod_adapt.online.diagnosis import Weighing
 from hexapod_adapt.online.experiment import ExperimentSetup, run_experiment
 from hexapod_adapt.online.mboa import PROFILES, TRIAL_BUDGET
 from hexapod_adapt.online.safety import RISK_LIMIT
-from hexapod_adapt.online.session import BlindRules, FirstGait, NAME_LEG_SETS, SCREEN_MARGIN
+from hexapod_adapt.online.session import (
+    BlindRules,
+    FirstGait,
+    KIN_TILTS,
+    NAME_LEG_SETS,
+    SCREEN_MARGIN,
+)
 from hexapod_sim import SimConfig
 from hexapod_sim.damage import Damage
 from hexapod_sim.scenarios import scenario
@@ -168,6 +174,13 @@ def main(argv: list[str] | None = None) -> int:
         help="[deg] a named damage's tip screen vetoes tilts past the tip guard less this",
     )
     parser.add_argument(
+        '--kin-tilts',
+        action=argparse.BooleanOptionalAction,
+        default=KIN_TILTS,
+        help="while the lifted bank is weighed, the safety model's tilt of a leg set is the"
+        ' worst of the kinds that unload those legs',
+    )
+    parser.add_argument(
         '--calibrate',
         type=int,
         default=0,
@@ -245,7 +258,8 @@ def main(argv: list[str] | None = None) -> int:
         + ('' if args.variant is None else f'+trials-{args.variant}')
         + ('' if args.ceilings is None else '+other-ceilings')
         + (f'+margin{args.screen_margin:g}' if args.screen_margin else '')
-        + (f'+calibrate{args.calibrate}' if args.calibrate else ''),
+        + (f'+calibrate{args.calibrate}' if args.calibrate else '')
+        + ('+kin-tilts' if args.kin_tilts else ''),
         bank=bank,
         leave_out=args.leave_out,
         kind=args.kind,
@@ -258,6 +272,7 @@ def main(argv: list[str] | None = None) -> int:
         screen_margin=math.radians(args.screen_margin),
         wider=wider,
         calibrate=args.calibrate,
+        kin_tilts=args.kin_tilts,
     )
     out = Path(args.out)
     if out.exists() and not args.force:

@@ -36,6 +36,7 @@ from hexapod_adapt.online.session import (
     adapt,
     BlindRules,
     diagnosis_plan,
+    KIN_TILTS,
     NAME_LEG_SETS,
     SCREEN_MARGIN,
     SessionStart,
@@ -85,7 +86,9 @@ class ExperimentSetup:
     the bank they weigh once none of ``bank``'s fits (``leave_out`` drops their damage there too).
     ``calibrate``: before the runs, the map's this many fastest gaits are walked intact on the
     trials' physics, and the diagnosis weighs the trials against the gap they measure
-    (:func:`~hexapod_adapt.online.diagnosis.calibrate_gap`; 0: none).
+    (:func:`~hexapod_adapt.online.diagnosis.calibrate_gap`; 0: none). ``kin_tilts``: the
+    safety model's lifted hypotheses tilt as the worst kind that unloads their legs
+    (:data:`~hexapod_adapt.online.session.KIN_TILTS`).
     """
 
     scenarios: Sequence[str] = ('S1', 'S2', 'S3', 'S4')
@@ -110,6 +113,7 @@ class ExperimentSetup:
     screen_margin: float = SCREEN_MARGIN
     wider: DamageBank | None = None
     calibrate: int = 0
+    kin_tilts: bool = KIN_TILTS
 
 
 @dataclass
@@ -213,6 +217,7 @@ def _start(
                 screen_margin=s.screen_margin,
                 wider=wider,
                 calibration=calibration,
+                kin_tilts=s.kin_tilts,
             )
     return SessionStart(hypotheses=hypotheses, floor=floor, diagnosis=plan)
 

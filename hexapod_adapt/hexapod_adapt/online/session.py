@@ -47,7 +47,7 @@ from hexapod_adapt.online.diagnosis import (
 )
 from hexapod_adapt.online.mboa import Mboa, MboaConfig, MIN_SPEED_RANGE, StopReason, Trial
 from hexapod_adapt.online.prior import simulated_tilts, TipScreen
-from hexapod_adapt.online.safety import RISK_LIMIT, SafetyModel
+from hexapod_adapt.online.safety import record_tilt, RISK_LIMIT, SafetyModel
 from hexapod_sim.damage import Damage
 import numpy as np
 
@@ -87,6 +87,13 @@ NAME_LEG_SETS = True
 #: in simulation: the map's engine is not the robot, and a gait near the guard there may tip on
 #: other physics (studies/diagnosis/README.md, "A margin for the named damage's screen").
 SCREEN_MARGIN = 0.0
+#: Whether a blind run's safety model, while it weighs lifted legs, takes each leg set's tilt of a
+#: gait as the largest over the kinds that unload those legs (:data:`UNLOADING_KINDS`): the
+#: lifted bank stands in for them, and they walk alike but do not tilt alike
+#: (studies/diagnosis/README.md, "The safety model's lifted bank stands in for five kinds").
+KIN_TILTS = False
+#: The kinds that leave a leg unloaded, which the lifted bank stands in for.
+UNLOADING_KINDS = ('lifted', 'unpowered_coxa', 'unpowered_tibia', 'no_tibia', 'shortened')
 
 
 class FirstGait(enum.Enum):
@@ -254,6 +261,7 @@ def diagnosis_plan(
     screen_margin: float = SCREEN_MARGIN,
     wider: DamageBank | None = None,
     calibration: GapCalibration | None = None,
+    kin_tilts: bool = KIN_TILTS,
 ) -> DiagnosisPlan | None:
     """
     Return the diagnosis of a blind run over ``bank``'s damages (None: the bank is empty).
@@ -268,7 +276,9 @@ def diagnosis_plan(
     ``wider``: the bank a run weighs once none of ``bank``'s fits (:class:`DiagnosisPlan`),
     diagnosed as this one is, over the same walks, with the fit floor
     ``weighing.wider_fit_floor``. ``calibration``: the trials' gap to the map's engine,
-    measured on the intact robot (``diagnosis.calibrate_gap``; None: none).
+    measured on the intact robot (``diagnosis.calibrate_gap``; None: none). ``kin_tilts``: the
+    safety model takes a lifted hypothesis's tilt as the worst of :data:`UNLOADING_KINDS` on
+    its legs (:data:`KIN_TILTS`).
     """
     if len(bank) == 0:
         return None
@@ -287,10 +297,11 @@ def diagnosis_plan(
     if safety is not None and tip_guard < math.pi:
         niches, descriptors, _ = candidates(archive)
         under = (*bank.damages, Damage.lifted(()))  # the last: intact, for none of these
+        kin = [_unloading_kin(d) if kin_tilts else (d,) for d in under]
         model = SafetyModel(
             niches,
             descriptors,
-            lambda niche, h: walks(niche, under[h]),
+            lambda niche, h: max((walks(niche, d) for d in kin[h]), key=record_tilt),
             len(bank.damages),
             tip_guard,
             diagnosis.posterior().probabilities,
@@ -298,7 +309,10 @@ def diagnosis_plan(
         )
     wide = replace(weighing, fit_floor=weighing.wider_fit_floor)  # the wider bank's own floor
     same = (contacts, threshold, walks, safety, blind, wide, leg_sets, screen_margin)
-    widen = partial(diagnosis_plan, archive, wider, tip_guard, *same, calibration=calibration)
+    widen = partial(
+        diagnosis_plan, archive, wider, tip_guard, *same, calibration=calibration,
+        kin_tilts=kin_tilts,
+    )  # fmt: skip
     return DiagnosisPlan(
         diagnosis,
         bank.damages,
@@ -311,6 +325,14 @@ def diagnosis_plan(
         wider=widen if wider else None,
         rescore=lambda damage, stop: quick_rescore(archive, damage, bank.engine, stop=stop),
     )
+
+
+def _unloading_kin(damage: Damage) -> tuple[Damage, ...]:
+    """Return the damages a lifted-leg hypothesis stands in for (itself for any other)."""
+    legs = damage.failed_legs
+    if not legs or not damage.thesis:
+        return (damage,)
+    return tuple(Damage.of(kind, legs) for kind in UNLOADING_KINDS)
 
 
 @dataclass(frozen=True)

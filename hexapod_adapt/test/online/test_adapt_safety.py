@@ -182,3 +182,36 @@ def test_a_named_damages_screen_vetoes_gaits_within_its_margin_of_the_guard(arch
     for bad in (-0.1, DEFAULT_TIP_GUARD, math.nan):
         with pytest.raises(ValueError, match='screen_margin'):
             diagnosis_plan(archive, bank, DEFAULT_TIP_GUARD, walks=walks, screen_margin=bad)
+
+
+def test_with_kin_tilts_a_lifted_hypothesis_tilts_as_the_worst_kind_that_unloads_its_legs(archive):
+    """
+    The lifted bank stands in for five kinds; kin tilts make its safety model weigh their worst.
+
+    Gait 13896 (the default map's fastest) with legs 1+4 lifted stays under the 30 deg guard on
+    MuJoCo; with their tibias unpowered it tips (measured: 19 and 42 deg;
+    studies/diagnosis/README.md): only the kin model says it may.
+    """
+    from hexapod_adapt.online.safety import record_tilt
+    from hexapod_adapt.online.session import UNLOADING_KINDS
+
+    legs = [1, 4]
+    bank = DamageBank(
+        'mujoco', (Damage.lifted(legs),), archive.speeds()[archive.elite_indices()][None]
+    )
+    walks = HypothesisWalks(archive)
+    plain = diagnosis_plan(archive, bank, DEFAULT_TIP_GUARD, walks=walks).safety
+    kin = diagnosis_plan(archive, bank, DEFAULT_TIP_GUARD, walks=walks, kin_tilts=True).safety
+    index = int(np.flatnonzero(plain.niches == 13896)[0])
+    tilts = {kind: record_tilt(walks(13896, Damage.of(kind, legs))) for kind in UNLOADING_KINDS}
+    assert tilts['lifted'] < DEFAULT_TIP_GUARD < tilts['unpowered_tibia'], tilts
+    assert plain.simulated(index)[0] == pytest.approx(tilts['lifted'])
+    assert kin.simulated(index)[0] == pytest.approx(max(tilts.values()))
+    assert plain.simulated(index)[1] == kin.simulated(index)[1]  # intact: none of these
+    assert kin.risk(index) > plain.risk(index)
+    # the wider bank names each kind: its hypotheses tilt as themselves
+    every = DamageBank('mujoco', (Damage.of('locked', legs),), bank.speeds)
+    locked = diagnosis_plan(archive, every, DEFAULT_TIP_GUARD, walks=walks, kin_tilts=True)
+    assert locked.safety.simulated(index)[0] == pytest.approx(
+        record_tilt(walks(13896, Damage.of('locked', legs)))
+    )
