@@ -175,10 +175,10 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument(
         '--kin-tilts',
-        action=argparse.BooleanOptionalAction,
+        type=float,
         default=KIN_TILTS,
-        help="while the lifted bank is weighed, the safety model's tilt of a leg set is the"
-        ' worst of the kinds that unload those legs',
+        help="while the lifted bank is weighed, the safety model's tilt of a leg set believed at"
+        ' least this much is the worst of the kinds that unload those legs (0: every one in play)',
     )
     parser.add_argument(
         '--calibrate',
@@ -259,7 +259,7 @@ def main(argv: list[str] | None = None) -> int:
         + ('' if args.ceilings is None else '+other-ceilings')
         + (f'+margin{args.screen_margin:g}' if args.screen_margin else '')
         + (f'+calibrate{args.calibrate}' if args.calibrate else '')
-        + ('+kin-tilts' if args.kin_tilts else ''),
+        + ('' if args.kin_tilts is None else f'+kin{args.kin_tilts:g}'),
         bank=bank,
         leave_out=args.leave_out,
         kind=args.kind,

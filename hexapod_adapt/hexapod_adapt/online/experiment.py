@@ -87,8 +87,8 @@ class ExperimentSetup:
     ``calibrate``: before the runs, the map's this many fastest gaits are walked intact on the
     trials' physics, and the diagnosis weighs the trials against the gap they measure
     (:func:`~hexapod_adapt.online.diagnosis.calibrate_gap`; 0: none). ``kin_tilts``: the
-    safety model's lifted hypotheses tilt as the worst kind that unloads their legs
-    (:data:`~hexapod_adapt.online.session.KIN_TILTS`).
+    safety model's lifted hypotheses believed at least this much tilt as the worst kind that
+    unloads their legs (:data:`~hexapod_adapt.online.session.KIN_TILTS`; None: as themselves).
     """
 
     scenarios: Sequence[str] = ('S1', 'S2', 'S3', 'S4')
@@ -113,7 +113,7 @@ class ExperimentSetup:
     screen_margin: float = SCREEN_MARGIN
     wider: DamageBank | None = None
     calibrate: int = 0
-    kin_tilts: bool = KIN_TILTS
+    kin_tilts: float | None = KIN_TILTS
 
 
 @dataclass

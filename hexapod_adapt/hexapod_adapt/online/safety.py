@@ -50,6 +50,10 @@ TILT_OFFSET = 0.0
 TILT_LENGTH_SCALE = 0.3
 #: A hypothesis believed less than this is left out of a gait's risk (and not walked for it).
 NEGLIGIBLE_WEIGHT = 1e-9
+#: A hypothesis believed at least this much tilts as its ``kin`` walk says (its worst kin), the
+#: others as their own walk: one believed less adds under 0.05 to a risk (judgement, before its
+#: runs: studies/diagnosis/README.md, "The safety model's lifted bank stands in for five kinds").
+KIN_WEIGHT = 0.05
 #: [rad] what a trial the tip guard stopped counts as: the tip-over line.
 TIPPED_TILT = math.radians(TIP_OVER_DEG)
 
@@ -73,6 +77,8 @@ class SafetyModel:
     ``niches`` and ``descriptors`` are M-BOA's candidates (``candidates(archive)``); ``walk``
     gives their walks under the ``hypotheses`` damage hypotheses and intact (index
     ``hypotheses``). ``weights`` is the belief over the hypotheses and "none of these" (last).
+    ``kin``: a hypothesis believed at least ``kin_weight`` tilts as the most tilted of its walk
+    and its ``kin`` walk (the damages it stands in for; None: its walk alone).
     """
 
     niches: np.ndarray
@@ -86,10 +92,13 @@ class SafetyModel:
     shift: float = TILT_SHIFT
     offset: float = TILT_OFFSET
     length_scale: float = TILT_LENGTH_SCALE
+    kin: WalkOf | None = None
+    kin_weight: float = KIN_WEIGHT
     tilts: dict[int, float] = field(default_factory=dict)  # index -> predicted tilt [rad]
     risks: dict[int, float] = field(default_factory=dict)  # index -> risk when last asked
     _seen: list[tuple[int, float]] = field(default_factory=list)  # (index, residual [rad])
     _walked: dict[int, np.ndarray] = field(default_factory=dict)
+    _kin_walked: dict[int, np.ndarray] = field(default_factory=dict)
     _fit: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # (x, chol, alpha) of _seen
 
     def __post_init__(self) -> None:
@@ -98,6 +107,8 @@ class SafetyModel:
             raise ValueError(
                 f'weights must be {self.hypotheses + 1} probabilities (the hypotheses and none)'
             )
+        if not 0.0 <= self.kin_weight <= 1.0:
+            raise ValueError(f'kin_weight must lie in [0, 1], got {self.kin_weight}')
         if not 0.0 < self.limit < 1.0:
             raise ValueError(f'the risk limit must lie in (0, 1), got {self.limit}')
         if not (
@@ -123,7 +134,15 @@ class SafetyModel:
         niche = int(self.niches[index])
         for h in np.flatnonzero((self.weights >= NEGLIGIBLE_WEIGHT) & np.isnan(tilts)):
             tilts[h] = record_tilt(self.walk(niche, int(h)))
-        return tilts
+        if self.kin is None:
+            return tilts
+        kin = self._kin_walked.get(int(index))
+        if kin is None:
+            kin = self._kin_walked[int(index)] = np.full(self.hypotheses + 1, np.nan)
+        wary = self.weights >= max(self.kin_weight, NEGLIGIBLE_WEIGHT)
+        for h in np.flatnonzero(wary & np.isnan(kin)):
+            kin[h] = record_tilt(self.kin(niche, int(h)))
+        return np.where(wary, np.fmax(tilts, kin), tilts)
 
     def predicted(self, index: int) -> float:
         """Return the tilt [rad] the belief and the trials predict for candidate ``index``."""

@@ -87,11 +87,12 @@ NAME_LEG_SETS = True
 #: in simulation: the map's engine is not the robot, and a gait near the guard there may tip on
 #: other physics (studies/diagnosis/README.md, "A margin for the named damage's screen").
 SCREEN_MARGIN = 0.0
-#: Whether a blind run's safety model, while it weighs lifted legs, takes each leg set's tilt of a
-#: gait as the largest over the kinds that unload those legs (:data:`UNLOADING_KINDS`): the
-#: lifted bank stands in for them, and they walk alike but do not tilt alike
-#: (studies/diagnosis/README.md, "The safety model's lifted bank stands in for five kinds").
-KIN_TILTS = False
+#: While a blind run weighs lifted legs, its safety model takes the tilt of a leg set believed at
+#: least this much as the largest over the kinds that unload those legs (:data:`UNLOADING_KINDS`):
+#: the lifted bank stands in for them, and they walk alike but do not tilt alike (None: each
+#: its own walk; studies/diagnosis/README.md, "The safety model's lifted bank stands in for five
+#: kinds").
+KIN_TILTS: float | None = None
 #: The kinds that leave a leg unloaded, which the lifted bank stands in for.
 UNLOADING_KINDS = ('lifted', 'unpowered_coxa', 'unpowered_tibia', 'no_tibia', 'shortened')
 
@@ -261,7 +262,7 @@ def diagnosis_plan(
     screen_margin: float = SCREEN_MARGIN,
     wider: DamageBank | None = None,
     calibration: GapCalibration | None = None,
-    kin_tilts: bool = KIN_TILTS,
+    kin_tilts: float | None = KIN_TILTS,
 ) -> DiagnosisPlan | None:
     """
     Return the diagnosis of a blind run over ``bank``'s damages (None: the bank is empty).
@@ -277,8 +278,8 @@ def diagnosis_plan(
     diagnosed as this one is, over the same walks, with the fit floor
     ``weighing.wider_fit_floor``. ``calibration``: the trials' gap to the map's engine,
     measured on the intact robot (``diagnosis.calibrate_gap``; None: none). ``kin_tilts``: the
-    safety model takes a lifted hypothesis's tilt as the worst of :data:`UNLOADING_KINDS` on
-    its legs (:data:`KIN_TILTS`).
+    safety model takes the tilt of a lifted hypothesis believed at least this much as the worst
+    of :data:`UNLOADING_KINDS` on its legs (:data:`KIN_TILTS`; None: its own).
     """
     if len(bank) == 0:
         return None
@@ -297,15 +298,19 @@ def diagnosis_plan(
     if safety is not None and tip_guard < math.pi:
         niches, descriptors, _ = candidates(archive)
         under = (*bank.damages, Damage.lifted(()))  # the last: intact, for none of these
-        kin = [_unloading_kin(d) if kin_tilts else (d,) for d in under]
+        kin = [_unloading_kin(d) for d in under]
         model = SafetyModel(
             niches,
             descriptors,
-            lambda niche, h: max((walks(niche, d) for d in kin[h]), key=record_tilt),
+            lambda niche, h: walks(niche, under[h]),
             len(bank.damages),
             tip_guard,
             diagnosis.posterior().probabilities,
             limit=safety,
+            kin=None
+            if kin_tilts is None
+            else lambda niche, h: max((walks(niche, d) for d in kin[h]), key=record_tilt),
+            kin_weight=0.0 if kin_tilts is None else kin_tilts,
         )
     wide = replace(weighing, fit_floor=weighing.wider_fit_floor)  # the wider bank's own floor
     same = (contacts, threshold, walks, safety, blind, wide, leg_sets, screen_margin)

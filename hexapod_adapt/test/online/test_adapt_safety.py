@@ -201,7 +201,7 @@ def test_with_kin_tilts_a_lifted_hypothesis_tilts_as_the_worst_kind_that_unloads
     )
     walks = HypothesisWalks(archive)
     plain = diagnosis_plan(archive, bank, DEFAULT_TIP_GUARD, walks=walks).safety
-    kin = diagnosis_plan(archive, bank, DEFAULT_TIP_GUARD, walks=walks, kin_tilts=True).safety
+    kin = diagnosis_plan(archive, bank, DEFAULT_TIP_GUARD, walks=walks, kin_tilts=0.0).safety
     index = int(np.flatnonzero(plain.niches == 13896)[0])
     tilts = {kind: record_tilt(walks(13896, Damage.of(kind, legs))) for kind in UNLOADING_KINDS}
     assert tilts['lifted'] < DEFAULT_TIP_GUARD < tilts['unpowered_tibia'], tilts
@@ -209,9 +209,15 @@ def test_with_kin_tilts_a_lifted_hypothesis_tilts_as_the_worst_kind_that_unloads
     assert kin.simulated(index)[0] == pytest.approx(max(tilts.values()))
     assert plain.simulated(index)[1] == kin.simulated(index)[1]  # intact: none of these
     assert kin.risk(index) > plain.risk(index)
+    # gated by belief: a hypothesis believed less than the kin weight tilts as itself
+    gated = diagnosis_plan(archive, bank, DEFAULT_TIP_GUARD, walks=walks, kin_tilts=0.9).safety
+    assert gated.weights[0] < 0.9
+    assert gated.simulated(index)[0] == pytest.approx(tilts['lifted'])
+    gated.weigh(np.array([0.95, 0.05]))
+    assert gated.simulated(index)[0] == pytest.approx(max(tilts.values()))
     # the wider bank names each kind: its hypotheses tilt as themselves
     every = DamageBank('mujoco', (Damage.of('locked', legs),), bank.speeds)
-    locked = diagnosis_plan(archive, every, DEFAULT_TIP_GUARD, walks=walks, kin_tilts=True)
+    locked = diagnosis_plan(archive, every, DEFAULT_TIP_GUARD, walks=walks, kin_tilts=0.0)
     assert locked.safety.simulated(index)[0] == pytest.approx(
         record_tilt(walks(13896, Damage.of('locked', legs)))
     )
