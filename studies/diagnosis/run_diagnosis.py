@@ -181,6 +181,13 @@ def main(argv: list[str] | None = None) -> int:
         ' least this much is the worst of the kinds that unload those legs (0: every one in play)',
     )
     parser.add_argument(
+        '--no-kin-tilts',
+        dest='kin_tilts',
+        action='store_const',
+        const=None,
+        help='each lifted hypothesis tilts as its own walk (the safety model before 2026-12-07)',
+    )
+    parser.add_argument(
         '--calibrate',
         type=int,
         default=0,
@@ -259,7 +266,7 @@ def main(argv: list[str] | None = None) -> int:
         + ('' if args.ceilings is None else '+other-ceilings')
         + (f'+margin{args.screen_margin:g}' if args.screen_margin else '')
         + (f'+calibrate{args.calibrate}' if args.calibrate else '')
-        + ('' if args.kin_tilts is None else f'+kin{args.kin_tilts:g}'),
+        + ('+no-kin' if args.kin_tilts is None else f'+kin{args.kin_tilts:g}'),
         bank=bank,
         leave_out=args.leave_out,
         kind=args.kind,

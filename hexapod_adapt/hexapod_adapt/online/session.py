@@ -47,7 +47,7 @@ from hexapod_adapt.online.diagnosis import (
 )
 from hexapod_adapt.online.mboa import Mboa, MboaConfig, MIN_SPEED_RANGE, StopReason, Trial
 from hexapod_adapt.online.prior import simulated_tilts, TipScreen
-from hexapod_adapt.online.safety import record_tilt, RISK_LIMIT, SafetyModel
+from hexapod_adapt.online.safety import KIN_WEIGHT, record_tilt, RISK_LIMIT, SafetyModel
 from hexapod_sim.damage import Damage
 import numpy as np
 
@@ -90,9 +90,9 @@ SCREEN_MARGIN = 0.0
 #: While a blind run weighs lifted legs, its safety model takes the tilt of a leg set believed at
 #: least this much as the largest over the kinds that unload those legs (:data:`UNLOADING_KINDS`):
 #: the lifted bank stands in for them, and they walk alike but do not tilt alike (None: each
-#: its own walk; studies/diagnosis/README.md, "The safety model's lifted bank stands in for five
-#: kinds").
-KIN_TILTS: float | None = None
+#: its own walk). Won on a tuning set: studies/diagnosis/README.md, "The safety model's lifted
+#: bank stands in for five kinds".
+KIN_TILTS: float | None = KIN_WEIGHT
 #: The kinds that leave a leg unloaded, which the lifted bank stands in for.
 UNLOADING_KINDS = ('lifted', 'unpowered_coxa', 'unpowered_tibia', 'no_tibia', 'shortened')
 
@@ -296,22 +296,7 @@ def diagnosis_plan(
 
     model = None
     if safety is not None and tip_guard < math.pi:
-        niches, descriptors, _ = candidates(archive)
-        under = (*bank.damages, Damage.lifted(()))  # the last: intact, for none of these
-        kin = [_unloading_kin(d) for d in under]
-        model = SafetyModel(
-            niches,
-            descriptors,
-            lambda niche, h: walks(niche, under[h]),
-            len(bank.damages),
-            tip_guard,
-            diagnosis.posterior().probabilities,
-            limit=safety,
-            kin=None
-            if kin_tilts is None
-            else lambda niche, h: max((walks(niche, d) for d in kin[h]), key=record_tilt),
-            kin_weight=0.0 if kin_tilts is None else kin_tilts,
-        )
+        model = _safety_model(archive, bank, walks, diagnosis, tip_guard, safety, kin_tilts)
     wide = replace(weighing, fit_floor=weighing.wider_fit_floor)  # the wider bank's own floor
     same = (contacts, threshold, walks, safety, blind, wide, leg_sets, screen_margin)
     widen = partial(
@@ -329,6 +314,34 @@ def diagnosis_plan(
         leg_sets=leg_sets,
         wider=widen if wider else None,
         rescore=lambda damage, stop: quick_rescore(archive, damage, bank.engine, stop=stop),
+    )
+
+
+def _safety_model(
+    archive: Archive,
+    bank: DamageBank,
+    walks: HypothesisWalks,
+    diagnosis: Diagnosis,
+    tip_guard: float,
+    limit: float,
+    kin_tilts: float | None,
+) -> SafetyModel:
+    """Return a blind run's safety model over ``bank``'s walks (:func:`diagnosis_plan`)."""
+    niches, descriptors, _ = candidates(archive)
+    under = (*bank.damages, Damage.lifted(()))  # the last: intact, for none of these
+    kin = [_unloading_kin(d) for d in under]
+    return SafetyModel(
+        niches,
+        descriptors,
+        lambda niche, h: walks(niche, under[h]),
+        len(bank.damages),
+        tip_guard,
+        diagnosis.posterior().probabilities,
+        limit=limit,
+        kin=None
+        if kin_tilts is None
+        else lambda niche, h: max((walks(niche, d) for d in kin[h]), key=record_tilt),
+        kin_weight=0.0 if kin_tilts is None else kin_tilts,
     )
 
 

@@ -200,7 +200,7 @@ def test_with_kin_tilts_a_lifted_hypothesis_tilts_as_the_worst_kind_that_unloads
         'mujoco', (Damage.lifted(legs),), archive.speeds()[archive.elite_indices()][None]
     )
     walks = HypothesisWalks(archive)
-    plain = diagnosis_plan(archive, bank, DEFAULT_TIP_GUARD, walks=walks).safety
+    plain = diagnosis_plan(archive, bank, DEFAULT_TIP_GUARD, walks=walks, kin_tilts=None).safety
     kin = diagnosis_plan(archive, bank, DEFAULT_TIP_GUARD, walks=walks, kin_tilts=0.0).safety
     index = int(np.flatnonzero(plain.niches == 13896)[0])
     tilts = {kind: record_tilt(walks(13896, Damage.of(kind, legs))) for kind in UNLOADING_KINDS}
