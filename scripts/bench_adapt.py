@@ -184,7 +184,7 @@ def _bench_timings(archive, map_engine: str) -> None:
     """One M-BOA step, the map's size, and the damage-informed prior's re-score and first trial."""
     import tempfile
 
-    from hexapod_adapt.online.ceiling import quick_rescore
+    from hexapod_adapt.online.ceiling import quick_rescore, RescoreStopped
     from hexapod_adapt.online.mboa import Mboa, MboaConfig
     from hexapod_adapt.online.prior import damage_prior
     from hexapod_adapt.online.streaming_prior import StreamingPrior
@@ -220,6 +220,14 @@ def _bench_timings(archive, map_engine: str) -> None:
     t0 = time.monotonic()
     quick_rescore(archive, Damage.of('locked', [3]), map_engine)
     print(f'BENCH adapt_rescore_named_s {time.monotonic() - t0:.1f} s')
+    # a cancel during that re-score: how long after it the re-score stops (a run cancelled then)
+    asked = time.monotonic() + 3.0
+    try:
+        quick_rescore(
+            archive, Damage.of('locked', [4]), map_engine, stop=lambda: time.monotonic() >= asked
+        )
+    except RescoreStopped:
+        print(f'BENCH adapt_rescore_cancel_s {time.monotonic() - asked:.2f} s')
 
 
 def _bench_damage_kinds(
