@@ -266,7 +266,13 @@ def main(argv: list[str] | None = None) -> int:
         + ('' if args.ceilings is None else '+other-ceilings')
         + (f'+margin{args.screen_margin:g}' if args.screen_margin else '')
         + (f'+calibrate{args.calibrate}' if args.calibrate else '')
-        + ('+no-kin' if args.kin_tilts is None else f'+kin{args.kin_tilts:g}'),
+        + (
+            ''
+            if args.kin_tilts == KIN_TILTS  # the default's runs are labelled as before it
+            else '+no-kin'
+            if args.kin_tilts is None
+            else f'+kin{args.kin_tilts:g}'
+        ),
         bank=bank,
         leave_out=args.leave_out,
         kind=args.kind,

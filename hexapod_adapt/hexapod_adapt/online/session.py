@@ -331,7 +331,12 @@ def _safety_model(
     """Return a blind run's safety model over ``bank``'s walks (:func:`diagnosis_plan`)."""
     niches, descriptors, _ = candidates(archive)
     under = (*bank.damages, Damage.lifted(()))  # the last: intact, for none of these
-    kin = [_unloading_kin(d) for d in under]
+    kins = [_unloading_kin(d) for d in under]
+
+    def worst_kin(niche: int, h: int) -> TrialRecord | None:
+        """Return the most tilted walk of the kinds hypothesis ``h`` stands in for."""
+        return max((walks(niche, d) for d in kins[h]), key=record_tilt)
+
     return SafetyModel(
         niches,
         descriptors,
@@ -340,10 +345,8 @@ def _safety_model(
         tip_guard,
         diagnosis.posterior().probabilities,
         limit=limit,
-        kin=None
-        if kin_tilts is None
-        else lambda niche, h: max((walks(niche, d) for d in kin[h]), key=record_tilt),
-        kin_weight=0.0 if kin_tilts is None else kin_tilts,
+        kin=None if kin_tilts is None else worst_kin,
+        kin_weight=kin_tilts or 0.0,
     )
 
 
