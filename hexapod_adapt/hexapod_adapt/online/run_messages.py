@@ -106,6 +106,7 @@ def trial_procedure(
         return RobotTrials(
             gaits, port, logs.results, waiter, timing, port.link_problem, warn,
             load_model().max_walking_speed, tilts=logs.tilts, tip_guard=tip_guard,
+            link_heard=port.link_heard,
         )  # fmt: skip
     return ManualTrials(gaits, port, logs.results, waiter, timing, warn)
 

@@ -336,6 +336,9 @@ class RobotPort(Protocol):
     def link_problem(self) -> str:
         """Say why bridge_node's radio link cannot carry a trial now ('' when it can)."""
 
+    def link_heard(self) -> float:
+        """Say when bridge_node's newest link status came (time.monotonic(); -inf: none yet)."""
+
 
 class TrialPort(SimPort, RobotPort, Protocol):
     """A port for every mode (:class:`hexapod_adapt.ros.graph_port.GraphPort` is one)."""
@@ -457,6 +460,9 @@ def _uploaded(port: RobotPort, gait: GaitParameters, timeout: float) -> float:
 RIGHTING_TIMEOUT = 300.0
 #: How long a robot run waits for a lost radio link to come back before it ends [s].
 LINK_RETURN_TIMEOUT = 60.0
+#: How long a robot run waits after a fault for a link status newer than it [s]: bridge_node
+#: sends one at its ``status_rate`` (5 Hz by default) and at once when the radio port changes.
+LINK_STATUS_WAIT = 2.5
 #: Walks of one gait a robot run makes while faults spoil them, before it ends.
 ROBOT_ATTEMPTS = 3
 
@@ -505,6 +511,10 @@ class RobotTrials:
     righting_timeout: float = RIGHTING_TIMEOUT
     link_timeout: float = LINK_RETURN_TIMEOUT
     attempts: int = ROBOT_ATTEMPTS
+    #: when the newest link status behind ``link()`` came (``clock()`` time; inf: ``link()`` is
+    #: always current). A fault is judged only on a status that came after it: the one before
+    #: may still say the link is up (a result can be read before the status sent ahead of it)
+    link_heard: Callable[[], float] = lambda: math.inf
 
     def __call__(self, niche: int) -> TrialOutcome:
         """Measure the speed of the gait of ``niche`` [m/s], or stop it when it tips."""
@@ -513,6 +523,7 @@ class RobotTrials:
             try:
                 return self._walk(niche)
             except LinkFault as fault:
+                faulted = self.clock()
                 spoilt += fault.walked
                 unanswered += not fault.walked
                 if max(spoilt, unanswered) >= self.attempts:
@@ -525,7 +536,7 @@ class RobotTrials:
                     f' radio link works (try {spoilt + unanswered + 1}; the run ends after'
                     f' {self.attempts} spoilt walks of one gait)'
                 )
-                self._wait_link()
+                self._wait_link(faulted)
                 self._stand()
 
     def _walk(self, niche: int) -> TrialOutcome:
@@ -584,8 +595,14 @@ class RobotTrials:
         except TrialAborted:
             pass  # a robot that does not answer is walked again all the same: the upload says
 
-    def _wait_link(self) -> None:
+    def _wait_link(self, faulted: float) -> None:
         """Wait until the link can carry a trial (at once if it can), or end the run."""
+        try:  # a status newer than the fault (the next tick, or at once on a port change)
+            self.waiter.until(
+                lambda: self.link_heard() > faulted, LINK_STATUS_WAIT, 'a newer link status'
+            )
+        except WaitTimedOut:
+            pass  # none came: link() says the status is stale
         if not self.link():
             return
         self.warn(f'radio link down ({self.link()}): waiting up to {self.link_timeout:g} s for it')

@@ -13,6 +13,7 @@ this module only converts messages.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 import time
 from typing import Callable, Mapping
@@ -248,6 +249,10 @@ class GraphPort:
 
     def _on_link(self, msg: LinkStatus) -> None:
         self._link = (msg, time.monotonic())
+
+    def link_heard(self) -> float:
+        """Say when bridge_node's newest link status came (time.monotonic(); -inf: none yet)."""
+        return -math.inf if self._link is None else self._link[1]
 
     def link_problem(self) -> str:
         """Say why bridge_node's radio link cannot carry a trial now ('' when it can)."""

@@ -294,6 +294,29 @@ def test_a_trial_the_link_spoilt_is_never_scored_and_is_walked_again_once_the_li
     assert 'waiting up to 60 s' in told[1] and 'radio link back after' in told[2]
 
 
+def test_a_fault_read_before_the_link_status_sent_ahead_of_it_still_waits_for_the_link():
+    # seen in CI: the trial's LINK_LOST result was read before the 'down' link status that
+    # bridge_node had sent first; the run took the older 'up' status and uploaded at once
+    clock = FakeClock()
+    bridge = Bridge(
+        Arriving(clock), clock, script=[(True, 'the radio port was lost'), (0.25, 0.0)]
+    )
+
+    def fault():  # when the cut trial's result came
+        return bridge.results.snapshot()[0].received
+
+    def heard():  # when the newest link status came: 'down' 0.3 s after the result
+        return fault() + 0.3 if bridge.starts and clock() >= fault() + 0.3 else 0.0
+
+    def link():  # the older status says up; the 'down' one holds for 20 s
+        return 'the radio port is not open' if fault() + 0.3 <= clock() < fault() + 20 else ''
+
+    trial, told = _robot(bridge, clock, link_heard=heard)
+    trial.link = link
+    assert trial(7).speed == pytest.approx(0.25)
+    assert 'waiting up to 60 s' in told[1] and 'radio link back after' in told[2]
+
+
 def test_a_gait_spoilt_on_every_walk_ends_the_run_with_the_last_reason():
     clock = FakeClock()
     bridge = Bridge(Arriving(clock), clock, script=[(True, 'the robot was silent for 3.2 s')])
