@@ -19,6 +19,7 @@ or the floor changes in M-BOA's settings is resolved once, at construction
 
 from __future__ import annotations
 
+from contextlib import AbstractContextManager, nullcontext
 from dataclasses import dataclass, field, replace
 import enum
 from functools import partial
@@ -43,6 +44,7 @@ from hexapod_adapt.online.diagnosis import (
     HypothesisWalks,
     Posterior,
     TrialRecord,
+    WalksStopped,
     Weighing,
 )
 from hexapod_adapt.online.mboa import Mboa, MboaConfig, MIN_SPEED_RANGE, StopReason, Trial
@@ -154,7 +156,8 @@ class DiagnosisPlan:
     most probable fits none of them, before it falls back to blind M-BOA (None: it falls back).
     ``rescore(damage, stop)``: a row of ``priors`` that is NaN (a damage not cached) is filled by
     it when its hypothesis is named, in place, so the plan's later runs have it too; ``stop()``
-    true ends it early with :class:`~hexapod_adapt.online.ceiling.RescoreStopped`.
+    true ends it early with :class:`~hexapod_adapt.online.ceiling.RescoreStopped`. ``walks``:
+    the hypotheses' walks behind ``diagnosis`` and ``safety`` (a session stops them on a cancel).
     """
 
     diagnosis: Diagnosis
@@ -168,6 +171,7 @@ class DiagnosisPlan:
     leg_sets: bool = NAME_LEG_SETS
     wider: Callable[[], DiagnosisPlan] | None = None
     rescore: Callable[[Damage, Callable[[], bool] | None], np.ndarray] | None = None
+    walks: HypothesisWalks | None = None
 
     def __post_init__(self) -> None:
         if len(self.damages) != len(self.diagnosis.labels) or len(self.priors) != len(
@@ -316,6 +320,7 @@ def diagnosis_plan(
         leg_sets=leg_sets,
         wider=widen if wider else None,
         rescore=lambda damage, stop: quick_rescore(archive, damage, bank.engine, stop=stop),
+        walks=walks,
     )
 
 
@@ -532,20 +537,31 @@ class AdaptationSession:
         """
         Return the niche of the next gait to try (None: the run has stopped).
 
-        ``stop()`` true during a re-score this ask makes (:attr:`rescoring`) ends the run as
-        'cancelled' within about a second (None: the re-score runs to its end).
+        ``stop()`` true during a re-score or the hypotheses' walks this ask makes
+        (:attr:`rescoring`; the safety model's) ends the run as 'cancelled' within about a
+        second (None: they run to their end).
         """
         if self._ended:
             return None
+        try:
+            with self._stoppable(stop):
+                return self._ask(stop)
+        except (RescoreStopped, WalksStopped):
+            self.end('cancelled')  # a damage named stays named; its re-score is not kept
+            return None
+
+    def _stoppable(self, stop: Callable[[], bool] | None) -> AbstractContextManager[None]:
+        """Make the hypotheses' walks (if this run has any) stop once ``stop()`` holds."""
+        plan = self.start.diagnosis
+        walks = plan.walks if plan is not None else None
+        return nullcontext() if walks is None else walks.stoppable(stop)
+
+    def _ask(self, stop: Callable[[], bool] | None) -> int | None:
         if self._asked is not None:
             return int(self.niches[self._asked])  # asked again before a tell: the same gait
         if self._unscored is not None:  # after the trial that named it was said
             named, self._unscored = self._unscored, None
-            try:
-                self._as_prior_of(named, stop)
-            except RescoreStopped:
-                self.end('cancelled')  # the damage stays named; its re-score is not kept
-                return None
+            self._as_prior_of(named, stop)
         while True:
             while self._vetoed(self.opt.leading_index()):  # alpha's bar: a gait it could keep
                 pass
@@ -566,12 +582,19 @@ class AdaptationSession:
                 self._asked = index
                 return int(self.niches[index])
 
-    def tell(self, niche: int, outcome: float | TrialOutcome) -> Trial | None:
+    def tell(
+        self,
+        niche: int,
+        outcome: float | TrialOutcome,
+        stop: Callable[[], bool] | None = None,
+    ) -> Trial | None:
         """
         Take the outcome of the trial of ``niche`` (the one :meth:`ask` gave).
 
         A tipped trial counts as failed (0 m/s) and its gait is never tried again. A non-finite
-        speed (broken odometry) is never learned: it ends the run (returns None).
+        speed (broken odometry) is never learned: it ends the run (returns None). ``stop()``
+        true while the diagnosis walks the hypotheses under this trial ends the run as
+        'cancelled' (the trial is kept and returned; the diagnosis is left unfinished).
         """
         index = self._asked
         if index is None or int(self.niches[index]) != int(niche):
@@ -595,7 +618,12 @@ class AdaptationSession:
         if plan is not None and plan.safety is not None:  # against the belief it was tried on
             plan.safety.observe(index, outcome.peak_tilt, outcome.tipped)
         if plan is not None and outcome.record is not None:
-            self._diagnose(int(niche), outcome.record)
+            try:
+                with self._stoppable(stop):
+                    self._diagnose(int(niche), outcome.record)
+            except WalksStopped:
+                self._note_named()  # what the run named before this trial
+                self.end('cancelled')
         elif plan is not None:  # no record (a tipped trial): the belief and the naming stand
             self._note_named()
         return trial
@@ -847,7 +875,7 @@ def run_session(
         except TrialAborted as exc:
             session.abort(exc)
             break
-        told = session.tell(niche, outcome)
+        told = session.tell(niche, outcome, cancelled)
         if told is not None and on_trial is not None:
             on_trial(told, niche, session)
     return session.result()

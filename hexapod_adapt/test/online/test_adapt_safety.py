@@ -221,3 +221,46 @@ def test_with_kin_tilts_a_lifted_hypothesis_tilts_as_the_worst_kind_that_unloads
     assert locked.safety.simulated(index)[0] == pytest.approx(
         record_tilt(walks(13896, Damage.of('locked', legs)))
     )
+
+
+def test_a_stop_ends_a_blind_run_between_two_hypothesis_walks_and_keeps_the_trial(archive):
+    """
+    A cancel asked while a blind run walks its hypotheses ends the run there, as 'cancelled'.
+
+    The safety model's and the diagnosis's walks are many (about 0.1 s each on MuJoCo, more on
+    PyBullet).
+    """
+    from hexapod_adapt.online.diagnosis import WalksStopped
+
+    damages = [Damage.lifted([2]), Damage.lifted([5]), Damage.lifted([2, 5])]
+    speeds = np.array([archive.speeds()[archive.elite_indices()] * 0.5 for _ in damages])
+    bank = DamageBank('mujoco', tuple(damages), speeds)
+    config = replace(PROFILES['default'], max_trials=4, min_speed=0.9)
+    walks = HypothesisWalks(archive)
+    with walks.stoppable(lambda: True):  # the walks themselves: a new one is not made
+        with pytest.raises(WalksStopped, match='gait 13896 under leg 2 lifted'):
+            walks(13896, damages[0])
+    assert walks.walked == 0
+    walks(13896, damages[0])
+    with walks.stoppable(lambda: True):
+        assert walks(13896, damages[0]) is not None  # one made already is given
+
+    def plan(**kw):
+        return diagnosis_plan(archive, bank, DEFAULT_TIP_GUARD, **kw)
+
+    # in ask: the safety model's kin walks of the first gait
+    start = SessionStart(diagnosis=plan(walks=walks, kin_tilts=0.0))
+    session = AdaptationSession(archive, config, start)
+    asked: list[int] = []
+    assert session.ask(lambda: len(asked) > 3 or asked.append(1)) is None
+    assert len(asked) == 4 and session.result().message == 'cancelled' and session.ask() is None
+    # in tell: the diagnosis's walks of the trial's gait (no safety model walked it); it is kept
+    start = SessionStart(diagnosis=plan(walks=HypothesisWalks(archive), safety=None))
+    session = AdaptationSession(archive, config, start)
+    niche = session.ask()
+    with create_simulator(SimConfig.converged('mujoco')) as sim:
+        outcome = recorded_trial(archive, damages[2], sim, tip_guard=DEFAULT_TIP_GUARD)(niche)
+    told = session.tell(niche, outcome, lambda: True)
+    assert told is not None and session.finished and session.result().message == 'cancelled'
+    result = session.result()
+    assert result.niches == [niche] and len(result.named) == 1 and session.ask() is None
