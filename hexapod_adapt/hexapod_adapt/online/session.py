@@ -49,7 +49,7 @@ from hexapod_adapt.online.diagnosis import (
 )
 from hexapod_adapt.online.mboa import Mboa, MboaConfig, MIN_SPEED_RANGE, StopReason, Trial
 from hexapod_adapt.online.prior import simulated_tilts, TipScreen
-from hexapod_adapt.online.safety import record_tilt, RISK_LIMIT, SafetyModel
+from hexapod_adapt.online.safety import KIN_WEIGHT, record_tilt, RISK_LIMIT, SafetyModel
 from hexapod_sim.damage import Damage
 import numpy as np
 
@@ -92,11 +92,9 @@ SCREEN_MARGIN = 0.0
 #: While a blind run weighs lifted legs, its safety model takes the tilt of a leg set believed at
 #: least this much as the largest over the kinds that unload those legs (:data:`UNLOADING_KINDS`):
 #: the lifted bank stands in for them, and they walk alike but do not tilt alike (None: each
-#: its own walk). 0.05 (:data:`~hexapod_adapt.online.safety.KIN_WEIGHT`) won on a tuning set but
-#: is not the default yet: its walks make a blind run's next gait slow on a PyBullet map, and a
-#: Ctrl-C waits for them (studies/diagnosis/README.md, "The safety model's lifted bank stands in
-#: for five kinds").
-KIN_TILTS: float | None = None
+#: its own walk). 0.05 (:data:`~hexapod_adapt.online.safety.KIN_WEIGHT`) won on a tuning set
+#: (studies/diagnosis/README.md, "The safety model's lifted bank stands in for five kinds").
+KIN_TILTS: float | None = KIN_WEIGHT
 #: The kinds that leave a leg unloaded, which the lifted bank stands in for.
 UNLOADING_KINDS = ('lifted', 'unpowered_coxa', 'unpowered_tibia', 'no_tibia', 'shortened')
 
