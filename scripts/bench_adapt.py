@@ -228,6 +228,36 @@ def _bench_timings(archive, map_engine: str) -> None:
         )
     except RescoreStopped:
         print(f'BENCH adapt_rescore_cancel_s {time.monotonic() - asked:.2f} s')
+    _bench_blind_first_ask(archive, map_engine)
+
+
+def _bench_blind_first_ask(archive, map_engine: str) -> None:
+    """A fresh node's first blind run: the time its first ask takes, and a cancel during it."""
+    from hexapod_adapt.mapping.maps import shipped_ceilings
+    from hexapod_adapt.online.adaptation import DEFAULT_TIP_GUARD
+    from hexapod_adapt.online.bank import load_diagnosis_banks
+    from hexapod_adapt.online.diagnosis import HypothesisWalks
+    from hexapod_adapt.online.mboa import PROFILES
+    from hexapod_adapt.online.session import AdaptationSession, diagnosis_plan, SessionStart
+
+    bank, wider = load_diagnosis_banks(archive, map_engine, [shipped_ceilings()])
+
+    def first_ask(stop=None, **kin) -> tuple[float, int, AdaptationSession]:
+        walks = HypothesisWalks(archive, map_engine)
+        plan = diagnosis_plan(archive, bank, DEFAULT_TIP_GUARD, walks=walks, wider=wider, **kin)
+        session = AdaptationSession(archive, PROFILES['default'], SessionStart(diagnosis=plan))
+        t0 = time.monotonic()
+        session.ask(stop)
+        return time.monotonic() - t0, walks.walked, session
+
+    for suffix, kin in (('', {}), ('_no_kin', {'kin_tilts': None})):
+        seconds, walked, _ = first_ask(**kin)
+        print(f'BENCH adapt_blind_first_ask_s{suffix} {seconds:.1f} s')
+        print(f'BENCH adapt_blind_first_ask_walks{suffix} {walked} walks')
+    asked = time.monotonic() + 1.0  # a cancel 1 s into it: how long until the run has ended
+    _, _, session = first_ask(lambda: time.monotonic() >= asked)
+    if session.finished and session.result().message == 'cancelled':
+        print(f'BENCH adapt_blind_cancel_s {time.monotonic() - asked:.2f} s')
 
 
 def _bench_damage_kinds(
