@@ -520,7 +520,13 @@ def test_a_simulated_graph_has_one_time_base(ros, launch, tmp_path, small_archiv
     launch(
         'hexapod_adapt',
         'adapt_node',
-        params={'archive': str(path), 'record_dir': str(tmp_path / 'runs'), 'use_sim_time': True},
+        # the time base is tested, not the diagnosis: its walks on this PyBullet map cost a minute
+        params={
+            'archive': str(path),
+            'record_dir': str(tmp_path / 'runs'),
+            'use_sim_time': True,
+            'diagnose': False,
+        },
     )
     clock = ros.collect(Clock, '/clock', 10)
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)
@@ -607,7 +613,8 @@ def test_a_recorded_type_without_a_definition_is_refused_and_the_run_goes_on(
     node = launch(
         'hexapod_adapt',
         'adapt_node',
-        params={'archive': str(path), 'record_dir': str(tmp_path / 'runs')},
+        # the recorder is tested, not the diagnosis (a minute of walks on this PyBullet map)
+        params={'archive': str(path), 'record_dir': str(tmp_path / 'runs'), 'diagnose': False},
         env={'AMENT_PREFIX_PATH': _prefix_without('nav_msgs', tmp_path)},
     )
     trials = ros.collect(AdaptationTrial, 'adapt/trials', 10)

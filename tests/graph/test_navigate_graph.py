@@ -476,8 +476,9 @@ def test_robot_mode_takes_dead_servos_only_from_its_bridge_and_forgets_them(
     report(ServoFailure(servo_id=3, robot_leg=1, leg=1, joint='tibia'))
     says = 'the damage bank does not model leg 1 unpowered tibia, leg 4 unpowered femur'
     wait_for(lambda: says in nav.log(), 20, 'the second report')
-    # only what the bridge confirms is believed: forgers are ignored and named
-    forgers_are_ignored_and_named(nav, domain_id)
+    # only what the bridge confirms is believed: forgers are ignored and named (the same guard
+    # as adapt_node's, whose test sends twenty; eight here)
+    forgers_are_ignored_and_named(nav, domain_id, tries=8)
     # the operator names a damage no servo report can tell: it wins over the reports
     named = ros.call(
         SetLegFailure,
