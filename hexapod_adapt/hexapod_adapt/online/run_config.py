@@ -160,7 +160,8 @@ SETTINGS = (
     Setting(
         'prior_workers',
         2,
-        'Damage-informed prior: processes that re-score the map (one per core)',
+        'Damage-informed prior, and a blind run naming a damage not cached: processes that'
+        ' re-score the map (one per core)',
         (1, 256),
     ),
     Setting(

@@ -267,6 +267,7 @@ def diagnosis_plan(
     wider: DamageBank | None = None,
     calibration: GapCalibration | None = None,
     kin_tilts: float | None = KIN_TILTS,
+    rescore_workers: int = 1,
 ) -> DiagnosisPlan | None:
     """
     Return the diagnosis of a blind run over ``bank``'s damages (None: the bank is empty).
@@ -284,6 +285,8 @@ def diagnosis_plan(
     measured on the intact robot (``diagnosis.calibrate_gap``; None: none). ``kin_tilts``: the
     safety model takes the tilt of a lifted hypothesis believed at least this much as the worst
     of :data:`UNLOADING_KINDS` on its legs (:data:`KIN_TILTS`; None: its own).
+    ``rescore_workers``: the processes that re-score a damage named but not cached
+    (:func:`quick_rescore`; the same speeds, sooner).
     """
     if len(bank) == 0:
         return None
@@ -305,7 +308,7 @@ def diagnosis_plan(
     same = (contacts, threshold, walks, safety, blind, wide, leg_sets, screen_margin)
     widen = partial(
         diagnosis_plan, archive, wider, tip_guard, *same, calibration=calibration,
-        kin_tilts=kin_tilts,
+        kin_tilts=kin_tilts, rescore_workers=rescore_workers,
     )  # fmt: skip
     return DiagnosisPlan(
         diagnosis,
@@ -317,7 +320,9 @@ def diagnosis_plan(
         blind=blind,
         leg_sets=leg_sets,
         wider=widen if wider else None,
-        rescore=lambda damage, stop: quick_rescore(archive, damage, bank.engine, stop=stop),
+        rescore=lambda damage, stop: quick_rescore(
+            archive, damage, bank.engine, stop=stop, workers=rescore_workers
+        ),
         walks=walks,
     )
 

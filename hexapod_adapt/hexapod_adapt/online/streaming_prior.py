@@ -291,6 +291,7 @@ class StreamingPriors:
             walks=self.walks(archive),
             wider=self._wider,
             calibration=self.calibration,
+            rescore_workers=self.workers,
         )
 
     def walks(self, archive: Archive) -> HypothesisWalks:

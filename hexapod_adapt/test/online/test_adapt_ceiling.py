@@ -506,6 +506,24 @@ def test_a_re_score_stops_within_a_chunk_of_gaits_when_asked_and_keeps_nothing(s
     np.testing.assert_allclose(bank.speeds[0], whole, atol=1e-12)
 
 
+def test_a_re_score_in_two_processes_walks_the_same_speeds_and_still_stops_when_asked(small_map):
+    # adapt_node re-scores a named damage in its prior_workers processes: the speeds are the one
+    # process's to the bit, and a stop ends it and its workers at once
+    import multiprocessing
+    import time
+
+    from hexapod_adapt.online.ceiling import quick_rescore, RescoreStopped
+
+    damage = Damage.of('locked', [3])
+    one = quick_rescore(small_map, damage, 'mujoco')
+    np.testing.assert_array_equal(quick_rescore(small_map, damage, 'mujoco', workers=2), one)
+    asked = time.monotonic()
+    with pytest.raises(RescoreStopped, match='leg 3 locked was stopped'):
+        quick_rescore(small_map, damage, 'mujoco', stop=lambda: True, workers=2)
+    assert time.monotonic() - asked < 10.0  # not after the walks: the pool is ended
+    assert not multiprocessing.active_children()
+
+
 def test_the_diagnosis_banks_adapt_node_may_be_given():
     from hexapod_adapt.online.bank import BANK_DAMAGES, diagnosis_damages
     from hexapod_sim.damage import EXPERIMENT_KINDS
