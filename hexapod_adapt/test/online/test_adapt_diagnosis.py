@@ -751,7 +751,7 @@ def test_a_map_with_no_ceilings_cached_is_diagnosed_and_re_scores_the_damage_it_
     keep = fastest(archive, 24)
     small = archive.only(keep)
     damages = [Damage.lifted([1]), Damage.lifted([4]), Damage.lifted([3, 6])]
-    priors = StreamingPriors(None, [tmp_path], 1, print, bank=damages)
+    priors = StreamingPriors(None, [tmp_path], 2, print, bank=damages)  # 2: adapt_node's workers
     start = informed_start(small, None, 'blind', priors, diagnose=True)
     plan = start.diagnosis
     assert plan is not None and plan.damages == tuple(damages)
@@ -775,4 +775,10 @@ def test_a_map_with_no_ceilings_cached_is_diagnosed_and_re_scores_the_damage_it_
     # made (the map's 24 gaits walked under it), the others still to make
     assert np.isfinite(plan.priors[1]).all() and np.isnan(plan.priors[[0, 2]]).all()
     assert session.rescoring is None and session.result().rescore_s > 0
+    # walked in the node's 2 processes, to one process's speeds
+    from hexapod_adapt.mapping.simulation import engine_of_map
+    from hexapod_adapt.online.ceiling import quick_rescore
+
+    one = quick_rescore(small, damages[1], engine_of_map(small))
+    np.testing.assert_array_equal(plan.priors[1], one)
     assert session.rules.offset_std == 0.0 and session.rules.stop_gain is None  # a prior's
