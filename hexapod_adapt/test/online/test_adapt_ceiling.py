@@ -517,11 +517,12 @@ def test_a_re_score_in_two_processes_walks_the_same_speeds_and_still_stops_when_
     damage = Damage.of('locked', [3])
     one = quick_rescore(small_map, damage, 'mujoco')
     np.testing.assert_array_equal(quick_rescore(small_map, damage, 'mujoco', workers=2), one)
+    before = set(multiprocessing.active_children())  # another test's may still be ending
     asked = time.monotonic()
     with pytest.raises(RescoreStopped, match='leg 3 locked was stopped'):
         quick_rescore(small_map, damage, 'mujoco', stop=lambda: True, workers=2)
     assert time.monotonic() - asked < 10.0  # not after the walks: the pool is ended
-    assert not multiprocessing.active_children()
+    assert set(multiprocessing.active_children()) <= before  # its processes are gone
 
 
 def test_the_diagnosis_banks_adapt_node_may_be_given():
