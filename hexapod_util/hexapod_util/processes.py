@@ -71,22 +71,53 @@ def terminate_workers(pool: cf.ProcessPoolExecutor) -> None:
         process.join(timeout=5.0)
 
 
-def map_in_workers(fn: Callable[[T], R], jobs: Sequence[T], workers: int) -> Iterator[R]:
+#: [s] how often a wait for a pool's job looks at its ``stop``.
+STOP_POLL_S = 0.2
+
+
+class Stopped(Exception):
+    """Raised by :func:`map_in_workers` and :func:`result_unless_stopped` once ``stop()`` held."""
+
+
+def result_unless_stopped(
+    future: cf.Future[R], stop: Callable[[], bool] | None, poll_s: float = STOP_POLL_S
+) -> R:
+    """Return ``future``'s result; raise :class:`Stopped` as soon as ``stop()`` holds first."""
+    while True:
+        if stop is not None and stop():
+            raise Stopped
+        try:
+            return future.result(timeout=None if stop is None else poll_s)
+        except cf.TimeoutError:
+            continue
+
+
+def map_in_workers(
+    fn: Callable[[T], R],
+    jobs: Sequence[T],
+    workers: int,
+    stop: Callable[[], bool] | None = None,
+) -> Iterator[R]:
     """
     Yield ``fn(job)`` for each job, in order: in this process (``workers`` <= 1) or in a pool.
 
     The pool's processes die with this one (:func:`die_with_parent`), and with a stop of the
-    caller (:func:`worker_pool`); ``fn`` must be picklable.
+    caller (:func:`worker_pool`); ``fn`` must be picklable. ``stop()``, asked before each job in
+    this process, and every :data:`STOP_POLL_S` while a pool's job is awaited, raises
+    :class:`Stopped` (a pool's processes are then ended at once).
     """
     if workers <= 1:
-        yield from map(fn, jobs)
+        for job in jobs:
+            if stop is not None and stop():
+                raise Stopped
+            yield fn(job)
         return
     with worker_pool(workers) as pool:
         # (not pool.map: closed early, its iterator cancels the jobs itself, and Python 3.11's
         # pool then fails to mark them broken as it terminates, with a traceback in its thread)
         futures = [pool.submit(fn, job) for job in jobs]
         for future in futures:
-            yield future.result()
+            yield result_unless_stopped(future, stop)
 
 
 def child_pids(pid: int) -> set[int]:

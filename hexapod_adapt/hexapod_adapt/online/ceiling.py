@@ -24,7 +24,6 @@ Cache them with ``python -m hexapod_adapt.online.ceilings_cli`` (``maps/make_cei
 from __future__ import annotations
 
 from collections import defaultdict
-import concurrent.futures as cf
 from dataclasses import dataclass, replace
 import hashlib
 import io
@@ -54,7 +53,7 @@ from hexapod_util.npz import (
     read_npz_bytes,
     UnreadableFile,
 )
-from hexapod_util.processes import map_in_workers, worker_pool
+from hexapod_util.processes import map_in_workers, Stopped
 import numpy as np
 
 FORMAT = 'hexapod-ceiling/v1'
@@ -69,8 +68,6 @@ TOP_FRACTION = 0.4
 TOP_FIRST = 256
 #: Gaits :func:`quick_rescore` walks between two looks at its ``stop``: about a second's work.
 QUICK_CHUNK = 8
-#: [s] how often :func:`quick_rescore`, walking in processes, looks at its ``stop``.
-QUICK_STOP_POLL_S = 0.2
 #: Cached ceilings per pack: the default map's (about 130 kB each) keep a pack under 1 MB.
 PACK_MEMBERS = 6
 #: How a damaged pack reads (zipfile and zlib raise these on bad bytes).
@@ -158,9 +155,10 @@ def quick_rescore(
 
     The rest are estimated (:func:`estimate_unwalked`); in the order of
     ``archive.elite_indices()``. About 0.1 s of one core a gait on MuJoCo; nothing is cached.
-    ``stop()``, asked before each :data:`QUICK_CHUNK` gaits (with ``workers`` > 1: while each
-    waits), ends it early with :class:`RescoreStopped` (a cancel need not wait for the whole
-    re-score). ``workers`` > 1 walks them in that many processes, to the same speeds.
+    ``stop()``, asked before each :data:`QUICK_CHUNK` gaits (with ``workers`` > 1: while each is
+    awaited, :func:`map_in_workers`), ends it early with :class:`RescoreStopped` (a cancel need
+    not wait for the whole re-score). ``workers`` > 1 walks them in that many processes, to the
+    same speeds.
     """
     niches = archive.elite_indices()
     intact = archive.speeds()[niches]
@@ -168,31 +166,13 @@ def quick_rescore(
     speeds = np.full(len(niches), np.nan)
     how = Rescoring.of(archive, damage, engine)
     parts = np.array_split(top, range(QUICK_CHUNK, len(top), QUICK_CHUNK))
-
-    def stopped() -> bool:
-        return stop is not None and stop()
-
-    def stopped_error() -> RescoreStopped:
-        return RescoreStopped(f'the re-score under {damage.label} was stopped')
-
-    if workers <= 1:
-        for part in parts:
-            if stopped():
-                raise stopped_error()
-            speeds[part] = evaluate_part((how, archive.genotypes[niches[part]]))
-        return estimate_unwalked(intact, speeds)
-    # leaving the pool by the exception ends its workers at once (worker_pool)
-    with worker_pool(workers) as pool:
-        jobs = [pool.submit(evaluate_part, (how, archive.genotypes[niches[p]])) for p in parts]
-        for part, job in zip(parts, jobs):
-            while True:
-                if stopped():
-                    raise stopped_error()
-                try:
-                    speeds[part] = job.result(timeout=QUICK_STOP_POLL_S)
-                    break
-                except cf.TimeoutError:
-                    continue
+    jobs = [(how, archive.genotypes[niches[part]]) for part in parts]
+    try:
+        # the walks first: zip then runs them to their end, and the pool shuts down cleanly
+        for walked, part in zip(map_in_workers(evaluate_part, jobs, workers, stop), parts):
+            speeds[part] = walked
+    except Stopped:
+        raise RescoreStopped(f'the re-score under {damage.label} was stopped') from None
     return estimate_unwalked(intact, speeds)
 
 

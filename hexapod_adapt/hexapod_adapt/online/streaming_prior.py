@@ -38,7 +38,7 @@ from hexapod_adapt.online.ceiling import (
 from hexapod_adapt.online.diagnosis import GapCalibration, HypothesisWalks
 from hexapod_adapt.online.session import diagnosis_plan, DiagnosisPlan, PriorStart
 from hexapod_sim.damage import Damage
-from hexapod_util.processes import die_with_parent, worker_pool
+from hexapod_util.processes import die_with_parent, result_unless_stopped, Stopped, worker_pool
 import numpy as np
 
 #: Gaits per pool job: small enough that the prior refreshes between trials.
@@ -46,8 +46,6 @@ CHUNK = 64
 #: The re-score's processes yield the cores to the trials (a simulator walking in fast mode lost
 #: odometry to a re-score at the same priority on 2 cores).
 NICENESS = 10
-#: [s] how often a re-score waiting for a chunk looks whether it was closed.
-STOP_POLL_S = 0.2
 
 
 class _Closed(Exception):
@@ -146,12 +144,10 @@ class StreamingPrior:
 
     def _result_of(self, future: cf.Future) -> np.ndarray:
         """Return a chunk's speeds once walked; raise _Closed as soon as the re-score is closed."""
-        while True:
-            try:
-                return future.result(timeout=STOP_POLL_S)
-            except cf.TimeoutError:
-                if self._stop:
-                    raise _Closed from None
+        try:
+            return result_unless_stopped(future, lambda: self._stop)
+        except Stopped:
+            raise _Closed from None
 
     def wait_first(self, timeout: float) -> bool:
         """Wait until the top ``first`` gaits are scored; False on a timeout or a failure."""
