@@ -144,6 +144,7 @@ def bench_adapt() -> None:
                     bank=bank if name == 'default' else None,
                     wider=wider if name == 'default' else None,
                     diagnose=name == 'default' and not informed,
+                    walk_workers=2,  # adapt_node's prior_workers: the same walks, sooner
                 ),
             )
             _print_experiment(rows, suffix, have, engine, cached)
@@ -164,6 +165,7 @@ def bench_adapt() -> None:
                     bank=bank,
                     wider=wider,
                     diagnose=not informed,
+                    walk_workers=2,
                 ),
             )
             _print_experiment(rows, f'{label}_judge', False, JUDGE_ENGINE, cached)
@@ -246,15 +248,20 @@ def _bench_blind_first_ask(archive, map_engine: str) -> None:
 
     bank, wider = load_diagnosis_banks(archive, map_engine, [shipped_ceilings()])
 
-    def first_ask(stop=None, **kin) -> tuple[float, int, AdaptationSession]:
-        walks = HypothesisWalks(archive, map_engine)
+    # the walks in adapt_node's prior_workers processes (2, its default), and in one
+    def first_ask(stop=None, workers=2, **kin) -> tuple[float, int, AdaptationSession]:
+        walks = HypothesisWalks(archive, map_engine, workers)
         plan = diagnosis_plan(archive, bank, DEFAULT_TIP_GUARD, walks=walks, wider=wider, **kin)
         session = AdaptationSession(archive, PROFILES['default'], SessionStart(diagnosis=plan))
         t0 = time.monotonic()
         session.ask(stop)
         return time.monotonic() - t0, walks.walked, session
 
-    for suffix, kin in (('', {}), ('_no_kin', {'kin_tilts': None})):
+    for suffix, kin in (
+        ('', {}),
+        ('_no_kin', {'kin_tilts': None}),
+        ('_one_process', {'workers': 1}),
+    ):
         seconds, walked, _ = first_ask(**kin)
         print(f'BENCH adapt_blind_first_ask_s{suffix} {seconds:.1f} s')
         print(f'BENCH adapt_blind_first_ask_walks{suffix} {walked} walks')
@@ -324,6 +331,7 @@ def _bench_damage_kinds(
                     bank=bank,
                     wider=wider,
                     diagnose=not informed,
+                    walk_workers=2,
                 ),
             )
             if not informed:  # kind and legs, named by trial 3 (issue 67's target)

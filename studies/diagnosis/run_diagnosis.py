@@ -194,7 +194,15 @@ def main(argv: list[str] | None = None) -> int:
         help="walk the map's this many fastest gaits intact on the trials' physics first, and"
         ' weigh the trials against the gap they measure (0: none)',
     )
+    parser.add_argument(
+        '--workers',
+        type=int,
+        default=1,
+        help='processes that walk the hypotheses (the same walks and runs, sooner)',
+    )
     args = parser.parse_args(argv)
+    if args.workers < 1:
+        parser.error('--workers takes 1 or more')
     if args.calibrate == 1 or args.calibrate < 0:
         parser.error('--calibrate takes 0 (none) or two gaits or more')
     blind = BlindRules(
@@ -278,6 +286,7 @@ def main(argv: list[str] | None = None) -> int:
         kind=args.kind,
         tip_guard=DEFAULT_TIP_GUARD,
         diagnose=True,
+        walk_workers=args.workers,
         safety=args.risk_limit or None,
         blind=blind,
         weighing=weighing,

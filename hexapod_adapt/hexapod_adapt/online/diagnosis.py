@@ -27,7 +27,7 @@ from __future__ import annotations
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 import math
-from typing import Callable, Iterator, Sequence
+from typing import Callable, Iterable, Iterator, Sequence
 
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import engine_of_map, trial_substeps, worker_simulator
@@ -35,6 +35,7 @@ from hexapod_description import N_LEGS
 from hexapod_sim.damage import Damage
 from hexapod_sim.simulator import quat_to_euler
 from hexapod_sim.traces import GaitTrace, trace_gait
+from hexapod_util.processes import map_in_workers, Stopped
 import numpy as np
 
 #: Gait-cycle phase bins of the roll and pitch profile.
@@ -306,6 +307,9 @@ class Posterior:
 #: Simulate gait ``niche`` under hypothesis ``h`` (an index into the hypotheses); None: it
 #: cannot be walked.
 Simulate = Callable[[int, int], 'TrialRecord | None']
+#: Walk gait ``niche`` under each of the hypotheses ``hs`` ahead of :data:`Simulate` asking for
+#: them one at a time (in several processes: :meth:`HypothesisWalks.prefetch`).
+Prefetch = Callable[[int, Sequence[int]], None]
 
 
 @dataclass
@@ -320,6 +324,7 @@ class Diagnosis:
     ``weighing.wake_walks`` walks' worth. ``contacts``: compare foot duty factors too (only when
     every trial records contacts, as a simulator's do). ``weighing``: how a trial weighs them.
     ``calibration``: the trials' source's gap to the map's engine (None: none measured).
+    ``prefetch``: walks the hypotheses a trial's gait is weighed under at once (None: one by one).
     """
 
     labels: tuple[str, ...]
@@ -327,6 +332,7 @@ class Diagnosis:
     contacts: bool = False
     weighing: Weighing = Weighing()
     calibration: GapCalibration | None = None
+    prefetch: Prefetch | None = None
     _log: np.ndarray = field(init=False)
     _cache: dict[tuple[int, int], np.ndarray | None] = field(init=False, default_factory=dict)
     # each asleep hypothesis's trials not yet weighed: (niche, the trial's signature)
@@ -366,6 +372,9 @@ class Diagnosis:
         awake = self._log >= self._top() - ASLEEP_NATS
         update = np.zeros(len(self.labels) + 1)
         update[-1] = self._weight(niche, None, seen)
+        if self.prefetch is not None:
+            weighed = [h for h in range(len(self.labels)) if awake[h] and h not in self._missed]
+            self.prefetch(niche, [h for h in weighed if (int(niche), h) not in self._cache])
         for h in range(len(self.labels)):
             if awake[h] and h not in self._missed:
                 update[h] = self._weight(niche, h, seen)
@@ -455,13 +464,17 @@ class HypothesisWalks:
 
     On ``engine`` (default: the map's own, at the map's physics step), for the map's trial
     duration, with the foot contacts. Within :meth:`stoppable`, a walk not made yet is made only
-    while ``stop()`` is false (each takes about 0.1 s on MuJoCo, more on PyBullet).
+    while ``stop()`` is false (each takes about 0.1 s on MuJoCo, more on PyBullet). ``workers``:
+    the processes :meth:`prefetch` walks a batch in (1: this one; the same walks either way).
     """
 
-    def __init__(self, archive: Archive, engine: str | None = None) -> None:
+    def __init__(self, archive: Archive, engine: str | None = None, workers: int = 1) -> None:
+        if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+            raise ValueError(f'workers must be a positive integer, got {workers!r}')
         self.archive = archive
         self.engine = engine or engine_of_map(archive)
         self.substeps = trial_substeps(archive, self.engine)
+        self.workers = workers
         self._walks: dict[tuple[int, Damage], TrialRecord | None] = {}
         self._stop: Callable[[], bool] | None = None
 
@@ -480,11 +493,34 @@ class HypothesisWalks:
         if key not in self._walks:
             if self._stop is not None and self._stop():
                 raise WalksStopped(f'gait {key[0]} under {damage.label} was not walked: stopped')
-            sim = worker_simulator(self.engine, self.substeps)
-            genes = self.archive.genotypes[key[0]]
-            trace = trace_gait(genes, sim, damage, self.archive.trial_duration)
-            self._walks[key] = None if trace is None else TrialRecord.from_trace(trace)
+            self._walks[key] = _walk(self._job(key))
         return self._walks[key]
+
+    def prefetch(self, pairs: Iterable[tuple[int, Damage]]) -> None:
+        """
+        Walk the (niche, damage) ``pairs`` not walked yet, in :attr:`workers` processes at once.
+
+        What :meth:`__call__` would walk one at a time, sooner; with one worker, or one walk
+        missing, it leaves them to it. A stop (:meth:`stoppable`) keeps the walks made before it.
+        """
+        keys = dict.fromkeys((int(niche), damage) for niche, damage in pairs)
+        missing = [key for key in keys if key not in self._walks]
+        if self.workers <= 1 or len(missing) < 2:
+            return
+        jobs = [self._job(key) for key in missing]
+        worker_simulator(self.engine, self.substeps)  # made here once: forked workers inherit it
+        try:
+            for key, record in zip(
+                missing, map_in_workers(_walk, jobs, min(self.workers, len(jobs)), self._stop)
+            ):
+                self._walks[key] = record
+        except Stopped:
+            raise WalksStopped(f'{len(missing)} walks were not all made: stopped') from None
+
+    def _job(self, key: tuple[int, Damage]) -> _WalkJob:
+        """Return what a process needs to walk gait ``key[0]`` under ``key[1]``."""
+        genes = self.archive.genotypes[key[0]]
+        return (self.engine, self.substeps, genes, key[1], self.archive.trial_duration)
 
     @property
     def walked(self) -> int:
@@ -494,3 +530,18 @@ class HypothesisWalks:
     def under(self, damages: Sequence[Damage]) -> Simulate:
         """Return ``simulate(niche, h)`` over ``damages`` for a :class:`Diagnosis`."""
         return lambda niche, h: self(niche, damages[h])
+
+    def prefetcher(self, damages: Sequence[Damage]) -> Prefetch:
+        """Return ``prefetch(niche, hs)`` over ``damages`` for a :class:`Diagnosis`."""
+        return lambda niche, hs: self.prefetch((niche, damages[h]) for h in hs)
+
+
+#: (engine, physics substeps, genes, damage, trial duration [s]): one walk, picklable.
+_WalkJob = tuple[str, int, np.ndarray, Damage, float]
+
+
+def _walk(job: _WalkJob) -> TrialRecord | None:
+    """Walk one gait under one damage in this process's simulator (None: it cannot be walked)."""
+    engine, substeps, genes, damage, duration = job
+    trace = trace_gait(genes, worker_simulator(engine, substeps), damage, duration)
+    return None if trace is None else TrialRecord.from_trace(trace)

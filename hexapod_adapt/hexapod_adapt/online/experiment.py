@@ -89,6 +89,7 @@ class ExperimentSetup:
     (:func:`~hexapod_adapt.online.diagnosis.calibrate_gap`; 0: none). ``kin_tilts``: the
     safety model's lifted hypotheses believed at least this much tilt as the worst kind that
     unloads their legs (:data:`~hexapod_adapt.online.session.KIN_TILTS`; None: as themselves).
+    ``walk_workers``: the processes that walk the hypotheses (the same walks, sooner).
     """
 
     scenarios: Sequence[str] = ('S1', 'S2', 'S3', 'S4')
@@ -114,6 +115,7 @@ class ExperimentSetup:
     wider: DamageBank | None = None
     calibrate: int = 0
     kin_tilts: float | None = KIN_TILTS
+    walk_workers: int = 1
 
 
 @dataclass
@@ -359,7 +361,9 @@ def run_experiment(
         trial_engine = s.trial_config.engine
     trial_engine = trial_engine or engine_of_map(archive)
     rows = []
-    walks = HypothesisWalks(archive, s.bank.engine) if s.diagnose and s.bank else None
+    walks = None
+    if s.diagnose and s.bank:
+        walks = HypothesisWalks(archive, s.bank.engine, s.walk_workers)
     with create_simulator(s.trial_config or map_physics(archive, trial_engine)) as sim:
         intact = evaluate_gait(
             preset('control'), sim, collisions_fatal=False, failed_legs=()

@@ -161,7 +161,7 @@ SETTINGS = (
         'prior_workers',
         2,
         'Damage-informed prior, and a blind run naming a damage not cached: processes that'
-        ' re-score the map (one per core)',
+        " re-score the map (one per core); a blind run's hypotheses are walked in as many",
         (1, 256),
     ),
     Setting(

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 import math
-from typing import Callable
+from typing import Callable, Sequence
 
 from hexapod_adapt.online.diagnosis import TrialRecord
 from hexapod_adapt.online.mboa import matern52
@@ -60,6 +60,9 @@ TIPPED_TILT = math.radians(TIP_OVER_DEG)
 #: Walk gait ``niche`` under hypothesis ``h`` (h = the number of hypotheses: intact, for "none
 #: of these"); None: it cannot be walked.
 WalkOf = Callable[[int, int], 'TrialRecord | None']
+#: Walk gait ``niche`` ahead, under the hypotheses ``own`` (as ``walk``) and ``kin`` (as ``kin``),
+#: so that the walks asked for one at a time after it are made (in several processes) at once.
+PrefetchOf = Callable[[int, Sequence[int], Sequence[int]], None]
 
 
 def record_tilt(record: TrialRecord | None) -> float:
@@ -78,7 +81,8 @@ class SafetyModel:
     gives their walks under the ``hypotheses`` damage hypotheses and intact (index
     ``hypotheses``). ``weights`` is the belief over the hypotheses and "none of these" (last).
     ``kin``: a hypothesis believed at least ``kin_weight`` tilts as the most tilted of its walk
-    and its ``kin`` walk (the damages it stands in for; None: its walk alone).
+    and its ``kin`` walk (the damages it stands in for; None: its walk alone). ``prefetch``:
+    makes a gait's missing walks at once before they are asked for (None: one by one).
     """
 
     niches: np.ndarray
@@ -94,6 +98,7 @@ class SafetyModel:
     length_scale: float = TILT_LENGTH_SCALE
     kin: WalkOf | None = None
     kin_weight: float = KIN_WEIGHT
+    prefetch: PrefetchOf | None = None
     tilts: dict[int, float] = field(default_factory=dict)  # index -> predicted tilt [rad]
     risks: dict[int, float] = field(default_factory=dict)  # index -> risk when last asked
     _seen: list[tuple[int, float]] = field(default_factory=list)  # (index, residual [rad])
@@ -132,15 +137,22 @@ class SafetyModel:
         if tilts is None:
             tilts = self._walked[int(index)] = np.full(self.hypotheses + 1, np.nan)
         niche = int(self.niches[index])
-        for h in np.flatnonzero((self.weights >= NEGLIGIBLE_WEIGHT) & np.isnan(tilts)):
+        own = np.flatnonzero((self.weights >= NEGLIGIBLE_WEIGHT) & np.isnan(tilts))
+        kin = wary = None
+        kin_missing: np.ndarray = np.zeros(0, dtype=int)
+        if self.kin is not None:
+            kin = self._kin_walked.get(int(index))
+            if kin is None:
+                kin = self._kin_walked[int(index)] = np.full(self.hypotheses + 1, np.nan)
+            wary = self.weights >= max(self.kin_weight, NEGLIGIBLE_WEIGHT)
+            kin_missing = np.flatnonzero(wary & np.isnan(kin))
+        if self.prefetch is not None and len(own) + len(kin_missing) > 1:
+            self.prefetch(niche, own.tolist(), kin_missing.tolist())
+        for h in own:
             tilts[h] = record_tilt(self.walk(niche, int(h)))
         if self.kin is None:
             return tilts
-        kin = self._kin_walked.get(int(index))
-        if kin is None:
-            kin = self._kin_walked[int(index)] = np.full(self.hypotheses + 1, np.nan)
-        wary = self.weights >= max(self.kin_weight, NEGLIGIBLE_WEIGHT)
-        for h in np.flatnonzero(wary & np.isnan(kin)):
+        for h in kin_missing:
             kin[h] = record_tilt(self.kin(niche, int(h)))
         return np.where(wary, np.fmax(tilts, kin), tilts)
 

@@ -25,7 +25,7 @@ import enum
 from functools import partial
 import math
 import time
-from typing import Callable, Protocol
+from typing import Callable, Protocol, Sequence
 
 from hexapod_adapt.mapping.archive import Archive
 from hexapod_adapt.mapping.simulation import engine_of_map
@@ -267,7 +267,7 @@ def diagnosis_plan(
     wider: DamageBank | None = None,
     calibration: GapCalibration | None = None,
     kin_tilts: float | None = KIN_TILTS,
-    rescore_workers: int = 1,
+    workers: int = 1,
 ) -> DiagnosisPlan | None:
     """
     Return the diagnosis of a blind run over ``bank``'s damages (None: the bank is empty).
@@ -285,16 +285,23 @@ def diagnosis_plan(
     measured on the intact robot (``diagnosis.calibrate_gap``; None: none). ``kin_tilts``: the
     safety model takes the tilt of a lifted hypothesis believed at least this much as the worst
     of :data:`UNLOADING_KINDS` on its legs (:data:`KIN_TILTS`; None: its own).
-    ``rescore_workers``: the processes that re-score a damage named but not cached
-    (:func:`quick_rescore`; the same speeds, sooner).
+    ``workers``: the processes that walk the hypotheses when ``walks`` is not given, and
+    re-score a damage named but not cached (:func:`quick_rescore`): the same, sooner.
     """
     if len(bank) == 0:
         return None
     if not (math.isfinite(screen_margin) and 0.0 <= screen_margin < tip_guard):
         raise ValueError(f'screen_margin must lie in [0, tip_guard), got {screen_margin}')
-    walks = walks or HypothesisWalks(archive, bank.engine)
+    walks = walks or HypothesisWalks(archive, bank.engine, workers)
     labels = tuple(d.label for d in bank.damages)
-    diagnosis = Diagnosis(labels, walks.under(bank.damages), contacts, weighing, calibration)
+    diagnosis = Diagnosis(
+        labels,
+        walks.under(bank.damages),
+        contacts,
+        weighing,
+        calibration,
+        prefetch=walks.prefetcher(bank.damages),
+    )
 
     def screen_of(damage: Damage) -> TipScreen | None:
         if tip_guard >= math.pi:
@@ -308,7 +315,7 @@ def diagnosis_plan(
     same = (contacts, threshold, walks, safety, blind, wide, leg_sets, screen_margin)
     widen = partial(
         diagnosis_plan, archive, wider, tip_guard, *same, calibration=calibration,
-        kin_tilts=kin_tilts, rescore_workers=rescore_workers,
+        kin_tilts=kin_tilts, workers=workers,
     )  # fmt: skip
     return DiagnosisPlan(
         diagnosis,
@@ -321,7 +328,7 @@ def diagnosis_plan(
         leg_sets=leg_sets,
         wider=widen if wider else None,
         rescore=lambda damage, stop: quick_rescore(
-            archive, damage, bank.engine, stop=stop, workers=rescore_workers
+            archive, damage, bank.engine, stop=stop, workers=workers
         ),
         walks=walks,
     )
@@ -345,6 +352,11 @@ def _safety_model(
         """Return the most tilted walk of the kinds hypothesis ``h`` stands in for."""
         return max((walks(niche, d) for d in kins[h]), key=record_tilt)
 
+    def prefetch(niche: int, own: Sequence[int], kin: Sequence[int]) -> None:
+        """Walk what ``own`` and ``worst_kin`` will ask for gait ``niche``, at once."""
+        damages = [under[h] for h in own] + [d for h in kin for d in kins[h]]
+        walks.prefetch((niche, d) for d in damages)
+
     return SafetyModel(
         niches,
         descriptors,
@@ -355,6 +367,7 @@ def _safety_model(
         limit=limit,
         kin=None if kin_tilts is None else worst_kin,
         kin_weight=kin_tilts or 0.0,
+        prefetch=prefetch,
     )
 
 

@@ -287,13 +287,13 @@ class StreamingPriors:
             walks=self.walks(archive),
             wider=self._wider,
             calibration=self.calibration,
-            rescore_workers=self.workers,
+            workers=self.workers,
         )
 
     def walks(self, archive: Archive) -> HypothesisWalks:
         """Return the walks the diagnosis of runs on ``archive`` compares trials with."""
         if self._walks is None or self._walks.archive is not archive:
-            self._walks = HypothesisWalks(archive, engine_of_map(archive))
+            self._walks = HypothesisWalks(archive, engine_of_map(archive), self.workers)
         return self._walks
 
     def close(self) -> None:

@@ -264,3 +264,46 @@ def test_a_stop_ends_a_blind_run_between_two_hypothesis_walks_and_keeps_the_tria
     assert told is not None and session.finished and session.result().message == 'cancelled'
     result = session.result()
     assert result.niches == [niche] and len(result.named) == 1 and session.ask() is None
+
+
+def test_hypotheses_walked_in_two_processes_are_those_walked_in_one(archive):
+    """
+    ``workers`` walks a gait's hypotheses at once, in a pool: the same walks, the same run.
+
+    A blind session over the same bank, its walks in one process and in two: the same first
+    gait, the same walks to the bit, the same posterior after one trial; a stop during a batch
+    keeps what was walked before it and makes nothing after.
+    """
+    from hexapod_adapt.online.diagnosis import WalksStopped
+
+    damages = [Damage.lifted([2]), Damage.lifted([5]), Damage.lifted([2, 5])]
+    speeds = np.array([archive.speeds()[archive.elite_indices()] * 0.5 for _ in damages])
+    bank = DamageBank('mujoco', tuple(damages), speeds)
+    config = replace(PROFILES['default'], max_trials=4, min_speed=0.9)
+    with create_simulator(SimConfig.converged('mujoco')) as sim:
+        trial = recorded_trial(archive, damages[2], sim, tip_guard=DEFAULT_TIP_GUARD)
+        runs = {}
+        for workers in (1, 2):
+            walks = HypothesisWalks(archive, workers=workers)
+            plan = diagnosis_plan(archive, bank, DEFAULT_TIP_GUARD, walks=walks)
+            session = AdaptationSession(archive, config, SessionStart(diagnosis=plan))
+            niche = session.ask()
+            session.tell(niche, trial(niche))
+            runs[workers] = (niche, walks, plan.diagnosis.posterior().probabilities)
+    (niche, one, p_one), (niche_two, two, p_two) = runs[1], runs[2]
+    assert niche == niche_two and one.walked == two.walked > len(damages) + 1
+    for key, record in one._walks.items():
+        assert record is not None and two._walks[key] is not None
+        np.testing.assert_array_equal(record.attitude, two._walks[key].attitude)
+        np.testing.assert_array_equal(record.position, two._walks[key].position)
+    np.testing.assert_array_equal(p_one, p_two)
+
+    fresh = HypothesisWalks(archive, workers=2)
+    with fresh.stoppable(lambda: fresh.walked >= 1):  # a stop once the first walk is in
+        with pytest.raises(WalksStopped, match='3 walks were not all made: stopped'):
+            fresh.prefetch([(niche, d) for d in damages])
+    assert fresh.walked == 1  # the walk made before the stop is kept, and no other
+    for key in fresh._walks:
+        np.testing.assert_array_equal(fresh._walks[key].attitude, one._walks[key].attitude)
+    with pytest.raises(ValueError, match='workers must be a positive integer'):
+        HypothesisWalks(archive, workers=0)
