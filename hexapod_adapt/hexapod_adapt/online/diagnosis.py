@@ -37,6 +37,7 @@ from hexapod_sim.simulator import quat_to_euler
 from hexapod_sim.traces import GaitTrace, trace_gait
 from hexapod_util.processes import map_in_workers, Stopped
 import numpy as np
+from scipy.special import logsumexp
 
 #: Gait-cycle phase bins of the roll and pitch profile.
 PHASE_BINS = 4
@@ -386,6 +387,34 @@ class Diagnosis:
         self._wake()
         self._log -= self._top()
         return self.posterior()
+
+    def separation(self, niche: int) -> float:
+        """
+        Return how well one trial of gait ``niche`` would tell the hypotheses apart (0 to 1).
+
+        The posterior the truth would get, were the trial exactly the truth's own walk, averaged
+        over the hypotheses by their probability now ("none of these" left out; a hypothesis the
+        gait cannot be walked under counts 0). Walks the gait under every hypothesis.
+        """
+        p = self.posterior().probabilities
+        hs = [h for h in range(len(self.labels)) if p[h] > 0]
+        if self.prefetch is not None:
+            self.prefetch(niche, [h for h in hs if (int(niche), h) not in self._cache])
+        sigs = [self.expected(niche, h) for h in hs]
+        unfit = student_log_likelihood(np.full(len(self.names), self.weighing.none_deviation))
+        with np.errstate(divide='ignore'):  # "none of these" may have no weight
+            log_p = np.log(p[hs])
+            log_none = np.log(p[-1]) + self.weighing.temperature * unfit
+        score, noise = 0.0, self.noise
+        for i, own in enumerate(sigs):
+            if own is None:
+                continue
+            ll = np.array(
+                [unfit if o is None else student_log_likelihood((own - o) / noise) for o in sigs]
+            )
+            logs = np.append(log_p + self.weighing.temperature * ll, log_none)
+            score += p[hs[i]] * float(np.exp(logs[i] - logsumexp(logs)))
+        return score / float(np.sum(p[hs])) if hs else 0.0
 
     def fits(self, h: int) -> bool:
         """Whether hypothesis ``h``'s mean log likelihood is at least the fit floor."""

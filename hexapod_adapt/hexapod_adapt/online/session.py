@@ -104,6 +104,16 @@ class FirstGait(enum.Enum):
 
     FASTEST = 'fastest'  # the map's fastest (intact) gait, as M-BOA's prior has it
     EXPECTED = 'expected'  # the fastest on average over the hypotheses (see blended_prior)
+    #: of the gaits expected within FIRST_SLACK of the fastest (the FIRST_CANDIDATES fastest at
+    #: most), the one whose trial tells the hypotheses apart best (Diagnosis.separation)
+    INFORMATIVE = 'informative'
+
+
+#: FirstGait.INFORMATIVE's candidates: expected at least (1 - FIRST_SLACK) x the fastest, and
+#: at most FIRST_CANDIDATES of them (judgement, before its runs: studies/diagnosis/README.md,
+#: "A first gait that tells the hypotheses apart").
+FIRST_SLACK = 0.10
+FIRST_CANDIDATES = 8
 
 
 @dataclass(frozen=True)
@@ -827,22 +837,33 @@ class AdaptationSession:
         Return the first trial's gait when the blind rules choose it (None: M-BOA's choice).
 
         With :attr:`FirstGait.EXPECTED`, the untried, unvetoed gait with the best expected speed
-        over the hypotheses (:func:`blended_prior`), before any trial of a run naming nothing.
+        over the hypotheses (:func:`blended_prior`), before any trial of a run naming nothing;
+        with :attr:`FirstGait.INFORMATIVE`, of such gaits near it, the one whose trial tells the
+        hypotheses apart best.
         """
         plan = self.start.diagnosis
         if (
             plan is None
-            or plan.blind.first is not FirstGait.EXPECTED
+            or plan.blind.first is FirstGait.FASTEST
             or self.start.informed
             or self.named is not None
             or self.opt.trials
         ):
             return None
         expected = blended_prior(plan, self._map_prior)
+        many = FIRST_CANDIDATES if plan.blind.first is FirstGait.INFORMATIVE else 1
+        chosen: list[int] = []
         for index in map(int, np.argsort(-expected, kind='stable')):
+            if chosen and expected[index] < (1.0 - FIRST_SLACK) * expected[chosen[0]]:
+                break
             if index not in self.opt.vetoed and not self._vetoed(index):
-                return index
-        return None
+                chosen.append(index)
+                if len(chosen) == many:
+                    break
+        if len(chosen) <= 1:
+            return chosen[0] if chosen else None
+        apart = [plan.diagnosis.separation(int(self.niches[i])) for i in chosen]
+        return chosen[int(np.argmax(apart))]
 
     def _bank_prior(self) -> bool:
         """Whether the blind prior is the bank weighed by the posterior (:class:`BlindRules`)."""
