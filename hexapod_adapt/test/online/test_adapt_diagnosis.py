@@ -574,6 +574,44 @@ def test_the_first_gait_may_be_the_fastest_on_average_over_the_hypotheses(
         assert session.ask() not in (None, niche)  # M-BOA chooses the second
     assert firsts[FirstGait.FASTEST] == int(session.niches[np.argmax(map_prior)])
     assert firsts[FirstGait.EXPECTED] == int(session.niches[robust])
+    assert firsts[FirstGait.INFORMATIVE] == int(session.niches[robust])  # none near it
+
+
+def test_a_trial_that_tells_hypotheses_apart_has_a_high_separation():
+    """Two hypotheses that walk alike share the truth's posterior; two far apart do not."""
+    apart = {0: straight_walk(0.3, 0.0), 1: straight_walk(0.0, 0.0)}
+    alike = {0: straight_walk(0.3, 0.0), 1: straight_walk(0.3, 0.0)}
+    labels = ('a', 'b')
+    far = Diagnosis(labels, lambda niche, h: apart[h]).separation(7)
+    near = Diagnosis(labels, lambda niche, h: alike[h]).separation(7)
+    assert 0.9 < far <= 1.0 and 0.0 < near <= 0.5
+    cannot = Diagnosis(labels, lambda niche, h: None if h else apart[0])  # b: not walked
+    assert 0.0 < cannot.separation(7) <= 0.5  # b counts 0
+
+
+def test_the_informative_first_gait_tells_the_hypotheses_apart_best_of_those_near_the_fastest(
+    archive, walks
+):
+    """Of the fastest gaits expected within the slack, the one with the highest separation."""
+    from hexapod_adapt.online.session import FIRST_CANDIDATES, FIRST_SLACK
+
+    damages = [Damage.lifted([1]), Damage.lifted([2, 5])]
+    _, _, map_prior = candidates(archive)
+    bank = DamageBank('mujoco', tuple(damages), np.tile(map_prior, (2, 1)))
+    plan = diagnosis_plan(
+        archive, bank, walks=walks, blind=BlindRules(first=FirstGait.INFORMATIVE)
+    )
+    session = AdaptationSession(archive, PROFILES['default'], SessionStart(diagnosis=plan))
+    first = session.ask()
+    order = np.argsort(-map_prior, kind='stable')[:FIRST_CANDIDATES]
+    near = [
+        int(session.niches[i])
+        for i in order
+        if map_prior[i] >= (1 - FIRST_SLACK) * map_prior[order[0]]
+    ]
+    apart = {niche: plan.diagnosis.separation(niche) for niche in near}
+    assert len(near) > 1 and first == max(apart, key=apart.get)
+    assert all(0.0 <= value <= 1.0 for value in apart.values())
 
 
 def _leg_one_plan(archive, walks, leg_sets: bool, tips: dict[int, int] | None = None):
