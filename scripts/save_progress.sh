@@ -105,6 +105,12 @@ if [ -d "$ceil_tree/hexapod_adapt/maps/ceilings" ]; then
   rm -f "$keep"/ceilings/walking_*.npz
   for f in "$ceil_tree"/hexapod_adapt/maps/ceilings/walking_*.npz; do
     [ -f "$f" ] || continue
+    finished="$(basename "$f")"
+    finished="${finished#walking_}"
+    if grep -qxF "$finished" <<< "$shipped_names" || [ -f "$(dirname "$f")/$finished" ]; then
+      rm -f "$f"  # its case is cached: a copy taken up from here after it finished, stale
+      continue
+    fi
     mkdir -p "$keep/ceilings"
     copy_atomic "$f" "$keep/ceilings/$(basename "$f")"
     echo "saved the case in progress, $(basename "$f"), to $keep/ceilings"
