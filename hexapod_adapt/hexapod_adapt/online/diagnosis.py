@@ -373,11 +373,11 @@ class Diagnosis:
         awake = self._log >= self._top() - ASLEEP_NATS
         update = np.zeros(len(self.labels) + 1)
         update[-1] = self._weight(niche, None, seen)
-        if self.prefetch is not None:
-            weighed = [h for h in range(len(self.labels)) if awake[h] and h not in self._missed]
-            self.prefetch(niche, [h for h in weighed if (int(niche), h) not in self._cache])
+        weighed = [h for h in range(len(self.labels)) if awake[h] and h not in self._missed]
+        if self.prefetch is not None:  # (it skips what is walked already)
+            self.prefetch(niche, weighed)
         for h in range(len(self.labels)):
-            if awake[h] and h not in self._missed:
+            if h in weighed:
                 update[h] = self._weight(niche, h, seen)
             else:  # its bound stays: a likelihood is at most 1
                 self._missed.setdefault(h, []).append((int(niche), seen))
@@ -399,7 +399,7 @@ class Diagnosis:
         p = self.posterior().probabilities
         hs = [h for h in range(len(self.labels)) if p[h] > 0]
         if self.prefetch is not None:
-            self.prefetch(niche, [h for h in hs if (int(niche), h) not in self._cache])
+            self.prefetch(niche, hs)
         sigs = [self.expected(niche, h) for h in hs]
         unfit = student_log_likelihood(np.full(len(self.names), self.weighing.none_deviation))
         with np.errstate(divide='ignore'):  # "none of these" may have no weight
@@ -538,10 +538,10 @@ class HypothesisWalks:
             return
         jobs = [self._job(key) for key in missing]
         worker_simulator(self.engine, self.substeps)  # made here once: forked workers inherit it
+        walked = map_in_workers(_walk, jobs, min(self.workers, len(jobs)), self._stop)
         try:
-            for key, record in zip(
-                missing, map_in_workers(_walk, jobs, min(self.workers, len(jobs)), self._stop)
-            ):
+            # the walks first: zip then runs them to their end, and the pool shuts down cleanly
+            for record, key in zip(walked, missing):
                 self._walks[key] = record
         except Stopped:
             raise WalksStopped(f'{len(missing)} walks were not all made: stopped') from None

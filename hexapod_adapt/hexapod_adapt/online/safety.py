@@ -146,7 +146,7 @@ class SafetyModel:
                 kin = self._kin_walked[int(index)] = np.full(self.hypotheses + 1, np.nan)
             wary = self.weights >= max(self.kin_weight, NEGLIGIBLE_WEIGHT)
             kin_missing = np.flatnonzero(wary & np.isnan(kin))
-        if self.prefetch is not None and len(own) + len(kin_missing) > 1:
+        if self.prefetch is not None:  # (it leaves a lone walk to the loops below)
             self.prefetch(niche, own.tolist(), kin_missing.tolist())
         for h in own:
             tilts[h] = record_tilt(self.walk(niche, int(h)))
