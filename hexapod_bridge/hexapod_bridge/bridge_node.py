@@ -34,6 +34,7 @@ from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_msgs.msg import LinkStatus, RobotTrial, ServoFailure
 from hexapod_msgs.srv import GetServoFailures, UploadGait
 from hexapod_util.diagnostics import DiagnosticsPublisher
+from hexapod_util.guarded_logging import GuardedLogging
 from hexapod_util.health import Health
 from hexapod_util.ros_glue import (
     declare,
@@ -57,7 +58,7 @@ from std_srvs.srv import SetBool, Trigger
 from tf2_msgs.msg import TFMessage
 
 
-class BridgeNode(BridgeLifecycle, GaitUploads, LifecycleNode):
+class BridgeNode(BridgeLifecycle, GaitUploads, GuardedLogging, LifecycleNode):
     """The base station's link to the robot's radio and IMU (see the module docstring)."""
 
     def __init__(self, **kwargs) -> None:

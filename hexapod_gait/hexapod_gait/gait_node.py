@@ -23,6 +23,7 @@ from hexapod_gait.ros_conversions import gait_from_msg, table_to_trajectory
 from hexapod_gait.trajectory import build_joint_table, ReachabilityError, samples_per_cycle
 from hexapod_msgs.msg import GaitParameters as GaitParametersMsg
 from hexapod_util.diagnostics import StatusHealth
+from hexapod_util.guarded_logging import GuardedLogging
 from hexapod_util.ros_glue import declare, LATCHED, ParamSpec, publish_status, run_node
 from rclpy.node import Node
 from trajectory_msgs.msg import JointTrajectory
@@ -48,7 +49,7 @@ PARAMETERS = (
 )
 
 
-class GaitNode(Node):
+class GaitNode(GuardedLogging, Node):
     """Gait parameters in, one joint-trajectory cycle out (see the module docstring)."""
 
     def __init__(self, **kwargs) -> None:

@@ -23,6 +23,7 @@ from geometry_msgs.msg import TransformStamped
 from hexapod_description import robot_description_path
 from hexapod_description.tf_tree import joint_frames, moving_transforms, static_transforms
 from hexapod_util.diagnostics import StatusHealth
+from hexapod_util.guarded_logging import GuardedLogging
 from hexapod_util.ros_glue import declare, LATCHED, ParamSpec, run_node, SENSOR, TF_QOS
 from rclpy.node import Node
 from sensor_msgs.msg import JointState
@@ -46,7 +47,7 @@ def transform_msg(parent: str, child: str, xyz, quat, stamp) -> TransformStamped
     return t
 
 
-class StatePublisher(Node):
+class StatePublisher(GuardedLogging, Node):
     """robot_description, /tf_static and the leg links' /tf from joint_states."""
 
     def __init__(self) -> None:

@@ -35,6 +35,7 @@ from hexapod_sim.sim_node_settings import PARAMETERS
 from hexapod_sim.simulator import SimConfig
 from hexapod_sim.trajectory_input import CycleTable, TrajectoryError
 from hexapod_util.diagnostics import StatusHealth
+from hexapod_util.guarded_logging import GuardedLogging
 from hexapod_util.ros_glue import (
     declare,
     EVENTS,
@@ -62,7 +63,7 @@ from tf2_msgs.msg import TFMessage
 from trajectory_msgs.msg import JointTrajectory
 
 
-class SimNode(Node):
+class SimNode(GuardedLogging, Node):
     """The simulated hexapod in the ROS graph (see the module docstring)."""
 
     def __init__(self, **kwargs) -> None:

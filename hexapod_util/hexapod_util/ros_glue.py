@@ -28,6 +28,7 @@ from typing import Any, Callable, Sequence
 
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from geometry_msgs.msg import TransformStamped
+from hexapod_util import guarded_logging
 from hexapod_util.middleware import profile_environment
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
@@ -48,7 +49,7 @@ from rclpy.qos import (
     QoSProfile,
     ReliabilityPolicy,
 )
-from rclpy.signals import SignalHandlerOptions, uninstall_signal_handlers
+from rclpy.signals import SignalHandlerOptions
 
 #: Latched state: the last message is kept for late joiners (gait parameters, the active
 #: trajectory, reset stamps, status topics on the publishing side).
@@ -225,9 +226,10 @@ def _stop_handler(stop: threading.Event) -> Callable[[int, Any], None]:
     """
     Python's SIGINT and SIGTERM handler for a node process: every stop sets ``stop``.
 
-    rclpy's own handlers (installed by ``rclpy.init``, chained to this one) shut the context
-    down, which stops the executor cleanly. A stop that comes before rclpy has its handlers, while
-    the node is still starting, reaches only this one: the flag keeps it, and the node stops as
+    rclpy's own handlers are not installed: their thread shut the context down while worker
+    threads still logged (see :mod:`hexapod_util.guarded_logging`). ``run_node``'s loop sees the
+    flag within ``STOP_POLL_S`` and shuts the context down itself, under the logging lock. A stop
+    that comes while the node is still starting is kept by the flag too, and the node stops as
     soon as it spins (before, such a Ctrl-C was lost and the node ran on). No KeyboardInterrupt
     for the Ctrl-Cs of the first ``SAME_CTRL_C_S`` s, so a terminal's and a launcher's together
     cannot cut the node's clean-up (closing a recording) short; a Ctrl-C after that still
@@ -265,14 +267,8 @@ TEARDOWN_LIMIT_S = 4.0
 
 
 def try_shutdown() -> None:
-    """Shut the default context down (rclpy.try_shutdown), also when rclpy's signal thread does."""
-    try:
-        rclpy.try_shutdown()
-    except RuntimeError:  # rclpy's RCLError: "rcl_shutdown already called"
-        # that thread shuts the context down without try_shutdown's lock: between its check and
-        # its call (CI, 2026-12-03: a navigate_node's Ctrl-C exited 1 with this traceback)
-        if rclpy.ok():
-            raise
+    """Shut the default context down if it is up, while no guarded log line is being written."""
+    guarded_logging.shutdown()
 
 
 def run_node(
@@ -305,7 +301,8 @@ def run_node(
         on_signal = _stop_handler(stop)
         for signum in (signal.SIGINT, signal.SIGTERM):
             signal.signal(signum, on_signal)
-    rclpy.init(args=args)
+    # without rclpy's signal handlers: ours stop the node, and the context goes down in one place
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     node = None
     executor = (
         MultiThreadedExecutor(num_threads=num_threads)
@@ -329,15 +326,11 @@ def run_node(
         # Ctrl-C shut the context down while the executor was taking a message: rclpy raises
         # RuntimeError from take_message then (ros/joint_state_publisher#117); a clean stop
     finally:
-        # a signal stops the node with its context down, as rclpy's handlers do: what still runs
-        # (a goal waiting on the graph) sees it at its next check. Their signal thread may not
-        # have done it yet (CI, 2026-12-02: a navigate goal walked on 10 s after a Ctrl-C)
+        # a signal stops the node with its context down: what still runs (a goal waiting on the
+        # graph) sees it at its next check (CI, 2026-12-02: a navigate goal walked on 10 s after
+        # a Ctrl-C when this waited for rclpy's signal thread)
         if stop.is_set():
             try_shutdown()
-        # then a second Ctrl-C (a terminal's and a launcher's) reaches only ours, not rclpy's
-        # signal thread while the node and the context are destroyed (a launcher once found a
-        # node hung there)
-        uninstall_signal_handlers()
         if node is not None:
             shutdown = getattr(node, 'shutdown', None)
             if callable(shutdown):

@@ -54,6 +54,7 @@ from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_msgs.action import Adapt
 from hexapod_msgs.srv import ReportDistance
 from hexapod_util.diagnostics import DiagnosticsPublisher
+from hexapod_util.guarded_logging import GuardedLogging
 from hexapod_util.health import ERROR, Health, OK, WARN
 from hexapod_util.ros_glue import (
     declare,
@@ -70,7 +71,7 @@ from rclpy.node import Node
 PARAMETERS = param_specs(SETTINGS)
 
 
-class AdaptNode(Node):
+class AdaptNode(GuardedLogging, Node):
     """Run M-BOA over an archive for each goal of its ``adapt`` action."""
 
     def __init__(self) -> None:
@@ -307,9 +308,7 @@ class AdaptNode(Node):
         response.trials, response.elapsed = len(result.trials), result.elapsed
         if not rclpy.ok(context=self.context):  # Ctrl-C or SIGTERM mid-run: one line, no more
             response.message = f'adapt_node shut down mid-run: {response.message}'
-            # not the ROS logger: its /rosout publisher is gone, and rcl would add a line saying so
-            line = say.shutdown_message(result)
-            print(f'{self.get_name()}: {line}', file=sys.stderr, flush=True)
+            self.get_logger().info(say.shutdown_message(result))  # on stderr: /rosout is gone
             return
         if result.best_niche >= 0:
             response.best_archive_index = result.best_niche

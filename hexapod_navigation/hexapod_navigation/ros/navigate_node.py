@@ -43,6 +43,7 @@ from hexapod_navigation.ros.damage_services import DamageServices
 from hexapod_navigation.ros.goal_turns import GoalTurns
 from hexapod_navigation.ros.wiring import make_body, subscribe_poses
 from hexapod_util.diagnostics import StatusHealth
+from hexapod_util.guarded_logging import GuardedLogging
 from hexapod_util.recording import type_name
 from hexapod_util.ros_glue import (
     ACTION_QOS,
@@ -71,7 +72,7 @@ GOAL_SETTLE_S = 0.5
 PARAMETERS = param_specs(settings.SETTINGS)
 
 
-class NavigateNode(DamageServices, Node):
+class NavigateNode(DamageServices, GuardedLogging, Node):
     """Serve the ``navigate`` action over the navigation repertoire."""
 
     def __init__(self) -> None:
