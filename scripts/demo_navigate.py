@@ -37,9 +37,10 @@ def main(argv: list[str] | None = None) -> int:
     out = parser.parse_args(argv).out
     out.mkdir(parents=True, exist_ok=True)
     from hexapod_navigation.ros.navigate_msgs import goal_at, navigate_client
+    from hexapod_util import guarded_logging
     from hexapod_util.processes import die_with_parent
     from hexapod_util.recording import read_messages
-    from hexapod_util.ros_glue import ros_args, try_shutdown
+    from hexapod_util.ros_glue import ros_args
     import rclpy
 
     domain = 60 + os.getpid() % 30
@@ -122,7 +123,7 @@ def main(argv: list[str] | None = None) -> int:
             status = status or (0 if r.reached else 3)
     finally:
         node.destroy_node()
-        try_shutdown()
+        guarded_logging.shutdown()
         for p in nodes:
             p.send_signal(signal.SIGINT)
         for p in nodes:

@@ -23,8 +23,8 @@ from hexapod_description import load_model
 from hexapod_gait.presets import leg_check, LEG_CHECK_LIFT
 from hexapod_gait.ros_conversions import gait_to_msg
 from hexapod_msgs.srv import UploadGait
+from hexapod_util import guarded_logging
 from hexapod_util.cli import number, run_command
-from hexapod_util.ros_glue import try_shutdown
 from rcl_interfaces.srv import GetParameters
 import rclpy
 from rclpy.signals import SignalHandlerOptions
@@ -138,7 +138,7 @@ def _check(args: argparse.Namespace, ros_args: list[str]) -> int:
         return 0
     finally:
         node.destroy_node()
-        try_shutdown()
+        guarded_logging.shutdown()
 
 
 if __name__ == '__main__':

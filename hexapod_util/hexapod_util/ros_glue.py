@@ -266,11 +266,6 @@ SHUTDOWN_WAIT_S = 5.0
 TEARDOWN_LIMIT_S = 4.0
 
 
-def try_shutdown() -> None:
-    """Shut the default context down if it is up, while no guarded log line is being written."""
-    guarded_logging.shutdown()
-
-
 def run_node(
     make_node: Callable[[], Node],
     args: list[str] | None = None,
@@ -330,7 +325,7 @@ def run_node(
         # graph) sees it at its next check (CI, 2026-12-02: a navigate goal walked on 10 s after
         # a Ctrl-C when this waited for rclpy's signal thread)
         if stop.is_set():
-            try_shutdown()
+            guarded_logging.shutdown()
         if node is not None:
             shutdown = getattr(node, 'shutdown', None)
             if callable(shutdown):
@@ -339,7 +334,7 @@ def run_node(
         faulthandler.dump_traceback_later(TEARDOWN_LIMIT_S, exit=True)
         if node is not None:
             node.destroy_node()
-        try_shutdown()
+        guarded_logging.shutdown()
         faulthandler.cancel_dump_traceback_later()
         # the node is down: a Ctrl-C still on its way (a launcher's after a terminal's) must not
         # kill the process as it ends, where Python gives SIGINT back its default action
@@ -473,4 +468,4 @@ def call_service_once(
         return future.result()
     finally:
         node.destroy_node()
-        try_shutdown()
+        guarded_logging.shutdown()

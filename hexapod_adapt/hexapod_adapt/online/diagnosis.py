@@ -376,8 +376,9 @@ class Diagnosis:
         weighed = [h for h in range(len(self.labels)) if awake[h] and h not in self._missed]
         if self.prefetch is not None:  # (it skips what is walked already)
             self.prefetch(niche, weighed)
+        chosen = set(weighed)
         for h in range(len(self.labels)):
-            if h in weighed:
+            if h in chosen:
                 update[h] = self._weight(niche, h, seen)
             else:  # its bound stays: a likelihood is at most 1
                 self._missed.setdefault(h, []).append((int(niche), seen))

@@ -34,8 +34,9 @@ from hexapod_adapt.ros.adapt_action import BUSY
 from hexapod_msgs.action import Adapt
 from hexapod_msgs.msg import AdaptationTrial
 from hexapod_sim.damage import Damage, parse_damage
+from hexapod_util import guarded_logging
 from hexapod_util.cli import acknowledge_stop, interval, number, run_command
-from hexapod_util.ros_glue import ACTION_QOS, spin_until_done, try_shutdown, Waited
+from hexapod_util.ros_glue import ACTION_QOS, spin_until_done, Waited
 import rclpy
 from rclpy.action import ActionClient
 from rclpy.signals import SignalHandlerOptions
@@ -258,7 +259,7 @@ def _call(args: argparse.Namespace, ros_args: list[str]) -> int:
         return _report(answer.result().status, answer.result().result)
     finally:
         node.destroy_node()
-        try_shutdown()
+        guarded_logging.shutdown()
 
 
 def _wait(node, client: ActionClient, future, deadline: float, args) -> int | None:

@@ -23,8 +23,9 @@ import time
 
 from hexapod_msgs.action import Navigate
 from hexapod_navigation.ros.navigate_msgs import goal_at, navigate_client
+from hexapod_util import guarded_logging
 from hexapod_util.cli import acknowledge_stop, number, run_command
-from hexapod_util.ros_glue import spin_until_done, try_shutdown, Waited
+from hexapod_util.ros_glue import spin_until_done, Waited
 import rclpy
 from rclpy.signals import SignalHandlerOptions
 
@@ -146,7 +147,7 @@ def _send(args: argparse.Namespace, ros_args: list[str]) -> int:
         raise
     finally:
         node.destroy_node()
-        try_shutdown()
+        guarded_logging.shutdown()
 
 
 if __name__ == '__main__':
