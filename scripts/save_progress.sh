@@ -15,7 +15,8 @@
 #   to CHECKPOINTS/ceilings, or, once their map has shipped (ship_map.sh), into the shipped cache
 #   (hexapod_adapt/maps/ceilings), packed; the run goes on. A case in progress keeps the gaits it
 #   has walked in a walking_*.npz file (every minute): that goes to CHECKPOINTS/ceilings, and
-#   resume_ceilings.sh takes it up.
+#   resume_ceilings.sh takes it up. The shipped cache's README gets its table of the cases held
+#   (make_ceilings.sh --summary).
 # - The transfer study's runs in TRANSFER_TREE (default ../transfer-study,
 #   studies/transfer/transfer_study.sh): each checkpoint and log to studies/checkpoints/
 #   transfer_study/ (a checkpoint only when it is further on than the one kept there); a
@@ -125,6 +126,11 @@ if [ -d "$ceil_tree/hexapod_adapt/maps/ceilings" ]; then
   done
   if [ "$dest" = "$shipped_cache" ] && [ "$n" != 0 ]; then
     python -m hexapod_adapt.online.ceilings_cli --cache-dir "$dest" --pack
+  fi
+  if [ "$dest" = "$shipped_cache" ] && [ -f "$shipped_cache/README.md" ]; then
+    # the README's table of what the cache holds, kind by kind
+    bash "$repo/hexapod_adapt/maps/make_ceilings.sh" --archive "$shipped_maps/default_map.npz" \
+      --cache-dir "$shipped_cache" --summary "$shipped_cache/README.md"
   fi
   echo "saved $n ceiling cases to $dest"
 fi

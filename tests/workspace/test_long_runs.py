@@ -244,6 +244,8 @@ def test_the_shipped_maps_new_ceilings_are_packed_into_its_cache(tmp_path):
     shutil.copy(next(cache.glob('*.npz')), shipped / 'ceilings')
     pack_ceilings(shipped / 'ceilings')
     ceiling(archive, [2], 'mujoco', cache_dir=cache)  # finished since
+    readme = shipped / 'ceilings' / 'README.md'
+    readme.write_text('<!-- ceilings-summary: start -->\n<!-- ceilings-summary: end -->\n')
     r = subprocess.run(
         ['bash', str(SAVE), str(tmp_path / 'no_map'), str(tree), str(tmp_path / 'kept')],
         capture_output=True, text=True, timeout=120,
@@ -256,11 +258,14 @@ def test_the_shipped_maps_new_ceilings_are_packed_into_its_cache(tmp_path):
     assert r.returncode == 0, r.stdout + r.stderr
     assert f'saved 1 ceiling cases to {shipped / "ceilings"}' in r.stdout
     assert sorted(p.name for p in (shipped / 'ceilings').iterdir()) == [
+        'README.md',
         'ceilings_mujoco_lifted_0.zip',
         'ceilings_mujoco_lifted_1.zip',
     ]
     for legs in ([1], [2]):
         assert cached_ceiling(archive, legs, 'mujoco', [shipped / 'ceilings']) is not None
+    # the README's table counts both
+    assert '| lifted | 2 of 21 (2) |' in readme.read_text()
     assert not (tmp_path / 'kept' / 'ceilings').exists()
 
 

@@ -8,11 +8,13 @@ Cache the ceilings of a map: every gait under each damage (:mod:`hexapod_adapt.o
     python -m hexapod_adapt.online.ceilings_cli --damage 1:locked,4:weak:0.3 --cache-dir DIR
     python -m hexapod_adapt.online.ceilings_cli --damage-kind ... --cache-dir DIR --missing
     python -m hexapod_adapt.online.ceilings_cli --cache-dir DIR --pack   # pack DIR's loose cases
+    python -m hexapod_adapt.online.ceilings_cli --damage-kind ... --cache-dir DIR --summary
 """
 
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 import sys
 import time
 
@@ -32,6 +34,7 @@ from hexapod_sim import ENGINES
 from hexapod_sim.damage import Damage, EXPERIMENT_KINDS, parse_damage
 from hexapod_sim.scenarios import scenario, SCENARIO_NAMES
 from hexapod_util.cli import input_file, number, output_dir, run_command
+from hexapod_util.files import atomic_write_bytes
 
 
 def _damage_arg(text: str) -> Damage:
@@ -39,6 +42,39 @@ def _damage_arg(text: str) -> Damage:
         return parse_damage(text)
     except ValueError as exc:
         raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def _add_readings(ap: argparse.ArgumentParser) -> None:
+    """Add the options that compute nothing: each reads or packs the cache."""
+    ap.add_argument(
+        '--missing',
+        action='store_true',
+        help='compute nothing: print how many of the cases asked for the cache lacks (a file'
+        ' that is damaged or made for another map counts as lacking)',
+    )
+    ap.add_argument(
+        '--pack',
+        action='store_true',
+        help="compute nothing: move the cache's loose files into zip packs (read as before;"
+        ' for a cache to ship, packed as its cases finish)',
+    )
+    ap.add_argument(
+        '--summary',
+        nargs='?',
+        const='-',
+        default=None,
+        metavar='FILE',
+        help='compute nothing: print a table of the cases asked for, kind by kind: how many the'
+        " cache holds (how many in full) and each scenario's range of ceilings; or, given a"
+        f" Markdown FILE, write it between FILE's {SUMMARY_MARKS[0]} and {SUMMARY_MARKS[1]}"
+        ' lines',
+    )
+    ap.add_argument(
+        '--list',
+        action='store_true',
+        help="compute nothing: print the file names of the cache's cases, loose or packed, one"
+        ' a line',
+    )
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -98,35 +134,75 @@ def build_parser() -> argparse.ArgumentParser:
         '--cache-dir', type=output_dir, required=True, help='where ceilings are cached'
     )
     ap.add_argument('--workers', type=number(int, 1, 256), default=1, help='worker processes')
-    ap.add_argument(
-        '--missing',
-        action='store_true',
-        help='compute nothing: print how many of the cases asked for the cache lacks (a file'
-        ' that is damaged or made for another map counts as lacking)',
-    )
-    ap.add_argument(
-        '--pack',
-        action='store_true',
-        help="compute nothing: move the cache's loose files into zip packs (read as before;"
-        ' for a cache to ship, packed as its cases finish)',
-    )
-    ap.add_argument(
-        '--list',
-        action='store_true',
-        help="compute nothing: print the file names of the cache's cases, loose or packed, one"
-        ' a line',
-    )
+    _add_readings(ap)
     return ap
+
+
+#: the lines a Markdown file's table of the cache lies between (``--summary FILE``)
+SUMMARY_MARKS = ('<!-- ceilings-summary: start -->', '<!-- ceilings-summary: end -->')
+
+
+def write_summary(path: Path, rows: list[str]) -> None:
+    """Put ``rows`` between ``path``'s :data:`SUMMARY_MARKS` (written whole or not at all)."""
+    text = path.read_text(encoding='utf-8')
+    start, end = SUMMARY_MARKS
+    a, b = text.find(start), text.find(end)
+    if a < 0 or b < a:
+        raise ValueError(f'{path} has no {start} line followed by an {end} line')
+    table = '\n'.join(rows)
+    atomic_write_bytes(path, f'{text[: a + len(start)]}\n{table}\n{text[b:]}'.encode())
+
+
+#: one damage case asked for: (its scenario, '-' for a --damage; its kind; the damage; partial)
+Case = tuple[str, str, Damage, bool]
+
+
+def asked_cases(args: argparse.Namespace) -> list[Case]:
+    """Return the cases the options ask for: the full ones first, each in the order given."""
+    scenarios = args.scenarios
+    if scenarios is None:
+        scenarios = [] if args.damage else ['S1', 'S2', 'S3', 'S4']
+    cases = [
+        (name, kind, Damage.of(kind, legs), kind in args.partial)
+        for kind in dict.fromkeys(args.damage_kind)
+        for name in scenarios
+        for legs in scenario(name)
+    ]
+    cases += [('-', 'other', damage, False) for damage in args.damage]
+    return sorted(cases, key=lambda case: case[3])
+
+
+def summary(cached: list[tuple[Case, Ceiling | None]]) -> list[str]:
+    """Return a Markdown table of ``cached``: per kind, the cases held, each scenario's range."""
+    names = list(dict.fromkeys(case[0] for case, _ in cached))
+    rows = [
+        '| kind | cases cached (in full) | '
+        + ' | '.join('other' if name == '-' else name for name in names)
+        + ' |',
+        '|---|---|' + '---|' * len(names),
+    ]
+    kinds = sorted(dict.fromkeys(case[1] for case, _ in cached), key=lambda k: k == 'other')
+    for kind in kinds:
+        mine = [(case[0], c) for case, c in cached if case[1] == kind]
+        held = [c for _, c in mine if c is not None]
+        cells = [kind, f'{len(held)} of {len(mine)} ({sum(c.walked is None for c in held)})']
+        for name in names:
+            best = [c.best_speed for n, c in mine if n == name and c is not None]
+            cells.append(f'{min(best):.3f}-{max(best):.3f}' if best else '')
+        rows.append('| ' + ' | '.join(cells) + ' |')
+    return rows
 
 
 def main(argv: list[str] | None = None) -> int:
     """Compute (or find in the cache) every ceiling asked for; one line per damage case."""
     parser = build_parser()
     args = parser.parse_args(argv)
-    if args.missing and args.top:
-        parser.error('--missing counts exact ceilings: leave out --top')
-    if sum((args.missing, args.pack, args.list)) > 1:
-        parser.error('--missing, --pack and --list each compute nothing: give one of them')
+    if (args.missing or args.summary is not None) and args.top:
+        parser.error('--missing and --summary read exact ceilings: leave out --top')
+    if sum((args.missing, args.pack, args.list, args.summary is not None)) > 1:
+        parser.error(
+            '--missing, --pack, --list and --summary each compute nothing: give one of them'
+        )
 
     def run() -> int:
         if args.list:
@@ -137,28 +213,22 @@ def main(argv: list[str] | None = None) -> int:
             print(f'packed the loose cases of {args.cache_dir} into {len(packs)} packs')
             return 0
         archive = load_archive(args.archive or shipped_map(DEFAULT_MAP))
-        scenarios = args.scenarios
-        if scenarios is None:
-            scenarios = [] if args.damage else ['S1', 'S2', 'S3', 'S4']
-        kinds = list(dict.fromkeys(args.damage_kind))
-        cases = [
-            (name, Damage.of(kind, legs), kind in args.partial)
-            for kind in kinds
-            for name in scenarios
-            for legs in scenario(name)
-        ]
-        cases += [('-', damage, False) for damage in args.damage]
-        cases.sort(key=lambda case: case[2])  # the full cases first, in the order given
-        if args.missing:
-            lacking = sum(
-                cached_ceiling(archive, damage, args.engine, [args.cache_dir]) is None
-                for _, damage, _ in cases
-            )
-            print(lacking)
+        cases = asked_cases(args)
+        if args.missing or args.summary is not None:
+            cached = [
+                (case, cached_ceiling(archive, case[2], args.engine, [args.cache_dir]))
+                for case in cases
+            ]
+            if args.summary not in (None, '-'):
+                write_summary(Path(args.summary), summary(cached))
+            elif args.summary:
+                print('\n'.join(summary(cached)))
+            else:
+                print(sum(c is None for _, c in cached))
             return 0
         full: list[Ceiling] = []  # the full cases made or read: they come first
         checked = False
-        for name, damage, partial in cases:
+        for name, _, damage, partial in cases:
             if partial and not checked:
                 share = deepest_share(archive, full)
                 if share > TOP_FRACTION:

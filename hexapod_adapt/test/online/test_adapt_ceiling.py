@@ -232,7 +232,7 @@ def test_the_cli_packs_what_is_cached_and_computes_nothing(small_map, tmp_path, 
     archive = tmp_path / 'map.npz'
     small_map.save(archive)
     cache = tmp_path / 'cache'
-    ceiling(small_map, [2], 'mujoco', cache_dir=cache)
+    made = ceiling(small_map, [2], 'mujoco', cache_dir=cache)
     args = ['--archive', str(archive), '--engine', 'mujoco', '--cache-dir', str(cache)]
     assert main([*args, '--scenarios', 'S1', '--damage-kind', 'lifted', '--pack']) == 0
     assert 'into 1 packs' in capsys.readouterr().out
@@ -240,6 +240,33 @@ def test_the_cli_packs_what_is_cached_and_computes_nothing(small_map, tmp_path, 
     # the five S1 cases not cached were not computed: they are still missing
     assert main([*args, '--scenarios', 'S1', '--damage-kind', 'lifted', '--missing']) == 0
     assert capsys.readouterr().out.strip() == '5'
+    # the table: per kind, the cases held (in full) and each scenario's range; another damage
+    # in a row of its own, last
+    asked = ['--scenarios', 'S1', '--damage-kind', 'locked', 'lifted', '--damage', '3:locked']
+    assert main([*args, *asked, '--summary']) == 0
+    rows = capsys.readouterr().out.strip().splitlines()
+    assert rows[0] == '| kind | cases cached (in full) | S1 | other |'
+    speed = f'{made.best_speed:.3f}'
+    assert rows[2:] == [
+        '| locked | 0 of 6 (0) |  |  |',
+        f'| lifted | 1 of 6 (1) | {speed}-{speed} |  |',
+        '| other | 0 of 1 (0) |  |  |',
+    ]
+    assert [p.name for p in cache.iterdir()] == ['ceilings_mujoco_lifted_0.zip']  # none made
+    # written into a file between its marks, the rest of the file kept
+    readme = tmp_path / 'README.md'
+    readme.write_text('# Ceilings\n<!-- ceilings-summary: start -->\nold\n'
+                      '<!-- ceilings-summary: end -->\nmore\n')  # fmt: skip
+    assert main([*args, *asked, '--summary', str(readme)]) == 0
+    assert readme.read_text().splitlines() == [
+        '# Ceilings', '<!-- ceilings-summary: start -->', *rows,
+        '<!-- ceilings-summary: end -->', 'more',
+    ]  # fmt: skip
+    # a file without the marks is refused, unchanged
+    readme.write_text('no marks\n')
+    assert main([*args, *asked, '--summary', str(readme)]) == 1
+    assert 'no <!-- ceilings-summary: start --> line' in capsys.readouterr().err
+    assert readme.read_text() == 'no marks\n'
 
 
 @pytest.mark.slow
@@ -258,7 +285,9 @@ def test_the_cli_lists_the_cases_a_cache_holds_loose_or_packed(small_map, tmp_pa
     assert cached_names(tmp_path / 'none') == set()
 
 
-@pytest.mark.parametrize('two', [('--missing', '--pack'), ('--list', '--pack')])
+@pytest.mark.parametrize(
+    'two', [('--missing', '--pack'), ('--list', '--pack'), ('--summary', '--missing')]
+)
 def test_the_cli_refuses_two_things_that_compute_nothing(capsys, two):
     from hexapod_adapt.online.ceilings_cli import main
 
