@@ -259,12 +259,27 @@ def test_a_trial_cut_by_a_fault_is_never_scorable_and_ends_within_seconds(
                 'the link',
             )
             time.sleep(1.0)
-            ok, message = _until(lambda: (r := station.start_trial())[0] and r, 20, 'a new start')
-            again = _until(lambda: station.finished_trial(time.monotonic()), 30, 'the next trial')
-            assert again.valid and again.problem == '', again
+            again = _next_whole_trial(station)
             assert abs(again.estimate.speed) < station.max_speed
         finally:
             station.stop()
+
+
+def _next_whole_trial(station: BaseStation, tries: int = 3):
+    """
+    Walk trials until one is measured whole, as adapt_node retries; return it.
+
+    A trial before it may be spoiled, never scored: ci33 saw a loaded machine starve the station
+    long enough that the emulator's IMU port dropped samples (a real gap, rightly refused).
+    """
+    for _ in range(tries):
+        time.sleep(0.5)
+        _until(lambda: station.start_trial()[0], 20, 'a new start')
+        result = _until(lambda: station.finished_trial(time.monotonic()), 30, 'the next trial')
+        if result.valid and result.problem == '':
+            return result
+        assert result.fault in RETRYABLE_FAULTS and result.problem, result
+    raise AssertionError(f'no trial of {tries} was measured whole: the last {result}')
 
 
 def test_a_robot_that_never_reports_the_end_spoils_the_trial(emulator):
