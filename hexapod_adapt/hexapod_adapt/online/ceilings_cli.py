@@ -17,6 +17,7 @@ import argparse
 from pathlib import Path
 import sys
 import time
+from typing import NamedTuple
 
 from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_map
@@ -153,8 +154,13 @@ def write_summary(path: Path, rows: list[str]) -> None:
     atomic_write_bytes(path, f'{text[: a + len(start)]}\n{table}\n{text[b:]}'.encode())
 
 
-#: one damage case asked for: (its scenario, '-' for a --damage; its kind; the damage; partial)
-Case = tuple[str, str, Damage, bool]
+class Case(NamedTuple):
+    """One damage case asked for."""
+
+    scenario: str  # '-' for a --damage
+    kind: str  # 'other' for a --damage
+    damage: Damage
+    partial: bool
 
 
 def asked_cases(args: argparse.Namespace) -> list[Case]:
@@ -163,27 +169,27 @@ def asked_cases(args: argparse.Namespace) -> list[Case]:
     if scenarios is None:
         scenarios = [] if args.damage else ['S1', 'S2', 'S3', 'S4']
     cases = [
-        (name, kind, Damage.of(kind, legs), kind in args.partial)
+        Case(name, kind, Damage.of(kind, legs), kind in args.partial)
         for kind in dict.fromkeys(args.damage_kind)
         for name in scenarios
         for legs in scenario(name)
     ]
-    cases += [('-', 'other', damage, False) for damage in args.damage]
-    return sorted(cases, key=lambda case: case[3])
+    cases += [Case('-', 'other', damage, False) for damage in args.damage]
+    return sorted(cases, key=lambda case: case.partial)
 
 
 def summary(cached: list[tuple[Case, Ceiling | None]]) -> list[str]:
     """Return a Markdown table of ``cached``: per kind, the cases held, each scenario's range."""
-    names = list(dict.fromkeys(case[0] for case, _ in cached))
+    names = list(dict.fromkeys(case.scenario for case, _ in cached))
     rows = [
         '| kind | cases cached (in full) | '
         + ' | '.join('other' if name == '-' else name for name in names)
         + ' |',
         '|---|---|' + '---|' * len(names),
     ]
-    kinds = sorted(dict.fromkeys(case[1] for case, _ in cached), key=lambda k: k == 'other')
+    kinds = sorted(dict.fromkeys(case.kind for case, _ in cached), key=lambda k: k == 'other')
     for kind in kinds:
-        mine = [(case[0], c) for case, c in cached if case[1] == kind]
+        mine = [(case.scenario, c) for case, c in cached if case.kind == kind]
         held = [c for _, c in mine if c is not None]
         cells = [kind, f'{len(held)} of {len(mine)} ({sum(c.walked is None for c in held)})']
         for name in names:
@@ -216,7 +222,7 @@ def main(argv: list[str] | None = None) -> int:
         cases = asked_cases(args)
         if args.missing or args.summary is not None:
             cached = [
-                (case, cached_ceiling(archive, case[2], args.engine, [args.cache_dir]))
+                (case, cached_ceiling(archive, case.damage, args.engine, [args.cache_dir]))
                 for case in cases
             ]
             if args.summary not in (None, '-'):
