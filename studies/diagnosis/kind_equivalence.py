@@ -9,7 +9,7 @@ re-scores rank the map (Spearman), and what a run loses that takes B for A: A's 
 minus A's speed of B's best gait. Each cell prints the medians over the leg sets,
 ``spearman/loss`` (m/s). No simulation: the cached re-scores only.
 
-Both are taken over the gaits every case walks: the map's intact-fastest ``TOP_FRACTION``
+Both are taken over the gaits every case walks: the map's intact-fastest share (``partial_share``)
 (a partial case estimates the rest from their intact speeds, which would agree by construction).
 ``--kinds`` limits the table to kinds whose 21 cases are cached.
 
@@ -24,7 +24,7 @@ from hexapod_adapt.mapping.archive import load_archive
 from hexapod_adapt.mapping.maps import DEFAULT_MAP, shipped_ceilings, shipped_map
 from hexapod_adapt.mapping.simulation import engine_of_map
 from hexapod_adapt.online.bank import load_bank
-from hexapod_adapt.online.ceiling import intact_order, TOP_FRACTION
+from hexapod_adapt.online.ceiling import partial_share
 from hexapod_sim.damage import Damage, EXPERIMENT_KINDS
 from hexapod_sim.scenarios import scenario
 import numpy as np
@@ -43,9 +43,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f'not cached: {[d.label for d in bank.missing]}')
         return 1
     row_of = {d: i for i, d in enumerate(bank.damages)}
-    order = intact_order(archive)  # positions in bank.speeds' columns (the elites' order)
-    walked = np.sort(order[: int(np.ceil(TOP_FRACTION * len(order)))])
-    print(f'over the intact-fastest {len(walked)} of {len(order)} gaits')
+    walked = partial_share(archive)  # positions in bank.speeds' columns (the elites' order)
+    print(f'over the intact-fastest {len(walked)} of {len(archive.elite_indices())} gaits')
     print(f'{"taken for ->":>15s}', ' '.join(f'{k:>16s}' for k in kinds))
     for true in kinds:
         cells = []

@@ -182,6 +182,12 @@ def intact_order(archive: Archive, niches: np.ndarray | None = None) -> np.ndarr
     return np.argsort(-archive.speeds()[niches], kind='stable')
 
 
+def partial_share(archive: Archive, niches: np.ndarray | None = None) -> np.ndarray:
+    """Return the positions in ``niches`` partial ceilings walk, sorted (:data:`TOP_FRACTION`)."""
+    order = intact_order(archive, niches)
+    return np.sort(order[: int(np.ceil(TOP_FRACTION * len(order)))])
+
+
 def deepest_share(archive: Archive, ceilings: Iterable[Ceiling]) -> float:
     """
     Return how deep in the map's intact order the fastest damaged gait of any full ceiling lies.
@@ -377,7 +383,7 @@ def compute_ceiling(
     niches = archive.elite_indices() if niches is None else np.asarray(niches, dtype=int)
     walk = np.arange(len(niches))
     if partial:
-        walk = np.sort(intact_order(archive, niches)[: int(np.ceil(TOP_FRACTION * len(niches)))])
+        walk = partial_share(archive, niches)
     genes = archive.genotypes[niches[walk]]
     how = Rescoring.of(archive, damage, engine)
     jobs = [(how, part) for part in np.split(genes, range(chunk, len(genes), chunk)) if len(part)]
