@@ -9,7 +9,8 @@
 #   its full cases' fastest gaits against the intact order; stops here if one lies outside;
 # - docs/img/default_map_progress.png and _projections.png (plot_map);
 # - docs/experiment: the blind experiment's runs and pictures, with ratios (run_experiment);
-# - docs/navigation: the navigation experiment (run_navigation; long: --no-navigation skips it).
+# - docs/navigation: the navigation experiment (run_navigation; long: --no-navigation skips it),
+#   and docs/navigation/locked: the same with locked legs.
 set -eo pipefail   # (no -u: colcon's setup scripts read unset variables)
 cd "$(dirname "$0")/../.."
 source scripts/env.sh >/dev/null
@@ -23,8 +24,11 @@ python -m hexapod_adapt.mapping.plot_map_cli --archive "$maps/default_map.npz" -
 python -m hexapod_adapt.online.run_experiment_cli --ceilings "$maps/ceilings" \
   --out-dir docs/experiment --force
 if [ "$navigation" = yes ]; then
-  python -m hexapod_navigation.offline.run_navigation_cli --out-dir docs/navigation
+  python -m hexapod_navigation.offline.run_navigation_cli --out-dir docs/navigation --force
+  python -m hexapod_navigation.offline.run_navigation_cli --out-dir docs/navigation/locked \
+    --damage-kind locked --force
 fi
 echo "regenerated: docs/img (the map's pictures), docs/experiment$( [ "$navigation" = yes ] \
-  && echo ', docs/navigation'). Now measure and record in docs/benchmarks.md: make bench-map;"\
+  && echo ', docs/navigation, docs/navigation/locked')." \
+  "Now measure and record in docs/benchmarks.md: make bench-map;"\
   "make bench-adapt; make bench-navigate; then the figures in $maps/README.md and the docs"
