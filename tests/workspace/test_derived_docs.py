@@ -8,10 +8,18 @@ import hashlib
 import json
 from pathlib import Path
 
+from hexapod_navigation.core.repertoire import shipped_repertoire
+from hexapod_navigation.core.specialists import shipped_specialists
+from hexapod_navigation.core.step_bank import shipped_step_bank
 import pytest
 
 WS = Path(__file__).resolve().parents[2]
-NAVIGATION_MAPS = WS / 'hexapod_navigation' / 'maps'
+# what a navigation report's summary.json names by its digests, and where each ships
+SHIPPED = {
+    'repertoire': shipped_repertoire,
+    'bank': shipped_step_bank,
+    'specialists': shipped_specialists,
+}
 REPORTS = sorted((WS / 'docs' / 'navigation').rglob('summary.json'))
 
 
@@ -26,9 +34,9 @@ def test_a_navigation_report_walked_the_shipped_repertoire_bank_and_specialists(
     # hexapod_adapt/maps/regenerate_derived.sh makes every report again
     summary = json.loads(report.read_text())
     digests = summary['inputs_sha256']
-    assert set(digests) == {'repertoire', 'bank', 'specialists'}
+    assert set(digests) == set(SHIPPED)
     for name, digest in digests.items():
-        shipped = NAVIGATION_MAPS / Path(summary['settings'][name]).name
+        shipped = SHIPPED[name]()
         assert hashlib.sha256(shipped.read_bytes()).hexdigest() == digest, (
             f'{report.relative_to(WS)} was made from another {name} than {shipped.name}:'
             ' run hexapod_adapt/maps/regenerate_derived.sh'
